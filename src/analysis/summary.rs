@@ -1,0 +1,286 @@
+//! The run summary: the public contract of `chaindrive run --summary`
+//! (`contracts/run-summary.schema.json`). Field names stay; more may be added.
+//!
+//! - `window_s`: the last second of the run (force statistics, speeds, torques).
+//! - `spectrum_window_s`: from the driver's ramp end + 0.5 s to the end (spectra);
+//!   the whole run if that is empty.
+//! - `mean_torque_n_m`: mean moment of the chain's contact forces on the
+//!   sprocket about its centre (CCW positive). The driver's motor supplies
+//!   the opposite.
+//! - `max_bearing_force_n`: largest resultant of the chain's contact forces
+//!   on the sprocket over the window (every step), i.e. the bearing reaction
+//!   without the sprocket's own weight.
+//! - `driver_mean_power_w`: mean of −(chain moment on the driver) × ω_driver.
+//! - `string_f1_hz`: the moving-string estimate from the segment's own mean
+//!   link force, its nominal length, μ = m_r / P and the mean chain speed
+//!   |ω_driver| R_driver over the window.
+
+use serde::{Deserialize, Serialize};
+
+use super::spectrum::main_peak;
+use super::theory::moving_string_frequency_hz;
+use super::{SampleRow, Signals};
+use crate::model::DriveModel;
+use crate::scene::Scene;
+
+/// A free strand as laid out.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StrandSummary {
+    /// 1-based segment number.
+    pub segment: usize,
+    /// 1-based sprocket it leaves.
+    pub from: usize,
+    /// 1-based sprocket it reaches.
+    pub to: usize,
+    /// Length, m.
+    pub length_m: f64,
+    /// Polar angle of the tangent point on `from`, [0, 2π).
+    pub angle_on_from_rad: f64,
+    /// Polar angle of the tangent point on `to`, [0, 2π).
+    pub angle_on_to_rad: f64,
+}
+
+/// Statistics of one segment over the window.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SegmentSummary {
+    /// 1-based segment number.
+    pub segment: usize,
+    /// Mean of the segment's average link force, N.
+    pub mean_link_force_n: f64,
+    /// Peak-to-peak of the segment's average link force, N.
+    pub link_force_p2p_n: f64,
+    /// Main peak of the transverse displacement's spectrum in 1–50 Hz, Hz (0 if none).
+    pub transverse_peak_hz: f64,
+    /// Moving-string estimate of the first transverse eigenfrequency, Hz.
+    pub string_f1_hz: f64,
+}
+
+/// Statistics of one sprocket over the window.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SprocketSummary {
+    /// 1-based sprocket number.
+    pub sprocket: usize,
+    /// Mean angular speed, rad/s (CCW positive).
+    pub mean_speed_rad_s: f64,
+    /// Peak-to-peak angular speed, rad/s.
+    pub speed_p2p_rad_s: f64,
+    /// Mean chain moment on the sprocket, N·m.
+    pub mean_torque_n_m: f64,
+    /// Largest chain force on the bearing, N.
+    pub max_bearing_force_n: f64,
+}
+
+/// The run summary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RunSummary {
+    /// Scene name.
+    pub scene: String,
+    /// `circular`, `real` or `mixed`.
+    pub profile: String,
+    /// Contact law name.
+    pub contact_law: String,
+    /// Integrator name.
+    pub integrator: String,
+    /// How the chain was stepped (`substepped` or `rapier`).
+    pub stepping: String,
+    /// Gravity, m/s².
+    pub gravity_m_s2: [f64; 2],
+    /// Chain step, s.
+    pub dt_s: f64,
+    /// Simulated time reached, s.
+    pub duration_s: f64,
+    /// Whether the run stopped before its planned end.
+    pub interrupted: bool,
+    /// Statistics window, s.
+    pub window_s: [f64; 2],
+    /// Spectrum window, s.
+    pub spectrum_window_s: [f64; 2],
+    /// Sample rate of the signals, Hz.
+    pub sample_rate_hz: f64,
+    /// Wall time of the stepping loop, s.
+    pub wall_s: f64,
+    /// Wall time of layout and static equilibrium, s.
+    pub setup_wall_s: f64,
+    /// Chain integration steps.
+    pub steps: u64,
+    /// Wall time per step, ns.
+    pub ns_per_step: f64,
+    /// Mean free-strand link force at static equilibrium, N.
+    pub static_tension_n: f64,
+    /// Links' rest length after the pretension rule, m.
+    pub rest_length_m: f64,
+    /// Smallest link force over the window, N.
+    pub link_force_min_n: f64,
+    /// Largest link force over the window, N.
+    pub link_force_max_n: f64,
+    /// Strands as laid out.
+    pub strands: Vec<StrandSummary>,
+    /// Segment statistics.
+    pub segments: Vec<SegmentSummary>,
+    /// Sprocket statistics.
+    pub sprockets: Vec<SprocketSummary>,
+    /// Mean power the driver delivers, W.
+    pub driver_mean_power_w: f64,
+    /// Largest roller penetration over the run, m.
+    pub max_penetration_m: f64,
+}
+
+/// What the summary needs besides the signals.
+pub struct SummaryInputs<'a> {
+    /// The scene (names, settings).
+    pub scene: &'a Scene,
+    /// The model (strands, driver radius).
+    pub model: &'a DriveModel,
+    /// Static tension, N.
+    pub static_tension_n: f64,
+    /// Steps taken.
+    pub steps: u64,
+    /// Wall time of the loop, s.
+    pub wall_s: f64,
+    /// Wall time of setup, s.
+    pub setup_wall_s: f64,
+    /// Interrupted?
+    pub interrupted: bool,
+    /// Largest penetration over the run, m.
+    pub max_penetration_m: f64,
+}
+
+/// Mean and (min, max) of the finite values of an iterator; zeros when empty.
+fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
+    let (mut sum, mut n, mut lo, mut hi) = (0.0, 0usize, f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        sum += v;
+        n += 1;
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if n == 0 {
+        (0.0, 0.0, 0.0)
+    } else {
+        (sum / n as f64, lo, hi)
+    }
+}
+
+impl RunSummary {
+    /// Computes the summary of a run from its signals.
+    pub fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
+        let scene = inputs.scene;
+        let model = inputs.model;
+        let rows = &signals.rows;
+        let t_end = rows.last().map_or(0.0, |r| r.t_s);
+        let window = [(t_end - 1.0).max(0.0), t_end];
+        let ramp = scene
+            .sprockets
+            .iter()
+            .filter_map(|s| s.speed_law())
+            .map(|l| l.ramp_s)
+            .fold(0.0, f64::max);
+        let spectrum_window = if ramp + 0.5 < t_end {
+            [ramp + 0.5, t_end]
+        } else {
+            [0.0, t_end]
+        };
+        // Rows in the window; the first row's extremes cover the steps before it, so skip it.
+        let in_window: Vec<&SampleRow> = rows
+            .iter()
+            .filter(|r| r.t_s > window[0] && r.t_s <= window[1])
+            .collect();
+        let (_, link_min, _) = stats(in_window.iter().map(|r| r.link_range_n.0));
+        let (_, _, link_max) = stats(in_window.iter().map(|r| r.link_range_n.1));
+        let driver = model.driver();
+        let (omega_driver, _, _) = stats(in_window.iter().map(|r| r.omega_rad_s[driver]));
+        let chain_speed = omega_driver.abs() * model.sprockets[driver].pitch_radius_m;
+        let spectrum_rows: Vec<&SampleRow> = rows
+            .iter()
+            .filter(|r| r.t_s >= spectrum_window[0] && r.t_s <= spectrum_window[1])
+            .collect();
+        let mass_per_length = scene.chain.roller_mass_kg / scene.chain.pitch_m;
+        let strands: Vec<StrandSummary> = model
+            .path
+            .strands
+            .iter()
+            .enumerate()
+            .map(|(k, s)| StrandSummary {
+                segment: k + 1,
+                from: s.from + 1,
+                to: s.to + 1,
+                length_m: s.length_m,
+                angle_on_from_rad: s.angle_on_from_rad,
+                angle_on_to_rad: s.angle_on_to_rad,
+            })
+            .collect();
+        let segments = strands
+            .iter()
+            .enumerate()
+            .map(|(k, strand)| {
+                let (mean, lo, hi) = stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
+                let transverse: Vec<f64> =
+                    spectrum_rows.iter().map(|r| r.transverse_m[k]).collect();
+                let peak = main_peak(&transverse, signals.rate_hz, 1.0, 50.0).map_or(0.0, |p| p.0);
+                SegmentSummary {
+                    segment: k + 1,
+                    mean_link_force_n: mean,
+                    link_force_p2p_n: hi - lo,
+                    transverse_peak_hz: peak,
+                    string_f1_hz: moving_string_frequency_hz(
+                        1,
+                        mean,
+                        strand.length_m,
+                        mass_per_length,
+                        chain_speed,
+                    ),
+                }
+            })
+            .collect();
+        let sprockets = (0..model.sprocket_count())
+            .map(|s| {
+                let (mean_speed, lo, hi) = stats(in_window.iter().map(|r| r.omega_rad_s[s]));
+                let (torque, _, _) = stats(in_window.iter().map(|r| r.chain_torque_n_m[s]));
+                let (_, _, bearing) = stats(in_window.iter().map(|r| r.bearing_max_n[s]));
+                SprocketSummary {
+                    sprocket: s + 1,
+                    mean_speed_rad_s: mean_speed,
+                    speed_p2p_rad_s: hi - lo,
+                    mean_torque_n_m: torque,
+                    max_bearing_force_n: bearing,
+                }
+            })
+            .collect();
+        let (power, _, _) = stats(
+            in_window
+                .iter()
+                .map(|r| -r.chain_torque_n_m[driver] * r.omega_rad_s[driver]),
+        );
+        RunSummary {
+            scene: scene.name.clone(),
+            profile: scene.profile_name().to_owned(),
+            contact_law: scene.contact.law.name().to_owned(),
+            integrator: scene.solver.integrator.name().to_owned(),
+            stepping: scene.solver.stepping.name().to_owned(),
+            gravity_m_s2: scene.gravity_m_s2,
+            dt_s: scene.solver.dt_s,
+            duration_s: t_end,
+            interrupted: inputs.interrupted,
+            window_s: window,
+            spectrum_window_s: spectrum_window,
+            sample_rate_hz: signals.rate_hz,
+            wall_s: inputs.wall_s,
+            setup_wall_s: inputs.setup_wall_s,
+            steps: inputs.steps,
+            ns_per_step: if inputs.steps > 0 {
+                inputs.wall_s * 1e9 / inputs.steps as f64
+            } else {
+                0.0
+            },
+            static_tension_n: inputs.static_tension_n,
+            rest_length_m: model.rest_length_m,
+            link_force_min_n: link_min,
+            link_force_max_n: link_max,
+            strands,
+            segments,
+            sprockets,
+            driver_mean_power_w: power,
+            max_penetration_m: inputs.max_penetration_m,
+        }
+    }
+}

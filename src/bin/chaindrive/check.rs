@@ -1,0 +1,70 @@
+//! `chaindrive check`: validate a scene and print its layout.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use chaindrive::model::DriveModel;
+
+/// Arguments of `chaindrive check`.
+#[derive(clap::Args)]
+pub struct CheckArgs {
+    /// Scene file (TOML). Default: the embedded paper drive.
+    scene: Option<PathBuf>,
+}
+
+pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
+    let scene = match crate::load_scene(args.scene.as_deref())? {
+        Ok(s) => s,
+        Err(lines) => {
+            eprintln!("{lines}");
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let name = args.scene.as_ref().map_or_else(
+        || "<embedded l60mc.toml>".to_owned(),
+        |p| p.display().to_string(),
+    );
+    let (model, _, layout) = match DriveModel::build(&scene) {
+        Ok(x) => x,
+        Err(e) => {
+            eprintln!("{name}: {e}");
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    println!(
+        "scene: {} ({} rollers, {} sprockets)",
+        scene.name,
+        scene.chain.rollers,
+        scene.sprockets.len()
+    );
+    println!("segment  from  to   length_m   angle_on_from_rad  angle_on_to_rad  links");
+    for (k, s) in model.path.strands.iter().enumerate() {
+        println!(
+            "{:>7}  {:>4}  {:>2}  {:>9.4}  {:>17.4}  {:>15.4}  {:>5}",
+            k + 1,
+            s.from + 1,
+            s.to + 1,
+            s.length_m,
+            s.angle_on_from_rad,
+            s.angle_on_to_rad,
+            layout.strand_links[k]
+        );
+    }
+    println!("sprocket  teeth  pitch_radius_m  wrap_rad  wrap_pitches");
+    for (k, (sp, w)) in scene.sprockets.iter().zip(&model.path.wraps).enumerate() {
+        println!(
+            "{:>8}  {:>5}  {:>14.6}  {:>8.4}  {:>12.2}",
+            k + 1,
+            sp.teeth,
+            sp.pitch_radius_m,
+            w.wrap_rad,
+            w.wrap_rad * f64::from(sp.teeth) / std::f64::consts::TAU
+        );
+    }
+    println!(
+        "polygon through the seated rollers: {:.4} m; unstretched chain: {:.4} m",
+        layout.polygon_length_m,
+        scene.chain.rollers as f64 * scene.chain.pitch_m
+    );
+    Ok(ExitCode::SUCCESS)
+}

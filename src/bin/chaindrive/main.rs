@@ -1,0 +1,60 @@
+//! The `chaindrive` command-line tool: one file per subcommand.
+
+mod check;
+mod run;
+
+use clap::{Parser, Subcommand};
+
+/// Dynamic simulation of roller-chain drives (Pedersen 2005) on rapier.
+#[derive(Parser)]
+#[command(name = "chaindrive", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene (default: the paper's four-sprocket drive) and report.
+    Run(run::RunArgs),
+    /// Validate a scene without running it and print the derived layout.
+    Check(check::CheckArgs),
+}
+
+fn main() -> std::process::ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Run(args) => run::run(args),
+        Command::Check(args) => check::check(args),
+    };
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+/// Loads a scene file (or the embedded paper drive), reporting every error
+/// prefixed with the file name, one per line.
+pub(crate) fn load_scene(
+    path: Option<&std::path::Path>,
+) -> anyhow::Result<Result<chaindrive::scene::Scene, String>> {
+    use chaindrive::scene::{L60MC_TOML, Scene};
+    let (name, text) = match path {
+        Some(p) => (
+            p.display().to_string(),
+            std::fs::read_to_string(p)
+                .map_err(|e| anyhow::anyhow!("cannot read scene {}: {e}", p.display()))?,
+        ),
+        None => ("<embedded l60mc.toml>".to_owned(), L60MC_TOML.to_owned()),
+    };
+    Ok(Scene::from_toml(&text).map_err(|e| {
+        e.lines()
+            .iter()
+            .map(|l| format!("{name}: {l}"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    }))
+}

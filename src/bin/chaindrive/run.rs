@@ -1,0 +1,279 @@
+//! `chaindrive run`: simulate a scene and report its summary.
+
+use std::fs::File;
+use std::io::{BufWriter, IsTerminal, Write};
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use anyhow::Context;
+use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
+use chaindrive::scene::{ProfileKind, Stepping};
+use chaindrive::sim::{Observer, Sample, Simulation};
+
+/// Arguments of `chaindrive run`.
+#[derive(clap::Args)]
+pub struct RunArgs {
+    /// Scene file (TOML). Default: the paper's drive (embedded `assets/l60mc.toml`).
+    scene: Option<PathBuf>,
+    /// Tooth profile of every sprocket.
+    #[arg(long, value_parser = ["circular", "real"])]
+    profile: Option<String>,
+    /// Simulated time, s (overrides the scene).
+    #[arg(long)]
+    duration: Option<f64>,
+    /// The chain's integration step, s (overrides the scene).
+    #[arg(long)]
+    dt: Option<f64>,
+    /// How the chain is stepped (overrides the scene).
+    #[arg(long, value_parser = ["substepped", "rapier"])]
+    stepping: Option<String>,
+    /// Write the run summary (JSON) here.
+    #[arg(long)]
+    summary: Option<PathBuf>,
+    /// Write the sampled signals (CSV) here.
+    #[arg(long)]
+    series: Option<PathBuf>,
+    /// Sampling rate of every sampled output, Hz.
+    #[arg(long, default_value_t = 1000.0)]
+    rate: f64,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Streams each sample to the CSV as it is taken, so an interrupted or failed
+/// run keeps every row already computed.
+struct CliObserver {
+    signals: Signals,
+    csv: Option<BufWriter<File>>,
+    csv_error: Option<std::io::Error>,
+    progress: Option<indicatif::ProgressBar>,
+}
+
+impl CliObserver {
+    fn write_row(&mut self) -> std::io::Result<()> {
+        let (Some(csv), Some(row)) = (self.csv.as_mut(), self.signals.rows.last()) else {
+            return Ok(());
+        };
+        write!(csv, "{}", row.t_s)?;
+        for w in &row.omega_rad_s {
+            write!(csv, ",{w}")?;
+        }
+        for f in &row.segment_force_n {
+            match f {
+                Some(f) => write!(csv, ",{f}")?,
+                None => write!(csv, ",")?,
+            }
+        }
+        for d in &row.transverse_m {
+            write!(csv, ",{d}")?;
+        }
+        writeln!(csv)
+    }
+}
+
+impl Observer for CliObserver {
+    fn sample(&mut self, s: &Sample<'_>) {
+        self.signals.sample(s);
+        if self.csv_error.is_none()
+            && let Err(e) = self.write_row()
+        {
+            self.csv_error = Some(e);
+        }
+        if let Some(p) = &self.progress {
+            p.set_position((s.state.t_s * 1000.0) as u64);
+        }
+    }
+    fn step(&mut self, s: &Sample<'_>) {
+        self.signals.step(s);
+    }
+    fn per_step_from_s(&self) -> f64 {
+        self.signals.per_step_from_s()
+    }
+}
+
+fn create(path: &PathBuf, what: &str) -> anyhow::Result<BufWriter<File>> {
+    File::create(path)
+        .map(BufWriter::new)
+        .with_context(|| format!("cannot write the {what} to {}", path.display()))
+}
+
+pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
+    let mut scene = match crate::load_scene(args.scene.as_deref())? {
+        Ok(s) => s,
+        Err(lines) => {
+            eprintln!("{lines}");
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    if let Some(p) = args.profile.as_deref().and_then(ProfileKind::parse) {
+        scene.set_profile(p);
+    }
+    if let Some(d) = args.duration {
+        anyhow::ensure!(
+            d.is_finite() && d >= 0.0,
+            "--duration must be a finite number >= 0, got {d}"
+        );
+        scene.solver.duration_s = d;
+    }
+    if let Some(dt) = args.dt {
+        anyhow::ensure!(
+            dt.is_finite() && dt > 0.0,
+            "--dt must be a finite number > 0, got {dt}"
+        );
+        scene.solver.dt_s = dt;
+    }
+    if let Some(s) = args.stepping.as_deref() {
+        scene.solver.stepping = if s == "rapier" {
+            Stepping::Rapier
+        } else {
+            Stepping::Substepped
+        };
+    }
+    anyhow::ensure!(
+        args.rate.is_finite() && args.rate > 0.0,
+        "--rate must be a finite number > 0, got {}",
+        args.rate
+    );
+    // Outputs are opened before anything is simulated: an unwritable path fails now.
+    let mut summary_file = args
+        .summary
+        .as_ref()
+        .map(|p| create(p, "summary"))
+        .transpose()?;
+    let mut csv = args
+        .series
+        .as_ref()
+        .map(|p| create(p, "series"))
+        .transpose()?;
+
+    let setup = Instant::now();
+    let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
+    let setup_wall_s = setup.elapsed().as_secs_f64();
+    let sample_every = (1.0 / (args.rate * scene.solver.dt_s)).round().max(1.0) as u64;
+    let rate_hz = 1.0 / (sample_every as f64 * scene.solver.dt_s);
+    let duration = scene.solver.duration_s;
+    if let Some(csv) = csv.as_mut() {
+        write!(csv, "t_s")?;
+        for i in 1..=scene.sprockets.len() {
+            write!(csv, ",omega_{i}_rad_s")?;
+        }
+        for k in 1..=sim.model.segments.len() {
+            write!(csv, ",seg{k}_link_force_n")?;
+        }
+        for k in 1..=sim.model.segments.len() {
+            write!(csv, ",seg{k}_transverse_m")?;
+        }
+        writeln!(csv)?;
+    }
+    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let p = indicatif::ProgressBar::new((duration * 1000.0) as u64);
+        p.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} ms simulated, eta {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        p
+    });
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let mut observer = CliObserver {
+        signals: Signals::new(&sim.model, rate_hz, (duration - 1.0).max(0.0)),
+        csv,
+        csv_error: None,
+        progress,
+    };
+    let outcome = sim.run(duration, sample_every, &mut observer, Some(&stop));
+    if let Some(p) = &observer.progress {
+        p.finish_and_clear();
+    }
+    let flushed = observer.csv.as_mut().map_or(Ok(()), |c| c.flush());
+    if let Some(e) = observer.csv_error.take() {
+        return Err(e).context("writing the series failed");
+    }
+    flushed.context("writing the series failed")?;
+    let outcome = outcome?;
+    let summary = RunSummary::compute(
+        &SummaryInputs {
+            scene: &scene,
+            model: &sim.model,
+            static_tension_n: sim.equilibrium.tension_n,
+            steps: outcome.steps,
+            wall_s: outcome.wall_s,
+            setup_wall_s,
+            interrupted: outcome.interrupted,
+            max_penetration_m: outcome.max_penetration_m,
+        },
+        &observer.signals,
+    );
+    if let Some(f) = summary_file.as_mut() {
+        serde_json::to_writer_pretty(&mut *f, &summary)?;
+        writeln!(f)?;
+        f.flush().context("writing the summary failed")?;
+    }
+    print_summary(&summary);
+    Ok(if outcome.interrupted {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn print_summary(s: &RunSummary) {
+    println!(
+        "{} — {} profile, {}, {} ({}), dt {:e} s",
+        s.scene, s.profile, s.contact_law, s.integrator, s.stepping, s.dt_s
+    );
+    println!(
+        "simulated {:.3} s{} in {:.2} s wall ({} steps, {:.0} ns/step; setup {:.2} s)",
+        s.duration_s,
+        if s.interrupted { " (interrupted)" } else { "" },
+        s.wall_s,
+        s.steps,
+        s.ns_per_step,
+        s.setup_wall_s
+    );
+    println!(
+        "static tension {:.0} N (rest length {:.6} m); window {:.2}–{:.2} s: link force {:.0} … {:.0} N",
+        s.static_tension_n,
+        s.rest_length_m,
+        s.window_s[0],
+        s.window_s[1],
+        s.link_force_min_n,
+        s.link_force_max_n
+    );
+    println!("segment  length_m  mean_force_n  p2p_n  transverse_peak_hz  string_f1_hz");
+    for (seg, st) in s.segments.iter().zip(&s.strands) {
+        println!(
+            "{:>7}  {:>8.4}  {:>12.0}  {:>5.0}  {:>18.2}  {:>12.2}",
+            seg.segment,
+            st.length_m,
+            seg.mean_link_force_n,
+            seg.link_force_p2p_n,
+            seg.transverse_peak_hz,
+            seg.string_f1_hz
+        );
+    }
+    println!("sprocket  mean_speed_rad_s  speed_p2p_rad_s  mean_torque_n_m  max_bearing_force_n");
+    for sp in &s.sprockets {
+        println!(
+            "{:>8}  {:>16.4}  {:>15.4}  {:>15.1}  {:>19.0}",
+            sp.sprocket,
+            sp.mean_speed_rad_s,
+            sp.speed_p2p_rad_s,
+            sp.mean_torque_n_m,
+            sp.max_bearing_force_n
+        );
+    }
+    println!(
+        "driver mean power {:.0} W; max penetration {:.1} µm",
+        s.driver_mean_power_w,
+        s.max_penetration_m * 1e6
+    );
+}

@@ -1,0 +1,126 @@
+//! Continuous contact laws of the Hunt–Crossley family (MODEL.md §3):
+//!
+//! ```text
+//! f = K_g δⁿ (1 + χ δ̇ / δ̇⁻),   Lankarani–Nikravesh: χ = 3 (1 − e²) / 4
+//! ```
+//!
+//! Guards every implementation needs, and which this one documents:
+//! - the total is clamped to ≥ 0 (no adhesion while separating);
+//! - the remembered approach speed δ̇⁻ is bounded below by
+//!   `min_approach_speed_m_s`, so a gentle or resting contact does not get
+//!   unbounded damping (c = χ K_g δⁿ / δ̇⁻) and the explicit step limit
+//!   2 m_r / c does not collapse. A contact that starts slower than the floor
+//!   is damped as if it had started at the floor speed: less dissipation than
+//!   the law's literal reading, on impacts that carry almost no energy.
+//!
+//! Known limit: with e = 0 a Lankarani–Nikravesh impact still rebounds at about
+//! 0.66 of its approach speed (the law was derived for e near 1).
+
+use crate::scene::{Contact, ContactLaw};
+
+/// A contact law ready to evaluate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactLawParams {
+    /// K_g, N/m^n.
+    pub stiffness: f64,
+    /// n.
+    pub exponent: f64,
+    /// χ of `K δⁿ (1 + χ δ̇/δ̇⁻)`.
+    pub chi: f64,
+    /// Floor on δ̇⁻, m/s.
+    pub min_approach_speed_m_s: f64,
+    /// n == 1.5 exactly: δ^1.5 = δ √δ, much cheaper than `powf`.
+    hertz: bool,
+}
+
+impl ContactLawParams {
+    /// From the scene's contact settings.
+    pub fn new(contact: &Contact) -> Self {
+        let e = contact.restitution;
+        let chi = match contact.law {
+            ContactLaw::LankaraniNikravesh => 0.75 * (1.0 - e * e),
+        };
+        Self {
+            stiffness: contact.stiffness,
+            exponent: contact.exponent,
+            chi,
+            min_approach_speed_m_s: contact.min_approach_speed_m_s,
+            hertz: contact.exponent == 1.5,
+        }
+    }
+
+    /// The approach speed to remember at contact onset.
+    #[inline]
+    pub fn onset_speed(&self, approach_speed_m_s: f64) -> f64 {
+        approach_speed_m_s.max(self.min_approach_speed_m_s)
+    }
+
+    /// Elastic part K_g δⁿ, N.
+    #[inline]
+    pub fn elastic(&self, depth_m: f64) -> f64 {
+        if self.hertz {
+            self.stiffness * depth_m * depth_m.sqrt()
+        } else {
+            self.stiffness * depth_m.powf(self.exponent)
+        }
+    }
+
+    /// Normal force magnitude, N (≥ 0).
+    ///
+    /// `depth_rate_m_s` is δ̇ (positive while approaching), `onset_m_s` the
+    /// remembered approach speed δ̇⁻ (already floored).
+    #[inline]
+    pub fn force(&self, depth_m: f64, depth_rate_m_s: f64, onset_m_s: f64) -> f64 {
+        let f = self.elastic(depth_m) * (1.0 + self.chi * depth_rate_m_s / onset_m_s);
+        f.max(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ln(e: f64) -> ContactLawParams {
+        ContactLawParams::new(&Contact {
+            law: ContactLaw::LankaraniNikravesh,
+            stiffness: 1e9,
+            exponent: 1.5,
+            restitution: e,
+            min_approach_speed_m_s: 0.05,
+        })
+    }
+
+    #[test]
+    fn closed_form_values() {
+        // f = 1e9 · (1e-4)^1.5 · (1 + 0.75 · 0.3/0.6) = 1e3 · 1.375
+        let law = ln(0.0);
+        assert!((law.force(1e-4, 0.3, 0.6) - 1375.0).abs() < 1e-9);
+        // e = 1: purely elastic.
+        assert!((ln(1.0).force(1e-4, 0.3, 0.6) - 1000.0).abs() < 1e-9);
+        // e = 0.5: χ = 0.5625.
+        assert!((ln(0.5).force(4e-4, -0.2, 0.4) - 8000.0 * (1.0 - 0.5625 * 0.5)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn never_adhesive() {
+        // Separating fast: 1 + 0.75·(−3)/0.1 < 0 → clamped.
+        assert_eq!(ln(0.0).force(1e-4, -3.0, 0.1), 0.0);
+    }
+
+    #[test]
+    fn general_exponent_matches_hertz_fast_path() {
+        let mut general = ln(0.3);
+        general.hertz = false;
+        let fast = ln(0.3);
+        for d in [1e-7, 3e-5, 2e-4] {
+            let (a, b) = (general.force(d, 0.1, 0.2), fast.force(d, 0.1, 0.2));
+            assert!((a - b).abs() <= 1e-12 * a.abs());
+        }
+    }
+
+    #[test]
+    fn onset_speed_is_floored() {
+        assert_eq!(ln(0.0).onset_speed(1e-6), 0.05);
+        assert_eq!(ln(0.0).onset_speed(0.7), 0.7);
+    }
+}

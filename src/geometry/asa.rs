@@ -1,0 +1,2032 @@
+//! ASA B29.1 (Type II) / ANSI roller-chain sprocket tooth form: dimensions, outline and
+//! roller contact.
+//!
+//! This module builds the "real tooth profile" of Pedersen (Arch. Appl. Mech. 74 (2005),
+//! §2.4) exactly as written out in `tooth-profile.md` (the checked specification): the
+//! standard's constants (§1), the seven contact areas of one tooth gap in the gap-local
+//! frame (§2), and the contact rules (§2 "Contact").
+//!
+//! # What it does
+//! - [`AsaDimensions`]: every standard dimension of one sprocket (A, B, C, α, Rs, Rt, ΔR,
+//!   M, T, RE, W, V, RF, H, S, xy, yz, root and tip radius), with the corrected constants
+//!   B = 18° − 56°/N, ab = 1.4 Dr and topping centres b = (±W, −V).
+//! - [`GapPoints`]: the construction points x, y, z, f, the centres b, c and the area angles
+//!   of one gap in its local frame.
+//! - [`AsaProfile::signed_distance`]: signed distance from a point to the whole sprocket
+//!   outline (positive in free space), closest point, area and gap.
+//! - [`AsaProfile::contacts`]: the contact patches of a roller (at most two), O(1) and
+//!   without allocation.
+//! - [`AsaProfile::outline`]: the sampled outline of the whole sprocket (for drawing, CSV
+//!   output and tests).
+//!
+//! # What it does not do
+//! - No forces, no contact law, no contact memory: it only supplies depth, normal, point and
+//!   a stable patch identity. The caller applies its law (e.g. Lankarani–Nikravesh).
+//! - No sprocket pose: everything is in the SPROCKET frame (centre at the origin, angle 0).
+//!   The caller transforms a roller centre into that frame and the results back.
+//! - The tooth tip is the pointed tooth of the paper; the optional truncation to
+//!   OD = P(0.6 + cot φ) is not applied.
+//!
+//! # Conventions
+//! - SI units inside (metres, radians). The standard's additive constants 0.003 in and
+//!   0.0015 in are used as 7.62e-5 m and 3.81e-5 m; all multipliers are unitless.
+//! - φ = π/N is half the pitch angle; the pitch angle is Φ = 2π/N.
+//! - Sprocket frame: gap j's seating centre O_j is at polar angle ψ_j = jΦ on the pitch
+//!   circle (radius Rs); gap 0 is at (Rs, 0); gaps are numbered counter-clockwise and taken
+//!   modulo N into 0..N. Tooth k is the tooth between gap k and gap k+1 (its centreline is
+//!   at polar angle (k + ½)Φ).
+//! - Gap-local frame (ξ, η), the paper's eq. (24): origin O_j, η = e_r (radially outward),
+//!   ξ = (sin ψ, −cos ψ) (clockwise tangential). A point (ξ, η) is at
+//!   (Rs + η) e_r + ξ ξ̂ in the sprocket frame.
+//! - Areas 1..=7 as in the spec: 7 topping (convex, clockwise side, ξ > 0), 6 straight,
+//!   5 working (concave), 4 seating (concave), 3 working, 2 straight, 1 topping
+//!   (counter-clockwise side, ξ < 0). A counter-clockwise walk meets them in the order
+//!   7, 6, 5, 4, 3, 2, 1; the material is on the left of that walk.
+//! - Signed distance: positive in free space, negative inside the material.
+//! - Contact: depth = r − sd (contact when depth > 0); the normal is the unit free-side
+//!   normal at the closest point, i.e. the unit vector from the closest outline point towards
+//!   the roller centre whenever that centre is in free space. It is the direction of the
+//!   force on the roller.
+//!
+//! # Patches and patch identity
+//! The whole outline is tangent-continuous except at the tooth tips f, which are convex
+//! corners; the nearest-point rule is continuous across both. A *patch* is a set of pieces
+//! on which a roller has at most one nearest point; a roller can touch two separate places
+//! only when the distance to the outline has two separate local minima within its radius.
+//! Patch ids (N = number of teeth):
+//! - `2·g` — the concave part (areas 2–6) of gap g.
+//! - `2·k + 1` — tooth k: area 1 of gap k, the tip, and area 7 of gap k+1.
+//! - `2·N + g` — only when ONE roller touches BOTH flanks of gap g at once (possible only for
+//!   a roller that does not fit the seat, radius ≳ Rt): then the clockwise-side (ξ > 0)
+//!   contact keeps `2·g` and the counter-clockwise-side one gets `2·N + g`.
+//!
+//! A roller sliding across the joint z (straight ↔ topping, tangent) changes from patch `2g`
+//! to the tooth patch. That is a change of *place* for this id scheme but not of the force,
+//! which is continuous; [`AsaProfile::patches_are_neighbours`] tells the caller when two ids
+//! meet at such a joint, so it can carry its contact memory across.
+//!
+//! A patch is reported only where its nearest point is a genuine local minimum of the
+//! distance: if a patch's nearest point is the end it shares with a neighbouring patch (z, z*
+//! or the seat bottom between the two flank halves), the point belongs to the neighbour. The
+//! ownership at each shared end is decided by ONE half-plane test (the normal line at the
+//! joint), evaluated identically for both sides, so a point is never claimed twice and never
+//! dropped by rounding.
+
+use std::f64::consts::PI;
+use std::fmt;
+
+/// 0.003 in expressed in metres (additive constant of Dt and xy).
+pub const IN_0_003_M: f64 = 7.62e-5;
+/// 0.0015 in expressed in metres (additive constant of Rt, RE and RF).
+pub const IN_0_0015_M: f64 = 3.81e-5;
+/// Smallest tooth count accepted before the geometric checks (B, C > 0 needs N ≥ 4).
+pub const MIN_TEETH: u32 = 4;
+/// Largest tooth count accepted (keeps patch ids well inside `u32`).
+pub const MAX_TEETH: u32 = 100_000;
+/// Smallest arc step used by [`AsaProfile::outline`] (bounds the allocation).
+pub const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
+/// Rounding allowance when comparing a patch with the nearest outline point.
+const CONSISTENCY_TOL_M: f64 = 1e-9;
+/// Distances closer than this are a tie (the earlier piece is kept: own before neighbour).
+const TIE_M: f64 = 1e-15;
+
+/// Standard dimensions of one sprocket (all SI: metres, radians).
+///
+/// Symbols and formulas are those of `tooth-profile.md` §1; points and angles of the
+/// construction are in [`GapPoints`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct AsaDimensions {
+    /// Number of teeth N.
+    pub teeth: u32,
+    /// Chain pitch P.
+    pub pitch_m: f64,
+    /// Roller diameter Dr.
+    pub roller_diameter_m: f64,
+    /// A = 35° + 60°/N.
+    pub a_rad: f64,
+    /// B = 18° − 56°/N (sweep of the working curve).
+    pub b_rad: f64,
+    /// C = 17° − 64°/N (= A − B − φ).
+    pub c_rad: f64,
+    /// Pressure angle α = 35° − 120°/N = A − φ, eq. (48).
+    pub pressure_angle_rad: f64,
+    /// Pitch radius Rs = P / (2 sin φ).
+    pub pitch_radius_m: f64,
+    /// Seating-curve radius Rt = Dt/2 = 0.5025 Dr + 0.0015 in.
+    pub seating_radius_m: f64,
+    /// Clearance ΔR = Rt − Rr.
+    pub clearance_m: f64,
+    /// M = 0.8 Dr cos A.
+    pub m_m: f64,
+    /// T = 0.8 Dr sin A.
+    pub t_m: f64,
+    /// Working-curve radius RE = 1.3025 Dr + 0.0015 in.
+    pub working_radius_m: f64,
+    /// W = 1.4 Dr cos φ.
+    pub w_m: f64,
+    /// V = 1.4 Dr sin φ.
+    pub v_m: f64,
+    /// Topping-curve radius RF = Dr (0.8 cos B + 1.4 cos C − 1.3025) − 0.0015 in.
+    pub topping_radius_m: f64,
+    /// H = sqrt(RF² − (1.4 Dr − P/2)²), tip height above the chord midpoint.
+    pub h_m: f64,
+    /// S = P/2 cos φ + H sin φ, tangential distance of the tip from the gap centreline.
+    pub s_m: f64,
+    /// Chord of the working curve xy = (2.605 Dr + 0.003 in) sin(9° − 28°/N).
+    pub working_chord_m: f64,
+    /// Length of the straight portion yz = Dr (1.4 sin C − 0.8 sin B).
+    pub straight_length_m: f64,
+    /// Tip radius Rs cos φ + H (pointed tooth).
+    pub tip_radius_m: f64,
+    /// Root radius Rs − Rt.
+    pub root_radius_m: f64,
+}
+
+/// Construction points and area angles of one gap, in the gap-local frame (ξ, η).
+///
+/// Unstarred points are on the clockwise side (ξ > 0); the starred ones are their mirror
+/// images ξ → −ξ (angles θ → π − θ). Angles are polar angles about the named centre,
+/// measured from +ξ counter-clockwise, in the ranges printed in the spec.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GapPoints {
+    /// x: seating ↔ working joint, Rt (cos A, −sin A).
+    pub x_m: [f64; 2],
+    /// y = d: working ↔ straight joint.
+    pub y_m: [f64; 2],
+    /// z = e: straight ↔ topping joint.
+    pub z_m: [f64; 2],
+    /// f: tooth tip on the tooth centreline.
+    pub f_m: [f64; 2],
+    /// b: centre of the topping curve of area 7, (W, −V).
+    pub b_m: [f64; 2],
+    /// c: centre of the working curve of area 5, (−M, T).
+    pub c_m: [f64; 2],
+    /// θ1a = π + A (seating arc, at x*).
+    pub theta_1a_rad: f64,
+    /// θ2a = 2π − A (seating arc, at x).
+    pub theta_2a_rad: f64,
+    /// θ1c = 2π − A (area 5 at x).
+    pub theta_1c_rad: f64,
+    /// θ2c = 2π − A + B (area 5 at y).
+    pub theta_2c_rad: f64,
+    /// θ1c* = π + A − B (area 3 at y*).
+    pub theta_1c_star_rad: f64,
+    /// θ2c* = π + A (area 3 at x*).
+    pub theta_2c_star_rad: f64,
+    /// θ1b = π − θ2b* (area 7 at f).
+    pub theta_1b_rad: f64,
+    /// θ2b = π − A + B (area 7 at z).
+    pub theta_2b_rad: f64,
+    /// θ1b* = A − B (area 1 at z*).
+    pub theta_1b_star_rad: f64,
+    /// θ2b* = atan2(f* − b*) (area 1 at f*).
+    pub theta_2b_star_rad: f64,
+    /// Sweep of each topping curve, θ2b* − θ1b*.
+    pub topping_sweep_rad: f64,
+}
+
+/// Why a profile cannot be built.
+#[derive(Clone, Debug, PartialEq)]
+pub enum AsaError {
+    /// Fewer than [`MIN_TEETH`] teeth.
+    TooFewTeeth {
+        /// The requested tooth count.
+        teeth: u32,
+    },
+    /// More than [`MAX_TEETH`] teeth.
+    TooManyTeeth {
+        /// The requested tooth count.
+        teeth: u32,
+    },
+    /// An input that must be finite and positive is not.
+    NonPositive {
+        /// Which input.
+        what: &'static str,
+    },
+    /// The seating curves of neighbouring gaps would meet (Dt ≥ P).
+    RollerTooBig {
+        /// Seating diameter Dt in metres.
+        seating_diameter_m: f64,
+        /// Pitch P in metres.
+        pitch_m: f64,
+    },
+    /// The standard's construction does not give a valid profile for these inputs.
+    DegenerateProfile {
+        /// What failed.
+        reason: &'static str,
+    },
+}
+
+impl fmt::Display for AsaError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            AsaError::TooFewTeeth { teeth } => {
+                write!(
+                    f,
+                    "ASA sprocket needs at least {MIN_TEETH} teeth, got {teeth}"
+                )
+            }
+            AsaError::TooManyTeeth { teeth } => {
+                write!(
+                    f,
+                    "ASA sprocket supports at most {MAX_TEETH} teeth, got {teeth}"
+                )
+            }
+            AsaError::NonPositive { what } => write!(f, "{what} must be finite and positive"),
+            AsaError::RollerTooBig {
+                seating_diameter_m,
+                pitch_m,
+            } => write!(
+                f,
+                "seating diameter {seating_diameter_m} m is not smaller than the pitch {pitch_m} m"
+            ),
+            AsaError::DegenerateProfile { reason } => {
+                write!(f, "degenerate ASA tooth profile: {reason}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for AsaError {}
+
+/// One contact patch between a roller and the profile, in the SPROCKET frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Patch {
+    /// Penetration depth r − sd in metres, > 0.
+    pub depth_m: f64,
+    /// Unit free-side normal at the closest point: from the closest surface point towards
+    /// the roller centre (when the centre is in free space). Direction of the force on the
+    /// roller.
+    pub normal: [f64; 2],
+    /// Closest surface point, metres.
+    pub point: [f64; 2],
+    /// Area 1..=7 of the piece that holds the closest point.
+    pub area: u8,
+    /// Gap (0..N) whose piece holds the closest point.
+    pub gap: i64,
+    /// Stable identity of the place touched (see the module docs).
+    pub patch_id: u32,
+}
+
+/// One sample of the sprocket outline, in the sprocket frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutlinePoint {
+    /// x in metres.
+    pub x_m: f64,
+    /// y in metres.
+    pub y_m: f64,
+    /// Gap (0..N) the sampled piece belongs to.
+    pub gap: i64,
+    /// Area 1..=7 of the sampled piece.
+    pub area: u8,
+}
+
+// ---------------------------------------------------------------------------------------
+// Small 2-D helpers.
+
+/// A 2-D vector or point, metres (or unitless for directions).
+type V2 = [f64; 2];
+
+/// a + b.
+fn add(a: V2, b: V2) -> V2 {
+    [a[0] + b[0], a[1] + b[1]]
+}
+/// a − b.
+fn sub(a: V2, b: V2) -> V2 {
+    [a[0] - b[0], a[1] - b[1]]
+}
+/// a·s.
+fn scale(a: V2, s: f64) -> V2 {
+    [a[0] * s, a[1] * s]
+}
+/// Dot product.
+fn dot(a: V2, b: V2) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+/// Euclidean length.
+fn norm(a: V2) -> f64 {
+    a[0].hypot(a[1])
+}
+/// −a.
+fn neg(a: V2) -> V2 {
+    [-a[0], -a[1]]
+}
+/// `a / |a|`, or `fallback` when `a` has no usable length.
+fn unit_or(a: V2, fallback: V2) -> V2 {
+    let n = norm(a);
+    if n > 0.0 && n.is_finite() {
+        [a[0] / n, a[1] / n]
+    } else {
+        fallback
+    }
+}
+/// Right-hand normal of a direction (the free side of the counter-clockwise walk).
+fn right_normal(t: V2) -> V2 {
+    [t[1], -t[0]]
+}
+/// Unit vector at `angle_rad` from +x (+ξ).
+fn polar(angle_rad: f64) -> V2 {
+    [angle_rad.cos(), angle_rad.sin()]
+}
+/// Mirror about the gap centreline: ξ → −ξ.
+fn mirror(a: V2) -> V2 {
+    [-a[0], a[1]]
+}
+/// Wrap an angle into (−π, π].
+fn wrap_pi(a: f64) -> f64 {
+    let r = a.rem_euclid(2.0 * PI);
+    if r > PI { r - 2.0 * PI } else { r }
+}
+
+// ---------------------------------------------------------------------------------------
+// Pieces of the outline.
+
+/// Ownership test at a joint shared by two patches: the piece *before* the joint (in walk
+/// order) owns the points with (p − point)·tangent < 0, the piece after it the others.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Joint {
+    /// The joint point.
+    point: V2,
+    /// Unit walk direction at the joint.
+    tangent: V2,
+}
+
+impl Joint {
+    /// Signed distance of `p` along the tangent, measured from the joint.
+    fn side(&self, p: V2) -> f64 {
+        dot(sub(p, self.point), self.tangent)
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+/// Geometry of one piece.
+enum Shape {
+    /// Circular arc walked from `start_rad` through `sweep_rad` (> 0: counter-clockwise about
+    /// the centre = convex; < 0: clockwise = concave).
+    Arc {
+        /// Centre of the circle.
+        centre: V2,
+        /// Radius of the circle.
+        radius_m: f64,
+        /// Polar angle of the start point about the centre.
+        start_rad: f64,
+        /// Signed sweep from the start point to the end point.
+        sweep_rad: f64,
+    },
+    /// Straight segment from `start` to `end`.
+    Segment,
+}
+
+/// One piece of the outline in some gap-local frame, with its walk-order end points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Piece {
+    /// Arc or segment.
+    shape: Shape,
+    /// Start point (walk order).
+    start: V2,
+    /// End point (walk order).
+    end: V2,
+    /// Area 1..=7.
+    area: u8,
+    /// Gap of this piece relative to the frame it is expressed in (−1, 0, +1).
+    gap_offset: i64,
+    /// Shared joint at the start: the piece owns points with side ≥ 0.
+    start_joint: Option<Joint>,
+    /// Shared joint at the end: the piece owns points with side < 0.
+    end_joint: Option<Joint>,
+    /// At a convex corner (the tooth tip), the direction that decides the sign of the
+    /// distance to that end point (the tooth centreline, outward), per end.
+    corner_normal: [Option<V2>; 2],
+}
+
+/// Result of the closest-point query on one piece (piece-local frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Hit {
+    /// Unsigned distance.
+    dist_m: f64,
+    /// Signed distance, positive on the free side.
+    sd_m: f64,
+    /// Closest point.
+    point: V2,
+    /// Unit free-side normal (towards `p` when `p` is in free space).
+    normal: V2,
+    /// Area of the piece.
+    area: u8,
+    /// Gap of the piece relative to the evaluating gap.
+    gap_offset: i64,
+    /// False when the point lies beyond a joint shared with another patch.
+    owned: bool,
+}
+
+impl Piece {
+    /// An arc piece; end points from the arc formula (overwritten by shared joints later).
+    fn arc(centre: V2, radius_m: f64, start_rad: f64, sweep_rad: f64, area: u8) -> Piece {
+        Piece {
+            shape: Shape::Arc {
+                centre,
+                radius_m,
+                start_rad,
+                sweep_rad,
+            },
+            start: add(centre, scale(polar(start_rad), radius_m)),
+            end: add(centre, scale(polar(start_rad + sweep_rad), radius_m)),
+            area,
+            gap_offset: 0,
+            start_joint: None,
+            end_joint: None,
+            corner_normal: [None, None],
+        }
+    }
+
+    /// A straight piece from `start` to `end`.
+    fn segment(start: V2, end: V2, area: u8) -> Piece {
+        Piece {
+            shape: Shape::Segment,
+            start,
+            end,
+            area,
+            gap_offset: 0,
+            start_joint: None,
+            end_joint: None,
+            corner_normal: [None, None],
+        }
+    }
+
+    /// Unit tangent in walk direction at the start (`at_end == false`) or the end.
+    fn tangent(&self, at_end: bool) -> V2 {
+        match self.shape {
+            Shape::Arc {
+                start_rad,
+                sweep_rad,
+                ..
+            } => {
+                let a = if at_end {
+                    start_rad + sweep_rad
+                } else {
+                    start_rad
+                };
+                let t = [-a.sin(), a.cos()];
+                if sweep_rad > 0.0 { t } else { neg(t) }
+            }
+            Shape::Segment => unit_or(sub(self.end, self.start), [1.0, 0.0]),
+        }
+    }
+
+    /// Unit free-side normal at the start or the end.
+    fn free_normal(&self, at_end: bool) -> V2 {
+        right_normal(self.tangent(at_end))
+    }
+
+    /// False when `p` lies beyond a shared joint at either end.
+    fn owns(&self, p: V2) -> bool {
+        let after_start = self.start_joint.is_none_or(|j| j.side(p) >= 0.0);
+        let before_end = self.end_joint.is_none_or(|j| j.side(p) < 0.0);
+        after_start && before_end
+    }
+
+    /// A hit of this piece.
+    fn hit(&self, sd_m: f64, point: V2, normal: V2, owned: bool) -> Hit {
+        Hit {
+            dist_m: sd_m.abs(),
+            sd_m,
+            point,
+            normal,
+            area: self.area,
+            gap_offset: self.gap_offset,
+            owned,
+        }
+    }
+
+    /// Closest point of this piece to `p`: the foot of the perpendicular when it falls on
+    /// the span, otherwise the nearer end point.
+    fn closest(&self, p: V2) -> Hit {
+        let owned = self.owns(p);
+        match self.shape {
+            Shape::Arc {
+                centre,
+                radius_m,
+                start_rad,
+                sweep_rad,
+            } => {
+                let mid = start_rad + 0.5 * sweep_rad;
+                let d = sub(p, centre);
+                let r = norm(d);
+                let dir = unit_or(d, polar(mid));
+                let angle = dir[1].atan2(dir[0]);
+                if wrap_pi(angle - mid).abs() <= 0.5 * sweep_rad.abs() {
+                    let point = add(centre, scale(dir, radius_m));
+                    if sweep_rad > 0.0 {
+                        self.hit(r - radius_m, point, dir, owned)
+                    } else {
+                        self.hit(radius_m - r, point, neg(dir), owned)
+                    }
+                } else {
+                    self.end_point_hit(p, owned)
+                }
+            }
+            Shape::Segment => {
+                let e = sub(self.end, self.start);
+                let l2 = dot(e, e);
+                let t = if l2 > 0.0 {
+                    dot(sub(p, self.start), e) / l2
+                } else {
+                    -1.0
+                };
+                if (0.0..=1.0).contains(&t) {
+                    let n = self.free_normal(false);
+                    let sd = dot(sub(p, self.start), n);
+                    self.hit(sd, add(self.start, scale(e, t)), n, owned)
+                } else {
+                    self.end_point_hit(p, owned)
+                }
+            }
+        }
+    }
+
+    /// Hit at the nearer end point; the sign is taken from the end's free normal (or the
+    /// tip's centreline direction at a convex corner).
+    fn end_point_hit(&self, p: V2, owned: bool) -> Hit {
+        let to_start = norm(sub(p, self.start));
+        let to_end = norm(sub(p, self.end));
+        let at_end = to_end < to_start;
+        let q = if at_end { self.end } else { self.start };
+        let n_free = self.free_normal(at_end);
+        let n_sign = self.corner_normal[usize::from(at_end)].unwrap_or(n_free);
+        let v = sub(p, q);
+        let d = norm(v);
+        let sign = if dot(v, n_sign) >= 0.0 { 1.0 } else { -1.0 };
+        let normal = if d > 0.0 {
+            [sign * v[0] / d, sign * v[1] / d]
+        } else {
+            n_free
+        };
+        self.hit(sign * d, q, normal, owned)
+    }
+
+    /// The same piece after a map of the gap-local frame that rotates directions by
+    /// `rotate_rad` (points mapped with `map`).
+    fn mapped(&self, map: impl Fn(V2) -> V2, rotate_rad: f64, gap_offset: i64) -> Piece {
+        let (s, c) = rotate_rad.sin_cos();
+        let rot = |v: V2| [c * v[0] - s * v[1], s * v[0] + c * v[1]];
+        let joint = |j: Joint| Joint {
+            point: map(j.point),
+            tangent: rot(j.tangent),
+        };
+        let shape = match self.shape {
+            Shape::Arc {
+                centre,
+                radius_m,
+                start_rad,
+                sweep_rad,
+            } => Shape::Arc {
+                centre: map(centre),
+                radius_m,
+                start_rad: start_rad + rotate_rad,
+                sweep_rad,
+            },
+            Shape::Segment => Shape::Segment,
+        };
+        Piece {
+            shape,
+            start: map(self.start),
+            end: map(self.end),
+            area: self.area,
+            gap_offset,
+            start_joint: self.start_joint.map(joint),
+            end_joint: self.end_joint.map(joint),
+            corner_normal: self.corner_normal.map(|n| n.map(rot)),
+        }
+    }
+
+    /// Samples from the start (inclusive) to the end (exclusive).
+    fn sample(&self, max_step_rad: f64, straight_step_m: f64, out: &mut Vec<V2>) {
+        match self.shape {
+            Shape::Arc {
+                centre,
+                radius_m,
+                start_rad,
+                sweep_rad,
+            } => {
+                let n = steps(sweep_rad.abs() / max_step_rad);
+                out.push(self.start);
+                for k in 1..n {
+                    let a = start_rad + sweep_rad * (k as f64 / n as f64);
+                    out.push(add(centre, scale(polar(a), radius_m)));
+                }
+            }
+            Shape::Segment => {
+                let e = sub(self.end, self.start);
+                let n = steps(norm(e) / straight_step_m);
+                for k in 0..n {
+                    out.push(add(self.start, scale(e, k as f64 / n as f64)));
+                }
+            }
+        }
+    }
+}
+
+/// Number of sub-steps for a ratio span/step (at least 1, bounded).
+fn steps(ratio: f64) -> usize {
+    if ratio.is_finite() && ratio > 1.0 {
+        ratio.ceil().min(1e7) as usize
+    } else {
+        1
+    }
+}
+
+/// Closest owned point of a patch, from the hits of its pieces: `None` when the nearest
+/// point of the run lies beyond one of its shared joints (it then belongs to the
+/// neighbouring patch). On a tie (within [`TIE_M`], e.g. both toppings at the tip) the
+/// earlier piece wins.
+fn patch_hit(hits: &[Hit]) -> Option<Hit> {
+    let mut best: Option<Hit> = None;
+    for &h in hits {
+        match best {
+            Some(b) if b.dist_m <= h.dist_m + TIE_M => {}
+            _ => best = Some(h),
+        }
+    }
+    best.filter(|h| h.owned)
+}
+
+/// The hit with the smallest distance (the first on a tie).
+fn nearest_hit(hits: &[Hit; 8]) -> Hit {
+    let mut best = hits[0];
+    for &h in &hits[1..] {
+        if h.dist_m < best.dist_m {
+            best = h;
+        }
+    }
+    best
+}
+
+// ---------------------------------------------------------------------------------------
+// Dimensions and construction.
+
+/// Range checks of the raw inputs.
+fn check_inputs(teeth: u32, pitch_m: f64, roller_diameter_m: f64) -> Result<(), AsaError> {
+    if teeth < MIN_TEETH {
+        return Err(AsaError::TooFewTeeth { teeth });
+    }
+    if teeth > MAX_TEETH {
+        return Err(AsaError::TooManyTeeth { teeth });
+    }
+    if !(pitch_m.is_finite() && pitch_m > 0.0) {
+        return Err(AsaError::NonPositive { what: "pitch" });
+    }
+    if !(roller_diameter_m.is_finite() && roller_diameter_m > 0.0) {
+        return Err(AsaError::NonPositive {
+            what: "roller diameter",
+        });
+    }
+    let seating_diameter_m = 1.005 * roller_diameter_m + IN_0_003_M;
+    if seating_diameter_m >= pitch_m {
+        return Err(AsaError::RollerTooBig {
+            seating_diameter_m,
+            pitch_m,
+        });
+    }
+    Ok(())
+}
+
+/// The standard dimensions (§1), with the checks that the construction closes.
+fn dimensions(teeth: u32, pitch_m: f64, dr: f64) -> Result<AsaDimensions, AsaError> {
+    check_inputs(teeth, pitch_m, dr)?;
+    let n = f64::from(teeth);
+    let deg = PI / 180.0;
+    let phi = PI / n;
+    let a = (35.0 + 60.0 / n) * deg;
+    let b = (18.0 - 56.0 / n) * deg;
+    let c = (17.0 - 64.0 / n) * deg;
+    let rt = 0.5025 * dr + IN_0_0015_M;
+    let rf = dr * (0.8 * b.cos() + 1.4 * c.cos() - 1.3025) - IN_0_0015_M;
+    let chord_offset = 1.4 * dr - 0.5 * pitch_m;
+    let h2 = rf * rf - chord_offset * chord_offset;
+    let yz = dr * (1.4 * c.sin() - 0.8 * b.sin());
+    if b <= 0.0 || c <= 0.0 {
+        return Err(AsaError::DegenerateProfile {
+            reason: "B or C is not positive",
+        });
+    }
+    if yz <= 0.0 {
+        return Err(AsaError::DegenerateProfile {
+            reason: "straight portion yz is not positive",
+        });
+    }
+    if rf <= 0.0 || h2 <= 0.0 {
+        return Err(AsaError::DegenerateProfile {
+            reason: "topping curve does not reach the tooth centreline",
+        });
+    }
+    let h = h2.sqrt();
+    let rs = pitch_m / (2.0 * phi.sin());
+    Ok(AsaDimensions {
+        teeth,
+        pitch_m,
+        roller_diameter_m: dr,
+        a_rad: a,
+        b_rad: b,
+        c_rad: c,
+        pressure_angle_rad: (35.0 - 120.0 / n) * deg,
+        pitch_radius_m: rs,
+        seating_radius_m: rt,
+        clearance_m: rt - 0.5 * dr,
+        m_m: 0.8 * dr * a.cos(),
+        t_m: 0.8 * dr * a.sin(),
+        working_radius_m: 1.3025 * dr + IN_0_0015_M,
+        w_m: 1.4 * dr * phi.cos(),
+        v_m: 1.4 * dr * phi.sin(),
+        topping_radius_m: rf,
+        h_m: h,
+        s_m: 0.5 * pitch_m * phi.cos() + h * phi.sin(),
+        working_chord_m: (2.605 * dr + IN_0_003_M) * (9.0 - 28.0 / n).to_radians().sin(),
+        straight_length_m: yz,
+        tip_radius_m: rs * phi.cos() + h,
+        root_radius_m: rs - rt,
+    })
+}
+
+/// Construction points and angles (§2) of one gap.
+fn gap_points(d: &AsaDimensions) -> Result<GapPoints, AsaError> {
+    let phi = PI / f64::from(d.teeth);
+    let (a, b) = (d.a_rad, d.b_rad);
+    let c_m = [-d.m_m, d.t_m];
+    let b_m = [d.w_m, -d.v_m];
+    let x_m = scale([a.cos(), -a.sin()], d.seating_radius_m);
+    let y_m = add(c_m, scale(polar(b - a), d.working_radius_m));
+    let theta_2b = PI - a + b;
+    let z_m = add(b_m, scale(polar(theta_2b), d.topping_radius_m));
+    let f_m = [d.s_m, -0.5 * d.pitch_m * phi.sin() + d.h_m * phi.cos()];
+    let fb = sub(mirror(f_m), mirror(b_m));
+    let theta_2b_star = fb[1].atan2(fb[0]);
+    let theta_1b_star = a - b;
+    let sweep = theta_2b_star - theta_1b_star;
+    if !(sweep > 0.0 && sweep < PI) {
+        return Err(AsaError::DegenerateProfile {
+            reason: "topping curve sweep is not in (0, π)",
+        });
+    }
+    Ok(GapPoints {
+        x_m,
+        y_m,
+        z_m,
+        f_m,
+        b_m,
+        c_m,
+        theta_1a_rad: PI + a,
+        theta_2a_rad: 2.0 * PI - a,
+        theta_1c_rad: 2.0 * PI - a,
+        theta_2c_rad: 2.0 * PI - a + b,
+        theta_1c_star_rad: PI + a - b,
+        theta_2c_star_rad: PI + a,
+        theta_1b_rad: PI - theta_2b_star,
+        theta_2b_rad: theta_2b,
+        theta_1b_star_rad: theta_1b_star,
+        theta_2b_star_rad: theta_2b_star,
+        topping_sweep_rad: sweep,
+    })
+}
+
+/// The eight pieces of one gap in walk order 7, 6, 5, 4 (ξ ≥ 0 half), 4 (ξ ≤ 0 half), 3,
+/// 2, 1, with the ownership joints z (7|6), seat bottom (4|4) and z* (2|1).
+fn gap_pieces(d: &AsaDimensions, g: &GapPoints) -> [Piece; 8] {
+    let (a, b) = (d.a_rad, d.b_rad);
+    let half_seat = 0.5 * (PI - 2.0 * a);
+    let mut p = [
+        Piece::arc(
+            g.b_m,
+            d.topping_radius_m,
+            g.theta_1b_rad,
+            g.topping_sweep_rad,
+            7,
+        ),
+        Piece::segment(g.z_m, g.y_m, 6),
+        Piece::arc(g.c_m, d.working_radius_m, 2.0 * PI - a + b, -b, 5),
+        Piece::arc([0.0, 0.0], d.seating_radius_m, -a, -half_seat, 4),
+        Piece::arc([0.0, 0.0], d.seating_radius_m, -0.5 * PI, -half_seat, 4),
+        Piece::arc(mirror(g.c_m), d.working_radius_m, PI + a, -b, 3),
+        Piece::segment(mirror(g.y_m), mirror(g.z_m), 2),
+        Piece::arc(
+            mirror(g.b_m),
+            d.topping_radius_m,
+            g.theta_1b_star_rad,
+            g.topping_sweep_rad,
+            1,
+        ),
+    ];
+    // Share the exact joint coordinates between neighbouring pieces.
+    p[0].start = g.f_m;
+    p[0].end = g.z_m;
+    p[2].start = g.y_m;
+    p[2].end = g.x_m;
+    p[3].start = g.x_m;
+    p[3].end = [0.0, -d.seating_radius_m];
+    p[4].start = [0.0, -d.seating_radius_m];
+    p[4].end = mirror(g.x_m);
+    p[5].start = mirror(g.x_m);
+    p[5].end = mirror(g.y_m);
+    p[7].start = mirror(g.z_m);
+    p[7].end = mirror(g.f_m);
+    let joints = [
+        (
+            0,
+            Joint {
+                point: g.z_m,
+                tangent: p[1].tangent(false),
+            },
+        ),
+        (
+            3,
+            Joint {
+                point: [0.0, -d.seating_radius_m],
+                tangent: [-1.0, 0.0],
+            },
+        ),
+        (
+            6,
+            Joint {
+                point: mirror(g.z_m),
+                tangent: p[6].tangent(true),
+            },
+        ),
+    ];
+    // The tips are convex corners on the tooth centrelines through the sprocket centre.
+    let tip_normal = unit_or(sub(g.f_m, [0.0, -d.pitch_radius_m]), [0.0, 1.0]);
+    p[0].corner_normal[0] = Some(tip_normal);
+    p[7].corner_normal[1] = Some(mirror(tip_normal));
+    for (i, j) in joints {
+        p[i].end_joint = Some(j);
+        p[i + 1].start_joint = Some(j);
+    }
+    p
+}
+
+/// Map of gap (offset k) local coordinates into gap 0's local coordinates.
+fn neighbour_map(rs: f64, pitch_angle_rad: f64, k: i64) -> impl Fn(V2) -> V2 {
+    let (s, c) = (pitch_angle_rad * k as f64).sin_cos();
+    move |q: V2| {
+        // local k -> sprocket frame (gap k at polar angle kΦ)
+        let r = rs + q[1];
+        let x = r * c + q[0] * s;
+        let y = r * s - q[0] * c;
+        // sprocket frame -> local 0
+        [-y, x - rs]
+    }
+}
+
+/// Precomputed geometry of one ASA sprocket: the pieces of one gap in its local frame, the
+/// neighbouring toppings, and the gap rotations.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AsaProfile {
+    /// Standard dimensions.
+    dims: AsaDimensions,
+    /// Construction points and angles.
+    points: GapPoints,
+    /// Gap pieces, walk order 7, 6, 5, 4, 4, 3, 2, 1 (seat split at its bottom).
+    own: [Piece; 8],
+    /// Area 7 of gap +1, in gap 0's frame (the far side of tooth 0).
+    next_area7: Piece,
+    /// Area 1 of gap −1, in gap 0's frame (the far side of tooth −1).
+    prev_area1: Piece,
+    /// (cos ψ_j, sin ψ_j) for every gap.
+    gap_trig: Vec<V2>,
+    /// Pitch angle Φ = 2π/N.
+    pitch_angle_rad: f64,
+}
+
+impl AsaProfile {
+    /// Builds the profile of a sprocket with `teeth` teeth for a chain of pitch `pitch_m`
+    /// and roller diameter `roller_diameter_m` (metres).
+    ///
+    /// # Errors
+    /// [`AsaError`] when the inputs are out of range or the standard construction
+    /// degenerates (e.g. too few teeth for a positive straight portion).
+    pub fn new(teeth: u32, pitch_m: f64, roller_diameter_m: f64) -> Result<Self, AsaError> {
+        let dims = dimensions(teeth, pitch_m, roller_diameter_m)?;
+        let points = gap_points(&dims)?;
+        let own = gap_pieces(&dims, &points);
+        let pitch_angle_rad = 2.0 * PI / f64::from(teeth);
+        let rs = dims.pitch_radius_m;
+        let next_area7 = own[0].mapped(neighbour_map(rs, pitch_angle_rad, 1), pitch_angle_rad, 1);
+        let prev_area1 =
+            own[7].mapped(neighbour_map(rs, pitch_angle_rad, -1), -pitch_angle_rad, -1);
+        let gap_trig = (0..teeth)
+            .map(|j| {
+                let (s, c) = (pitch_angle_rad * f64::from(j)).sin_cos();
+                [c, s]
+            })
+            .collect();
+        Ok(AsaProfile {
+            dims,
+            points,
+            own,
+            next_area7,
+            prev_area1,
+            gap_trig,
+            pitch_angle_rad,
+        })
+    }
+
+    /// The standard dimensions of this sprocket.
+    #[must_use]
+    pub fn dimensions(&self) -> &AsaDimensions {
+        &self.dims
+    }
+
+    /// The construction points and angles of one gap (gap-local frame).
+    #[must_use]
+    pub fn gap_points(&self) -> &GapPoints {
+        &self.points
+    }
+
+    /// Number of teeth N.
+    #[must_use]
+    pub fn teeth(&self) -> u32 {
+        self.dims.teeth
+    }
+
+    /// Pitch angle Φ = 2π/N.
+    #[must_use]
+    pub fn pitch_angle_rad(&self) -> f64 {
+        self.pitch_angle_rad
+    }
+
+    /// True when patches `a` and `b` meet at a tangent joint (z or z*: a gap's concave
+    /// patch and one of its two teeth), or are the two flank patches of one gap, so a
+    /// contact sliding from one to the other is the same contact continuing; the caller
+    /// may carry its contact memory over.
+    #[must_use]
+    pub fn patches_are_neighbours(&self, a: u32, b: u32) -> bool {
+        let n = u64::from(self.dims.teeth);
+        let (a, b) = (u64::from(a), u64::from(b));
+        let gap_of_concave = |id: u64| -> Option<u64> {
+            if id < 2 * n && id % 2 == 0 {
+                Some(id / 2)
+            } else if (2 * n..3 * n).contains(&id) {
+                Some(id - 2 * n)
+            } else {
+                None
+            }
+        };
+        let tooth_of = |id: u64| (id < 2 * n && id % 2 == 1).then_some(id / 2);
+        let touches = |gap: u64, tooth: u64| tooth == gap || (tooth + 1) % n == gap;
+        match (
+            gap_of_concave(a),
+            gap_of_concave(b),
+            tooth_of(a),
+            tooth_of(b),
+        ) {
+            (Some(ga), Some(gb), _, _) => ga == gb && a != b,
+            (Some(g), _, _, Some(t)) | (_, Some(g), Some(t), _) => touches(g, t),
+            _ => false,
+        }
+    }
+
+    /// Gap nearest to `p` in polar angle, 0..N.
+    fn gap_index(&self, p: V2) -> usize {
+        let n = i64::from(self.dims.teeth);
+        let k = (p[1].atan2(p[0]) / self.pitch_angle_rad).round() as i64;
+        k.rem_euclid(n) as usize
+    }
+
+    /// (cos ψ, sin ψ) of a gap.
+    fn trig(&self, gap: usize) -> V2 {
+        self.gap_trig.get(gap).copied().unwrap_or([1.0, 0.0])
+    }
+
+    /// Sprocket frame → gap-local frame (point).
+    fn to_local(&self, gap: usize, p: V2) -> V2 {
+        let [c, s] = self.trig(gap);
+        [
+            p[0] * s - p[1] * c,
+            p[0] * c + p[1] * s - self.dims.pitch_radius_m,
+        ]
+    }
+
+    /// Gap-local frame → sprocket frame (point).
+    fn to_global_point(&self, gap: usize, q: V2) -> V2 {
+        let [c, s] = self.trig(gap);
+        let r = self.dims.pitch_radius_m + q[1];
+        [r * c + q[0] * s, r * s - q[0] * c]
+    }
+
+    /// Gap-local frame → sprocket frame (direction).
+    fn to_global_vec(&self, gap: usize, v: V2) -> V2 {
+        let [c, s] = self.trig(gap);
+        [v[1] * c + v[0] * s, v[1] * s - v[0] * c]
+    }
+
+    /// `gap + offset` modulo N.
+    fn wrap_gap(&self, gap: usize, offset: i64) -> i64 {
+        (gap as i64 + offset).rem_euclid(i64::from(self.dims.teeth))
+    }
+
+    /// All contact patches of a roller of radius `roller_radius_m` centred at `p` (sprocket
+    /// frame, gap 0's seating centre at (Rs, 0), gaps numbered counter-clockwise). Writes at
+    /// most 2 patches into `out` (deepest first) and returns how many.
+    ///
+    /// O(1): the gap comes from the polar angle of `p`; only that gap's pieces and the two
+    /// neighbouring teeth (both toppings and the tip) are examined. No allocation.
+    /// Non-finite input, or a negative radius, gives 0 patches.
+    ///
+    /// Algorithm: the closest point of each of the four candidate patches (clockwise flank
+    /// half, counter-clockwise flank half, tooth g, tooth g−1) is computed piece by piece
+    /// (foot of the perpendicular when it falls on the span, else the nearer end). A patch
+    /// whose closest point lies beyond a shared joint is dropped (the neighbour owns it). A
+    /// patch is kept if depth > 0 and it is consistent with the nearest outline point of
+    /// the whole sprocket (same side of the surface, not nearer), which removes the parts
+    /// of the neighbouring topping circles that reach into this gap. The deepest patch is
+    /// always the nearest outline point, so `depth = r − signed_distance(p)`.
+    ///
+    /// Not examined: the concave parts of the neighbouring gaps. A roller in free space
+    /// could only reach them across a whole tooth, i.e. with a radius of the order of the
+    /// tooth width.
+    pub fn contacts(&self, p: [f64; 2], roller_radius_m: f64, out: &mut [Patch; 2]) -> usize {
+        if !(p[0].is_finite() && p[1].is_finite() && roller_radius_m.is_finite())
+            || roller_radius_m < 0.0
+        {
+            return 0;
+        }
+        let gap = self.gap_index(p);
+        let q = self.to_local(gap, p);
+        let n = self.dims.teeth;
+        let g = gap as u32;
+        let prev_tooth = (g + n - 1) % n;
+        let own = self.own.map(|piece| piece.closest(q));
+        // Own piece first, so a roller over a tip is labelled with the area on its side.
+        let cw_tooth = [own[0], self.prev_area1.closest(q)];
+        let ccw_tooth = [own[7], self.next_area7.closest(q)];
+        // The nearest point of the whole outline lies in p's sector (own pieces). No genuine
+        // local minimum can be nearer, or on the other side of the surface; this rejects the
+        // insides of the neighbouring topping circles, which reach into this gap.
+        let nearest = nearest_hit(&own).sd_m;
+        let consistent = |sd: f64| {
+            if nearest >= 0.0 {
+                sd >= nearest - CONSISTENCY_TOL_M
+            } else {
+                sd <= nearest + CONSISTENCY_TOL_M
+            }
+        };
+        let in_contact = |h: Option<Hit>| {
+            h.filter(|h| h.sd_m.is_finite() && roller_radius_m - h.sd_m > 0.0 && consistent(h.sd_m))
+        };
+        let right = in_contact(patch_hit(&own[1..4]));
+        let left = in_contact(patch_hit(&own[4..7]));
+        let left_id = if right.is_some() { 2 * n + g } else { 2 * g };
+        let candidates = [
+            (right, 2 * g),
+            (left, left_id),
+            (in_contact(patch_hit(&ccw_tooth)), 2 * g + 1),
+            (in_contact(patch_hit(&cw_tooth)), 2 * prev_tooth + 1),
+        ];
+        let mut best: [Option<(Hit, u32)>; 2] = [None, None];
+        for (hit, id) in candidates {
+            let Some(h) = hit else { continue };
+            insert_deepest(&mut best, (h, id));
+        }
+        let mut written = 0;
+        for (h, id) in best.into_iter().flatten() {
+            if let Some(slot) = out.get_mut(written) {
+                *slot = Patch {
+                    depth_m: roller_radius_m - h.sd_m,
+                    normal: self.to_global_vec(gap, h.normal),
+                    point: self.to_global_point(gap, h.point),
+                    area: h.area,
+                    gap: self.wrap_gap(gap, h.gap_offset),
+                    patch_id: id,
+                };
+                written += 1;
+            }
+        }
+        written
+    }
+
+    /// Signed distance from `p` (sprocket frame) to the outline: positive in free space,
+    /// negative inside the material. Returns (distance, closest point, area, gap).
+    /// Non-finite input returns (NaN, [NaN, NaN], 0, 0).
+    #[must_use]
+    pub fn signed_distance(&self, p: [f64; 2]) -> (f64, [f64; 2], u8, i64) {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            return (f64::NAN, [f64::NAN; 2], 0, 0);
+        }
+        let gap = self.gap_index(p);
+        let best = self.nearest_own(self.to_local(gap, p));
+        (
+            best.sd_m,
+            self.to_global_point(gap, best.point),
+            best.area,
+            gap as i64,
+        )
+    }
+
+    /// Nearest point of the whole outline to the gap-local point `q`, `q` in this gap's
+    /// sector. The sector is a union of two mirror half-sectors of the dihedral symmetry,
+    /// so the nearest outline point lies on this gap's own pieces.
+    fn nearest_own(&self, q: V2) -> Hit {
+        nearest_hit(&self.own.map(|piece| piece.closest(q)))
+    }
+
+    /// The whole sprocket outline in the sprocket frame, counter-clockwise, starting at the
+    /// tip f of gap 0. Every piece is sampled: arcs at angular steps ≤ `max_step_rad`,
+    /// straight portions at length steps ≤ `max_step_rad`·RE. The outline is closed: the
+    /// last point connects back to the first (not repeated). `max_step_rad` is clamped to
+    /// [[`MIN_OUTLINE_STEP_RAD`], π/8]; a non-finite or non-positive step uses 1°.
+    #[must_use]
+    pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
+        let step = if max_step_rad.is_finite() && max_step_rad > 0.0 {
+            max_step_rad.clamp(MIN_OUTLINE_STEP_RAD, PI / 8.0)
+        } else {
+            PI / 180.0
+        };
+        let straight_step_m = step * self.dims.working_radius_m;
+        let mut local = Vec::new();
+        let mut out = Vec::new();
+        for gap in 0..self.gap_trig.len() {
+            for piece in &self.own {
+                local.clear();
+                piece.sample(step, straight_step_m, &mut local);
+                out.extend(local.iter().map(|&q| {
+                    let [x_m, y_m] = self.to_global_point(gap, q);
+                    OutlinePoint {
+                        x_m,
+                        y_m,
+                        gap: gap as i64,
+                        area: piece.area,
+                    }
+                }));
+            }
+        }
+        out
+    }
+}
+
+/// Keeps the two deepest (largest r − sd, i.e. smallest sd) candidates, deepest first.
+fn insert_deepest(best: &mut [Option<(Hit, u32)>; 2], c: (Hit, u32)) {
+    let deeper = |a: &(Hit, u32), b: &Option<(Hit, u32)>| b.is_none_or(|b| a.0.sd_m < b.0.sd_m);
+    if deeper(&c, &best[0]) {
+        best[1] = best[0];
+        best[0] = Some(c);
+    } else if deeper(&c, &best[1]) {
+        best[1] = Some(c);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const P: f64 = 0.0889;
+    const DR: f64 = 0.054;
+    const RR: f64 = 0.027;
+    /// Half a unit in the 4th printed decimal (plus rounding slack).
+    const HALF_E4: f64 = 0.5e-4 + 1e-9;
+
+    fn profile(n: u32) -> AsaProfile {
+        match AsaProfile::new(n, P, DR) {
+            Ok(p) => p,
+            Err(e) => panic!("profile N={n}: {e}"),
+        }
+    }
+
+    fn check(what: &str, got: f64, want: f64, tol: f64) {
+        assert!(
+            (got - want).abs() <= tol,
+            "{what}: got {got}, want {want} (tol {tol}, diff {})",
+            got - want
+        );
+    }
+    fn mm(what: &str, got_m: f64, want_mm: f64) {
+        check(what, got_m * 1e3, want_mm, HALF_E4);
+    }
+    fn mm2(what: &str, got_m: V2, want_mm: [f64; 2]) {
+        mm(&format!("{what}.ξ"), got_m[0], want_mm[0]);
+        mm(&format!("{what}.η"), got_m[1], want_mm[1]);
+    }
+    fn deg(what: &str, got_rad: f64, want_deg: f64) {
+        check(what, got_rad.to_degrees(), want_deg, HALF_E4);
+    }
+
+    /// One column of the §4 table (lengths mm, angles deg).
+    struct Column {
+        n: u32,
+        abc: [f64; 3],
+        alpha: f64,
+        rs: f64,
+        rt: f64,
+        dr_clear: f64,
+        mt: [f64; 2],
+        re: f64,
+        wv: [f64; 2],
+        rf: f64,
+        hs: [f64; 2],
+        xy_yz: [f64; 2],
+        x: [f64; 2],
+        y: [f64; 2],
+        z: [f64; 2],
+        f: [f64; 2],
+        th_a: [f64; 2],
+        th_c: [f64; 2],
+        th_c_star: [f64; 2],
+        th_b: [f64; 2],
+        th_b_star: [f64; 2],
+        sweep: f64,
+        root: f64,
+        tip: f64,
+    }
+
+    fn table() -> [Column; 3] {
+        [
+            Column {
+                n: 60,
+                abc: [36.0, 17.0667, 15.9333],
+                alpha: 33.0,
+                rs: 849.3205,
+                rt: 27.1731,
+                dr_clear: 0.1731,
+                mt: [34.9495, 25.3923],
+                re: 70.3731,
+                wv: [75.4964, 3.9566],
+                rf: 43.6201,
+                hs: [30.5351, 45.9872],
+                xy_yz: [20.8846, 8.0751],
+                x: [21.9835, -15.9719],
+                y: [31.6162, 2.5585],
+                z: [34.2363, 10.1967],
+                f: [45.9872, 28.1669],
+                th_a: [216.0, 324.0],
+                th_c: [324.0, 341.0667],
+                th_c_star: [198.9333, 216.0],
+                th_b: [132.5711, 161.0667],
+                th_b_star: [18.9333, 47.4289],
+                sweep: 28.4955,
+                root: 822.1474,
+                tip: 878.6916,
+            },
+            Column {
+                n: 30,
+                abc: [37.0, 16.1333, 14.8667],
+                alpha: 31.0,
+                rs: 425.2430,
+                rt: 27.1731,
+                dr_clear: 0.1731,
+                mt: [34.5011, 25.9984],
+                re: 70.3731,
+                wv: [75.1859, 7.9024],
+                rf: 44.1949,
+                hs: [31.3507, 47.4835],
+                xy_yz: [19.7502, 7.3926],
+                x: [21.7014, -16.3532],
+                y: [31.2564, 0.9319],
+                z: [33.8896, 7.8396],
+                f: [47.4835, 26.5327],
+                th_a: [217.0, 323.0],
+                th_c: [323.0, 339.1333],
+                th_c_star: [200.8667, 217.0],
+                th_b: [128.8160, 159.1333],
+                th_b_star: [20.8667, 51.1840],
+                sweep: 30.3173,
+                root: 398.0699,
+                tip: 454.2642,
+            },
+            Column {
+                n: 28,
+                abc: [37.1429, 16.0, 14.7143],
+                alpha: 30.7143,
+                rs: 397.0009,
+                rt: 27.1731,
+                dr_clear: 0.1731,
+                mt: [34.4361, 26.0844],
+                re: 70.3731,
+                wv: [75.1246, 8.4645],
+                rf: 44.2741,
+                hs: [31.4622, 47.6932],
+                xy_yz: [19.5881, 7.2948],
+                x: [21.6606, -16.4072],
+                y: [31.1997, 0.7012],
+                z: [33.8309, 7.5049],
+                f: [47.6932, 26.2876],
+                th_a: [217.1429, 322.8571],
+                th_c: [322.8571, 338.8571],
+                th_c_star: [201.1429, 217.1429],
+                th_b: [128.2857, 158.8571],
+                th_b_star: [21.1429, 51.7143],
+                sweep: 30.5714,
+                root: 369.8278,
+                tip: 425.9669,
+            },
+        ]
+    }
+
+    #[test]
+    fn dimension_tables_of_section_4() {
+        for col in table() {
+            let pr = profile(col.n);
+            let d = pr.dimensions();
+            let g = pr.gap_points();
+            let tag = |s: &str| format!("N={} {s}", col.n);
+            assert_eq!(d.teeth, col.n);
+            deg(&tag("A"), d.a_rad, col.abc[0]);
+            deg(&tag("B"), d.b_rad, col.abc[1]);
+            deg(&tag("C"), d.c_rad, col.abc[2]);
+            deg(&tag("alpha"), d.pressure_angle_rad, col.alpha);
+            mm(&tag("Rs"), d.pitch_radius_m, col.rs);
+            mm(&tag("Rt"), d.seating_radius_m, col.rt);
+            mm(&tag("dR"), d.clearance_m, col.dr_clear);
+            mm(&tag("M"), d.m_m, col.mt[0]);
+            mm(&tag("T"), d.t_m, col.mt[1]);
+            mm(&tag("RE"), d.working_radius_m, col.re);
+            mm(&tag("W"), d.w_m, col.wv[0]);
+            mm(&tag("V"), d.v_m, col.wv[1]);
+            mm(&tag("RF"), d.topping_radius_m, col.rf);
+            mm(&tag("H"), d.h_m, col.hs[0]);
+            mm(&tag("S"), d.s_m, col.hs[1]);
+            mm(&tag("xy"), d.working_chord_m, col.xy_yz[0]);
+            mm(&tag("yz"), d.straight_length_m, col.xy_yz[1]);
+            mm2(&tag("x"), g.x_m, col.x);
+            mm2(&tag("y"), g.y_m, col.y);
+            mm2(&tag("z"), g.z_m, col.z);
+            mm2(&tag("f"), g.f_m, col.f);
+            deg(&tag("th1a"), g.theta_1a_rad, col.th_a[0]);
+            deg(&tag("th2a"), g.theta_2a_rad, col.th_a[1]);
+            deg(&tag("th1c"), g.theta_1c_rad, col.th_c[0]);
+            deg(&tag("th2c"), g.theta_2c_rad, col.th_c[1]);
+            deg(&tag("th1c*"), g.theta_1c_star_rad, col.th_c_star[0]);
+            deg(&tag("th2c*"), g.theta_2c_star_rad, col.th_c_star[1]);
+            deg(&tag("th1b"), g.theta_1b_rad, col.th_b[0]);
+            deg(&tag("th2b"), g.theta_2b_rad, col.th_b[1]);
+            deg(&tag("th1b*"), g.theta_1b_star_rad, col.th_b_star[0]);
+            deg(&tag("th2b*"), g.theta_2b_star_rad, col.th_b_star[1]);
+            deg(&tag("sweep"), g.topping_sweep_rad, col.sweep);
+            mm(&tag("root"), d.root_radius_m, col.root);
+            mm(&tag("tip"), d.tip_radius_m, col.tip);
+            // Derived identities of §1.
+            let phi = PI / f64::from(col.n);
+            check(&tag("C=A-B-phi"), d.c_rad, d.a_rad - d.b_rad - phi, 1e-15);
+            check(
+                &tag("alpha=A-phi"),
+                d.pressure_angle_rad,
+                d.a_rad - phi,
+                1e-15,
+            );
+            check(
+                &tag("RE=0.8Dr+Rt"),
+                d.working_radius_m,
+                0.8 * DR + d.seating_radius_m,
+                1e-15,
+            );
+            check(
+                &tag("|x-y|=xy"),
+                norm(sub(g.x_m, g.y_m)),
+                d.working_chord_m,
+                1e-14,
+            );
+            check(
+                &tag("|y-z|=yz"),
+                norm(sub(g.y_m, g.z_m)),
+                d.straight_length_m,
+                1e-14,
+            );
+            check(
+                &tag("|f-b|=RF"),
+                norm(sub(g.f_m, g.b_m)),
+                d.topping_radius_m,
+                1e-14,
+            );
+            // Truncated OD/2 of the table's last row is not used, but check the formula.
+            let od2 = P * (0.6 + 1.0 / phi.tan()) / 2.0;
+            let want = match col.n {
+                60 => 874.8265,
+                30 => 449.5835,
+                _ => 421.1747,
+            };
+            mm(&tag("OD/2"), od2, want);
+        }
+    }
+
+    #[test]
+    fn aca_gears_ids_number_80_n28_in_inches() {
+        let inch = 0.0254;
+        let pr = match AsaProfile::new(28, inch, 0.625 * inch) {
+            Ok(p) => p,
+            Err(e) => panic!("#80: {e}"),
+        };
+        let d = pr.dimensions();
+        let tol = HALF_E4;
+        let i = |x: f64| x / inch;
+        check("B deg", d.b_rad.to_degrees(), 16.0, tol);
+        check("ab", 1.4 * i(d.roller_diameter_m), 0.8750, tol);
+        check("W", i(d.w_m), 0.8695, tol);
+        check("V", i(d.v_m), 0.0980, tol);
+        check("F", i(d.topping_radius_m), 0.5114, tol);
+        check("H", i(d.h_m), 0.3477, tol);
+        check("S", i(d.s_m), 0.5358, tol);
+        check("yz", i(d.straight_length_m), 0.0844, tol);
+        check("xy", i(d.working_chord_m), 0.2270, tol);
+        check("M", i(d.m_m), 0.3986, tol);
+        check("T", i(d.t_m), 0.3019, tol);
+        check("E", i(d.working_radius_m), 0.8156, tol);
+        check("Ds", 2.0 * i(d.seating_radius_m), 0.6311, tol);
+        check("PD", 2.0 * i(d.pitch_radius_m), 8.9314, tol);
+    }
+
+    fn arc_point(piece: &Piece, at_end: bool) -> V2 {
+        match piece.shape {
+            Shape::Arc {
+                centre,
+                radius_m,
+                start_rad,
+                sweep_rad,
+            } => {
+                let a = if at_end {
+                    start_rad + sweep_rad
+                } else {
+                    start_rad
+                };
+                add(centre, scale(polar(a), radius_m))
+            }
+            Shape::Segment => {
+                if at_end {
+                    piece.end
+                } else {
+                    piece.start
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn joints_continuous_and_tangent() {
+        for n in [60, 30, 28, 17, 10] {
+            let pr = profile(n);
+            let own = &pr.own;
+            for piece in own.iter().chain([&pr.next_area7, &pr.prev_area1]) {
+                // Stored end points agree with the arc formula.
+                check(
+                    "start",
+                    norm(sub(arc_point(piece, false), piece.start)),
+                    0.0,
+                    1e-14,
+                );
+                check(
+                    "end",
+                    norm(sub(arc_point(piece, true), piece.end)),
+                    0.0,
+                    1e-14,
+                );
+            }
+            for w in own.windows(2) {
+                let (a, b) = (&w[0], &w[1]);
+                let tag = format!("N={n} areas {}->{}", a.area, b.area);
+                check(&tag, norm(sub(a.end, b.start)), 0.0, 1e-14);
+                let ta = a.tangent(true);
+                let tb = b.tangent(false);
+                check(
+                    &format!("{tag} tangent"),
+                    ta[0] * tb[1] - ta[1] * tb[0],
+                    0.0,
+                    1e-12,
+                );
+                assert!(dot(ta, tb) > 0.999_999, "{tag}: tangent reversed");
+            }
+            // Tip: area 1 of this gap ends where area 7 of the next gap starts.
+            check(
+                "tip",
+                norm(sub(own[7].end, pr.next_area7.start)),
+                0.0,
+                1e-12,
+            );
+            check(
+                "tip'",
+                norm(sub(pr.prev_area1.end, own[0].start)),
+                0.0,
+                1e-12,
+            );
+            // The tip is a convex corner: the walk turns left there.
+            let t1 = own[7].tangent(true);
+            let t7 = pr.next_area7.tangent(false);
+            assert!(t1[0] * t7[1] - t1[1] * t7[0] > 0.0, "N={n}: tip not convex");
+            // The tip lies on the tooth centreline at the tip radius.
+            let f_global = pr.to_global_point(0, own[0].start);
+            let d = pr.dimensions();
+            check("tip radius", norm(f_global), d.tip_radius_m, 1e-12);
+            let want_angle = -PI / f64::from(n);
+            check(
+                "tip angle",
+                f_global[1].atan2(f_global[0]),
+                want_angle,
+                1e-14,
+            );
+        }
+    }
+
+    #[test]
+    fn outline_is_closed_and_ordered() {
+        let pr = profile(28);
+        let step = 0.01;
+        let pts = pr.outline(step);
+        let max_gap = step * pr.dimensions().working_radius_m * 1.0001;
+        let n = pts.len();
+        let mut turning = 0.0;
+        for k in 0..n {
+            let a = pts[k];
+            let b = pts[(k + 1) % n];
+            let c = pts[(k + 2) % n];
+            let ab = [b.x_m - a.x_m, b.y_m - a.y_m];
+            let bc = [c.x_m - b.x_m, c.y_m - b.y_m];
+            assert!(norm(ab) <= max_gap, "step {k} too long: {}", norm(ab));
+            assert!(norm(ab) > 0.0, "repeated point at {k}");
+            turning += (ab[0] * bc[1] - ab[1] * bc[0]).atan2(dot(ab, bc));
+            assert!((1..=7).contains(&a.area) && (0..28).contains(&a.gap));
+        }
+        // One counter-clockwise turn.
+        check("total turning", turning, 2.0 * PI, 1e-9);
+        // Area order within each gap: 7, 6, 5, 4, 3, 2, 1.
+        let mut last = (0_i64, 8_u8);
+        for pt in &pts {
+            if pt.gap == last.0 {
+                assert!(pt.area <= last.1, "area order broken at gap {}", pt.gap);
+            } else {
+                assert_eq!(pt.gap, last.0 + 1);
+                assert_eq!(pt.area, 7);
+            }
+            last = (pt.gap, pt.area);
+        }
+        // Non-finite and tiny steps are guarded.
+        assert!(!pr.outline(f64::NAN).is_empty());
+        assert!(!pr.outline(-1.0).is_empty());
+    }
+
+    /// Simple LCG in [0, 1).
+    struct Lcg(u64);
+    impl Lcg {
+        fn next(&mut self) -> f64 {
+            self.0 = self
+                .0
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (self.0 >> 11) as f64 / (1u64 << 53) as f64
+        }
+        fn range(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.next()
+        }
+    }
+
+    fn seg_dist(p: V2, a: V2, b: V2) -> f64 {
+        let e = sub(b, a);
+        let l2 = dot(e, e);
+        let t = if l2 > 0.0 {
+            (dot(sub(p, a), e) / l2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        norm(sub(p, add(a, scale(e, t))))
+    }
+
+    /// Even-odd test against the polygon.
+    fn inside(p: V2, poly: &[V2]) -> bool {
+        let mut c = false;
+        let n = poly.len();
+        for k in 0..n {
+            let a = poly[k];
+            let b = poly[(k + 1) % n];
+            if (a[1] > p[1]) != (b[1] > p[1]) {
+                let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+                if p[0] < x {
+                    c = !c;
+                }
+            }
+        }
+        c
+    }
+
+    #[test]
+    fn signed_distance_matches_brute_force_oracle() {
+        let pr = profile(28);
+        let step = 2e-4;
+        let poly: Vec<V2> = pr.outline(step).iter().map(|q| [q.x_m, q.y_m]).collect();
+        // Chord sag of the coarsest arc (RE) bounds the polyline error.
+        let tol = pr.dimensions().working_radius_m * step * step / 8.0 * 1.5 + 1e-12;
+        let d = pr.dimensions();
+        let mut rng = Lcg(12345);
+        for _ in 0..300 {
+            let r = rng.range(d.root_radius_m - 0.03, d.tip_radius_m + 0.03);
+            let a = rng.range(-PI, PI);
+            let p = [r * a.cos(), r * a.sin()];
+            let (sd, q, area, gap) = pr.signed_distance(p);
+            let brute = poly
+                .iter()
+                .zip(poly.iter().cycle().skip(1))
+                .map(|(&a, &b)| seg_dist(p, a, b))
+                .fold(f64::INFINITY, f64::min);
+            check("|sd| vs brute", sd.abs(), brute, tol);
+            check("|p-q| = |sd|", norm(sub(p, q)), sd.abs(), 1e-12);
+            if sd.abs() > 10.0 * tol {
+                let material = inside(p, &poly);
+                assert_eq!(sd < 0.0, material, "sign at {p:?}: sd {sd}");
+            }
+            assert!((1..=7).contains(&area) && (0..28).contains(&gap));
+            // The contact with a zero-radius probe is consistent with the distance.
+            let mut out = [empty_patch(); 2];
+            let k = pr.contacts(p, 0.0, &mut out);
+            assert_eq!(k > 0, sd < 0.0, "probe at {p:?}");
+            if k > 0 {
+                check("probe depth", out[0].depth_m, -sd, 1e-12);
+            }
+            // A roller of random size: the deepest patch is the nearest outline point, and
+            // every patch is a local minimum of the distance to the (sampled) outline.
+            let r = rng.range(0.0, 0.045);
+            let k = pr.contacts(p, r, &mut out);
+            assert_eq!(k > 0, sd < r, "roller at {p:?} r {r}");
+            if k > 0 {
+                check("deepest = nearest", out[0].depth_m, r - sd, 1e-12);
+            }
+            for x in &out[..k] {
+                let (sq, _, _, _) = pr.signed_distance(x.point);
+                check("patch point on outline", sq, 0.0, 1e-12);
+                let dq = norm(sub(p, x.point));
+                if sd > 0.0 {
+                    check("depth = r - |p-q|", x.depth_m, r - dq, 1e-12);
+                }
+                let near_closer = poly
+                    .iter()
+                    .zip(poly.iter().cycle().skip(1))
+                    .filter(|(a, _)| norm(sub(**a, x.point)) < 2e-3)
+                    .any(|(&a, &b)| seg_dist(p, a, b) < dq - tol);
+                assert!(!near_closer, "patch {x:?} of {p:?} is no local minimum");
+            }
+        }
+    }
+
+    fn empty_patch() -> Patch {
+        Patch {
+            depth_m: 0.0,
+            normal: [0.0; 2],
+            point: [0.0; 2],
+            area: 0,
+            gap: 0,
+            patch_id: 0,
+        }
+    }
+
+    fn contacts(pr: &AsaProfile, p: V2, r: f64) -> Vec<Patch> {
+        let mut out = [empty_patch(); 2];
+        let k = pr.contacts(p, r, &mut out);
+        out[..k].to_vec()
+    }
+
+    #[test]
+    fn seated_roller() {
+        for n in [60, 30, 28] {
+            let pr = profile(n);
+            let d = pr.dimensions();
+            let rs = d.pitch_radius_m;
+            // Centred on the seating centre: clearance all round, no contact.
+            assert!(contacts(&pr, [rs, 0.0], RR).is_empty());
+            let (sd, _, area, gap) = pr.signed_distance([rs, 0.0]);
+            check("sd at O", sd, d.seating_radius_m, 1e-15);
+            // O is equidistant from the whole seat and from x, x* on the working curves.
+            assert!((3..=5).contains(&area) && gap == 0);
+            // Just touching after moving by ΔR, depth d after ΔR + d.
+            for depth in [1e-6, 1e-4, 1e-3] {
+                let c = contacts(&pr, [rs - d.clearance_m - depth, 0.0], RR);
+                assert_eq!(c.len(), 1);
+                check("depth", c[0].depth_m, depth, 1e-14);
+                check("nx", c[0].normal[0], 1.0, 1e-15);
+                check("ny", c[0].normal[1], 0.0, 1e-15);
+                check("px", c[0].point[0], d.root_radius_m, 1e-14);
+                check("py", c[0].point[1], 0.0, 1e-15);
+                assert_eq!((c[0].area, c[0].gap, c[0].patch_id), (4, 0, 0));
+            }
+            // Same in gap 5, rotated.
+            let psi = 5.0 * pr.pitch_angle_rad();
+            let r = rs - d.clearance_m - 1e-4;
+            let c = contacts(&pr, [r * psi.cos(), r * psi.sin()], RR);
+            assert_eq!(c.len(), 1);
+            check("depth gap 5", c[0].depth_m, 1e-4, 1e-13);
+            check(
+                "n gap 5",
+                dot(c[0].normal, [psi.cos(), psi.sin()]),
+                1.0,
+                1e-14,
+            );
+            assert_eq!((c[0].gap, c[0].patch_id), (5, 10));
+        }
+    }
+
+    fn rotate(v: V2, a: f64) -> V2 {
+        let (s, c) = a.sin_cos();
+        [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+    }
+
+    fn random_point(rng: &mut Lcg, d: &AsaDimensions) -> V2 {
+        let r = rng.range(d.root_radius_m - 0.01, d.tip_radius_m + 0.03);
+        let a = rng.range(-PI, PI);
+        [r * a.cos(), r * a.sin()]
+    }
+
+    #[test]
+    fn rotational_symmetry() {
+        let pr = profile(30);
+        let n = 30_i64;
+        let phi_p = pr.pitch_angle_rad();
+        let d = pr.dimensions().clone();
+        let mut rng = Lcg(7);
+        let mut seen = 0;
+        for _ in 0..4000 {
+            let p = random_point(&mut rng, &d);
+            let a = contacts(&pr, p, RR);
+            let b = contacts(&pr, rotate(p, phi_p), RR);
+            assert_eq!(a.len(), b.len(), "at {p:?}");
+            seen += a.len();
+            for (x, y) in a.iter().zip(&b) {
+                check("depth", y.depth_m, x.depth_m, 1e-12);
+                check(
+                    "n",
+                    norm(sub(y.normal, rotate(x.normal, phi_p))),
+                    0.0,
+                    1e-12,
+                );
+                check("q", norm(sub(y.point, rotate(x.point, phi_p))), 0.0, 1e-12);
+                assert_eq!(y.area, x.area);
+                assert_eq!(y.gap, (x.gap + 1).rem_euclid(n));
+                assert_eq!(y.patch_id, (x.patch_id + 2) % (2 * n as u32));
+            }
+            let (sa, qa, aa, ga) = pr.signed_distance(p);
+            let (sb, qb, ab, gb) = pr.signed_distance(rotate(p, phi_p));
+            check("sd", sb, sa, 1e-12);
+            check("sd q", norm(sub(qb, rotate(qa, phi_p))), 0.0, 1e-12);
+            assert_eq!((ab, gb), (aa, (ga + 1).rem_euclid(n)));
+        }
+        assert!(seen > 100, "too few contacts sampled: {seen}");
+    }
+
+    #[test]
+    fn mirror_symmetry() {
+        let pr = profile(28);
+        let n = 28_i64;
+        let d = pr.dimensions().clone();
+        let flip = |v: V2| [v[0], -v[1]];
+        let mut rng = Lcg(99);
+        for _ in 0..4000 {
+            let p = random_point(&mut rng, &d);
+            let (sa, qa, aa, ga) = pr.signed_distance(p);
+            let (sb, qb, ab, gb) = pr.signed_distance(flip(p));
+            check("sd", sb, sa, 1e-12);
+            check("q", norm(sub(qb, flip(qa))), 0.0, 1e-12);
+            // Ties at the sector boundary may pick the mirror piece of the other gap.
+            if (qa[1].atan2(qa[0]) / pr.pitch_angle_rad()).fract().abs() > 1e-9 {
+                assert_eq!((ab, gb), (8 - aa, (-ga).rem_euclid(n)), "at {p:?}");
+            }
+            let a = contacts(&pr, p, RR);
+            let b = contacts(&pr, flip(p), RR);
+            assert_eq!(a.len(), b.len());
+            for (x, y) in a.iter().zip(&b) {
+                check("depth", y.depth_m, x.depth_m, 1e-12);
+                check("n", norm(sub(y.normal, flip(x.normal))), 0.0, 1e-12);
+            }
+        }
+        // Within a gap's local frame: pieces mirror onto pieces.
+        for k in 0..8 {
+            let a = &pr.own[k];
+            let b = &pr.own[7 - k];
+            assert_eq!(a.area, 8 - b.area);
+            check(
+                "mirror start",
+                norm(sub(a.start, mirror(b.end))),
+                0.0,
+                1e-15,
+            );
+        }
+    }
+
+    /// Roller centre on the curve where sd = Rr − depth, at polar angle `a` (bisection
+    /// along the ray).
+    fn pressed_centre(pr: &AsaProfile, a: f64, depth: f64) -> V2 {
+        let d = pr.dimensions();
+        let (mut lo, mut hi) = (d.root_radius_m - 0.01, d.tip_radius_m + 0.05);
+        let at = |r: f64| [r * a.cos(), r * a.sin()];
+        for _ in 0..64 {
+            let mid = 0.5 * (lo + hi);
+            if pr.signed_distance(at(mid)).0 < RR - depth {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        at(0.5 * (lo + hi))
+    }
+
+    #[test]
+    fn force_is_continuous_from_seat_over_tip_into_next_gap() {
+        for n in [60, 28] {
+            let pr = profile(n);
+            let depth = 2e-4;
+            let steps = 20_000;
+            let phi_p = pr.pitch_angle_rad();
+            let mut prev: Option<(V2, V2)> = None;
+            let mut areas: Vec<u8> = Vec::new();
+            let mut ids: Vec<u32> = Vec::new();
+            let mut max_jump: f64 = 0.0;
+            for k in 0..=steps {
+                let a = phi_p * k as f64 / steps as f64;
+                let c = pressed_centre(&pr, a, depth);
+                let patches = contacts(&pr, c, RR);
+                assert_eq!(patches.len(), 1, "N={n} step {k}: {patches:?}");
+                let p = patches[0];
+                check("depth", p.depth_m, depth, 1e-9);
+                check("|n|", norm(p.normal), 1.0, 1e-12);
+                // The normal points from the surface point to the centre.
+                let to_c = sub(c, p.point);
+                check(
+                    "n || q->c",
+                    norm(sub(scale(p.normal, norm(to_c)), to_c)),
+                    0.0,
+                    1e-9,
+                );
+                let force = scale(p.normal, p.depth_m);
+                if let Some((f0, c0)) = prev {
+                    assert!(
+                        norm(sub(c, c0)) < 1e-4,
+                        "path step too long at {k}: {} {c:?}",
+                        norm(sub(c, c0))
+                    );
+                    max_jump = max_jump.max(norm(sub(force, f0)));
+                }
+                prev = Some((force, c));
+                if areas.last() != Some(&p.area) {
+                    areas.push(p.area);
+                }
+                if ids.last() != Some(&p.patch_id) {
+                    assert!(
+                        ids.last()
+                            .is_none_or(|&last| pr.patches_are_neighbours(last, p.patch_id)),
+                        "patch {p:?} after {ids:?}"
+                    );
+                    ids.push(p.patch_id);
+                }
+            }
+            // The path steps are < 100 µm (mostly ≈ 5 µm); the tightest turn of the normal is in the seat
+            // (offset radius ΔR + depth ≈ 0.37 mm), ≈ 0.03 rad per step. A jump would be
+            // of the order of the depth itself.
+            assert!(
+                max_jump < 0.05 * depth,
+                "N={n}: largest force-proxy step {max_jump}"
+            );
+            assert_eq!(areas, vec![4, 3, 2, 1, 7, 6, 5, 4], "N={n}");
+            assert_eq!(ids, vec![0, 1, 2], "N={n}");
+        }
+    }
+
+    #[test]
+    fn depth_is_continuous_across_every_joint() {
+        let pr = profile(30);
+        let mut rng = Lcg(3);
+        // Straight lines through each joint, slightly on the free side.
+        let own = pr.own;
+        for (k, piece) in own.iter().enumerate() {
+            let j = piece.start;
+            let n_free = piece.free_normal(false);
+            let base = pr.to_global_point(0, add(j, scale(n_free, RR - 1e-4)));
+            for _ in 0..20 {
+                let dir = polar(rng.range(0.0, 2.0 * PI));
+                let mut last: Option<V2> = None;
+                for s in -100..=100 {
+                    let p = add(base, scale(dir, 1e-7 * f64::from(s)));
+                    let c = contacts(&pr, p, RR);
+                    let f = c
+                        .iter()
+                        .fold([0.0, 0.0], |acc, x| add(acc, scale(x.normal, x.depth_m)));
+                    if let Some(l) = last {
+                        assert!(norm(sub(f, l)) < 1e-6, "jump at joint {k}: {c:?}");
+                    }
+                    last = Some(f);
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn two_separate_places_give_two_patches() {
+        let pr = profile(28);
+        let d = pr.dimensions().clone();
+        // An oversized roller (radius 40 mm) on the gap axis touches both flanks.
+        let r = 0.040;
+        let p = [d.pitch_radius_m + 0.010, 0.0];
+        let c = contacts(&pr, p, r);
+        assert_eq!(c.len(), 2, "{c:?}");
+        check("equal depths", c[0].depth_m, c[1].depth_m, 1e-12);
+        let mut ids = [c[0].patch_id, c[1].patch_id];
+        ids.sort_unstable();
+        assert_eq!(ids, [0, 56]);
+        assert!(pr.patches_are_neighbours(0, 56));
+        // Slightly off-axis: the clockwise side keeps id 0 in both orders of depth.
+        for dy in [-1e-4, 1e-4] {
+            let c = contacts(&pr, [p[0], dy], r);
+            assert_eq!(c.len(), 2);
+            for x in &c {
+                let id = if x.area >= 5 { 0 } else { 56 };
+                assert_eq!(x.patch_id, id, "{x:?}");
+            }
+        }
+        // A 40 mm roller wedged between the topping of tooth 0 (area 1) and the opposite
+        // straight flank (area 6): one tooth patch and the gap's concave patch.
+        let p = pr.to_global_point(0, [-0.002, 0.020]);
+        let c = contacts(&pr, p, r);
+        assert_eq!(c.len(), 2, "{c:?}");
+        let mut got: Vec<(u8, u32)> = c.iter().map(|x| (x.area, x.patch_id)).collect();
+        got.sort_unstable();
+        assert_eq!(got, vec![(1, 1), (6, 0)]);
+        assert!(
+            norm(sub(c[0].point, c[1].point)) > 0.05,
+            "two separate places"
+        );
+        for x in &c {
+            let v = sub(p, x.point);
+            check("depth = r - |p-q|", x.depth_m, r - norm(v), 1e-12);
+            check(
+                "normal",
+                norm(sub(x.normal, scale(v, 1.0 / norm(v)))),
+                0.0,
+                1e-12,
+            );
+        }
+    }
+
+    #[test]
+    fn neighbour_relation_of_patch_ids() {
+        let pr = profile(10);
+        assert!(pr.patches_are_neighbours(0, 1));
+        assert!(pr.patches_are_neighbours(0, 19));
+        assert!(pr.patches_are_neighbours(2, 1));
+        assert!(pr.patches_are_neighbours(19, 18));
+        assert!(!pr.patches_are_neighbours(0, 3));
+        assert!(!pr.patches_are_neighbours(1, 3));
+        assert!(!pr.patches_are_neighbours(0, 2));
+        assert!(pr.patches_are_neighbours(4, 22));
+        assert!(!pr.patches_are_neighbours(4, 4));
+        assert!(!pr.patches_are_neighbours(0, 1000));
+    }
+
+    #[test]
+    fn no_panics_and_non_finite_input() {
+        let pr = profile(17);
+        let mut out = [empty_patch(); 2];
+        for p in [
+            [f64::NAN, 0.0],
+            [0.0, f64::INFINITY],
+            [f64::NEG_INFINITY, f64::NAN],
+        ] {
+            assert_eq!(pr.contacts(p, RR, &mut out), 0);
+            assert!(pr.signed_distance(p).0.is_nan());
+        }
+        assert_eq!(pr.contacts([0.4, 0.0], f64::NAN, &mut out), 0);
+        assert_eq!(pr.contacts([0.4, 0.0], -1.0, &mut out), 0);
+        let mut rng = Lcg(1);
+        for k in 0..20_000 {
+            let mag = 10f64.powf(rng.range(-310.0, 300.0));
+            let p = [mag * rng.range(-1.0, 1.0), mag * rng.range(-1.0, 1.0)];
+            let p = if k % 7 == 0 { [0.0, 0.0] } else { p };
+            let n = pr.contacts(p, RR, &mut out);
+            for x in &out[..n] {
+                assert!(x.depth_m > 0.0 && x.depth_m.is_finite());
+                assert!((norm(x.normal) - 1.0).abs() < 1e-9, "{x:?} at {p:?}");
+                assert!((0..17).contains(&x.gap) && (1..=7).contains(&x.area));
+            }
+            let _ = pr.signed_distance(p);
+        }
+    }
+
+    #[test]
+    fn invalid_inputs_are_errors() {
+        assert_eq!(
+            AsaProfile::new(3, P, DR).err(),
+            Some(AsaError::TooFewTeeth { teeth: 3 })
+        );
+        assert!(matches!(
+            AsaProfile::new(4, P, DR),
+            Err(AsaError::DegenerateProfile { .. })
+        ));
+        assert!(matches!(
+            AsaProfile::new(200_000, P, DR),
+            Err(AsaError::TooManyTeeth { .. })
+        ));
+        for (p, dr) in [
+            (0.0, DR),
+            (-P, DR),
+            (f64::NAN, DR),
+            (P, 0.0),
+            (P, f64::INFINITY),
+        ] {
+            assert!(matches!(
+                AsaProfile::new(20, p, dr),
+                Err(AsaError::NonPositive { .. })
+            ));
+        }
+        assert!(matches!(
+            AsaProfile::new(20, P, 0.09),
+            Err(AsaError::RollerTooBig { .. })
+        ));
+        let e = AsaError::TooFewTeeth { teeth: 3 };
+        assert!(e.to_string().contains('3'));
+    }
+}

@@ -1,0 +1,170 @@
+//! The circular tooth profile (the paper's §2.3, tooth-profile.md §5).
+//!
+//! Each gap j is a seating circle of radius R_t centred at (R_s + ΔR) e_r(jφ),
+//! ΔR = R_t − R_r, so that a seated roller rests on the pitch circle. Only the
+//! half of the circle facing the sprocket centre is a tooth surface: a roller
+//! whose centre lies radially outside the seating centre is free, so it can
+//! leave the gap. The gap is found in O(1) from the roller's polar angle.
+
+use super::{MAX_PATCHES, Patch, pitch_radius, seating_radius};
+
+/// One seating arc per gap.
+#[derive(Clone, Debug)]
+pub struct CircularProfile {
+    /// Tooth count N.
+    pub teeth: u32,
+    /// Pitch radius R_s, m.
+    pub pitch_radius_m: f64,
+    /// Seating-circle radius R_t, m.
+    pub seating_radius_m: f64,
+    /// Clearance ΔR = R_t − R_r, m.
+    pub clearance_m: f64,
+    /// Roller radius, m.
+    pub roller_radius_m: f64,
+    /// N / 2π, to turn a polar angle into a gap index.
+    gaps_per_rad: f64,
+    /// Unit radial direction of each gap centre, (cos jφ, sin jφ).
+    gap_dirs: Vec<[f64; 2]>,
+}
+
+impl CircularProfile {
+    /// The profile of a sprocket with `teeth` teeth for a chain of pitch
+    /// `pitch_m` and roller radius `roller_radius_m`.
+    pub fn new(teeth: u32, pitch_m: f64, roller_radius_m: f64) -> Self {
+        let pitch_angle = std::f64::consts::TAU / f64::from(teeth);
+        let seating_radius_m = seating_radius(roller_radius_m);
+        Self {
+            teeth,
+            pitch_radius_m: pitch_radius(pitch_m, teeth),
+            seating_radius_m,
+            clearance_m: seating_radius_m - roller_radius_m,
+            roller_radius_m,
+            gaps_per_rad: 1.0 / pitch_angle,
+            gap_dirs: (0..teeth)
+                .map(|j| {
+                    let a = f64::from(j) * pitch_angle;
+                    [a.cos(), a.sin()]
+                })
+                .collect(),
+        }
+    }
+
+    /// Index of the gap nearest in polar angle to `p`.
+    #[inline]
+    pub fn gap_of(&self, p: [f64; 2]) -> u32 {
+        let k = (p[1].atan2(p[0]) * self.gaps_per_rad).round() as i64;
+        k.rem_euclid(i64::from(self.teeth)) as u32
+    }
+
+    /// Centre of gap `gap`'s seating circle.
+    #[inline]
+    pub fn seat_center(&self, gap: u32) -> [f64; 2] {
+        let u = self.gap_dirs[gap as usize];
+        let r = self.pitch_radius_m + self.clearance_m;
+        [r * u[0], r * u[1]]
+    }
+
+    /// Contact of a roller centred at `p` (sprocket frame): at most one patch.
+    #[inline]
+    pub fn contacts(&self, p: [f64; 2], out: &mut [Patch; MAX_PATCHES]) -> usize {
+        let gap = self.gap_of(p);
+        let u = self.gap_dirs[gap as usize];
+        let rc = self.pitch_radius_m + self.clearance_m;
+        let e = [p[0] - rc * u[0], p[1] - rc * u[1]];
+        // Only the half facing the sprocket centre holds the roller (e·u ≤ 0).
+        if e[0] * u[0] + e[1] * u[1] > 0.0 {
+            return 0;
+        }
+        let len = e[0].hypot(e[1]);
+        let depth_m = len - self.clearance_m;
+        if !(depth_m > 0.0) {
+            return 0;
+        }
+        // len > ΔR > 0 here, so the normalisation is safe.
+        out[0] = Patch {
+            depth_m,
+            normal: [-e[0] / len, -e[1] / len],
+            area: 4,
+            gap,
+            patch_id: gap,
+        };
+        1
+    }
+
+    /// The radius beyond which no roller centre can touch this profile.
+    pub fn reach_m(&self) -> f64 {
+        self.pitch_radius_m + self.clearance_m + self.seating_radius_m
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const P: f64 = 0.0889;
+    const RR: f64 = 0.027;
+
+    #[test]
+    fn clearance_matches_tooth_profile_table() {
+        // tooth-profile.md §4: R_t = 27.1731 mm, ΔR = 0.1731 mm.
+        let c = CircularProfile::new(60, P, RR);
+        assert!((c.seating_radius_m - 27.1731e-3).abs() < 5e-8);
+        assert!((c.clearance_m - 0.1731e-3).abs() < 5e-8);
+    }
+
+    #[test]
+    fn roller_on_pitch_circle_just_touches() {
+        let c = CircularProfile::new(30, P, RR);
+        let mut out = [Patch::default(); 2];
+        // Slightly outside the pitch circle: free.
+        assert_eq!(c.contacts([c.pitch_radius_m + 1e-9, 0.0], &mut out), 0);
+        // 1 mm inside the pitch circle at gap 0: depth 1 mm, normal radially out.
+        let n = c.contacts([c.pitch_radius_m - 1e-3, 0.0], &mut out);
+        assert_eq!(n, 1);
+        assert!((out[0].depth_m - 1e-3).abs() < 1e-12);
+        assert!((out[0].normal[0] - 1.0).abs() < 1e-12 && out[0].normal[1].abs() < 1e-12);
+    }
+
+    #[test]
+    fn hand_computed_oblique_case() {
+        // Gap 3 of a 28-tooth sprocket; roller displaced from the seating centre
+        // by (dr, dt) = (-1.0 mm, 0.5 mm) in the gap's radial/tangential frame.
+        let c = CircularProfile::new(28, P, RR);
+        let phi = 3.0 * std::f64::consts::TAU / 28.0;
+        let (ur, ut) = ([phi.cos(), phi.sin()], [-phi.sin(), phi.cos()]);
+        let rc = c.pitch_radius_m + c.clearance_m;
+        let (dr, dt) = (-1.0e-3, 0.5e-3);
+        let p = [
+            rc * ur[0] + dr * ur[0] + dt * ut[0],
+            rc * ur[1] + dr * ur[1] + dt * ut[1],
+        ];
+        let mut out = [Patch::default(); 2];
+        assert_eq!(c.contacts(p, &mut out), 1);
+        let len = (1.0e-6f64 + 0.25e-6).sqrt();
+        assert_eq!(out[0].gap, 3);
+        assert!((out[0].depth_m - (len - 0.1731e-3)).abs() < 1e-7);
+        // Normal = -(e)/|e|: radial +1.0/len, tangential -0.5/len.
+        let n_r = out[0].normal[0] * ur[0] + out[0].normal[1] * ur[1];
+        let n_t = out[0].normal[0] * ut[0] + out[0].normal[1] * ut[1];
+        assert!((n_r - 1.0e-3 / len).abs() < 1e-12);
+        assert!((n_t + 0.5e-3 / len).abs() < 1e-12);
+    }
+
+    #[test]
+    fn outer_half_of_the_seat_is_free() {
+        // A roller radially outside the seating centre may leave: no force.
+        let c = CircularProfile::new(60, P, RR);
+        let rc = c.pitch_radius_m + c.clearance_m;
+        let mut out = [Patch::default(); 2];
+        assert_eq!(c.contacts([rc + 1e-3, 0.0], &mut out), 0);
+    }
+
+    #[test]
+    fn gap_index_wraps_around() {
+        let c = CircularProfile::new(60, P, RR);
+        let a = -0.4 * std::f64::consts::TAU / 60.0;
+        assert_eq!(c.gap_of([a.cos(), a.sin()]), 0);
+        let a = -0.6 * std::f64::consts::TAU / 60.0;
+        assert_eq!(c.gap_of([a.cos(), a.sin()]), 59);
+    }
+}

@@ -1,0 +1,345 @@
+//! Initial roller layout.
+//!
+//! The chain is walked once around the loop. On each wrap the rollers sit in
+//! consecutive gaps, so wrap links are exactly one pitch. Each strand ends
+//! where a circle of n strand links around the last seated roller meets the
+//! next sprocket's seat circle, with n chosen so that the first roller lands
+//! within a pitch after the tangent point; the free sprockets are thereby
+//! turned to receive the chain. The strand link length λ (one value for every
+//! strand) is found by a secant iteration so that the loop closes exactly on
+//! the first roller. The chain's extra length over the path (or its lack)
+//! thus sits evenly in the strands; the pretension rule takes it from there.
+
+use std::f64::consts::{PI, TAU};
+
+use super::path::{ChainPath, PathCircle};
+
+/// Where every roller starts and how the sprockets are turned to receive them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Layout {
+    /// Roller centres, m, in chain order (roller i linked to i + 1, cyclic).
+    pub rollers_m: Vec<[f64; 2]>,
+    /// Initial angle of each sprocket (gap 0 under its first seated roller), rad.
+    pub sprocket_angles_rad: Vec<f64>,
+    /// For each roller seated on a wrap: (sprocket, gap).
+    pub seats: Vec<Option<(usize, u32)>>,
+    /// Number of links in each free strand.
+    pub strand_links: Vec<usize>,
+    /// Length of each strand link, m.
+    pub strand_link_m: f64,
+    /// Length of the closed polygon through the rollers, m.
+    pub polygon_length_m: f64,
+}
+
+/// Why the rollers do not fit the path.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum LayoutError {
+    /// The chain's length and the path's differ by more than a quarter pitch.
+    #[error(
+        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which}); a chain of {suggest} rollers would fit"
+    )]
+    ChainLength {
+        /// Pitches the path needs.
+        needed: f64,
+        /// Links the chain has.
+        rollers: usize,
+        /// "too short" or "too long".
+        which: &'static str,
+        /// Nearest roller count that fits.
+        suggest: usize,
+    },
+    /// A wrap holds no roller.
+    #[error(
+        "sprocket {sprocket} is wrapped by {wrap_deg:.2} degrees: the chain does not engage it"
+    )]
+    NoEngagement {
+        /// 1-based index.
+        sprocket: usize,
+        /// Wrap angle, degrees.
+        wrap_deg: f64,
+    },
+    /// A strand cannot reach the next sprocket with a whole number of links.
+    #[error("the strand from sprocket {from} cannot be laid onto sprocket {to}")]
+    NoLanding {
+        /// 1-based index.
+        from: usize,
+        /// 1-based index.
+        to: usize,
+    },
+}
+
+/// Largest mismatch, in pitches, between the chain and the path.
+pub const MAX_LENGTH_MISMATCH_PITCHES: f64 = 0.25;
+
+/// Lays `rollers` rollers of pitch `pitch_m` on `path` around `circles`
+/// (radius = the radius at which seated roller centres lie), circle k with
+/// `teeth[k]` teeth.
+pub fn layout_rollers(
+    path: &ChainPath,
+    circles: &[PathCircle],
+    teeth: &[u32],
+    rollers: usize,
+    pitch_m: f64,
+) -> Result<Layout, LayoutError> {
+    for (k, w) in path.wraps.iter().enumerate() {
+        if w.wrap_rad < 1e-9 {
+            return Err(LayoutError::NoEngagement {
+                sprocket: k + 1,
+                wrap_deg: w.wrap_rad.to_degrees(),
+            });
+        }
+    }
+    let walker = Walker {
+        path,
+        circles,
+        teeth,
+    };
+    // The first walk, at λ = P, decides the roller counts.
+    let first = walker.walk(pitch_m, None)?;
+    let used = first.rollers_m.len() - first.strand_links[first.strand_links.len() - 1] + 1;
+    let needed = first.needed_links(pitch_m);
+    if (needed - rollers as f64).abs() > MAX_LENGTH_MISMATCH_PITCHES || used > rollers {
+        return Err(length_error(needed, rollers));
+    }
+    // Give the closing strand the links the chain has left, then close the loop by λ.
+    let mut counts = first.counts();
+    let last = counts.strand_links.len() - 1;
+    counts.strand_links[last] = rollers + 1 - used;
+    let total_strand: usize = counts.strand_links.iter().sum();
+    let residual = |lambda: f64| walker.walk(lambda, Some(&counts)).map(|w| w.residual_m);
+    let (mut l0, mut r0) = (pitch_m, residual(pitch_m)?);
+    let mut l1 = pitch_m + r0 / total_strand as f64;
+    for _ in 0..50 {
+        let r1 = residual(l1)?;
+        if r1.abs() < 1e-13 || r1 == r0 {
+            break;
+        }
+        let l2 = l1 - r1 * (l1 - l0) / (r1 - r0);
+        (l0, r0, l1) = (l1, r1, l2);
+    }
+    let walk = walker.walk(l1, Some(&counts))?;
+    if walk.rollers_m.len() != rollers {
+        return Err(length_error(needed, rollers));
+    }
+    Ok(walk.into_layout(pitch_m))
+}
+
+fn length_error(needed: f64, rollers: usize) -> LayoutError {
+    LayoutError::ChainLength {
+        needed,
+        rollers,
+        which: if needed > rollers as f64 {
+            "too short"
+        } else {
+            "too long"
+        },
+        suggest: needed.round().max(1.0) as usize,
+    }
+}
+
+/// Roller counts of a walk.
+#[derive(Clone, Debug)]
+struct Counts {
+    /// Seated rollers per sprocket.
+    seated: Vec<usize>,
+    /// Links per strand.
+    strand_links: Vec<usize>,
+}
+
+/// One walk's result.
+struct Walk {
+    rollers_m: Vec<[f64; 2]>,
+    seats: Vec<Option<(usize, u32)>>,
+    sprocket_angles_rad: Vec<f64>,
+    seated: Vec<usize>,
+    strand_links: Vec<usize>,
+    /// Chord of the closing strand minus its links × λ, m.
+    residual_m: f64,
+    /// Strand link length, m.
+    lambda_m: f64,
+}
+
+impl Walk {
+    fn counts(&self) -> Counts {
+        Counts {
+            seated: self.seated.clone(),
+            strand_links: self.strand_links.clone(),
+        }
+    }
+
+    /// Pitches of chain the path needs.
+    fn needed_links(&self, pitch_m: f64) -> f64 {
+        let links: usize = self.strand_links.iter().sum::<usize>()
+            + self.seated.iter().map(|m| m - 1).sum::<usize>();
+        links as f64 + self.residual_m / pitch_m
+    }
+
+    fn into_layout(self, pitch_m: f64) -> Layout {
+        let wrap_links: usize = self.seated.iter().map(|m| m - 1).sum();
+        let strand: usize = self.strand_links.iter().sum();
+        Layout {
+            polygon_length_m: wrap_links as f64 * pitch_m
+                + strand as f64 * self.lambda_m
+                + self.residual_m,
+            rollers_m: self.rollers_m,
+            sprocket_angles_rad: self.sprocket_angles_rad,
+            seats: self.seats,
+            strand_links: self.strand_links,
+            strand_link_m: self.lambda_m,
+        }
+    }
+}
+
+/// Angle a − b folded into (−π, π].
+fn angle_diff(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(TAU);
+    if d > PI { d - TAU } else { d }
+}
+
+struct Walker<'a> {
+    path: &'a ChainPath,
+    circles: &'a [PathCircle],
+    teeth: &'a [u32],
+}
+
+impl Walker<'_> {
+    fn point(&self, k: usize, angle: f64) -> [f64; 2] {
+        let c = &self.circles[k];
+        [
+            c.center_m[0] + c.radius_m * angle.cos(),
+            c.center_m[1] + c.radius_m * angle.sin(),
+        ]
+    }
+
+    fn phi(&self, k: usize) -> f64 {
+        TAU / f64::from(self.teeth[k])
+    }
+
+    /// Where a strand of `links` links of length λ from `from` meets circle
+    /// `k`: the polar angle nearest `near`.
+    fn landing(
+        &self,
+        from: [f64; 2],
+        links: usize,
+        lambda: f64,
+        k: usize,
+        near: f64,
+    ) -> Option<f64> {
+        let c = &self.circles[k];
+        let rho = links as f64 * lambda;
+        let d = [c.center_m[0] - from[0], c.center_m[1] - from[1]];
+        let dist = d[0].hypot(d[1]);
+        if !(dist > 0.0) {
+            return None;
+        }
+        let a = (rho * rho - c.radius_m * c.radius_m + dist * dist) / (2.0 * dist);
+        let h2 = rho * rho - a * a;
+        if !(h2 >= 0.0) {
+            return None;
+        }
+        let h = h2.sqrt();
+        let e = [d[0] / dist, d[1] / dist];
+        [h, -h]
+            .iter()
+            .map(|s| {
+                let p = [from[0] + a * e[0] - s * e[1], from[1] + a * e[1] + s * e[0]];
+                (p[1] - c.center_m[1]).atan2(p[0] - c.center_m[0])
+            })
+            .min_by(|x, y| {
+                angle_diff(*x, near)
+                    .abs()
+                    .total_cmp(&angle_diff(*y, near).abs())
+            })
+    }
+
+    /// Walks the loop with strand links of length `lambda`; with `counts`, the
+    /// roller counts are imposed, otherwise chosen.
+    fn walk(&self, lambda: f64, counts: Option<&Counts>) -> Result<Walk, LayoutError> {
+        let n = self.circles.len();
+        let mut out = Walk {
+            rollers_m: Vec::new(),
+            seats: Vec::new(),
+            sprocket_angles_rad: Vec::with_capacity(n),
+            seated: Vec::with_capacity(n),
+            strand_links: Vec::with_capacity(n),
+            residual_m: 0.0,
+            lambda_m: lambda,
+        };
+        // The first roller of sprocket 0 sits half a pitch after the arrival point.
+        let mut first = self.path.wraps[0].arrive_rad + self.circles[0].sense * 0.5 * self.phi(0);
+        let start = self.point(0, first);
+        for k in 0..n {
+            let (s, phi) = (self.circles[k].sense, self.phi(k));
+            let w = &self.path.wraps[k];
+            let seated = match counts {
+                Some(c) => c.seated[k],
+                None => {
+                    let into = s * angle_diff(first, w.arrive_rad);
+                    ((w.wrap_rad - into) / phi + 0.5).floor().max(0.0) as usize + 1
+                }
+            };
+            out.sprocket_angles_rad.push(first);
+            for m in 0..seated {
+                out.rollers_m
+                    .push(self.point(k, first + s * m as f64 * phi));
+                let gap = (s * m as f64).rem_euclid(f64::from(self.teeth[k])) as u32;
+                out.seats.push(Some((k, gap)));
+            }
+            out.seated.push(seated);
+            let last = self.point(k, first + s * (seated - 1) as f64 * phi);
+            let next = (k + 1) % n;
+            let no_landing = LayoutError::NoLanding {
+                from: k + 1,
+                to: next + 1,
+            };
+            let (links, target) = if next == 0 {
+                let chord = (start[0] - last[0]).hypot(start[1] - last[1]);
+                let links = match counts {
+                    Some(c) => c.strand_links[k],
+                    None => ((chord / lambda).round() as usize).max(1),
+                };
+                out.residual_m = chord - links as f64 * lambda;
+                (links, start)
+            } else {
+                let aim = self.path.wraps[next].arrive_rad
+                    + self.circles[next].sense * 0.5 * self.phi(next);
+                let (links, angle) = match counts {
+                    Some(c) => {
+                        let l = c.strand_links[k];
+                        (
+                            l,
+                            self.landing(last, l, lambda, next, aim).ok_or(no_landing)?,
+                        )
+                    }
+                    None => {
+                        let t = self.path.strands[k].end_m;
+                        let guess =
+                            ((t[0] - last[0]).hypot(t[1] - last[1]) / lambda).round() as usize;
+                        (guess.saturating_sub(1).max(1)..=guess + 1)
+                            .filter_map(|l| {
+                                self.landing(last, l, lambda, next, aim).map(|a| (l, a))
+                            })
+                            .min_by(|x, y| {
+                                angle_diff(x.1, aim)
+                                    .abs()
+                                    .total_cmp(&angle_diff(y.1, aim).abs())
+                            })
+                            .ok_or(no_landing)?
+                    }
+                };
+                first = angle;
+                (links, self.point(next, angle))
+            };
+            out.strand_links.push(links);
+            for q in 1..links {
+                let t = q as f64 / links as f64;
+                out.rollers_m.push([
+                    last[0] + t * (target[0] - last[0]),
+                    last[1] + t * (target[1] - last[1]),
+                ]);
+                out.seats.push(None);
+            }
+        }
+        Ok(out)
+    }
+}

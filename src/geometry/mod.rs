@@ -1,0 +1,131 @@
+//! Geometry: tooth profiles in a sprocket's own frame, the chain's path
+//! around the sprockets, and the initial layout of the rollers.
+//!
+//! Everything here is plain arithmetic on `[f64; 2]` points in metres and
+//! radians (counter-clockwise positive). It knows nothing of rapier bodies or
+//! of time stepping; [`crate::model`] builds bodies from it and
+//! [`crate::forces`] queries the profiles.
+//!
+//! Sprocket frame: origin at the sprocket centre, gap 0's seating centre on
+//! the +x axis, gaps numbered counter-clockwise; gap j's centre at polar angle
+//! j·2π/N.
+
+pub mod asa;
+mod circular;
+mod layout;
+mod path;
+
+pub use circular::CircularProfile;
+pub use layout::{Layout, LayoutError, layout_rollers};
+pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
+
+use crate::scene::{Chain, ProfileKind, Sprocket};
+
+/// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two
+/// seated roller centres is exactly the pitch.
+pub fn pitch_radius(pitch_m: f64, teeth: u32) -> f64 {
+    pitch_m / (2.0 * (std::f64::consts::PI / f64::from(teeth)).sin())
+}
+
+/// Seating-curve radius R_t = (1.005 D_r + 0.003 in) / 2 (ASA B29.1; tooth-profile.md §1).
+pub fn seating_radius(roller_radius_m: f64) -> f64 {
+    const INCH_0_003_M: f64 = 7.62e-5;
+    (1.005 * 2.0 * roller_radius_m + INCH_0_003_M) / 2.0
+}
+
+/// One contact patch between a roller and a tooth outline, in the sprocket frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Patch {
+    /// Penetration depth δ > 0, m.
+    pub depth_m: f64,
+    /// Unit normal from the closest outline point towards the roller centre:
+    /// the direction of the force on the roller.
+    pub normal: [f64; 2],
+    /// Tooth-profile area (1–7 for the real profile, 4 for the circular seat).
+    pub area: u8,
+    /// Gap index in 0..N.
+    pub gap: u32,
+    /// Identity of the contact patch: constant while a roller slides along
+    /// tangent-continuous pieces, different for separate places.
+    pub patch_id: u32,
+}
+
+const EMPTY_ASA_PATCH: asa::Patch = asa::Patch {
+    depth_m: 0.0,
+    normal: [0.0; 2],
+    point: [0.0; 2],
+    area: 0,
+    gap: 0,
+    patch_id: 0,
+};
+
+/// The most patches one roller can have on one sprocket.
+pub const MAX_PATCHES: usize = 2;
+
+/// A sprocket's tooth outline, as used by the contact generator.
+#[derive(Clone, Debug)]
+pub enum ToothProfile {
+    /// One seating arc per gap.
+    Circular(CircularProfile),
+    /// ASA B29.1 Type II.
+    Real(Box<asa::AsaProfile>),
+}
+
+impl ToothProfile {
+    /// Builds the profile of a sprocket.
+    pub fn new(sprocket: &Sprocket, chain: &Chain) -> Result<Self, asa::AsaError> {
+        Ok(match sprocket.profile {
+            ProfileKind::Circular => Self::Circular(CircularProfile::new(
+                sprocket.teeth,
+                chain.pitch_m,
+                chain.roller_radius_m,
+            )),
+            ProfileKind::Real => Self::Real(Box::new(asa::AsaProfile::new(
+                sprocket.teeth,
+                chain.pitch_m,
+                2.0 * chain.roller_radius_m,
+            )?)),
+        })
+    }
+
+    /// Contact patches of a roller centred at `p` (sprocket frame). Returns the count.
+    #[inline]
+    pub fn contacts(&self, p: [f64; 2], out: &mut [Patch; MAX_PATCHES]) -> usize {
+        match self {
+            Self::Circular(c) => c.contacts(p, out),
+            Self::Real(r) => {
+                let mut raw = [EMPTY_ASA_PATCH; 2];
+                let n = r.contacts(p, r.dimensions().roller_diameter_m / 2.0, &mut raw);
+                for (o, r) in out.iter_mut().zip(&raw[..n]) {
+                    *o = Patch {
+                        depth_m: r.depth_m,
+                        normal: r.normal,
+                        area: r.area,
+                        gap: r.gap.rem_euclid(i64::from(u32::MAX)) as u32,
+                        patch_id: r.patch_id,
+                    };
+                }
+                n
+            }
+        }
+    }
+
+    /// The radius beyond which no roller centre can touch this sprocket.
+    pub fn reach_m(&self) -> f64 {
+        match self {
+            Self::Circular(c) => c.reach_m(),
+            Self::Real(r) => r.dimensions().tip_radius_m + r.dimensions().roller_diameter_m / 2.0,
+        }
+    }
+
+    /// The radius at which a seated roller's centre sits on this profile.
+    pub fn seated_radius_m(&self) -> f64 {
+        match self {
+            Self::Circular(c) => c.pitch_radius_m,
+            Self::Real(r) => {
+                let d = r.dimensions();
+                d.pitch_radius_m - d.clearance_m
+            }
+        }
+    }
+}

@@ -1,0 +1,210 @@
+//! The model: a [`Scene`] turned into what the force generator and the
+//! steppers work on — constant parameters ([`DriveModel`]), the state in
+//! structure-of-arrays form ([`DriveState`]), the free-strand classification
+//! ([`Segments`]) — and the rapier bodies that carry it ([`rapier`]).
+//!
+//! This module lays the chain out; it does not bring it to equilibrium (that
+//! is stepping, [`crate::sim`]).
+
+pub mod rapier;
+mod segments;
+
+pub use segments::Segments;
+
+use crate::geometry::{
+    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
+    layout_rollers,
+};
+use crate::scene::{Role, Scene, SpeedLaw};
+
+/// Constant data of one sprocket.
+#[derive(Clone, Debug)]
+pub struct SprocketModel {
+    /// Centre, m (fixed during a run).
+    pub center_m: [f64; 2],
+    /// 1 / J, 1/(kg·m²).
+    pub inv_inertia: f64,
+    /// The driver's speed law; `None` for a free sprocket.
+    pub speed_law: Option<SpeedLaw>,
+    /// External load torque, N·m.
+    pub load_torque_n_m: f64,
+    /// Tooth outline used by the contact generator.
+    pub profile: ToothProfile,
+    /// Square of the radius beyond which no roller centre touches the sprocket.
+    pub reach_sq_m2: f64,
+    /// Pitch radius, m.
+    pub pitch_radius_m: f64,
+    /// Tooth count.
+    pub teeth: u32,
+}
+
+/// Constant parameters of a drive, derived from a scene.
+#[derive(Clone, Debug)]
+pub struct DriveModel {
+    /// Roller mass, kg.
+    pub roller_mass_kg: f64,
+    /// Link stiffness, N/m.
+    pub stiffness_n_m: f64,
+    /// Link damping, N·s/m.
+    pub damping_n_s_m: f64,
+    /// Link rest length, m (set by the pretension rule).
+    pub rest_length_m: f64,
+    /// Gravity, m/s².
+    pub gravity_m_s2: [f64; 2],
+    /// Sprockets in scene order.
+    pub sprockets: Vec<SprocketModel>,
+    /// The nominal chain path (tangent lines and wraps on the pitch circles).
+    pub path: ChainPath,
+    /// Free-strand classification of links.
+    pub segments: Segments,
+}
+
+/// The state that is integrated: rollers as structure of arrays, sprockets.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct DriveState {
+    /// Time, s.
+    pub t_s: f64,
+    /// Roller x, m.
+    pub x: Vec<f64>,
+    /// Roller y, m.
+    pub y: Vec<f64>,
+    /// Roller x velocity, m/s.
+    pub vx: Vec<f64>,
+    /// Roller y velocity, m/s.
+    pub vy: Vec<f64>,
+    /// Sprocket angles, rad.
+    pub theta: Vec<f64>,
+    /// Sprocket angular speeds, rad/s.
+    pub omega: Vec<f64>,
+}
+
+impl DriveState {
+    /// Number of rollers.
+    pub fn rollers(&self) -> usize {
+        self.x.len()
+    }
+}
+
+/// Why a scene cannot be built into a drive.
+#[derive(Debug, thiserror::Error)]
+pub enum BuildError {
+    /// No chain path exists.
+    #[error("sprockets: {0}")]
+    Path(#[from] PathError),
+    /// The chain does not fit the path.
+    #[error("chain.rollers: {0}")]
+    Layout(#[from] LayoutError),
+    /// The real tooth profile cannot be built for these dimensions.
+    #[error("sprockets[{sprocket}].profile: {source}")]
+    Profile {
+        /// 0-based sprocket index.
+        sprocket: usize,
+        /// Why.
+        source: AsaError,
+    },
+}
+
+impl DriveModel {
+    /// Lays out `scene`'s chain: path, rollers seated on every wrap, sprockets
+    /// turned to receive them, rest length = pitch (the pretension rule
+    /// adjusts it later). Returns the model and its initial state (at rest).
+    pub fn build(scene: &Scene) -> Result<(Self, DriveState, Layout), BuildError> {
+        let chain = &scene.chain;
+        let profiles: Vec<ToothProfile> = scene
+            .sprockets
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                ToothProfile::new(s, chain).map_err(|source| BuildError::Profile {
+                    sprocket: i,
+                    source,
+                })
+            })
+            .collect::<Result<_, _>>()?;
+        let pitch_circles: Vec<PathCircle> = scene
+            .sprockets
+            .iter()
+            .map(|s| PathCircle {
+                center_m: s.center_m,
+                radius_m: s.pitch_radius_m,
+                sense: s.wrap.sign(),
+            })
+            .collect();
+        let path = chain_path(&pitch_circles)?;
+        let seat_circles: Vec<PathCircle> = pitch_circles
+            .iter()
+            .zip(&profiles)
+            .map(|(c, p)| PathCircle {
+                radius_m: p.seated_radius_m(),
+                ..*c
+            })
+            .collect();
+        let seat_path = chain_path(&seat_circles)?;
+        let teeth: Vec<u32> = scene.sprockets.iter().map(|s| s.teeth).collect();
+        let layout = layout_rollers(
+            &seat_path,
+            &seat_circles,
+            &teeth,
+            chain.rollers,
+            chain.pitch_m,
+        )?;
+        let sprockets = scene
+            .sprockets
+            .iter()
+            .zip(profiles)
+            .map(|(s, profile)| {
+                let reach = profile.reach_m();
+                SprocketModel {
+                    center_m: s.center_m,
+                    inv_inertia: 1.0 / s.inertia_kg_m2,
+                    speed_law: s.speed_law(),
+                    load_torque_n_m: s.load_torque_n_m(),
+                    reach_sq_m2: reach * reach,
+                    pitch_radius_m: s.pitch_radius_m,
+                    teeth: s.teeth,
+                    profile,
+                }
+            })
+            .collect();
+        let n = chain.rollers;
+        let state = DriveState {
+            t_s: 0.0,
+            x: layout.rollers_m.iter().map(|p| p[0]).collect(),
+            y: layout.rollers_m.iter().map(|p| p[1]).collect(),
+            vx: vec![0.0; n],
+            vy: vec![0.0; n],
+            theta: layout.sprocket_angles_rad.clone(),
+            omega: vec![0.0; scene.sprockets.len()],
+        };
+        let segments = Segments::new(&path);
+        let model = DriveModel {
+            roller_mass_kg: chain.roller_mass_kg,
+            stiffness_n_m: chain.stiffness_n_m,
+            damping_n_s_m: chain.damping_n_s_m,
+            rest_length_m: chain.pitch_m,
+            gravity_m_s2: scene.gravity_m_s2,
+            sprockets,
+            path,
+            segments,
+        };
+        Ok((model, state, layout))
+    }
+
+    /// Number of sprockets.
+    pub fn sprocket_count(&self) -> usize {
+        self.sprockets.len()
+    }
+
+    /// Index of the driver.
+    pub fn driver(&self) -> usize {
+        self.sprockets
+            .iter()
+            .position(|s| s.speed_law.is_some())
+            .unwrap_or(0)
+    }
+}
+
+/// Whether a sprocket's role lets it turn freely under the chain.
+pub fn is_free(role: &Role) -> bool {
+    !matches!(role, Role::Driver(_))
+}

@@ -1,0 +1,182 @@
+//! The drive's rapier bodies: sprockets are rigid bodies (the driver
+//! kinematic, the others dynamic with their translation locked, so they turn
+//! about fixed centres), rollers are dynamic balls with their rotation locked
+//! (the model neglects roller rotation).
+//!
+//! rapier's own contact never acts between rollers and sprockets, nor between
+//! rollers: their colliders belong to [`CHAIN_GROUP`] and filter it out. Any
+//! other collider in the world (default groups) still touches rollers and
+//! sprockets as usual. The chain's forces come from [`crate::forces`] instead.
+//!
+//! This module moves data between the drive's arrays and the bodies; it
+//! does not step anything.
+
+use rapier2d_f64::prelude::*;
+
+use super::{DriveModel, DriveState};
+use crate::forces::ForceGenerator;
+
+/// The collision group of every roller and sprocket collider.
+pub const CHAIN_GROUP: Group = Group::GROUP_32;
+
+/// Handles of the drive's bodies in a rapier world.
+#[derive(Clone, Debug)]
+pub struct ChainBodies {
+    /// Roller bodies, in chain order.
+    pub rollers: Vec<RigidBodyHandle>,
+    /// Sprocket bodies, in scene order.
+    pub sprockets: Vec<RigidBodyHandle>,
+}
+
+/// What a sprocket body needs beyond the model.
+#[derive(Clone, Copy, Debug)]
+pub struct SprocketBody {
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Polar inertia, kg·m².
+    pub inertia_kg_m2: f64,
+}
+
+fn chain_groups() -> InteractionGroups {
+    InteractionGroups::new(
+        CHAIN_GROUP,
+        Group::ALL.difference(CHAIN_GROUP),
+        InteractionTestMode::And,
+    )
+}
+
+impl ChainBodies {
+    /// Adds the drive's bodies and colliders to `bodies`/`colliders`, placed at `state`.
+    pub fn insert(
+        model: &DriveModel,
+        state: &DriveState,
+        sprocket_bodies: &[SprocketBody],
+        roller_radius_m: f64,
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+    ) -> Self {
+        let sprockets = model
+            .sprockets
+            .iter()
+            .zip(sprocket_bodies)
+            .enumerate()
+            .map(|(i, (sp, b))| {
+                let builder = if sp.speed_law.is_some() {
+                    RigidBodyBuilder::kinematic_velocity_based()
+                } else {
+                    RigidBodyBuilder::dynamic()
+                        .lock_translations()
+                        .additional_mass_properties(MassProperties::new(
+                            Vector::ZERO,
+                            b.mass_kg,
+                            b.inertia_kg_m2,
+                        ))
+                };
+                let body = builder
+                    .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
+                    .rotation(state.theta[i])
+                    .angvel(state.omega[i])
+                    .can_sleep(false)
+                    .build();
+                let handle = bodies.insert(body);
+                let collider = ColliderBuilder::ball(sp.pitch_radius_m)
+                    .density(0.0)
+                    .collision_groups(chain_groups())
+                    .build();
+                colliders.insert_with_parent(collider, handle, bodies);
+                handle
+            })
+            .collect();
+        let rollers = (0..state.rollers())
+            .map(|i| {
+                let body = RigidBodyBuilder::dynamic()
+                    .translation(Vector::new(state.x[i], state.y[i]))
+                    .linvel(Vector::new(state.vx[i], state.vy[i]))
+                    .lock_rotations()
+                    .additional_mass(model.roller_mass_kg)
+                    .can_sleep(false)
+                    .build();
+                let handle = bodies.insert(body);
+                let collider = ColliderBuilder::ball(roller_radius_m)
+                    .density(0.0)
+                    .collision_groups(chain_groups())
+                    .build();
+                colliders.insert_with_parent(collider, handle, bodies);
+                handle
+            })
+            .collect();
+        Self { rollers, sprockets }
+    }
+
+    /// Writes the drive's state into the bodies (the substepped mode's sync).
+    pub fn write_state(&self, state: &DriveState, bodies: &mut RigidBodySet) {
+        for (i, h) in self.rollers.iter().enumerate() {
+            if let Some(b) = bodies.get_mut(*h) {
+                b.set_translation(Vector::new(state.x[i], state.y[i]), false);
+                b.set_linvel(Vector::new(state.vx[i], state.vy[i]), false);
+            }
+        }
+        for (i, h) in self.sprockets.iter().enumerate() {
+            if let Some(b) = bodies.get_mut(*h) {
+                b.set_rotation(Rotation::new(state.theta[i]), false);
+                b.set_angvel(state.omega[i], false);
+            }
+        }
+    }
+
+    /// Reads the bodies into the drive's state (the rapier-integrated mode).
+    ///
+    /// Sprocket angles are unwrapped against the previous value so they stay
+    /// continuous over many turns.
+    pub fn read_state(&self, bodies: &RigidBodySet, state: &mut DriveState) {
+        for (i, h) in self.rollers.iter().enumerate() {
+            if let Some(b) = bodies.get(*h) {
+                let (p, v) = (b.translation(), b.linvel());
+                state.x[i] = p.x;
+                state.y[i] = p.y;
+                state.vx[i] = v.x;
+                state.vy[i] = v.y;
+            }
+        }
+        for (i, h) in self.sprockets.iter().enumerate() {
+            if let Some(b) = bodies.get(*h) {
+                let a = b.rotation().angle();
+                let prev = state.theta[i];
+                let turns = ((prev - a) / std::f64::consts::TAU).round();
+                state.theta[i] = a + turns * std::f64::consts::TAU;
+                state.omega[i] = b.angvel();
+            }
+        }
+    }
+
+    /// Replaces the bodies' user forces by the generator's (rapier keeps user
+    /// forces across steps, so they are reset first). Gravity on the rollers
+    /// is left to rapier: it is taken out of the generator's roller forces.
+    pub fn apply_forces(
+        &self,
+        model: &DriveModel,
+        forces: &ForceGenerator,
+        bodies: &mut RigidBodySet,
+    ) {
+        let m = model.roller_mass_kg;
+        let g = model.gravity_m_s2;
+        for (i, h) in self.rollers.iter().enumerate() {
+            if let Some(b) = bodies.get_mut(*h) {
+                b.reset_forces(false);
+                b.add_force(
+                    Vector::new(forces.fx[i] - m * g[0], forces.fy[i] - m * g[1]),
+                    false,
+                );
+            }
+        }
+        for (i, (h, sp)) in self.sprockets.iter().zip(&model.sprockets).enumerate() {
+            if let Some(b) = bodies.get_mut(*h) {
+                b.reset_forces(false);
+                b.reset_torques(false);
+                if sp.speed_law.is_none() {
+                    b.add_torque(forces.chain_torque[i] + sp.load_torque_n_m, false);
+                }
+            }
+        }
+    }
+}

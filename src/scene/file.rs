@@ -1,0 +1,201 @@
+//! The scene file as written by a user: plain serde structs, every field
+//! named with its unit, unknown fields rejected. Nothing here is checked
+//! beyond its TOML type; [`super::Scene`] is the validated form.
+
+use serde::{Deserialize, Serialize};
+
+/// A whole scene file (TOML).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SceneFile {
+    /// Free-form name, reported in every output.
+    pub name: String,
+    /// Gravity vector in m/s² (e.g. `[0.0, -9.81]`); `[0, 0]` turns it off.
+    #[serde(default)]
+    pub gravity_m_s2: [f64; 2],
+    /// Default tooth profile of every sprocket: `"circular"` or `"real"`.
+    #[serde(default = "default_profile")]
+    pub profile: String,
+    /// The chain.
+    pub chain: ChainFile,
+    /// The roller–tooth contact law.
+    pub contact: ContactFile,
+    /// The sprockets, in the order the chain visits them.
+    pub sprockets: Vec<SprocketFile>,
+    /// Integration settings.
+    #[serde(default)]
+    pub solver: SolverFile,
+    /// Static-equilibrium settings (before t = 0).
+    #[serde(default)]
+    pub equilibrium: EquilibriumFile,
+}
+
+fn default_profile() -> String {
+    "circular".to_owned()
+}
+
+/// The chain: rollers joined by spring-damper links.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChainFile {
+    /// Number of rollers (= number of links, the chain is closed).
+    pub rollers: i64,
+    /// Pitch P: roller-to-roller distance of the unloaded chain, m.
+    pub pitch_m: f64,
+    /// Roller radius R_r, m.
+    pub roller_radius_m: f64,
+    /// Lumped mass of one roller with its share of the plates and pins, kg.
+    pub roller_mass_kg: f64,
+    /// Link stiffness K, N/m.
+    pub stiffness_n_m: f64,
+    /// Link damping D, N·s/m.
+    pub damping_n_s_m: f64,
+    /// Static pretension, N (mean link force of the free strands at static equilibrium).
+    pub pretension_n: f64,
+    /// How the pretension is reached: `"rest_length"` (shorten the links' rest
+    /// length, positions stay) or `"tensioner"` (move the tensioner sprocket).
+    #[serde(default = "default_pretension_by")]
+    pub pretension_by: String,
+}
+
+fn default_pretension_by() -> String {
+    "rest_length".to_owned()
+}
+
+/// Contact law parameters (MODEL.md §3).
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct ContactFile {
+    /// `"lankarani_nikravesh"` (the paper's), `"hunt_crossley"`, `"flores"` or `"gonthier"`.
+    #[serde(default = "default_law")]
+    pub law: String,
+    /// Generalized stiffness K_g, N/m^exponent.
+    pub stiffness: f64,
+    /// Exponent n of the penetration (1.5 for Hertz).
+    #[serde(default = "default_exponent")]
+    pub exponent: f64,
+    /// Coefficient of restitution e in [0, 1].
+    pub restitution: f64,
+    /// Floor on the remembered approach speed δ̇⁻, m/s.
+    #[serde(default = "default_min_approach")]
+    pub min_approach_speed_m_s: f64,
+}
+
+fn default_law() -> String {
+    "lankarani_nikravesh".to_owned()
+}
+fn default_exponent() -> f64 {
+    1.5
+}
+fn default_min_approach() -> f64 {
+    super::DEFAULT_MIN_APPROACH_SPEED_M_S
+}
+
+/// One sprocket.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SprocketFile {
+    /// Name, for humans.
+    pub name: String,
+    /// Centre in the world, m.
+    pub center_m: [f64; 2],
+    /// Number of teeth.
+    pub teeth: i64,
+    /// Pitch radius, m. Optional: computed as P / (2 sin(π/N)); if given it must agree within 1e-5.
+    #[serde(default)]
+    pub pitch_radius_m: Option<f64>,
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Polar moment of inertia about the centre, kg·m².
+    pub inertia_kg_m2: f64,
+    /// Wrap sense: `"ccw"` if the chain, followed in scene order, goes
+    /// counter-clockwise around this sprocket (the paper's "+"), `"cw"` otherwise.
+    pub wrap: String,
+    /// `"driver"`, `"free"` or `"tensioner"`.
+    pub role: String,
+    /// Driver only: target speed, rpm, counter-clockwise positive.
+    #[serde(default)]
+    pub speed_rpm: Option<f64>,
+    /// Driver only: time of the linear ramp from rest to the target speed, s (0 = constant speed).
+    #[serde(default)]
+    pub ramp_s: Option<f64>,
+    /// Free or tensioner: constant load torque on the sprocket, N·m (counter-clockwise positive).
+    #[serde(default)]
+    pub load_torque_n_m: Option<f64>,
+    /// Tensioner only: direction along which the centre is moved to reach the pretension.
+    #[serde(default)]
+    pub adjust_direction: Option<[f64; 2]>,
+    /// Tooth profile of this sprocket, overriding the scene's default.
+    #[serde(default)]
+    pub profile: Option<String>,
+}
+
+/// Integration settings.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct SolverFile {
+    /// `"substepped"` (the fast path) or `"rapier"` (rapier integrates every body).
+    #[serde(default = "default_stepping")]
+    pub stepping: String,
+    /// `"symplectic_euler"`.
+    #[serde(default = "default_integrator")]
+    pub integrator: String,
+    /// The chain's integration step, s.
+    #[serde(default = "default_dt")]
+    pub dt_s: f64,
+    /// Simulated time after t = 0, s.
+    #[serde(default = "default_duration")]
+    pub duration_s: f64,
+}
+
+impl Default for SolverFile {
+    fn default() -> Self {
+        Self {
+            stepping: default_stepping(),
+            integrator: default_integrator(),
+            dt_s: default_dt(),
+            duration_s: default_duration(),
+        }
+    }
+}
+
+fn default_stepping() -> String {
+    "substepped".to_owned()
+}
+fn default_integrator() -> String {
+    "symplectic_euler".to_owned()
+}
+fn default_dt() -> f64 {
+    1e-5
+}
+fn default_duration() -> f64 {
+    10.0
+}
+
+/// Static equilibrium before t = 0: damped relaxation with the driver held.
+#[derive(Clone, Debug, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct EquilibriumFile {
+    /// Relative tolerance on the pretension (rest-length or tensioner iteration).
+    #[serde(default = "default_eq_tol")]
+    pub tension_tolerance: f64,
+    /// Largest relaxation time per iteration, s.
+    #[serde(default = "default_eq_time")]
+    pub max_relax_s: f64,
+}
+
+impl Default for EquilibriumFile {
+    fn default() -> Self {
+        Self {
+            tension_tolerance: default_eq_tol(),
+            max_relax_s: default_eq_time(),
+        }
+    }
+}
+
+fn default_eq_tol() -> f64 {
+    1e-3
+}
+fn default_eq_time() -> f64 {
+    2.0
+}

@@ -1,0 +1,185 @@
+//! Static equilibrium before t = 0 (MODEL.md §8): the driver is held, gravity
+//! acts as set, and the chain relaxes under extra viscous damping until it is
+//! at rest. The pretension rule then iterates: with `rest_length`, the links'
+//! rest length is corrected by a secant iteration until the mean link force of
+//! all free strands equals the pretension.
+
+use super::stepper::{Relaxation, symplectic_euler};
+use crate::forces::ForceGenerator;
+use crate::model::{DriveModel, DriveState};
+
+/// Outcome of the static equilibrium.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StaticEquilibrium {
+    /// Mean link force over the links of all free strands, N.
+    pub tension_n: f64,
+    /// Links' rest length, m.
+    pub rest_length_m: f64,
+    /// Pretension iterations used.
+    pub iterations: usize,
+    /// Largest roller speed left at the end of the last relaxation, m/s.
+    pub residual_speed_m_s: f64,
+}
+
+/// Why no equilibrium was found.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EquilibriumError {
+    /// No free strand link exists to measure the tension on.
+    #[error("no free strand link to measure the static tension on")]
+    NoFreeLinks,
+    /// The pretension iteration did not converge.
+    #[error(
+        "static tension {tension_n:.1} N after {iterations} iterations, target {target_n:.1} N"
+    )]
+    NotConverged {
+        /// Reached tension, N.
+        tension_n: f64,
+        /// Target, N.
+        target_n: f64,
+        /// Iterations used.
+        iterations: usize,
+    },
+    /// The relaxation itself blew up (dt too large for the scene).
+    #[error(
+        "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:e} m); reduce solver.dt_s"
+    )]
+    BlowUp {
+        /// Largest link stretch seen, m.
+        stretch_m: f64,
+    },
+}
+
+/// Settings of the relaxation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RelaxSettings {
+    /// Integration step, s.
+    pub dt_s: f64,
+    /// Largest relaxation time, s.
+    pub max_time_s: f64,
+    /// Damping rate, 1/s.
+    pub rate_per_s: f64,
+    /// Stop when every roller is slower than this, m/s.
+    pub rest_speed_m_s: f64,
+    /// Blow-up bound on the link stretch, m.
+    pub max_stretch_m: f64,
+}
+
+/// Relaxes `state` to rest with the driver held. Returns the residual speed.
+pub fn relax(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+) -> Result<f64, EquilibriumError> {
+    let relax = Some(Relaxation {
+        rate_per_s: settings.rate_per_s,
+    });
+    let t0 = state.t_s;
+    let steps = (settings.max_time_s / settings.dt_s).ceil() as usize;
+    let check_every = ((0.01 / settings.dt_s).ceil() as usize).max(1);
+    let mut residual = f64::INFINITY;
+    for step in 1..=steps {
+        forces.evaluate(model, state);
+        if !(forces.max_stretch_m <= settings.max_stretch_m) {
+            return Err(EquilibriumError::BlowUp {
+                stretch_m: forces.max_stretch_m,
+            });
+        }
+        symplectic_euler(model, state, forces, settings.dt_s, relax);
+        if step % check_every == 0 {
+            residual = max_speed(state);
+            if residual < settings.rest_speed_m_s {
+                break;
+            }
+        }
+    }
+    state.t_s = t0;
+    state.vx.fill(0.0);
+    state.vy.fill(0.0);
+    state.omega.fill(0.0);
+    forces.reset_memory();
+    forces.evaluate(model, state);
+    Ok(residual)
+}
+
+fn max_speed(state: &DriveState) -> f64 {
+    state
+        .vx
+        .iter()
+        .zip(&state.vy)
+        .map(|(x, y)| x.hypot(*y))
+        .fold(0.0, f64::max)
+}
+
+/// Mean link force over the links of all free strands, pooled; `None` if
+/// there is no free link. `forces` must have been evaluated at `state`.
+pub fn free_strand_tension(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+) -> Option<f64> {
+    let n = state.rollers();
+    let (mut sum, mut count) = (0.0, 0usize);
+    for i in 0..n {
+        let j = (i + 1) % n;
+        if forces.touching[i] || forces.touching[j] {
+            continue;
+        }
+        if model
+            .segments
+            .segment_of([state.x[i], state.y[i]], [state.x[j], state.y[j]])
+            .is_some()
+        {
+            sum += forces.link_force[i];
+            count += 1;
+        }
+    }
+    (count > 0).then(|| sum / count as f64)
+}
+
+/// Brings the drive to static equilibrium at `target_n` by shortening the
+/// links' rest length (secant iteration on T(rest length)).
+pub fn settle_rest_length(
+    model: &mut DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+    target_n: f64,
+    tolerance: f64,
+) -> Result<StaticEquilibrium, EquilibriumError> {
+    const MAX_ITERATIONS: usize = 12;
+    let k = model.stiffness_n_m;
+    // First guess: links on the wraps are exactly one pitch long; stretch them to the target.
+    let mut rest = model.rest_length_m - target_n / k;
+    let mut previous: Option<(f64, f64)> = None;
+    let mut last = (f64::NAN, f64::INFINITY);
+    for iteration in 1..=MAX_ITERATIONS {
+        model.rest_length_m = rest;
+        let residual = relax(model, state, forces, settings)?;
+        let tension =
+            free_strand_tension(model, state, forces).ok_or(EquilibriumError::NoFreeLinks)?;
+        last = (tension, residual);
+        if ((tension - target_n) / target_n).abs() <= tolerance {
+            return Ok(StaticEquilibrium {
+                tension_n: tension,
+                rest_length_m: rest,
+                iterations: iteration,
+                residual_speed_m_s: residual,
+            });
+        }
+        // Slope dT/d(rest): secant once two points exist, −K before.
+        let slope = match previous {
+            Some((r0, t0)) if (rest - r0).abs() > 0.0 && (tension - t0).abs() > 0.0 => {
+                (tension - t0) / (rest - r0)
+            }
+            _ => -k,
+        };
+        previous = Some((rest, tension));
+        rest += (target_n - tension) / slope;
+    }
+    Err(EquilibriumError::NotConverged {
+        tension_n: last.0,
+        target_n,
+        iterations: MAX_ITERATIONS,
+    })
+}

@@ -1,0 +1,362 @@
+//! Stepping: a drive in a rapier world, advanced either by the plugin's own
+//! substepping (the fast path) or by rapier itself, with the same forces;
+//! blow-up detection; observers that see the run at a chosen sample rate.
+//!
+//! [`Simulation::new`] builds the drive from a scene, inserts its bodies into
+//! a rapier world, and brings it to static equilibrium at the pretension.
+//! [`Simulation::run`] advances it, calling an [`Observer`] at every sample.
+//! What observers compute is their business ([`crate::analysis`]).
+
+mod equilibrium;
+mod stepper;
+
+pub use equilibrium::{
+    EquilibriumError, RelaxSettings, StaticEquilibrium, free_strand_tension, relax,
+    settle_rest_length,
+};
+pub use stepper::{Relaxation, driver_speed, symplectic_euler};
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use rapier2d_f64::prelude::*;
+
+use crate::forces::{ContactLawParams, ForceGenerator};
+use crate::geometry::Layout;
+use crate::model::rapier::{ChainBodies, SprocketBody};
+use crate::model::{BuildError, DriveModel, DriveState};
+use crate::scene::{PretensionRule, Scene, Stepping};
+
+/// Blow-up thresholds (MODEL.md; the core's defaults).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BlowUpLimits {
+    /// Largest penetration, m (default: a quarter of the roller radius).
+    pub max_penetration_m: f64,
+    /// Largest |link length − rest length|, m (default: 1% of the pitch).
+    pub max_stretch_m: f64,
+}
+
+impl BlowUpLimits {
+    /// The defaults for a scene.
+    pub fn for_scene(scene: &Scene) -> Self {
+        Self {
+            max_penetration_m: 0.25 * scene.chain.roller_radius_m,
+            max_stretch_m: 0.01 * scene.chain.pitch_m,
+        }
+    }
+}
+
+/// Which detector fired.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Detector {
+    /// A non-finite number in the state or the forces.
+    NonFinite,
+    /// A roller sank deeper than the limit into a tooth.
+    Penetration,
+    /// A link stretched or shrank beyond the limit.
+    Stretch,
+}
+
+impl Detector {
+    /// Name for messages and outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::NonFinite => "non-finite",
+            Self::Penetration => "penetration",
+            Self::Stretch => "link-stretch",
+        }
+    }
+}
+
+/// Why a simulation could not be built or stopped early.
+#[derive(Debug, thiserror::Error)]
+pub enum SimError {
+    /// The scene cannot be laid out.
+    #[error(transparent)]
+    Build(#[from] BuildError),
+    /// No static equilibrium.
+    #[error("static equilibrium: {0}")]
+    Equilibrium(#[from] EquilibriumError),
+    /// The run blew up.
+    #[error(
+        "blow-up at t = {t_s:.6} s: {detector} detector fired on {body} ({value:e} against limit {limit:e}); reduce solver.dt_s or check the scene"
+    )]
+    BlowUp {
+        /// Simulated time, s.
+        t_s: f64,
+        /// Detector name.
+        detector: &'static str,
+        /// The body concerned, e.g. "roller 17".
+        body: String,
+        /// The value that tripped it.
+        value: f64,
+        /// The limit.
+        limit: f64,
+    },
+}
+
+/// What an observer sees at a sample.
+pub struct Sample<'a> {
+    /// The drive's parameters.
+    pub model: &'a DriveModel,
+    /// The state.
+    pub state: &'a DriveState,
+    /// Forces at the state (as evaluated for the step that led here).
+    pub forces: &'a ForceGenerator,
+}
+
+/// Watches a run. Every method has a no-op default.
+pub trait Observer {
+    /// Called at every sample (at the run's sample rate), and once at t = 0.
+    fn sample(&mut self, _sample: &Sample<'_>) {}
+    /// Called after every integration step whose end time is ≥ the value
+    /// returned by [`Observer::per_step_from_s`]; for statistics that must not
+    /// miss a peak.
+    fn step(&mut self, _sample: &Sample<'_>) {}
+    /// First time at which [`Observer::step`] is wanted (∞ = never).
+    fn per_step_from_s(&self) -> f64 {
+        f64::INFINITY
+    }
+}
+
+/// An observer that watches nothing.
+pub struct NoObserver;
+impl Observer for NoObserver {}
+
+/// How a run ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunOutcome {
+    /// Integration steps taken.
+    pub steps: u64,
+    /// Wall time of the stepping loop, s.
+    pub wall_s: f64,
+    /// Whether the run was interrupted before its end.
+    pub interrupted: bool,
+    /// Largest penetration seen, m.
+    pub max_penetration_m: f64,
+}
+
+/// A chain drive in a rapier world.
+pub struct Simulation {
+    /// The scene it was built from.
+    pub scene: Scene,
+    /// Constant parameters.
+    pub model: DriveModel,
+    /// State.
+    pub state: DriveState,
+    /// Force generator with its buffers.
+    pub forces: ForceGenerator,
+    /// The initial layout.
+    pub layout: Layout,
+    /// The static equilibrium reached before t = 0.
+    pub equilibrium: StaticEquilibrium,
+    /// The rapier world holding the drive's bodies.
+    pub world: PhysicsWorld,
+    /// Handles of the drive's bodies.
+    pub bodies: ChainBodies,
+    /// Blow-up limits.
+    pub limits: BlowUpLimits,
+}
+
+impl Simulation {
+    /// Builds the drive, inserts it into a fresh rapier world and brings it to
+    /// static equilibrium.
+    pub fn new(scene: &Scene) -> Result<Self, SimError> {
+        let (mut model, mut state, layout) = DriveModel::build(scene)?;
+        let mut forces = ForceGenerator::new(
+            ContactLawParams::new(&scene.contact),
+            state.rollers(),
+            model.sprocket_count(),
+        );
+        let limits = BlowUpLimits::for_scene(scene);
+        let settings = RelaxSettings {
+            dt_s: scene.solver.dt_s,
+            max_time_s: scene.equilibrium.max_relax_s,
+            rate_per_s: 60.0,
+            rest_speed_m_s: 1e-6,
+            max_stretch_m: limits.max_stretch_m,
+        };
+        let equilibrium = match scene.chain.pretension_by {
+            PretensionRule::RestLength | PretensionRule::Tensioner => settle_rest_length(
+                &mut model,
+                &mut state,
+                &mut forces,
+                &settings,
+                scene.chain.pretension_n,
+                scene.equilibrium.tension_tolerance,
+            )?,
+        };
+        let mut world = PhysicsWorld::default();
+        world.gravity = Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]);
+        world.integration_parameters.dt = scene.solver.dt_s;
+        world.integration_parameters.num_solver_iterations = 1;
+        let sprocket_bodies: Vec<SprocketBody> = scene
+            .sprockets
+            .iter()
+            .map(|s| SprocketBody {
+                mass_kg: s.mass_kg,
+                inertia_kg_m2: s.inertia_kg_m2,
+            })
+            .collect();
+        let bodies = ChainBodies::insert(
+            &model,
+            &state,
+            &sprocket_bodies,
+            scene.chain.roller_radius_m,
+            &mut world.bodies,
+            &mut world.colliders,
+        );
+        Ok(Self {
+            scene: scene.clone(),
+            model,
+            state,
+            forces,
+            layout,
+            equilibrium,
+            world,
+            bodies,
+            limits,
+        })
+    }
+
+    /// One chain step of `dt_s` in the scene's stepping mode.
+    ///
+    /// Invariant: `forces` always holds the forces at `state`. A step
+    /// integrates with them, then evaluates the forces at the new state (which
+    /// also advances the contact memory and feeds the blow-up detectors).
+    pub fn step(&mut self, dt_s: f64) {
+        match self.scene.solver.stepping {
+            Stepping::Substepped => {
+                symplectic_euler(&self.model, &mut self.state, &self.forces, dt_s, None);
+            }
+            Stepping::Rapier => self.rapier_step(dt_s),
+        }
+        self.forces.evaluate(&self.model, &self.state);
+    }
+
+    /// One step integrated by rapier: the generator's forces are applied to
+    /// the bodies, the driver's speed is set, and rapier steps the world.
+    fn rapier_step(&mut self, dt_s: f64) {
+        self.bodies
+            .apply_forces(&self.model, &self.forces, &mut self.world.bodies);
+        let driver = self.model.driver();
+        let omega = driver_speed(&self.model, driver, self.state.t_s, dt_s);
+        if let Some(b) = self.world.bodies.get_mut(self.bodies.sprockets[driver]) {
+            b.set_angvel(omega, false);
+        }
+        self.world.integration_parameters.dt = dt_s;
+        self.world.step();
+        self.bodies.read_state(&self.world.bodies, &mut self.state);
+        self.state.t_s += dt_s;
+    }
+
+    /// Writes the drive's state into its rapier bodies.
+    pub fn sync_world(&mut self) {
+        self.bodies.write_state(&self.state, &mut self.world.bodies);
+    }
+
+    /// Checks the blow-up detectors against the last force evaluation.
+    pub fn check_blow_up(&self) -> Result<(), SimError> {
+        let f = &self.forces;
+        let fail = |detector: Detector, body: String, value: f64, limit: f64| {
+            Err(SimError::BlowUp {
+                t_s: self.state.t_s,
+                detector: detector.name(),
+                body,
+                value,
+                limit,
+            })
+        };
+        if !f.max_stretch_m.is_finite() || !f.max_penetration_m.is_finite() {
+            let body = (0..self.state.rollers())
+                .find(|&i| !(self.state.x[i].is_finite() && self.state.y[i].is_finite()))
+                .map_or_else(|| "the chain".to_owned(), |i| format!("roller {i}"));
+            return fail(Detector::NonFinite, body, f64::NAN, 0.0);
+        }
+        if f.max_penetration_m > self.limits.max_penetration_m {
+            let i = (0..self.state.rollers())
+                .max_by(|&a, &b| f.contact_force[a].total_cmp(&f.contact_force[b]))
+                .unwrap_or(0);
+            return fail(
+                Detector::Penetration,
+                format!("roller {i}"),
+                f.max_penetration_m,
+                self.limits.max_penetration_m,
+            );
+        }
+        if f.max_stretch_m > self.limits.max_stretch_m {
+            let i = (0..self.state.rollers())
+                .max_by(|&a, &b| {
+                    let sa = (f.link_force[a] / self.model.stiffness_n_m).abs();
+                    let sb = (f.link_force[b] / self.model.stiffness_n_m).abs();
+                    sa.total_cmp(&sb)
+                })
+                .unwrap_or(0);
+            return fail(
+                Detector::Stretch,
+                format!("link {i}"),
+                f.max_stretch_m,
+                self.limits.max_stretch_m,
+            );
+        }
+        Ok(())
+    }
+
+    /// Runs until `until_s`, with the scene's dt, calling `observer` every
+    /// `sample_every` steps. `stop` (e.g. set by Ctrl-C) ends the run early
+    /// with `interrupted = true`.
+    pub fn run(
+        &mut self,
+        until_s: f64,
+        sample_every: u64,
+        observer: &mut dyn Observer,
+        stop: Option<&AtomicBool>,
+    ) -> Result<RunOutcome, SimError> {
+        let dt = self.scene.solver.dt_s;
+        let total = ((until_s - self.state.t_s) / dt).round().max(0.0) as u64;
+        let sample_every = sample_every.max(1);
+        let per_step_from = observer.per_step_from_s();
+        let mut max_pen = 0.0f64;
+        let started = Instant::now();
+        let mut interrupted = false;
+        if self.state.t_s == 0.0 {
+            observer.sample(&self.sample());
+        }
+        let t0 = self.state.t_s;
+        let mut steps = 0;
+        while steps < total {
+            self.step(dt);
+            steps += 1;
+            // Rebase the clock on the step count so that long runs do not accumulate rounding.
+            self.state.t_s = t0 + steps as f64 * dt;
+            self.check_blow_up()?;
+            max_pen = max_pen.max(self.forces.max_penetration_m);
+            if self.state.t_s >= per_step_from {
+                observer.step(&self.sample());
+            }
+            if steps % sample_every == 0 {
+                observer.sample(&self.sample());
+                if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                    interrupted = true;
+                    break;
+                }
+            }
+        }
+        self.sync_world();
+        Ok(RunOutcome {
+            steps,
+            wall_s: started.elapsed().as_secs_f64(),
+            interrupted,
+            max_penetration_m: max_pen,
+        })
+    }
+
+    /// The current sample view.
+    pub fn sample(&self) -> Sample<'_> {
+        Sample {
+            model: &self.model,
+            state: &self.state,
+            forces: &self.forces,
+        }
+    }
+}
