@@ -65,6 +65,20 @@ impl ContactLawParams {
         }
     }
 
+    /// The damping factor χ / δ̇⁻ to remember for a contact whose onset
+    /// approach speed is `approach_speed_m_s` (floored), 1/(m/s).
+    #[inline]
+    pub fn damping_per_speed(&self, approach_speed_m_s: f64) -> f64 {
+        self.chi / self.onset_speed(approach_speed_m_s)
+    }
+
+    /// Normal force from a remembered damping factor χ / δ̇⁻ (see
+    /// [`Self::damping_per_speed`]): a multiplication where [`Self::force`] divides.
+    #[inline]
+    pub fn force_with(&self, depth_m: f64, depth_rate_m_s: f64, damping_per_speed: f64) -> f64 {
+        (self.elastic(depth_m) * (1.0 + damping_per_speed * depth_rate_m_s)).max(0.0)
+    }
+
     /// Normal force magnitude, N (≥ 0).
     ///
     /// `depth_rate_m_s` is δ̇ (positive while approaching), `onset_m_s` the
@@ -99,6 +113,14 @@ mod tests {
         assert!((ln(1.0).force(1e-4, 0.3, 0.6) - 1000.0).abs() < 1e-9);
         // e = 0.5: χ = 0.5625.
         assert!((ln(0.5).force(4e-4, -0.2, 0.4) - 8000.0 * (1.0 - 0.5625 * 0.5)).abs() < 1e-9);
+    }
+
+    #[test]
+    fn remembered_factor_form_agrees() {
+        let law = ln(0.2);
+        let k = law.damping_per_speed(0.6);
+        let (a, b) = (law.force(2e-4, 0.3, 0.6), law.force_with(2e-4, 0.3, k));
+        assert!((a - b).abs() <= 1e-12 * a);
     }
 
     #[test]

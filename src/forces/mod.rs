@@ -23,25 +23,91 @@ use crate::model::{DriveModel, DriveState};
 struct Memory {
     /// (sprocket << 32) | patch id; `EMPTY` when unused.
     key: u64,
-    /// δ̇⁻, floored, m/s.
-    onset_m_s: f64,
+    /// χ / δ̇⁻ (δ̇⁻ floored), s/m.
+    damping_per_speed: f64,
 }
 
 const EMPTY: u64 = u64::MAX;
+
+/// Contact culling: a roller whose centre is outside every sprocket's reach
+/// circle by a clearance c is skipped for
+/// τ = min(c / (speed_factor · v_max + speed_floor), max_skip_s),
+/// v_max the chain's fastest roller at that moment. Within τ a roller could
+/// only reach a tooth by more than doubling its speed plus the floor (5 m/s)
+/// within ≤ 1 ms — an acceleration beyond 5000 m/s², i.e. a blow-up. The
+/// oracle test `culling_changes_nothing` checks the bitwise equality of runs
+/// with and without culling.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Culling {
+    /// Factor on the fastest roller speed.
+    pub speed_factor: f64,
+    /// Speed added to the bound, m/s (covers rollers starting from rest).
+    pub speed_floor_m_s: f64,
+    /// Longest skip, s.
+    pub max_skip_s: f64,
+}
+
+impl Default for Culling {
+    fn default() -> Self {
+        Self {
+            speed_factor: 2.0,
+            speed_floor_m_s: 5.0,
+            max_skip_s: 1e-3,
+        }
+    }
+}
 const FREE: Memory = Memory {
     key: EMPTY,
-    onset_m_s: 0.0,
+    damping_per_speed: 0.0,
 };
+
+/// The link law of MODEL.md §2 for one link.
+#[derive(Clone, Copy)]
+struct LinkLaw {
+    stiffness: f64,
+    damping: f64,
+    rest: f64,
+}
+
+impl LinkLaw {
+    /// From the link vector d = q_j − q_i and the velocity difference:
+    /// (F_link, u_x, u_y, l − rest).
+    #[inline(always)]
+    fn eval(&self, dx: f64, dy: f64, dvx: f64, dvy: f64) -> (f64, f64, f64, f64) {
+        let l = (dx * dx + dy * dy).sqrt();
+        // Coincident rollers have no direction: no force rather than NaN (the
+        // blow-up detector stops the run, the stretch being a whole pitch).
+        let inv = if l > 0.0 { 1.0 / l } else { 0.0 };
+        let (ux, uy) = (dx * inv, dy * inv);
+        let stretch = l - self.rest;
+        let f = self.stiffness * stretch + self.damping * (dvx * ux + dvy * uy);
+        (f, ux, uy, stretch)
+    }
+}
 
 /// Computes link and contact forces into reused buffers.
 #[derive(Clone, Debug)]
 pub struct ForceGenerator {
     law: ContactLawParams,
     memory: Vec<[Memory; MAX_PATCHES]>,
+    /// Last gap each roller touched: where the O(1) gap search starts.
+    gap_hint: Vec<u32>,
+    /// Contact culling settings; `None` checks every roller against every sprocket each call.
+    pub culling: Option<Culling>,
+    /// Time before which roller i touches no sprocket (see [`Culling`]).
+    free_until_s: Vec<f64>,
+    /// Scratch: (sin θ, cos θ) of each sprocket.
+    rotations: Vec<(f64, f64)>,
+    /// Largest roller speed at the last evaluation, m/s.
+    max_speed_m_s: f64,
     /// Force on each roller (links, contacts, gravity), N.
     pub fx: Vec<f64>,
     /// Force on each roller, y, N.
     pub fy: Vec<f64>,
+    /// Scratch: force vector of link i on roller i, N.
+    link_fx: Vec<f64>,
+    /// Scratch: its y component, N.
+    link_fy: Vec<f64>,
     /// Link force F_link of link i (roller i to i + 1), N, tension positive.
     pub link_force: Vec<f64>,
     /// Whether roller i touches any sprocket.
@@ -64,9 +130,16 @@ impl ForceGenerator {
         Self {
             law,
             memory: vec![[FREE; MAX_PATCHES]; rollers],
+            gap_hint: vec![0; rollers],
+            culling: Some(Culling::default()),
+            free_until_s: vec![f64::NEG_INFINITY; rollers],
+            rotations: vec![(0.0, 1.0); sprockets],
+            max_speed_m_s: 0.0,
             fx: vec![0.0; rollers],
             fy: vec![0.0; rollers],
             link_force: vec![0.0; rollers],
+            link_fx: vec![0.0; rollers],
+            link_fy: vec![0.0; rollers],
             touching: vec![false; rollers],
             chain_torque: vec![0.0; sprockets],
             chain_force: vec![[0.0; 2]; sprockets],
@@ -84,6 +157,7 @@ impl ForceGenerator {
     /// Forgets every remembered contact onset.
     pub fn reset_memory(&mut self) {
         self.memory.fill([FREE; MAX_PATCHES]);
+        self.free_until_s.fill(f64::NEG_INFINITY);
     }
 
     /// Evaluates all forces at `state`.
@@ -99,59 +173,91 @@ impl ForceGenerator {
     }
 
     /// Spring-damper links (MODEL.md §2).
+    ///
+    /// Two passes: the links' force vectors first (independent iterations,
+    /// which the compiler pipelines and vectorises), then each roller's sum of
+    /// its two links, so no iteration waits on the previous one's store.
     fn links(&mut self, model: &DriveModel, s: &DriveState) {
         let n = s.x.len();
-        let (k, d, rest) = (
-            model.stiffness_n_m,
-            model.damping_n_s_m,
-            model.rest_length_m,
-        );
+        let law = LinkLaw {
+            stiffness: model.stiffness_n_m,
+            damping: model.damping_n_s_m,
+            rest: model.rest_length_m,
+        };
+        let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let force = &mut self.link_force[..n];
+        let (lfx, lfy) = (&mut self.link_fx[..n], &mut self.link_fy[..n]);
         let mut max_stretch = 0.0f64;
+        let mut stretch_is_nan = false;
         for i in 0..n {
-            let j = if i + 1 == n { 0 } else { i + 1 };
-            let dx = s.x[j] - s.x[i];
-            let dy = s.y[j] - s.y[i];
-            let l = (dx * dx + dy * dy).sqrt();
-            // Coincident rollers have no direction: the blow-up detector stops the
-            // run (the stretch is a full pitch); no force rather than NaN.
-            let inv = if l > 0.0 { 1.0 / l } else { 0.0 };
-            let (ux, uy) = (dx * inv, dy * inv);
-            let rate = (s.vx[j] - s.vx[i]) * ux + (s.vy[j] - s.vy[i]) * uy;
-            let stretch = l - rest;
-            let f = k * stretch + d * rate;
-            self.link_force[i] = f;
-            // `max` would drop a NaN; keep it visible to the blow-up check.
-            let a = stretch.abs();
-            if !(a <= max_stretch) {
-                max_stretch = a;
-            }
-            self.fx[i] += f * ux;
-            self.fy[i] += f * uy;
-            self.fx[j] -= f * ux;
-            self.fy[j] -= f * uy;
+            let j = if i + 1 < n { i + 1 } else { 0 };
+            let (f, ux, uy, stretch) =
+                law.eval(x[j] - x[i], y[j] - y[i], vx[j] - vx[i], vy[j] - vy[i]);
+            force[i] = f;
+            lfx[i] = f * ux;
+            lfy[i] = f * uy;
+            max_stretch = max_stretch.max(stretch.abs());
+            // `max` drops a NaN: keep it visible to the blow-up check.
+            stretch_is_nan |= stretch.is_nan();
         }
-        self.max_stretch_m = max_stretch;
+        let (fx, fy) = (&mut self.fx[..n], &mut self.fy[..n]);
+        fx[0] += lfx[0] - lfx[n - 1];
+        fy[0] += lfy[0] - lfy[n - 1];
+        for i in 1..n {
+            fx[i] += lfx[i] - lfx[i - 1];
+            fy[i] += lfy[i] - lfy[i - 1];
+        }
+        let max_speed_sq = vx
+            .iter()
+            .zip(vy)
+            .fold(0.0f64, |m, (a, b)| m.max(a * a + b * b));
+        self.max_stretch_m = if stretch_is_nan {
+            f64::NAN
+        } else {
+            max_stretch
+        };
+        self.max_speed_m_s = max_speed_sq.sqrt();
     }
 
     /// Roller–tooth contacts (MODEL.md §3–5) and their reactions.
+    ///
+    /// Rollers far from every sprocket are skipped for a while ([`Culling`]).
+    /// Within reach, the gap search starts from the roller's last gap.
     fn contacts(&mut self, model: &DriveModel, s: &DriveState) {
         let law = self.law;
         let mut max_pen = 0.0f64;
         let mut patches = [Patch::default(); MAX_PATCHES];
+        for (r, th) in self.rotations.iter_mut().zip(&s.theta) {
+            *r = th.sin_cos();
+        }
+        let cull = self.culling.map(|c| {
+            (
+                c.speed_factor * self.max_speed_m_s + c.speed_floor_m_s,
+                c.max_skip_s,
+            )
+        });
         for i in 0..s.x.len() {
+            if s.t_s < self.free_until_s[i] {
+                // Skipped rollers were found free: memory, flags and force are already clear.
+                continue;
+            }
             let mut next = [FREE; MAX_PATCHES];
             let mut used = 0;
             let mut total = [0.0f64; 2];
+            let mut in_reach = false;
             for (sp_index, sp) in model.sprockets.iter().enumerate() {
                 let rx = s.x[i] - sp.center_m[0];
                 let ry = s.y[i] - sp.center_m[1];
                 if rx * rx + ry * ry > sp.reach_sq_m2 {
                     continue;
                 }
-                let (sin, cos) = s.theta[sp_index].sin_cos();
+                in_reach = true;
+                let (sin, cos) = self.rotations[sp_index];
                 // World → sprocket frame: rotate by −θ.
                 let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
-                let count = sp.profile.contacts(local, &mut patches);
+                let count = sp
+                    .profile
+                    .contacts(local, &mut self.gap_hint[i], &mut patches);
                 let omega = s.omega[sp_index];
                 for p in &patches[..count] {
                     // Normal back to the world frame.
@@ -162,18 +268,21 @@ impl ForceGenerator {
                     let vry = s.vy[i] - omega * rx;
                     let depth_rate = -(vrx * nx + vry * ny);
                     let key = ((sp_index as u64) << 32) | u64::from(p.patch_id);
-                    let onset = self.memory[i]
+                    let damping = self.memory[i]
                         .iter()
                         .find(|mem| mem.key == key)
-                        .map_or_else(|| law.onset_speed(depth_rate), |mem| mem.onset_m_s);
+                        .map_or_else(
+                            || law.damping_per_speed(depth_rate),
+                            |mem| mem.damping_per_speed,
+                        );
                     if used < MAX_PATCHES {
                         next[used] = Memory {
                             key,
-                            onset_m_s: onset,
+                            damping_per_speed: damping,
                         };
                         used += 1;
                     }
-                    let f = law.force(p.depth_m, depth_rate, onset);
+                    let f = law.force_with(p.depth_m, depth_rate, damping);
                     let (fx, fy) = (f * nx, f * ny);
                     total[0] += fx;
                     total[1] += fy;
@@ -186,11 +295,25 @@ impl ForceGenerator {
                     }
                 }
             }
+            if let Some((speed_bound, max_skip)) = cull
+                && !in_reach
+            {
+                let clearance = model
+                    .sprockets
+                    .iter()
+                    .map(|sp| (s.x[i] - sp.center_m[0]).hypot(s.y[i] - sp.center_m[1]) - sp.reach_m)
+                    .fold(f64::INFINITY, f64::min);
+                self.free_until_s[i] = s.t_s + (clearance / speed_bound).min(max_skip);
+            }
             self.memory[i] = next;
             self.touching[i] = used > 0;
             self.fx[i] += total[0];
             self.fy[i] += total[1];
-            self.contact_force[i] = total[0].hypot(total[1]);
+            self.contact_force[i] = if used > 0 {
+                (total[0] * total[0] + total[1] * total[1]).sqrt()
+            } else {
+                0.0
+            };
         }
         self.max_penetration_m = max_pen;
     }

@@ -23,6 +23,8 @@ pub struct CircularProfile {
     pub roller_radius_m: f64,
     /// N / 2π, to turn a polar angle into a gap index.
     gaps_per_rad: f64,
+    /// tan(φ/2): a point is nearest gap j when |u_j × p| ≤ tan(φ/2) (u_j · p).
+    tan_half_pitch: f64,
     /// Unit radial direction of each gap centre, (cos jφ, sin jφ).
     gap_dirs: Vec<[f64; 2]>,
 }
@@ -40,6 +42,7 @@ impl CircularProfile {
             clearance_m: seating_radius_m - roller_radius_m,
             roller_radius_m,
             gaps_per_rad: 1.0 / pitch_angle,
+            tan_half_pitch: (0.5 * pitch_angle).tan(),
             gap_dirs: (0..teeth)
                 .map(|j| {
                     let a = f64::from(j) * pitch_angle;
@@ -56,6 +59,34 @@ impl CircularProfile {
         k.rem_euclid(i64::from(self.teeth)) as u32
     }
 
+    /// Index of the gap nearest to `p`, trying `hint` and its neighbours
+    /// before falling back to [`Self::gap_of`]: a roller stays in a gap for
+    /// many steps, and two products are much cheaper than an `atan2`.
+    #[inline]
+    pub fn gap_near(&self, p: [f64; 2], hint: u32) -> u32 {
+        let n = self.teeth;
+        let mut j = if hint < n { hint } else { 0 };
+        for _ in 0..2 {
+            let u = self.gap_dirs[j as usize];
+            let along = u[0] * p[0] + u[1] * p[1];
+            let across = u[0] * p[1] - u[1] * p[0];
+            let limit = self.tan_half_pitch * along;
+            if along > 0.0 && across.abs() <= limit {
+                return j;
+            }
+            if along <= 0.0 || across.abs() > 3.0 * limit {
+                break;
+            }
+            // Try the neighbour on the side the point lies.
+            j = if across > 0.0 {
+                (j + 1) % n
+            } else {
+                (j + n - 1) % n
+            };
+        }
+        self.gap_of(p)
+    }
+
     /// Centre of gap `gap`'s seating circle.
     #[inline]
     pub fn seat_center(&self, gap: u32) -> [f64; 2] {
@@ -65,9 +96,12 @@ impl CircularProfile {
     }
 
     /// Contact of a roller centred at `p` (sprocket frame): at most one patch.
+    /// `hint` is a gap the roller was recently in (any value works); it is
+    /// updated to the gap found.
     #[inline]
-    pub fn contacts(&self, p: [f64; 2], out: &mut [Patch; MAX_PATCHES]) -> usize {
-        let gap = self.gap_of(p);
+    pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+        let gap = self.gap_near(p, *hint);
+        *hint = gap;
         let u = self.gap_dirs[gap as usize];
         let rc = self.pitch_radius_m + self.clearance_m;
         let e = [p[0] - rc * u[0], p[1] - rc * u[1]];
@@ -75,11 +109,13 @@ impl CircularProfile {
         if e[0] * u[0] + e[1] * u[1] > 0.0 {
             return 0;
         }
-        let len = e[0].hypot(e[1]);
-        let depth_m = len - self.clearance_m;
-        if !(depth_m > 0.0) {
+        // Cheap rejection before the square root: |e| ≤ ΔR means no contact.
+        let len_sq = e[0] * e[0] + e[1] * e[1];
+        if !(len_sq > self.clearance_m * self.clearance_m) {
             return 0;
         }
+        let len = len_sq.sqrt();
+        let depth_m = len - self.clearance_m;
         // len > ΔR > 0 here, so the normalisation is safe.
         out[0] = Patch {
             depth_m,
@@ -117,9 +153,12 @@ mod tests {
         let c = CircularProfile::new(30, P, RR);
         let mut out = [Patch::default(); 2];
         // Slightly outside the pitch circle: free.
-        assert_eq!(c.contacts([c.pitch_radius_m + 1e-9, 0.0], &mut out), 0);
+        assert_eq!(
+            c.contacts([c.pitch_radius_m + 1e-9, 0.0], &mut 0, &mut out),
+            0
+        );
         // 1 mm inside the pitch circle at gap 0: depth 1 mm, normal radially out.
-        let n = c.contacts([c.pitch_radius_m - 1e-3, 0.0], &mut out);
+        let n = c.contacts([c.pitch_radius_m - 1e-3, 0.0], &mut 0, &mut out);
         assert_eq!(n, 1);
         assert!((out[0].depth_m - 1e-3).abs() < 1e-12);
         assert!((out[0].normal[0] - 1.0).abs() < 1e-12 && out[0].normal[1].abs() < 1e-12);
@@ -139,7 +178,7 @@ mod tests {
             rc * ur[1] + dr * ur[1] + dt * ut[1],
         ];
         let mut out = [Patch::default(); 2];
-        assert_eq!(c.contacts(p, &mut out), 1);
+        assert_eq!(c.contacts(p, &mut 0, &mut out), 1);
         let len = (1.0e-6f64 + 0.25e-6).sqrt();
         assert_eq!(out[0].gap, 3);
         assert!((out[0].depth_m - (len - 0.1731e-3)).abs() < 1e-7);
@@ -156,7 +195,24 @@ mod tests {
         let c = CircularProfile::new(60, P, RR);
         let rc = c.pitch_radius_m + c.clearance_m;
         let mut out = [Patch::default(); 2];
-        assert_eq!(c.contacts([rc + 1e-3, 0.0], &mut out), 0);
+        assert_eq!(c.contacts([rc + 1e-3, 0.0], &mut 0, &mut out), 0);
+    }
+
+    #[test]
+    fn hinted_gap_equals_atan2_gap() {
+        // Oracle: the hint path must agree with the plain atan2 rule everywhere.
+        let c = CircularProfile::new(28, P, RR);
+        let mut seed = 12345u64;
+        for _ in 0..20000 {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let a = (seed >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU;
+            let r = 0.3 + 0.2 * ((seed >> 7) % 1000) as f64 / 1000.0;
+            let p = [r * a.cos(), r * a.sin()];
+            let hint = (seed % 28) as u32;
+            assert_eq!(c.gap_near(p, hint), c.gap_of(p));
+        }
     }
 
     #[test]

@@ -88,11 +88,13 @@ impl ToothProfile {
         })
     }
 
-    /// Contact patches of a roller centred at `p` (sprocket frame). Returns the count.
+    /// Contact patches of a roller centred at `p` (sprocket frame). Returns
+    /// the count. `hint` is a gap the roller was recently in (any value
+    /// works); it is updated to the gap found.
     #[inline]
-    pub fn contacts(&self, p: [f64; 2], out: &mut [Patch; MAX_PATCHES]) -> usize {
+    pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         match self {
-            Self::Circular(c) => c.contacts(p, out),
+            Self::Circular(c) => c.contacts(p, hint, out),
             Self::Real(r) => {
                 let mut raw = [EMPTY_ASA_PATCH; 2];
                 let n = r.contacts(p, r.dimensions().roller_diameter_m / 2.0, &mut raw);

@@ -30,7 +30,9 @@ pub struct SprocketModel {
     pub load_torque_n_m: f64,
     /// Tooth outline used by the contact generator.
     pub profile: ToothProfile,
-    /// Square of the radius beyond which no roller centre touches the sprocket.
+    /// Radius beyond which no roller centre touches the sprocket, m.
+    pub reach_m: f64,
+    /// Its square, m².
     pub reach_sq_m2: f64,
     /// Pitch radius, m.
     pub pitch_radius_m: f64,
@@ -159,6 +161,7 @@ impl DriveModel {
                     inv_inertia: 1.0 / s.inertia_kg_m2,
                     speed_law: s.speed_law(),
                     load_torque_n_m: s.load_torque_n_m(),
+                    reach_m: reach,
                     reach_sq_m2: reach * reach,
                     pitch_radius_m: s.pitch_radius_m,
                     teeth: s.teeth,
