@@ -27,6 +27,9 @@ pub enum EquilibriumError {
     /// No free strand link exists to measure the tension on.
     #[error("no free strand link to measure the static tension on")]
     NoFreeLinks,
+    /// The tensioner rule needs a sprocket with role = "tensioner".
+    #[error("pretension_by = \"tensioner\" but no sprocket is a tensioner")]
+    NoTensioner,
     /// The pretension iteration did not converge.
     #[error(
         "static tension {tension_n:.1} N after {iterations} iterations, target {target_n:.1} N"

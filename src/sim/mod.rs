@@ -25,7 +25,82 @@ use crate::forces::{ContactLawParams, ForceGenerator};
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BuildError, DriveModel, DriveState};
-use crate::scene::{PretensionRule, Scene, Stepping};
+use crate::scene::{PretensionRule, Role, Scene, Stepping};
+
+fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
+    ForceGenerator::new(
+        ContactLawParams::new(&scene.contact),
+        scene.chain.rollers,
+        model.sprocket_count(),
+    )
+}
+
+type Settled = (
+    Scene,
+    DriveModel,
+    DriveState,
+    ForceGenerator,
+    Layout,
+    StaticEquilibrium,
+);
+
+/// The tensioner rule (MODEL.md §8): links keep their rest length P; the
+/// tensioner's centre moves along its adjustment direction, by a secant
+/// iteration on the static tension, until the pretension is reached. Each
+/// iterate lays the chain out anew and relaxes it. The returned scene holds
+/// the tensioner's final centre, so every output describes the drive simulated.
+fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, SimError> {
+    const MAX_ITERATIONS: usize = 20;
+    const FIRST_STEP_M: f64 = 1e-4;
+    let Some(t) = scene.tensioner() else {
+        return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
+    };
+    let Role::Tensioner { direction, .. } = scene.sprockets[t].role else {
+        return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
+    };
+    let target = scene.chain.pretension_n;
+    let tension_at = |offset: f64| -> Result<(Settled, f64), SimError> {
+        let mut moved = scene.clone();
+        let c = &mut moved.sprockets[t].center_m;
+        c[0] += offset * direction[0];
+        c[1] += offset * direction[1];
+        let (model, mut state, layout) = DriveModel::build(&moved)?;
+        let mut forces = new_forces(&moved, &model);
+        let residual = relax(&model, &mut state, &mut forces, settings)?;
+        let tension =
+            free_strand_tension(&model, &state, &forces).ok_or(EquilibriumError::NoFreeLinks)?;
+        let eq = StaticEquilibrium {
+            tension_n: tension,
+            rest_length_m: model.rest_length_m,
+            iterations: 0,
+            residual_speed_m_s: residual,
+        };
+        Ok(((moved, model, state, forces, layout, eq), tension))
+    };
+    let (mut s0, mut t0) = (0.0, tension_at(0.0)?.1);
+    let mut s1 = if t0 < target {
+        FIRST_STEP_M
+    } else {
+        -FIRST_STEP_M
+    };
+    for iteration in 1..=MAX_ITERATIONS {
+        let (mut settled, t1) = tension_at(s1)?;
+        if ((t1 - target) / target).abs() <= scene.equilibrium.tension_tolerance {
+            settled.5.iterations = iteration;
+            return Ok(settled);
+        }
+        let slope = (t1 - t0) / (s1 - s0);
+        if !(slope.abs() > 0.0) || !slope.is_finite() {
+            break;
+        }
+        (s0, t0, s1) = (s1, t1, s1 + (target - t1) / slope);
+    }
+    Err(SimError::Equilibrium(EquilibriumError::NotConverged {
+        tension_n: t0,
+        target_n: target,
+        iterations: MAX_ITERATIONS,
+    }))
+}
 
 /// Blow-up thresholds (MODEL.md; the core's defaults).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,7 +151,7 @@ pub enum SimError {
     Build(#[from] BuildError),
     /// No static equilibrium.
     #[error("static equilibrium: {0}")]
-    Equilibrium(#[from] EquilibriumError),
+    Equilibrium(EquilibriumError),
     /// The run blew up.
     #[error(
         "blow-up at t = {t_s:.6} s: {detector} detector fired on {body} ({value:e} against limit {limit:e}); reduce solver.dt_s or check the scene"
@@ -93,6 +168,12 @@ pub enum SimError {
         /// The limit.
         limit: f64,
     },
+}
+
+impl From<EquilibriumError> for SimError {
+    fn from(e: EquilibriumError) -> Self {
+        Self::Equilibrium(e)
+    }
 }
 
 /// What an observer sees at a sample.
@@ -162,12 +243,6 @@ impl Simulation {
     /// Builds the drive, inserts it into a fresh rapier world and brings it to
     /// static equilibrium.
     pub fn new(scene: &Scene) -> Result<Self, SimError> {
-        let (mut model, mut state, layout) = DriveModel::build(scene)?;
-        let mut forces = ForceGenerator::new(
-            ContactLawParams::new(&scene.contact),
-            state.rollers(),
-            model.sprocket_count(),
-        );
         let limits = BlowUpLimits::for_scene(scene);
         let settings = RelaxSettings {
             dt_s: scene.solver.dt_s,
@@ -176,18 +251,26 @@ impl Simulation {
             rest_speed_m_s: 1e-6,
             max_stretch_m: limits.max_stretch_m,
         };
-        let equilibrium = match scene.chain.pretension_by {
-            PretensionRule::RestLength | PretensionRule::Tensioner => settle_rest_length(
-                &mut model,
-                &mut state,
-                &mut forces,
-                &settings,
-                scene.chain.pretension_n,
-                scene.equilibrium.tension_tolerance,
-            )?,
+        let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
+            PretensionRule::RestLength => {
+                let (mut model, mut state, layout) = DriveModel::build(scene)?;
+                let mut forces = new_forces(scene, &model);
+                let eq = settle_rest_length(
+                    &mut model,
+                    &mut state,
+                    &mut forces,
+                    &settings,
+                    scene.chain.pretension_n,
+                    scene.equilibrium.tension_tolerance,
+                )?;
+                (scene.clone(), model, state, forces, layout, eq)
+            }
+            PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
         };
-        let mut world = PhysicsWorld::default();
-        world.gravity = Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]);
+        let mut world = PhysicsWorld {
+            gravity: Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]),
+            ..PhysicsWorld::default()
+        };
         world.integration_parameters.dt = scene.solver.dt_s;
         world.integration_parameters.num_solver_iterations = 1;
         let sprocket_bodies: Vec<SprocketBody> = scene
@@ -207,7 +290,7 @@ impl Simulation {
             &mut world.colliders,
         );
         Ok(Self {
-            scene: scene.clone(),
+            scene,
             model,
             state,
             forces,

@@ -139,17 +139,32 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         args.rate
     );
     // Outputs are opened before anything is simulated: an unwritable path fails now.
-    let mut summary_file = args
+    let summary_file = args
         .summary
         .as_ref()
         .map(|p| create(p, "summary"))
         .transpose()?;
-    let mut csv = args
+    let csv = args
         .series
         .as_ref()
         .map(|p| create(p, "series"))
         .transpose()?;
+    let result = simulate(&args, scene, summary_file, csv);
+    if result.is_err()
+        && let Some(p) = &args.summary
+    {
+        // A failed run has no summary: leave no empty file that looks like one.
+        let _ = std::fs::remove_file(p);
+    }
+    result
+}
 
+fn simulate(
+    args: &RunArgs,
+    scene: chaindrive::scene::Scene,
+    mut summary_file: Option<BufWriter<File>>,
+    mut csv: Option<BufWriter<File>>,
+) -> anyhow::Result<ExitCode> {
     let setup = Instant::now();
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
