@@ -127,6 +127,38 @@ impl CircularProfile {
         1
     }
 
+    /// The whole outline in the sprocket frame, counter-clockwise: each gap's
+    /// active seating arc (area 4), sampled at ≤ `max_step_rad` about its
+    /// centre, then the straight segment across the tooth to the next gap
+    /// (area 0, not a contact surface; tooth-profile.md §5). Each arc runs
+    /// from the gap's clockwise side through its bottom to its
+    /// counter-clockwise side.
+    pub fn outline(&self, max_step_rad: f64) -> Vec<super::asa::OutlinePoint> {
+        use std::f64::consts::PI;
+        let step = if max_step_rad.is_finite() && max_step_rad > 0.0 {
+            max_step_rad.min(PI / 8.0)
+        } else {
+            1f64.to_radians()
+        };
+        let pieces = (PI / step).ceil() as usize;
+        let mut out = Vec::with_capacity(self.teeth as usize * (pieces + 1));
+        for gap in 0..self.teeth {
+            let c = self.seat_center(gap);
+            let psi = f64::from(gap) / self.gaps_per_rad;
+            for k in 0..=pieces {
+                // From ψ − π/2 (clockwise side) down to ψ − 3π/2 (counter-clockwise side).
+                let a = psi - 0.5 * PI - PI * k as f64 / pieces as f64;
+                out.push(super::asa::OutlinePoint {
+                    x_m: c[0] + self.seating_radius_m * a.cos(),
+                    y_m: c[1] + self.seating_radius_m * a.sin(),
+                    gap: i64::from(gap),
+                    area: if k == pieces { 0 } else { 4 },
+                });
+            }
+        }
+        out
+    }
+
     /// The radius beyond which no roller centre can touch this profile.
     pub fn reach_m(&self) -> f64 {
         self.pitch_radius_m + self.clearance_m + self.seating_radius_m
@@ -213,6 +245,26 @@ mod tests {
             let hint = (seed % 28) as u32;
             assert_eq!(c.gap_near(p, hint), c.gap_of(p));
         }
+    }
+
+    #[test]
+    fn outline_arcs_sit_on_the_seating_circles() {
+        let c = CircularProfile::new(30, P, RR);
+        let pts = c.outline(0.5f64.to_radians());
+        // Every point at distance R_t from its gap's seating centre; arcs at ≤ 0.5° steps.
+        for p in &pts {
+            let s = c.seat_center(p.gap as u32);
+            let r = (p.x_m - s[0]).hypot(p.y_m - s[1]);
+            assert!((r - c.seating_radius_m).abs() < 1e-12);
+        }
+        assert!(pts.len() >= 30 * 361);
+        // The lowest point of gap 0's arc is the root, R_s + ΔR − R_t = R_s − R_r.
+        let root = pts
+            .iter()
+            .filter(|p| p.gap == 0)
+            .map(|p| p.x_m.hypot(p.y_m))
+            .fold(f64::INFINITY, f64::min);
+        assert!((root - (c.pitch_radius_m - RR)).abs() < 1e-9);
     }
 
     #[test]

@@ -112,6 +112,15 @@ impl ToothProfile {
         }
     }
 
+    /// The whole outline in the sprocket frame, counter-clockwise, arcs
+    /// sampled at ≤ `max_step_rad` (for drawing, colliders and the outline CSV).
+    pub fn outline(&self, max_step_rad: f64) -> Vec<asa::OutlinePoint> {
+        match self {
+            Self::Circular(c) => c.outline(max_step_rad),
+            Self::Real(r) => r.outline(max_step_rad),
+        }
+    }
+
     /// The radius beyond which no roller centre can touch this sprocket.
     pub fn reach_m(&self) -> f64 {
         match self {
