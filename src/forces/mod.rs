@@ -268,9 +268,15 @@ impl ForceGenerator {
                     let vry = s.vy[i] - omega * rx;
                     let depth_rate = -(vrx * nx + vry * ny);
                     let key = ((sp_index as u64) << 32) | u64::from(p.patch_id);
+                    // The same patch, or (real profile) the one it slid over from.
                     let damping = self.memory[i]
                         .iter()
-                        .find(|mem| mem.key == key)
+                        .find(|mem| {
+                            mem.key == key
+                                || (mem.key != EMPTY
+                                    && mem.key >> 32 == sp_index as u64
+                                    && sp.profile.continues(mem.key as u32, p.patch_id))
+                        })
                         .map_or_else(
                             || law.damping_per_speed(depth_rate),
                             |mem| mem.damping_per_speed,

@@ -332,6 +332,29 @@ fn polar(angle_rad: f64) -> V2 {
 fn mirror(a: V2) -> V2 {
     [-a[0], a[1]]
 }
+/// Polar angle of (x, y) to about 1e-5 rad (Abramowitz & Stegun 4.4.49); only a first guess
+/// of the gap, which is then checked exactly.
+#[inline]
+fn atan2_approx(y: f64, x: f64) -> f64 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let (num, den) = if ay > ax { (ax, ay) } else { (ay, ax) };
+    if den.is_nan() || den <= 0.0 {
+        return 0.0;
+    }
+    let t = num / den;
+    let s = t * t;
+    let mut a = t
+        * (0.999_866_0
+            + s * (-0.330_299_5 + s * (0.180_141_0 + s * (-0.085_133_0 + s * 0.020_835_1))));
+    if ay > ax {
+        a = 0.5 * PI - a;
+    }
+    if x < 0.0 {
+        a = PI - a;
+    }
+    if y < 0.0 { -a } else { a }
+}
+
 /// Wrap an angle into (−π, π].
 fn wrap_pi(a: f64) -> f64 {
     let r = a.rem_euclid(2.0 * PI);
@@ -625,6 +648,305 @@ impl Piece {
     }
 }
 
+/// Trig-free form of one [`Piece`] for the hot path of [`AsaProfile::contacts`]: the same
+/// closest-point rule as [`Piece::closest`], with the angular window tested by dot and cross
+/// products against the precomputed bisector, and the end normals precomputed. It also
+/// carries a cheap, conservative "farther than the radius" test used to skip the piece.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct FastPiece {
+    /// True for an arc, false for a segment.
+    is_arc: bool,
+    /// True for a convex arc (sweep > 0).
+    convex: bool,
+    /// Arc centre (arcs) or start point (segments).
+    centre: V2,
+    /// Arc radius (0 for segments).
+    radius_m: f64,
+    /// Unit bisector of the arc's angular window, `polar(start + sweep/2)`.
+    mid_dir: V2,
+    /// tan of the half-sweep (< π/2).
+    tan_half: f64,
+    /// Start point (walk order).
+    start: V2,
+    /// End point (walk order).
+    end: V2,
+    /// Segment vector end − start.
+    e: V2,
+    /// |e|².
+    l2: f64,
+    /// Free normals at the start and the end.
+    n_free: [V2; 2],
+    /// Directions that decide the sign at the start and the end point.
+    n_sign: [V2; 2],
+    /// Shared joint at the start (owns side ≥ 0).
+    start_joint: Option<Joint>,
+    /// Shared joint at the end (owns side < 0).
+    end_joint: Option<Joint>,
+    /// Area 1..=7.
+    area: u8,
+    /// Gap of this piece relative to the evaluating gap.
+    gap_offset: i64,
+}
+
+/// Closest-point result of a [`FastPiece`] without the point and normal, which are only
+/// computed ([`FastPiece::geometry`]) for the patches reported.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Near {
+    /// Unsigned distance.
+    dist_m: f64,
+    /// Signed distance, positive on the free side.
+    sd_m: f64,
+    /// False when the point lies beyond a joint shared with another patch.
+    owned: bool,
+    /// Index of the piece in [`AsaProfile::fast`].
+    piece: u8,
+    /// Which rule gave the closest point: [`FOOT`], [`AT_START`] or [`AT_END`].
+    mode: u8,
+}
+
+/// The closest point is the foot of the perpendicular.
+const FOOT: u8 = 0;
+/// The closest point is the start point.
+const AT_START: u8 = 1;
+/// The closest point is the end point.
+const AT_END: u8 = 2;
+
+/// A result that is never the nearest and never in contact (a skipped, provably far piece).
+const FAR: Near = Near {
+    dist_m: f64::INFINITY,
+    sd_m: f64::INFINITY,
+    owned: false,
+    piece: 0,
+    mode: FOOT,
+};
+
+impl FastPiece {
+    /// The trig-free form of `piece`.
+    fn new(piece: &Piece) -> FastPiece {
+        let n_free = [piece.free_normal(false), piece.free_normal(true)];
+        let n_sign = [
+            piece.corner_normal[0].unwrap_or(n_free[0]),
+            piece.corner_normal[1].unwrap_or(n_free[1]),
+        ];
+        let e = sub(piece.end, piece.start);
+        let (is_arc, convex, centre, radius_m, mid_dir, tan_half) = match piece.shape {
+            Shape::Arc {
+                centre,
+                radius_m,
+                start_rad,
+                sweep_rad,
+            } => (
+                true,
+                sweep_rad > 0.0,
+                centre,
+                radius_m,
+                polar(start_rad + 0.5 * sweep_rad),
+                (0.5 * sweep_rad.abs()).tan(),
+            ),
+            Shape::Segment => (false, false, piece.start, 0.0, [1.0, 0.0], 0.0),
+        };
+        FastPiece {
+            is_arc,
+            convex,
+            centre,
+            radius_m,
+            mid_dir,
+            tan_half,
+            start: piece.start,
+            end: piece.end,
+            e,
+            l2: dot(e, e),
+            n_free,
+            n_sign,
+            start_joint: piece.start_joint,
+            end_joint: piece.end_joint,
+            area: piece.area,
+            gap_offset: piece.gap_offset,
+        }
+    }
+
+    /// True when `p` is provably farther than `reach` from the piece: farther than `reach`
+    /// from its whole circle (arcs) or line (segments).
+    #[inline(always)]
+    fn is_far(&self, p: V2, reach: f64) -> bool {
+        if self.is_arc {
+            let d = sub(p, self.centre);
+            let r2 = dot(d, d);
+            let outer = self.radius_m + reach;
+            let inner = self.radius_m - reach;
+            r2 > outer * outer || (inner > 0.0 && r2 < inner * inner)
+        } else {
+            dot(sub(p, self.start), self.n_free[0]).abs() > reach
+        }
+    }
+
+    /// [`FastPiece::near`], or [`FAR`] when the piece is farther than `reach`.
+    #[inline(always)]
+    fn eval(&self, p: V2, reach: f64, piece: u8) -> Near {
+        if self.is_far(p, reach) {
+            FAR
+        } else {
+            self.near(p, piece)
+        }
+    }
+
+    /// False when `p` lies beyond a shared joint at either end.
+    #[inline(always)]
+    fn owns(&self, p: V2) -> bool {
+        let after_start = self.start_joint.is_none_or(|j| j.side(p) >= 0.0);
+        let before_end = self.end_joint.is_none_or(|j| j.side(p) < 0.0);
+        after_start && before_end
+    }
+
+    /// Distance part of [`Piece::closest`] (same rule, to rounding): the foot of the
+    /// perpendicular when it falls on the span, otherwise the nearer end point.
+    #[inline(always)]
+    fn near(&self, p: V2, piece: u8) -> Near {
+        let owned = self.owns(p);
+        if self.is_arc {
+            let d = sub(p, self.centre);
+            let r = dot(d, d).sqrt();
+            let in_window = if r > 0.0 && r.is_finite() {
+                let along = dot(d, self.mid_dir);
+                let across = d[0] * self.mid_dir[1] - d[1] * self.mid_dir[0];
+                along >= 0.0 && across.abs() <= self.tan_half * along
+            } else {
+                true
+            };
+            if in_window {
+                let sd_m = if self.convex {
+                    r - self.radius_m
+                } else {
+                    self.radius_m - r
+                };
+                return Near {
+                    dist_m: sd_m.abs(),
+                    sd_m,
+                    owned,
+                    piece,
+                    mode: FOOT,
+                };
+            }
+        } else {
+            let v = sub(p, self.start);
+            let t = self.segment_t(v);
+            if (0.0..=1.0).contains(&t) {
+                let sd_m = dot(v, self.n_free[0]);
+                return Near {
+                    dist_m: sd_m.abs(),
+                    sd_m,
+                    owned,
+                    piece,
+                    mode: FOOT,
+                };
+            }
+        }
+        // Nearer end point; the sign from the end's free normal (or the tip centreline).
+        let vs = sub(p, self.start);
+        let ve = sub(p, self.end);
+        let (ds2, de2) = (dot(vs, vs), dot(ve, ve));
+        let at_end = de2 < ds2;
+        let (v, d2) = if at_end { (ve, de2) } else { (vs, ds2) };
+        let d = d2.sqrt();
+        let sd_m = if dot(v, self.n_sign[usize::from(at_end)]) >= 0.0 {
+            d
+        } else {
+            -d
+        };
+        Near {
+            dist_m: d,
+            sd_m,
+            owned,
+            piece,
+            mode: if at_end { AT_END } else { AT_START },
+        }
+    }
+
+    /// Parameter of the foot of the perpendicular on a segment (−1 when degenerate).
+    #[inline(always)]
+    fn segment_t(&self, v: V2) -> f64 {
+        if self.l2 > 0.0 {
+            dot(v, self.e) / self.l2
+        } else {
+            -1.0
+        }
+    }
+
+    /// Closest point and unit free-side normal for the rule `mode` found by
+    /// [`FastPiece::near`] (the point and normal of [`Piece::closest`], to rounding).
+    fn geometry(&self, p: V2, mode: u8) -> (V2, V2) {
+        if mode == FOOT {
+            if self.is_arc {
+                let d = sub(p, self.centre);
+                let r = dot(d, d).sqrt();
+                let dir = if r > 0.0 && r.is_finite() {
+                    [d[0] / r, d[1] / r]
+                } else {
+                    self.mid_dir
+                };
+                let point = add(self.centre, scale(dir, self.radius_m));
+                (point, if self.convex { dir } else { neg(dir) })
+            } else {
+                let t = self.segment_t(sub(p, self.start));
+                (add(self.start, scale(self.e, t)), self.n_free[0])
+            }
+        } else {
+            let k = usize::from(mode == AT_END);
+            let q = if mode == AT_END { self.end } else { self.start };
+            let v = sub(p, q);
+            let d = dot(v, v).sqrt();
+            let sign = if dot(v, self.n_sign[k]) >= 0.0 {
+                1.0
+            } else {
+                -1.0
+            };
+            let normal = if d > 0.0 {
+                [sign * v[0] / d, sign * v[1] / d]
+            } else {
+                self.n_free[k]
+            };
+            (q, normal)
+        }
+    }
+}
+
+/// [`patch_hit`] for [`Near`] results.
+#[inline(always)]
+fn patch_near(hits: &[Near]) -> Option<Near> {
+    let mut best: Option<Near> = None;
+    for &h in hits {
+        match best {
+            Some(b) if b.dist_m <= h.dist_m + TIE_M => {}
+            _ => best = Some(h),
+        }
+    }
+    best.filter(|h| h.owned)
+}
+
+/// [`nearest_hit`] for [`Near`] results.
+#[inline(always)]
+fn nearest_near(hits: &[Near; 8]) -> Near {
+    let mut best = hits[0];
+    for &h in &hits[1..] {
+        if h.dist_m < best.dist_m {
+            best = h;
+        }
+    }
+    best
+}
+
+/// [`insert_deepest`] for [`Near`] results.
+#[inline(always)]
+fn insert_deepest_near(best: &mut [Option<(Near, u32)>; 2], c: (Near, u32)) {
+    let deeper = |a: &(Near, u32), b: &Option<(Near, u32)>| b.is_none_or(|b| a.0.sd_m < b.0.sd_m);
+    if deeper(&c, &best[0]) {
+        best[1] = best[0];
+        best[0] = Some(c);
+    } else if deeper(&c, &best[1]) {
+        best[1] = Some(c);
+    }
+}
+
 /// Number of sub-steps for a ratio span/step (at least 1, bounded).
 fn steps(ratio: f64) -> usize {
     if ratio.is_finite() && ratio > 1.0 {
@@ -638,6 +960,7 @@ fn steps(ratio: f64) -> usize {
 /// point of the run lies beyond one of its shared joints (it then belongs to the
 /// neighbouring patch). On a tie (within [`TIE_M`], e.g. both toppings at the tip) the
 /// earlier piece wins.
+#[cfg(test)]
 fn patch_hit(hits: &[Hit]) -> Option<Hit> {
     let mut best: Option<Hit> = None;
     for &h in hits {
@@ -892,6 +1215,122 @@ pub struct AsaProfile {
     gap_trig: Vec<V2>,
     /// Pitch angle Φ = 2π/N.
     pitch_angle_rad: f64,
+    /// Trig-free forms of `own` (0..8), `prev_area1` (8) and `next_area7` (9), for the hot
+    /// path of [`AsaProfile::contacts`].
+    fast: [FastPiece; 10],
+    /// Smallest distance from the seating centre O to any own piece (≈ Rt), less a rounding
+    /// allowance: no roller centred within `seat_clear_m − r` of O can touch.
+    seat_clear_m: f64,
+    /// Largest distance of the outline from the sprocket centre, plus a rounding allowance.
+    reach_radius_m: f64,
+    /// tan(Φ/2) shrunk by a relative 1e-9: a point strictly inside this cone about a gap
+    /// direction is in that gap's sector whatever the rounding of `atan2`.
+    tan_half_pitch_inner: f64,
+    /// 1/Φ.
+    inv_pitch_angle: f64,
+    /// The outline as a graph, to tell free space from material far from the outline.
+    graph: Option<SideGraph>,
+}
+
+/// The half outline of one gap (ξ ≥ 0: seat half, working curve, straight, topping) as a
+/// graph η = h(ξ) over 0 ≤ ξ ≤ ξ_f, mirrored for ξ < 0. Within the gap's sector a vertical
+/// line meets the outline once, so a point is in the material exactly when it lies below
+/// the graph (points with |ξ| > ξ_f in the sector are above the tip, in free space).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SideGraph {
+    /// ξ of x, y, z and f.
+    xi: [f64; 4],
+    /// Rt².
+    rt2: f64,
+    /// Working-curve centre c (lower branch).
+    c: V2,
+    /// RE².
+    re2: f64,
+    /// y (start of the straight portion).
+    y: V2,
+    /// dη/dξ of the straight portion.
+    slope: f64,
+    /// Topping centre b (upper branch).
+    b: V2,
+    /// RF².
+    rf2: f64,
+}
+
+/// Vertical distance from the graph below which [`SideGraph::is_free`] does not decide.
+const GRAPH_TOL_M: f64 = 1e-9;
+
+impl SideGraph {
+    /// The graph of a gap, when the construction has the graph shape (checked, not
+    /// assumed): ξ increasing through 0 < x < y < z < f, the seat and working arcs below
+    /// their centres, the topping arc above its centre.
+    fn new(d: &AsaDimensions, g: &GapPoints) -> Option<SideGraph> {
+        let xi = [g.x_m[0], g.y_m[0], g.z_m[0], g.f_m[0]];
+        let ordered = 0.0 < xi[0] && xi[0] < xi[1] && xi[1] < xi[2] && xi[2] < xi[3];
+        let arcs_on_branch = g.x_m[1] < 0.0
+            && g.x_m[1] < g.c_m[1]
+            && g.y_m[1] < g.c_m[1]
+            && g.z_m[1] > g.b_m[1]
+            && g.f_m[1] > g.b_m[1];
+        (ordered && arcs_on_branch).then(|| SideGraph {
+            xi,
+            rt2: d.seating_radius_m * d.seating_radius_m,
+            c: g.c_m,
+            re2: d.working_radius_m * d.working_radius_m,
+            y: g.y_m,
+            slope: (g.z_m[1] - g.y_m[1]) / (g.z_m[0] - g.y_m[0]),
+            b: g.b_m,
+            rf2: d.topping_radius_m * d.topping_radius_m,
+        })
+    }
+
+    /// Some(true) in free space, Some(false) in the material, None within
+    /// [`GRAPH_TOL_M`] of the outline. `q` is gap-local and in the gap's sector.
+    #[inline]
+    fn is_free(&self, q: V2) -> Option<bool> {
+        let a = q[0].abs();
+        if a > self.xi[3] {
+            return Some(true);
+        }
+        let h = if a <= self.xi[0] {
+            -(self.rt2 - a * a).max(0.0).sqrt()
+        } else if a <= self.xi[1] {
+            let u = a - self.c[0];
+            self.c[1] - (self.re2 - u * u).max(0.0).sqrt()
+        } else if a <= self.xi[2] {
+            self.y[1] + (a - self.y[0]) * self.slope
+        } else {
+            let u = a - self.b[0];
+            self.b[1] + (self.rf2 - u * u).max(0.0).sqrt()
+        };
+        if q[1] > h + GRAPH_TOL_M {
+            Some(true)
+        } else if q[1] < h - GRAPH_TOL_M {
+            Some(false)
+        } else {
+            None
+        }
+    }
+}
+
+/// Margin added to the roller radius when a piece is skipped as far away. Much larger than
+/// every rounding error and than [`CONSISTENCY_TOL_M`], so skipping never changes a result.
+const SKIP_MARGIN_M: f64 = 1e-7;
+
+/// Largest distance from `s` to the piece `f` (an arc's farthest point from `s` is on the ray
+/// from `s` through the centre when that ray's direction lies in the window, else an end).
+fn farthest_from(f: &FastPiece, s: V2) -> f64 {
+    let ends = norm(sub(f.start, s)).max(norm(sub(f.end, s)));
+    if !f.is_arc {
+        return ends;
+    }
+    let w = unit_or(sub(f.centre, s), f.mid_dir);
+    let along = dot(w, f.mid_dir);
+    let across = w[0] * f.mid_dir[1] - w[1] * f.mid_dir[0];
+    if along >= 0.0 && across.abs() <= f.tan_half * along {
+        ends.max(norm(sub(f.centre, s)) + f.radius_m)
+    } else {
+        ends
+    }
 }
 
 impl AsaProfile {
@@ -916,6 +1355,31 @@ impl AsaProfile {
                 [c, s]
             })
             .collect();
+        let fast = [
+            FastPiece::new(&own[0]),
+            FastPiece::new(&own[1]),
+            FastPiece::new(&own[2]),
+            FastPiece::new(&own[3]),
+            FastPiece::new(&own[4]),
+            FastPiece::new(&own[5]),
+            FastPiece::new(&own[6]),
+            FastPiece::new(&own[7]),
+            FastPiece::new(&prev_area1),
+            FastPiece::new(&next_area7),
+        ];
+        let seat_clear_m = own
+            .iter()
+            .map(|piece| piece.closest([0.0, 0.0]).dist_m)
+            .fold(f64::INFINITY, f64::min)
+            * (1.0 - 1e-12);
+        let sprocket_centre = [0.0, -rs];
+        let reach_radius_m = fast[..8]
+            .iter()
+            .map(|f| farthest_from(f, sprocket_centre))
+            .fold(0.0, f64::max)
+            * (1.0 + 1e-12)
+            + 1e-12;
+        let graph = SideGraph::new(&dims, &points);
         Ok(AsaProfile {
             dims,
             points,
@@ -924,6 +1388,12 @@ impl AsaProfile {
             prev_area1,
             gap_trig,
             pitch_angle_rad,
+            fast,
+            seat_clear_m,
+            reach_radius_m,
+            tan_half_pitch_inner: (0.5 * pitch_angle_rad).tan() * (1.0 - 1e-9),
+            inv_pitch_angle: 1.0 / pitch_angle_rad,
+            graph,
         })
     }
 
@@ -989,6 +1459,42 @@ impl AsaProfile {
         k.rem_euclid(n) as usize
     }
 
+    /// Gap whose sector holds `p`: the same as [`AsaProfile::gap_index`] (which is used
+    /// whenever `p` is within a relative 1e-9 of a sector boundary), found without `atan2`
+    /// by testing the cone of `hint` (or of an approximate polar angle) and its neighbours.
+    #[inline]
+    fn gap_near(&self, p: V2, hint: u32) -> usize {
+        let n = self.gap_trig.len();
+        let mut j = if (hint as usize) < n {
+            hint as usize
+        } else {
+            // θ/Φ + N + ½ > 0, so the truncation is a floor: the nearest gap, modulo N.
+            let k = (atan2_approx(p[1], p[0]) * self.inv_pitch_angle + (n as f64 + 0.5)) as usize;
+            if k >= n { k - n } else { k }
+        };
+        for _ in 0..3 {
+            let Some(&u) = self.gap_trig.get(j) else {
+                break;
+            };
+            let along = dot(u, p);
+            let across = u[0] * p[1] - u[1] * p[0];
+            if along > 0.0 && across.abs() < self.tan_half_pitch_inner * along {
+                return j;
+            }
+            if along.is_nan() || along <= 0.0 {
+                break;
+            }
+            j = if across > 0.0 {
+                if j + 1 == n { 0 } else { j + 1 }
+            } else if j == 0 {
+                n - 1
+            } else {
+                j - 1
+            };
+        }
+        self.gap_index(p)
+    }
+
     /// (cos ψ, sin ψ) of a gap.
     fn trig(&self, gap: usize) -> V2 {
         self.gap_trig.get(gap).copied().unwrap_or([1.0, 0.0])
@@ -1016,9 +1522,17 @@ impl AsaProfile {
         [v[1] * c + v[0] * s, v[1] * s - v[0] * c]
     }
 
-    /// `gap + offset` modulo N.
+    /// `gap + offset` modulo N, for |offset| ≤ 1.
     fn wrap_gap(&self, gap: usize, offset: i64) -> i64 {
-        (gap as i64 + offset).rem_euclid(i64::from(self.dims.teeth))
+        let n = i64::from(self.dims.teeth);
+        let g = gap as i64 + offset;
+        if g < 0 {
+            g + n
+        } else if g >= n {
+            g - n
+        } else {
+            g
+        }
     }
 
     /// All contact patches of a roller of radius `roller_radius_m` centred at `p` (sprocket
@@ -1026,8 +1540,9 @@ impl AsaProfile {
     /// most 2 patches into `out` (deepest first) and returns how many.
     ///
     /// O(1): the gap comes from the polar angle of `p`; only that gap's pieces and the two
-    /// neighbouring teeth (both toppings and the tip) are examined. No allocation.
-    /// Non-finite input, or a negative radius, gives 0 patches.
+    /// neighbouring teeth (both toppings and the tip) are examined. No allocation, no
+    /// trigonometry. Non-finite input, or a negative radius, gives 0 patches.
+    /// [`AsaProfile::contacts_hinted`] is the same with a gap hint.
     ///
     /// Algorithm: the closest point of each of the four candidate patches (clockwise flank
     /// half, counter-clockwise flank half, tooth g, tooth g−1) is computed piece by piece
@@ -1038,10 +1553,202 @@ impl AsaProfile {
     /// of the neighbouring topping circles that reach into this gap. The deepest patch is
     /// always the nearest outline point, so `depth = r − signed_distance(p)`.
     ///
+    /// Speed: a roller outside the tip circle, or in the seat with clearance, is rejected
+    /// after one or two products. Otherwise every piece that is provably farther than the
+    /// radius (by its whole circle or line) is skipped. Once the nearest outline point is
+    /// known to be in free space (from the nearest evaluated piece, or, when all pieces are
+    /// far, from the outline seen as a graph over ξ), a skipped piece can change no result.
+    /// A centre inside the material falls back to examining every piece.
+    ///
     /// Not examined: the concave parts of the neighbouring gaps. A roller in free space
     /// could only reach them across a whole tooth, i.e. with a radius of the order of the
     /// tooth width.
     pub fn contacts(&self, p: [f64; 2], roller_radius_m: f64, out: &mut [Patch; 2]) -> usize {
+        let mut hint = u32::MAX;
+        self.contacts_hinted(p, roller_radius_m, &mut hint, out)
+    }
+
+    /// Exactly [`AsaProfile::contacts`], but the gap search starts at `hint` (a gap the
+    /// roller was recently in; any value works, e.g. `u32::MAX` for none) and `hint` is
+    /// updated to the gap of `p` whenever that gap is looked up (it is left unchanged when
+    /// `p` is rejected before, e.g. beyond the tips or non-finite).
+    pub fn contacts_hinted(
+        &self,
+        p: [f64; 2],
+        roller_radius_m: f64,
+        hint: &mut u32,
+        out: &mut [Patch; 2],
+    ) -> usize {
+        if !(p[0].is_finite() && p[1].is_finite() && roller_radius_m.is_finite())
+            || roller_radius_m < 0.0
+        {
+            return 0;
+        }
+        let reach = roller_radius_m + SKIP_MARGIN_M;
+        // Beyond every tip by more than the radius: free space, nothing within reach.
+        let outer = self.reach_radius_m + reach;
+        if dot(p, p) > outer * outer {
+            return 0;
+        }
+        let gap = self.gap_near(p, *hint);
+        *hint = gap as u32;
+        let q = self.to_local(gap, p);
+        // Seated with clearance: every piece is at least seat_clear_m − |q| away, and the
+        // disc about O is free space.
+        let seat = self.seat_clear_m - reach;
+        if seat > 0.0 && dot(q, q) < seat * seat {
+            return 0;
+        }
+        self.contacts_local(gap, q, roller_radius_m, out)
+    }
+
+    /// The contacts of a roller centred at the gap-local point `q` of `gap`'s sector, with
+    /// the pieces farther than the radius skipped (see [`AsaProfile::contacts`]).
+    #[inline(always)]
+    fn contacts_local(
+        &self,
+        gap: usize,
+        q: V2,
+        roller_radius_m: f64,
+        out: &mut [Patch; 2],
+    ) -> usize {
+        let reach = roller_radius_m + SKIP_MARGIN_M;
+        let f = &self.fast;
+        let own = [
+            f[0].eval(q, reach, 0),
+            f[1].eval(q, reach, 1),
+            f[2].eval(q, reach, 2),
+            f[3].eval(q, reach, 3),
+            f[4].eval(q, reach, 4),
+            f[5].eval(q, reach, 5),
+            f[6].eval(q, reach, 6),
+            f[7].eval(q, reach, 7),
+        ];
+        let nearest = nearest_near(&own);
+        // A skipped piece is farther than `reach`, so the nearest evaluated piece is the
+        // nearest of all when it is within `reach`.
+        if nearest.dist_m.is_nan() || nearest.dist_m > reach {
+            // Every piece is farther than `reach`: no contact in free space.
+            return match self.graph.and_then(|g| g.is_free(q)) {
+                Some(true) => 0,
+                _ => self.contacts_all(gap, q, roller_radius_m, out),
+            };
+        }
+        // Inside the material a skipped piece could hide a deeper one: examine all.
+        if nearest.sd_m < 0.0 {
+            return self.contacts_all(gap, q, roller_radius_m, out);
+        }
+        // In free space a skipped piece is never a patch, and every run whose nearest piece
+        // is skipped has no patch either (its nearest piece is farther than the radius).
+        let prev_area1 = f[8].eval(q, reach, 8);
+        let next_area7 = f[9].eval(q, reach, 9);
+        self.finish(
+            gap,
+            q,
+            &own,
+            [prev_area1, next_area7],
+            nearest.sd_m,
+            roller_radius_m,
+            out,
+        )
+    }
+
+    /// The contacts with every piece examined (centre inside the material, or undecided).
+    #[cold]
+    #[inline(never)]
+    fn contacts_all(&self, gap: usize, q: V2, roller_radius_m: f64, out: &mut [Patch; 2]) -> usize {
+        let mut all = [FAR; 10];
+        for (k, (slot, f)) in all.iter_mut().zip(&self.fast).enumerate() {
+            *slot = f.near(q, k as u8);
+        }
+        let own = [
+            all[0], all[1], all[2], all[3], all[4], all[5], all[6], all[7],
+        ];
+        let nearest = nearest_near(&own).sd_m;
+        self.finish(
+            gap,
+            q,
+            &own,
+            [all[8], all[9]],
+            nearest,
+            roller_radius_m,
+            out,
+        )
+    }
+
+    /// Patch selection from the results of the own pieces and of the neighbouring
+    /// toppings `[prev_area1, next_area7]`, the signed distance `nearest` of the nearest own
+    /// piece, and the radius; writes the patches.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    fn finish(
+        &self,
+        gap: usize,
+        q: V2,
+        own: &[Near; 8],
+        neighbours: [Near; 2],
+        nearest: f64,
+        roller_radius_m: f64,
+        out: &mut [Patch; 2],
+    ) -> usize {
+        let n = self.dims.teeth;
+        let g = gap as u32;
+        let prev_tooth = if g == 0 { n - 1 } else { g - 1 };
+        // Own piece first, so a roller over a tip is labelled with the area on its side.
+        let cw_tooth = [own[0], neighbours[0]];
+        let ccw_tooth = [own[7], neighbours[1]];
+        // The nearest point of the whole outline lies in p's sector (own pieces). No genuine
+        // local minimum can be nearer, or on the other side of the surface; this rejects the
+        // insides of the neighbouring topping circles, which reach into this gap.
+        let consistent = |sd: f64| {
+            if nearest >= 0.0 {
+                sd >= nearest - CONSISTENCY_TOL_M
+            } else {
+                sd <= nearest + CONSISTENCY_TOL_M
+            }
+        };
+        let in_contact = |h: Option<Near>| {
+            h.filter(|h| h.sd_m.is_finite() && roller_radius_m - h.sd_m > 0.0 && consistent(h.sd_m))
+        };
+        let right = in_contact(patch_near(&own[1..4]));
+        let left = in_contact(patch_near(&own[4..7]));
+        let left_id = if right.is_some() { 2 * n + g } else { 2 * g };
+        let candidates = [
+            (right, 2 * g),
+            (left, left_id),
+            (in_contact(patch_near(&ccw_tooth)), 2 * g + 1),
+            (in_contact(patch_near(&cw_tooth)), 2 * prev_tooth + 1),
+        ];
+        let mut best: [Option<(Near, u32)>; 2] = [None, None];
+        for (hit, id) in candidates {
+            let Some(h) = hit else { continue };
+            insert_deepest_near(&mut best, (h, id));
+        }
+        let mut written = 0;
+        for (h, id) in best.into_iter().flatten() {
+            let Some(piece) = self.fast.get(usize::from(h.piece)) else {
+                continue;
+            };
+            let (point, normal) = piece.geometry(q, h.mode);
+            if let Some(slot) = out.get_mut(written) {
+                *slot = Patch {
+                    depth_m: roller_radius_m - h.sd_m,
+                    normal: self.to_global_vec(gap, normal),
+                    point: self.to_global_point(gap, point),
+                    area: piece.area,
+                    gap: self.wrap_gap(gap, piece.gap_offset),
+                    patch_id: id,
+                };
+                written += 1;
+            }
+        }
+        written
+    }
+
+    /// The previous implementation of [`AsaProfile::contacts`] (one `atan2` for the gap and
+    /// one per arc piece, no skipping), kept as the oracle of the fast one.
+    #[cfg(test)]
+    fn contacts_reference(&self, p: [f64; 2], roller_radius_m: f64, out: &mut [Patch; 2]) -> usize {
         if !(p[0].is_finite() && p[1].is_finite() && roller_radius_m.is_finite())
             || roller_radius_m < 0.0
         {
@@ -1161,6 +1868,7 @@ impl AsaProfile {
 }
 
 /// Keeps the two deepest (largest r − sd, i.e. smallest sd) candidates, deepest first.
+#[cfg(test)]
 fn insert_deepest(best: &mut [Option<(Hit, u32)>; 2], c: (Hit, u32)) {
     let deeper = |a: &(Hit, u32), b: &Option<(Hit, u32)>| b.is_none_or(|b| a.0.sd_m < b.0.sd_m);
     if deeper(&c, &best[0]) {
@@ -1993,6 +2701,143 @@ mod tests {
                 assert!((0..17).contains(&x.gap) && (1..=7).contains(&x.area));
             }
             let _ = pr.signed_distance(p);
+        }
+    }
+
+    /// Compares the fast `contacts` (and `contacts_hinted`) with the previous implementation.
+    fn assert_same_as_reference(pr: &AsaProfile, p: V2, r: f64, hint: &mut u32) {
+        let mut want = [empty_patch(); 2];
+        let mut got = [empty_patch(); 2];
+        let mut got_h = [empty_patch(); 2];
+        let kw = pr.contacts_reference(p, r, &mut want);
+        let kg = pr.contacts(p, r, &mut got);
+        let kh = pr.contacts_hinted(p, r, hint, &mut got_h);
+        assert_eq!(
+            kg,
+            kw,
+            "count at {p:?} r {r}: {:?} vs {:?}",
+            &got[..kg],
+            &want[..kw]
+        );
+        assert_eq!(kh, kg, "hinted count at {p:?} r {r}");
+        assert_eq!(got_h[..kh], got[..kg], "hinted at {p:?} r {r}");
+        for (g, w) in got[..kg].iter().zip(&want[..kw]) {
+            assert_eq!(
+                (g.area, g.gap, g.patch_id),
+                (w.area, w.gap, w.patch_id),
+                "labels at {p:?} r {r}: {g:?} vs {w:?}"
+            );
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-12;
+            assert!(
+                close(g.depth_m, w.depth_m)
+                    && close(g.normal[0], w.normal[0])
+                    && close(g.normal[1], w.normal[1])
+                    && close(g.point[0], w.point[0])
+                    && close(g.point[1], w.point[1]),
+                "values at {p:?} r {r}: {g:?} vs {w:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn fast_contacts_match_the_reference_implementation() {
+        let mut rng = Lcg(4242);
+        let mut touching = 0;
+        let mut total = 0;
+        for n in [60, 30, 28, 17, 9] {
+            let pr = profile(n);
+            let d = pr.dimensions().clone();
+            let phi_p = pr.pitch_angle_rad();
+            let mut hint = 0;
+            // Random points near the outline, random radii (mostly the roller's).
+            for k in 0..20_000 {
+                let rad = rng.range(d.root_radius_m - 0.03, d.tip_radius_m + 0.03);
+                let a = rng.range(-PI, PI);
+                let p = [rad * a.cos(), rad * a.sin()];
+                let r = match k % 4 {
+                    0 => rng.range(0.0, 0.045),
+                    1 => 0.0,
+                    _ => RR,
+                };
+                assert_same_as_reference(&pr, p, r, &mut hint);
+                let mut out = [empty_patch(); 2];
+                touching += usize::from(pr.contacts(p, r, &mut out) > 0);
+                total += 1;
+            }
+            // Realistic rollers: pressed against the profile by −2..+1 mm, in the seat with
+            // and without clearance, and hints that are right, neighbouring or stale.
+            for k in 0..1_000 {
+                let a = phi_p * (rng.range(-0.5, 0.5) + f64::from(k % n));
+                let c = pressed_centre(&pr, a, rng.range(-2e-3, 1e-3));
+                let mut h = [k % n, (k + 1) % n, 7 * k, u32::MAX][(k % 4) as usize];
+                assert_same_as_reference(&pr, c, RR, &mut h);
+                let b = rng.range(-1.2, 1.2);
+                let s = rng.range(0.0, d.clearance_m + 1e-3);
+                let seat = pr.to_global_point((k % n) as usize, [s * b.sin(), -s * b.cos()]);
+                assert_same_as_reference(&pr, seat, RR, &mut h);
+                touching += 1;
+                total += 2;
+            }
+        }
+        assert!(
+            total >= 100_000 && touching > 30_000,
+            "{touching} of {total}"
+        );
+    }
+
+    #[test]
+    fn gap_search_matches_atan2() {
+        let mut rng = Lcg(77);
+        for n in [5, 9, 28, 30, 60, 1000, 100_000] {
+            let pr = match AsaProfile::new(n, 0.0127 * f64::from(n.min(1000)) / 50.0, 0.002) {
+                Ok(p) => p,
+                Err(_) => profile(n.min(60)),
+            };
+            let nn = pr.teeth();
+            for k in 0..20_000_u32 {
+                let a = rng.range(-PI, PI);
+                let r = 10f64.powf(rng.range(-3.0, 1.0));
+                let p = if k % 10 == 0 {
+                    // Exactly on or next to a sector boundary.
+                    let b = pr.pitch_angle_rad() * (f64::from(k % nn) + 0.5);
+                    let b = b + [0.0, 1e-13, -1e-13, 1e-7][(k / 10 % 4) as usize];
+                    [r * b.cos(), r * b.sin()]
+                } else {
+                    [r * a.cos(), r * a.sin()]
+                };
+                let want = pr.gap_index(p);
+                for hint in [u32::MAX, want as u32, (want as u32 + 1) % nn, k] {
+                    assert_eq!(pr.gap_near(p, hint), want, "N={nn} p {p:?} hint {hint}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn reach_and_seat_bounds_hold() {
+        for n in [60, 30, 28, 9] {
+            let pr = profile(n);
+            let d = pr.dimensions();
+            check("reach", pr.reach_radius_m, d.tip_radius_m, 1e-9);
+            check("seat clearance", pr.seat_clear_m, d.seating_radius_m, 1e-9);
+            let max_r = pr
+                .outline(1e-3)
+                .iter()
+                .map(|q| q.x_m.hypot(q.y_m))
+                .fold(0.0, f64::max);
+            assert!(max_r <= pr.reach_radius_m, "{max_r} {}", pr.reach_radius_m);
+            assert!(pr.graph.is_some(), "N={n}: the outline is a graph");
+            // The graph agrees with the sign of the signed distance.
+            let mut rng = Lcg(5);
+            for _ in 0..5_000 {
+                let p = random_point(&mut rng, d);
+                let gap = pr.gap_index(p);
+                let q = pr.to_local(gap, p);
+                let (sd, ..) = pr.signed_distance(p);
+                if let Some(free) = pr.graph.and_then(|g| g.is_free(q)) {
+                    assert_eq!(free, sd > 0.0, "N={n} at {q:?}: sd {sd}");
+                }
+            }
         }
     }
 

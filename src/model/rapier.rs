@@ -37,6 +37,25 @@ pub struct SprocketBody {
     pub inertia_kg_m2: f64,
 }
 
+/// Arc step of the sprocket colliders' tessellation: the chord error is
+/// r (1 − cos(step/2)), 4 µm on a 27 mm seating arc.
+pub const COLLIDER_ARC_STEP_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+
+/// The sprocket's outline as a closed parry polyline (parry has no arc
+/// primitive), tessellated at [`COLLIDER_ARC_STEP_RAD`]. Other bodies of the
+/// scene collide with it, ray casts see it, viewers draw it; the chain's own
+/// contact uses the exact geometry instead.
+pub fn sprocket_shape(profile: &crate::geometry::ToothProfile) -> SharedShape {
+    let points: Vec<Vector> = profile
+        .outline(COLLIDER_ARC_STEP_RAD)
+        .iter()
+        .map(|p| Vector::new(p.x_m, p.y_m))
+        .collect();
+    let n = points.len() as u32;
+    let indices = (0..n).map(|i| [i, (i + 1) % n]).collect();
+    SharedShape::polyline(points, Some(indices))
+}
+
 fn chain_groups() -> InteractionGroups {
     InteractionGroups::new(
         CHAIN_GROUP,
@@ -79,7 +98,7 @@ impl ChainBodies {
                     .can_sleep(false)
                     .build();
                 let handle = bodies.insert(body);
-                let collider = ColliderBuilder::ball(sp.pitch_radius_m)
+                let collider = ColliderBuilder::new(sprocket_shape(&sp.profile))
                     .density(0.0)
                     .collision_groups(chain_groups())
                     .build();

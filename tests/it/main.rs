@@ -4,6 +4,7 @@
 
 mod cli;
 mod paper;
+mod profile;
 mod stepping;
 
 use chaindrive::scene::Scene;

@@ -1,6 +1,7 @@
 //! The `chaindrive` command-line tool: one file per subcommand.
 
 mod check;
+mod profile;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -19,6 +20,8 @@ enum Command {
     Run(run::RunArgs),
     /// Validate a scene without running it and print the derived layout.
     Check(check::CheckArgs),
+    /// Print a sprocket's tooth outline (CSV) or its dimension table.
+    Profile(profile::ProfileArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -26,9 +29,17 @@ fn main() -> std::process::ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(args),
         Command::Check(args) => check::check(args),
+        Command::Profile(args) => profile::profile(args),
     };
     match result {
         Ok(code) => code,
+        // A closed pipe (`chaindrive profile --csv | head`) is the reader's choice, not an error.
+        Err(e)
+            if e.downcast_ref::<std::io::Error>()
+                .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe) =>
+        {
+            std::process::ExitCode::SUCCESS
+        }
         Err(e) => {
             eprintln!("error: {e:#}");
             std::process::ExitCode::FAILURE
