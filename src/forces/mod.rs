@@ -92,6 +92,8 @@ pub struct ForceGenerator {
     memory: Vec<[Memory; MAX_PATCHES]>,
     /// Last gap each roller touched: where the O(1) gap search starts.
     gap_hint: Vec<u32>,
+    /// Last sprocket each roller was within reach of: checked first.
+    sprocket_hint: Vec<u32>,
     /// Contact culling settings; `None` checks every roller against every sprocket each call.
     pub culling: Option<Culling>,
     /// Time before which roller i touches no sprocket (see [`Culling`]).
@@ -131,6 +133,7 @@ impl ForceGenerator {
             law,
             memory: vec![[FREE; MAX_PATCHES]; rollers],
             gap_hint: vec![0; rollers],
+            sprocket_hint: vec![0; rollers],
             culling: Some(Culling::default()),
             free_until_s: vec![f64::NEG_INFINITY; rollers],
             rotations: vec![(0.0, 1.0); sprockets],
@@ -245,7 +248,18 @@ impl ForceGenerator {
             let mut used = 0;
             let mut total = [0.0f64; 2];
             let mut in_reach = false;
-            for (sp_index, sp) in model.sprockets.iter().enumerate() {
+            let count_sprockets = model.sprockets.len();
+            let first = self.sprocket_hint[i] as usize;
+            for k in 0..count_sprockets {
+                // Start with the sprocket the roller last touched.
+                let sp_index = if k == 0 {
+                    first
+                } else if k <= first {
+                    k - 1
+                } else {
+                    k
+                };
+                let sp = &model.sprockets[sp_index];
                 let rx = s.x[i] - sp.center_m[0];
                 let ry = s.y[i] - sp.center_m[1];
                 if rx * rx + ry * ry > sp.reach_sq_m2 {
@@ -299,6 +313,11 @@ impl ForceGenerator {
                     if !(p.depth_m <= max_pen) {
                         max_pen = p.depth_m;
                     }
+                }
+                self.sprocket_hint[i] = sp_index as u32;
+                if model.disjoint_reach {
+                    // No other sprocket can be within reach of this roller.
+                    break;
                 }
             }
             if let Some((speed_bound, max_skip)) = cull

@@ -59,6 +59,9 @@ pub struct DriveModel {
     pub path: ChainPath,
     /// Free-strand classification of links.
     pub segments: Segments,
+    /// No two sprockets' reach circles overlap: a roller within reach of one
+    /// sprocket cannot touch another (lets the contact search stop early).
+    pub disjoint_reach: bool,
 }
 
 /// The state that is integrated: rollers as structure of arrays, sprockets.
@@ -150,7 +153,7 @@ impl DriveModel {
             chain.rollers,
             chain.pitch_m,
         )?;
-        let sprockets = scene
+        let sprockets: Vec<SprocketModel> = scene
             .sprockets
             .iter()
             .zip(profiles)
@@ -180,6 +183,7 @@ impl DriveModel {
             omega: vec![0.0; scene.sprockets.len()],
         };
         let segments = Segments::new(&path);
+        let disjoint_reach = reach_circles_disjoint(&sprockets);
         let model = DriveModel {
             roller_mass_kg: chain.roller_mass_kg,
             stiffness_n_m: chain.stiffness_n_m,
@@ -189,6 +193,7 @@ impl DriveModel {
             sprockets,
             path,
             segments,
+            disjoint_reach,
         };
         Ok((model, state, layout))
     }
@@ -205,6 +210,15 @@ impl DriveModel {
             .position(|s| s.speed_law.is_some())
             .unwrap_or(0)
     }
+}
+
+fn reach_circles_disjoint(sprockets: &[SprocketModel]) -> bool {
+    sprockets.iter().enumerate().all(|(i, a)| {
+        sprockets[i + 1..].iter().all(|b| {
+            let d = (a.center_m[0] - b.center_m[0]).hypot(a.center_m[1] - b.center_m[1]);
+            d > a.reach_m + b.reach_m
+        })
+    })
 }
 
 /// Whether a sprocket's role lets it turn freely under the chain.
