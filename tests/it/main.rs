@@ -5,6 +5,7 @@
 mod cli;
 mod paper;
 mod profile;
+mod scene_errors;
 mod stepping;
 
 use chaindrive::scene::Scene;
