@@ -9,12 +9,55 @@ pub struct FieldError {
     pub path: String,
     /// What is wrong and what is allowed.
     pub message: String,
+    /// 1-based line and column of the field's value in the file, when known.
+    pub location: Option<(usize, usize)>,
 }
 
 impl fmt::Display for FieldError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        if let Some((line, column)) = self.location {
+            write!(f, "{line}:{column}: ")?;
+        }
         write!(f, "{}: {}", self.path, self.message)
     }
+}
+
+/// Finds where the value at `path` (`sprockets[2].teeth`, `chain`) sits in
+/// the TOML `text`: 1-based (line, column). `None` if the text does not parse
+/// or has no such field. A path that stops at an array element or table
+/// points at that element or table.
+pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
+    use toml::de::{DeTable, DeValue};
+    let root = DeTable::parse(text).ok()?;
+    let mut span = root.span();
+    let mut table: Option<&DeTable<'_>> = Some(root.get_ref());
+    let mut value: Option<&DeValue<'_>> = None;
+    for part in path.split('.') {
+        let (key, indices) = match part.find('[') {
+            Some(i) => (&part[..i], &part[i..]),
+            None => (part, ""),
+        };
+        let t = match (table, value) {
+            (Some(t), _) => t,
+            (None, Some(v)) => v.as_table()?,
+            (None, None) => return None,
+        };
+        let mut current = t.get(key)?;
+        for index in indices.split(['[', ']']).filter(|s| !s.is_empty()) {
+            let i: usize = index.parse().ok()?;
+            current = current.get_ref().as_array()?.get(i)?;
+        }
+        span = current.span();
+        table = None;
+        value = Some(current.get_ref());
+    }
+    let before = text.get(..span.start)?;
+    let line = before.matches('\n').count() + 1;
+    let column = before
+        .rfind('\n')
+        .map_or(span.start, |n| span.start - n - 1)
+        + 1;
+    Some((line, column))
 }
 
 /// Why a scene was rejected.
@@ -51,7 +94,24 @@ impl SceneError {
         Self::Invalid(vec![FieldError {
             path: path.into(),
             message: message.into(),
+            location: None,
         }])
+    }
+
+    /// Fills in every field error's line and column from the scene's text.
+    pub fn located(self, text: &str) -> Self {
+        match self {
+            Self::Invalid(errors) => Self::Invalid(
+                errors
+                    .into_iter()
+                    .map(|e| FieldError {
+                        location: e.location.or_else(|| locate(text, &e.path)),
+                        ..e
+                    })
+                    .collect(),
+            ),
+            other => other,
+        }
     }
 
     /// Every problem as `path: message`, one per line.

@@ -9,7 +9,7 @@
 mod error;
 mod file;
 
-pub use error::{FieldError, SceneError};
+pub use error::{FieldError, SceneError, locate};
 pub use file::{ChainFile, ContactFile, EquilibriumFile, SceneFile, SolverFile, SprocketFile};
 
 use crate::geometry::pitch_radius;
@@ -304,7 +304,7 @@ impl Scene {
     /// Parses and validates a TOML scene. All problems are reported at once.
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {
         let file: SceneFile = toml::from_str(text).map_err(SceneError::from_toml)?;
-        let mut scene = Scene::try_from(file)?;
+        let mut scene = Scene::try_from(file).map_err(|e| e.located(text))?;
         scene.source_toml = Some(text.to_owned());
         Ok(scene)
     }
@@ -361,6 +361,7 @@ impl Checker {
         self.errors.push(FieldError {
             path: path.into(),
             message: message.into(),
+            location: None,
         });
     }
 
@@ -773,6 +774,24 @@ mod tests {
         let msg = err.to_string();
         assert!(msg.contains("chain.roller_mass_kg"), "{msg}");
         assert!(msg.contains("sprockets[2].teeth"), "{msg}");
+    }
+
+    #[test]
+    fn errors_carry_line_and_column() {
+        let text = L60MC_TOML.replace("teeth = 28", "teeth = 2");
+        let line = text
+            .lines()
+            .position(|l| l == "teeth = 2")
+            .expect("edited line")
+            + 1;
+        let msg = Scene::from_toml(&text).expect_err("invalid").to_string();
+        // "teeth = 2": the value starts at column 9.
+        assert!(
+            msg.contains(&format!("{line}:9: sprockets[2].teeth")),
+            "{msg}"
+        );
+        assert_eq!(locate(&text, "chain.pitch_m").map(|l| l.1), Some(11));
+        assert_eq!(locate(&text, "sprockets[7].teeth"), None);
     }
 
     #[test]

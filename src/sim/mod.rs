@@ -102,6 +102,35 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
+/// Estimated largest stable steps of the explicit schemes (MODEL.md §7), s.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepLimits {
+    /// Links: 2 / ω_max with ω_max = 2 √(K / m_r) (symplectic Euler, velocity Verlet).
+    pub links_s: f64,
+    /// Contact damping at the approach-speed floor: 2 m_r / c with
+    /// c = χ F / δ̇⁻_min, F taken as the pretension (a roller carrying the
+    /// chain's tension, its contact begun slower than the floor).
+    pub contact_damping_s: f64,
+}
+
+impl StepLimits {
+    /// The limits of a scene's chain and contact law.
+    pub fn of(scene: &Scene) -> Self {
+        let m = scene.chain.roller_mass_kg;
+        let law = ContactLawParams::new(&scene.contact);
+        let c = law.chi * scene.chain.pretension_n / law.min_approach_speed_m_s;
+        Self {
+            links_s: (m / scene.chain.stiffness_n_m).sqrt(),
+            contact_damping_s: if c > 0.0 { 2.0 * m / c } else { f64::INFINITY },
+        }
+    }
+
+    /// The smaller of the two.
+    pub fn min_s(&self) -> f64 {
+        self.links_s.min(self.contact_damping_s)
+    }
+}
+
 /// Blow-up thresholds (MODEL.md; the core's defaults).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlowUpLimits {

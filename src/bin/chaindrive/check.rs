@@ -4,6 +4,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use chaindrive::model::DriveModel;
+use chaindrive::sim::{Simulation, StepLimits};
 
 /// Arguments of `chaindrive check`.
 #[derive(clap::Args)]
@@ -66,5 +67,32 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         layout.polygon_length_m,
         scene.chain.rollers as f64 * scene.chain.pitch_m
     );
+    let limits = StepLimits::of(&scene);
+    println!(
+        "explicit step limits: links {:.1} µs, contact damping {:.1} µs; dt = {:.1} µs",
+        limits.links_s * 1e6,
+        limits.contact_damping_s * 1e6,
+        scene.solver.dt_s * 1e6
+    );
+    if scene.solver.dt_s > limits.min_s() {
+        eprintln!(
+            "{name}: warning: solver.dt_s = {:e} s exceeds the estimated stability limit {:.2e} s",
+            scene.solver.dt_s,
+            limits.min_s()
+        );
+    }
+    match Simulation::new(&scene) {
+        Ok(sim) => println!(
+            "static equilibrium: tension {:.1} N (target {:.1} N), link rest length {:.7} m, {} iteration(s)",
+            sim.equilibrium.tension_n,
+            scene.chain.pretension_n,
+            sim.model.rest_length_m,
+            sim.equilibrium.iterations
+        ),
+        Err(e) => {
+            eprintln!("{name}: {e}");
+            return Ok(ExitCode::FAILURE);
+        }
+    }
     Ok(ExitCode::SUCCESS)
 }

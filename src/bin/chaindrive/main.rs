@@ -64,7 +64,14 @@ pub(crate) fn load_scene(
     Ok(Scene::from_toml(&text).map_err(|e| {
         e.lines()
             .iter()
-            .map(|l| format!("{name}: {l}"))
+            // `file:line:col: path: reason` when the field was located, else `file: path: reason`.
+            .map(|l| {
+                if l.starts_with(|c: char| c.is_ascii_digit()) {
+                    format!("{name}:{l}")
+                } else {
+                    format!("{name}: {l}")
+                }
+            })
             .collect::<Vec<_>>()
             .join("\n")
     }))
