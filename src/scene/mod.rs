@@ -8,6 +8,7 @@
 
 mod error;
 mod file;
+pub mod mutate;
 
 pub use error::{FieldError, SceneError, locate};
 pub use file::{ChainFile, ContactFile, EquilibriumFile, SceneFile, SolverFile, SprocketFile};

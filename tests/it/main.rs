@@ -3,6 +3,7 @@
 //! closed forms, the public contract), with its source in a comment.
 
 mod cli;
+mod fuzz;
 mod paper;
 mod profile;
 mod scene_errors;
