@@ -1230,6 +1230,88 @@ pub struct AsaProfile {
     inv_pitch_angle: f64,
     /// The outline as a graph, to tell free space from material far from the outline.
     graph: Option<SideGraph>,
+    /// The seated shortcut of [`AsaProfile::contacts_hinted`] (see [`SeatShortcut`]).
+    seat_cut: SeatShortcut,
+}
+
+/// Angular margin δ of the seated shortcut: its cone stops δ short of the seating arc's
+/// window (the joints x, x*), so the working curves are provably farther than the seat.
+const SEAT_CONE_MARGIN_RAD: f64 = 3.0 * PI / 180.0;
+
+/// The region where only the seating arc can touch, with the seat patch as the whole
+/// answer: `q` (gap-local) with η < 0, |ξ| ≤ tan(π/2 − A − δ)·|η|, and
+/// `min_r ≤ |q| < min(far − reach, free)`.
+///
+/// Why the answer there is exactly the seat patch of the half that owns `q` (piece 3 for
+/// ξ > 0, piece 4 otherwise), in contact iff r − (Rt − |q|) > 0, with id 2g:
+/// - Pieces 0, 1, 6, 7 and both neighbouring toppings are at least `far` from O (checked
+///   at construction), so farther than `reach` from `q`: never in contact (a negative
+///   signed distance below −reach fails the consistency test, the nearest own piece
+///   being a seat half with a positive distance), and never preferred in a patch to a
+///   seat half in contact (dist ≤ r < reach).
+/// - `q` is strictly inside the owning half's window, so that half is at Rt − |q|.
+/// - Working arc 5 (piece 2) lies outside the seat circle (|a| ≥ RE − |c| = Rt) and its
+///   polar angle about O grows monotonically (dθ/dt = RE(RE + c·w)/|a|² ≥ RE·Rt/|a|²) from
+///   −A at x to θ_y < π/2 (checked). For |q| < Rt, |q − a|² = |q|² + |a|² − 2|q||a|cos σ
+///   grows with |a|, so |q − a|² ≥ |q|² + Rt² − 2|q|Rt cos σ with σ the angle between q
+///   and a. In the cone, σ ≥ δ for every a, so arc 5 is farther than Rt − |q| by at least
+///   |q|(1 − cos δ) (≫ [`TIE_M`] and the rounding, as |q| ≥ min_r = Rt·10⁻⁶): the
+///   seat half wins patch 2g. For ξ ≤ 0, σ ≥ π/2 − A > β_s ≥ the angle of q to the seat
+///   bottom, so arc 5 is farther than the bottom point, hence than the non-owning seat half
+///   3 (foot at Rt − |q| or the bottom): patch 2g is then piece 3 (not owned) or a far piece
+///   (not in contact), i.e. none. Arc 3 (piece 5) is the mirror image.
+/// - The nearest own piece is a seat half (distance Rt − |q|, up to rounding), so every
+///   piece in contact is consistent.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct SeatShortcut {
+    /// tan²(π/2 − A − δ): the cone |ξ|² ≤ k2·η².
+    k2: f64,
+    /// Smallest |q|², (Rt·10⁻⁶)².
+    min_r2: f64,
+    /// Lower bound of the distance from O to pieces 0, 1, 6, 7, 8, 9 (0 when disabled).
+    far_m: f64,
+    /// Upper bound of |q|, Rt(1 − 10⁻³): q well inside the seat circle, where the foot on
+    /// the seat is well conditioned (at the seat bottom, where the owning half's window ends,
+    /// foot and end point then give the same normal to ~10⁻¹³).
+    free_m: f64,
+}
+
+impl SeatShortcut {
+    /// The shortcut of a gap, disabled (`far_m = 0`) when its preconditions do not hold.
+    fn new(d: &AsaDimensions, g: &GapPoints, fast: &[FastPiece; 10]) -> SeatShortcut {
+        let rt = d.seating_radius_m;
+        let beta_s = 0.5 * PI - d.a_rad - SEAT_CONE_MARGIN_RAD;
+        let theta_y = g.y_m[1].atan2(g.y_m[0]);
+        let ok = beta_s > 0.0
+            && theta_y > -d.a_rad
+            && theta_y < 0.5 * PI
+            && g.x_m[0] > 0.0
+            && g.x_m[1] < 0.0;
+        let far = [0, 1, 6, 7, 8, 9]
+            .iter()
+            .filter_map(|&k| fast.get(k))
+            .map(|f| f.near([0.0, 0.0], 0).dist_m)
+            .fold(f64::INFINITY, f64::min)
+            * (1.0 - 1e-12);
+        let k = beta_s.tan() * (1.0 - 1e-9);
+        SeatShortcut {
+            k2: k * k,
+            min_r2: (1e-6 * rt) * (1e-6 * rt),
+            far_m: if ok && far.is_finite() { far } else { 0.0 },
+            free_m: rt * (1.0 - 1e-3),
+        }
+    }
+
+    /// True when the gap-local `q` is in the region (for this `reach`).
+    #[inline(always)]
+    fn holds(&self, q: V2, r2: f64, reach: f64) -> bool {
+        let hi = (self.far_m - reach).min(self.free_m);
+        q[1] < 0.0
+            && q[0] * q[0] <= self.k2 * (q[1] * q[1])
+            && r2 >= self.min_r2
+            && r2 < hi * hi
+            && hi > 0.0
+    }
 }
 
 /// The half outline of one gap (ξ ≥ 0: seat half, working curve, straight, topping) as a
@@ -1380,6 +1462,7 @@ impl AsaProfile {
             * (1.0 + 1e-12)
             + 1e-12;
         let graph = SideGraph::new(&dims, &points);
+        let seat_cut = SeatShortcut::new(&dims, &points, &fast);
         Ok(AsaProfile {
             dims,
             points,
@@ -1394,6 +1477,7 @@ impl AsaProfile {
             tan_half_pitch_inner: (0.5 * pitch_angle_rad).tan() * (1.0 - 1e-9),
             inv_pitch_angle: 1.0 / pitch_angle_rad,
             graph,
+            seat_cut,
         })
     }
 
@@ -1596,10 +1680,51 @@ impl AsaProfile {
         // Seated with clearance: every piece is at least seat_clear_m − |q| away, and the
         // disc about O is free space.
         let seat = self.seat_clear_m - reach;
-        if seat > 0.0 && dot(q, q) < seat * seat {
+        let r2 = dot(q, q);
+        if seat > 0.0 && r2 < seat * seat {
             return 0;
         }
+        if self.seat_cut.holds(q, r2, reach) {
+            return self.seated(gap, q, r2, roller_radius_m, out);
+        }
         self.contacts_local(gap, q, roller_radius_m, out)
+    }
+
+    /// The answer in the seated region of [`SeatShortcut`]: the seat patch of the half that
+    /// owns `q`, or nothing. The same arithmetic as [`FastPiece::near`] and
+    /// [`AsaProfile::finish`], so the same bits.
+    #[inline(always)]
+    fn seated(
+        &self,
+        gap: usize,
+        q: V2,
+        r2: f64,
+        roller_radius_m: f64,
+        out: &mut [Patch; 2],
+    ) -> usize {
+        // The seat bottom joint gives ξ > 0 to piece 3, the rest to piece 4.
+        let k = if q[0] > 0.0 { 3 } else { 4 };
+        let Some(piece) = self.fast.get(k) else {
+            return 0;
+        };
+        let sd_m = piece.radius_m - r2.sqrt();
+        let depth_m = roller_radius_m - sd_m;
+        if depth_m <= 0.0 || depth_m.is_nan() {
+            return 0;
+        }
+        let (point, normal) = piece.geometry(q, FOOT);
+        let Some(slot) = out.first_mut() else {
+            return 0;
+        };
+        *slot = Patch {
+            depth_m,
+            normal: self.to_global_vec(gap, normal),
+            point: self.to_global_point(gap, point),
+            area: piece.area,
+            gap: gap as i64,
+            patch_id: 2 * gap as u32,
+        };
+        1
     }
 
     /// The contacts of a roller centred at the gap-local point `q` of `gap`'s sector, with
@@ -2782,6 +2907,97 @@ mod tests {
         assert!(
             total >= 100_000 && touching > 30_000,
             "{touching} of {total}"
+        );
+    }
+
+    /// The seated shortcut against the reference: dense points in its region, on and
+    /// across each of its boundaries (cone, inner and outer radius, ξ = 0), for several
+    /// sprockets and roller radii.
+    #[test]
+    fn seated_shortcut_matches_the_reference_implementation() {
+        let mut rng = Lcg(2718);
+        let sprockets = [
+            (60, P, DR),
+            (30, P, DR),
+            (28, P, DR),
+            (17, P, DR),
+            (9, P, DR),
+            (10, 0.0127, 0.00792),
+            (17, 0.0127, 0.00792),
+            (30, 0.0127, 0.00792),
+        ];
+        let mut in_region = 0;
+        let mut seated_contacts = 0;
+        for (n, pitch, dr) in sprockets {
+            let pr = match AsaProfile::new(n, pitch, dr) {
+                Ok(p) => p,
+                Err(e) => panic!("N={n}: {e}"),
+            };
+            let cut = pr.seat_cut;
+            assert!(cut.far_m > 0.0, "N={n} P={pitch}: shortcut enabled");
+            let d = pr.dimensions().clone();
+            let rr = 0.5 * dr;
+            let beta_s = cut.k2.sqrt().atan();
+            let mut hint = 0;
+            for k in 0..40_000_u32 {
+                let g = (k % n) as usize;
+                let r = match k % 8 {
+                    0 => rng.range(0.0, 1.2 * d.seating_radius_m),
+                    1 => rr * rng.range(0.9, 1.1),
+                    2 => 0.0,
+                    _ => rr,
+                };
+                let reach = r + SKIP_MARGIN_M;
+                let hi = (cut.far_m - reach).min(cut.free_m).max(0.0);
+                let lo = cut.min_r2.sqrt();
+                // Angle from the seat bottom: inside, on and across the cone's edge, ξ = 0.
+                let b = match k % 5 {
+                    0 => rng.range(-1.1, 1.1) * beta_s,
+                    1 => {
+                        beta_s * [1.0, -1.0][(k / 5 % 2) as usize] * (1.0 + rng.range(-1e-9, 1e-9))
+                    }
+                    2 => [0.0, 1e-300, -1e-300, 1e-12, -1e-12][(k / 5 % 5) as usize],
+                    _ => rng.range(-1.0, 1.0) * beta_s,
+                };
+                // Distance from O: across the whole region and on each bound.
+                let s = match k % 7 {
+                    0 => hi * (1.0 + rng.range(-1e-9, 1e-9)),
+                    1 => lo * (1.0 + rng.range(-1e-6, 1e-6)),
+                    2 => (pr.seat_clear_m - reach).max(0.0) * (1.0 + rng.range(-1e-9, 1e-9)),
+                    // (Roller inside the seat circle only: with r > Rt, q would lie above O,
+                    // where two patches can tie in depth to the last bit and the two
+                    // implementations may order them differently.)
+                    3 if r < d.seating_radius_m && r > 1e-3 * dr => {
+                        (d.seating_radius_m - r) * (1.0 + rng.range(-1e-9, 1e-9))
+                    }
+                    4 => rng.range(0.0, 1.3 * hi),
+                    _ => d.clearance_m + rng.range(0.0, 1e-3 * dr / DR),
+                };
+                // (Not the centre O itself with r > Rt: every piece then ties in depth.)
+                let s = if s < 1e-9 * dr && r > d.seating_radius_m {
+                    d.clearance_m
+                } else {
+                    s
+                };
+                let q = [s * b.sin(), -s * b.cos()];
+                let p = pr.to_global_point(g, q);
+                let ql = pr.to_local(pr.gap_index(p), p);
+                if cut.holds(ql, dot(ql, ql), reach) {
+                    in_region += 1;
+                }
+                let mut h = [g as u32, u32::MAX, hint][(k % 3) as usize];
+                assert_same_as_reference(&pr, p, r, &mut h);
+                hint = h;
+                let mut out = [empty_patch(); 2];
+                if pr.contacts(p, r, &mut out) == 1 && out[0].area == 4 {
+                    seated_contacts += 1;
+                }
+            }
+        }
+        assert!(in_region > 100_000, "{in_region} points in the region");
+        assert!(
+            seated_contacts > 100_000,
+            "{seated_contacts} seated contacts"
         );
     }
 

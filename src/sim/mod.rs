@@ -8,6 +8,7 @@
 //! What observers compute is their business ([`crate::analysis`]).
 
 mod equilibrium;
+pub mod fuzz;
 mod stepper;
 
 pub use equilibrium::{
