@@ -1,5 +1,6 @@
 //! The `chaindrive` command-line tool: one file per subcommand.
 
+mod bench;
 mod check;
 mod profile;
 mod run;
@@ -18,6 +19,8 @@ struct Cli {
 enum Command {
     /// Run a scene (default: the paper's four-sprocket drive) and report.
     Run(run::RunArgs),
+    /// Long studies: soak (drift over a long run), fuzz (mutated scenes).
+    Bench(bench::BenchArgs),
     /// Validate a scene without running it and print the derived layout.
     Check(check::CheckArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
@@ -28,6 +31,7 @@ fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(args),
+        Command::Bench(args) => bench::bench(args),
         Command::Check(args) => check::check(args),
         Command::Profile(args) => profile::profile(args),
     };
