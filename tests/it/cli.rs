@@ -187,3 +187,15 @@ fn check_prints_the_layout() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("1.8797") && text.contains("2.2312"), "{text}");
 }
+
+#[test]
+fn a_write_failure_during_the_run_is_an_error() {
+    // /dev/full accepts the open and fails every write: a disk that fills up mid-run.
+    if !Path::new("/dev/full").exists() {
+        return;
+    }
+    let out = chaindrive(&["run", "--duration", "0.3", "--series", "/dev/full"]);
+    assert!(!out.status.success(), "a failed write must not look like success");
+    let err = stderr(&out);
+    assert!(err.contains("series"), "{err}");
+}
