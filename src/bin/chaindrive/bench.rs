@@ -32,6 +32,9 @@ enum Study {
         /// Tooth profile of every sprocket.
         #[arg(long, value_parser = ["circular", "real"])]
         profile: Option<String>,
+        /// The chain's integration step, s (overrides the scene).
+        #[arg(long)]
+        dt: Option<f64>,
     },
     /// Mutated scene files: no panic, every rejection explained, no NaN.
     Fuzz {
@@ -50,7 +53,8 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             duration,
             window,
             profile,
-        } => soak(duration, window, profile.as_deref()),
+            dt,
+        } => soak(duration, window, profile.as_deref(), dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
     }
 }
@@ -122,7 +126,12 @@ impl Observer for SoakObserver {
     }
 }
 
-fn soak(duration: f64, window: f64, profile: Option<&str>) -> anyhow::Result<ExitCode> {
+fn soak(
+    duration: f64,
+    window: f64,
+    profile: Option<&str>,
+    dt: Option<f64>,
+) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(
         duration.is_finite() && duration > 0.0,
         "--duration must be > 0"
@@ -133,6 +142,10 @@ fn soak(duration: f64, window: f64, profile: Option<&str>) -> anyhow::Result<Exi
         scene.set_profile(p);
     }
     scene.solver.duration_s = duration;
+    if let Some(dt) = dt {
+        anyhow::ensure!(dt.is_finite() && dt > 0.0, "--dt must be > 0");
+        scene.solver.dt_s = dt;
+    }
     let mut sim = Simulation::new(&scene)?;
     let mut obs = SoakObserver {
         window_s: window,
