@@ -75,7 +75,8 @@
 //!
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C) |
+//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record` |
+//! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
 //!
 //! ## Reproducibility
 //!
@@ -89,5 +90,7 @@ pub mod analysis;
 pub mod forces;
 pub mod geometry;
 pub mod model;
+#[cfg(feature = "record")]
+pub mod record;
 pub mod scene;
 pub mod sim;

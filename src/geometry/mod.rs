@@ -141,48 +141,6 @@ impl ToothProfile {
         }
     }
 
-    /// The sprocket's outline as a closed polyline in the sprocket frame
-    /// (counter-clockwise, the last point joins the first), for drawing.
-    ///
-    /// The real profile is [`asa::AsaProfile::outline`] sampled at angular
-    /// steps ≤ `max_step_rad`. The circular profile defines only the seating
-    /// arcs: each gap is the half of its seating circle that faces the
-    /// centre, sampled likewise, and a straight tooth top joins one gap's arc
-    /// to the next.
-    pub fn outline_m(&self, max_step_rad: f64) -> Vec<[f64; 2]> {
-        match self {
-            Self::Real(r) => r
-                .outline(max_step_rad)
-                .iter()
-                .map(|p| [p.x_m, p.y_m])
-                .collect(),
-            Self::Circular(c) => {
-                use std::f64::consts::PI;
-                let step = if max_step_rad.is_finite() && max_step_rad > 0.0 {
-                    max_step_rad.min(PI / 8.0)
-                } else {
-                    PI / 180.0
-                };
-                let pieces = (PI / step).ceil().max(1.0) as usize;
-                let mut out = Vec::with_capacity(c.teeth as usize * (pieces + 1));
-                for gap in 0..c.teeth {
-                    let center = c.seat_center(gap);
-                    let phi = f64::from(gap) * std::f64::consts::TAU / f64::from(c.teeth);
-                    // Seen from the seat centre: from direction φ − π/2 (the side of
-                    // smaller polar angle) through −e_r(φ) to φ + π/2.
-                    for k in 0..=pieces {
-                        let a = phi - 0.5 * PI - k as f64 * PI / pieces as f64;
-                        out.push([
-                            center[0] + c.seating_radius_m * a.cos(),
-                            center[1] + c.seating_radius_m * a.sin(),
-                        ]);
-                    }
-                }
-                out
-            }
-        }
-    }
-
     /// The radius at which a seated roller's centre sits on this profile.
     pub fn seated_radius_m(&self) -> f64 {
         match self {

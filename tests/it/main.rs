@@ -6,6 +6,7 @@ mod cli;
 mod fuzz;
 mod paper;
 mod profile;
+mod record;
 mod scene_errors;
 mod stepping;
 

@@ -10,6 +10,7 @@ use std::time::Instant;
 
 use anyhow::Context;
 use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
+use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ProfileKind, Stepping};
 use chaindrive::sim::{Observer, Sample, Simulation};
 
@@ -36,6 +37,13 @@ pub struct RunArgs {
     /// Write the sampled signals (CSV) here.
     #[arg(long)]
     series: Option<PathBuf>,
+    /// Record the run to this MCAP file (opens in Foxglove and Rerun), at --rate.
+    #[arg(long, value_name = "PATH.mcap")]
+    record: Option<PathBuf>,
+    /// Channels to record, comma-separated: scene, transforms, rollers,
+    /// links, contacts, sprockets, segments, or all.
+    #[arg(long, value_name = "LIST", default_value = "all")]
+    record_channels: String,
     /// Sampling rate of every sampled output, Hz.
     #[arg(long, default_value_t = 1000.0)]
     rate: f64,
@@ -51,6 +59,7 @@ struct CliObserver {
     csv: Option<BufWriter<File>>,
     csv_error: Option<std::io::Error>,
     progress: Option<indicatif::ProgressBar>,
+    recorder: Option<Recorder<BufWriter<File>>>,
 }
 
 impl CliObserver {
@@ -78,6 +87,9 @@ impl CliObserver {
 impl Observer for CliObserver {
     fn sample(&mut self, s: &Sample<'_>) {
         self.signals.sample(s);
+        if let Some(r) = self.recorder.as_mut() {
+            r.sample(s);
+        }
         if self.csv_error.is_none()
             && let Err(e) = self.write_row()
         {
@@ -149,7 +161,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .as_ref()
         .map(|p| create(p, "series"))
         .transpose()?;
-    let result = simulate(&args, scene, summary_file, csv);
+    let recorder = args
+        .record
+        .as_ref()
+        .map(|p| start_recording(p, &args, &scene))
+        .transpose()?;
+    let result = simulate(&args, scene, summary_file, csv, recorder);
     if result.is_err()
         && let Some(p) = &args.summary
     {
@@ -159,11 +176,42 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     result
 }
 
+/// Opens the recording before anything is simulated (an unwritable path fails
+/// now) and attaches the scene file to it.
+fn start_recording(
+    path: &PathBuf,
+    args: &RunArgs,
+    scene: &chaindrive::scene::Scene,
+) -> anyhow::Result<Recorder<BufWriter<File>>> {
+    let channels = Channels::parse(&args.record_channels)?;
+    let scene_file = match &args.scene {
+        Some(p) => (
+            p.file_name()
+                .map_or_else(|| p.display().to_string(), |n| n.to_string_lossy().into()),
+            std::fs::read(p).with_context(|| format!("cannot read scene {}", p.display()))?,
+        ),
+        None => (
+            "l60mc.toml".to_owned(),
+            chaindrive::scene::L60MC_TOML.as_bytes().to_vec(),
+        ),
+    };
+    let sample_every = (1.0 / (args.rate * scene.solver.dt_s)).round().max(1.0);
+    let options = RecordOptions {
+        channels,
+        scene_file: Some(scene_file),
+        rate_hz: 1.0 / (sample_every * scene.solver.dt_s),
+    };
+    let file = create(path, "recording")?;
+    Recorder::new(file, scene, &options)
+        .with_context(|| format!("cannot write the recording to {}", path.display()))
+}
+
 fn simulate(
     args: &RunArgs,
     scene: chaindrive::scene::Scene,
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<BufWriter<File>>,
+    recorder: Option<Recorder<BufWriter<File>>>,
 ) -> anyhow::Result<ExitCode> {
     let setup = Instant::now();
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
@@ -203,6 +251,7 @@ fn simulate(
         csv,
         csv_error: None,
         progress,
+        recorder,
     };
     let outcome = sim.run(duration, sample_every, &mut observer, Some(&stop));
     if let Some(p) = &observer.progress {
@@ -213,6 +262,16 @@ fn simulate(
         return Err(e).context("writing the series failed");
     }
     flushed.context("writing the series failed")?;
+    // The recording is finished however the run ended, and says how.
+    if let Some(r) = observer.recorder.take() {
+        let failure = outcome.as_ref().err().map(ToString::to_string);
+        let end = match (&outcome, &failure) {
+            (_, Some(m)) => RunEnd::Failed(m),
+            (Ok(o), None) if o.interrupted => RunEnd::Interrupted,
+            _ => RunEnd::Completed,
+        };
+        r.finish(end).context("writing the recording failed")?;
+    }
     let outcome = outcome?;
     let summary = RunSummary::compute(
         &SummaryInputs {

@@ -1,0 +1,61 @@
+//! The recording's own typed messages: the run's signals, one struct per
+//! channel, encoded as protobuf with schemas derived by `foxglove::Encode`.
+//!
+//! Field numbers follow declaration order (1, 2, …); the schema's package is
+//! the lower-cased struct name (e.g. `chainlinkforces.ChainLinkForces`).
+//! Foxglove's Plot panel addresses fields by path
+//! (`/sprockets.speed_rad_s[0]`, `/segments.segments[1].link_force_n`); Rerun
+//! decodes them through the schema. No field is ever NaN: a value that does
+//! not exist is left out (an `Option` that is `None`).
+
+/// `/links`: the force of every link, tension positive.
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct ChainLinkForces {
+    /// Simulated time, s (the message's log time too).
+    pub t_s: f64,
+    /// F_link of link i (roller i to roller i + 1, the last closing the loop), N.
+    pub force_n: Vec<f64>,
+}
+
+/// `/contacts`: the total contact force on every roller.
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct ChainContactForces {
+    /// Simulated time, s.
+    pub t_s: f64,
+    /// Sum of the magnitudes of roller i's contact patches, N (0: free).
+    pub force_n: Vec<f64>,
+}
+
+/// `/sprockets`: the sprockets' rotation, in scene order (index 0 = sprocket 1).
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct SprocketSignals {
+    /// Simulated time, s.
+    pub t_s: f64,
+    /// Angle, rad (counter-clockwise positive, not wrapped).
+    pub angle_rad: Vec<f64>,
+    /// Angular speed, rad/s (counter-clockwise positive).
+    pub speed_rad_s: Vec<f64>,
+    /// Moment of the chain's contact forces about the centre, N·m (CCW positive).
+    pub chain_torque_n_m: Vec<f64>,
+}
+
+/// One segment (free strand) at one sample.
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct SegmentSignal {
+    /// 1-based segment number: the strand from sprocket k to the next.
+    pub segment: u32,
+    /// Mean link force over the strand's free links, N; absent when no link is free.
+    pub link_force_n: Option<f64>,
+    /// Transverse displacement of the strand's middle, m (left of the strand positive).
+    pub transverse_m: f64,
+}
+
+/// `/segments`: every segment's average link force and transverse displacement,
+/// as defined in [`crate::analysis`].
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct SegmentSignals {
+    /// Simulated time, s.
+    pub t_s: f64,
+    /// Segments in order (index 0 = segment 1).
+    pub segments: Vec<SegmentSignal>,
+}

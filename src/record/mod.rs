@@ -1,0 +1,712 @@
+//! Recording: a run written as an [MCAP](https://mcap.dev) file that opens in
+//! Foxglove and in Rerun.
+//!
+//! A [`Recorder`] is an [`Observer`] of the stepping loop: at every sample of
+//! the run (the run's sample rate, `chaindrive run --rate`, independent of
+//! the solver's dt) it writes one message on each requested [`Channel`]. Log
+//! and publish times are the simulated time (t = 0 after static equilibrium),
+//! so two identical runs give byte-identical recordings.
+//!
+//! | channel | topic | schema | what |
+//! |---|---|---|---|
+//! | `scene` | `/scene/static` | `foxglove.SceneUpdate` | once: each sprocket's tooth outline (circular or real profile), pitch circle, a spoke and its name, in its own frame `sprocketN`, frame-locked |
+//! | `scene` | `/scene` | `foxglove.SceneUpdate` | rollers (spheres) and links (lines coloured by force, blue = slack … red ≥ 2 × pretension, 16 bins) in frame `world` |
+//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z |
+//! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world` |
+//! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N |
+//! | `contacts` | `/contacts` | [`ChainContactForces`] | every roller's contact force, N |
+//! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
+//! | `segments` | `/segments` | [`SegmentSignals`] | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
+//!
+//! Every file also holds a metadata record `chaindrive` (scene name, profile,
+//! contact law, integrator, stepping, dt, sample rate, crate version), the
+//! scene file as an attachment, and at the end a metadata record
+//! `chaindrive.end` saying how the run ended. Channels not requested are
+//! neither computed nor written.
+//!
+//! Cost: the stepping loop only copies the arrays the requested channels
+//! need (and computes the segment signals when asked); a writer thread of
+//! the recorder builds the messages, encodes them, compresses them (zstd
+//! chunks of 1 MiB) and writes them, in order. The simulation itself stays
+//! single-threaded and deterministic.
+//!
+//! A recording is finished by [`Recorder::finish`]; dropping a recorder
+//! finishes it too (the writer thread drains its queue and the MCAP writer
+//! writes its summary and footer), so a file is readable up to its last
+//! frame however the run ends: normal end, blow-up, interruption, or a panic
+//! that unwinds. A process killed outright (SIGKILL) loses the unfinished
+//! chunk and the footer.
+//!
+//! What it does not do: decimate on its own (it records every sample the run
+//! hands it) or stream to a live viewer.
+
+mod messages;
+mod visual;
+
+pub use messages::{
+    ChainContactForces, ChainLinkForces, SegmentSignal, SegmentSignals, SprocketSignals,
+};
+pub use visual::{FORCE_BINS, POINT_STRIDE, WORLD_FRAME, bin_color, sprocket_frame};
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::fs::File;
+use std::io::{BufWriter, Seek, Write};
+use std::path::Path;
+
+use foxglove::Encode;
+use foxglove::schemas::{FrameTransforms, PointCloud, SceneUpdate};
+
+use crate::scene::Scene;
+use crate::sim::{Observer, Sample};
+
+/// One stream of the recording (see the module's table).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Channel {
+    /// `/scene/static` once and `/scene` at every sample (`foxglove.SceneUpdate`).
+    Scene,
+    /// `/tf` (`foxglove.FrameTransforms`).
+    Transforms,
+    /// `/rollers` (`foxglove.PointCloud`).
+    Rollers,
+    /// `/links` ([`ChainLinkForces`]).
+    Links,
+    /// `/contacts` ([`ChainContactForces`]).
+    Contacts,
+    /// `/sprockets` ([`SprocketSignals`]).
+    Sprockets,
+    /// `/segments` ([`SegmentSignals`]).
+    Segments,
+}
+
+impl Channel {
+    /// Every channel, in the order they are registered in a file.
+    pub const ALL: [Self; 7] = [
+        Self::Scene,
+        Self::Transforms,
+        Self::Rollers,
+        Self::Links,
+        Self::Contacts,
+        Self::Sprockets,
+        Self::Segments,
+    ];
+
+    /// Name in `--record-channels`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Scene => "scene",
+            Self::Transforms => "transforms",
+            Self::Rollers => "rollers",
+            Self::Links => "links",
+            Self::Contacts => "contacts",
+            Self::Sprockets => "sprockets",
+            Self::Segments => "segments",
+        }
+    }
+
+    /// Topic written at every sample.
+    pub fn topic(self) -> &'static str {
+        match self {
+            Self::Scene => "/scene",
+            Self::Transforms => "/tf",
+            Self::Rollers => "/rollers",
+            Self::Links => "/links",
+            Self::Contacts => "/contacts",
+            Self::Sprockets => "/sprockets",
+            Self::Segments => "/segments",
+        }
+    }
+
+    fn bit(self) -> u8 {
+        1 << (self as u8)
+    }
+}
+
+/// Topic of the static scene, written once at the first sample.
+pub const STATIC_SCENE_TOPIC: &str = "/scene/static";
+
+/// A set of channels.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Channels(u8);
+
+impl Channels {
+    /// No channel.
+    pub const NONE: Self = Self(0);
+
+    /// Every channel.
+    pub fn all() -> Self {
+        Channel::ALL.iter().fold(Self::NONE, |s, &c| s.with(c))
+    }
+
+    /// This set plus `c`.
+    pub fn with(self, c: Channel) -> Self {
+        Self(self.0 | c.bit())
+    }
+
+    /// Whether `c` is in the set.
+    pub fn contains(self, c: Channel) -> bool {
+        self.0 & c.bit() != 0
+    }
+
+    /// Parses a comma-separated list of channel names (`all` for every
+    /// channel), e.g. `scene,sprockets,segments`.
+    pub fn parse(list: &str) -> Result<Self, RecordError> {
+        let mut set = Self::NONE;
+        for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
+            if name == "all" {
+                set = Self::all();
+                continue;
+            }
+            let c = Channel::ALL
+                .iter()
+                .find(|c| c.name() == name)
+                .ok_or_else(|| RecordError::UnknownChannel(name.to_owned()))?;
+            set = set.with(*c);
+        }
+        if set == Self::NONE {
+            return Err(RecordError::UnknownChannel(list.to_owned()));
+        }
+        Ok(set)
+    }
+}
+
+impl Default for Channels {
+    fn default() -> Self {
+        Self::all()
+    }
+}
+
+/// What the recorder is told besides the scene.
+#[derive(Clone, Debug, Default)]
+pub struct RecordOptions {
+    /// Channels to record.
+    pub channels: Channels,
+    /// The scene file attached to the recording: (file name, contents);
+    /// `None` attaches nothing.
+    pub scene_file: Option<(String, Vec<u8>)>,
+    /// The run's sample rate, Hz, written into the metadata.
+    pub rate_hz: f64,
+}
+
+/// How a run ended, written into the `chaindrive.end` metadata record.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunEnd<'a> {
+    /// It reached its planned duration.
+    Completed,
+    /// It was stopped early (Ctrl-C).
+    Interrupted,
+    /// It failed (e.g. blew up), with the error message.
+    Failed(&'a str),
+}
+
+/// Why a recording could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum RecordError {
+    /// A name in the channel list is not a channel.
+    #[error(
+        "unknown recording channel {0:?}; channels: scene, transforms, rollers, links, contacts, sprockets, segments, all"
+    )]
+    UnknownChannel(String),
+    /// The file could not be created.
+    #[error("cannot create {path}: {source}")]
+    Create {
+        /// The path.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// Writing failed.
+    #[error("writing the recording: {0}")]
+    Mcap(#[from] mcap::McapError),
+    /// Flushing the finished file failed.
+    #[error("writing the recording: {0}")]
+    Io(#[from] std::io::Error),
+    /// The writer thread could not be started.
+    #[error("starting the recording's writer thread: {0}")]
+    Thread(String),
+    /// The writer thread stopped before the run ended.
+    #[error("the recording's writer thread stopped unexpectedly")]
+    WriterStopped,
+    /// A message could not be encoded.
+    #[error("encoding a {topic} message: {message}")]
+    Encode {
+        /// The topic.
+        topic: &'static str,
+        /// The encoder's error.
+        message: String,
+    },
+}
+
+/// Channel ids in the file, by [`Channel`] (and the static scene).
+#[derive(Clone, Copy, Debug, Default)]
+struct ChannelIds {
+    static_scene: Option<u16>,
+    per_sample: [Option<u16>; 7],
+}
+
+/// The MCAP writer with its encoding buffer.
+struct Sink<W: Write + Seek> {
+    writer: mcap::Writer<W>,
+    buf: Vec<u8>,
+    sequence: u32,
+}
+
+impl<W: Write + Seek> Sink<W> {
+    /// Encodes `msg` and writes it on `id` (nothing if the channel is not recorded).
+    fn write<T: Encode>(
+        &mut self,
+        id: Option<u16>,
+        topic: &'static str,
+        t_ns: u64,
+        msg: &T,
+    ) -> Result<(), RecordError> {
+        let Some(channel_id) = id else {
+            return Ok(());
+        };
+        self.buf.clear();
+        msg.encode(&mut self.buf).map_err(|e| RecordError::Encode {
+            topic,
+            message: e.to_string(),
+        })?;
+        self.sequence = self.sequence.wrapping_add(1);
+        self.writer.write_to_known_channel(
+            &mcap::records::MessageHeader {
+                channel_id,
+                sequence: self.sequence,
+                log_time: t_ns,
+                publish_time: t_ns,
+            },
+            &self.buf,
+        )?;
+        Ok(())
+    }
+}
+
+/// What the stepping loop hands the writer thread.
+enum Job {
+    /// The first sample: the static scene and the sprocket centres.
+    Start {
+        t_ns: u64,
+        static_scene: Option<Box<SceneUpdate>>,
+        centers_m: Vec<[f64; 2]>,
+    },
+    /// One sample, with only the arrays the requested channels need.
+    Frame(Box<Frame>),
+}
+
+/// A copy of one sample.
+#[derive(Default)]
+struct Frame {
+    t_s: f64,
+    t_ns: u64,
+    x: Vec<f64>,
+    y: Vec<f64>,
+    theta: Vec<f64>,
+    omega: Vec<f64>,
+    link_force: Vec<f64>,
+    contact_force: Vec<f64>,
+    chain_torque: Vec<f64>,
+    segments: Vec<SegmentSignal>,
+}
+
+/// Samples queued for the writer thread before the stepping loop waits for it.
+const QUEUE_FRAMES: usize = 256;
+
+/// The writer thread's state: messages kept between frames, updated in place.
+struct Writer<W: Write + Seek> {
+    sink: Sink<W>,
+    ids: ChannelIds,
+    chain: visual::ChainScene,
+    centers_m: Vec<[f64; 2]>,
+    tf: FrameTransforms,
+    links: ChainLinkForces,
+    contacts: ChainContactForces,
+    sprockets: SprocketSignals,
+    segments: SegmentSignals,
+}
+
+impl<W: Write + Seek> Writer<W> {
+    fn job(&mut self, job: Job) -> Result<(), RecordError> {
+        match job {
+            Job::Start {
+                t_ns,
+                static_scene,
+                centers_m,
+            } => {
+                self.centers_m = centers_m;
+                if let Some(update) = static_scene {
+                    self.sink
+                        .write(self.ids.static_scene, STATIC_SCENE_TOPIC, t_ns, &*update)?;
+                }
+                Ok(())
+            }
+            Job::Frame(f) => self.frame(*f),
+        }
+    }
+
+    fn frame(&mut self, mut f: Frame) -> Result<(), RecordError> {
+        let t_ns = f.t_ns;
+        let ids = self.ids.per_sample;
+        let id = |c: Channel| ids[c as usize];
+        let sink = &mut self.sink;
+        if id(Channel::Scene).is_some() {
+            let update = self.chain.update(t_ns, &f.x, &f.y, &f.link_force);
+            sink.write(id(Channel::Scene), "/scene", t_ns, update)?;
+        }
+        if id(Channel::Transforms).is_some() {
+            visual::transforms(&self.centers_m, &f.theta, t_ns, &mut self.tf);
+            sink.write(id(Channel::Transforms), "/tf", t_ns, &self.tf)?;
+        }
+        if id(Channel::Rollers).is_some() {
+            let cloud = visual::roller_cloud(&f.x, &f.y, t_ns);
+            sink.write(id(Channel::Rollers), "/rollers", t_ns, &cloud)?;
+        }
+        if id(Channel::Links).is_some() {
+            self.links.t_s = f.t_s;
+            std::mem::swap(&mut self.links.force_n, &mut f.link_force);
+            sink.write(id(Channel::Links), "/links", t_ns, &self.links)?;
+        }
+        if id(Channel::Contacts).is_some() {
+            self.contacts.t_s = f.t_s;
+            std::mem::swap(&mut self.contacts.force_n, &mut f.contact_force);
+            sink.write(id(Channel::Contacts), "/contacts", t_ns, &self.contacts)?;
+        }
+        if id(Channel::Sprockets).is_some() {
+            let m = &mut self.sprockets;
+            m.t_s = f.t_s;
+            std::mem::swap(&mut m.angle_rad, &mut f.theta);
+            std::mem::swap(&mut m.speed_rad_s, &mut f.omega);
+            std::mem::swap(&mut m.chain_torque_n_m, &mut f.chain_torque);
+            sink.write(id(Channel::Sprockets), "/sprockets", t_ns, m)?;
+        }
+        if id(Channel::Segments).is_some() {
+            self.segments.t_s = f.t_s;
+            std::mem::swap(&mut self.segments.segments, &mut f.segments);
+            sink.write(id(Channel::Segments), "/segments", t_ns, &self.segments)?;
+        }
+        Ok(())
+    }
+}
+
+/// What the writer thread hands back: the sink and its first error.
+type Joined<W> = (Sink<W>, Option<RecordError>);
+
+/// Writes a run to an MCAP file; see the module documentation.
+///
+/// The stepping loop only copies the arrays the requested channels need
+/// (and computes the segment signals if asked); a writer thread builds,
+/// encodes, compresses (zstd) and writes the messages, in order.
+pub struct Recorder<W: Write + Seek + Send + 'static> {
+    channels: Channels,
+    tx: Option<std::sync::mpsc::SyncSender<Job>>,
+    thread: Option<std::thread::JoinHandle<Joined<W>>>,
+    frames: u64,
+    last_t_ns: u64,
+    started: bool,
+    scene: Scene,
+    segment_force: Vec<Option<f64>>,
+    /// A failure to hand a job over (the writer thread stopped).
+    lost: bool,
+}
+
+fn add_channel<W: Write + Seek, T: Encode>(
+    w: &mut mcap::Writer<W>,
+    topic: &str,
+) -> Result<u16, RecordError> {
+    let (name, encoding, data) = match T::get_schema() {
+        Some(s) => (s.name, s.encoding, s.data),
+        None => (String::new(), String::new(), Cow::Borrowed(&[][..])),
+    };
+    let schema = if name.is_empty() {
+        0
+    } else {
+        w.add_schema(&name, &encoding, &data)?
+    };
+    Ok(w.add_channel(schema, topic, &T::get_message_encoding(), &BTreeMap::new())?)
+}
+
+/// Simulated time in integer nanoseconds (negative and NaN clamp to 0).
+fn time_ns(t_s: f64) -> u64 {
+    (t_s * 1e9).round() as u64
+}
+
+impl Recorder<BufWriter<File>> {
+    /// Creates (or truncates) the file at `path` and starts recording into it.
+    pub fn create(
+        path: &Path,
+        scene: &Scene,
+        options: &RecordOptions,
+    ) -> Result<Self, RecordError> {
+        let file = File::create(path).map_err(|source| RecordError::Create {
+            path: path.display().to_string(),
+            source,
+        })?;
+        Self::new(BufWriter::new(file), scene, options)
+    }
+}
+
+impl<W: Write + Seek + Send + 'static> Recorder<W> {
+    /// Starts a recording into `writer`: header, metadata, the scene file as
+    /// an attachment, schemas and channels. Messages follow at every sample.
+    pub fn new(writer: W, scene: &Scene, options: &RecordOptions) -> Result<Self, RecordError> {
+        let mut w = mcap::WriteOptions::new()
+            .compression(Some(mcap::Compression::Zstd))
+            .compression_level(3)
+            .compression_threads(0)
+            .chunk_size(Some(1 << 20))
+            .library(format!("chaindrive {}", env!("CARGO_PKG_VERSION")))
+            .create(writer)?;
+        let metadata: BTreeMap<String, String> = [
+            ("scene", scene.name.clone()),
+            ("profile", scene.profile_name().to_owned()),
+            ("contact_law", scene.contact.law.name().to_owned()),
+            ("integrator", scene.solver.integrator.name().to_owned()),
+            ("stepping", scene.solver.stepping.name().to_owned()),
+            ("dt_s", format!("{:e}", scene.solver.dt_s)),
+            ("duration_s", format!("{}", scene.solver.duration_s)),
+            ("sample_rate_hz", format!("{}", options.rate_hz)),
+            ("rollers", scene.chain.rollers.to_string()),
+            ("sprockets", scene.sprockets.len().to_string()),
+            ("version", env!("CARGO_PKG_VERSION").to_owned()),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect();
+        w.write_metadata(&mcap::records::Metadata {
+            name: "chaindrive".to_owned(),
+            metadata,
+        })?;
+        if let Some((name, data)) = &options.scene_file {
+            w.attach(&mcap::Attachment {
+                log_time: 0,
+                create_time: 0,
+                name: name.clone(),
+                media_type: "application/toml".to_owned(),
+                data: Cow::Borrowed(data),
+            })?;
+        }
+        let channels = options.channels;
+        let mut ids = ChannelIds::default();
+        for (slot, &c) in ids.per_sample.iter_mut().zip(&Channel::ALL) {
+            if !channels.contains(c) {
+                continue;
+            }
+            let topic = c.topic();
+            *slot = Some(match c {
+                Channel::Scene => {
+                    ids.static_scene =
+                        Some(add_channel::<_, SceneUpdate>(&mut w, STATIC_SCENE_TOPIC)?);
+                    add_channel::<_, SceneUpdate>(&mut w, topic)?
+                }
+                Channel::Transforms => add_channel::<_, FrameTransforms>(&mut w, topic)?,
+                Channel::Rollers => add_channel::<_, PointCloud>(&mut w, topic)?,
+                Channel::Links => add_channel::<_, ChainLinkForces>(&mut w, topic)?,
+                Channel::Contacts => add_channel::<_, ChainContactForces>(&mut w, topic)?,
+                Channel::Sprockets => add_channel::<_, SprocketSignals>(&mut w, topic)?,
+                Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, topic)?,
+            });
+        }
+        let writer = Writer {
+            sink: Sink {
+                writer: w,
+                buf: Vec::with_capacity(64 << 10),
+                sequence: 0,
+            },
+            ids,
+            chain: visual::ChainScene::new(
+                scene.chain.rollers,
+                scene.chain.roller_radius_m,
+                2.0 * scene.chain.pretension_n,
+            ),
+            centers_m: Vec::new(),
+            tf: FrameTransforms::default(),
+            links: ChainLinkForces::default(),
+            contacts: ChainContactForces::default(),
+            sprockets: SprocketSignals::default(),
+            segments: SegmentSignals::default(),
+        };
+        let (tx, rx) = std::sync::mpsc::sync_channel::<Job>(QUEUE_FRAMES);
+        let thread = std::thread::Builder::new()
+            .name("chaindrive-record".to_owned())
+            .spawn(move || {
+                let mut writer = writer;
+                let mut error = None;
+                for job in rx {
+                    // After an error the queue is drained and nothing more is written.
+                    if error.is_none()
+                        && let Err(e) = writer.job(job)
+                    {
+                        error = Some(e);
+                    }
+                }
+                (writer.sink, error)
+            })
+            .map_err(|e| RecordError::Thread(e.to_string()))?;
+        Ok(Self {
+            channels,
+            tx: Some(tx),
+            thread: Some(thread),
+            frames: 0,
+            last_t_ns: 0,
+            started: false,
+            scene: scene.clone(),
+            segment_force: Vec::new(),
+            lost: false,
+        })
+    }
+
+    /// Samples recorded so far.
+    pub fn frames(&self) -> u64 {
+        self.frames
+    }
+
+    /// The channels being recorded.
+    pub fn channels(&self) -> Channels {
+        self.channels
+    }
+
+    fn send(&mut self, job: Job) {
+        let sent = self.tx.as_ref().is_some_and(|tx| tx.send(job).is_ok());
+        self.lost |= !sent;
+    }
+
+    /// Stops the writer thread and takes back its sink.
+    fn join(&mut self) -> Result<Joined<W>, RecordError> {
+        self.tx = None;
+        match self.thread.take().map(std::thread::JoinHandle::join) {
+            Some(Ok(joined)) => Ok(joined),
+            Some(Err(_)) => Err(RecordError::WriterStopped),
+            None => Err(RecordError::WriterStopped),
+        }
+    }
+
+    /// Writes the end record, the summary and the footer, flushes, and
+    /// returns the writer. Returns the first error met while recording, if
+    /// any (the file is still finished as far as it can be).
+    pub fn finish(mut self, end: RunEnd<'_>) -> Result<W, RecordError> {
+        let (mut sink, error) = self.join()?;
+        let (status, message) = match end {
+            RunEnd::Completed => ("completed", ""),
+            RunEnd::Interrupted => ("interrupted", ""),
+            RunEnd::Failed(m) => ("failed", m),
+        };
+        let metadata: BTreeMap<String, String> = [
+            ("status", status.to_owned()),
+            ("message", message.to_owned()),
+            ("frames", self.frames.to_string()),
+            ("last_t_s", format!("{}", self.last_t_ns as f64 * 1e-9)),
+        ]
+        .into_iter()
+        .map(|(k, v)| (k.to_owned(), v))
+        .collect();
+        let end_written = sink.writer.write_metadata(&mcap::records::Metadata {
+            name: "chaindrive.end".to_owned(),
+            metadata,
+        });
+        let finished = sink.writer.finish();
+        let mut inner = sink.writer.into_inner();
+        let flushed = inner.flush();
+        if let Some(e) = error {
+            return Err(e);
+        }
+        if self.lost {
+            return Err(RecordError::WriterStopped);
+        }
+        end_written?;
+        finished?;
+        flushed?;
+        Ok(inner)
+    }
+}
+
+impl<W: Write + Seek + Send + 'static> Drop for Recorder<W> {
+    /// A recorder dropped without [`Recorder::finish`] (an early return, a
+    /// panic) still finishes its file: the writer thread drains its queue and
+    /// the MCAP writer writes its summary and footer when dropped.
+    fn drop(&mut self) {
+        if self.thread.is_some() {
+            let _ = self.join();
+        }
+    }
+}
+
+impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
+    fn sample(&mut self, s: &Sample<'_>) {
+        if self.lost {
+            return;
+        }
+        let st = s.state;
+        let f = s.forces;
+        // No NaN is ever written: a non-finite state (a run about to be
+        // stopped by the blow-up detectors) is not recorded.
+        let check: f64 = [
+            &st.x,
+            &st.y,
+            &st.theta,
+            &st.omega,
+            &f.link_force,
+            &f.contact_force,
+        ]
+        .iter()
+        .flat_map(|v| v.iter())
+        .sum();
+        if !check.is_finite() {
+            return;
+        }
+        let t_ns = time_ns(st.t_s);
+        let ch = self.channels;
+        if !self.started {
+            self.started = true;
+            let static_scene = ch
+                .contains(Channel::Scene)
+                .then(|| Box::new(visual::static_scene(&self.scene, s.model, t_ns)));
+            let centers_m = s.model.sprockets.iter().map(|s| s.center_m).collect();
+            self.send(Job::Start {
+                t_ns,
+                static_scene,
+                centers_m,
+            });
+        }
+        let wants = |c: &[Channel]| c.iter().any(|&c| ch.contains(c));
+        let copy = |yes: bool, v: &[f64]| if yes { v.to_vec() } else { Vec::new() };
+        let positions = wants(&[Channel::Scene, Channel::Rollers]);
+        let mut frame = Frame {
+            t_s: st.t_s,
+            t_ns,
+            x: copy(positions, &st.x),
+            y: copy(positions, &st.y),
+            theta: copy(wants(&[Channel::Transforms, Channel::Sprockets]), &st.theta),
+            omega: copy(wants(&[Channel::Sprockets]), &st.omega),
+            link_force: copy(wants(&[Channel::Scene, Channel::Links]), &f.link_force),
+            contact_force: copy(wants(&[Channel::Contacts]), &f.contact_force),
+            chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
+            segments: Vec::new(),
+        };
+        if ch.contains(Channel::Segments) {
+            let segments = &s.model.segments;
+            self.segment_force.resize(segments.len(), None);
+            segments.mean_forces(
+                &st.x,
+                &st.y,
+                &f.link_force,
+                &f.touching,
+                &mut self.segment_force,
+            );
+            frame.segments = self
+                .segment_force
+                .iter()
+                .enumerate()
+                .map(|(k, force)| SegmentSignal {
+                    segment: (k + 1) as u32,
+                    link_force_n: force.filter(|v| v.is_finite()),
+                    transverse_m: segments.transverse(k, &st.x, &st.y),
+                })
+                .collect();
+        }
+        self.send(Job::Frame(Box::new(frame)));
+        if !self.lost {
+            self.frames += 1;
+            self.last_t_ns = t_ns;
+        }
+    }
+}
