@@ -9,7 +9,12 @@
 //! signed to the left of the strand's direction. Samples with no free link in
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
+pub mod binder;
+#[cfg(feature = "figures")]
+pub mod figures;
+pub mod reproduce;
 pub mod spectrum;
+pub mod study;
 mod summary;
 pub mod theory;
 

@@ -2,6 +2,7 @@
 //! number comes from outside the code under test (the paper's Table 4,
 //! closed forms, the public contract), with its source in a comment.
 
+mod analysis;
 mod cli;
 mod fuzz;
 mod paper;

@@ -3,6 +3,7 @@
 mod bench;
 mod check;
 mod profile;
+mod reproduce;
 mod run;
 
 use clap::{Parser, Subcommand};
@@ -25,6 +26,8 @@ enum Command {
     Check(check::CheckArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
+    /// Reproduce the paper's study: three runs, report, summaries, figures.
+    Reproduce(reproduce::ReproduceArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -34,6 +37,7 @@ fn main() -> std::process::ExitCode {
         Command::Bench(args) => bench::bench(args),
         Command::Check(args) => check::check(args),
         Command::Profile(args) => profile::profile(args),
+        Command::Reproduce(args) => reproduce::reproduce(args),
     };
     match result {
         Ok(code) => code,

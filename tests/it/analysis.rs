@@ -1,0 +1,267 @@
+//! The analysis: spectra of synthetic signals, Binder's formulas against
+//! values computed by hand, and `chaindrive reproduce` end to end.
+
+use std::f64::consts::PI;
+use std::process::Command;
+
+use chaindrive::analysis::binder::{
+    BinderInputs, beta, centrifugal_tension_n, placement_times_s, pressure_angle_rad,
+    printed_contact_forces, printed_link_forces,
+};
+use chaindrive::analysis::study::{Series, spectrum_with_peaks};
+
+#[test]
+fn spectrum_finds_a_known_sines_frequency_and_amplitude() {
+    // 5.5 Hz at 2 mm and 83 Hz at 0.5 mm, 8 s at 1 kHz, on an offset.
+    let rate = 1000.0;
+    let t: Vec<f64> = (0..8000).map(|i| f64::from(i) / rate).collect();
+    let s = Series {
+        value: t
+            .iter()
+            .map(|t| {
+                2e-3 * (2.0 * PI * 5.5 * t).sin() + 0.5e-3 * (2.0 * PI * 83.0 * t).cos() + 0.01
+            })
+            .collect(),
+        t_s: t,
+    };
+    let p = spectrum_with_peaks(&s, rate, [1.0, 200.0], 2, 2.0);
+    assert_eq!(p.peaks.len(), 2);
+    let (f1, a1) = p.peaks[0];
+    let (f2, a2) = p.peaks[1];
+    // Bin width 0.125 Hz; Hann window: the peak bin holds the amplitude within a few percent.
+    assert!((f1 - 5.5).abs() <= 0.125, "{f1}");
+    assert!((a1 - 2e-3).abs() < 0.05 * 2e-3, "{a1}");
+    assert!((f2 - 83.0).abs() <= 0.125, "{f2}");
+    assert!((a2 - 0.5e-3).abs() < 0.05 * 0.5e-3, "{a2}");
+    assert!(
+        p.amplitude.iter().all(|a| a.is_finite()),
+        "no NaN in the spectrum"
+    );
+}
+
+/// β computed independently: α = 35° − 120°/nt in degrees, φ = 360°/nt.
+fn beta_by_hand(nt: f64) -> (f64, f64, f64) {
+    let alpha = (35.0 - 120.0 / nt) * PI / 180.0;
+    let phi = 2.0 * PI / nt;
+    (alpha.sin() / (alpha + phi).sin(), alpha, phi)
+}
+
+#[test]
+fn binder_formulas_match_hand_computed_values() {
+    // nt = 60: α = 33°, φ = 6°, β = sin 33° / sin 39° = 0.544639 / 0.629320 = 0.865440.
+    assert!((pressure_angle_rad(60) - 33f64.to_radians()).abs() < 1e-15);
+    assert!((beta(60) - 0.865_440).abs() < 1e-6, "{}", beta(60));
+    // nt = 30: α = 31°, φ = 12°: sin 31° / sin 43° = 0.515038 / 0.681998 = 0.755190.
+    assert!((beta(30) - 0.755_190).abs() < 1e-6, "{}", beta(30));
+    // nt = 28: α = 30.714286°, φ = 12.857143°: sin / sin = 0.510757 / 0.689258 = 0.741024.
+    assert!((beta(28) - 0.741_024).abs() < 1e-6, "{}", beta(28));
+    // q_c = m_r V²/P: 3.01 × (12.566 × 0.849325)² / 0.0889 = 3.86 kN (MODEL.md §6).
+    let v = 4.0 * PI * 0.849_325;
+    assert!((centrifugal_tension_n(3.01, v, 0.0889) - 3857.0).abs() < 10.0);
+
+    for (nt, nb) in [(60u32, 33usize), (30, 6), (28, 15)] {
+        let (b, alpha, phi) = beta_by_hand(f64::from(nt));
+        let (qa, qb, qc) = (25_000.0, 19_000.0, 3_860.0);
+        let inputs = BinderInputs {
+            teeth: nt,
+            bedded: nb,
+            q_a_n: qa,
+            q_b_n: qb,
+            q_c_n: qc,
+        };
+        // Explicit products β·β·…·β, not powi.
+        let pow = |k: usize| (0..k).fold(1.0, |acc, _| acc * b);
+        let ratio = phi.sin() / (alpha + phi).sin();
+        let fc = inputs.contact_forces();
+        assert_eq!(fc.len(), nb);
+        for i in 1..=nb {
+            let expect = ((qa - qc) * pow(i - 1) + (qb - qc) * pow(nb - i)) * ratio;
+            assert!(
+                (fc[i - 1] - expect).abs() < 1e-9 * expect.abs().max(1.0),
+                "nt {nt} i {i}"
+            );
+            let printed =
+                (qa * pow(i - 1) + qb * pow(nb - i)) * ratio + 2.0 * qc * (phi / 2.0).sin();
+            let p = printed_contact_forces(&inputs)[i - 1];
+            assert!((p - printed).abs() < 1e-9 * printed, "nt {nt} i {i}");
+        }
+        let fl = inputs.link_forces();
+        assert_eq!(fl.len(), nb + 1);
+        for (i, f) in fl.iter().enumerate() {
+            let expect = (qa - qc) * pow(i) + (qb - qc) * pow(nb - i) + qc;
+            assert!((f - expect).abs() < 1e-9 * expect, "nt {nt} link {i}");
+        }
+        // Boundary links carry the strand tensions (to within the other side's decayed share).
+        assert!((fl[0] - qa - (qb - qc) * pow(nb)).abs() < 1e-6);
+        let pl = printed_link_forces(&inputs);
+        assert_eq!(pl.len(), nb);
+        assert!((pl[0] - (qa * b + qb * pow(nb) + qc)).abs() < 1e-6);
+        // Equilibrium of a bedded roller (consistent form): consecutive links differ by
+        // the tangential share of its contact force; with q_b = q_c the link force
+        // above q_c decays by exactly β per roller from the entering side.
+        let one_sided = BinderInputs {
+            q_b_n: qc,
+            ..inputs
+        }
+        .link_forces();
+        for i in 1..=nb {
+            let r = (one_sided[i] - qc) / (one_sided[i - 1] - qc);
+            assert!((r - b).abs() < 1e-12, "nt {nt} link {i}");
+        }
+    }
+    // (51): t_i = t_s + (i − 1)(t_e − t_s)/(nb − 1).
+    let t = placement_times_s(9.3, 9.6, 4);
+    for (i, ti) in t.iter().enumerate() {
+        assert!((ti - (9.3 + i as f64 * 0.1)).abs() < 1e-12);
+    }
+}
+
+fn chaindrive(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+#[test]
+fn reproduce_writes_report_summaries_and_figures() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let out = dir.path().join("study");
+    let o = chaindrive(&[
+        "reproduce",
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--duration",
+        "1.5",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary"))
+            .expect("json");
+    for key in ["circular", "real", "real_same_rest_length"] {
+        let s = &summary[key];
+        assert!(
+            s["segments"].as_array().is_some_and(|a| a.len() == 4),
+            "{key}"
+        );
+        assert!(
+            s["static_tension_n"].as_f64().is_some_and(f64::is_finite),
+            "{key}"
+        );
+    }
+    // The same rest length as the circular run, hence a lower static tension (MODEL.md §9 (b)).
+    let rest = |k: &str| summary[k]["rest_length_m"].as_f64().expect("rest");
+    assert!((rest("circular") - rest("real_same_rest_length")).abs() < 1e-12);
+    let tension = |k: &str| summary[k]["static_tension_n"].as_f64().expect("tension");
+    assert!(tension("real_same_rest_length") < tension("circular") - 1000.0);
+
+    let report = std::fs::read_to_string(out.join("report.md")).expect("report");
+    assert!(
+        report.contains(
+            "| quantity | run | paper | ours | theory | ours vs paper | ours vs theory |"
+        )
+    );
+    assert!(report.contains("segment 1 mean link force"));
+    assert!(report.contains("sprocket 1 contact force vs (49)"));
+    assert!(
+        !report.contains("NaN") && !report.contains("inf "),
+        "{report}"
+    );
+    assert!(!summary.to_string().contains("null"));
+    for stem in [
+        "fig16_link_force",
+        "fig17_segment1_force",
+        "fig18_segment1_transverse",
+        "fig19_segment4_transverse",
+        "fig20_segment1_spectrum",
+        "fig21_segment4_spectrum",
+        "fig22_roller_contact",
+        "fig23_24_sprocket1_contact_vs_binder",
+    ] {
+        let png = std::fs::read(out.join(format!("{stem}.png"))).expect(stem);
+        assert!(png.starts_with(b"\x89PNG"), "{stem}");
+        let svg = std::fs::read_to_string(out.join(format!("{stem}.svg"))).expect(stem);
+        // Text is drawn (embedded font): the SVG holds the axis label.
+        assert!(svg.contains("<text") && svg.contains("Fig"), "{stem}");
+        assert!(report.contains(&format!("{stem}.png")), "{stem}");
+    }
+    // The PNG has text pixels: an embedded font renders on font-less machines.
+    // (Checked indirectly: a PNG with a caption is larger than a bare grid would be.)
+    let png = std::fs::metadata(out.join("fig16_link_force.png")).expect("png");
+    assert!(png.len() > 10_000);
+}
+
+#[test]
+fn reproduce_rejects_bad_indices_and_durations_before_running() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let out = dir.path().join("bad");
+    let path = out.to_str().expect("utf-8");
+    for (args, needle) in [
+        (vec!["--roller", "122"], "unknown roller 122"),
+        (vec!["--link", "500"], "unknown link 500"),
+        (vec!["--duration", "0"], "--duration"),
+    ] {
+        let mut all = vec!["reproduce", "--out", path];
+        all.extend(args);
+        let o = chaindrive(&all);
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains(needle), "{err}");
+        assert!(!out.join("report.md").exists() && !out.join("fig16_link_force.png").exists());
+    }
+}
+
+#[test]
+fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
+    use chaindrive::analysis::figures::{FigureChoice, Mark, Plot, Trace, paper_figures, save};
+    use chaindrive::analysis::reproduce::run_scene;
+    use chaindrive::analysis::study::{
+        AnalysisError, link_force_series, roller_contact_series, segment_force_series,
+    };
+    let data = run_scene("circular", &crate::l60mc(0.2), 1000.0, None).expect("short run");
+    let e = segment_force_series(&data, 5, [0.0, 0.2]).expect_err("segment 5");
+    assert_eq!(
+        e,
+        AnalysisError::UnknownSegment {
+            segment: 5,
+            count: 4
+        }
+    );
+    assert!(e.to_string().contains("segments 1 to 4"));
+    assert!(segment_force_series(&data, 0, [0.0, 0.2]).is_err());
+    let e = roller_contact_series(&data, 122, [0.0, 0.2]).expect_err("roller 122");
+    assert!(e.to_string().contains("unknown roller 122"), "{e}");
+    let e = link_force_series(&data, 3, [0.1, 5.0]).expect_err("window");
+    assert!(matches!(e, AnalysisError::Window { .. }), "{e}");
+    assert!(link_force_series(&data, 3, [0.05, 0.15]).is_ok());
+
+    let dir = tempfile::tempdir().expect("tmp");
+    // An unknown roller: Fig. 22 fails with the index in the message and is not written.
+    let e = paper_figures(
+        &[&data],
+        FigureChoice {
+            link: 0,
+            roller: 999,
+        },
+        dir.path(),
+    )
+    .expect_err("roller 999");
+    assert!(
+        e.to_string().contains("fig22") && e.to_string().contains("999"),
+        "{e}"
+    );
+    assert!(!dir.path().join("fig22_roller_contact.png").exists());
+    // A plot with nothing finite is an error, and no file appears.
+    let empty = Plot {
+        title: "nothing".into(),
+        traces: vec![Trace {
+            label: "nan".into(),
+            points: vec![(f64::NAN, 1.0), (0.0, f64::INFINITY)],
+            mark: Mark::Line,
+            color: 0,
+        }],
+        ..Plot::default()
+    };
+    assert!(save(&empty, dir.path(), "empty").is_err());
+    assert!(!dir.path().join("empty.png").exists() && !dir.path().join("empty.svg").exists());
+}
