@@ -6,6 +6,9 @@
 //! ```
 //! Numbers and the machine: `benches/README.md`.
 
+// criterion_group! generates an undocumented public function.
+#![allow(missing_docs)]
+
 use std::hint::black_box;
 
 use chaindrive::forces::ContactLawParams;

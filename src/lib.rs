@@ -24,6 +24,7 @@
 //! | model | [`model`] | parameters, structure-of-arrays state, rapier bodies |
 //! | forces | [`forces`] | link spring-dampers, contact law, roller–tooth contact generator |
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |
+//! | co-simulation | [`cosim`] | the drive inside a user's rapier world, stepped at the user's dt |
 //! | analysis | [`analysis`] | sampled signals, spectra, run summary, analytical references |
 //!
 //! ## Quick start
@@ -76,6 +77,7 @@
 //! | feature | default | what it adds |
 //! |---|---|---|
 //! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record` |
+//! | `figures` | yes | PNG and SVG figures of [`analysis`] (`plotters`, embedded font), `reproduce` |
 //! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
 //!
 //! ## Reproducibility
@@ -87,6 +89,7 @@
 //! differences over seconds of simulated time, as it would any perturbation.
 
 pub mod analysis;
+pub mod cosim;
 pub mod forces;
 pub mod geometry;
 pub mod model;

@@ -3,7 +3,7 @@
 //!
 //! - a link is in segment k's free strand when neither of its rollers touches
 //!   a sprocket and its midpoint projects onto strand k's nominal line between
-//!   the tangent points (and lies within a few pitches of it);
+//!   the tangent points (the nearest such strand, within 0.25 m of its line);
 //! - segment k's transverse displacement is the signed perpendicular distance,
 //!   from the nominal line, of the roller nearest the line's middle; positive to
 //!   the left of the direction from `from` to `to` (MODEL.md §9).
@@ -25,8 +25,8 @@ struct Line {
 }
 
 /// Largest perpendicular distance of a free link's midpoint from its strand line, m.
-/// Free strands vibrate by millimetres to centimetres; this only separates strands
-/// that cross (the paper's segments 1 and 2).
+/// Free strands vibrate by millimetres to centimetres; a link is given to the
+/// nearest strand line within this distance.
 const MAX_OFFSET_M: f64 = 0.25;
 
 impl Segments {
@@ -66,12 +66,21 @@ impl Segments {
     /// (the caller checks that neither roller touches a sprocket).
     pub fn segment_of(&self, a: [f64; 2], b: [f64; 2]) -> Option<usize> {
         let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        self.lines.iter().position(|l| {
+        // The nearest strand line whose span the midpoint projects onto (strands
+        // of a small drive can lie closer together than MAX_OFFSET_M).
+        let mut best: Option<(usize, f64)> = None;
+        for (k, l) in self.lines.iter().enumerate() {
             let d = [m[0] - l.start[0], m[1] - l.start[1]];
             let along = d[0] * l.dir[0] + d[1] * l.dir[1];
-            let across = -d[0] * l.dir[1] + d[1] * l.dir[0];
-            (0.0..=l.length).contains(&along) && across.abs() < MAX_OFFSET_M
-        })
+            let across = (-d[0] * l.dir[1] + d[1] * l.dir[0]).abs();
+            if (0.0..=l.length).contains(&along)
+                && across < MAX_OFFSET_M
+                && best.is_none_or(|(_, a)| across < a)
+            {
+                best = Some((k, across));
+            }
+        }
+        best.map(|(k, _)| k)
     }
 
     /// Mean link force of each segment's free strand; NaN-free: a segment with

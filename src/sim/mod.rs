@@ -247,6 +247,58 @@ pub struct RunOutcome {
     pub max_penetration_m: f64,
 }
 
+/// Checks the blow-up detectors against the last force evaluation at `state`.
+pub fn check_blow_up(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    limits: &BlowUpLimits,
+) -> Result<(), SimError> {
+    let f = forces;
+    let fail = |detector: Detector, body: String, value: f64, limit: f64| {
+        Err(SimError::BlowUp {
+            t_s: state.t_s,
+            detector: detector.name(),
+            body,
+            value,
+            limit,
+        })
+    };
+    if !f.max_stretch_m.is_finite() || !f.max_penetration_m.is_finite() {
+        let body = (0..state.rollers())
+            .find(|&i| !(state.x[i].is_finite() && state.y[i].is_finite()))
+            .map_or_else(|| "the chain".to_owned(), |i| format!("roller {i}"));
+        return fail(Detector::NonFinite, body, f64::NAN, 0.0);
+    }
+    if f.max_penetration_m > limits.max_penetration_m {
+        let i = (0..state.rollers())
+            .max_by(|&a, &b| f.contact_force[a].total_cmp(&f.contact_force[b]))
+            .unwrap_or(0);
+        return fail(
+            Detector::Penetration,
+            format!("roller {i}"),
+            f.max_penetration_m,
+            limits.max_penetration_m,
+        );
+    }
+    if f.max_stretch_m > limits.max_stretch_m {
+        let i = (0..state.rollers())
+            .max_by(|&a, &b| {
+                let sa = (f.link_force[a] / model.stiffness_n_m).abs();
+                let sb = (f.link_force[b] / model.stiffness_n_m).abs();
+                sa.total_cmp(&sb)
+            })
+            .unwrap_or(0);
+        return fail(
+            Detector::Stretch,
+            format!("link {i}"),
+            f.max_stretch_m,
+            limits.max_stretch_m,
+        );
+    }
+    Ok(())
+}
+
 /// A chain drive in a rapier world.
 pub struct Simulation {
     /// The scene it was built from.
@@ -370,49 +422,7 @@ impl Simulation {
 
     /// Checks the blow-up detectors against the last force evaluation.
     pub fn check_blow_up(&self) -> Result<(), SimError> {
-        let f = &self.forces;
-        let fail = |detector: Detector, body: String, value: f64, limit: f64| {
-            Err(SimError::BlowUp {
-                t_s: self.state.t_s,
-                detector: detector.name(),
-                body,
-                value,
-                limit,
-            })
-        };
-        if !f.max_stretch_m.is_finite() || !f.max_penetration_m.is_finite() {
-            let body = (0..self.state.rollers())
-                .find(|&i| !(self.state.x[i].is_finite() && self.state.y[i].is_finite()))
-                .map_or_else(|| "the chain".to_owned(), |i| format!("roller {i}"));
-            return fail(Detector::NonFinite, body, f64::NAN, 0.0);
-        }
-        if f.max_penetration_m > self.limits.max_penetration_m {
-            let i = (0..self.state.rollers())
-                .max_by(|&a, &b| f.contact_force[a].total_cmp(&f.contact_force[b]))
-                .unwrap_or(0);
-            return fail(
-                Detector::Penetration,
-                format!("roller {i}"),
-                f.max_penetration_m,
-                self.limits.max_penetration_m,
-            );
-        }
-        if f.max_stretch_m > self.limits.max_stretch_m {
-            let i = (0..self.state.rollers())
-                .max_by(|&a, &b| {
-                    let sa = (f.link_force[a] / self.model.stiffness_n_m).abs();
-                    let sb = (f.link_force[b] / self.model.stiffness_n_m).abs();
-                    sa.total_cmp(&sb)
-                })
-                .unwrap_or(0);
-            return fail(
-                Detector::Stretch,
-                format!("link {i}"),
-                f.max_stretch_m,
-                self.limits.max_stretch_m,
-            );
-        }
-        Ok(())
+        check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
     }
 
     /// Runs until `until_s`, with the scene's dt, calling `observer` every

@@ -195,7 +195,10 @@ fn a_write_failure_during_the_run_is_an_error() {
         return;
     }
     let out = chaindrive(&["run", "--duration", "0.3", "--series", "/dev/full"]);
-    assert!(!out.status.success(), "a failed write must not look like success");
+    assert!(
+        !out.status.success(),
+        "a failed write must not look like success"
+    );
     let err = stderr(&out);
     assert!(err.contains("series"), "{err}");
 }

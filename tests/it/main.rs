@@ -4,6 +4,7 @@
 
 mod analysis;
 mod cli;
+mod cosim;
 mod fuzz;
 mod paper;
 mod profile;

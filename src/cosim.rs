@@ -1,0 +1,400 @@
+//! A chain drive inside someone else's rapier world: [`ChainDrive`].
+//!
+//! The drive adds its rollers and sprockets to the user's `RigidBodySet` and
+//! `ColliderSet` (a sprocket may be mounted on a body the user already has:
+//! a wheel, a motor shaft with its own joints), then advances itself in
+//! substeps of the scene's `dt_s` inside every step of the user's world, at
+//! the user's dt (e.g. 1/60 s). It never touches the user's integration
+//! parameters.
+//!
+//! # One frame
+//!
+//! ```text
+//! drive.before_step(&mut bodies, dt)   // chain substeps to the frame's end;
+//!                                      // bodies get start pose + mean velocity
+//! pipeline.step(..., &drive.hooks(&user_hooks), ...)   // the user's own step
+//! drive.after_step(&mut bodies, &narrow_phase, dt)   // what other bodies did to the chain
+//! ```
+//! ([`ChainDrive::step_world`] does the three for a [`PhysicsWorld`].)
+//!
+//! - **Chain → world.** Before the step every roller body is put at its
+//!   frame-start position with the frame's mean velocity, so rapier's own
+//!   integration lands it where the chain will be at the frame's end; boxes
+//!   resting on the chain are carried along, guides are pushed. Sprockets are
+//!   treated alike (angle and mean angular speed). Roller bodies are
+//!   kinematic for rapier: to other bodies they are as firm as the chain that
+//!   holds them.
+//! - **World → chain.** After the step, the contact impulses rapier's solver
+//!   exchanged between a roller and other bodies (a box's weight and
+//!   friction, a guide) become a force impulse / dt on that roller over the
+//!   next frame. A mounted
+//!   sprocket's body likewise: its user torque (a motor) is taken out of
+//!   rapier's step and applied inside the chain's substeps, together with the
+//!   angular-velocity change its joints caused, so the chain and the motor
+//!   are integrated together at the small dt (a motor feels the load at once).
+//! - The coupling to other bodies is explicit with a lag of one frame: fine
+//!   for loads, guides and motors; a stiff spring between a roller and
+//!   another body would need the user's dt to resolve it.
+//! - A mounted sprocket's centre follows its body's position once per frame;
+//!   the chain's force on it is applied to the body as a user force over the
+//!   next rapier step.
+//!
+//! rapier's own contact never acts between two of the drive's colliders:
+//! [`ChainHooks`] filters those pairs and hands every other pair to the
+//! user's hooks, so stock contacts keep working.
+
+use rapier2d_f64::prelude::*;
+
+use crate::model::rapier::sprocket_shape;
+use crate::model::{DriveModel, DriveState};
+use crate::scene::Scene;
+use crate::sim::{
+    BlowUpLimits, SimError, Simulation, StaticEquilibrium, check_blow_up, symplectic_euler,
+};
+
+/// Per-frame coupling of one sprocket to its rapier body.
+#[derive(Clone, Copy, Debug)]
+struct SprocketLink {
+    body: RigidBodyHandle,
+    /// Whether the body is the user's (mounted) rather than the drive's own.
+    mounted: bool,
+    /// The scene's load torque (the model's load torque is refreshed per frame).
+    scene_load_n_m: f64,
+    /// The user's torque, stashed during rapier's step, N·m.
+    user_torque_n_m: f64,
+    /// Mean angular speed given to rapier for this frame, rad/s.
+    mean_omega: f64,
+    /// The chain's mean force on the sprocket over the frame, N.
+    mean_chain_force: [f64; 2],
+}
+
+/// A chain drive living in a user's rapier world.
+pub struct ChainDrive {
+    /// The scene it was built from.
+    pub scene: Scene,
+    /// Constant parameters (sprocket centres and loads refreshed per frame).
+    pub model: DriveModel,
+    /// The chain's state.
+    pub state: DriveState,
+    /// Forces at `state`.
+    pub forces: crate::forces::ForceGenerator,
+    /// The static equilibrium reached before t = 0.
+    pub equilibrium: StaticEquilibrium,
+    /// Blow-up limits.
+    pub limits: BlowUpLimits,
+    /// Roller bodies.
+    pub rollers: Vec<RigidBodyHandle>,
+    /// Sprocket bodies (the user's, where mounted).
+    pub sprockets: Vec<RigidBodyHandle>,
+    colliders: std::collections::HashSet<ColliderHandle>,
+    roller_colliders: Vec<ColliderHandle>,
+    links: Vec<SprocketLink>,
+    /// Frame-start roller positions.
+    start: Vec<[f64; 2]>,
+    /// External force on each roller from other bodies, N (held over a frame).
+    external: Vec<[f64; 2]>,
+    /// World time the chain has been advanced to, s.
+    world_time_s: f64,
+}
+
+impl ChainDrive {
+    /// Builds `scene`'s drive, brings it to static equilibrium, and inserts it
+    /// into the user's sets. `mounts[k]`, where given, is the user's body that
+    /// carries sprocket k (its centre should be at the scene's centre; its
+    /// rotational inertia as the chain sees it is the scene's `inertia_kg_m2`).
+    pub fn insert(
+        scene: &Scene,
+        mounts: &[Option<RigidBodyHandle>],
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+    ) -> Result<Self, SimError> {
+        let sim = Simulation::new(scene)?;
+        let Simulation {
+            scene,
+            model,
+            state,
+            forces,
+            equilibrium,
+            limits,
+            ..
+        } = sim;
+        let hooks = ActiveHooks::FILTER_CONTACT_PAIRS;
+        let mut handles = Vec::new();
+        let mut links = Vec::with_capacity(model.sprocket_count());
+        for (k, sp) in model.sprockets.iter().enumerate() {
+            let (body, mounted) = match mounts.get(k).copied().flatten() {
+                Some(h) => (h, true),
+                None => {
+                    let b = RigidBodyBuilder::kinematic_velocity_based()
+                        .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
+                        .rotation(state.theta[k])
+                        .can_sleep(false)
+                        .build();
+                    (bodies.insert(b), false)
+                }
+            };
+            if let Some(b) = bodies.get_mut(body) {
+                b.set_rotation(Rotation::new(state.theta[k]), true);
+            }
+            let collider = ColliderBuilder::new(sprocket_shape(&sp.profile))
+                .density(0.0)
+                .active_hooks(hooks)
+                .build();
+            handles.push(colliders.insert_with_parent(collider, body, bodies));
+            links.push(SprocketLink {
+                body,
+                mounted,
+                scene_load_n_m: sp.load_torque_n_m,
+                user_torque_n_m: 0.0,
+                mean_omega: 0.0,
+                mean_chain_force: [0.0; 2],
+            });
+        }
+        let mut roller_colliders = Vec::with_capacity(state.rollers());
+        let rollers = (0..state.rollers())
+            .map(|i| {
+                let body = RigidBodyBuilder::kinematic_velocity_based()
+                    .translation(Vector::new(state.x[i], state.y[i]))
+                    .can_sleep(false)
+                    .build();
+                let h = bodies.insert(body);
+                let collider = ColliderBuilder::ball(scene.chain.roller_radius_m)
+                    .density(0.0)
+                    .active_hooks(hooks)
+                    .build();
+                let c = colliders.insert_with_parent(collider, h, bodies);
+                handles.push(c);
+                roller_colliders.push(c);
+                h
+            })
+            .collect();
+        let n = state.rollers();
+        Ok(Self {
+            sprockets: links.iter().map(|l| l.body).collect(),
+            scene,
+            model,
+            state,
+            forces,
+            equilibrium,
+            limits,
+            rollers,
+            colliders: handles.into_iter().collect(),
+            roller_colliders,
+            links,
+            start: vec![[0.0; 2]; n],
+            external: vec![[0.0; 2]; n],
+            world_time_s: 0.0,
+        })
+    }
+
+    /// The force each roller receives from other bodies (held over the coming frame), N.
+    pub fn external_forces(&self) -> &[[f64; 2]] {
+        &self.external
+    }
+
+    /// Whether a collider belongs to the drive.
+    pub fn owns_collider(&self, h: ColliderHandle) -> bool {
+        self.colliders.contains(&h)
+    }
+
+    /// Hooks for the user's step: drive–drive pairs are filtered out, every
+    /// other pair goes to `user`.
+    pub fn hooks<'a, H: PhysicsHooks>(&'a self, user: &'a H) -> ChainHooks<'a, H> {
+        ChainHooks { drive: self, user }
+    }
+
+    /// Advances the chain to the end of the coming frame of `dt_s` and sets
+    /// its bodies for rapier's step. Call right before the user's step. A
+    /// blow-up of the chain is an error (the bodies are then left as they were).
+    pub fn before_step(&mut self, bodies: &mut RigidBodySet, dt_s: f64) -> Result<(), SimError> {
+        // Sprockets: centres, user torques (taken out of rapier's step).
+        for (k, link) in self.links.iter_mut().enumerate() {
+            let Some(b) = bodies.get_mut(link.body) else {
+                continue;
+            };
+            if link.mounted {
+                let c = b.translation();
+                self.model.sprockets[k].center_m = [c.x, c.y];
+                link.user_torque_n_m = b.user_torque();
+                b.reset_torques(false);
+            }
+            self.model.sprockets[k].load_torque_n_m = link.scene_load_n_m + link.user_torque_n_m;
+        }
+        for (s, p) in self
+            .start
+            .iter_mut()
+            .zip(self.state.x.iter().zip(&self.state.y))
+        {
+            *s = [*p.0, *p.1];
+        }
+        let theta0 = self.state.theta.clone();
+        // Substeps at the scene's dt until the world's frame end; the chain's
+        // clock lags the world's by less than one substep and is counted from
+        // the frame's start as `Simulation::run` counts it, so a drive with no
+        // outside contact evolves exactly as it does standalone.
+        self.world_time_s += dt_s;
+        let dt = self.scene.solver.dt_s;
+        let t0 = self.state.t_s;
+        let substeps = ((self.world_time_s - t0) / dt + 1e-9).floor().max(0.0) as u64;
+        let mut force_sum = vec![[0.0f64; 2]; self.links.len()];
+        for step in 1..=substeps {
+            for (i, f) in self.external.iter().enumerate() {
+                self.forces.fx[i] += f[0];
+                self.forces.fy[i] += f[1];
+            }
+            symplectic_euler(&self.model, &mut self.state, &self.forces, dt, None);
+            self.state.t_s = t0 + step as f64 * dt;
+            self.forces.evaluate(&self.model, &self.state);
+            check_blow_up(&self.model, &self.state, &self.forces, &self.limits)?;
+            for (sum, f) in force_sum.iter_mut().zip(&self.forces.chain_force) {
+                sum[0] += f[0];
+                sum[1] += f[1];
+            }
+        }
+        let span = dt_s.max(f64::MIN_POSITIVE);
+        for i in 0..self.state.rollers() {
+            let v = [
+                (self.state.x[i] - self.start[i][0]) / span,
+                (self.state.y[i] - self.start[i][1]) / span,
+            ];
+            if let Some(b) = bodies.get_mut(self.rollers[i]) {
+                b.set_translation(Vector::new(self.start[i][0], self.start[i][1]), true);
+                b.set_linvel(Vector::new(v[0], v[1]), true);
+            }
+        }
+        let n = substeps.max(1) as f64;
+        for (k, link) in self.links.iter_mut().enumerate() {
+            link.mean_omega = (self.state.theta[k] - theta0[k]) / span;
+            link.mean_chain_force = [force_sum[k][0] / n, force_sum[k][1] / n];
+            if let Some(b) = bodies.get_mut(link.body) {
+                b.set_rotation(Rotation::new(theta0[k]), true);
+                b.set_angvel(link.mean_omega, true);
+                if link.mounted {
+                    b.reset_forces(false);
+                    b.add_force(
+                        Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
+                        true,
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Reads what rapier's step did to the drive's bodies beyond the chain's
+    /// own motion — the contact impulses other bodies exchanged with the
+    /// rollers, the speed change joints gave mounted sprockets — and
+    /// restores the users' torques. Call right after the user's step.
+    pub fn after_step(&mut self, bodies: &mut RigidBodySet, narrow_phase: &NarrowPhase, dt_s: f64) {
+        let span = dt_s.max(f64::MIN_POSITIVE);
+        for (i, &rc) in self.roller_colliders.iter().enumerate() {
+            let mut impulse = [0.0f64; 2];
+            for pair in narrow_phase.contact_pairs_with(rc) {
+                if !pair.has_any_active_contact() {
+                    continue;
+                }
+                // rapier applies `impulse` along −normal and the friction impulse along
+                // its perpendicular to collider 1's body, the opposite to collider 2's.
+                let sign = if pair.collider1 == rc { 1.0 } else { -1.0 };
+                for manifold in pair.manifolds() {
+                    let d = -manifold.data.normal;
+                    let t = Vector::new(-d.y, d.x);
+                    for point in &manifold.points {
+                        let (n, f) = (point.data.impulse, point.data.tangent_impulse[0]);
+                        impulse[0] += sign * (n * d.x + f * t.x);
+                        impulse[1] += sign * (n * d.y + f * t.y);
+                    }
+                }
+            }
+            self.external[i] = [impulse[0] / span, impulse[1] / span];
+        }
+        for (k, link) in self.links.iter().enumerate() {
+            if !link.mounted {
+                continue;
+            }
+            if let Some(b) = bodies.get_mut(link.body) {
+                // The body's joints changed its speed by this much during rapier's step.
+                self.state.omega[k] += b.angvel() - link.mean_omega;
+                b.reset_forces(false);
+                b.add_torque(link.user_torque_n_m, false);
+            }
+        }
+    }
+
+    /// One frame of a [`PhysicsWorld`] with the user's hooks and events.
+    pub fn step_world(
+        &mut self,
+        world: &mut PhysicsWorld,
+        user_hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) -> Result<(), SimError> {
+        let dt = world.integration_parameters.dt;
+        self.before_step(&mut world.bodies, dt)?;
+        let hooks = ChainHooks {
+            drive: &*self,
+            user: &DynHooks(user_hooks),
+        };
+        world.step_with_events(&hooks, events);
+        self.after_step(&mut world.bodies, &world.narrow_phase, dt);
+        Ok(())
+    }
+}
+
+struct DynHooks<'a>(&'a dyn PhysicsHooks);
+
+impl PhysicsHooks for DynHooks<'_> {
+    fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
+        self.0.filter_contact_pair(c)
+    }
+    fn filter_intersection_pair(&self, c: &PairFilterContext) -> bool {
+        self.0.filter_intersection_pair(c)
+    }
+    fn modify_solver_contacts(&self, c: &mut ContactModificationContext) {
+        self.0.modify_solver_contacts(c)
+    }
+}
+
+/// Keeps rapier's solver out of roller–sprocket and roller–roller pairs and
+/// defers everything else to the user's hooks.
+pub struct ChainHooks<'a, H: PhysicsHooks> {
+    drive: &'a ChainDrive,
+    user: &'a H,
+}
+
+impl<H: PhysicsHooks> PhysicsHooks for ChainHooks<'_, H> {
+    fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
+        if self.drive.owns_collider(c.collider1) && self.drive.owns_collider(c.collider2) {
+            None
+        } else if self.needs_user(c) {
+            self.user.filter_contact_pair(c)
+        } else {
+            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+        }
+    }
+
+    fn filter_intersection_pair(&self, c: &PairFilterContext) -> bool {
+        !(self.drive.owns_collider(c.collider1) && self.drive.owns_collider(c.collider2))
+            && (!self.needs_user(c) || self.user.filter_intersection_pair(c))
+    }
+
+    fn modify_solver_contacts(&self, c: &mut ContactModificationContext) {
+        self.user.modify_solver_contacts(c)
+    }
+}
+
+impl<H: PhysicsHooks> ChainHooks<'_, H> {
+    /// Whether one of the pair's colliders asked for the user's filter itself
+    /// (rapier only calls hooks for flagged colliders; ours flag every pair
+    /// they are in, so the user's filter is asked only when the user's
+    /// collider asked for it too).
+    fn needs_user(&self, c: &PairFilterContext) -> bool {
+        let asks = |h: ColliderHandle| {
+            !self.drive.owns_collider(h)
+                && c.colliders.get(h).is_some_and(|col| {
+                    col.active_hooks()
+                        .contains(ActiveHooks::FILTER_CONTACT_PAIRS)
+                })
+        };
+        asks(c.collider1) || asks(c.collider2)
+    }
+}
