@@ -202,3 +202,49 @@ fn a_write_failure_during_the_run_is_an_error() {
     let err = stderr(&out);
     assert!(err.contains("series"), "{err}");
 }
+
+#[test]
+fn sigint_and_sigterm_end_the_run_with_a_summary_marked_interrupted() {
+    for signal in ["-INT", "-TERM"] {
+        let dir = tempfile::tempdir().expect("tmp");
+        let summary = dir.path().join("s.json");
+        let series = dir.path().join("s.csv");
+        let mut child = Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+            .args(["run", "--duration", "60", "--quiet"])
+            .args(["--summary", summary.to_str().expect("utf8")])
+            .args(["--series", series.to_str().expect("utf8")])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("spawn");
+        // Wait until the run has written samples, then signal it.
+        let started = std::time::Instant::now();
+        while std::fs::metadata(&series).map_or(0, |m| m.len()) < 20_000 {
+            assert!(started.elapsed().as_secs() < 60, "no samples written");
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        let kill = Command::new("kill")
+            .args([signal, &child.id().to_string()])
+            .status()
+            .expect("kill");
+        assert!(kill.success());
+        let status = child.wait().expect("wait");
+        assert_eq!(status.code(), Some(130), "{signal}");
+        let value: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary"))
+                .expect("json");
+        assert_eq!(value["interrupted"], true, "{signal}");
+        let t = value["duration_s"].as_f64().expect("duration");
+        assert!(t > 0.0 && t < 60.0, "{signal}: {t}");
+        // The series holds every sample up to the interruption.
+        let rows = std::fs::read_to_string(&series)
+            .expect("series")
+            .lines()
+            .count()
+            - 1;
+        assert!(
+            (rows as f64 - (t * 1000.0 + 1.0)).abs() <= 1.0,
+            "{rows} rows for {t} s"
+        );
+    }
+}

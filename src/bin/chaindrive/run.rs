@@ -12,7 +12,7 @@ use anyhow::Context;
 use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ProfileKind, Stepping};
-use chaindrive::sim::{Observer, Sample, Simulation};
+use chaindrive::sim::{Observer, Sample, Simulation, StepLimits};
 
 /// Arguments of `chaindrive run`.
 #[derive(clap::Args)]
@@ -213,6 +213,24 @@ fn simulate(
     mut csv: Option<BufWriter<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
 ) -> anyhow::Result<ExitCode> {
+    // Ctrl-C/SIGTERM from here on end the run cleanly (also during the static
+    // equilibrium: the run then stops at t = 0 with everything written).
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let limits = StepLimits::of(&scene);
+    if scene.solver.dt_s > limits.min_s() {
+        eprintln!(
+            "warning: dt = {:e} s exceeds the estimated explicit stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s)",
+            scene.solver.dt_s,
+            limits.min_s(),
+            limits.links_s,
+            limits.contact_damping_s
+        );
+    }
     let setup = Instant::now();
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
@@ -240,12 +258,6 @@ fn simulate(
         );
         p
     });
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
     let mut observer = CliObserver {
         signals: Signals::new(&sim.model, rate_hz, (duration - 1.0).max(0.0)),
         csv,
