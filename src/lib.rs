@@ -55,6 +55,51 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! ## Using chaindrive in your rapier scene
+//!
+//! [`cosim::ChainDrive`] adds a drive's bodies to your own sets (a sprocket
+//! may sit on a body you already have: a motor shaft, a wheel), substeps the
+//! chain at the scene's `dt_s` inside each of your world's steps, feeds the
+//! contact impulses of your bodies back into the chain, and keeps rapier's
+//! solver out of roller–sprocket and roller–roller pairs through
+//! [`cosim::ChainHooks`], which hands every other pair to your own hooks.
+//!
+//! ```
+//! use chaindrive::cosim::ChainDrive;
+//! use chaindrive::scene::Scene;
+//! use rapier2d_f64::prelude::*;
+//!
+//! let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
+//! let mut world = PhysicsWorld::default(); // your world, 60 Hz
+//! // Your motor: a body on a fixed axle; the head sprocket is mounted on it.
+//! let motor = world.bodies.insert(
+//!     RigidBodyBuilder::dynamic()
+//!         .lock_translations()
+//!         .additional_mass_properties(MassProperties::new(Vector::ZERO, 2.0, 0.05)),
+//! );
+//! let mut drive =
+//!     ChainDrive::insert(&scene, &[Some(motor)], &mut world.bodies, &mut world.colliders)?;
+//! for _ in 0..6 {
+//!     // Your motor torque, as you would set it for any rapier body.
+//!     world.bodies[motor].reset_torques(false);
+//!     world.bodies[motor].add_torque(5.0, true);
+//!     drive.step_world(&mut world, &(), &())?; // before_step + world step + after_step
+//! }
+//! assert!(drive.state.omega[0] > 0.0 && world.bodies[motor].angvel() > 0.0);
+//!
+//! // The same frame, composed with your own pipeline call and hooks:
+//! let dt = world.integration_parameters.dt;
+//! drive.before_step(&mut world.bodies, dt)?;
+//! world.step_with_events(&drive.hooks(&()), &());
+//! drive.after_step(&mut world.bodies, &world.narrow_phase, dt);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Examples: `conveyor.rs` (motor torque, boxes on the upper strand),
+//! `bicycle.rs` (rider torque on the crank, drag on the wheel),
+//! `paper_in_scene.rs` (the paper's drive beside bouncing balls, with the
+//! wall time per frame).
+//!
 //! ## Units and conventions
 //!
 //! | quantity | unit | note |
