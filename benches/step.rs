@@ -12,15 +12,17 @@
 use std::hint::black_box;
 
 use chaindrive::forces::ContactLawParams;
+use chaindrive::geometry::asa::AsaProfile;
 use chaindrive::geometry::{CircularProfile, Patch};
-use chaindrive::scene::{Scene, Stepping};
+use chaindrive::scene::{ProfileKind, Scene, Stepping};
 use chaindrive::sim::{NoObserver, Simulation};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 /// The paper's drive, run to full speed (1.5 s), in the given stepping mode.
-fn running_drive(stepping: Stepping) -> Simulation {
+fn running_drive(stepping: Stepping, profile: ProfileKind) -> Simulation {
     let mut scene = Scene::l60mc();
     scene.solver.stepping = stepping;
+    scene.set_profile(profile);
     let mut sim = Simulation::new(&scene).expect("paper drive");
     sim.run(1.5, 1000, &mut NoObserver, None).expect("run");
     sim
@@ -39,14 +41,43 @@ fn kernels(c: &mut Criterion) {
         let mut hint = 0;
         b.iter(|| profile.contacts(black_box(p), &mut hint, &mut out))
     });
+    // The same seated roller against the real (ASA B29.1) profile, and one on a flank.
+    let real = AsaProfile::new(60, 0.0889, 0.054).expect("profile");
+    let d = real.dimensions();
+    let seated = [d.pitch_radius_m - d.clearance_m - 2e-4, 1e-4];
+    let flank = [d.pitch_radius_m + 0.01, 0.024];
+    for (name, q) in [
+        ("profile/real_contacts_seated", seated),
+        ("profile/real_contacts_flank", flank),
+    ] {
+        c.bench_function(name, |b| {
+            let mut out = [EMPTY; 2];
+            let mut hint = 0;
+            b.iter(|| real.contacts_hinted(black_box(q), 0.027, &mut hint, &mut out))
+        });
+    }
 }
+
+const EMPTY: chaindrive::geometry::asa::Patch = chaindrive::geometry::asa::Patch {
+    depth_m: 0.0,
+    normal: [0.0; 2],
+    point: [0.0; 2],
+    area: 0,
+    gap: 0,
+    patch_id: 0,
+};
 
 fn steps(c: &mut Criterion) {
     let mut group = c.benchmark_group("paper_drive_step");
-    for stepping in [Stepping::Substepped, Stepping::Rapier] {
-        let mut sim = running_drive(stepping);
+    for (stepping, profile) in [
+        (Stepping::Substepped, ProfileKind::Circular),
+        (Stepping::Substepped, ProfileKind::Real),
+        (Stepping::Rapier, ProfileKind::Circular),
+    ] {
+        let mut sim = running_drive(stepping, profile);
         let dt = sim.scene.solver.dt_s;
-        group.bench_function(stepping.name(), |b| b.iter(|| sim.step(dt)));
+        let name = format!("{}_{}", stepping.name(), profile.name());
+        group.bench_function(name, |b| b.iter(|| sim.step(dt)));
     }
     group.finish();
 }

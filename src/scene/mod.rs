@@ -299,7 +299,7 @@ pub const DEFAULT_MIN_APPROACH_SPEED_M_S: f64 = 0.05;
 /// Relative tolerance between a stated pitch radius and P / (2 sin(π/N)).
 pub const PITCH_RADIUS_TOLERANCE: f64 = 1e-5;
 /// Supported tooth counts.
-pub const TEETH_RANGE: std::ops::RangeInclusive<i64> = 6..=400;
+pub const TEETH_RANGE: std::ops::RangeInclusive<i64> = 5..=300;
 
 impl Scene {
     /// Parses and validates a TOML scene. All problems are reported at once.

@@ -251,3 +251,37 @@ fn sprocket_colliders_are_seen_by_ray_casts() {
         "{hit_radius}"
     );
 }
+
+#[test]
+fn parry_projection_on_the_sprocket_collider_agrees_to_its_tessellation() {
+    // The collider is the outline tessellated at 2° (model::rapier::COLLIDER_ARC_STEP_RAD):
+    // chord error ≤ R (1 − cos 1°) for the largest arc radius R_E = 70.37 mm, 10.7 µm.
+    use parry2d_f64::query::PointQuery as _;
+    let profile = ToothProfile::Real(Box::new(
+        chaindrive::geometry::asa::AsaProfile::new(28, 0.0889, 0.054).expect("profile"),
+    ));
+    let shape = chaindrive::model::rapier::sprocket_shape(&profile);
+    let ToothProfile::Real(asa) = &profile else {
+        unreachable!()
+    };
+    let tolerance = 70.3731e-3 * (1.0 - 1f64.to_radians().cos()) + 1e-9;
+    let mut seed = 11u64;
+    let mut next = || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for _ in 0..2000 {
+        let a = next() * std::f64::consts::TAU;
+        let r = 0.367 + next() * 0.065;
+        let p = [r * a.cos(), r * a.sin()];
+        let (sd, _, _, _) = asa.signed_distance(p);
+        let proj = shape.project_local_point(Vector::new(p[0], p[1]), false);
+        let d = (proj.point.x - p[0]).hypot(proj.point.y - p[1]);
+        assert!(
+            (sd.abs() - d).abs() <= tolerance,
+            "at {p:?}: exact {sd}, collider {d}"
+        );
+    }
+}
