@@ -6,7 +6,7 @@
 //! cargo run --release --example paper_drive
 //! ```
 
-use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
+use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::scene::Scene;
 use chaindrive::sim::Simulation;
 
@@ -22,19 +22,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
     let mut signals = Signals::new(&sim.model, rate_hz, scene.solver.duration_s - 1.0);
     let outcome = sim.run(scene.solver.duration_s, every, &mut signals, None)?;
-    let summary = RunSummary::compute(
-        &SummaryInputs {
-            scene: &scene,
-            model: &sim.model,
-            static_tension_n: sim.equilibrium.tension_n,
-            steps: outcome.steps,
-            wall_s: outcome.wall_s,
-            setup_wall_s: 0.0,
-            interrupted: outcome.interrupted,
-            max_penetration_m: outcome.max_penetration_m,
-        },
-        &signals,
-    );
+    let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
     println!("{}", serde_json::to_string_pretty(&summary)?);
     Ok(())
 }

@@ -30,7 +30,7 @@
 //! ## Quick start
 //!
 //! ```no_run
-//! use chaindrive::{analysis::{RunSummary, Signals, SummaryInputs}, scene::Scene, sim::Simulation};
+//! use chaindrive::{analysis::{RunSummary, Signals}, scene::Scene, sim::Simulation};
 //!
 //! let mut scene = Scene::l60mc(); // the paper's drive
 //! scene.solver.duration_s = 2.0;
@@ -38,19 +38,7 @@
 //! let mut signals = Signals::new(&sim.model, 1000.0, 1.0);
 //! let every = (1.0 / (1000.0 * scene.solver.dt_s)).round() as u64;
 //! let outcome = sim.run(scene.solver.duration_s, every, &mut signals, None)?;
-//! let summary = RunSummary::compute(
-//!     &SummaryInputs {
-//!         scene: &scene,
-//!         model: &sim.model,
-//!         static_tension_n: sim.equilibrium.tension_n,
-//!         steps: outcome.steps,
-//!         wall_s: outcome.wall_s,
-//!         setup_wall_s: 0.0,
-//!         interrupted: outcome.interrupted,
-//!         max_penetration_m: outcome.max_penetration_m,
-//!     },
-//!     &signals,
-//! );
+//! let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
 //! println!("segment 1 mean link force: {:.0} N", summary.segments[0].mean_link_force_n);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

@@ -22,6 +22,7 @@ use super::theory::moving_string_frequency_hz;
 use super::{SampleRow, Signals};
 use crate::model::DriveModel;
 use crate::scene::Scene;
+use crate::sim::{RunOutcome, Simulation};
 
 /// A free strand as laid out.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -162,6 +163,30 @@ fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
 }
 
 impl RunSummary {
+    /// The summary of a run of `sim` that ended with `outcome`, from the
+    /// signals sampled along it; `setup_wall_s` is the wall time of
+    /// [`Simulation::new`].
+    pub fn of_run(
+        sim: &Simulation,
+        outcome: &RunOutcome,
+        signals: &Signals,
+        setup_wall_s: f64,
+    ) -> Self {
+        Self::compute(
+            &SummaryInputs {
+                scene: &sim.scene,
+                model: &sim.model,
+                static_tension_n: sim.equilibrium.tension_n,
+                steps: outcome.steps,
+                wall_s: outcome.wall_s,
+                setup_wall_s,
+                interrupted: outcome.interrupted,
+                max_penetration_m: outcome.max_penetration_m,
+            },
+            signals,
+        )
+    }
+
     /// Computes the summary of a run from its signals.
     pub fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
         let scene = inputs.scene;

@@ -1,7 +1,7 @@
 //! The paper's drive: Table 4, static pretension, speed ratios, the strands'
 //! transverse frequency against the moving-string estimate.
 
-use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
+use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::model::DriveModel;
 use chaindrive::sim::Simulation;
 
@@ -84,19 +84,7 @@ pub fn run_summary(duration_s: f64, rate_hz: f64) -> RunSummary {
     let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
     let mut signals = Signals::new(&sim.model, rate_hz, duration_s - 1.0);
     let out = sim.run(duration_s, every, &mut signals, None).expect("run");
-    RunSummary::compute(
-        &SummaryInputs {
-            scene: &scene,
-            model: &sim.model,
-            static_tension_n: sim.equilibrium.tension_n,
-            steps: out.steps,
-            wall_s: out.wall_s,
-            setup_wall_s: 0.0,
-            interrupted: out.interrupted,
-            max_penetration_m: out.max_penetration_m,
-        },
-        &signals,
-    )
+    RunSummary::of_run(&sim, &out, &signals, 0.0)
 }
 
 #[test]

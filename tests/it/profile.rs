@@ -256,7 +256,6 @@ fn sprocket_colliders_are_seen_by_ray_casts() {
 fn parry_projection_on_the_sprocket_collider_agrees_to_its_tessellation() {
     // The collider is the outline tessellated at 2° (model::rapier::COLLIDER_ARC_STEP_RAD):
     // chord error ≤ R (1 − cos 1°) for the largest arc radius R_E = 70.37 mm, 10.7 µm.
-    use parry2d_f64::query::PointQuery as _;
     let profile = ToothProfile::Real(Box::new(
         chaindrive::geometry::asa::AsaProfile::new(28, 0.0889, 0.054).expect("profile"),
     ));

@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
+use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ProfileKind, Stepping};
 use chaindrive::sim::{Observer, Sample, Simulation, StepLimits};
@@ -285,19 +285,7 @@ fn simulate(
         r.finish(end).context("writing the recording failed")?;
     }
     let outcome = outcome?;
-    let summary = RunSummary::compute(
-        &SummaryInputs {
-            scene: &scene,
-            model: &sim.model,
-            static_tension_n: sim.equilibrium.tension_n,
-            steps: outcome.steps,
-            wall_s: outcome.wall_s,
-            setup_wall_s,
-            interrupted: outcome.interrupted,
-            max_penetration_m: outcome.max_penetration_m,
-        },
-        &observer.signals,
-    );
+    let summary = RunSummary::of_run(&sim, &outcome, &observer.signals, setup_wall_s);
     if let Some(f) = summary_file.as_mut() {
         serde_json::to_writer_pretty(&mut *f, &summary)?;
         writeln!(f)?;
