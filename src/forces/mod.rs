@@ -110,6 +110,8 @@ pub struct ForceGenerator {
     link_fx: Vec<f64>,
     /// Scratch: its y component, N.
     link_fy: Vec<f64>,
+    /// Scratch: l − rest length of link i, m.
+    link_stretch: Vec<f64>,
     /// Link force F_link of link i (roller i to i + 1), N, tension positive.
     pub link_force: Vec<f64>,
     /// Whether roller i touches any sprocket.
@@ -143,6 +145,7 @@ impl ForceGenerator {
             link_force: vec![0.0; rollers],
             link_fx: vec![0.0; rollers],
             link_fy: vec![0.0; rollers],
+            link_stretch: vec![0.0; rollers],
             touching: vec![false; rollers],
             chain_torque: vec![0.0; sprockets],
             chain_force: vec![[0.0; 2]; sprockets],
@@ -190,19 +193,43 @@ impl ForceGenerator {
         let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
         let force = &mut self.link_force[..n];
         let (lfx, lfy) = (&mut self.link_fx[..n], &mut self.link_fy[..n]);
-        let mut max_stretch = 0.0f64;
-        let mut stretch_is_nan = false;
-        for i in 0..n {
-            let j = if i + 1 < n { i + 1 } else { 0 };
-            let (f, ux, uy, stretch) =
-                law.eval(x[j] - x[i], y[j] - y[i], vx[j] - vx[i], vy[j] - vy[i]);
-            force[i] = f;
-            lfx[i] = f * ux;
-            lfy[i] = f * uy;
-            max_stretch = max_stretch.max(stretch.abs());
-            // `max` drops a NaN: keep it visible to the blow-up check.
-            stretch_is_nan |= stretch.is_nan();
+        let stretch = &mut self.link_stretch[..n];
+        // Links 0..n−1 join consecutive rollers: a branch-free loop over
+        // zipped slices, which the compiler vectorises (square roots and
+        // divisions two or four at a time). The closing link n−1 → 0 after it.
+        let pairs = x[..n - 1]
+            .iter()
+            .zip(&x[1..])
+            .zip(y[..n - 1].iter().zip(&y[1..]))
+            .zip(vx[..n - 1].iter().zip(&vx[1..]))
+            .zip(vy[..n - 1].iter().zip(&vy[1..]));
+        let outs = force[..n - 1]
+            .iter_mut()
+            .zip(lfx[..n - 1].iter_mut())
+            .zip(lfy[..n - 1].iter_mut())
+            .zip(stretch[..n - 1].iter_mut());
+        for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), (((f, fx), fy), st)) in
+            pairs.zip(outs)
+        {
+            let (force_n, ux, uy, s) = law.eval(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
+            *f = force_n;
+            *fx = force_n * ux;
+            *fy = force_n * uy;
+            *st = s;
         }
+        let (f, ux, uy, s) = law.eval(
+            x[0] - x[n - 1],
+            y[0] - y[n - 1],
+            vx[0] - vx[n - 1],
+            vy[0] - vy[n - 1],
+        );
+        force[n - 1] = f;
+        lfx[n - 1] = f * ux;
+        lfy[n - 1] = f * uy;
+        stretch[n - 1] = s;
+        // `max` drops a NaN: keep it visible to the blow-up check.
+        let stretch_is_nan = stretch.iter().any(|s| s.is_nan());
+        let max_stretch = stretch.iter().fold(0.0f64, |m, s| m.max(s.abs()));
         let (fx, fy) = (&mut self.fx[..n], &mut self.fy[..n]);
         fx[0] += lfx[0] - lfx[n - 1];
         fy[0] += lfy[0] - lfy[n - 1];
