@@ -12,6 +12,8 @@
 pub mod binder;
 #[cfg(feature = "figures")]
 pub mod figures;
+#[cfg(feature = "record")]
+pub mod recorded;
 pub mod reproduce;
 pub mod spectrum;
 pub mod study;

@@ -3,6 +3,7 @@
 //! closed forms, the public contract), with its source in a comment.
 
 mod analysis;
+mod analyze;
 mod cli;
 mod cosim;
 mod fuzz;

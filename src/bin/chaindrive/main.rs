@@ -1,5 +1,6 @@
 //! The `chaindrive` command-line tool: one file per subcommand.
 
+mod analyze;
 mod bench;
 mod check;
 mod profile;
@@ -28,6 +29,8 @@ enum Command {
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: three runs, report, summaries, figures.
     Reproduce(reproduce::ReproduceArgs),
+    /// Analyse a recording (`run --record`) of any scene: report, JSON, figures.
+    Analyze(analyze::AnalyzeArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -38,6 +41,7 @@ fn main() -> std::process::ExitCode {
         Command::Check(args) => check::check(args),
         Command::Profile(args) => profile::profile(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
+        Command::Analyze(args) => analyze::analyze(args),
     };
     match result {
         Ok(code) => code,

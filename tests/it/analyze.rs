@@ -1,0 +1,252 @@
+//! `chaindrive analyze` on recordings written by the real binary: its
+//! numbers against the run's own `--summary` (the same samples, the same
+//! windows: the last second, and the ramp's end + 0.5 s to the end for
+//! spectra, `src/analysis/summary.rs`), and its refusals of bad input.
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn chaindrive(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("chaindrive runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).expect("readable")).expect("JSON")
+}
+
+fn f(v: &serde_json::Value) -> f64 {
+    v.as_f64().unwrap_or(f64::NAN)
+}
+
+fn close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * b.abs().max(1e-12)
+}
+
+/// Fails with a clear message, non-zero exit, and writes no output directory.
+fn refused(dir: &Path, args: &[&str], out: &str, expect: &[&str]) {
+    let o = chaindrive(args, dir);
+    let err = stderr(&o);
+    assert!(!o.status.success(), "{args:?} succeeded");
+    for e in expect {
+        assert!(err.contains(e), "{args:?}: {e:?} not in {err}");
+    }
+    assert!(!dir.join(out).exists(), "{args:?} wrote {out}");
+}
+
+#[test]
+fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let dir = tmp.path();
+    // 2 s: the summary's spectrum window (ramp end 1 s + 0.5 s to the end) holds 0.5 s.
+    let run = chaindrive(
+        &[
+            "run",
+            "--duration",
+            "2",
+            "--record",
+            "x.mcap",
+            "--summary",
+            "s.json",
+            "--quiet",
+        ],
+        dir,
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let o = chaindrive(&["analyze", "x.mcap", "--out", "d"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = dir.join("d");
+    for name in [
+        "report.md",
+        "analysis.json",
+        "link0_force.png",
+        "link0_force.svg",
+        "roller0_contact.png",
+        "segment1_force.png",
+        "segment4_transverse.svg",
+        "segment4_spectrum.png",
+        "sprocket1_contact_vs_binder.png",
+    ] {
+        let p = out.join(name);
+        assert!(
+            p.metadata().map(|m| m.len() > 0).unwrap_or(false),
+            "{name} missing or empty"
+        );
+    }
+    let summary = json(&dir.join("s.json"));
+    let analysis = json(&out.join("analysis.json"));
+    let report = std::fs::read_to_string(out.join("report.md")).expect("report");
+    assert_eq!(analysis["window_s"], summary["window_s"]);
+    assert_eq!(analysis["spectrum_window_s"], summary["spectrum_window_s"]);
+    assert!(close(
+        f(&analysis["static_tension_n"]),
+        f(&summary["static_tension_n"]),
+        1e-9
+    ));
+    let segs = summary["segments"].as_array().expect("segments");
+    assert_eq!(segs.len(), 4);
+    for (s, a) in segs
+        .iter()
+        .zip(analysis["segments"].as_array().expect("segments"))
+    {
+        let k = &s["segment"];
+        assert_eq!(&a["segment"], k);
+        for field in [
+            "mean_link_force_n",
+            "link_force_p2p_n",
+            "string_f1_hz",
+            "transverse_peak_hz",
+        ] {
+            let (x, y) = (f(&a[field]), f(&s[field]));
+            assert!(close(x, y, 1e-6), "segment {k} {field}: {x} vs {y}");
+        }
+        // The report's segment table shows the same mean, to 0.1 N.
+        let row = format!(
+            "| {k} | {:.4} | {:.1} |",
+            f(&a["length_m"]),
+            f(&s["mean_link_force_n"])
+        );
+        assert!(report.contains(&row), "{row} not in the report");
+    }
+    for (s, a) in summary["sprockets"]
+        .as_array()
+        .expect("sprockets")
+        .iter()
+        .zip(analysis["sprockets"].as_array().expect("sprockets"))
+    {
+        for field in ["mean_speed_rad_s", "speed_p2p_rad_s", "mean_torque_n_m"] {
+            let (x, y) = (f(&a[field]), f(&s[field]));
+            assert!(
+                close(x, y, 1e-6),
+                "sprocket {} {field}: {x} vs {y}",
+                s["sprocket"]
+            );
+        }
+        let row = format!(
+            "| {} | {} | {:.4} |",
+            s["sprocket"],
+            a["teeth"],
+            f(&s["mean_speed_rad_s"])
+        );
+        assert!(report.contains(&row), "{row} not in the report");
+    }
+    // Sprocket 1 (60 teeth, 1 s at steady speed) has complete contacts to compare with (49).
+    assert!(
+        analysis["sprockets"][0]["binder"]["contacts"]
+            .as_u64()
+            .unwrap_or(0)
+            > 0
+    );
+    assert!(!report.contains("NaN"));
+
+    let unknown = "unknown roller 500: the chain has rollers 0 to 121";
+    refused(
+        dir,
+        &["analyze", "x.mcap", "--out", "e", "--roller", "500"],
+        "e",
+        &[unknown],
+    );
+    refused(
+        dir,
+        &["analyze", "x.mcap", "--out", "e", "--link", "122"],
+        "e",
+        &["unknown link 122"],
+    );
+    refused(
+        dir,
+        &["analyze", "x.mcap", "--out", "e", "--segment", "9"],
+        "e",
+        &["unknown segment 9: the drive has segments 1 to 4"],
+    );
+    refused(
+        dir,
+        &["analyze", "x.mcap", "--out", "e", "--window", "5,6"],
+        "e",
+        &["window [5, 6] s is outside the run's samples [0, 2"],
+    );
+    refused(
+        dir,
+        &["analyze", "x.mcap", "--out", "e", "--window", "1,0.5"],
+        "e",
+        &["--window"],
+    );
+}
+
+#[test]
+fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let dir = tmp.path();
+    let record = |file: &str, channels: &str| {
+        let o = chaindrive(
+            &[
+                "run",
+                "--duration",
+                "0.3",
+                "--record",
+                file,
+                "--record-channels",
+                channels,
+                "--quiet",
+            ],
+            dir,
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    };
+    record("sprockets.mcap", "sprockets");
+    refused(
+        dir,
+        &["analyze", "sprockets.mcap", "--out", "e"],
+        "e",
+        &[
+            "lacks channel(s) /segments",
+            "it has: /sprockets",
+            "--record-channels",
+        ],
+    );
+    // Signals without links and contacts: the segment and sprocket analysis
+    // runs, and says what it left out; asking for a link is an error.
+    record("signals.mcap", "sprockets,segments");
+    refused(
+        dir,
+        &["analyze", "signals.mcap", "--out", "e", "--link", "3"],
+        "e",
+        &[
+            "lacks channel(s) /links needed for link 3's force",
+            "/segments, /sprockets",
+        ],
+    );
+    refused(
+        dir,
+        &["analyze", "signals.mcap", "--out", "e", "--roller", "3"],
+        "e",
+        &["lacks channel(s) /contacts, /rollers"],
+    );
+    let o = chaindrive(&["analyze", "signals.mcap", "--out", "ok"], dir);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("contact forces: not recorded"));
+    let report = std::fs::read_to_string(dir.join("ok/report.md")).expect("report");
+    assert!(report.contains("not recorded: needs /contacts, /rollers"));
+    assert!(!dir.join("ok/link0_force.png").exists());
+    assert!(dir.join("ok/segment1_force.png").exists());
+
+    std::fs::write(dir.join("scene.mcap"), "name = \"not a recording\"\n").expect("write");
+    refused(
+        dir,
+        &["analyze", "scene.mcap", "--out", "e"],
+        "e",
+        &["scene.mcap is not a readable MCAP recording", "name = "],
+    );
+    refused(
+        dir,
+        &["analyze", "absent.mcap", "--out", "e"],
+        "e",
+        &["cannot read absent.mcap"],
+    );
+}
