@@ -28,7 +28,7 @@ use super::study::{
     segment_force_series, spectrum_with_peaks, transverse_series,
 };
 use super::theory::string_frequency_hz;
-use super::{RunSummary, Signals, SummaryInputs};
+use super::{RunSummary, Signals};
 use crate::scene::{ProfileKind, Scene};
 use crate::sim::{
     BlowUpLimits, EquilibriumError, RelaxSettings, SimError, Simulation, StaticEquilibrium,
@@ -133,19 +133,7 @@ pub fn run_scene(
     let outcome = sim
         .run(duration, every, &mut Both(&mut signals, &mut probes), None)
         .map_err(sim_err)?;
-    let summary = RunSummary::compute(
-        &SummaryInputs {
-            scene: &sim.scene,
-            model: &sim.model,
-            static_tension_n: sim.equilibrium.tension_n,
-            steps: outcome.steps,
-            wall_s: outcome.wall_s,
-            setup_wall_s,
-            interrupted: outcome.interrupted,
-            max_penetration_m: outcome.max_penetration_m,
-        },
-        &signals,
-    );
+    let summary = RunSummary::of_run(&sim, &outcome, &signals, setup_wall_s);
     Ok(RunData {
         label: label.to_owned(),
         facts: DriveFacts::new(&sim.scene, &sim.model),
