@@ -38,6 +38,10 @@
 //! - A mounted sprocket's centre follows its body's position once per frame;
 //!   the chain's force on it is applied to the body as a user force over the
 //!   next rapier step.
+//! - Not coupled (yet): other bodies hitting a sprocket the drive owns (its
+//!   kinematic body does not pass their impulses on; mount the sprocket on
+//!   your own body if that matters), and fixed colliders meeting rollers (a
+//!   guide): kinematic and fixed bodies exchange no contact forces in rapier.
 //!
 //! rapier's own contact never acts between two of the drive's colliders:
 //! [`ChainHooks`] filters those pairs and hands every other pair to the
