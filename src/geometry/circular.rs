@@ -234,15 +234,12 @@ mod tests {
     fn hinted_gap_equals_atan2_gap() {
         // Oracle: the hint path must agree with the plain atan2 rule everywhere.
         let c = CircularProfile::new(28, P, RR);
-        let mut seed = 12345u64;
+        let mut rng = crate::scene::mutate::Lcg::new(12345);
         for _ in 0..20000 {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let a = (seed >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU;
-            let r = 0.3 + 0.2 * ((seed >> 7) % 1000) as f64 / 1000.0;
+            let a = rng.unit() * std::f64::consts::TAU;
+            let r = 0.3 + 0.2 * rng.unit();
             let p = [r * a.cos(), r * a.sin()];
-            let hint = (seed % 28) as u32;
+            let hint = rng.below(28) as u32;
             assert_eq!(c.gap_near(p, hint), c.gap_of(p));
         }
     }

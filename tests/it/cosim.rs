@@ -49,6 +49,13 @@ dt_s = 1e-5
     Scene::from_toml(&text).expect("conveyor scene")
 }
 
+/// A 2 kg motor body on a fixed axle with the conveyor sprocket's 0.01 kg·m².
+fn motor_body() -> RigidBodyBuilder {
+    RigidBodyBuilder::dynamic()
+        .lock_translations()
+        .additional_mass_properties(MassProperties::new(Vector::ZERO, 2.0, 0.01))
+}
+
 fn world() -> PhysicsWorld {
     PhysicsWorld {
         gravity: Vector::new(0.0, -9.81),
@@ -141,11 +148,7 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
     let torque = 10.0;
     let scene = conveyor("role = \"free\"", -torque);
     let mut w = world();
-    let motor = w.bodies.insert(
-        RigidBodyBuilder::dynamic()
-            .lock_translations()
-            .additional_mass_properties(MassProperties::new(Vector::ZERO, 2.0, 0.01)),
-    );
+    let motor = w.bodies.insert(motor_body());
     let mut drive =
         ChainDrive::insert(&scene, &[Some(motor)], &mut w.bodies, &mut w.colliders).expect("drive");
     w.bodies[motor].add_torque(torque, true);
@@ -219,11 +222,7 @@ fn motor_spin_up_is_consistent_with_the_chain_reaction() {
     let torque = 1.0;
     let scene = conveyor("role = \"free\"", 0.0);
     let mut w = world();
-    let motor = w.bodies.insert(
-        RigidBodyBuilder::dynamic()
-            .lock_translations()
-            .additional_mass_properties(MassProperties::new(Vector::ZERO, 2.0, 0.01)),
-    );
+    let motor = w.bodies.insert(motor_body());
     let mut drive =
         ChainDrive::insert(&scene, &[Some(motor)], &mut w.bodies, &mut w.colliders).expect("drive");
     w.bodies[motor].add_torque(torque, true);

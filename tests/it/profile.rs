@@ -6,6 +6,7 @@
 use std::process::Command;
 
 use chaindrive::geometry::ToothProfile;
+use chaindrive::scene::mutate::Lcg;
 use chaindrive::scene::{ProfileKind, Scene};
 use parry2d_f64::math::Vector;
 use parry2d_f64::query::PointQuery;
@@ -177,13 +178,8 @@ fn exact_distance_agrees_with_parry_on_a_fine_tessellation() {
         .collect();
     let n = pts.len() as u32;
     let polyline = Polyline::new(pts, Some((0..n).map(|i| [i, (i + 1) % n]).collect()));
-    let mut seed = 7u64;
-    let mut next = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Lcg::new(7);
+    let mut next = || rng.unit();
     for _ in 0..2000 {
         let a = next() * std::f64::consts::TAU;
         let r = 0.395 + next() * 0.065; // root 398 mm to tip 454 mm, and beyond
@@ -264,13 +260,8 @@ fn parry_projection_on_the_sprocket_collider_agrees_to_its_tessellation() {
         unreachable!()
     };
     let tolerance = 70.3731e-3 * (1.0 - 1f64.to_radians().cos()) + 1e-9;
-    let mut seed = 11u64;
-    let mut next = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = Lcg::new(11);
+    let mut next = || rng.unit();
     for _ in 0..2000 {
         let a = next() * std::f64::consts::TAU;
         let r = 0.367 + next() * 0.065;
