@@ -1405,6 +1405,22 @@ pub fn recorded_figures(
     dir: &Path,
 ) -> Result<(FigureList, Vec<std::path::PathBuf>), RecordedError> {
     use super::figures::{Mark, Plot, Trace, save};
+
+    /// A plot of one signal over time, drawn as a line.
+    fn time_plot(title: String, y_label: &str, label: String, points: Vec<(f64, f64)>) -> Plot {
+        Plot {
+            title,
+            x_label: "t (s)".into(),
+            y_label: y_label.into(),
+            traces: vec![Trace {
+                label,
+                points,
+                mark: Mark::Line,
+                color: 0,
+            }],
+            notes: Vec::new(),
+        }
+    }
     let d = &run.data;
     let mut out = Vec::new();
     let mut paths = Vec::new();
@@ -1423,18 +1439,12 @@ pub fn recorded_figures(
     if let Some(l) = &a.link {
         let s = link_force_series(d, l.link, a.window_s)?;
         emit(
-            Plot {
-                title: format!("force of link {}", l.link),
-                x_label: "t (s)".into(),
-                y_label: "link force (kN)".into(),
-                traces: vec![Trace {
-                    label: d.label.clone(),
-                    points: pts(&s, 1e-3, 0.0),
-                    mark: Mark::Line,
-                    color: 0,
-                }],
-                notes: Vec::new(),
-            },
+            time_plot(
+                format!("force of link {}", l.link),
+                "link force (kN)",
+                d.label.clone(),
+                pts(&s, 1e-3, 0.0),
+            ),
             format!("link{}_force", l.link),
         )?;
     }
@@ -1446,35 +1456,23 @@ pub fn recorded_figures(
         if seg.mean_link_force_n.is_some() {
             let s = segment_force_series(d, k, a.window_s)?;
             emit(
-                Plot {
-                    title: format!("average link force of segment {k}"),
-                    x_label: "t (s)".into(),
-                    y_label: "average link force (kN)".into(),
-                    traces: vec![Trace {
-                        label: format!("{} (mean {:.2} kN)", d.label, s.mean() * 1e-3),
-                        points: pts(&s, 1e-3, 0.0),
-                        mark: Mark::Line,
-                        color: 0,
-                    }],
-                    notes: Vec::new(),
-                },
+                time_plot(
+                    format!("average link force of segment {k}"),
+                    "average link force (kN)",
+                    format!("{} (mean {:.2} kN)", d.label, s.mean() * 1e-3),
+                    pts(&s, 1e-3, 0.0),
+                ),
                 format!("segment{k}_force"),
             )?;
         }
         let s = transverse_series(d, k, a.spectrum_window_s)?;
         emit(
-            Plot {
-                title: format!("transverse displacement of the middle of segment {k}"),
-                x_label: "t (s)".into(),
-                y_label: "displacement (mm)".into(),
-                traces: vec![Trace {
-                    label: d.label.clone(),
-                    points: pts(&s, 1e3, 0.0),
-                    mark: Mark::Line,
-                    color: 0,
-                }],
-                notes: Vec::new(),
-            },
+            time_plot(
+                format!("transverse displacement of the middle of segment {k}"),
+                "displacement (mm)",
+                d.label.clone(),
+                pts(&s, 1e3, 0.0),
+            ),
             format!("segment{k}_transverse"),
         )?;
         let picked = spectrum_with_peaks(&s, d.signals.rate_hz, [1.0, 200.0], 5, 2.0);
@@ -1533,18 +1531,12 @@ pub fn recorded_figures(
     if let Some(r) = &a.roller {
         let (s, _) = roller_contact_series(d, r.roller, r.window_s)?;
         emit(
-            Plot {
-                title: format!("contact force on roller {}", r.roller),
-                x_label: "t (s)".into(),
-                y_label: "contact force (kN)".into(),
-                traces: vec![Trace {
-                    label: d.label.clone(),
-                    points: pts(&s, 1e-3, 0.0),
-                    mark: Mark::Line,
-                    color: 0,
-                }],
-                notes: Vec::new(),
-            },
+            time_plot(
+                format!("contact force on roller {}", r.roller),
+                "contact force (kN)",
+                d.label.clone(),
+                pts(&s, 1e-3, 0.0),
+            ),
             format!("roller{}_contact", r.roller),
         )?;
     }
