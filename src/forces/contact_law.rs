@@ -16,7 +16,9 @@
 //! Known limit: with e = 0 a Lankarani–Nikravesh impact still rebounds at about
 //! 0.66 of its approach speed (the law was derived for e near 1).
 
-use crate::scene::{Contact, ContactLaw};
+use crate::scene::Contact;
+#[cfg(test)]
+use crate::scene::ContactLaw;
 
 /// A contact law ready to evaluate.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -36,10 +38,7 @@ pub struct ContactLawParams {
 impl ContactLawParams {
     /// From the scene's contact settings.
     pub fn new(contact: &Contact) -> Self {
-        let e = contact.restitution;
-        let chi = match contact.law {
-            ContactLaw::LankaraniNikravesh => 0.75 * (1.0 - e * e),
-        };
+        let chi = contact.law.chi(contact.restitution);
         Self {
             stiffness: contact.stiffness,
             exponent: contact.exponent,

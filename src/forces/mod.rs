@@ -9,7 +9,30 @@
 //!
 //! Contact state: each contact patch remembers the approach speed δ̇⁻ at its
 //! onset (MODEL.md §3), keyed by (sprocket, patch id), until it separates.
-//! The memory is advanced by every call, so call `evaluate` once per step.
+//! [`ForceGenerator::evaluate`] advances that memory: call it once per step,
+//! at the step's end state. The inner stages of a multi-stage integrator use
+//! [`ForceGenerator::evaluate_trial`], which reads the memory but keeps its
+//! update aside ([`ForceGenerator::commit_trial`] adopts it when the trial
+//! state becomes the step's end, as the adaptive scheme's last stage does).
+//!
+//! For the implicit-damping integrator the generator also records, per
+//! roller, the linear form of its contact damping ([`DampingRows`]); nothing
+//! of it is computed unless [`ForceGenerator::enable_damping_rows`] was called.
+//!
+//! # The contact laws' effective restitution
+//!
+//! All four laws have the form `K δⁿ (1 + χ(e) δ̇/δ̇⁻)`. For one Hertzian
+//! impact (n = 3/2) the rebound ratio depends on χ alone; the test
+//! `effective_restitution_table` integrates single impacts and checks:
+//!
+//! | e | Lankarani–Nikravesh | Hunt–Crossley | Flores | Gonthier |
+//! |---|---|---|---|---|
+//! | 0.0 | ≈ 0.66 | ≈ 0.48 | — (needs e > 0) | — (needs e > 0) |
+//! | 0.5 | ≈ 0.72 | ≈ 0.60 | ≈ 0.51 | ≈ 0.55 |
+//! | 0.9 | ≈ 0.90 | ≈ 0.90 | ≈ 0.90 | ≈ 0.90 |
+//!
+//! Lankarani–Nikravesh and Hunt–Crossley were derived for e near 1; Flores
+//! et al. built their χ so that the rebound equals e over the whole range.
 
 mod contact_law;
 
@@ -61,6 +84,46 @@ const FREE: Memory = Memory {
     damping_per_speed: 0.0,
 };
 
+/// The linear form of each roller's contact damping, for an implicit solve.
+///
+/// With the elastic parts E_k = K δ_kⁿ and remembered factors κ_k = χ/δ̇⁻_k of
+/// the roller's patches on one sprocket, the damping force on the roller is
+/// `Σ E_k κ_k n_k n_kᵀ (v_sp − v)` (v_sp the sprocket's surface velocity under
+/// the roller): `C v_sp − C v` with `C = Σ E_k κ_k n_k n_kᵀ`. Patches on a
+/// second sprocket (only where reach circles overlap) stay explicit.
+#[derive(Clone, Debug, Default)]
+pub struct DampingRows {
+    /// The sprocket of roller i's implicit contacts; `u32::MAX` for none.
+    pub sprocket: Vec<u32>,
+    /// C as (c_xx, c_xy, c_yy), N·s/m.
+    pub c: Vec<[f64; 3]>,
+    /// `C v_sp`, N.
+    pub c_v_sprocket: Vec<[f64; 2]>,
+    /// The elastic force `Σ E_k n_k`, N.
+    pub elastic: Vec<[f64; 2]>,
+    /// The damping force included in [`ForceGenerator::fx`]/`fy` (after the ≥ 0 clamp), N.
+    pub explicit: Vec<[f64; 2]>,
+    /// Roller centre relative to that sprocket's centre, m.
+    pub lever: Vec<[f64; 2]>,
+}
+
+impl DampingRows {
+    fn new(rollers: usize) -> Self {
+        Self {
+            sprocket: vec![u32::MAX; rollers],
+            c: vec![[0.0; 3]; rollers],
+            c_v_sprocket: vec![[0.0; 2]; rollers],
+            elastic: vec![[0.0; 2]; rollers],
+            explicit: vec![[0.0; 2]; rollers],
+            lever: vec![[0.0; 2]; rollers],
+        }
+    }
+
+    fn clear(&mut self, i: usize) {
+        self.sprocket[i] = u32::MAX;
+    }
+}
+
 /// The link law of MODEL.md §2 for one link.
 #[derive(Clone, Copy)]
 struct LinkLaw {
@@ -90,6 +153,12 @@ impl LinkLaw {
 pub struct ForceGenerator {
     law: ContactLawParams,
     memory: Vec<[Memory; MAX_PATCHES]>,
+    /// The memory as the last evaluation left it (swapped in on commit).
+    pending_memory: Vec<[Memory; MAX_PATCHES]>,
+    /// Culling times as the last evaluation left them (swapped in on commit).
+    pending_free_until_s: Vec<f64>,
+    /// Linear forms of the contact damping, when enabled.
+    damping_rows: Option<DampingRows>,
     /// Last gap each roller touched: where the O(1) gap search starts.
     gap_hint: Vec<u32>,
     /// Last sprocket each roller was within reach of: checked first.
@@ -126,6 +195,8 @@ pub struct ForceGenerator {
     pub max_penetration_m: f64,
     /// Largest |l − rest length| of any link in this evaluation, m (NaN propagates).
     pub max_stretch_m: f64,
+    /// Elastic energy stored in the contacts, Σ K δⁿ⁺¹/(n + 1), J.
+    pub contact_energy_j: f64,
 }
 
 impl ForceGenerator {
@@ -134,6 +205,9 @@ impl ForceGenerator {
         Self {
             law,
             memory: vec![[FREE; MAX_PATCHES]; rollers],
+            pending_memory: vec![[FREE; MAX_PATCHES]; rollers],
+            pending_free_until_s: vec![f64::NEG_INFINITY; rollers],
+            damping_rows: None,
             gap_hint: vec![0; rollers],
             sprocket_hint: vec![0; rollers],
             culling: Some(Culling::default()),
@@ -152,6 +226,7 @@ impl ForceGenerator {
             contact_force: vec![0.0; rollers],
             max_penetration_m: 0.0,
             max_stretch_m: 0.0,
+            contact_energy_j: 0.0,
         }
     }
 
@@ -163,11 +238,41 @@ impl ForceGenerator {
     /// Forgets every remembered contact onset.
     pub fn reset_memory(&mut self) {
         self.memory.fill([FREE; MAX_PATCHES]);
+        self.pending_memory.fill([FREE; MAX_PATCHES]);
         self.free_until_s.fill(f64::NEG_INFINITY);
+        self.pending_free_until_s.fill(f64::NEG_INFINITY);
     }
 
-    /// Evaluates all forces at `state`.
+    /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
+    pub fn enable_damping_rows(&mut self) {
+        if self.damping_rows.is_none() {
+            self.damping_rows = Some(DampingRows::new(self.fx.len()));
+        }
+    }
+
+    /// The damping rows of the last evaluation, if enabled.
+    pub fn damping_rows(&self) -> Option<&DampingRows> {
+        self.damping_rows.as_ref()
+    }
+
+    /// Evaluates all forces at `state`, the end of a step, and advances the
+    /// contact memory to it.
     pub fn evaluate(&mut self, model: &DriveModel, state: &DriveState) {
+        self.evaluate_trial(model, state);
+        self.commit_trial();
+    }
+
+    /// Adopts the contact memory of the last [`Self::evaluate_trial`], whose
+    /// state has become the step's end state.
+    pub fn commit_trial(&mut self) {
+        std::mem::swap(&mut self.memory, &mut self.pending_memory);
+        std::mem::swap(&mut self.free_until_s, &mut self.pending_free_until_s);
+    }
+
+    /// Evaluates all forces at `state` without advancing the contact memory
+    /// (an integrator's inner stage). The outputs are overwritten as by
+    /// [`Self::evaluate`].
+    pub fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
         let m = model.roller_mass_kg;
         let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
         self.fx.fill(gx);
@@ -176,6 +281,30 @@ impl ForceGenerator {
         self.chain_force.fill([0.0; 2]);
         self.links(model, state);
         self.contacts(model, state);
+    }
+
+    /// Whether a roller centred at (`x`, `y`) touches any sprocket, the
+    /// sprockets at angles `theta` (for locating contact events; the roller's
+    /// gap hint is read, not updated).
+    pub fn touches(
+        &self,
+        model: &DriveModel,
+        roller: usize,
+        x: f64,
+        y: f64,
+        theta: &[f64],
+    ) -> bool {
+        let mut patches = [Patch::default(); MAX_PATCHES];
+        model.sprockets.iter().zip(theta).any(|(sp, &th)| {
+            let (rx, ry) = (x - sp.center_m[0], y - sp.center_m[1]);
+            if rx * rx + ry * ry > sp.reach_sq_m2 {
+                return false;
+            }
+            let (sin, cos) = th.sin_cos();
+            let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+            let mut hint = self.gap_hint[roller];
+            sp.profile.contacts(local, &mut hint, &mut patches) > 0
+        })
     }
 
     /// Spring-damper links (MODEL.md §2).
@@ -255,6 +384,8 @@ impl ForceGenerator {
     /// Within reach, the gap search starts from the roller's last gap.
     fn contacts(&mut self, model: &DriveModel, s: &DriveState) {
         let law = self.law;
+        let energy_factor = 1.0 / (law.exponent + 1.0);
+        let mut energy = 0.0;
         let mut max_pen = 0.0f64;
         let mut patches = [Patch::default(); MAX_PATCHES];
         for (r, th) in self.rotations.iter_mut().zip(&s.theta) {
@@ -267,14 +398,28 @@ impl ForceGenerator {
             )
         });
         for i in 0..s.x.len() {
+            self.pending_free_until_s[i] = self.free_until_s[i];
             if s.t_s < self.free_until_s[i] {
-                // Skipped rollers were found free: memory, flags and force are already clear.
+                // Skipped rollers were found free: flags and force are already clear.
+                self.pending_memory[i] = [FREE; MAX_PATCHES];
+                if let Some(rows) = &mut self.damping_rows {
+                    rows.clear(i);
+                }
                 continue;
             }
             let mut next = [FREE; MAX_PATCHES];
             let mut used = 0;
             let mut total = [0.0f64; 2];
             let mut in_reach = false;
+            // Implicit damping row of this roller: (C, C v_sp, elastic, explicit damping).
+            let mut row_sprocket = u32::MAX;
+            let mut row = (
+                [0.0f64; 3],
+                [0.0f64; 2],
+                [0.0f64; 2],
+                [0.0f64; 2],
+                [0.0f64; 2],
+            );
             let count_sprockets = model.sprockets.len();
             let first = self.sprocket_hint[i] as usize;
             for k in 0..count_sprockets {
@@ -329,7 +474,27 @@ impl ForceGenerator {
                         };
                         used += 1;
                     }
-                    let f = law.force_with(p.depth_m, depth_rate, damping);
+                    let elastic = law.elastic(p.depth_m);
+                    let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
+                    energy += elastic * p.depth_m * energy_factor;
+                    if self.damping_rows.is_some()
+                        && (row_sprocket == u32::MAX || row_sprocket == sp_index as u32)
+                    {
+                        row_sprocket = sp_index as u32;
+                        let c = elastic * damping;
+                        // Surface velocity of the sprocket under the roller: ω × r.
+                        let v_sp_n = -omega * ry * nx + omega * rx * ny;
+                        row.0[0] += c * nx * nx;
+                        row.0[1] += c * nx * ny;
+                        row.0[2] += c * ny * ny;
+                        row.1[0] += c * v_sp_n * nx;
+                        row.1[1] += c * v_sp_n * ny;
+                        row.2[0] += elastic * nx;
+                        row.2[1] += elastic * ny;
+                        row.3[0] += (f - elastic) * nx;
+                        row.3[1] += (f - elastic) * ny;
+                        row.4 = [rx, ry];
+                    }
                     let (fx, fy) = (f * nx, f * ny);
                     total[0] += fx;
                     total[1] += fy;
@@ -355,9 +520,19 @@ impl ForceGenerator {
                     .iter()
                     .map(|sp| (s.x[i] - sp.center_m[0]).hypot(s.y[i] - sp.center_m[1]) - sp.reach_m)
                     .fold(f64::INFINITY, f64::min);
-                self.free_until_s[i] = s.t_s + (clearance / speed_bound).min(max_skip);
+                self.pending_free_until_s[i] = s.t_s + (clearance / speed_bound).min(max_skip);
             }
-            self.memory[i] = next;
+            self.pending_memory[i] = next;
+            if let Some(rows) = &mut self.damping_rows {
+                rows.sprocket[i] = row_sprocket;
+                if row_sprocket != u32::MAX {
+                    rows.c[i] = row.0;
+                    rows.c_v_sprocket[i] = row.1;
+                    rows.elastic[i] = row.2;
+                    rows.explicit[i] = row.3;
+                    rows.lever[i] = row.4;
+                }
+            }
             self.touching[i] = used > 0;
             self.fx[i] += total[0];
             self.fy[i] += total[1];
@@ -368,5 +543,6 @@ impl ForceGenerator {
             };
         }
         self.max_penetration_m = max_pen;
+        self.contact_energy_j = energy;
     }
 }

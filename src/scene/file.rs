@@ -137,12 +137,16 @@ pub struct SolverFile {
     /// `"substepped"` (the fast path) or `"rapier"` (rapier integrates every body).
     #[serde(default = "default_stepping")]
     pub stepping: String,
-    /// `"symplectic_euler"`.
+    /// `"symplectic_euler"`, `"velocity_verlet"`, `"rk4"`, `"dormand_prince45"`
+    /// (adaptive) or `"implicit_damping"`.
     #[serde(default = "default_integrator")]
     pub integrator: String,
-    /// The chain's integration step, s.
+    /// The chain's integration step, s (the adaptive scheme's largest step).
     #[serde(default = "default_dt")]
     pub dt_s: f64,
+    /// Error tolerance of the adaptive scheme (relative to the static link stretch).
+    #[serde(default = "default_tolerance")]
+    pub tolerance: f64,
     /// Simulated time after t = 0, s.
     #[serde(default = "default_duration")]
     pub duration_s: f64,
@@ -154,6 +158,7 @@ impl Default for SolverFile {
             stepping: default_stepping(),
             integrator: default_integrator(),
             dt_s: default_dt(),
+            tolerance: default_tolerance(),
             duration_s: default_duration(),
         }
     }
@@ -167,6 +172,9 @@ fn default_integrator() -> String {
 }
 fn default_dt() -> f64 {
     1e-5
+}
+fn default_tolerance() -> f64 {
+    1e-3
 }
 fn default_duration() -> f64 {
     10.0

@@ -47,18 +47,54 @@ impl ProfileKind {
 }
 
 /// Contact laws of the Hunt–Crossley family `K δⁿ (1 + χ δ̇/δ̇⁻)` (MODEL.md §3).
+///
+/// They differ only in the damping factor χ(e); the effective restitution of a
+/// single Hertzian impact under each law is tabled in [`crate::forces`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ContactLaw {
-    /// χ = 3(1 − e²)/4, the paper's law.
+    /// χ = 3(1 − e²)/4 (Lankarani & Nikravesh 1990), the paper's law.
     LankaraniNikravesh,
+    /// χ = 3(1 − e)/2 (Hunt & Crossley 1975, with α = (1 − e)/δ̇⁻).
+    HuntCrossley,
+    /// χ = 8(1 − e)/(5e) (Flores et al. 2011); needs e > 0.
+    Flores,
+    /// χ = (1 − e²)/e (Gonthier et al. 2004); needs e > 0.
+    Gonthier,
 }
 
 impl ContactLaw {
+    /// Every law with its scene-file name.
+    pub const ALL: [(&'static str, Self); 4] = [
+        ("lankarani_nikravesh", Self::LankaraniNikravesh),
+        ("hunt_crossley", Self::HuntCrossley),
+        ("flores", Self::Flores),
+        ("gonthier", Self::Gonthier),
+    ];
+
     /// The name used in scene files and outputs.
     pub fn name(self) -> &'static str {
         match self {
             Self::LankaraniNikravesh => "lankarani_nikravesh",
+            Self::HuntCrossley => "hunt_crossley",
+            Self::Flores => "flores",
+            Self::Gonthier => "gonthier",
         }
+    }
+
+    /// The damping factor χ of `K δⁿ (1 + χ δ̇/δ̇⁻)` for restitution `e`
+    /// (infinite for Flores and Gonthier at e = 0, which the scene rejects).
+    pub fn chi(self, e: f64) -> f64 {
+        match self {
+            Self::LankaraniNikravesh => 0.75 * (1.0 - e * e),
+            Self::HuntCrossley => 1.5 * (1.0 - e),
+            Self::Flores => 1.6 * (1.0 - e) / e,
+            Self::Gonthier => (1.0 - e * e) / e,
+        }
+    }
+
+    /// Whether χ(e) is finite only for e > 0.
+    pub fn needs_positive_restitution(self) -> bool {
+        matches!(self, Self::Flores | Self::Gonthier)
     }
 }
 
@@ -231,19 +267,64 @@ impl Stepping {
     }
 }
 
-/// Time integration scheme.
+/// Time integration scheme of the chain (see [`crate::sim::integrate`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Integrator {
-    /// v ← v + dt a(x, v); x ← x + dt v (rapier's own scheme).
+    /// v ← v + dt a(x, v); x ← x + dt v (rapier's own scheme). Order 1, one
+    /// force evaluation per step.
     SymplecticEuler,
+    /// Velocity Verlet (kick–drift–kick). Order 2, two evaluations per step.
+    VelocityVerlet,
+    /// Classical Runge–Kutta. Order 4, four evaluations per step.
+    Rk4,
+    /// Dormand–Prince 5(4), adaptive, with contact onset and separation
+    /// located; `solver.dt_s` is then the largest step and the sample step.
+    DormandPrince45,
+    /// Symplectic Euler with the contact damping taken implicitly: stable
+    /// where the Lankarani–Nikravesh damping at small approach speeds limits
+    /// the explicit schemes. Order 1.
+    ImplicitDamping,
 }
 
 impl Integrator {
+    /// Every scheme with its scene-file name.
+    pub const ALL: [(&'static str, Self); 5] = [
+        ("symplectic_euler", Self::SymplecticEuler),
+        ("velocity_verlet", Self::VelocityVerlet),
+        ("rk4", Self::Rk4),
+        ("dormand_prince45", Self::DormandPrince45),
+        ("implicit_damping", Self::ImplicitDamping),
+    ];
+
     /// The name used in scene files and outputs.
     pub fn name(self) -> &'static str {
         match self {
             Self::SymplecticEuler => "symplectic_euler",
+            Self::VelocityVerlet => "velocity_verlet",
+            Self::Rk4 => "rk4",
+            Self::DormandPrince45 => "dormand_prince45",
+            Self::ImplicitDamping => "implicit_damping",
         }
+    }
+
+    /// From a scene-file name.
+    pub fn parse(s: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(n, _)| *n == s).map(|x| x.1)
+    }
+
+    /// Nominal order of convergence.
+    pub fn order(self) -> u32 {
+        match self {
+            Self::SymplecticEuler | Self::ImplicitDamping => 1,
+            Self::VelocityVerlet => 2,
+            Self::Rk4 => 4,
+            Self::DormandPrince45 => 5,
+        }
+    }
+
+    /// Whether the step size is chosen by an error estimate.
+    pub fn is_adaptive(self) -> bool {
+        self == Self::DormandPrince45
     }
 }
 
@@ -254,8 +335,10 @@ pub struct Solver {
     pub stepping: Stepping,
     /// Integration scheme.
     pub integrator: Integrator,
-    /// Step, s.
+    /// Step, s (the adaptive scheme's largest step and sample step).
     pub dt_s: f64,
+    /// Error tolerance of the adaptive scheme (see [`crate::sim::integrate`]).
+    pub tolerance: f64,
     /// Simulated time, s.
     pub duration_s: f64,
 }
@@ -505,17 +588,21 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
 
 fn check_contact(c: &mut Checker, f: &ContactFile) -> Contact {
     let law = c
-        .one_of(
-            "contact.law",
-            &f.law,
-            &[("lankarani_nikravesh", ContactLaw::LankaraniNikravesh)],
-        )
+        .one_of("contact.law", &f.law, &ContactLaw::ALL)
         .unwrap_or(ContactLaw::LankaraniNikravesh);
     let restitution = c.finite("contact.restitution", f.restitution);
     if !(0.0..=1.0).contains(&restitution) {
         c.fail(
             "contact.restitution",
             format!("must lie in [0, 1], got {restitution}"),
+        );
+    } else if restitution == 0.0 && law.needs_positive_restitution() {
+        c.fail(
+            "contact.restitution",
+            format!(
+                "must be > 0 with law \"{}\" (its damping factor is infinite at e = 0)",
+                law.name()
+            ),
         );
     }
     let exponent = c.positive("contact.exponent", f.exponent);
@@ -721,25 +808,40 @@ fn check_overlaps(c: &mut Checker, sprockets: &[Sprocket], chain: &Chain) {
 }
 
 fn check_solver(c: &mut Checker, f: &SolverFile) -> Solver {
+    let stepping = c
+        .one_of(
+            "solver.stepping",
+            &f.stepping,
+            &[
+                ("substepped", Stepping::Substepped),
+                ("rapier", Stepping::Rapier),
+            ],
+        )
+        .unwrap_or(Stepping::Substepped);
+    let integrator = c
+        .one_of("solver.integrator", &f.integrator, &Integrator::ALL)
+        .unwrap_or(Integrator::SymplecticEuler);
+    if stepping == Stepping::Rapier && integrator != Integrator::SymplecticEuler {
+        c.fail(
+            "solver.integrator",
+            format!(
+                "\"{}\" needs stepping = \"substepped\": rapier integrates with symplectic Euler",
+                integrator.name()
+            ),
+        );
+    }
+    let tolerance = c.positive("solver.tolerance", f.tolerance);
+    if tolerance.is_finite() && tolerance >= 1.0 {
+        c.fail(
+            "solver.tolerance",
+            format!("must be below 1 (a relative error), got {tolerance}"),
+        );
+    }
     Solver {
-        stepping: c
-            .one_of(
-                "solver.stepping",
-                &f.stepping,
-                &[
-                    ("substepped", Stepping::Substepped),
-                    ("rapier", Stepping::Rapier),
-                ],
-            )
-            .unwrap_or(Stepping::Substepped),
-        integrator: c
-            .one_of(
-                "solver.integrator",
-                &f.integrator,
-                &[("symplectic_euler", Integrator::SymplecticEuler)],
-            )
-            .unwrap_or(Integrator::SymplecticEuler),
+        stepping,
+        integrator,
         dt_s: c.positive("solver.dt_s", f.dt_s),
+        tolerance,
         duration_s: c.non_negative("solver.duration_s", f.duration_s),
     }
 }

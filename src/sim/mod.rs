@@ -9,12 +9,14 @@
 
 mod equilibrium;
 pub mod fuzz;
+pub mod integrate;
 mod stepper;
 
 pub use equilibrium::{
     EquilibriumError, RelaxSettings, StaticEquilibrium, free_strand_tension, relax,
     settle_rest_length,
 };
+pub use integrate::{Integration, IntegrationStats};
 pub use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -26,7 +28,7 @@ use crate::forces::{ContactLawParams, ForceGenerator};
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BuildError, DriveModel, DriveState};
-use crate::scene::{PretensionRule, Role, Scene, Stepping};
+use crate::scene::{Integrator, PretensionRule, Role, Scene, Stepping};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     ForceGenerator::new(
@@ -130,6 +132,21 @@ impl StepLimits {
     pub fn min_s(&self) -> f64 {
         self.links_s.min(self.contact_damping_s)
     }
+
+    /// The estimated largest stable step of `scheme`, s (∞ for the adaptive
+    /// scheme, which chooses its own). RK4's stability region reaches 2√2 on
+    /// the imaginary axis (oscillating links) and 2.785 on the negative real
+    /// axis (damping), against 2 and 2 for symplectic Euler.
+    pub fn for_integrator(&self, scheme: Integrator) -> f64 {
+        match scheme {
+            Integrator::SymplecticEuler | Integrator::VelocityVerlet => self.min_s(),
+            Integrator::Rk4 => {
+                (self.links_s * std::f64::consts::SQRT_2).min(self.contact_damping_s * 1.3925)
+            }
+            Integrator::DormandPrince45 => f64::INFINITY,
+            Integrator::ImplicitDamping => self.links_s,
+        }
+    }
 }
 
 /// Blow-up thresholds (MODEL.md; the core's defaults).
@@ -160,6 +177,8 @@ pub enum Detector {
     Penetration,
     /// A link stretched or shrank beyond the limit.
     Stretch,
+    /// The adaptive scheme's step fell below its minimum.
+    StepSize,
 }
 
 impl Detector {
@@ -169,6 +188,7 @@ impl Detector {
             Self::NonFinite => "non-finite",
             Self::Penetration => "penetration",
             Self::Stretch => "link-stretch",
+            Self::StepSize => "step-size",
         }
     }
 }
@@ -319,6 +339,8 @@ pub struct Simulation {
     pub bodies: ChainBodies,
     /// Blow-up limits.
     pub limits: BlowUpLimits,
+    /// The chain's integrator (substepped stepping).
+    pub integration: Integration,
 }
 
 impl Simulation {
@@ -326,8 +348,10 @@ impl Simulation {
     /// static equilibrium.
     pub fn new(scene: &Scene) -> Result<Self, SimError> {
         let limits = BlowUpLimits::for_scene(scene);
+        // The relaxation steps with symplectic Euler: keep it within its
+        // stability limit whatever step the run's integrator takes.
         let settings = RelaxSettings {
-            dt_s: scene.solver.dt_s,
+            dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).min_s()),
             max_time_s: scene.equilibrium.max_relax_s,
             rate_per_s: 60.0,
             rest_speed_m_s: 1e-6,
@@ -363,6 +387,15 @@ impl Simulation {
                 inertia_kg_m2: s.inertia_kg_m2,
             })
             .collect();
+        let mut forces = forces;
+        let integration = Integration::new(
+            scene.solver.integrator,
+            scene.solver.tolerance,
+            &model,
+            &state,
+            &mut forces,
+            scene.chain.pretension_n / model.stiffness_n_m,
+        );
         let bodies = ChainBodies::insert(
             &model,
             &state,
@@ -381,6 +414,7 @@ impl Simulation {
             world,
             bodies,
             limits,
+            integration,
         })
     }
 
@@ -389,14 +423,20 @@ impl Simulation {
     /// Invariant: `forces` always holds the forces at `state`. A step
     /// integrates with them, then evaluates the forces at the new state (which
     /// also advances the contact memory and feeds the blow-up detectors).
-    pub fn step(&mut self, dt_s: f64) {
+    ///
+    /// Fails only when the adaptive scheme's step collapses.
+    pub fn step(&mut self, dt_s: f64) -> Result<(), SimError> {
         match self.scene.solver.stepping {
             Stepping::Substepped => {
-                symplectic_euler(&self.model, &mut self.state, &self.forces, dt_s, None);
+                self.integration
+                    .advance(&self.model, &mut self.state, &mut self.forces, dt_s)?;
             }
-            Stepping::Rapier => self.rapier_step(dt_s),
+            Stepping::Rapier => {
+                self.rapier_step(dt_s);
+                self.forces.evaluate(&self.model, &self.state);
+            }
         }
-        self.forces.evaluate(&self.model, &self.state);
+        Ok(())
     }
 
     /// One step integrated by rapier: the generator's forces are applied to
@@ -405,9 +445,11 @@ impl Simulation {
         self.bodies
             .apply_forces(&self.model, &self.forces, &mut self.world.bodies);
         let driver = self.model.driver();
-        let omega = driver_speed(&self.model, driver, self.state.t_s, dt_s);
-        if let Some(b) = self.world.bodies.get_mut(self.bodies.sprockets[driver]) {
-            b.set_angvel(omega, false);
+        if self.model.sprockets[driver].speed_law.is_some() {
+            let omega = driver_speed(&self.model, driver, self.state.t_s, dt_s);
+            if let Some(b) = self.world.bodies.get_mut(self.bodies.sprockets[driver]) {
+                b.set_angvel(omega, false);
+            }
         }
         self.world.integration_parameters.dt = dt_s;
         self.world.step();
@@ -448,7 +490,7 @@ impl Simulation {
         let t0 = self.state.t_s;
         let mut steps = 0;
         while steps < total {
-            self.step(dt);
+            self.step(dt)?;
             steps += 1;
             // Rebase the clock on the step count so that long runs do not accumulate rounding.
             self.state.t_s = t0 + steps as f64 * dt;

@@ -488,11 +488,20 @@ fn a_run_that_blows_up_leaves_a_readable_recording() {
         std::fs::read(&scene).expect("scene").len()
     );
 
-    // A run that fails before t = 0 (static equilibrium blows up at this dt)
-    // still leaves a finished file: metadata and channels, no messages.
+    // A run that fails before t = 0 (the static equilibrium cannot meet a
+    // tolerance below rounding) still leaves a finished file: metadata and
+    // channels, no messages.
+    let unreachable = dir.path().join("unreachable.toml");
+    std::fs::write(
+        &unreachable,
+        format!("{L60MC_TOML}\n[equilibrium]\ntension_tolerance = 1e-12\n"),
+    )
+    .expect("write scene");
     let path = dir.path().join("setup.mcap");
     let out = chaindrive()
-        .args(["run", "--dt", "2e-4", "--quiet", "--record"])
+        .arg("run")
+        .arg(&unreachable)
+        .args(["--quiet", "--record"])
         .arg(&path)
         .output()
         .expect("binary runs");

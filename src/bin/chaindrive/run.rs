@@ -11,7 +11,7 @@ use std::time::Instant;
 use anyhow::Context;
 use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
-use chaindrive::scene::{ProfileKind, Stepping};
+use chaindrive::scene::{ContactLaw, Integrator, ProfileKind, Stepping};
 use chaindrive::sim::{Observer, Sample, Simulation, StepLimits};
 
 /// Arguments of `chaindrive run`.
@@ -31,6 +31,15 @@ pub struct RunArgs {
     /// How the chain is stepped (overrides the scene).
     #[arg(long, value_parser = ["substepped", "rapier"])]
     stepping: Option<String>,
+    /// The chain's integrator (overrides the scene).
+    #[arg(long, value_parser = ["symplectic_euler", "velocity_verlet", "rk4", "dormand_prince45", "implicit_damping"])]
+    integrator: Option<String>,
+    /// Error tolerance of the adaptive integrator (overrides the scene).
+    #[arg(long)]
+    tolerance: Option<f64>,
+    /// Contact law (overrides the scene).
+    #[arg(long, value_parser = ["lankarani_nikravesh", "hunt_crossley", "flores", "gonthier"])]
+    contact_law: Option<String>,
     /// Write the run summary (JSON) here.
     #[arg(long)]
     summary: Option<PathBuf>,
@@ -145,6 +154,34 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             Stepping::Substepped
         };
     }
+    if let Some(name) = args.integrator.as_deref() {
+        scene.solver.integrator = Integrator::parse(name)
+            .ok_or_else(|| anyhow::anyhow!("--integrator: unknown scheme \"{name}\""))?;
+        anyhow::ensure!(
+            scene.solver.integrator == Integrator::SymplecticEuler
+                || scene.solver.stepping == Stepping::Substepped,
+            "--integrator {name} needs --stepping substepped (rapier integrates with symplectic Euler)"
+        );
+    }
+    if let Some(tol) = args.tolerance {
+        anyhow::ensure!(
+            tol.is_finite() && tol > 0.0 && tol < 1.0,
+            "--tolerance must lie in (0, 1), got {tol}"
+        );
+        scene.solver.tolerance = tol;
+    }
+    if let Some(name) = args.contact_law.as_deref() {
+        let law = ContactLaw::ALL
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|x| x.1)
+            .ok_or_else(|| anyhow::anyhow!("--contact-law: unknown law \"{name}\""))?;
+        anyhow::ensure!(
+            !(law.needs_positive_restitution() && scene.contact.restitution == 0.0),
+            "--contact-law {name} needs contact.restitution > 0 (the scene has e = 0)"
+        );
+        scene.contact.law = law;
+    }
     anyhow::ensure!(
         args.rate.is_finite() && args.rate > 0.0,
         "--rate must be a finite number > 0, got {}",
@@ -222,11 +259,13 @@ fn simulate(
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
     let limits = StepLimits::of(&scene);
-    if scene.solver.dt_s > limits.min_s() {
+    let limit_s = limits.for_integrator(scene.solver.integrator);
+    if scene.solver.dt_s > limit_s {
         eprintln!(
-            "warning: dt = {:e} s exceeds the estimated explicit stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s)",
+            "warning: dt = {:e} s exceeds {}'s estimated stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s, for symplectic Euler)",
             scene.solver.dt_s,
-            limits.min_s(),
+            scene.solver.integrator.name(),
+            limit_s,
             limits.links_s,
             limits.contact_damping_s
         );
