@@ -19,6 +19,7 @@ pub mod spectrum;
 pub mod study;
 mod summary;
 pub mod theory;
+pub mod work_precision;
 
 pub use summary::{RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs};
 

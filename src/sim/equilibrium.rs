@@ -81,9 +81,13 @@ pub fn relax(
     let steps = (settings.max_time_s / settings.dt_s).ceil() as usize;
     let check_every = ((0.01 / settings.dt_s).ceil() as usize).max(1);
     let mut residual = f64::INFINITY;
+    // Elastic contacts while relaxing: the relaxation's own damping brings the
+    // drive to rest, free of the contact damping's explicit step limit.
+    forces.set_contact_damping(false);
     for step in 1..=steps {
         forces.evaluate(model, state);
         if !(forces.max_stretch_m <= settings.max_stretch_m) {
+            forces.set_contact_damping(true);
             return Err(EquilibriumError::BlowUp {
                 stretch_m: forces.max_stretch_m,
             });
@@ -100,6 +104,7 @@ pub fn relax(
     state.vx.fill(0.0);
     state.vy.fill(0.0);
     state.omega.fill(0.0);
+    forces.set_contact_damping(true);
     forces.reset_memory();
     forces.evaluate(model, state);
     Ok(residual)

@@ -181,6 +181,8 @@ impl Integration {
         };
         if scheme == Integrator::ImplicitDamping {
             forces.enable_damping_rows();
+            // Fill the rows for the first step (same state: the memory is kept).
+            forces.evaluate(model, state);
         }
         let scale_position_m = static_stretch_m.abs().max(1e-12);
         let scale_speed_m_s =
@@ -314,8 +316,13 @@ impl Integration {
         state.t_s += h;
     }
 
-    /// Velocity Verlet: half kick, drift, forces at the new positions with
-    /// the half-step velocities, half kick, then the committed evaluation.
+    /// Velocity Verlet: half kick, drift, forces at the new positions, half
+    /// kick, then the committed evaluation.
+    ///
+    /// The forces depend on velocity (link and contact damping), so the
+    /// middle evaluation takes the velocities predicted at the step's end,
+    /// v + h a(xₙ, vₙ), not the half-step ones: with the latter the damping
+    /// would lag half a step and the scheme fall to first order.
     fn velocity_verlet(
         &mut self,
         model: &DriveModel,
@@ -324,32 +331,39 @@ impl Integration {
         h: f64,
     ) {
         let half = 0.5 * h / model.roller_mass_kg;
+        // `start.vx/vy` keep the half-step velocities, `torque_scratch` the sprockets'.
+        let (vhx, vhy) = (&mut self.start.vx, &mut self.start.vy);
         for i in 0..state.rollers() {
-            state.vx[i] += half * forces.fx[i];
-            state.vy[i] += half * forces.fy[i];
-            state.x[i] += h * state.vx[i];
-            state.y[i] += h * state.vy[i];
+            let (kx, ky) = (half * forces.fx[i], half * forces.fy[i]);
+            vhx[i] = state.vx[i] + kx;
+            vhy[i] = state.vy[i] + ky;
+            state.x[i] += h * vhx[i];
+            state.y[i] += h * vhy[i];
+            state.vx[i] = vhx[i] + kx;
+            state.vy[i] = vhy[i] + ky;
         }
+        let omega_half = &mut self.torque_scratch;
         for (s, sp) in model.sprockets.iter().enumerate() {
             if sp.speed_law.is_some() {
                 state.theta[s] += h * driver_speed(model, s, state.t_s, h);
             } else {
-                state.omega[s] +=
-                    0.5 * h * (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia;
-                state.theta[s] += h * state.omega[s];
+                let kick = 0.5 * h * (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia;
+                omega_half[s] = state.omega[s] + kick;
+                state.theta[s] += h * omega_half[s];
+                state.omega[s] = omega_half[s] + kick;
             }
         }
         state.t_s += h;
         set_driver_speed(model, state);
         self.trial(model, state, forces);
         for i in 0..state.rollers() {
-            state.vx[i] += half * forces.fx[i];
-            state.vy[i] += half * forces.fy[i];
+            state.vx[i] = self.start.vx[i] + half * forces.fx[i];
+            state.vy[i] = self.start.vy[i] + half * forces.fy[i];
         }
         for (s, sp) in model.sprockets.iter().enumerate() {
             if sp.speed_law.is_none() {
-                state.omega[s] +=
-                    0.5 * h * (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia;
+                state.omega[s] = self.torque_scratch[s]
+                    + 0.5 * h * (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia;
             }
         }
         self.commit(model, state, forces);

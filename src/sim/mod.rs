@@ -7,11 +7,13 @@
 //! [`Simulation::run`] advances it, calling an [`Observer`] at every sample.
 //! What observers compute is their business ([`crate::analysis`]).
 
+mod energy;
 mod equilibrium;
 pub mod fuzz;
 pub mod integrate;
 mod stepper;
 
+pub use energy::Energy;
 pub use equilibrium::{
     EquilibriumError, RelaxSettings, StaticEquilibrium, free_strand_tension, relax,
     settle_rest_length,
@@ -348,10 +350,13 @@ impl Simulation {
     /// static equilibrium.
     pub fn new(scene: &Scene) -> Result<Self, SimError> {
         let limits = BlowUpLimits::for_scene(scene);
-        // The relaxation steps with symplectic Euler: keep it within its
-        // stability limit whatever step the run's integrator takes.
+        // The relaxation steps with symplectic Euler: keep it within the
+        // links' stability limit whatever step the run's integrator takes.
+        // (The contact-damping limit is not applied: relaxing contacts are
+        // slow, its estimate assumes the pretension on a floor-speed contact,
+        // and the ≥ 0 clamp bounds the chatter it would cause.)
         let settings = RelaxSettings {
-            dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).min_s()),
+            dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).links_s),
             max_time_s: scene.equilibrium.max_relax_s,
             rate_per_s: 60.0,
             rest_speed_m_s: 1e-6,

@@ -7,6 +7,7 @@ mod analyze;
 mod cli;
 mod cosim;
 mod fuzz;
+mod integrators;
 mod paper;
 mod profile;
 mod record;

@@ -32,6 +32,28 @@ fn without_sprocket(k: usize) -> String {
 fn each_bad_input_names_its_field() {
     let cases: Vec<(String, &str, &str)> = vec![
         (
+            L60MC_TOML.replace("law = \"lankarani_nikravesh\"", "law = \"flores\""),
+            "contact.restitution",
+            "must be > 0 with law \"flores\"",
+        ),
+        (
+            L60MC_TOML.replace("law = \"lankarani_nikravesh\"", "law = \"stiff\""),
+            "contact.law",
+            "allowed: \"lankarani_nikravesh\", \"hunt_crossley\", \"flores\", \"gonthier\"",
+        ),
+        (
+            L60MC_TOML
+                .replace("stepping = \"substepped\"", "stepping = \"rapier\"")
+                .replace("integrator = \"symplectic_euler\"", "integrator = \"rk4\""),
+            "solver.integrator",
+            "needs stepping = \"substepped\"",
+        ),
+        (
+            L60MC_TOML.replace("dt_s = 1e-5", "dt_s = 1e-5\ntolerance = 2.0"),
+            "solver.tolerance",
+            "below 1",
+        ),
+        (
             L60MC_TOML.replace("mass_kg = 850.0", "mass_kg = nan"),
             "sprockets[0].mass_kg",
             "finite",

@@ -36,6 +36,8 @@ enum Study {
         #[arg(long)]
         dt: Option<f64>,
     },
+    /// Wall time against error for every integrator: table, CSV, figure.
+    WorkPrecision(crate::work_precision::WorkPrecisionArgs),
     /// Mutated scene files: no panic, every rejection explained, no NaN.
     Fuzz {
         /// Number of cases.
@@ -56,6 +58,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             dt,
         } => soak(duration, window, profile.as_deref(), dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
+        Study::WorkPrecision(args) => crate::work_precision::work_precision(args),
     }
 }
 
