@@ -92,6 +92,18 @@ const FREE: Memory = Memory {
     damping_per_speed: 0.0,
 };
 
+/// Wall time spent in the force stages, when timing is on
+/// ([`ForceGenerator::timing`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ForceTimes {
+    /// Force evaluations timed.
+    pub evaluations: u64,
+    /// Clearing the buffers, gravity, links, s.
+    pub links_s: f64,
+    /// Contact search, contact law and reactions, s.
+    pub contacts_s: f64,
+}
+
 /// The linear form of each roller's contact damping, for an implicit solve.
 ///
 /// With the elastic parts E_k = K δ_kⁿ and remembered factors κ_k = χ/δ̇⁻_k of
@@ -169,6 +181,8 @@ pub struct ForceGenerator {
     damping_rows: Option<DampingRows>,
     /// Whether contacts are damped (off: elastic contacts, for relaxation).
     contact_damping: bool,
+    /// Stage timers; `None` (the default) times nothing.
+    pub timing: Option<ForceTimes>,
     /// Last gap each roller touched: where the O(1) gap search starts.
     gap_hint: Vec<u32>,
     /// Last sprocket each roller was within reach of: checked first.
@@ -219,6 +233,7 @@ impl ForceGenerator {
             pending_free_until_s: vec![f64::NEG_INFINITY; rollers],
             damping_rows: None,
             contact_damping: true,
+            timing: None,
             gap_hint: vec![0; rollers],
             sprocket_hint: vec![0; rollers],
             culling: Some(Culling::default()),
@@ -291,6 +306,7 @@ impl ForceGenerator {
     /// (an integrator's inner stage). The outputs are overwritten as by
     /// [`Self::evaluate`].
     pub fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
+        let started = self.timing.map(|_| std::time::Instant::now());
         let m = model.roller_mass_kg;
         let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
         self.fx.fill(gx);
@@ -298,7 +314,13 @@ impl ForceGenerator {
         self.chain_torque.fill(0.0);
         self.chain_force.fill([0.0; 2]);
         self.links(model, state);
+        let links_done = started.map(|_| std::time::Instant::now());
         self.contacts(model, state);
+        if let (Some(t), Some(start), Some(mid)) = (&mut self.timing, started, links_done) {
+            t.evaluations += 1;
+            t.links_s += (mid - start).as_secs_f64();
+            t.contacts_s += mid.elapsed().as_secs_f64();
+        }
     }
 
     /// Whether a roller centred at (`x`, `y`) touches any sprocket, the

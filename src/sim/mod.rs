@@ -26,7 +26,7 @@ use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
 
-use crate::forces::{ContactLawParams, ForceGenerator};
+use crate::forces::{ContactLawParams, ForceGenerator, ForceTimes};
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BuildError, DriveModel, DriveState};
@@ -256,6 +256,28 @@ pub trait Observer {
 pub struct NoObserver;
 impl Observer for NoObserver {}
 
+/// Where a run's wall time went (`Simulation::timings`), s.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Integration steps timed.
+    pub steps: u64,
+    /// The force stages.
+    pub forces: ForceTimes,
+    /// Stepping, force evaluations included.
+    pub stepping_s: f64,
+    /// The blow-up detectors.
+    pub blow_up_checks_s: f64,
+    /// The observers (sampling, statistics, recording hand-off).
+    pub observers_s: f64,
+}
+
+impl StageTimes {
+    /// The integrator's own arithmetic: stepping minus the force evaluations.
+    pub fn integrator_s(&self) -> f64 {
+        self.stepping_s - self.forces.links_s - self.forces.contacts_s
+    }
+}
+
 /// How a run ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RunOutcome {
@@ -267,6 +289,8 @@ pub struct RunOutcome {
     pub interrupted: bool,
     /// Largest penetration seen, m.
     pub max_penetration_m: f64,
+    /// Per-stage wall times, when [`Simulation::timings`] was on.
+    pub stage_times: Option<StageTimes>,
 }
 
 /// Checks the blow-up detectors against the last force evaluation at `state`.
@@ -343,6 +367,9 @@ pub struct Simulation {
     pub limits: BlowUpLimits,
     /// The chain's integrator (substepped stepping).
     pub integration: Integration,
+    /// Time every stage of [`Simulation::run`] (off by default: a few clock
+    /// reads per step).
+    pub timings: bool,
 }
 
 impl Simulation {
@@ -420,6 +447,7 @@ impl Simulation {
             bodies,
             limits,
             integration,
+            timings: false,
         })
     }
 
@@ -494,23 +522,45 @@ impl Simulation {
         }
         let t0 = self.state.t_s;
         let mut steps = 0;
+        let mut times = self.timings.then(StageTimes::default);
+        if times.is_some() {
+            self.forces.timing = Some(ForceTimes::default());
+        }
+        let clock = |on: bool| on.then(Instant::now);
+        let lap = |since: Option<Instant>| since.map_or(0.0, |t| t.elapsed().as_secs_f64());
+        let timed = times.is_some();
         while steps < total {
+            let t = clock(timed);
             self.step(dt)?;
+            let stepped = lap(t);
             steps += 1;
             // Rebase the clock on the step count so that long runs do not accumulate rounding.
             self.state.t_s = t0 + steps as f64 * dt;
+            let t = clock(timed);
             self.check_blow_up()?;
+            let checked = lap(t);
             max_pen = max_pen.max(self.forces.max_penetration_m);
+            let t = clock(timed);
             if self.state.t_s >= per_step_from {
                 observer.step(&self.sample());
             }
-            if steps % sample_every == 0 {
+            let sampled = steps % sample_every == 0;
+            if sampled {
                 observer.sample(&self.sample());
-                if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-                    interrupted = true;
-                    break;
-                }
             }
+            if let Some(times) = &mut times {
+                times.steps += 1;
+                times.stepping_s += stepped;
+                times.blow_up_checks_s += checked;
+                times.observers_s += lap(t);
+            }
+            if sampled && stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                interrupted = true;
+                break;
+            }
+        }
+        if let Some(times) = &mut times {
+            times.forces = self.forces.timing.take().unwrap_or_default();
         }
         self.sync_world();
         Ok(RunOutcome {
@@ -518,6 +568,7 @@ impl Simulation {
             wall_s: started.elapsed().as_secs_f64(),
             interrupted,
             max_penetration_m: max_pen,
+            stage_times: times,
         })
     }
 

@@ -331,3 +331,35 @@ fn work_precision_bench_writes_its_contract() {
     assert!(dir.path().join("work_precision.png").exists());
     assert!(dir.path().join("work_precision.md").exists());
 }
+
+#[test]
+fn run_timings_account_for_the_stepping_loop() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+        .args(["run", "--duration", "0.05", "--quiet", "--timings"])
+        .output()
+        .expect("binary runs");
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    let shares: Vec<f64> = [
+        "links",
+        "contacts",
+        "integrator",
+        "blow-up checks",
+        "observers",
+    ]
+    .iter()
+    .map(|stage| {
+        let line = text
+            .lines()
+            .find(|l| l.starts_with(stage))
+            .unwrap_or_else(|| panic!("no {stage} line in\n{text}"));
+        let share = line.split_whitespace().rev().nth(1).expect("share");
+        share.parse::<f64>().expect("a number")
+    })
+    .collect();
+    // The five stages partition the loop: their shares sum to 100 % (rounding).
+    let sum: f64 = shares.iter().sum();
+    assert!((sum - 100.0).abs() < 0.5, "{shares:?}");
+    // The contacts are the largest stage of the paper's drive.
+    assert!(shares[1] > shares[0] && shares[1] > shares[2], "{shares:?}");
+}
