@@ -7,8 +7,11 @@
 //!
 //! Rollers are lumped masses joined by linear spring-damper links; sprockets
 //! are rigid bodies; each roller touches the sprocket teeth through a
-//! continuous Hertzian penalty force (Lankarani–Nikravesh) against a circular
-//! seating profile (or, with its own work item, the ASA B29.1 tooth form).
+//! continuous Hertzian penalty force (Lankarani–Nikravesh, or another law of
+//! the Hunt–Crossley family) against a circular seating profile or the real
+//! ASA B29.1 tooth form. Five integrators advance the chain
+//! ([`sim::integrate`]), from rapier's symplectic Euler to an adaptive
+//! Dormand–Prince with located contact events.
 //! The model shows polygonal action, roller impacts, link-force fluctuation
 //! and the transverse vibration of the free strands.
 //!
