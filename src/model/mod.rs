@@ -65,7 +65,9 @@ pub struct DriveModel {
 }
 
 /// The state that is integrated: rollers as structure of arrays, sprockets.
-#[derive(Clone, Debug, Default, PartialEq)]
+///
+/// `clone_from` reuses the buffers (integrators copy states every step).
+#[derive(Debug, Default, PartialEq)]
 pub struct DriveState {
     /// Time, s.
     pub t_s: f64,
@@ -81,6 +83,30 @@ pub struct DriveState {
     pub theta: Vec<f64>,
     /// Sprocket angular speeds, rad/s.
     pub omega: Vec<f64>,
+}
+
+impl Clone for DriveState {
+    fn clone(&self) -> Self {
+        Self {
+            t_s: self.t_s,
+            x: self.x.clone(),
+            y: self.y.clone(),
+            vx: self.vx.clone(),
+            vy: self.vy.clone(),
+            theta: self.theta.clone(),
+            omega: self.omega.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.t_s = source.t_s;
+        self.x.clone_from(&source.x);
+        self.y.clone_from(&source.y);
+        self.vx.clone_from(&source.vx);
+        self.vy.clone_from(&source.vy);
+        self.theta.clone_from(&source.theta);
+        self.omega.clone_from(&source.omega);
+    }
 }
 
 impl DriveState {

@@ -363,3 +363,47 @@ fn run_timings_account_for_the_stepping_loop() {
     // The contacts are the largest stage of the paper's drive.
     assert!(shares[1] > shares[0] && shares[1] > shares[2], "{shares:?}");
 }
+
+#[test]
+fn no_integrator_allocates_in_the_step_loop() {
+    let mut scene = Scene::l60mc();
+    scene.set_profile(ProfileKind::Real);
+    let start = Start::of(&scene);
+    for (_, scheme) in Integrator::ALL {
+        let mut state = start.state.clone();
+        let mut forces = start.forces.clone();
+        let mut integration = Integration::new(
+            scheme,
+            1e-3,
+            &start.model,
+            &state,
+            &mut forces,
+            start.stretch_m,
+        );
+        let limits = chaindrive::sim::BlowUpLimits::for_scene(&scene);
+        let before = super::allocations::count();
+        for _ in 0..2000 {
+            integration
+                .advance(&start.model, &mut state, &mut forces, 1e-5)
+                .expect("step");
+            check_blow_up(&start.model, &state, &forces, &limits).expect("stable");
+        }
+        let made = super::allocations::count() - before;
+        assert_eq!(made, 0, "{scheme:?} allocated {made} times in 2000 steps");
+    }
+}
+
+#[test]
+fn a_run_allocates_nothing_per_step() {
+    let mut sim = Simulation::new(&Scene::l60mc()).expect("settles");
+    sim.run(0.001, 10, &mut chaindrive::sim::NoObserver, None)
+        .expect("warm-up");
+    let before = super::allocations::count();
+    let outcome = sim
+        .run(0.021, 10, &mut chaindrive::sim::NoObserver, None)
+        .expect("stable");
+    let made = super::allocations::count() - before;
+    assert_eq!(outcome.steps, 2000);
+    // Whatever a run allocates, it does not grow with its length.
+    assert!(made < 20, "{made} allocations in 2000 steps");
+}
