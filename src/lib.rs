@@ -77,7 +77,7 @@
 //!
 //! // The same frame, composed with your own pipeline call and hooks:
 //! let dt = world.integration_parameters.dt;
-//! drive.before_step(&mut world.bodies, dt)?;
+//! drive.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
 //! world.step_with_events(&drive.hooks(&()), &());
 //! drive.after_step(&mut world.bodies, &world.narrow_phase, dt);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
