@@ -285,7 +285,8 @@ impl BodyContacts {
                     let pose0 = co
                         .position_wrt_parent()
                         .map_or(*co.position(), |local| *rb.position() * *local);
-                    let com = rb.center_of_mass();
+                    // From the pose, which a user's teleport updates at once.
+                    let com = rb.position().transform_point(rb.local_center_of_mass());
                     let extent =
                         co.compute_aabb().extents().length() + (pose0.translation - com).length();
                     match rb.body_type() {
@@ -299,7 +300,7 @@ impl BodyContacts {
                             let span = frame_dt_s.max(f64::MIN_POSITIVE);
                             let next = rb.next_position();
                             let here = rb.position();
-                            let next_com = *next * rb.local_center_of_mass();
+                            let next_com = next.transform_point(rb.local_center_of_mass());
                             let v = (next_com - com) / span;
                             let w = (next.rotation * here.rotation.inverse()).angle() / span;
                             let travel = (v.length() + w.abs() * extent) * frame_dt_s;
@@ -455,11 +456,16 @@ impl BodyContacts {
             let Some(ob) = self.obstacles.get(pair.obstacle) else {
                 continue;
             };
-            let (Some(&px), Some(&py)) = (x.get(i), y.get(i)) else {
+            let (Some(&px), Some(&py), Some(&ux), Some(&uy), Some(onsets)) = (
+                x.get(i),
+                y.get(i),
+                vx.get(i),
+                vy.get(i),
+                self.onsets.get_mut(i),
+            ) else {
                 continue;
             };
             let centre = Vector::new(px, py);
-            let onsets = &mut self.onsets[i];
             if !ob.reach.contains_local_point(centre) {
                 forget(onsets, ob.collider);
                 continue;
@@ -490,7 +496,7 @@ impl BodyContacts {
                     None => continue,
                 },
             };
-            let v_rel = Vector::new(vx[i], vy[i]) - v_body;
+            let v_rel = Vector::new(ux, uy) - v_body;
             let rate = -v_rel.dot(n);
             let damping = remember(onsets, ob.collider, &coupling.law, rate);
             let f_n = coupling.law.force_with(depth, rate, damping);
@@ -507,11 +513,14 @@ impl BodyContacts {
             let stick = v_t.abs() / ((inv_roller + inv_body_t) * dt_s);
             let f_t = -v_t.signum() * (pair.friction * f_n).min(stick);
             let f = n * f_n + t * f_t;
-            fx[i] += f.x;
-            fy[i] += f.y;
-            let sum = &mut self.roller_force_sum[i];
-            sum[0] += f.x;
-            sum[1] += f.y;
+            if let (Some(gx), Some(gy)) = (fx.get_mut(i), fy.get_mut(i)) {
+                *gx += f.x;
+                *gy += f.y;
+            }
+            if let Some(sum) = self.roller_force_sum.get_mut(i) {
+                sum[0] += f.x;
+                sum[1] += f.y;
+            }
             if let Some(c) = carried.and_then(|k| self.carried.get_mut(k)) {
                 c.force -= f;
                 c.torque -= lever.perp_dot(f);
