@@ -28,7 +28,8 @@
 //! sprocket contact culling: twice the fastest speed plus a floor, over the
 //! frame) form the pair list. Per substep, a pair costs a point-in-box test
 //! and, when the roller is inside the collider's box grown by the roller
-//! radius, one point projection. No pair, no work. The user's pair-filter
+//! radius, one point projection; a pair found apart by a gap g is skipped
+//! for g / (the same speed bounds). No pair, no work. The user's pair-filter
 //! hooks are not consulted for these contacts (use collision groups).
 //!
 //! # Contact law
@@ -129,6 +130,8 @@ struct Obstacle {
     com: Vector,
     /// Bounding box at the current substep grown by the roller radius.
     reach: Aabb,
+    /// Bound on the speed at which a roller and it can close, m/s.
+    closing_m_s: f64,
 }
 
 /// A dynamic body integrated in the substeps for this frame.
@@ -167,6 +170,9 @@ struct Pair {
     roller: usize,
     obstacle: usize,
     friction: f64,
+    /// Time into the frame before which the pair cannot touch, s: its last
+    /// gap over the bound on its closing speed.
+    free_until_s: f64,
 }
 
 /// Remembered contact onset of a roller with one collider.
@@ -206,6 +212,8 @@ pub(super) struct BodyContacts {
     pub roller_force_mean: Vec<[f64; 2]>,
     /// Deepest roller penetration into a user's collider this frame, m.
     pub max_depth_m: f64,
+    /// Point projections done, summed over frames.
+    pub projections: u64,
     /// Whether some moving obstacle needs its pose recomputed per substep.
     moving: bool,
     roller_mass_kg: f64,
@@ -351,6 +359,7 @@ impl BodyContacts {
                     roller: i,
                     obstacle,
                     friction,
+                    free_until_s: 0.0,
                 });
             }
             if self.pairs.len() == first_pair {
@@ -373,6 +382,7 @@ impl BodyContacts {
                 motion,
                 pose: pose0,
                 com: com0,
+                closing_m_s: (roller_travel + travel) / frame_dt_s.max(f64::MIN_POSITIVE),
             });
         }
     }
@@ -451,7 +461,10 @@ impl BodyContacts {
             }
         }
         let inv_roller = 1.0 / self.roller_mass_kg;
-        for pair in &self.pairs {
+        for pair in &mut self.pairs {
+            if tau_s < pair.free_until_s {
+                continue;
+            }
             let i = pair.roller;
             let Some(ob) = self.obstacles.get(pair.obstacle) else {
                 continue;
@@ -471,6 +484,7 @@ impl BodyContacts {
                 continue;
             }
             let proj = ob.shape.project_point(&ob.pose, centre, false);
+            self.projections += 1;
             let d = centre - proj.point;
             let dist = d.length();
             let depth = if proj.is_inside {
@@ -484,6 +498,10 @@ impl BodyContacts {
             };
             if !(depth > 0.0) {
                 forget(onsets, ob.collider);
+                // Not before the gap could close (at the bounds the pair search used).
+                if ob.closing_m_s > 0.0 {
+                    pair.free_until_s = tau_s + (-depth) / ob.closing_m_s;
+                }
                 continue;
             }
             let n = if proj.is_inside { -out } else { out };

@@ -152,6 +152,8 @@ pub struct StageTimes {
     pub sync_s: f64,
     /// rapier's own step (only counted by [`ChainDrive::step_world`]).
     pub world_s: f64,
+    /// Roller–collider point projections in the substeps.
+    pub projections: u64,
 }
 
 impl StageTimes {
@@ -430,6 +432,7 @@ impl ChainDrive {
         t.search_s += (searched - started).as_secs_f64();
         t.substeps_s += (stepped - searched).as_secs_f64();
         t.sync_s += stepped.elapsed().as_secs_f64();
+        t.projections = self.contacts.projections;
         Ok(())
     }
 
