@@ -16,7 +16,9 @@
 //!   at their frame-start pose with the frame's mean velocity and no gravity,
 //!   user force or damping (the substeps applied them), so rapier's step lands them where the substeps did while
 //!   its other contacts and joints act on them as usual. What rapier's step
-//!   changed in their velocity is added to the substeps' end velocity. The
+//!   changed in their velocity is added to the substeps' end velocity, less
+//!   the part of the substeps' late change that points into a contact rapier
+//!   pushed them with. The
 //!   chain and a heavy box therefore meet at the substeps' dt, not with a
 //!   frame's lag — the explicit lag pumps energy into a light roller under a
 //!   heavy body (100 roller masses blow it up).
@@ -163,6 +165,8 @@ struct Carried {
     /// Velocities given to rapier for its step.
     mean_v: Vector,
     mean_w: f64,
+    /// The rollers' force on it summed over the substeps, then their mean, N.
+    chain_force: Vector,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -240,6 +244,14 @@ impl BodyContacts {
     /// Whether `body` is carried this frame.
     pub fn carries(&self, body: RigidBodyHandle) -> bool {
         self.carried.iter().any(|c| c.body == body)
+    }
+
+    /// The rollers' mean force on a carried body over the frame, N.
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+        self.carried
+            .iter()
+            .find(|c| c.body == body)
+            .map(|c| [c.chain_force.x, c.chain_force.y])
     }
 
     /// Finds this frame's obstacles and pairs; stashes carried bodies'
@@ -417,6 +429,7 @@ impl BodyContacts {
             damping: [rb.linear_damping(), rb.angular_damping()],
             mean_v: Vector::ZERO,
             mean_w: 0.0,
+            chain_force: Vector::ZERO,
         });
         self.carried.len() - 1
     }
@@ -553,6 +566,7 @@ impl BodyContacts {
         for c in &mut self.carried {
             c.v += (c.force_ext + c.force) * c.inv_mass * dt_s;
             c.w += (c.torque_ext + c.torque) * c.inv_inertia * dt_s;
+            c.chain_force += c.force;
             c.v /= 1.0 + dt_s * c.damping[0];
             c.w /= 1.0 + dt_s * c.damping[1];
             c.dx += c.v * dt_s;
@@ -580,6 +594,7 @@ impl BodyContacts {
         }
         let span = frame_dt_s.max(f64::MIN_POSITIVE);
         for c in &mut self.carried {
+            c.chain_force /= n;
             c.mean_v = c.dx / span;
             c.mean_w = c.dtheta / span;
             let finite = c.v.is_finite() && c.w.is_finite();
@@ -602,15 +617,49 @@ impl BodyContacts {
     }
 
     /// After rapier's step: carried bodies get the substeps' end velocity
-    /// plus what rapier's step changed; their gravity and user forces are restored.
-    pub fn after_step(&mut self, bodies: &mut RigidBodySet) {
+    /// plus what rapier's step changed; their gravity, user forces and
+    /// damping are restored. rapier only saw the frame's mean velocity: where
+    /// one of its contacts pushed the body (a stop, a wall), the part of the
+    /// substeps' late velocity change that still points into that contact is
+    /// dropped, so a body held by a stop stays held.
+    pub fn after_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        narrow_phase: &NarrowPhase,
+        is_roller: &dyn Fn(ColliderHandle) -> bool,
+    ) {
         for c in &self.carried {
             let Some(rb) = bodies.get_mut(c.body) else {
                 continue;
             };
             let dv = rb.linvel() - c.mean_v;
             let dw = rb.angvel() - c.mean_w;
-            rb.set_linvel(c.v + dv, true);
+            let mut late = c.v - c.mean_v;
+            for &own in rb.colliders() {
+                for pair in narrow_phase.contact_pairs_with(own) {
+                    let other = if pair.collider1 == own {
+                        pair.collider2
+                    } else {
+                        pair.collider1
+                    };
+                    if is_roller(other) || !pair.has_any_active_contact() {
+                        continue;
+                    }
+                    // rapier pushes collider 1's body along −normal, collider 2's along +normal.
+                    let sign = if pair.collider1 == own { -1.0 } else { 1.0 };
+                    for manifold in pair.manifolds() {
+                        if manifold.points.iter().all(|p| !(p.data.impulse > 0.0)) {
+                            continue;
+                        }
+                        let push = manifold.data.normal * sign;
+                        let into = late.dot(push);
+                        if into < 0.0 {
+                            late -= push * into;
+                        }
+                    }
+                }
+            }
+            rb.set_linvel(c.mean_v + late + dv, true);
             rb.set_angvel(c.w + dw, true);
             rb.set_gravity_scale(c.gravity_scale, true);
             rb.set_linear_damping(c.damping[0]);

@@ -30,7 +30,10 @@
 //!   their frame-start pose with the frame's mean velocity, their gravity,
 //!   user force and damping taken out (the substeps applied them) and put
 //!   back after. Their other contacts and joints act in rapier's step; the
-//!   velocity change they cause is kept. rapier's own roller contact with a
+//!   velocity change they cause is kept, and the part of the substeps'
+//!   velocity change (end minus mean) that points into one of those contacts
+//!   is dropped, so a box held by a stop stays held.
+//!   [`ChainDrive::chain_force_on`] gives the rollers' mean force on a body. rapier's own roller contact with a
 //!   carried body is computed (events fire) but solves no impulse. Mean
 //!   roller forces from all of these: [`ChainDrive::body_forces`].
 //! - **World → chain through rapier.** With [`Coupling::carry_dynamic`]
@@ -282,6 +285,12 @@ impl ChainDrive {
         self.contacts.carries(body)
     }
 
+    /// The rollers' mean force on `body` over the last frame, N, if it was
+    /// carried (the chain's force on your box).
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+        self.contacts.chain_force_on(body)
+    }
+
     /// Whether a collider belongs to the drive.
     pub fn owns_collider(&self, h: ColliderHandle) -> bool {
         self.colliders.contains_key(&h)
@@ -479,7 +488,9 @@ impl ChainDrive {
                 b.add_torque(link.user_torque_n_m, false);
             }
         }
-        self.contacts.after_step(bodies);
+        let colliders = &self.colliders;
+        let is_roller = |h: ColliderHandle| colliders.get(&h).copied().unwrap_or(false);
+        self.contacts.after_step(bodies, narrow_phase, &is_roller);
         self.stage_times.sync_s += started.elapsed().as_secs_f64();
     }
 
