@@ -4,7 +4,7 @@
 //! wall time per rendered frame; writes `paper_in_scene.mcap`.
 //!
 //! ```text
-//! cargo run --release --example paper_in_scene
+//! cargo run --release --example paper_in_scene [FRAMES]
 //! ```
 
 use chaindrive::cosim::ChainDrive;
@@ -42,7 +42,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             rate_hz: 60.0,
         },
     )?;
-    let frames = 180;
+    // Frames to run (first argument), 3 s by default.
+    let frames: u32 = std::env::args()
+        .nth(1)
+        .and_then(|a| a.parse().ok())
+        .unwrap_or(180);
     let started = std::time::Instant::now();
     for _ in 0..frames {
         drive.step_world(&mut world, &(), &())?;
@@ -59,6 +63,17 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "{frames} frames of 1/60 s: {:.2} ms wall per frame, {:.1}x faster than real time",
         frame_s * 1e3,
         (1.0 / 60.0) / frame_s
+    );
+    let t = drive.stage_times;
+    let per = |s: f64| s / t.frames.max(1) as f64 * 1e3;
+    println!(
+        "per frame: chain substeps {:.3} ms ({:.2} µs per substep), rapier step {:.3} ms, \
+         sync {:.3} ms, collider search {:.3} ms",
+        per(t.substeps_s),
+        t.substeps_s / (drive.state.t_s / scene.solver.dt_s).max(1.0) * 1e6,
+        per(t.world_s),
+        per(t.sync_s),
+        per(t.search_s),
     );
     println!(
         "driver at {:.3} rad/s; wrote paper_in_scene.mcap",

@@ -50,10 +50,13 @@
 //!
 //! [`cosim::ChainDrive`] adds a drive's bodies to your own sets (a sprocket
 //! may sit on a body you already have: a motor shaft, a wheel), substeps the
-//! chain at the scene's `dt_s` inside each of your world's steps, feeds the
-//! contact impulses of your bodies back into the chain, and keeps rapier's
-//! solver out of roller–sprocket and roller–roller pairs through
+//! chain at the scene's `dt_s` inside each of your world's steps, and keeps
+//! rapier's solver out of roller–sprocket and roller–roller pairs through
 //! [`cosim::ChainHooks`], which hands every other pair to your own hooks.
+//! Your colliders meet the rollers inside the chain's substeps
+//! ([`cosim::Coupling`]): fixed and kinematic ones (guides, wear strips)
+//! push the chain, dynamic bodies near it (boxes on a conveyor) are carried
+//! with it at its dt — heavy ones too — and handed back to your step.
 //!
 //! ```
 //! use chaindrive::cosim::ChainDrive;
@@ -80,13 +83,42 @@
 //!
 //! // The same frame, composed with your own pipeline call and hooks:
 //! let dt = world.integration_parameters.dt;
-//! drive.before_step(&mut world.bodies, dt)?;
+//! drive.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
 //! world.step_with_events(&drive.hooks(&()), &());
 //! drive.after_step(&mut world.bodies, &world.narrow_phase, dt);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
-//! Examples: `conveyor.rs` (motor torque, boxes on the upper strand),
+//! A fixed guide is any collider of yours; here a wear strip under the upper
+//! strand, pressed 10 µm into its lowest roller (the strand sags under its
+//! own weight):
+//!
+//! ```
+//! # use chaindrive::cosim::ChainDrive;
+//! # use chaindrive::scene::Scene;
+//! # use rapier2d_f64::prelude::*;
+//! # let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
+//! # let mut world = PhysicsWorld::default();
+//! let mut drive = ChainDrive::insert(&scene, &[], &mut world.bodies, &mut world.colliders)?;
+//! let s = &drive.state;
+//! let lowest = (0..s.rollers())
+//!     .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
+//!     .map(|i| s.y[i])
+//!     .fold(f64::INFINITY, f64::min);
+//! let top = lowest - scene.chain.roller_radius_m + 1e-5;
+//! let strip = ColliderBuilder::cuboid(0.35, 0.005)
+//!     .translation(Vector::new(0.5, top - 0.005))
+//!     .friction(0.1);
+//! world.colliders.insert(strip);
+//! drive.step_world(&mut world, &(), &())?;
+//! // The rollers' mean force from your colliders over that frame, N.
+//! let lift: f64 = drive.body_forces().iter().map(|f| f[1]).sum();
+//! assert!(lift > 0.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! Examples: `conveyor.rs` (motor torque, boxes on the upper strand, one of
+//! them 250 roller masses, a wear strip),
 //! `bicycle.rs` (rider torque on the crank, drag on the wheel),
 //! `paper_in_scene.rs` (the paper's drive beside bouncing balls, with the
 //! wall time per frame).

@@ -10,44 +10,71 @@
 //! # One frame
 //!
 //! ```text
-//! drive.before_step(&mut bodies, dt)   // chain substeps to the frame's end;
-//!                                      // bodies get start pose + mean velocity
+//! drive.before_step(&mut bodies, &colliders, gravity, dt)   // chain substeps to the
+//!                                      // frame's end; bodies get start pose + mean velocity
 //! pipeline.step(..., &drive.hooks(&user_hooks), ...)   // the user's own step
-//! drive.after_step(&mut bodies, &narrow_phase, dt)   // what other bodies did to the chain
+//! drive.after_step(&mut bodies, &narrow_phase, dt)   // what rapier did to the chain
 //! ```
 //! ([`ChainDrive::step_world`] does the three for a [`PhysicsWorld`].)
 //!
 //! - **Chain → world.** Before the step every roller body is put at its
 //!   frame-start position with the frame's mean velocity, so rapier's own
-//!   integration lands it where the chain will be at the frame's end; boxes
-//!   resting on the chain are carried along, guides are pushed. Sprockets are
-//!   treated alike (angle and mean angular speed). Roller bodies are
-//!   kinematic for rapier: to other bodies they are as firm as the chain that
-//!   holds them.
-//! - **World → chain.** After the step, the contact impulses rapier's solver
-//!   exchanged between a roller and other bodies (a box's weight and
-//!   friction, a guide) become a force impulse / dt on that roller over the
-//!   next frame. A mounted
-//!   sprocket's body likewise: its user torque (a motor) is taken out of
-//!   rapier's step and applied inside the chain's substeps, together with the
-//!   angular-velocity change its joints caused, so the chain and the motor
-//!   are integrated together at the small dt (a motor feels the load at once).
-//! - The coupling to other bodies is explicit with a lag of one frame: fine
-//!   for loads, guides and motors; a stiff spring between a roller and
-//!   another body would need the user's dt to resolve it.
-//! - A mounted sprocket's centre follows its body's position once per frame;
-//!   the chain's force on it is applied to the body as a user force over the
-//!   next rapier step.
-//! - Not coupled (yet): other bodies hitting a sprocket the drive owns (its
+//!   integration lands it where the chain will be at the frame's end.
+//!   Sprockets are treated alike (angle and mean angular speed). Roller and
+//!   sprocket bodies are kinematic for rapier.
+//! - **The user's colliders at the rollers, in the substeps** (see
+//!   [`Coupling`] for the contact law and what is found when). Fixed
+//!   colliders (guides, rails) and kinematic ones push the rollers; dynamic
+//!   bodies near the chain (a box on a conveyor) are *carried*: integrated
+//!   with the chain at its dt for the frame, then given to rapier's step at
+//!   their frame-start pose with the frame's mean velocity, their gravity,
+//!   user force and damping taken out (the substeps applied them) and put
+//!   back after. Their other contacts and joints act in rapier's step; the
+//!   velocity change they cause is kept, and the part of the substeps'
+//!   velocity change (end minus mean) that points into one of those contacts
+//!   is dropped, so a box held by a stop stays held.
+//!   [`ChainDrive::chain_force_on`] gives the rollers' mean force on a body. rapier's own roller contact with a
+//!   carried body is computed (events fire) but solves no impulse. Mean
+//!   roller forces from all of these: [`ChainDrive::body_forces`].
+//! - **World → chain through rapier.** With [`Coupling::carry_dynamic`]
+//!   off, or for a body that reached the chain faster than the frame's pair
+//!   search allows, rapier's solver meets the kinematic rollers as
+//!   infinitely heavy, and after its step the contact impulses it applied
+//!   become a force impulse / dt on each roller over the next frame
+//!   ([`ChainDrive::external_forces`]). That explicit, lagged coupling is
+//!   fine for bodies up to a few roller masses; a box of 100 roller masses
+//!   blows it up (the box takes the rollers' speed every frame, and the
+//!   impulse hits 20 g rollers a frame later), which is why bodies are carried.
+//! - **Mounted sprockets.** A mounted sprocket's user torque (a motor) is
+//!   taken out of rapier's step and applied inside the chain's substeps,
+//!   together with the angular-velocity change its joints caused, so the
+//!   chain and the motor are integrated together at the small dt (a motor
+//!   feels the load at once). Its centre follows its body's position once
+//!   per frame; the chain's mean force on it is applied to the body as a user
+//!   force over rapier's step. A mounted body's own other colliders do not
+//!   touch the chain.
+//! - Not coupled: other bodies hitting a sprocket the drive owns (its
 //!   kinematic body does not pass their impulses on; mount the sprocket on
-//!   your own body if that matters), and fixed colliders meeting rollers (a
-//!   guide): kinematic and fixed bodies exchange no contact forces in rapier.
+//!   your own body if that matters); roller rotation (rollers slide on a guide).
 //!
 //! rapier's own contact never acts between two of the drive's colliders:
 //! [`ChainHooks`] filters those pairs and hands every other pair to the
 //! user's hooks, so stock contacts keep working.
+//!
+//! Cost: with none of the user's colliders near the chain the substeps do
+//! exactly what a standalone run does; [`ChainDrive::stage_times`] tells
+//! where a frame's wall time goes.
+
+mod bodies;
+
+pub use bodies::Coupling;
+
+use std::collections::HashMap;
+use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
+
+use bodies::{BodyContacts, DriveView};
 
 use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
@@ -90,15 +117,53 @@ pub struct ChainDrive {
     pub rollers: Vec<RigidBodyHandle>,
     /// Sprocket bodies (the user's, where mounted).
     pub sprockets: Vec<RigidBodyHandle>,
-    colliders: std::collections::HashSet<ColliderHandle>,
+    /// How the user's colliders near the rollers are treated (see [`Coupling`]).
+    pub coupling: Coupling,
+    /// Wall time spent per stage, accumulated over frames.
+    pub stage_times: StageTimes,
+    /// The drive's colliders; `true` for a roller's.
+    colliders: HashMap<ColliderHandle, bool>,
     roller_colliders: Vec<ColliderHandle>,
     links: Vec<SprocketLink>,
+    /// Mounted sprockets' bodies.
+    mounted: Vec<RigidBodyHandle>,
     /// Frame-start roller positions.
     start: Vec<[f64; 2]>,
-    /// External force on each roller from other bodies, N (held over a frame).
+    /// Scratch: frame-start sprocket angles; the chain's force on each sprocket summed over the frame.
+    theta0: Vec<f64>,
+    force_sum: Vec<[f64; 2]>,
+    /// External force on each roller from rapier's contacts, N (held over a frame).
     external: Vec<[f64; 2]>,
+    /// Whether `external` holds any non-zero force.
+    any_external: bool,
+    /// The user's colliders in the substeps.
+    contacts: BodyContacts,
     /// World time the chain has been advanced to, s.
     world_time_s: f64,
+}
+
+/// Wall time of a drive's stages, summed over frames, s.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Frames counted.
+    pub frames: u64,
+    /// Finding the user's colliders near the chain (once per frame).
+    pub search_s: f64,
+    /// The chain's substeps (forces, contacts with the user's colliders, integration).
+    pub substeps_s: f64,
+    /// Setting the drive's bodies for rapier's step, reading rapier's results.
+    pub sync_s: f64,
+    /// rapier's own step (only counted by [`ChainDrive::step_world`]).
+    pub world_s: f64,
+    /// Roller–collider point projections in the substeps.
+    pub projections: u64,
+}
+
+impl StageTimes {
+    /// Mean wall time per frame of all stages, s.
+    pub fn per_frame_s(&self) -> f64 {
+        (self.search_s + self.substeps_s + self.sync_s + self.world_s) / self.frames.max(1) as f64
+    }
 }
 
 impl ChainDrive {
@@ -173,8 +238,16 @@ impl ChainDrive {
             })
             .collect();
         let n = state.rollers();
+        let sprocket_count = links.len();
         Ok(Self {
             sprockets: links.iter().map(|l| l.body).collect(),
+            mounted: links.iter().filter(|l| l.mounted).map(|l| l.body).collect(),
+            coupling: Coupling::new(&scene.contact),
+            stage_times: StageTimes::default(),
+            contacts: BodyContacts::new(n, scene.chain.roller_mass_kg, scene.chain.roller_radius_m),
+            theta0: vec![0.0; sprocket_count],
+            force_sum: vec![[0.0; 2]; sprocket_count],
+            any_external: false,
             scene,
             model,
             state,
@@ -182,7 +255,10 @@ impl ChainDrive {
             equilibrium,
             limits,
             rollers,
-            colliders: handles.into_iter().collect(),
+            colliders: handles
+                .into_iter()
+                .map(|h| (h, roller_colliders.contains(&h)))
+                .collect(),
             roller_colliders,
             links,
             start: vec![[0.0; 2]; n],
@@ -191,14 +267,38 @@ impl ChainDrive {
         })
     }
 
-    /// The force each roller receives from other bodies (held over the coming frame), N.
+    /// The force each roller receives from rapier's contacts with bodies
+    /// that are not carried (held over the coming frame), N.
     pub fn external_forces(&self) -> &[[f64; 2]] {
         &self.external
     }
 
+    /// The mean force each roller received over the last frame from the
+    /// user's colliders handled in the substeps (guides, kinematic and
+    /// carried bodies; see [`Coupling`]), N.
+    pub fn body_forces(&self) -> &[[f64; 2]] {
+        &self.contacts.roller_force_mean
+    }
+
+    /// Whether `body` was carried in the substeps this frame.
+    pub fn carries(&self, body: RigidBodyHandle) -> bool {
+        self.contacts.carries(body)
+    }
+
+    /// The rollers' mean force on `body` over the last frame, N, if it was
+    /// carried (the chain's force on your box).
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+        self.contacts.chain_force_on(body)
+    }
+
     /// Whether a collider belongs to the drive.
     pub fn owns_collider(&self, h: ColliderHandle) -> bool {
-        self.colliders.contains(&h)
+        self.colliders.contains_key(&h)
+    }
+
+    /// Whether a collider is one of the drive's rollers.
+    pub fn is_roller_collider(&self, h: ColliderHandle) -> bool {
+        self.colliders.get(&h).copied().unwrap_or(false)
     }
 
     /// Hooks for the user's step: drive–drive pairs are filtered out, every
@@ -208,9 +308,17 @@ impl ChainDrive {
     }
 
     /// Advances the chain to the end of the coming frame of `dt_s` and sets
-    /// its bodies for rapier's step. Call right before the user's step. A
+    /// its bodies for rapier's step. Call right before the user's step, with
+    /// the world's gravity (carried bodies feel it in the substeps). A
     /// blow-up of the chain is an error (the bodies are then left as they were).
-    pub fn before_step(&mut self, bodies: &mut RigidBodySet, dt_s: f64) -> Result<(), SimError> {
+    pub fn before_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        gravity: Vector,
+        dt_s: f64,
+    ) -> Result<(), SimError> {
+        let started = Instant::now();
         // Sprockets: centres, user torques (taken out of rapier's step).
         for (k, link) in self.links.iter_mut().enumerate() {
             let Some(b) = bodies.get_mut(link.body) else {
@@ -231,7 +339,23 @@ impl ChainDrive {
         {
             *s = [*p.0, *p.1];
         }
-        let theta0 = self.state.theta.clone();
+        self.theta0.copy_from_slice(&self.state.theta);
+        let colliders_map = &self.colliders;
+        let owns = |h: ColliderHandle| colliders_map.contains_key(&h);
+        self.contacts.prepare(
+            &self.coupling,
+            &DriveView {
+                owns: &owns,
+                mounted: &self.mounted,
+                roller_colliders: &self.roller_colliders,
+                state: &self.state,
+            },
+            bodies,
+            colliders,
+            gravity,
+            dt_s,
+        );
+        let searched = Instant::now();
         // Substeps at the scene's dt until the world's frame end; the chain's
         // clock lags the world's by less than one substep and is counted from
         // the frame's start as `Simulation::run` counts it, so a drive with no
@@ -240,21 +364,51 @@ impl ChainDrive {
         let dt = self.scene.solver.dt_s;
         let t0 = self.state.t_s;
         let substeps = ((self.world_time_s - t0) / dt + 1e-9).floor().max(0.0) as u64;
-        let mut force_sum = vec![[0.0f64; 2]; self.links.len()];
+        self.force_sum.fill([0.0; 2]);
+        let with_bodies = !self.contacts.is_empty();
         for step in 1..=substeps {
-            for (i, f) in self.external.iter().enumerate() {
-                self.forces.fx[i] += f[0];
-                self.forces.fy[i] += f[1];
+            if self.any_external {
+                for (i, f) in self.external.iter().enumerate() {
+                    self.forces.fx[i] += f[0];
+                    self.forces.fy[i] += f[1];
+                }
+            }
+            if with_bodies {
+                let tau = (step - 1) as f64 * dt;
+                self.contacts
+                    .apply(&self.coupling, &self.state, &mut self.forces, tau, dt);
             }
             symplectic_euler(&self.model, &mut self.state, &self.forces, dt, None);
+            if with_bodies {
+                self.contacts.integrate(dt);
+            }
             self.state.t_s = t0 + step as f64 * dt;
             self.forces.evaluate(&self.model, &self.state);
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)?;
-            for (sum, f) in force_sum.iter_mut().zip(&self.forces.chain_force) {
+            for (sum, f) in self.force_sum.iter_mut().zip(&self.forces.chain_force) {
                 sum[0] += f[0];
                 sum[1] += f[1];
             }
         }
+        if self.contacts.max_depth_m > self.limits.max_penetration_m {
+            return Err(SimError::BlowUp {
+                t_s: self.state.t_s,
+                detector: crate::sim::Detector::Penetration.name(),
+                body: "a roller against a user's collider".to_owned(),
+                value: self.contacts.max_depth_m,
+                limit: self.limits.max_penetration_m,
+            });
+        }
+        if !self.contacts.finish_substeps(bodies, substeps, dt_s) {
+            return Err(SimError::BlowUp {
+                t_s: self.state.t_s,
+                detector: crate::sim::Detector::NonFinite.name(),
+                body: "a carried body".to_owned(),
+                value: f64::NAN,
+                limit: 0.0,
+            });
+        }
+        let stepped = Instant::now();
         let span = dt_s.max(f64::MIN_POSITIVE);
         for i in 0..self.state.rollers() {
             let v = [
@@ -268,10 +422,10 @@ impl ChainDrive {
         }
         let n = substeps.max(1) as f64;
         for (k, link) in self.links.iter_mut().enumerate() {
-            link.mean_omega = (self.state.theta[k] - theta0[k]) / span;
-            link.mean_chain_force = [force_sum[k][0] / n, force_sum[k][1] / n];
+            link.mean_omega = (self.state.theta[k] - self.theta0[k]) / span;
+            link.mean_chain_force = [self.force_sum[k][0] / n, self.force_sum[k][1] / n];
             if let Some(b) = bodies.get_mut(link.body) {
-                b.set_rotation(Rotation::new(theta0[k]), true);
+                b.set_rotation(Rotation::new(self.theta0[k]), true);
                 b.set_angvel(link.mean_omega, true);
                 if link.mounted {
                     b.reset_forces(false);
@@ -282,15 +436,25 @@ impl ChainDrive {
                 }
             }
         }
+        let t = &mut self.stage_times;
+        t.frames += 1;
+        t.search_s += (searched - started).as_secs_f64();
+        t.substeps_s += (stepped - searched).as_secs_f64();
+        t.sync_s += stepped.elapsed().as_secs_f64();
+        t.projections = self.contacts.projections;
         Ok(())
     }
 
     /// Reads what rapier's step did to the drive's bodies beyond the chain's
-    /// own motion — the contact impulses other bodies exchanged with the
-    /// rollers, the speed change joints gave mounted sprockets — and
-    /// restores the users' torques. Call right after the user's step.
+    /// own motion — the contact impulses bodies that are not carried
+    /// exchanged with the rollers, the speed change joints gave mounted
+    /// sprockets, what other contacts and joints did to carried bodies — and
+    /// restores the users' torques, forces and gravity scales. Call right
+    /// after the user's step.
     pub fn after_step(&mut self, bodies: &mut RigidBodySet, narrow_phase: &NarrowPhase, dt_s: f64) {
+        let started = Instant::now();
         let span = dt_s.max(f64::MIN_POSITIVE);
+        self.any_external = false;
         for (i, &rc) in self.roller_colliders.iter().enumerate() {
             let mut impulse = [0.0f64; 2];
             for pair in narrow_phase.contact_pairs_with(rc) {
@@ -311,6 +475,7 @@ impl ChainDrive {
                 }
             }
             self.external[i] = [impulse[0] / span, impulse[1] / span];
+            self.any_external |= impulse != [0.0; 2];
         }
         for (k, link) in self.links.iter().enumerate() {
             if !link.mounted {
@@ -323,6 +488,10 @@ impl ChainDrive {
                 b.add_torque(link.user_torque_n_m, false);
             }
         }
+        let colliders = &self.colliders;
+        let is_roller = |h: ColliderHandle| colliders.get(&h).copied().unwrap_or(false);
+        self.contacts.after_step(bodies, narrow_phase, &is_roller);
+        self.stage_times.sync_s += started.elapsed().as_secs_f64();
     }
 
     /// One frame of a [`PhysicsWorld`] with the user's hooks and events.
@@ -333,12 +502,14 @@ impl ChainDrive {
         events: &dyn EventHandler,
     ) -> Result<(), SimError> {
         let dt = world.integration_parameters.dt;
-        self.before_step(&mut world.bodies, dt)?;
+        self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
         let hooks = ChainHooks {
             drive: &*self,
             user: &DynHooks(user_hooks),
         };
+        let started = Instant::now();
         world.step_with_events(&hooks, events);
+        self.stage_times.world_s += started.elapsed().as_secs_f64();
         self.after_step(&mut world.bodies, &world.narrow_phase, dt);
         Ok(())
     }
@@ -369,6 +540,9 @@ impl<H: PhysicsHooks> PhysicsHooks for ChainHooks<'_, H> {
     fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
         if self.drive.owns_collider(c.collider1) && self.drive.owns_collider(c.collider2) {
             None
+        } else if self.carried_pair(c) {
+            // The substeps handle it: contacts (and events) without impulses.
+            Some(SolverFlags::empty())
         } else if self.needs_user(c) {
             self.user.filter_contact_pair(c)
         } else {
@@ -387,6 +561,14 @@ impl<H: PhysicsHooks> PhysicsHooks for ChainHooks<'_, H> {
 }
 
 impl<H: PhysicsHooks> ChainHooks<'_, H> {
+    /// A roller and a body carried in the substeps.
+    fn carried_pair(&self, c: &PairFilterContext) -> bool {
+        let d = self.drive;
+        let carried = |b: Option<RigidBodyHandle>| b.is_some_and(|b| d.carries(b));
+        (d.is_roller_collider(c.collider1) && carried(c.rigid_body2))
+            || (d.is_roller_collider(c.collider2) && carried(c.rigid_body1))
+    }
+
     /// Whether one of the pair's colliders asked for the user's filter itself
     /// (rapier only calls hooks for flagged colliders; ours flag every pair
     /// they are in, so the user's filter is asked only when the user's
