@@ -48,6 +48,11 @@ impl ContactLawParams {
         }
     }
 
+    /// The same law with another damping factor χ.
+    pub fn with_chi(self, chi: f64) -> Self {
+        Self { chi, ..self }
+    }
+
     /// The approach speed to remember at contact onset.
     #[inline]
     pub fn onset_speed(&self, approach_speed_m_s: f64) -> f64 {

@@ -179,8 +179,6 @@ pub struct ForceGenerator {
     pending_free_until_s: Vec<f64>,
     /// Linear forms of the contact damping, when enabled.
     damping_rows: Option<DampingRows>,
-    /// Whether contacts are damped (off: elastic contacts, for relaxation).
-    contact_damping: bool,
     /// Stage timers; `None` (the default) times nothing.
     pub timing: Option<ForceTimes>,
     /// Last gap each roller touched: where the O(1) gap search starts.
@@ -232,7 +230,6 @@ impl ForceGenerator {
             pending_memory: vec![[FREE; MAX_PATCHES]; rollers],
             pending_free_until_s: vec![f64::NEG_INFINITY; rollers],
             damping_rows: None,
-            contact_damping: true,
             timing: None,
             gap_hint: vec![0; rollers],
             sprocket_hint: vec![0; rollers],
@@ -269,11 +266,10 @@ impl ForceGenerator {
         self.pending_free_until_s.fill(f64::NEG_INFINITY);
     }
 
-    /// Switches the contacts' damping on or off (off: purely elastic
-    /// contacts; the static relaxation uses that, its own damping bringing
-    /// the drive to rest without the contact damping's step limit).
-    pub fn set_contact_damping(&mut self, on: bool) {
-        self.contact_damping = on;
+    /// Replaces the contact law (the static relaxation uses a dissipative
+    /// one whatever the run's restitution).
+    pub fn set_law(&mut self, law: ContactLawParams) {
+        self.law = law;
     }
 
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
@@ -281,6 +277,11 @@ impl ForceGenerator {
         if self.damping_rows.is_none() {
             self.damping_rows = Some(DampingRows::new(self.fx.len()));
         }
+    }
+
+    /// Stops recording [`DampingRows`].
+    pub fn disable_damping_rows(&mut self) {
+        self.damping_rows = None;
     }
 
     /// The damping rows of the last evaluation, if enabled.
@@ -424,7 +425,6 @@ impl ForceGenerator {
     /// Within reach, the gap search starts from the roller's last gap.
     fn contacts(&mut self, model: &DriveModel, s: &DriveState) {
         let law = self.law;
-        let damped = self.contact_damping;
         let energy_factor = 1.0 / (law.exponent + 1.0);
         let mut energy = 0.0;
         let mut max_pen = 0.0f64;
@@ -516,11 +516,7 @@ impl ForceGenerator {
                         used += 1;
                     }
                     let elastic = law.elastic(p.depth_m);
-                    let f = if damped {
-                        (elastic * (1.0 + damping * depth_rate)).max(0.0)
-                    } else {
-                        elastic
-                    };
+                    let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
                     energy += elastic * p.depth_m * energy_factor;
                     if self.damping_rows.is_some()
                         && (row_sprocket == u32::MAX || row_sprocket == sp_index as u32)

@@ -59,7 +59,7 @@
 //! to a step later. Separation by the force clamp (damping cancelling the
 //! elastic force while δ > 0) is not located.
 
-use super::{SimError, stepper::driver_speed};
+use super::{Relaxation, SimError, stepper::driver_speed};
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::Integrator;
@@ -261,59 +261,7 @@ impl Integration {
         forces: &ForceGenerator,
         h: f64,
     ) {
-        let m = model.roller_mass_kg;
-        let torque = &mut self.torque_scratch;
-        torque.copy_from_slice(&forces.chain_torque);
-        let Some(rows) = forces.damping_rows() else {
-            // Unreachable by construction (`new` enables the rows); fall back to the explicit step.
-            super::symplectic_euler(model, state, forces, h, None);
-            return;
-        };
-        for i in 0..state.rollers() {
-            let (fx, fy) = (forces.fx[i], forces.fy[i]);
-            let (vx, vy) = (state.vx[i], state.vy[i]);
-            let s = rows.sprocket[i];
-            let (nvx, nvy) = if s == u32::MAX {
-                (vx + h * fx / m, vy + h * fy / m)
-            } else {
-                let [cxx, cxy, cyy] = rows.c[i];
-                let [ex, ey] = rows.explicit[i];
-                let [dx, dy] = rows.c_v_sprocket[i];
-                let [elx, ely] = rows.elastic[i];
-                // The force without the contact damping.
-                let (rest_x, rest_y) = (fx - ex, fy - ey);
-                let (a, b, d) = (m + h * cxx, h * cxy, m + h * cyy);
-                let (rx, ry) = (m * vx + h * (rest_x + dx), m * vy + h * (rest_y + dy));
-                // A is symmetric positive definite (C ⪰ 0, m > 0): det > 0.
-                let det = a * d - b * b;
-                let (mut ux, mut uy) = ((d * rx - b * ry) / det, (a * ry - b * rx) / det);
-                let (mut fdx, mut fdy) = (dx - (cxx * ux + cxy * uy), dy - (cxy * ux + cyy * uy));
-                if (elx + fdx) * elx + (ely + fdy) * ely < 0.0 {
-                    // The damping would pull: the contact force is clamped to zero.
-                    (fdx, fdy) = (-elx, -ely);
-                    ux = vx + h * (rest_x + fdx) / m;
-                    uy = vy + h * (rest_y + fdy) / m;
-                }
-                let [lx, ly] = rows.lever[i];
-                let (ddx, ddy) = (fdx - ex, fdy - ey);
-                torque[s as usize] -= lx * ddy - ly * ddx;
-                (ux, uy)
-            };
-            state.vx[i] = nvx;
-            state.vy[i] = nvy;
-            state.x[i] += h * nvx;
-            state.y[i] += h * nvy;
-        }
-        for (s, sp) in model.sprockets.iter().enumerate() {
-            let omega = if sp.speed_law.is_some() {
-                driver_speed(model, s, state.t_s, h)
-            } else {
-                state.omega[s] + h * (torque[s] + sp.load_torque_n_m) * sp.inv_inertia
-            };
-            state.omega[s] = omega;
-            state.theta[s] += h * omega;
-        }
-        state.t_s += h;
+        implicit_damping_step(model, state, forces, h, &mut self.torque_scratch, None);
     }
 
     /// Velocity Verlet: half kick, drift, forces at the new positions, half
@@ -579,6 +527,77 @@ impl Integration {
         }
         earliest
     }
+}
+
+/// One step of symplectic Euler with the contact damping implicit (see the
+/// module docs); `forces` must hold damping rows. With `relax`, the driver is
+/// held and every velocity damped, as in [`super::symplectic_euler`].
+/// `torque` is scratch of one entry per sprocket.
+pub(crate) fn implicit_damping_step(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &ForceGenerator,
+    h: f64,
+    torque: &mut [f64],
+    relax: Option<Relaxation>,
+) {
+    let m = model.roller_mass_kg;
+    let scale = relax.map_or(1.0, |r| 1.0 / (1.0 + h * r.rate_per_s));
+    torque.copy_from_slice(&forces.chain_torque);
+    let Some(rows) = forces.damping_rows() else {
+        // Without rows there is nothing implicit to do: the explicit step.
+        super::symplectic_euler(model, state, forces, h, relax);
+        return;
+    };
+    for i in 0..state.rollers() {
+        let (fx, fy) = (forces.fx[i], forces.fy[i]);
+        let (vx, vy) = (state.vx[i], state.vy[i]);
+        let s = rows.sprocket[i];
+        let (nvx, nvy) = if s == u32::MAX {
+            (vx + h * fx / m, vy + h * fy / m)
+        } else {
+            let [cxx, cxy, cyy] = rows.c[i];
+            let [ex, ey] = rows.explicit[i];
+            let [dx, dy] = rows.c_v_sprocket[i];
+            let [elx, ely] = rows.elastic[i];
+            // The force without the contact damping.
+            let (rest_x, rest_y) = (fx - ex, fy - ey);
+            let (a, b, d) = (m + h * cxx, h * cxy, m + h * cyy);
+            let (rx, ry) = (m * vx + h * (rest_x + dx), m * vy + h * (rest_y + dy));
+            // A is symmetric positive definite (C ⪰ 0, m > 0): det > 0.
+            let det = a * d - b * b;
+            let (mut ux, mut uy) = ((d * rx - b * ry) / det, (a * ry - b * rx) / det);
+            let (mut fdx, mut fdy) = (dx - (cxx * ux + cxy * uy), dy - (cxy * ux + cyy * uy));
+            if (elx + fdx) * elx + (ely + fdy) * ely < 0.0 {
+                // The damping would pull: the contact force is clamped to zero.
+                (fdx, fdy) = (-elx, -ely);
+                ux = vx + h * (rest_x + fdx) / m;
+                uy = vy + h * (rest_y + fdy) / m;
+            }
+            let [lx, ly] = rows.lever[i];
+            let (ddx, ddy) = (fdx - ex, fdy - ey);
+            torque[s as usize] -= lx * ddy - ly * ddx;
+            (ux, uy)
+        };
+        state.vx[i] = nvx * scale;
+        state.vy[i] = nvy * scale;
+        state.x[i] += h * state.vx[i];
+        state.y[i] += h * state.vy[i];
+    }
+    for (s, sp) in model.sprockets.iter().enumerate() {
+        let omega = if sp.speed_law.is_some() {
+            if relax.is_some() {
+                0.0
+            } else {
+                driver_speed(model, s, state.t_s, h)
+            }
+        } else {
+            (state.omega[s] + h * (torque[s] + sp.load_torque_n_m) * sp.inv_inertia) * scale
+        };
+        state.omega[s] = omega;
+        state.theta[s] += h * omega;
+    }
+    state.t_s += h;
 }
 
 /// Cubic Hermite interpolation at fraction `s` of a step `h` between values
