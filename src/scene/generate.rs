@@ -190,8 +190,8 @@ impl DriveSpec {
             .zip(&self.teeth)
             .enumerate()
             .map(|(i, (c, &teeth))| {
-                let scale = (pitch_radius(pitch, teeth) / pitch_radius(pitch, REFERENCE_TEETH))
-                    .powi(2);
+                let scale =
+                    (pitch_radius(pitch, teeth) / pitch_radius(pitch, REFERENCE_TEETH)).powi(2);
                 let driver = i == 0;
                 SprocketFile {
                     name: if driver {
@@ -366,7 +366,11 @@ impl Placement {
         let h = 1e-6 * s;
         let slope = match (self.needed(s + h), self.needed(s - h)) {
             (Some(a), Some(b)) if a > b => (a - b) / (2.0 * h),
-            _ => return Err(no_fit("the path length does not grow with the spacing".into())),
+            _ => {
+                return Err(no_fit(
+                    "the path length does not grow with the spacing".into(),
+                ));
+            }
         };
         let mut last = String::new();
         for _ in 0..8 {

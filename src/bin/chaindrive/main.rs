@@ -6,6 +6,7 @@ mod check;
 mod profile;
 mod reproduce;
 mod run;
+mod stress;
 
 use clap::{Parser, Subcommand};
 
@@ -21,7 +22,7 @@ struct Cli {
 enum Command {
     /// Run a scene (default: the paper's four-sprocket drive) and report.
     Run(run::RunArgs),
-    /// Long studies: soak (drift over a long run), fuzz (mutated scenes).
+    /// Long studies: soak (drift over a long run), fuzz (mutated scenes), stress (stability matrix).
     Bench(bench::BenchArgs),
     /// Validate a scene without running it and print the derived layout.
     Check(check::CheckArgs),
