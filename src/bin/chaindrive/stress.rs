@@ -10,6 +10,8 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::mpsc;
 use std::time::Instant;
 
 use anyhow::Context;
@@ -28,6 +30,10 @@ pub struct StressArgs {
     /// A small subset (one cell, two integrators, short horizon), for tests.
     #[arg(long)]
     quick: bool,
+    /// Cells run at once, one thread each (wall times are measured per run,
+    /// on whatever core it gets).
+    #[arg(long, default_value_t = 2)]
+    jobs: usize,
     /// Only the cells with these names (comma-separated, e.g. `baseline,rpm-1200`).
     #[arg(long, value_delimiter = ',')]
     cases: Vec<String>,
@@ -72,6 +78,39 @@ impl Outputs {
     }
 }
 
+/// One progress line on stderr (cell `k` of `n`).
+fn progress(k: usize, n: usize, started: Instant, p: Progress<'_>) {
+    match p {
+        Progress::Settled {
+            info,
+            wall_s,
+            error: None,
+        } => eprintln!(
+            "[{}/{n}] {}: settled in {wall_s:.1} s ({} rollers, {} sprockets, {} profile)",
+            k + 1,
+            info.name,
+            info.rollers,
+            info.sprockets,
+            info.profile
+        ),
+        Progress::Settled {
+            info,
+            error: Some(e),
+            ..
+        } => eprintln!("[{}/{n}] {}: cannot settle: {e}", k + 1, info.name),
+        Progress::Run { .. } => {}
+        Progress::Ladder { info, limit } => eprintln!(
+            "[{}/{n}] {} {:<17} stable to {:>7} µs, first failure {:>7} µs  ({:.0} s elapsed)",
+            k + 1,
+            info.name,
+            limit.integrator.name(),
+            us(limit.largest_stable_dt_s),
+            us(limit.first_unstable_dt_s),
+            started.elapsed().as_secs_f64()
+        ),
+    }
+}
+
 fn us(x: Option<f64>) -> String {
     x.map_or_else(|| "-".to_owned(), |v| format!("{:.1}", v * 1e6))
 }
@@ -103,39 +142,34 @@ pub fn stress(args: StressArgs) -> anyhow::Result<ExitCode> {
         ladder.max_dt_s,
         ladder.past_failure
     );
-    let mut results = Vec::with_capacity(cases.len());
     let n = cases.len();
-    for (k, case) in cases.iter().enumerate() {
-        let r = run_case(case, &ladder, &mut |p| match p {
-            Progress::Settled {
-                info,
-                wall_s,
-                error,
-            } => match error {
-                None => eprintln!(
-                    "[{}/{n}] {}: settled in {wall_s:.1} s ({} rollers, {} sprockets, {} profile)",
-                    k + 1,
-                    info.name,
-                    info.rollers,
-                    info.sprockets,
-                    info.profile
-                ),
-                Some(e) => eprintln!("[{}/{n}] {}: cannot settle: {e}", k + 1, info.name),
-            },
-            Progress::Run { .. } => {}
-            Progress::Ladder { info, limit } => eprintln!(
-                "[{}/{n}] {} {:<17} stable to {:>7} µs, first failure {:>7} µs  ({:.0} s elapsed)",
-                k + 1,
-                info.name,
-                limit.integrator.name(),
-                us(limit.largest_stable_dt_s),
-                us(limit.first_unstable_dt_s),
-                started.elapsed().as_secs_f64()
-            ),
-        });
-        out.append(&r)?;
-        results.push(r);
-    }
+    let next = AtomicUsize::new(0);
+    let (tx, rx) = mpsc::channel::<(usize, CaseResult)>();
+    let mut slots: Vec<Option<CaseResult>> = (0..n).map(|_| None).collect();
+    let written = std::thread::scope(|scope| -> anyhow::Result<()> {
+        for _ in 0..args.jobs.clamp(1, n.max(1)) {
+            let tx = tx.clone();
+            let (cases, next, ladder) = (&cases, &next, &ladder);
+            scope.spawn(move || {
+                loop {
+                    let k = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(case) = cases.get(k) else { break };
+                    let r = run_case(case, ladder, &mut |p| progress(k, n, started, p));
+                    if tx.send((k, r)).is_err() {
+                        break;
+                    }
+                }
+            });
+        }
+        drop(tx);
+        for (k, r) in rx {
+            out.append(&r)?;
+            slots[k] = Some(r);
+        }
+        Ok(())
+    });
+    written?;
+    let results: Vec<CaseResult> = slots.into_iter().flatten().collect();
     let broken = report(&results);
     println!(
         "\nwall time of the matrix: {:.1} s; outputs in {}",
