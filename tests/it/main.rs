@@ -12,6 +12,7 @@ mod profile;
 mod record;
 mod scene_errors;
 mod stepping;
+mod stress;
 
 use chaindrive::scene::Scene;
 
