@@ -695,8 +695,9 @@ pub fn big_chain_integrators() -> Vec<Integrator> {
     ]
 }
 
-/// The schemes run on the costliest cells (long ramps, the real profile at
-/// 1200 rpm, 500 rollers): velocity Verlet's limit equals symplectic
+/// The schemes run on the costliest circular-profile cells (the 2.75 s and
+/// 5.25 s horizons of 600 and 1200 rpm, 500 rollers; the real profile at
+/// 1200 rpm keeps all five for the comparison): velocity Verlet's limit equals symplectic
 /// Euler's on every cheaper cell, and the adaptive scheme costs some 1.7 s
 /// per simulated second on the baseline already.
 pub fn core_integrators() -> Vec<Integrator> {
