@@ -16,6 +16,7 @@ pub mod figures;
 pub mod recorded;
 pub mod reproduce;
 pub mod spectrum;
+pub mod stress;
 pub mod study;
 mod summary;
 pub mod theory;

@@ -8,6 +8,7 @@
 
 mod error;
 mod file;
+pub mod generate;
 pub mod mutate;
 
 pub use error::{FieldError, SceneError, locate};

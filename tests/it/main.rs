@@ -13,6 +13,7 @@ mod profile;
 mod record;
 mod scene_errors;
 mod stepping;
+mod stress;
 
 use chaindrive::scene::Scene;
 

@@ -5,6 +5,7 @@
 //!   average, strand tension steady, penetration not growing.
 //! - `fuzz`: thousands of mutated scene files through parse, layout,
 //!   equilibrium and a short run (the property test runs a few hundred).
+//! - `stress`: the stress matrix (`super::stress`).
 
 use std::process::ExitCode;
 
@@ -47,6 +48,9 @@ enum Study {
         #[arg(long, default_value_t = 0)]
         seed: u64,
     },
+    /// Hard cases × integrators × a ladder of steps: stability limits,
+    /// detectors, cost per simulated second.
+    Stress(super::stress::StressArgs),
 }
 
 pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
@@ -59,6 +63,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
         } => soak(duration, window, profile.as_deref(), dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
         Study::WorkPrecision(args) => crate::work_precision::work_precision(args),
+        Study::Stress(args) => super::stress::stress(args),
     }
 }
 

@@ -6,6 +6,7 @@ mod check;
 mod profile;
 mod reproduce;
 mod run;
+mod stress;
 mod work_precision;
 
 use clap::{Parser, Subcommand};
@@ -23,7 +24,8 @@ enum Command {
     /// Run a scene (default: the paper's four-sprocket drive) and report.
     Run(run::RunArgs),
     /// Long studies: soak (drift over a long run), work-precision (wall time
-    /// against error per integrator), fuzz (mutated scenes).
+    /// against error per integrator), stress (stability matrix), fuzz
+    /// (mutated scenes).
     Bench(bench::BenchArgs),
     /// Validate a scene without running it and print the derived layout.
     Check(check::CheckArgs),
