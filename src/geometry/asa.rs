@@ -1808,7 +1808,7 @@ impl AsaProfile {
     /// Speed: a roller outside the tip circle, or in the seat with clearance, is rejected
     /// after one or two products. At the bottom of the gap (seated, or rocked onto a working
     /// curve past x or x*) and in the free space of the gap, direct rules answer with at most
-    /// one square root ([`Shortcuts`]). Otherwise every piece that is provably farther than the
+    /// one square root (`Shortcuts` in the source). Otherwise every piece that is provably farther than the
     /// radius (by its whole circle or line) is skipped. Once the nearest outline point is
     /// known to be in free space (from the nearest evaluated piece, or, when all pieces are
     /// far, from the outline seen as a graph over ξ), a skipped piece can change no result.
