@@ -704,6 +704,33 @@ struct Near {
     mode: u8,
 }
 
+/// One patch in gap-local form, before it is written in the sprocket frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Found {
+    /// Penetration depth r − sd, > 0.
+    depth_m: f64,
+    /// Unit free-side normal, gap-local.
+    normal: V2,
+    /// Closest outline point, gap-local.
+    point: V2,
+    /// Area 1..=7.
+    area: u8,
+    /// Gap of the piece relative to the evaluating gap (−1, 0, +1).
+    gap_offset: i64,
+    /// Patch id (see the module docs).
+    patch_id: u32,
+}
+
+/// An unused [`Found`] slot.
+const NONE: Found = Found {
+    depth_m: 0.0,
+    normal: [0.0; 2],
+    point: [0.0; 2],
+    area: 0,
+    gap_offset: 0,
+    patch_id: 0,
+};
+
 /// The closest point is the foot of the perpendicular.
 const FOOT: u8 = 0;
 /// The closest point is the start point.
@@ -1230,87 +1257,203 @@ pub struct AsaProfile {
     inv_pitch_angle: f64,
     /// The outline as a graph, to tell free space from material far from the outline.
     graph: Option<SideGraph>,
-    /// The seated shortcut of [`AsaProfile::contacts_hinted`] (see [`SeatShortcut`]).
-    seat_cut: SeatShortcut,
+    /// The direct rules of [`AsaProfile::contacts_hinted`] (see [`Shortcuts`]).
+    cuts: Shortcuts,
+    /// The radius-dependent constants for the profile's own roller, Dr/2.
+    nominal: Reach,
 }
 
-/// Angular margin δ of the seated shortcut: its cone stops δ short of the seating arc's
-/// window (the joints x, x*), so the working curves are provably farther than the seat.
-const SEAT_CONE_MARGIN_RAD: f64 = 3.0 * PI / 180.0;
+/// Smallest distance |s| of `q` from the line c–O–x (or its mirror c*–O–x*) for which the
+/// bottom-of-gap rules of [`Shortcuts`] decide between the seat and a working curve, as a
+/// fraction of Rt. The losing piece is then farther by at least s²/(2(|c| + R_L)) ≈ 3·10⁻¹²
+/// m for the paper's rollers (≫ [`TIE_M`] and the rounding); closer to the line the general
+/// path decides.
+const JOINT_LINE_MARGIN: f64 = 2e-5;
 
-/// The region where only the seating arc can touch, with the seat patch as the whole
-/// answer: `q` (gap-local) with η < 0, |ξ| ≤ tan(π/2 − A − δ)·|η|, and
-/// `min_r ≤ |q| < min(far − reach, free)`.
+/// Margin by which a working curve's foot must be nearer than the seat bottom before the
+/// bottom-of-gap rule reports it (≫ [`TIE_M`] and the rounding).
+const BOTTOM_MARGIN_M: f64 = 1e-12;
+
+/// The two direct rules of [`AsaProfile::contacts_hinted`], for the places where almost
+/// every query of a running drive falls: the bottom of the gap (seated rollers, and rollers
+/// rocked onto a working curve just past the joint x or x*), and the free space of the gap
+/// above it. Radius-independent part; [`Reach`] holds the rest.
 ///
-/// Why the answer there is exactly the seat patch of the half that owns `q` (piece 3 for
-/// ξ > 0, piece 4 otherwise), in contact iff r − (Rt − |q|) > 0, with id 2g:
+/// **Bottom of the gap**: `q` (gap-local) with `min_r ≤ |q| < R_L`, R_L = min(far − reach,
+/// Rt(1 − 10⁻³)). Let s = cos A·η + sin A·|ξ|, the signed distance of `q` from the line
+/// through c, O and x (from its mirror through c*, O, x* when ξ ≤ 0), positive on the
+/// working curve's side. The owning half is the one with ξ > 0 (pieces 2, 3) or ξ ≤ 0
+/// (pieces 5, 4), as the seat-bottom joint decides. Then:
+/// - s ≤ −s_min: the seat foot, depth r − (Rt − |q|), area 4, id 2g;
+/// - s ≥ s_min and the seat bottom farther than min(d_w + margin, reach): the working curve's
+///   foot, depth r − d_w with d_w = RE − |q − c|, area 5 (3), id 2g;
+/// - otherwise the general path.
+///
+/// Why this is the general answer:
 /// - Pieces 0, 1, 6, 7 and both neighbouring toppings are at least `far` from O (checked
 ///   at construction), so farther than `reach` from `q`: never in contact (a negative
-///   signed distance below −reach fails the consistency test, the nearest own piece
-///   being a seat half with a positive distance), and never preferred in a patch to a
-///   seat half in contact (dist ≤ r < reach).
-/// - `q` is strictly inside the owning half's window, so that half is at Rt − |q|.
-/// - Working arc 5 (piece 2) lies outside the seat circle (|a| ≥ RE − |c| = Rt) and its
-///   polar angle about O grows monotonically (dθ/dt = RE(RE + c·w)/|a|² ≥ RE·Rt/|a|²) from
-///   −A at x to θ_y < π/2 (checked). For |q| < Rt, |q − a|² = |q|² + |a|² − 2|q||a|cos σ
-///   grows with |a|, so |q − a|² ≥ |q|² + Rt² − 2|q|Rt cos σ with σ the angle between q
-///   and a. In the cone, σ ≥ δ for every a, so arc 5 is farther than Rt − |q| by at least
-///   |q|(1 − cos δ) (≫ [`TIE_M`] and the rounding, as |q| ≥ min_r = Rt·10⁻⁶): the
-///   seat half wins patch 2g. For ξ ≤ 0, σ ≥ π/2 − A > β_s ≥ the angle of q to the seat
-///   bottom, so arc 5 is farther than the bottom point, hence than the non-owning seat half
-///   3 (foot at Rt − |q| or the bottom): patch 2g is then piece 3 (not owned) or a far piece
-///   (not in contact), i.e. none. Arc 3 (piece 5) is the mirror image.
-/// - The nearest own piece is a seat half (distance Rt − |q|, up to rounding), so every
-///   piece in contact is consistent.
+///   signed distance below −reach fails the consistency test, the nearest own piece having
+///   a positive distance: `q` is deep in the free space of the gap, R_L < Rt), and never
+///   preferred in a patch to a piece in contact (dist ≤ r < reach).
+/// - The line c–O–x is the common normal of the seat and working circles at their tangent
+///   point x. On its seat side, `q` is in the owning seat half's window (its wedge is
+///   bounded by that line and by ξ = 0) and outside the working curve's window, whose
+///   nearest point is then x: |q − x|² − (Rt − |q|)² = 2|q|Rt(1 − cos σ) with |q| sin σ = |s|,
+///   so x is farther than the seat foot by at least s²/(2|q|). On the working side, `q` is
+///   outside the seat's window (which lies on the other side of the line) and inside the
+///   working curve's window (O is on its x edge, and the line c–y is farther than R_L from
+///   O: checked); |q − x|² − (RE − |q − c|)² = 2|q − c|RE(1 − cos σ) gives the margin
+///   s²/(2|q − c|) over x, and the bottom point, the seat half's other end, is checked at
+///   run time. So the owning side's patch (pieces 1–3, resp. 4–6) is the stated foot.
+/// - The other side's patch is empty. Its seat half is not owned (the bottom joint gives
+///   ξ > 0 to piece 3 only) and its nearest point is an end (`q` is outside its wedge). Its
+///   working curve reaches `q` either at the shared joint x*, where the seat half comes
+///   first and wins the tie, or at its foot: `q` is then on that curve's side of its line,
+///   so the angle between q and c* − O is at most π/2 − A, q·(c* − O) ≥ |q||c*| sin A and
+///   |q − c*|² < |c*|² as |q| < 2|c*| sin A (checked): the foot is farther than Rt > reach.
+/// - The teeth patches are far pieces (first point).
+///
+/// **Free space of the gap** (the roller is lifted out of the gap or coming in): `q`
+/// outside the seat's wedge (s > 0 for ξ or for −ξ) and, on both sides (the left side by the
+/// mirror image of `q` against the right side's pieces):
+/// - on the free side of the straight portion's line by more than the reach,
+/// - outside the topping circle by more than the reach,
+/// - inside the working circle by more than the reach, unless `q` is beyond the working
+///   curve's y end (then y, on the straight line, is its nearest point).
+///
+/// Each is a lower bound of the distance to its piece (the seat's nearest point is then x or
+/// x*, on the working circles), so no own piece is within `reach`. And `q` is in free space:
+/// below the outline, within the gap's sector, a point is inside the seat's wedge, or
+/// outside a working circle, or beyond a straight line, or inside a topping circle (checked
+/// over the graph of the outline, see [`SideGraph`]). The nearest outline point then has a
+/// signed distance above the reach, so no candidate is both in contact and consistent with
+/// it, the neighbouring toppings included: the answer is no contact.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct SeatShortcut {
-    /// tan²(π/2 − A − δ): the cone |ξ|² ≤ k2·η².
-    k2: f64,
+struct Shortcuts {
+    /// (cos A, sin A): s = cos A·η + sin A·|ξ|.
+    cos_sin_a: V2,
+    /// s_min, m.
+    s_min_m: f64,
     /// Smallest |q|², (Rt·10⁻⁶)².
     min_r2: f64,
-    /// Lower bound of the distance from O to pieces 0, 1, 6, 7, 8, 9 (0 when disabled).
+    /// Lower bound of the distance from O to pieces 0, 1, 6, 7, 8, 9 (0 disables the
+    /// bottom-of-gap rules).
     far_m: f64,
-    /// Upper bound of |q|, Rt(1 − 10⁻³): q well inside the seat circle, where the foot on
-    /// the seat is well conditioned (at the seat bottom, where the owning half's window ends,
-    /// foot and end point then give the same normal to ~10⁻¹³).
+    /// Upper bound of R_L: Rt(1 − 10⁻³) (q well inside the seat circle, where the foot on
+    /// the seat is well conditioned: at the seat bottom, where the owning half's window ends,
+    /// foot and end point then give the same normal to ~10⁻¹³), the distance from O to the
+    /// line c–y, and 2|c| sin A.
     free_m: f64,
+    /// The seat bottom (0, −Rt).
+    bottom: V2,
+    /// Unit direction from c to y: the working curve's y edge.
+    c_to_y: V2,
+    /// Whether the free-space rule holds for this construction (checked at construction).
+    free_rule: bool,
 }
 
-impl SeatShortcut {
-    /// The shortcut of a gap, disabled (`far_m = 0`) when its preconditions do not hold.
-    fn new(d: &AsaDimensions, g: &GapPoints, fast: &[FastPiece; 10]) -> SeatShortcut {
+impl Shortcuts {
+    /// The rules of a gap, each disabled when its preconditions do not hold.
+    fn new(
+        d: &AsaDimensions,
+        g: &GapPoints,
+        fast: &[FastPiece; 10],
+        graph: Option<&SideGraph>,
+    ) -> Shortcuts {
         let rt = d.seating_radius_m;
-        let beta_s = 0.5 * PI - d.a_rad - SEAT_CONE_MARGIN_RAD;
-        let theta_y = g.y_m[1].atan2(g.y_m[0]);
-        let ok = beta_s > 0.0
-            && theta_y > -d.a_rad
-            && theta_y < 0.5 * PI
-            && g.x_m[0] > 0.0
-            && g.x_m[1] < 0.0;
+        let (sin_a, cos_a) = d.a_rad.sin_cos();
+        let c_to_y = unit_or(sub(g.y_m, g.c_m), [1.0, 0.0]);
         let far = [0, 1, 6, 7, 8, 9]
             .iter()
             .filter_map(|&k| fast.get(k))
             .map(|f| f.near([0.0, 0.0], 0).dist_m)
             .fold(f64::INFINITY, f64::min)
             * (1.0 - 1e-12);
-        let k = beta_s.tan() * (1.0 - 1e-9);
-        SeatShortcut {
-            k2: k * k,
+        // R_L must stay clear of the working curve's y edge (the line c–y), and below
+        // 2|c| sin A (the other side's working foot is then farther than Rt).
+        let c_len = norm(g.c_m);
+        let o_from_c = neg(g.c_m);
+        let y_edge_m = (c_to_y[0] * o_from_c[1] - c_to_y[1] * o_from_c[0]).abs();
+        let x_on_line = {
+            // c, O and x are collinear (x on the ray from c through O).
+            let u = unit_or(g.x_m, [1.0, 0.0]);
+            (u[0] * o_from_c[1] - u[1] * o_from_c[0]).abs() < 1e-12 * c_len
+                && dot(u, o_from_c) > 0.0
+        };
+        let ok = far.is_finite()
+            && g.x_m[0] > 0.0
+            && g.x_m[1] < 0.0
+            && cos_a > 0.0
+            && sin_a > 0.0
+            && x_on_line;
+        Shortcuts {
+            cos_sin_a: [cos_a, sin_a],
+            s_min_m: JOINT_LINE_MARGIN * rt,
             min_r2: (1e-6 * rt) * (1e-6 * rt),
-            far_m: if ok && far.is_finite() { far } else { 0.0 },
-            free_m: rt * (1.0 - 1e-3),
+            far_m: if ok { far } else { 0.0 },
+            free_m: (rt * (1.0 - 1e-3))
+                .min(y_edge_m * (1.0 - 1e-9))
+                .min(2.0 * c_len * sin_a * (1.0 - 1e-9)),
+            bottom: [0.0, -rt],
+            c_to_y,
+            // The graph shape, a rising straight portion (so that it passes above the topping
+            // circle's lower branch beyond z) and the topping circle reaching left of z.
+            free_rule: graph.is_some()
+                && g.z_m[1] > g.y_m[1]
+                && g.b_m[0] - d.topping_radius_m < g.z_m[0],
         }
     }
+}
 
-    /// True when the gap-local `q` is in the region (for this `reach`).
-    #[inline(always)]
-    fn holds(&self, q: V2, r2: f64, reach: f64) -> bool {
-        let hi = (self.far_m - reach).min(self.free_m);
-        q[1] < 0.0
-            && q[0] * q[0] <= self.k2 * (q[1] * q[1])
-            && r2 >= self.min_r2
-            && r2 < hi * hi
-            && hi > 0.0
+/// The radius-dependent constants of the fast paths (see [`Shortcuts`]), computed once for
+/// the profile's own roller and on the fly for any other radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Reach {
+    /// Roller radius r.
+    r: f64,
+    /// r + [`SKIP_MARGIN_M`].
+    reach: f64,
+    /// (tip reach + reach)²: beyond it nothing is within reach.
+    outer2: f64,
+    /// (seat clearance − reach)², negative when the roller does not fit the seat.
+    clear2: f64,
+    /// R_L², 0 when the bottom-of-gap rules are off.
+    low2: f64,
+    /// (RE − reach)², negative when the free-space rule is off.
+    re_in2: f64,
+    /// (RF + reach)².
+    rf_out2: f64,
+}
+
+impl Reach {
+    /// The constants for a roller of radius `r` (finite, ≥ 0).
+    #[inline]
+    fn new(pr: &AsaProfile, r: f64) -> Reach {
+        let reach = r + SKIP_MARGIN_M;
+        let outer = pr.reach_radius_m + reach;
+        let clear = pr.seat_clear_m - reach;
+        let cut = &pr.cuts;
+        let low = (cut.far_m - reach).min(cut.free_m);
+        let rt = pr.dims.seating_radius_m;
+        let re_in = pr.dims.working_radius_m - reach;
+        let rf_out = pr.dims.topping_radius_m + reach;
+        Reach {
+            r,
+            reach,
+            outer2: outer * outer,
+            clear2: if clear > 0.0 { clear * clear } else { -1.0 },
+            low2: if low > 0.0 && reach < rt {
+                low * low
+            } else {
+                0.0
+            },
+            re_in2: if cut.free_rule && re_in > 0.0 {
+                re_in * re_in
+            } else {
+                -1.0
+            },
+            rf_out2: rf_out * rf_out,
+        }
     }
 }
 
@@ -1462,8 +1605,8 @@ impl AsaProfile {
             * (1.0 + 1e-12)
             + 1e-12;
         let graph = SideGraph::new(&dims, &points);
-        let seat_cut = SeatShortcut::new(&dims, &points, &fast);
-        Ok(AsaProfile {
+        let cuts = Shortcuts::new(&dims, &points, &fast, graph.as_ref());
+        let mut profile = AsaProfile {
             dims,
             points,
             own,
@@ -1477,8 +1620,19 @@ impl AsaProfile {
             tan_half_pitch_inner: (0.5 * pitch_angle_rad).tan() * (1.0 - 1e-9),
             inv_pitch_angle: 1.0 / pitch_angle_rad,
             graph,
-            seat_cut,
-        })
+            cuts,
+            nominal: Reach {
+                r: 0.0,
+                reach: 0.0,
+                outer2: 0.0,
+                clear2: -1.0,
+                low2: 0.0,
+                re_in2: -1.0,
+                rf_out2: 0.0,
+            },
+        };
+        profile.nominal = Reach::new(&profile, 0.5 * roller_diameter_m);
+        Ok(profile)
     }
 
     /// The standard dimensions of this sprocket.
@@ -1546,8 +1700,22 @@ impl AsaProfile {
     /// Gap whose sector holds `p`: the same as [`AsaProfile::gap_index`] (which is used
     /// whenever `p` is within a relative 1e-9 of a sector boundary), found without `atan2`
     /// by testing the cone of `hint` (or of an approximate polar angle) and its neighbours.
-    #[inline]
+    #[inline(always)]
     fn gap_near(&self, p: V2, hint: u32) -> usize {
+        // The roller is almost always still in its hinted gap: one cone test, inline.
+        if let Some(&u) = self.gap_trig.get(hint as usize) {
+            let along = dot(u, p);
+            let across = u[0] * p[1] - u[1] * p[0];
+            if along > 0.0 && across.abs() < self.tan_half_pitch_inner * along {
+                return hint as usize;
+            }
+        }
+        self.gap_search(p, hint)
+    }
+
+    /// [`AsaProfile::gap_near`] when `p` has left the hinted gap's cone.
+    #[inline(never)]
+    fn gap_search(&self, p: V2, hint: u32) -> usize {
         let n = self.gap_trig.len();
         let mut j = if (hint as usize) < n {
             hint as usize
@@ -1638,7 +1806,9 @@ impl AsaProfile {
     /// always the nearest outline point, so `depth = r − signed_distance(p)`.
     ///
     /// Speed: a roller outside the tip circle, or in the seat with clearance, is rejected
-    /// after one or two products. Otherwise every piece that is provably farther than the
+    /// after one or two products. At the bottom of the gap (seated, or rocked onto a working
+    /// curve past x or x*) and in the free space of the gap, direct rules answer with at most
+    /// one square root (`Shortcuts` in the source). Otherwise every piece that is provably farther than the
     /// radius (by its whole circle or line) is skipped. Once the nearest outline point is
     /// known to be in free space (from the nearest evaluated piece, or, when all pieces are
     /// far, from the outline seen as a graph over ξ), a skipped piece can change no result.
@@ -1663,15 +1833,64 @@ impl AsaProfile {
         hint: &mut u32,
         out: &mut [Patch; 2],
     ) -> usize {
-        if !(p[0].is_finite() && p[1].is_finite() && roller_radius_m.is_finite())
-            || roller_radius_m < 0.0
-        {
+        if !(roller_radius_m.is_finite() && roller_radius_m >= 0.0) {
             return 0;
         }
-        let reach = roller_radius_m + SKIP_MARGIN_M;
-        // Beyond every tip by more than the radius: free space, nothing within reach.
-        let outer = self.reach_radius_m + reach;
-        if dot(p, p) > outer * outer {
+        let mut emit = |slot: usize, gap: usize, f: Found| {
+            if let Some(slot) = out.get_mut(slot) {
+                *slot = Patch {
+                    depth_m: f.depth_m,
+                    normal: self.to_global_vec(gap, f.normal),
+                    point: self.to_global_point(gap, f.point),
+                    area: f.area,
+                    gap: self.wrap_gap(gap, f.gap_offset),
+                    patch_id: f.patch_id,
+                };
+            }
+        };
+        if roller_radius_m == self.nominal.r {
+            self.query(p, &self.nominal, hint, &mut emit)
+        } else {
+            self.query(p, &Reach::new(self, roller_radius_m), hint, &mut emit)
+        }
+    }
+
+    /// [`AsaProfile::contacts_hinted`] for the profile's own roller (radius Dr/2), written
+    /// as the contact generator's [`super::Patch`] (no contact point): the same patches.
+    #[inline]
+    pub fn contacts_nominal(
+        &self,
+        p: [f64; 2],
+        hint: &mut u32,
+        out: &mut [super::Patch; super::MAX_PATCHES],
+    ) -> usize {
+        self.query(p, &self.nominal, hint, &mut |slot, gap, f: Found| {
+            if let Some(slot) = out.get_mut(slot) {
+                *slot = super::Patch {
+                    depth_m: f.depth_m,
+                    normal: self.to_global_vec(gap, f.normal),
+                    area: f.area,
+                    gap: self.wrap_gap(gap, f.gap_offset) as u32,
+                    patch_id: f.patch_id,
+                };
+            }
+        })
+    }
+
+    /// The patches of a roller centred at `p` (sprocket frame) in gap-local form, and the
+    /// gap. The commonest cases first: beyond the tips, seated with clearance, the bottom of
+    /// the gap, the free space of the gap ([`Shortcuts`]); then the general path.
+    #[inline(always)]
+    fn query(
+        &self,
+        p: V2,
+        k: &Reach,
+        hint: &mut u32,
+        emit: &mut impl FnMut(usize, usize, Found),
+    ) -> usize {
+        // Beyond every tip by more than the radius: free space, nothing within reach. This
+        // also rejects a non-finite `p` (the comparison is false for NaN).
+        if !(dot(p, p) <= k.outer2) {
             return 0;
         }
         let gap = self.gap_near(p, *hint);
@@ -1679,63 +1898,128 @@ impl AsaProfile {
         let q = self.to_local(gap, p);
         // Seated with clearance: every piece is at least seat_clear_m − |q| away, and the
         // disc about O is free space.
-        let seat = self.seat_clear_m - reach;
         let r2 = dot(q, q);
-        if seat > 0.0 && r2 < seat * seat {
+        if r2 < k.clear2 {
             return 0;
         }
-        if self.seat_cut.holds(q, r2, reach) {
-            return self.seated(gap, q, r2, roller_radius_m, out);
+        let cut = &self.cuts;
+        let s = cut.cos_sin_a[0] * q[1] + cut.cos_sin_a[1] * q[0].abs();
+        if r2 < k.low2 && r2 >= cut.min_r2 {
+            if let Some(hit) = self.bottom_of_gap(q, r2, s, k, 2 * gap as u32) {
+                return match hit {
+                    Some(f) => {
+                        emit(0, gap, f);
+                        1
+                    }
+                    None => 0,
+                };
+            }
+        } else if k.re_in2 > 0.0 && self.in_free_gap(q, s, k) {
+            return 0;
         }
-        self.contacts_local(gap, q, roller_radius_m, out)
+        let mut found = [NONE; 2];
+        let count = self.contacts_general(gap, q, k.r, &mut found);
+        for (slot, f) in found[..count.min(2)].iter().enumerate() {
+            emit(slot, gap, *f);
+        }
+        count
     }
 
-    /// The answer in the seated region of [`SeatShortcut`]: the seat patch of the half that
-    /// owns `q`, or nothing. The same arithmetic as [`FastPiece::near`] and
-    /// [`AsaProfile::finish`], so the same bits.
+    /// The bottom-of-gap rule of [`Shortcuts`]: `Some(patch)` when it decides (`Some(None)`:
+    /// no contact).
     #[inline(always)]
-    fn seated(
+    fn bottom_of_gap(
         &self,
-        gap: usize,
         q: V2,
         r2: f64,
-        roller_radius_m: f64,
-        out: &mut [Patch; 2],
-    ) -> usize {
-        // The seat bottom joint gives ξ > 0 to piece 3, the rest to piece 4.
-        let k = if q[0] > 0.0 { 3 } else { 4 };
-        let Some(piece) = self.fast.get(k) else {
-            return 0;
-        };
-        let sd_m = piece.radius_m - r2.sqrt();
-        let depth_m = roller_radius_m - sd_m;
-        if depth_m <= 0.0 || depth_m.is_nan() {
-            return 0;
+        s: f64,
+        k: &Reach,
+        patch_id: u32,
+    ) -> Option<Option<Found>> {
+        let cut = &self.cuts;
+        // The seat-bottom joint gives ξ > 0 to pieces 2, 3, the rest to pieces 5, 4.
+        let right = q[0] > 0.0;
+        if s <= -cut.s_min_m {
+            let seat = self.fast.get(if right { 3 } else { 4 })?;
+            let len = r2.sqrt();
+            let depth_m = k.r - (seat.radius_m - len);
+            if !(depth_m > 0.0) {
+                return Some(None);
+            }
+            let dir = [q[0] / len, q[1] / len];
+            return Some(Some(Found {
+                depth_m,
+                normal: neg(dir),
+                point: scale(dir, seat.radius_m),
+                area: seat.area,
+                gap_offset: 0,
+                patch_id,
+            }));
         }
-        let (point, normal) = piece.geometry(q, FOOT);
-        let Some(slot) = out.first_mut() else {
-            return 0;
-        };
-        *slot = Patch {
+        if s < cut.s_min_m {
+            return None;
+        }
+        let arc = self.fast.get(if right { 2 } else { 5 })?;
+        let d = sub(q, arc.centre);
+        let len = dot(d, d).sqrt();
+        let dist_m = arc.radius_m - len;
+        // The seat bottom, the seat half's other end, must lose to the working foot (or be
+        // out of reach when the foot is).
+        let to_bottom = sub(q, cut.bottom);
+        let lim = (dist_m + BOTTOM_MARGIN_M).min(k.reach);
+        if !(dot(to_bottom, to_bottom) > lim * lim) {
+            return None;
+        }
+        let depth_m = k.r - dist_m;
+        if !(depth_m > 0.0) {
+            return Some(None);
+        }
+        let dir = [d[0] / len, d[1] / len];
+        Some(Some(Found {
             depth_m,
-            normal: self.to_global_vec(gap, normal),
-            point: self.to_global_point(gap, point),
-            area: piece.area,
-            gap: gap as i64,
-            patch_id: 2 * gap as u32,
-        };
-        1
+            normal: neg(dir),
+            point: add(arc.centre, scale(dir, arc.radius_m)),
+            area: arc.area,
+            gap_offset: 0,
+            patch_id,
+        }))
+    }
+
+    /// The free-space rule of [`Shortcuts`]: true when no piece is within reach of `q`.
+    #[inline(always)]
+    fn in_free_gap(&self, q: V2, s: f64, k: &Reach) -> bool {
+        // Outside the seat's wedge: s > 0 on one side at least, and s (taken with |ξ|) is
+        // the larger of the two sides' values.
+        s > 0.0 && self.clear_of_side(q, k) && self.clear_of_side(mirror(q), k)
+    }
+
+    /// The lower bounds of the free-space rule against the right side's straight portion,
+    /// topping and working curve (the left side is its mirror image).
+    #[inline(always)]
+    fn clear_of_side(&self, q: V2, k: &Reach) -> bool {
+        let [topping, straight, working] = [&self.fast[0], &self.fast[1], &self.fast[2]];
+        if !(dot(sub(q, straight.start), straight.n_free[0]) > k.reach) {
+            return false;
+        }
+        let b = sub(q, topping.centre);
+        if !(dot(b, b) > k.rf_out2) {
+            return false;
+        }
+        let c = sub(q, working.centre);
+        let y = self.cuts.c_to_y;
+        let beyond_y = dot(c, working.mid_dir) > 0.0 && y[0] * c[1] - y[1] * c[0] > 0.0;
+        beyond_y || dot(c, c) < k.re_in2
     }
 
     /// The contacts of a roller centred at the gap-local point `q` of `gap`'s sector, with
     /// the pieces farther than the radius skipped (see [`AsaProfile::contacts`]).
-    #[inline(always)]
-    fn contacts_local(
+    #[inline(never)]
+    fn contacts_general(
         &self,
         gap: usize,
         q: V2,
         roller_radius_m: f64,
-        out: &mut [Patch; 2],
+        out: &mut [Found; 2],
     ) -> usize {
         let reach = roller_radius_m + SKIP_MARGIN_M;
         let f = &self.fast;
@@ -1781,7 +2065,7 @@ impl AsaProfile {
     /// The contacts with every piece examined (centre inside the material, or undecided).
     #[cold]
     #[inline(never)]
-    fn contacts_all(&self, gap: usize, q: V2, roller_radius_m: f64, out: &mut [Patch; 2]) -> usize {
+    fn contacts_all(&self, gap: usize, q: V2, roller_radius_m: f64, out: &mut [Found; 2]) -> usize {
         let mut all = [FAR; 10];
         for (k, (slot, f)) in all.iter_mut().zip(&self.fast).enumerate() {
             *slot = f.near(q, k as u8);
@@ -1803,7 +2087,7 @@ impl AsaProfile {
 
     /// Patch selection from the results of the own pieces and of the neighbouring
     /// toppings `[prev_area1, next_area7]`, the signed distance `nearest` of the nearest own
-    /// piece, and the radius; writes the patches.
+    /// piece, and the radius; writes the patches (gap-local).
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn finish(
@@ -1814,7 +2098,7 @@ impl AsaProfile {
         neighbours: [Near; 2],
         nearest: f64,
         roller_radius_m: f64,
-        out: &mut [Patch; 2],
+        out: &mut [Found; 2],
     ) -> usize {
         let n = self.dims.teeth;
         let g = gap as u32;
@@ -1856,12 +2140,12 @@ impl AsaProfile {
             };
             let (point, normal) = piece.geometry(q, h.mode);
             if let Some(slot) = out.get_mut(written) {
-                *slot = Patch {
+                *slot = Found {
                     depth_m: roller_radius_m - h.sd_m,
-                    normal: self.to_global_vec(gap, normal),
-                    point: self.to_global_point(gap, point),
+                    normal,
+                    point,
                     area: piece.area,
-                    gap: self.wrap_gap(gap, piece.gap_offset),
+                    gap_offset: piece.gap_offset,
                     patch_id: id,
                 };
                 written += 1;
@@ -1931,6 +2215,33 @@ impl AsaProfile {
             }
         }
         written
+    }
+
+    /// Which step of [`AsaProfile::query`] decides `p`: 0 an early exit (beyond the tips,
+    /// seated with clearance), 1 the bottom-of-gap rule, 2 the free-space rule, 3 the
+    /// general path.
+    #[cfg(test)]
+    fn rule_of(&self, p: [f64; 2], roller_radius_m: f64) -> usize {
+        let k = Reach::new(self, roller_radius_m);
+        if !(dot(p, p) <= k.outer2) {
+            return 0;
+        }
+        let gap = self.gap_index(p);
+        let q = self.to_local(gap, p);
+        let r2 = dot(q, q);
+        if r2 < k.clear2 {
+            return 0;
+        }
+        let cut = &self.cuts;
+        let s = cut.cos_sin_a[0] * q[1] + cut.cos_sin_a[1] * q[0].abs();
+        if r2 < k.low2 && r2 >= cut.min_r2 {
+            if self.bottom_of_gap(q, r2, s, &k, 0).is_some() {
+                return 1;
+            }
+        } else if k.re_in2 > 0.0 && self.in_free_gap(q, s, &k) {
+            return 2;
+        }
+        3
     }
 
     /// Signed distance from `p` (sprocket frame) to the outline: positive in free space,
@@ -2846,6 +3157,18 @@ mod tests {
         );
         assert_eq!(kh, kg, "hinted count at {p:?} r {r}");
         assert_eq!(got_h[..kh], got[..kg], "hinted at {p:?} r {r}");
+        if r == 0.5 * pr.dimensions().roller_diameter_m {
+            let mut nominal = [crate::geometry::Patch::default(); 2];
+            let kn = pr.contacts_nominal(p, &mut 0, &mut nominal);
+            assert_eq!(kn, kg, "nominal count at {p:?}");
+            for (a, b) in nominal[..kn].iter().zip(&got[..kg]) {
+                assert_eq!(
+                    (a.depth_m, a.normal, a.area, i64::from(a.gap), a.patch_id),
+                    (b.depth_m, b.normal, b.area, b.gap, b.patch_id),
+                    "nominal at {p:?}"
+                );
+            }
+        }
         for (g, w) in got[..kg].iter().zip(&want[..kw]) {
             assert_eq!(
                 (g.area, g.gap, g.patch_id),
@@ -2910,11 +3233,12 @@ mod tests {
         );
     }
 
-    /// The seated shortcut against the reference: dense points in its region, on and
-    /// across each of its boundaries (cone, inner and outer radius, ξ = 0), for several
-    /// sprockets and roller radii.
+    /// The direct rules of [`Shortcuts`] against the reference: dense points in the bottom
+    /// of the gap (across the joint lines c–O–x and c*–O–x*, ξ = 0, the inner and outer
+    /// radius), rollers rocked onto a working curve just past x or x*, and the free space of
+    /// the gap, for several sprockets and roller radii; every rule must be exercised.
     #[test]
-    fn seated_shortcut_matches_the_reference_implementation() {
+    fn direct_rules_match_the_reference_implementation() {
         let mut rng = Lcg(2718);
         let sprockets = [
             (60, P, DR),
@@ -2926,78 +3250,103 @@ mod tests {
             (17, 0.0127, 0.00792),
             (30, 0.0127, 0.00792),
         ];
-        let mut in_region = 0;
-        let mut seated_contacts = 0;
+        let mut by_rule = [0_usize; 4];
+        let mut contacts_by_rule = [0_usize; 4];
+        let mut total = 0;
         for (n, pitch, dr) in sprockets {
             let pr = match AsaProfile::new(n, pitch, dr) {
                 Ok(p) => p,
                 Err(e) => panic!("N={n}: {e}"),
             };
-            let cut = pr.seat_cut;
-            assert!(cut.far_m > 0.0, "N={n} P={pitch}: shortcut enabled");
+            let cut = pr.cuts;
+            assert!(
+                cut.far_m > 0.0 && cut.free_rule,
+                "N={n} P={pitch}: rules enabled"
+            );
             let d = pr.dimensions().clone();
+            let g = pr.gap_points().clone();
             let rr = 0.5 * dr;
-            let beta_s = cut.k2.sqrt().atan();
+            let (rt, re) = (d.seating_radius_m, d.working_radius_m);
+            // Unit directions of the joint line c–O–x and of its mirror.
+            let ux = unit_or(g.x_m, [1.0, 0.0]);
+            let ux_star = mirror(ux);
+            let normal_of = |u: V2| [-u[1], u[0]];
             let mut hint = 0;
-            for k in 0..40_000_u32 {
-                let g = (k % n) as usize;
+            for k in 0..30_000_u32 {
+                let gap = (k % n) as usize;
                 let r = match k % 8 {
-                    0 => rng.range(0.0, 1.2 * d.seating_radius_m),
+                    0 => rng.range(0.0, 1.2 * rt),
                     1 => rr * rng.range(0.9, 1.1),
                     2 => 0.0,
                     _ => rr,
                 };
                 let reach = r + SKIP_MARGIN_M;
-                let hi = (cut.far_m - reach).min(cut.free_m).max(0.0);
-                let lo = cut.min_r2.sqrt();
-                // Angle from the seat bottom: inside, on and across the cone's edge, ξ = 0.
-                let b = match k % 5 {
-                    0 => rng.range(-1.1, 1.1) * beta_s,
-                    1 => {
-                        beta_s * [1.0, -1.0][(k / 5 % 2) as usize] * (1.0 + rng.range(-1e-9, 1e-9))
+                let r_l = (cut.far_m - reach).min(cut.free_m).max(0.0);
+                let q = match k % 6 {
+                    // Bottom of the gap: anywhere, and on and next to its radii.
+                    0 => {
+                        let a = rng.range(-PI, PI);
+                        let s = match k / 6 % 4 {
+                            0 => r_l * (1.0 + rng.range(-1e-9, 1e-9)),
+                            1 => cut.min_r2.sqrt() * (1.0 + rng.range(-1e-6, 1e-6)),
+                            _ => rng.range(0.0, 1.3 * r_l),
+                        };
+                        [s * a.cos(), s * a.sin()]
                     }
-                    2 => [0.0, 1e-300, -1e-300, 1e-12, -1e-12][(k / 5 % 5) as usize],
-                    _ => rng.range(-1.0, 1.0) * beta_s,
-                };
-                // Distance from O: across the whole region and on each bound.
-                let s = match k % 7 {
-                    0 => hi * (1.0 + rng.range(-1e-9, 1e-9)),
-                    1 => lo * (1.0 + rng.range(-1e-6, 1e-6)),
-                    2 => (pr.seat_clear_m - reach).max(0.0) * (1.0 + rng.range(-1e-9, 1e-9)),
-                    // (Roller inside the seat circle only: with r > Rt, q would lie above O,
-                    // where two patches can tie in depth to the last bit and the two
-                    // implementations may order them differently.)
-                    3 if r < d.seating_radius_m && r > 1e-3 * dr => {
-                        (d.seating_radius_m - r) * (1.0 + rng.range(-1e-9, 1e-9))
+                    // Across a joint line, at distances from 1e-12 m to 1 mm, and across ξ = 0.
+                    1 | 2 => {
+                        let u = if k % 2 == 0 { ux } else { ux_star };
+                        let along = rng.range(-1.0, 1.0) * r_l;
+                        let off =
+                            10f64.powf(rng.range(-12.0, -3.0)) * [1.0, -1.0][(k / 6 % 2) as usize];
+                        let off = match k / 12 % 5 {
+                            0 => cut.s_min_m * (1.0 + rng.range(-1e-6, 1e-6)) * off.signum(),
+                            _ => off,
+                        };
+                        let q = add(scale(u, along), scale(normal_of(u), off));
+                        if k / 6 % 7 == 0 {
+                            [1e-300 * off.signum(), q[1]]
+                        } else {
+                            q
+                        }
                     }
-                    4 => rng.range(0.0, 1.3 * hi),
-                    _ => d.clearance_m + rng.range(0.0, 1e-3 * dr / DR),
+                    // A roller pressed onto a working curve just past x (or x*), or just off it.
+                    3 => {
+                        let sigma =
+                            10f64.powf(rng.range(-9.0, -1.0)) * [1.0, -1.0][(k / 6 % 2) as usize];
+                        let depth = rng.range(-1e-3, 2e-3) * dr / DR;
+                        let u = rotate(unit_or(sub(g.x_m, g.c_m), [1.0, 0.0]), sigma);
+                        let q = add(g.c_m, scale(u, re - r + depth));
+                        if k / 6 % 3 == 0 { mirror(q) } else { q }
+                    }
+                    // The free space of the gap and its surroundings.
+                    _ => [
+                        rng.range(-1.1, 1.1) * g.f_m[0],
+                        rng.range(-rt, g.f_m[1] + 2.0 * r + 1e-3),
+                    ],
                 };
-                // (Not the centre O itself with r > Rt: every piece then ties in depth.)
-                let s = if s < 1e-9 * dr && r > d.seating_radius_m {
-                    d.clearance_m
-                } else {
-                    s
-                };
-                let q = [s * b.sin(), -s * b.cos()];
-                let p = pr.to_global_point(g, q);
-                let ql = pr.to_local(pr.gap_index(p), p);
-                if cut.holds(ql, dot(ql, ql), reach) {
-                    in_region += 1;
-                }
-                let mut h = [g as u32, u32::MAX, hint][(k % 3) as usize];
+                let p = pr.to_global_point(gap, q);
+                let rule = pr.rule_of(p, r);
+                by_rule[rule] += 1;
+                let mut h = [gap as u32, u32::MAX, hint][(k % 3) as usize];
                 assert_same_as_reference(&pr, p, r, &mut h);
                 hint = h;
                 let mut out = [empty_patch(); 2];
-                if pr.contacts(p, r, &mut out) == 1 && out[0].area == 4 {
-                    seated_contacts += 1;
+                if pr.contacts(p, r, &mut out) > 0 {
+                    contacts_by_rule[rule] += 1;
                 }
+                total += 1;
             }
         }
-        assert!(in_region > 100_000, "{in_region} points in the region");
+        assert!(total >= 200_000, "{total} points");
+        // Every rule decides many points, with and without contact.
         assert!(
-            seated_contacts > 100_000,
-            "{seated_contacts} seated contacts"
+            by_rule[1] > 40_000 && by_rule[2] > 10_000 && by_rule[3] > 10_000,
+            "points by rule {by_rule:?}"
+        );
+        assert!(
+            contacts_by_rule[1] > 20_000,
+            "contacts by rule {contacts_by_rule:?}"
         );
     }
 

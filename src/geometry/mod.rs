@@ -50,15 +50,6 @@ pub struct Patch {
     pub patch_id: u32,
 }
 
-const EMPTY_ASA_PATCH: asa::Patch = asa::Patch {
-    depth_m: 0.0,
-    normal: [0.0; 2],
-    point: [0.0; 2],
-    area: 0,
-    gap: 0,
-    patch_id: 0,
-};
-
 /// The most patches one roller can have on one sprocket.
 pub const MAX_PATCHES: usize = 2;
 
@@ -95,21 +86,7 @@ impl ToothProfile {
     pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         match self {
             Self::Circular(c) => c.contacts(p, hint, out),
-            Self::Real(r) => {
-                let mut raw = [EMPTY_ASA_PATCH; 2];
-                let n =
-                    r.contacts_hinted(p, r.dimensions().roller_diameter_m / 2.0, hint, &mut raw);
-                for (o, r) in out.iter_mut().zip(&raw[..n]) {
-                    *o = Patch {
-                        depth_m: r.depth_m,
-                        normal: r.normal,
-                        area: r.area,
-                        gap: r.gap.rem_euclid(i64::from(u32::MAX)) as u32,
-                        patch_id: r.patch_id,
-                    };
-                }
-                n
-            }
+            Self::Real(r) => r.contacts_nominal(p, hint, out),
         }
     }
 
