@@ -463,6 +463,8 @@ impl ForceGenerator {
             );
             let count_sprockets = model.sprockets.len();
             let first = self.sprocket_hint[i] as usize;
+            // Sprockets still to be searched (bit j; 64 and above always are).
+            let mut candidates = u64::MAX;
             for k in 0..count_sprockets {
                 // Start with the sprocket the roller last touched.
                 let sp_index = if k == 0 {
@@ -472,6 +474,9 @@ impl ForceGenerator {
                 } else {
                     k
                 };
+                if sp_index < 64 && candidates >> sp_index & 1 == 0 {
+                    continue;
+                }
                 let sp = &model.sprockets[sp_index];
                 let rx = s.x[i] - sp.center_m[0];
                 let ry = s.y[i] - sp.center_m[1];
@@ -550,6 +555,15 @@ impl ForceGenerator {
                 self.sprocket_hint[i] = sp_index as u32;
                 if model.disjoint_reach {
                     // No other sprocket can be within reach of this roller.
+                    break;
+                }
+                // Only the sprockets whose reach overlaps this one's can be within reach too.
+                candidates &= model
+                    .reach_overlaps
+                    .get(sp_index)
+                    .copied()
+                    .unwrap_or(u64::MAX);
+                if candidates == 0 {
                     break;
                 }
             }
