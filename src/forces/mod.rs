@@ -316,7 +316,13 @@ impl ForceGenerator {
         self.chain_force.fill([0.0; 2]);
         self.links(model, state);
         let links_done = started.map(|_| std::time::Instant::now());
-        self.contacts(model, state);
+        // Two copies of the contact loop: without damping rows (every scheme
+        // but implicit damping) the rows' accumulators compile away.
+        if self.damping_rows.is_some() {
+            self.contacts::<true>(model, state);
+        } else {
+            self.contacts::<false>(model, state);
+        }
         if let (Some(t), Some(start), Some(mid)) = (&mut self.timing, started, links_done) {
             t.evaluations += 1;
             t.links_s += (mid - start).as_secs_f64();
@@ -423,7 +429,7 @@ impl ForceGenerator {
     ///
     /// Rollers far from every sprocket are skipped for a while ([`Culling`]).
     /// Within reach, the gap search starts from the roller's last gap.
-    fn contacts(&mut self, model: &DriveModel, s: &DriveState) {
+    fn contacts<const ROWS: bool>(&mut self, model: &DriveModel, s: &DriveState) {
         let law = self.law;
         let energy_factor = 1.0 / (law.exponent + 1.0);
         let mut energy = 0.0;
@@ -443,7 +449,7 @@ impl ForceGenerator {
             if s.t_s < self.free_until_s[i] {
                 // Skipped rollers were found free: flags and force are already clear.
                 self.pending_memory[i] = [FREE; MAX_PATCHES];
-                if let Some(rows) = &mut self.damping_rows {
+                if ROWS && let Some(rows) = &mut self.damping_rows {
                     rows.clear(i);
                 }
                 continue;
@@ -523,9 +529,7 @@ impl ForceGenerator {
                     let elastic = law.elastic(p.depth_m);
                     let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
                     energy += elastic * p.depth_m * energy_factor;
-                    if self.damping_rows.is_some()
-                        && (row_sprocket == u32::MAX || row_sprocket == sp_index as u32)
-                    {
+                    if ROWS && (row_sprocket == u32::MAX || row_sprocket == sp_index as u32) {
                         row_sprocket = sp_index as u32;
                         let c = elastic * damping;
                         // Surface velocity of the sprocket under the roller: ω × r.
@@ -578,7 +582,7 @@ impl ForceGenerator {
                 self.pending_free_until_s[i] = s.t_s + (clearance / speed_bound).min(max_skip);
             }
             self.pending_memory[i] = next;
-            if let Some(rows) = &mut self.damping_rows {
+            if ROWS && let Some(rows) = &mut self.damping_rows {
                 rows.sprocket[i] = row_sprocket;
                 if row_sprocket != u32::MAX {
                     rows.c[i] = row.0;
