@@ -444,11 +444,26 @@ impl ForceGenerator {
                 c.max_skip_s,
             )
         });
-        for i in 0..s.x.len() {
-            self.pending_free_until_s[i] = self.free_until_s[i];
-            if s.t_s < self.free_until_s[i] {
+        // Slices of one length: the compiler drops the bounds checks on `[i]`.
+        let n = s.x.len();
+        let (xs, ys, vxs, vys) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let free_until = &self.free_until_s[..n];
+        let pending_free_until = &mut self.pending_free_until_s[..n];
+        let memory = &self.memory[..n];
+        let pending_memory = &mut self.pending_memory[..n];
+        let gap_hint = &mut self.gap_hint[..n];
+        let sprocket_hint = &mut self.sprocket_hint[..n];
+        let touching = &mut self.touching[..n];
+        let contact_force = &mut self.contact_force[..n];
+        let (fx_out, fy_out) = (&mut self.fx[..n], &mut self.fy[..n]);
+        let rotations = &self.rotations;
+        let chain_force = &mut self.chain_force;
+        let chain_torque = &mut self.chain_torque;
+        for i in 0..n {
+            pending_free_until[i] = free_until[i];
+            if s.t_s < free_until[i] {
                 // Skipped rollers were found free: flags and force are already clear.
-                self.pending_memory[i] = [FREE; MAX_PATCHES];
+                pending_memory[i] = [FREE; MAX_PATCHES];
                 if ROWS && let Some(rows) = &mut self.damping_rows {
                     rows.clear(i);
                 }
@@ -468,7 +483,7 @@ impl ForceGenerator {
                 [0.0f64; 2],
             );
             let count_sprockets = model.sprockets.len();
-            let first = self.sprocket_hint[i] as usize;
+            let first = sprocket_hint[i] as usize;
             // Sprockets still to be searched (bit j; 64 and above always are).
             let mut candidates = u64::MAX;
             for k in 0..count_sprockets {
@@ -484,30 +499,28 @@ impl ForceGenerator {
                     continue;
                 }
                 let sp = &model.sprockets[sp_index];
-                let rx = s.x[i] - sp.center_m[0];
-                let ry = s.y[i] - sp.center_m[1];
+                let rx = xs[i] - sp.center_m[0];
+                let ry = ys[i] - sp.center_m[1];
                 if rx * rx + ry * ry > sp.reach_sq_m2 {
                     continue;
                 }
                 in_reach = true;
-                let (sin, cos) = self.rotations[sp_index];
+                let (sin, cos) = rotations[sp_index];
                 // World → sprocket frame: rotate by −θ.
                 let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
-                let count = sp
-                    .profile
-                    .contacts(local, &mut self.gap_hint[i], &mut patches);
+                let count = sp.profile.contacts(local, &mut gap_hint[i], &mut patches);
                 let omega = s.omega[sp_index];
                 for p in &patches[..count] {
                     // Normal back to the world frame.
                     let nx = cos * p.normal[0] - sin * p.normal[1];
                     let ny = sin * p.normal[0] + cos * p.normal[1];
                     // Velocity of the roller relative to the sprocket point under it (16)–(18).
-                    let vrx = s.vx[i] + omega * ry;
-                    let vry = s.vy[i] - omega * rx;
+                    let vrx = vxs[i] + omega * ry;
+                    let vry = vys[i] - omega * rx;
                     let depth_rate = -(vrx * nx + vry * ny);
                     let key = ((sp_index as u64) << 32) | u64::from(p.patch_id);
                     // The same patch, or (real profile) the one it slid over from.
-                    let damping = self.memory[i]
+                    let damping = memory[i]
                         .iter()
                         .find(|mem| {
                             mem.key == key
@@ -549,14 +562,14 @@ impl ForceGenerator {
                     total[0] += fx;
                     total[1] += fy;
                     // Reaction −f on the sprocket, moment (r_r − r_s) × (−f) (19).
-                    self.chain_force[sp_index][0] -= fx;
-                    self.chain_force[sp_index][1] -= fy;
-                    self.chain_torque[sp_index] -= rx * fy - ry * fx;
+                    chain_force[sp_index][0] -= fx;
+                    chain_force[sp_index][1] -= fy;
+                    chain_torque[sp_index] -= rx * fy - ry * fx;
                     if !(p.depth_m <= max_pen) {
                         max_pen = p.depth_m;
                     }
                 }
-                self.sprocket_hint[i] = sp_index as u32;
+                sprocket_hint[i] = sp_index as u32;
                 if model.disjoint_reach {
                     // No other sprocket can be within reach of this roller.
                     break;
@@ -577,11 +590,11 @@ impl ForceGenerator {
                 let clearance = model
                     .sprockets
                     .iter()
-                    .map(|sp| (s.x[i] - sp.center_m[0]).hypot(s.y[i] - sp.center_m[1]) - sp.reach_m)
+                    .map(|sp| (xs[i] - sp.center_m[0]).hypot(ys[i] - sp.center_m[1]) - sp.reach_m)
                     .fold(f64::INFINITY, f64::min);
-                self.pending_free_until_s[i] = s.t_s + (clearance / speed_bound).min(max_skip);
+                pending_free_until[i] = s.t_s + (clearance / speed_bound).min(max_skip);
             }
-            self.pending_memory[i] = next;
+            pending_memory[i] = next;
             if ROWS && let Some(rows) = &mut self.damping_rows {
                 rows.sprocket[i] = row_sprocket;
                 if row_sprocket != u32::MAX {
@@ -592,10 +605,10 @@ impl ForceGenerator {
                     rows.lever[i] = row.4;
                 }
             }
-            self.touching[i] = used > 0;
-            self.fx[i] += total[0];
-            self.fy[i] += total[1];
-            self.contact_force[i] = if used > 0 {
+            touching[i] = used > 0;
+            fx_out[i] += total[0];
+            fy_out[i] += total[1];
+            contact_force[i] = if used > 0 {
                 (total[0] * total[0] + total[1] * total[1]).sqrt()
             } else {
                 0.0

@@ -98,7 +98,7 @@ impl CircularProfile {
     /// Contact of a roller centred at `p` (sprocket frame): at most one patch.
     /// `hint` is a gap the roller was recently in (any value works); it is
     /// updated to the gap found.
-    #[inline]
+    #[inline(always)]
     pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         let gap = self.gap_near(p, *hint);
         *hint = gap;
