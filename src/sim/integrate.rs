@@ -1,15 +1,16 @@
 //! The chain's integrators, on the structure-of-arrays state.
 //!
-//! | scheme | order | force evaluations per step | stable step on the paper's drive |
+//! | scheme | order | force evaluations per step | largest stable step, paper's drive (measured) |
 //! |---|---|---|---|
-//! | `symplectic_euler` | 1 | 1 | contact damping at the approach-speed floor: ≈ 19 µs |
-//! | `velocity_verlet` | 2 | 2 | as symplectic Euler |
-//! | `rk4` | 4 | 4 | links ≈ 86 µs, contact damping ≈ 26 µs |
-//! | `dormand_prince45` | 5(4) | 6 + located events | chosen by the error estimate |
-//! | `implicit_damping` | 1 | 1 | links ≈ 60 µs (the contact damping no longer limits it) |
+//! | `symplectic_euler` | 1 | 1 | 57 µs (the links) |
+//! | `velocity_verlet` | 2 | 2 | 57 µs |
+//! | `rk4` | 4 | 4 | 85 µs |
+//! | `dormand_prince45` | 5(4) | 6 per trial step + located events | chosen by the error estimate (stable at every cap up to 128 µs) |
+//! | `implicit_damping` | 1 | 1 | 57 µs, and still 57 µs where the contact damping limits symplectic Euler (17 µs on a 10-sprocket drive) |
 //!
-//! (The stable steps are MODEL.md §7's estimates; `chaindrive bench stress`
-//! measures them.)
+//! (`chaindrive bench stress` measures these; MODEL.md §7's estimates are
+//! 60 µs for the links and 19 µs for the contact damping at the approach-speed
+//! floor, the latter far too pessimistic over real runs.)
 //!
 //! Every scheme leaves the force generator holding the forces at the step's
 //! end state with the contact memory advanced to it (the invariant
