@@ -61,12 +61,9 @@
 
 use std::time::Instant;
 
-use rapier2d_f64::prelude::{PhysicsWorld, Vector};
-
-use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::scene::generate::{DriveSpec, GenerateError};
 use crate::scene::{Integrator, L60MC_TOML, ProfileKind, Scene, SceneError, SceneFile};
-use crate::sim::{Integration, Observer, Sample, SimError, Simulation, StepLimits};
+use crate::sim::{Observer, Sample, SimError, Simulation, StepLimits};
 
 /// The column header of `stress.csv`.
 pub const CSV_HEADER: &str = "case,rollers,sprockets,rpm,e,damping_ratio,kg,profile,integrator,dt_s,stable,detector,wall_per_sim_s";
@@ -390,51 +387,15 @@ fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Simulation {
     let mut scene = base.scene.clone();
     scene.solver.integrator = integrator;
     scene.solver.dt_s = dt_s;
-    let model = base.model.clone();
-    let state = base.state.clone();
-    let mut forces = base.forces.clone();
-    let integration = Integration::new(
-        integrator,
-        scene.solver.tolerance,
-        &model,
-        &state,
-        &mut forces,
-        scene.chain.pretension_n / model.stiffness_n_m,
-    );
-    let mut world = PhysicsWorld {
-        gravity: Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]),
-        ..PhysicsWorld::default()
-    };
-    world.integration_parameters.dt = dt_s;
-    let sprocket_bodies: Vec<SprocketBody> = scene
-        .sprockets
-        .iter()
-        .map(|s| SprocketBody {
-            mass_kg: s.mass_kg,
-            inertia_kg_m2: s.inertia_kg_m2,
-        })
-        .collect();
-    let bodies = ChainBodies::insert(
-        &model,
-        &state,
-        &sprocket_bodies,
-        scene.chain.roller_radius_m,
-        &mut world.bodies,
-        &mut world.colliders,
-    );
-    Simulation {
+    Simulation::assemble(
         scene,
-        model,
-        state,
-        forces,
-        layout: base.layout.clone(),
-        equilibrium: base.equilibrium,
-        world,
-        bodies,
-        limits: base.limits,
-        integration,
-        timings: false,
-    }
+        base.model.clone(),
+        base.state.clone(),
+        base.forces.clone(),
+        base.layout.clone(),
+        base.equilibrium,
+        base.limits,
+    )
 }
 
 /// Runs `base`'s drive with `integrator` at `dt_s` to the scene's horizon.

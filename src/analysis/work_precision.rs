@@ -394,12 +394,23 @@ pub fn observed_order(points: &[(f64, f64)], floor: f64) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// Why the study could not be made.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// The warm start could not be built or run.
+    #[error(transparent)]
+    Start(#[from] SimError),
+    /// The reference run itself failed.
+    #[error("the adaptive reference run failed: {0}")]
+    Reference(String),
+}
+
 /// Runs the study. `progress` is called with each finished run.
 pub fn study(
     scene: &Scene,
     settings: &Settings,
     mut progress: impl FnMut(&Run, [f64; 3]),
-) -> Result<WorkPrecision, SimError> {
+) -> Result<WorkPrecision, StudyError> {
     let start = Start::warm(scene, settings.warmup_s)?;
     let reference = integrate(
         &start,
@@ -407,10 +418,7 @@ pub fn study(
         Setting::Tolerance(settings.reference_tolerance),
         settings,
     );
-    let reference_signals = reference
-        .outcome
-        .clone()
-        .map_err(|e| reference_failed("adaptive", e))?;
+    let reference_signals = reference.outcome.map_err(StudyError::Reference)?;
     let check = integrate(
         &start,
         Integrator::Rk4,
@@ -484,16 +492,6 @@ pub fn study(
         reference_agreement,
         perturbation_growth,
     })
-}
-
-fn reference_failed(which: &str, e: String) -> SimError {
-    SimError::BlowUp {
-        t_s: f64::NAN,
-        detector: "reference",
-        body: format!("the {which} reference run ({e})"),
-        value: f64::NAN,
-        limit: f64::NAN,
-    }
 }
 
 #[cfg(test)]

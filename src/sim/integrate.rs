@@ -175,8 +175,9 @@ impl Integration {
         static_stretch_m: f64,
     ) -> Self {
         let stages = match scheme {
-            Integrator::SymplecticEuler | Integrator::ImplicitDamping => 0,
-            Integrator::VelocityVerlet => 0,
+            Integrator::SymplecticEuler
+            | Integrator::ImplicitDamping
+            | Integrator::VelocityVerlet => 0,
             Integrator::Rk4 => 4,
             Integrator::DormandPrince45 => 7,
         };

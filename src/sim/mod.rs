@@ -377,11 +377,9 @@ impl Simulation {
     /// static equilibrium.
     pub fn new(scene: &Scene) -> Result<Self, SimError> {
         let limits = BlowUpLimits::for_scene(scene);
-        // The relaxation steps with symplectic Euler: keep it within the
-        // links' stability limit whatever step the run's integrator takes.
-        // (The contact-damping limit is not applied: relaxing contacts are
-        // slow, its estimate assumes the pretension on a floor-speed contact,
-        // and the ≥ 0 clamp bounds the chatter it would cause.)
+        // The relaxation steps symplectic Euler with the contact damping
+        // implicit: only the links limit its step, whatever step the run's
+        // integrator takes.
         let settings = RelaxSettings {
             dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).links_s),
             max_time_s: scene.equilibrium.max_relax_s,
@@ -405,6 +403,30 @@ impl Simulation {
             }
             PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
         };
+        Ok(Self::assemble(
+            scene,
+            model,
+            state,
+            forces,
+            layout,
+            equilibrium,
+            limits,
+        ))
+    }
+
+    /// A simulation of a drive already settled: a fresh rapier world holding
+    /// its bodies at `state`, and the scene's integrator. [`Simulation::new`]
+    /// ends here; a study that runs one settled drive with several schemes
+    /// starts each run here from a copy.
+    pub fn assemble(
+        scene: Scene,
+        model: DriveModel,
+        state: DriveState,
+        mut forces: ForceGenerator,
+        layout: Layout,
+        equilibrium: StaticEquilibrium,
+        limits: BlowUpLimits,
+    ) -> Self {
         let mut world = PhysicsWorld {
             gravity: Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]),
             ..PhysicsWorld::default()
@@ -419,7 +441,6 @@ impl Simulation {
                 inertia_kg_m2: s.inertia_kg_m2,
             })
             .collect();
-        let mut forces = forces;
         let integration = Integration::new(
             scene.solver.integrator,
             scene.solver.tolerance,
@@ -436,7 +457,7 @@ impl Simulation {
             &mut world.bodies,
             &mut world.colliders,
         );
-        Ok(Self {
+        Self {
             scene,
             model,
             state,
@@ -448,7 +469,7 @@ impl Simulation {
             limits,
             integration,
             timings: false,
-        })
+        }
     }
 
     /// One chain step of `dt_s` in the scene's stepping mode.
