@@ -46,7 +46,7 @@ mod contact_law;
 
 pub use contact_law::ContactLawParams;
 
-use crate::geometry::{MAX_PATCHES, Patch};
+use crate::geometry::{MAX_PATCHES, Outline, Patch, ToothProfile};
 use crate::model::{DriveModel, DriveState};
 
 /// Remembered onset of one contact patch.
@@ -60,14 +60,18 @@ struct Memory {
 
 const EMPTY: u64 = u64::MAX;
 
-/// Contact culling: a roller whose centre is outside every sprocket's reach
-/// circle by a clearance c is skipped for
+/// Reach caching ("culling"): a roller's set of sprockets within reach is
+/// measured, then kept for
 /// τ = min(c / (speed_factor · v_max + speed_floor), max_skip_s),
-/// v_max the chain's fastest roller at that moment. Within τ a roller could
-/// only reach a tooth by more than doubling its speed plus the floor (5 m/s)
-/// within ≤ 1 ms — an acceleration beyond 5000 m/s², i.e. a blow-up. The
-/// oracle test `culling_changes_nothing` checks the bitwise equality of runs
-/// with and without culling.
+/// c the distance from the roller's centre to the nearest reach circle's
+/// edge, v_max the chain's fastest roller at that moment. Within τ a roller
+/// could only cross that edge by more than doubling its speed plus the floor
+/// (5 m/s) within ≤ 1 ms — an acceleration beyond 5000 m/s², i.e. a blow-up.
+/// A roller within no reach circle costs nothing more until then; one within
+/// reach goes straight to its sprockets' contact loops. The oracle test
+/// `culling_changes_nothing` checks the bitwise equality of runs with and
+/// without it (without: every roller measured against every sprocket at
+/// every evaluation).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Culling {
     /// Factor on the fastest roller speed.
@@ -138,10 +142,6 @@ impl DampingRows {
             lever: vec![[0.0; 2]; rollers],
         }
     }
-
-    fn clear(&mut self, i: usize) {
-        self.sprocket[i] = u32::MAX;
-    }
 }
 
 /// The link law of MODEL.md §2 for one link.
@@ -175,22 +175,35 @@ pub struct ForceGenerator {
     memory: Vec<[Memory; MAX_PATCHES]>,
     /// The memory as the last evaluation left it (swapped in on commit).
     pending_memory: Vec<[Memory; MAX_PATCHES]>,
-    /// Culling times as the last evaluation left them (swapped in on commit).
-    pending_free_until_s: Vec<f64>,
     /// Linear forms of the contact damping, when enabled.
     damping_rows: Option<DampingRows>,
     /// Stage timers; `None` (the default) times nothing.
     pub timing: Option<ForceTimes>,
     /// Last gap each roller touched: where the O(1) gap search starts.
     gap_hint: Vec<u32>,
-    /// Last sprocket each roller was within reach of: checked first.
-    sprocket_hint: Vec<u32>,
     /// Contact culling settings; `None` checks every roller against every sprocket each call.
     pub culling: Option<Culling>,
-    /// Time before which roller i touches no sprocket (see [`Culling`]).
-    free_until_s: Vec<f64>,
-    /// Scratch: (sin θ, cos θ) of each sprocket.
-    rotations: Vec<(f64, f64)>,
+    /// Time before which roller i's set of sprockets within reach is kept (see [`Culling`]).
+    reach_until_s: Vec<f64>,
+    /// That set, bit j for sprocket j. It is also the set in effect at the
+    /// last committed evaluation, so `memory[i]` is current only where it is
+    /// not empty.
+    reach_mask: Vec<u64>,
+    /// Rollers whose set the last evaluation measured again, with the new
+    /// set and time in `pending_reach_*` (adopted on commit).
+    remeasured: Buffer<u32>,
+    /// See `remeasured`.
+    pending_reach_until_s: Vec<f64>,
+    /// See `remeasured`.
+    pending_reach_mask: Vec<u64>,
+    /// The last evaluation's stretches of rollers within reach.
+    runs: Buffer<Run>,
+    /// Stretches of rollers within reach of several sprockets (index ranges).
+    shared: Buffer<[u32; 2]>,
+    /// Scratch: contact force on each roller of a shared stretch, N.
+    contact_sum: Vec<[f64; 2]>,
+    /// Scratch: patches found for each roller of a shared stretch.
+    patches_used: Vec<u8>,
     /// Largest roller speed at the last evaluation, m/s.
     max_speed_m_s: f64,
     /// Force on each roller (links, contacts, gravity), N.
@@ -228,14 +241,21 @@ impl ForceGenerator {
             law,
             memory: vec![[FREE; MAX_PATCHES]; rollers],
             pending_memory: vec![[FREE; MAX_PATCHES]; rollers],
-            pending_free_until_s: vec![f64::NEG_INFINITY; rollers],
             damping_rows: None,
             timing: None,
             gap_hint: vec![0; rollers],
-            sprocket_hint: vec![0; rollers],
             culling: Some(Culling::default()),
-            free_until_s: vec![f64::NEG_INFINITY; rollers],
-            rotations: vec![(0.0, 1.0); sprockets],
+            reach_until_s: vec![f64::NEG_INFINITY; rollers],
+            reach_mask: vec![0; rollers],
+            remeasured: Buffer::with_capacity(rollers),
+            pending_reach_until_s: vec![f64::NEG_INFINITY; rollers],
+            pending_reach_mask: vec![0; rollers],
+            // Room for a run per roller and sprocket pair in reach twice over:
+            // the step loop does not allocate.
+            runs: Buffer::with_capacity(2 * rollers + sprockets),
+            shared: Buffer::with_capacity(rollers),
+            contact_sum: vec![[0.0; 2]; rollers],
+            patches_used: vec![0; rollers],
             max_speed_m_s: 0.0,
             fx: vec![0.0; rollers],
             fy: vec![0.0; rollers],
@@ -262,8 +282,9 @@ impl ForceGenerator {
     pub fn reset_memory(&mut self) {
         self.memory.fill([FREE; MAX_PATCHES]);
         self.pending_memory.fill([FREE; MAX_PATCHES]);
-        self.free_until_s.fill(f64::NEG_INFINITY);
-        self.pending_free_until_s.fill(f64::NEG_INFINITY);
+        self.reach_until_s.fill(f64::NEG_INFINITY);
+        self.reach_mask.fill(0);
+        self.remeasured.clear();
     }
 
     /// Replaces the contact law (the static relaxation uses a dissipative
@@ -300,7 +321,12 @@ impl ForceGenerator {
     /// state has become the step's end state.
     pub fn commit_trial(&mut self) {
         std::mem::swap(&mut self.memory, &mut self.pending_memory);
-        std::mem::swap(&mut self.free_until_s, &mut self.pending_free_until_s);
+        for &i in self.remeasured.iter() {
+            let i = i as usize;
+            self.reach_until_s[i] = self.pending_reach_until_s[i];
+            self.reach_mask[i] = self.pending_reach_mask[i];
+        }
+        self.remeasured.clear();
     }
 
     /// Evaluates all forces at `state` without advancing the contact memory
@@ -425,196 +451,430 @@ impl ForceGenerator {
         self.max_speed_m_s = max_speed_sq.sqrt();
     }
 
-    /// Roller–tooth contacts (MODEL.md §3–5) and their reactions.
+    /// Roller–tooth contacts (MODEL.md §3–5) and their reactions, in two passes.
     ///
-    /// Rollers far from every sprocket are skipped for a while ([`Culling`]).
-    /// Within reach, the gap search starts from the roller's last gap.
+    /// 1. **Reach** ([`Self::reach`], per roller): each roller's set of
+    ///    sprockets within reach, kept between measurements ([`Culling`]);
+    ///    consecutive rollers with the same set form a [`Run`].
+    /// 2. **Contact** (per run): the sprocket's frame, speed and profile kind
+    ///    are fixed for the whole run and its reactions summed in registers;
+    ///    the loop is compiled once per profile kind ([`Outline`]).
+    ///
+    /// Rollers within reach of several sprockets (where reach circles
+    /// overlap) sum their contacts over their runs and are finished last.
+    /// Every sum runs in roller order within a sprocket, whatever was kept or
+    /// measured, so culling changes no bit (the oracle test `culling_changes_nothing`).
     fn contacts<const ROWS: bool>(&mut self, model: &DriveModel, s: &DriveState) {
-        let law = self.law;
-        let energy_factor = 1.0 / (law.exponent + 1.0);
-        let mut energy = 0.0;
-        let mut max_pen = 0.0f64;
-        let mut patches = [Patch::default(); MAX_PATCHES];
-        for (r, th) in self.rotations.iter_mut().zip(&s.theta) {
-            *r = th.sin_cos();
+        // The last evaluation's contact outputs are cleared where it wrote them.
+        for run in self.runs.iter() {
+            let (a, b) = (run.start, run.end);
+            self.touching[a..b].fill(false);
+            self.contact_force[a..b].fill(0.0);
+            if let Some(rows) = &mut self.damping_rows {
+                rows.sprocket[a..b].fill(u32::MAX);
+            }
         }
+        self.reach(model, s);
+        for &[a, b] in self.shared.iter() {
+            let (a, b) = (a as usize, b as usize);
+            self.contact_sum[a..b].fill([0.0; 2]);
+            self.patches_used[a..b].fill(0);
+            self.pending_memory[a..b].fill([FREE; MAX_PATCHES]);
+        }
+        let mut pass = ContactPass {
+            law: self.law,
+            state: s,
+            memory: &self.memory,
+            remembered: &self.reach_mask,
+            pending_memory: &mut self.pending_memory,
+            gap_hint: &mut self.gap_hint,
+            fx: &mut self.fx,
+            fy: &mut self.fy,
+            touching: &mut self.touching,
+            contact_force: &mut self.contact_force,
+            sum: &mut self.contact_sum,
+            used: &mut self.patches_used,
+            rows: if ROWS {
+                self.damping_rows.as_mut()
+            } else {
+                None
+            },
+            energy_j: 0.0,
+            max_penetration_m: 0.0,
+        };
+        let mut last: Option<(usize, Frame)> = None;
+        for run in self.runs.iter() {
+            let sp = &model.sprockets[run.sprocket];
+            // Runs of one sprocket follow each other except where reach circles overlap.
+            let frame = match last {
+                Some((index, frame)) if index == run.sprocket => frame,
+                _ => Frame::of(
+                    sp.center_m,
+                    s.theta[run.sprocket],
+                    s.omega[run.sprocket],
+                    run.sprocket,
+                ),
+            };
+            last = Some((run.sprocket, frame));
+            let (force, torque) = match (&sp.profile, run.shared) {
+                (ToothProfile::Circular(c), false) => pass.run::<ROWS, false, _>(c, &frame, run),
+                (ToothProfile::Circular(c), true) => pass.run::<ROWS, true, _>(c, &frame, run),
+                (ToothProfile::Real(r), false) => pass.run::<ROWS, false, _>(&**r, &frame, run),
+                (ToothProfile::Real(r), true) => pass.run::<ROWS, true, _>(&**r, &frame, run),
+            };
+            let total = &mut self.chain_force[run.sprocket];
+            total[0] += force[0];
+            total[1] += force[1];
+            self.chain_torque[run.sprocket] += torque;
+        }
+        self.max_penetration_m = pass.max_penetration_m;
+        self.contact_energy_j = pass.energy_j;
+        for &[a, b] in self.shared.iter() {
+            for i in a as usize..b as usize {
+                let [sx, sy] = self.contact_sum[i];
+                let touching = self.patches_used[i] > 0;
+                self.fx[i] += sx;
+                self.fy[i] += sy;
+                self.touching[i] = touching;
+                self.contact_force[i] = if touching {
+                    (sx * sx + sy * sy).sqrt()
+                } else {
+                    0.0
+                };
+            }
+        }
+    }
+
+    /// The reach pass of [`Self::contacts`]: each roller's set of sprockets
+    /// within reach, kept while [`Culling`] proves it unchanged and measured
+    /// against every sprocket otherwise, gathered into [`Run`]s.
+    fn reach(&mut self, model: &DriveModel, s: &DriveState) {
         let cull = self.culling.map(|c| {
             (
                 c.speed_factor * self.max_speed_m_s + c.speed_floor_m_s,
                 c.max_skip_s,
             )
         });
+        self.runs.clear();
+        self.shared.clear();
+        self.remeasured.clear();
         // Slices of one length: the compiler drops the bounds checks on `[i]`.
         let n = s.x.len();
-        let (xs, ys, vxs, vys) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
-        let free_until = &self.free_until_s[..n];
-        let pending_free_until = &mut self.pending_free_until_s[..n];
-        let memory = &self.memory[..n];
-        let pending_memory = &mut self.pending_memory[..n];
-        let gap_hint = &mut self.gap_hint[..n];
-        let sprocket_hint = &mut self.sprocket_hint[..n];
-        let touching = &mut self.touching[..n];
-        let contact_force = &mut self.contact_force[..n];
-        let (fx_out, fy_out) = (&mut self.fx[..n], &mut self.fy[..n]);
-        let rotations = &self.rotations;
-        let chain_force = &mut self.chain_force;
-        let chain_torque = &mut self.chain_torque;
+        let (xs, ys) = (&s.x[..n], &s.y[..n]);
+        let (until, kept) = (&self.reach_until_s[..n], &self.reach_mask[..n]);
+        let pending_until = &mut self.pending_reach_until_s[..n];
+        let pending_mask = &mut self.pending_reach_mask[..n];
+        let mut stretch = Stretch::default();
         for i in 0..n {
-            pending_free_until[i] = free_until[i];
-            if s.t_s < free_until[i] {
-                // Skipped rollers were found free: flags and force are already clear.
-                pending_memory[i] = [FREE; MAX_PATCHES];
-                if ROWS && let Some(rows) = &mut self.damping_rows {
-                    rows.clear(i);
+            let mask = if s.t_s < until[i] {
+                kept[i]
+            } else {
+                let mut mask = 0u64;
+                let mut clearance = f64::INFINITY;
+                for (j, sp) in model.sprockets.iter().enumerate().take(64) {
+                    let rx = xs[i] - sp.center_m[0];
+                    let ry = ys[i] - sp.center_m[1];
+                    let d_sq = rx * rx + ry * ry;
+                    if d_sq <= sp.reach_sq_m2 {
+                        mask |= 1 << j;
+                    }
+                    if cull.is_some() {
+                        clearance = clearance.min((d_sq.sqrt() - sp.reach_m).abs());
+                    }
+                }
+                pending_mask[i] = mask;
+                pending_until[i] = match cull {
+                    Some((speed_bound, max_skip)) => {
+                        s.t_s + (clearance / speed_bound).min(max_skip)
+                    }
+                    None => f64::NEG_INFINITY,
+                };
+                self.remeasured.push(i as u32);
+                mask
+            };
+            if mask != stretch.mask {
+                stretch.close(i, &mut self.runs, &mut self.shared);
+                stretch = Stretch { mask, start: i };
+            }
+        }
+        stretch.close(n, &mut self.runs, &mut self.shared);
+    }
+}
+
+/// A reused scratch list whose clone keeps the capacity (a derived `Vec`
+/// clone shrinks it to the length, and a cloned generator's step loop would
+/// allocate again).
+#[derive(Debug)]
+struct Buffer<T>(Vec<T>);
+
+impl<T> Buffer<T> {
+    fn with_capacity(capacity: usize) -> Self {
+        Self(Vec::with_capacity(capacity))
+    }
+}
+
+impl<T: Clone> Clone for Buffer<T> {
+    fn clone(&self) -> Self {
+        let mut copy = Vec::with_capacity(self.0.capacity());
+        copy.extend_from_slice(&self.0);
+        Self(copy)
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.0.clear();
+        self.0.extend_from_slice(&source.0);
+    }
+}
+
+impl<T> std::ops::Deref for Buffer<T> {
+    type Target = Vec<T>;
+
+    fn deref(&self) -> &Vec<T> {
+        &self.0
+    }
+}
+
+impl<T> std::ops::DerefMut for Buffer<T> {
+    fn deref_mut(&mut self) -> &mut Vec<T> {
+        &mut self.0
+    }
+}
+
+/// Consecutive rollers within reach of one sprocket.
+#[derive(Clone, Copy, Debug)]
+struct Run {
+    sprocket: usize,
+    start: usize,
+    end: usize,
+    /// Its rollers are within reach of other sprockets too.
+    shared: bool,
+}
+
+/// Consecutive rollers with one set of sprockets within reach, while the reach pass grows it.
+#[derive(Default)]
+struct Stretch {
+    mask: u64,
+    start: usize,
+}
+
+impl Stretch {
+    /// Ends the stretch before roller `end`: one run per sprocket of its set.
+    fn close(&self, end: usize, runs: &mut Buffer<Run>, shared: &mut Buffer<[u32; 2]>) {
+        if self.mask == 0 || end == self.start {
+            return;
+        }
+        let several = !self.mask.is_power_of_two();
+        if several {
+            shared.push([self.start as u32, end as u32]);
+        }
+        let mut mask = self.mask;
+        while mask != 0 {
+            runs.push(Run {
+                sprocket: mask.trailing_zeros() as usize,
+                start: self.start,
+                end,
+                shared: several,
+            });
+            mask &= mask - 1;
+        }
+    }
+}
+
+/// One sprocket's pose and speed, fixed for its contact pass.
+#[derive(Clone, Copy)]
+struct Frame {
+    index: usize,
+    center: [f64; 2],
+    sin: f64,
+    cos: f64,
+    omega: f64,
+}
+
+impl Frame {
+    fn of(center: [f64; 2], theta: f64, omega: f64, index: usize) -> Self {
+        let (sin, cos) = theta.sin_cos();
+        Self {
+            index,
+            center,
+            sin,
+            cos,
+            omega,
+        }
+    }
+}
+
+/// The contact pass of one evaluation: what it reads and the per-roller
+/// outputs it writes, shared by the runs' loops.
+struct ContactPass<'a> {
+    law: ContactLawParams,
+    state: &'a DriveState,
+    /// The committed contact memory, current where `remembered` is not empty.
+    memory: &'a [[Memory; MAX_PATCHES]],
+    /// Each roller's set of sprockets within reach at the committed evaluation.
+    remembered: &'a [u64],
+    pending_memory: &'a mut [[Memory; MAX_PATCHES]],
+    gap_hint: &'a mut [u32],
+    fx: &'a mut [f64],
+    fy: &'a mut [f64],
+    touching: &'a mut [bool],
+    contact_force: &'a mut [f64],
+    /// Contact force on each roller of a shared run, summed over its runs, N.
+    sum: &'a mut [[f64; 2]],
+    /// Patches found for each roller of a shared run (its entries in `pending_memory`).
+    used: &'a mut [u8],
+    rows: Option<&'a mut DampingRows>,
+    energy_j: f64,
+    max_penetration_m: f64,
+}
+
+impl ContactPass<'_> {
+    /// Contacts of one run's rollers; returns the chain's resultant force and
+    /// moment on its sprocket. A shared run adds to the rollers' sums (the
+    /// caller finishes them); any other writes each roller's outputs.
+    #[inline(always)]
+    fn run<const ROWS: bool, const SHARED: bool, P: Outline>(
+        &mut self,
+        profile: &P,
+        frame: &Frame,
+        run: &Run,
+    ) -> ([f64; 2], f64) {
+        let law = self.law;
+        let energy_factor = 1.0 / (law.exponent + 1.0);
+        let (sin, cos, omega) = (frame.sin, frame.cos, frame.omega);
+        let sprocket_key = (frame.index as u64) << 32;
+        let (a, b) = (run.start, run.end);
+        let s = self.state;
+        let (xs, ys, vxs, vys) = (&s.x[a..b], &s.y[a..b], &s.vx[a..b], &s.vy[a..b]);
+        let memory = &self.memory[a..b];
+        let remembered = &self.remembered[a..b];
+        let pending_memory = &mut self.pending_memory[a..b];
+        let gap_hint = &mut self.gap_hint[a..b];
+        let mut patches = [Patch::default(); MAX_PATCHES];
+        let (mut force, mut torque) = ([0.0f64; 2], 0.0f64);
+        let (mut energy, mut max_pen) = (0.0, self.max_penetration_m);
+        for k in 0..b - a {
+            let rx = xs[k] - frame.center[0];
+            let ry = ys[k] - frame.center[1];
+            // World → sprocket frame: rotate by −θ.
+            let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+            let count = profile.contacts(local, &mut gap_hint[k], &mut patches);
+            if count == 0 {
+                if !SHARED {
+                    pending_memory[k] = [FREE; MAX_PATCHES];
                 }
                 continue;
             }
-            let mut next = [FREE; MAX_PATCHES];
-            let mut used = 0;
-            let mut total = [0.0f64; 2];
-            let mut in_reach = false;
-            // Implicit damping row of this roller: (C, C v_sp, elastic, explicit damping).
-            let mut row_sprocket = u32::MAX;
-            let mut row = (
-                [0.0f64; 3],
-                [0.0f64; 2],
-                [0.0f64; 2],
-                [0.0f64; 2],
-                [0.0f64; 2],
-            );
-            let count_sprockets = model.sprockets.len();
-            let first = sprocket_hint[i] as usize;
-            // Sprockets still to be searched (bit j; 64 and above always are).
-            let mut candidates = u64::MAX;
-            for k in 0..count_sprockets {
-                // Start with the sprocket the roller last touched.
-                let sp_index = if k == 0 {
-                    first
-                } else if k <= first {
-                    k - 1
-                } else {
-                    k
-                };
-                if sp_index < 64 && candidates >> sp_index & 1 == 0 {
-                    continue;
-                }
-                let sp = &model.sprockets[sp_index];
-                let rx = xs[i] - sp.center_m[0];
-                let ry = ys[i] - sp.center_m[1];
-                if rx * rx + ry * ry > sp.reach_sq_m2 {
-                    continue;
-                }
-                in_reach = true;
-                let (sin, cos) = rotations[sp_index];
-                // World → sprocket frame: rotate by −θ.
-                let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
-                let count = sp.profile.contacts(local, &mut gap_hint[i], &mut patches);
-                let omega = s.omega[sp_index];
-                for p in &patches[..count] {
-                    // Normal back to the world frame.
-                    let nx = cos * p.normal[0] - sin * p.normal[1];
-                    let ny = sin * p.normal[0] + cos * p.normal[1];
-                    // Velocity of the roller relative to the sprocket point under it (16)–(18).
-                    let vrx = vxs[i] + omega * ry;
-                    let vry = vys[i] - omega * rx;
-                    let depth_rate = -(vrx * nx + vry * ny);
-                    let key = ((sp_index as u64) << 32) | u64::from(p.patch_id);
-                    // The same patch, or (real profile) the one it slid over from.
-                    let damping = memory[i]
-                        .iter()
-                        .find(|mem| {
-                            mem.key == key
-                                || (mem.key != EMPTY
-                                    && mem.key >> 32 == sp_index as u64
-                                    && sp.profile.continues(mem.key as u32, p.patch_id))
-                        })
-                        .map_or_else(
-                            || law.damping_per_speed(depth_rate),
-                            |mem| mem.damping_per_speed,
-                        );
-                    if used < MAX_PATCHES {
-                        next[used] = Memory {
-                            key,
-                            damping_per_speed: damping,
-                        };
-                        used += 1;
-                    }
-                    let elastic = law.elastic(p.depth_m);
-                    let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
-                    energy += elastic * p.depth_m * energy_factor;
-                    if ROWS && (row_sprocket == u32::MAX || row_sprocket == sp_index as u32) {
-                        row_sprocket = sp_index as u32;
-                        let c = elastic * damping;
-                        // Surface velocity of the sprocket under the roller: ω × r.
-                        let v_sp_n = -omega * ry * nx + omega * rx * ny;
-                        row.0[0] += c * nx * nx;
-                        row.0[1] += c * nx * ny;
-                        row.0[2] += c * ny * ny;
-                        row.1[0] += c * v_sp_n * nx;
-                        row.1[1] += c * v_sp_n * ny;
-                        row.2[0] += elastic * nx;
-                        row.2[1] += elastic * ny;
-                        row.3[0] += (f - elastic) * nx;
-                        row.3[1] += (f - elastic) * ny;
-                        row.4 = [rx, ry];
-                    }
-                    let (fx, fy) = (f * nx, f * ny);
-                    total[0] += fx;
-                    total[1] += fy;
-                    // Reaction −f on the sprocket, moment (r_r − r_s) × (−f) (19).
-                    chain_force[sp_index][0] -= fx;
-                    chain_force[sp_index][1] -= fy;
-                    chain_torque[sp_index] -= rx * fy - ry * fx;
-                    if !(p.depth_m <= max_pen) {
-                        max_pen = p.depth_m;
-                    }
-                }
-                sprocket_hint[i] = sp_index as u32;
-                if model.disjoint_reach {
-                    // No other sprocket can be within reach of this roller.
-                    break;
-                }
-                // Only the sprockets whose reach overlaps this one's can be within reach too.
-                candidates &= model
-                    .reach_overlaps
-                    .get(sp_index)
-                    .copied()
-                    .unwrap_or(u64::MAX);
-                if candidates == 0 {
-                    break;
-                }
-            }
-            if let Some((speed_bound, max_skip)) = cull
-                && !in_reach
-            {
-                let clearance = model
-                    .sprockets
-                    .iter()
-                    .map(|sp| (xs[i] - sp.center_m[0]).hypot(ys[i] - sp.center_m[1]) - sp.reach_m)
-                    .fold(f64::INFINITY, f64::min);
-                pending_free_until[i] = s.t_s + (clearance / speed_bound).min(max_skip);
-            }
-            pending_memory[i] = next;
-            if ROWS && let Some(rows) = &mut self.damping_rows {
-                rows.sprocket[i] = row_sprocket;
-                if row_sprocket != u32::MAX {
-                    rows.c[i] = row.0;
-                    rows.c_v_sprocket[i] = row.1;
-                    rows.elastic[i] = row.2;
-                    rows.explicit[i] = row.3;
-                    rows.lever[i] = row.4;
-                }
-            }
-            touching[i] = used > 0;
-            fx_out[i] += total[0];
-            fy_out[i] += total[1];
-            contact_force[i] = if used > 0 {
-                (total[0] * total[0] + total[1] * total[1]).sqrt()
+            // Velocity of the roller relative to the sprocket point under it (16)–(18).
+            let vrx = vxs[k] + omega * ry;
+            let vry = vys[k] - omega * rx;
+            // A roller that was within no reach circle at the committed
+            // evaluation left its memory behind there.
+            let onsets = if remembered[k] != 0 {
+                memory[k]
             } else {
-                0.0
+                [FREE; MAX_PATCHES]
             };
+            let i = a + k;
+            let (mut next, mut used, mut total) = if SHARED {
+                (pending_memory[k], usize::from(self.used[i]), self.sum[i])
+            } else {
+                ([FREE; MAX_PATCHES], 0, [0.0; 2])
+            };
+            // Implicit damping row: (C, C v_sp, elastic, explicit damping).
+            let mut row = ([0.0f64; 3], [0.0f64; 2], [0.0f64; 2], [0.0f64; 2]);
+            for p in &patches[..count] {
+                // Normal back to the world frame.
+                let nx = cos * p.normal[0] - sin * p.normal[1];
+                let ny = sin * p.normal[0] + cos * p.normal[1];
+                let depth_rate = -(vrx * nx + vry * ny);
+                let key = sprocket_key | u64::from(p.patch_id);
+                // The same patch, or (real profile) the one it slid over from.
+                let damping = match onsets.iter().find(|mem| mem.key == key) {
+                    Some(mem) => mem.damping_per_speed,
+                    None => slid_from(profile, &onsets, frame.index, p.patch_id)
+                        .unwrap_or_else(|| law.damping_per_speed(depth_rate)),
+                };
+                if used < MAX_PATCHES {
+                    next[used] = Memory {
+                        key,
+                        damping_per_speed: damping,
+                    };
+                    used += 1;
+                }
+                let elastic = law.elastic(p.depth_m);
+                let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
+                energy += elastic * p.depth_m * energy_factor;
+                if ROWS {
+                    let c = elastic * damping;
+                    // Surface velocity of the sprocket under the roller: ω × r.
+                    let v_sp_n = -omega * ry * nx + omega * rx * ny;
+                    row.0[0] += c * nx * nx;
+                    row.0[1] += c * nx * ny;
+                    row.0[2] += c * ny * ny;
+                    row.1[0] += c * v_sp_n * nx;
+                    row.1[1] += c * v_sp_n * ny;
+                    row.2[0] += elastic * nx;
+                    row.2[1] += elastic * ny;
+                    row.3[0] += (f - elastic) * nx;
+                    row.3[1] += (f - elastic) * ny;
+                }
+                let (fx, fy) = (f * nx, f * ny);
+                total[0] += fx;
+                total[1] += fy;
+                // Reaction −f on the sprocket, moment (r_r − r_s) × (−f) (19).
+                force[0] -= fx;
+                force[1] -= fy;
+                torque -= rx * fy - ry * fx;
+                if !(p.depth_m <= max_pen) {
+                    max_pen = p.depth_m;
+                }
+            }
+            pending_memory[k] = next;
+            if SHARED {
+                self.used[i] = used as u8;
+                self.sum[i] = total;
+            } else {
+                self.fx[i] += total[0];
+                self.fy[i] += total[1];
+                self.touching[i] = true;
+                self.contact_force[i] = (total[0] * total[0] + total[1] * total[1]).sqrt();
+            }
+            // A roller's implicit row holds the first sprocket it touches;
+            // contacts on a second one (overlapping reach) stay explicit.
+            if ROWS
+                && let Some(rows) = &mut self.rows
+                && rows.sprocket[i] == u32::MAX
+            {
+                rows.sprocket[i] = frame.index as u32;
+                rows.c[i] = row.0;
+                rows.c_v_sprocket[i] = row.1;
+                rows.elastic[i] = row.2;
+                rows.explicit[i] = row.3;
+                rows.lever[i] = [rx, ry];
+            }
         }
+        self.energy_j += energy;
         self.max_penetration_m = max_pen;
-        self.contact_energy_j = energy;
+        (force, torque)
     }
+}
+
+/// The remembered onset of a patch the roller slid over from onto `patch_id`
+/// on the same sprocket (the real profile's flank → topping joint), if any.
+/// Out of line: the exact-key match before it is the common case.
+#[inline(never)]
+fn slid_from<P: Outline>(
+    profile: &P,
+    onsets: &[Memory; MAX_PATCHES],
+    sprocket: usize,
+    patch_id: u32,
+) -> Option<f64> {
+    onsets
+        .iter()
+        .find(|mem| {
+            mem.key != EMPTY
+                && mem.key >> 32 == sprocket as u64
+                && profile.continues(mem.key as u32, patch_id)
+        })
+        .map(|mem| mem.damping_per_speed)
 }

@@ -62,8 +62,22 @@ impl CircularProfile {
     /// Index of the gap nearest to `p`, trying `hint` and its neighbours
     /// before falling back to [`Self::gap_of`]: a roller stays in a gap for
     /// many steps, and two products are much cheaper than an `atan2`.
-    #[inline]
+    #[inline(always)]
     pub fn gap_near(&self, p: [f64; 2], hint: u32) -> u32 {
+        // The roller is almost always still in its hinted gap: one cone test, inline.
+        if let Some(&u) = self.gap_dirs.get(hint as usize) {
+            let along = u[0] * p[0] + u[1] * p[1];
+            let across = u[0] * p[1] - u[1] * p[0];
+            if along > 0.0 && across.abs() <= self.tan_half_pitch * along {
+                return hint;
+            }
+        }
+        self.gap_search(p, hint)
+    }
+
+    /// [`Self::gap_near`] when `p` has left the hinted gap's cone.
+    #[inline(never)]
+    fn gap_search(&self, p: [f64; 2], hint: u32) -> u32 {
         let n = self.teeth;
         let mut j = if hint < n { hint } else { 0 };
         for _ in 0..2 {

@@ -53,6 +53,44 @@ pub struct Patch {
 /// The most patches one roller can have on one sprocket.
 pub const MAX_PATCHES: usize = 2;
 
+/// What the contact generator asks of one kind of tooth outline. The contact
+/// loop is compiled once per kind ([`ToothProfile`] dispatches once per
+/// sprocket, not once per roller).
+pub trait Outline {
+    /// Contact patches of a roller centred at `p` (sprocket frame); returns
+    /// the count. `hint` is a gap the roller was recently in (any value
+    /// works); it is updated to the gap found.
+    fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize;
+
+    /// Whether a roller sliding from patch `a` onto patch `b` stays in one
+    /// continuous contact, so its remembered onset carries over.
+    fn continues(&self, a: u32, b: u32) -> bool;
+}
+
+impl Outline for CircularProfile {
+    #[inline(always)]
+    fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+        CircularProfile::contacts(self, p, hint, out)
+    }
+
+    #[inline(always)]
+    fn continues(&self, _: u32, _: u32) -> bool {
+        false
+    }
+}
+
+impl Outline for asa::AsaProfile {
+    #[inline(always)]
+    fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+        self.contacts_nominal(p, hint, out)
+    }
+
+    #[inline(always)]
+    fn continues(&self, a: u32, b: u32) -> bool {
+        self.patches_are_neighbours(a, b)
+    }
+}
+
 /// A sprocket's tooth outline, as used by the contact generator.
 #[derive(Clone, Debug)]
 pub enum ToothProfile {
@@ -85,8 +123,8 @@ impl ToothProfile {
     #[inline]
     pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         match self {
-            Self::Circular(c) => c.contacts(p, hint, out),
-            Self::Real(r) => r.contacts_nominal(p, hint, out),
+            Self::Circular(c) => Outline::contacts(c, p, hint, out),
+            Self::Real(r) => Outline::contacts(&**r, p, hint, out),
         }
     }
 
@@ -105,8 +143,8 @@ impl ToothProfile {
     #[inline]
     pub fn continues(&self, a: u32, b: u32) -> bool {
         match self {
-            Self::Circular(_) => false,
-            Self::Real(r) => r.patches_are_neighbours(a, b),
+            Self::Circular(c) => c.continues(a, b),
+            Self::Real(r) => r.continues(a, b),
         }
     }
 

@@ -59,13 +59,6 @@ pub struct DriveModel {
     pub path: ChainPath,
     /// Free-strand classification of links.
     pub segments: Segments,
-    /// No two sprockets' reach circles overlap: a roller within reach of one
-    /// sprocket cannot touch another (lets the contact search stop early).
-    pub disjoint_reach: bool,
-    /// Per sprocket, the other sprockets whose reach circle overlaps its own
-    /// (bit j for sprocket j; sprockets 64 and above are always searched): a
-    /// roller within reach of sprocket i can only touch these besides i.
-    pub reach_overlaps: Vec<u64>,
 }
 
 /// The state that is integrated: rollers as structure of arrays, sprockets.
@@ -213,8 +206,6 @@ impl DriveModel {
             omega: vec![0.0; scene.sprockets.len()],
         };
         let segments = Segments::new(&path);
-        let disjoint_reach = reach_circles_disjoint(&sprockets);
-        let reach_overlaps = reach_overlaps(&sprockets);
         let model = DriveModel {
             roller_mass_kg: chain.roller_mass_kg,
             stiffness_n_m: chain.stiffness_n_m,
@@ -224,8 +215,6 @@ impl DriveModel {
             sprockets,
             path,
             segments,
-            disjoint_reach,
-            reach_overlaps,
         };
         Ok((model, state, layout))
     }
@@ -242,36 +231,6 @@ impl DriveModel {
             .position(|s| s.speed_law.is_some())
             .unwrap_or(0)
     }
-}
-
-fn reach_circles_disjoint(sprockets: &[SprocketModel]) -> bool {
-    sprockets.iter().enumerate().all(|(i, a)| {
-        sprockets[i + 1..].iter().all(|b| {
-            let d = (a.center_m[0] - b.center_m[0]).hypot(a.center_m[1] - b.center_m[1]);
-            d > a.reach_m + b.reach_m
-        })
-    })
-}
-
-/// For each sprocket, the bit set of the other sprockets whose reach circle
-/// overlaps its own.
-fn reach_overlaps(sprockets: &[SprocketModel]) -> Vec<u64> {
-    sprockets
-        .iter()
-        .enumerate()
-        .map(|(i, a)| {
-            sprockets
-                .iter()
-                .enumerate()
-                .filter(|&(j, b)| {
-                    j != i
-                        && (j >= 64
-                            || (a.center_m[0] - b.center_m[0]).hypot(a.center_m[1] - b.center_m[1])
-                                <= a.reach_m + b.reach_m)
-                })
-                .fold(0u64, |m, (j, _)| if j < 64 { m | 1 << j } else { m })
-        })
-        .collect()
 }
 
 /// Whether a sprocket's role lets it turn freely under the chain.

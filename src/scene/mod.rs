@@ -16,6 +16,10 @@ pub use file::{ChainFile, ContactFile, EquilibriumFile, SceneFile, SolverFile, S
 
 use crate::geometry::pitch_radius;
 
+/// The most sprockets a drive may have (the contact generator keeps each
+/// roller's set of sprockets within reach as a 64-bit mask).
+pub const MAX_SPROCKETS: usize = 64;
+
 /// The paper's drive (MAN B&W L60MC camshaft chain), embedded as the default scene.
 pub const L60MC_TOML: &str = include_str!("../../assets/l60mc.toml");
 
@@ -633,6 +637,15 @@ fn check_sprockets(
         c.fail(
             "sprockets",
             format!("a drive needs at least 2 sprockets, got {}", files.len()),
+        );
+    }
+    if files.len() > MAX_SPROCKETS {
+        c.fail(
+            "sprockets",
+            format!(
+                "a drive has at most {MAX_SPROCKETS} sprockets, got {}",
+                files.len()
+            ),
         );
     }
     let mut out = Vec::with_capacity(files.len());

@@ -157,6 +157,24 @@ fn fewer_than_two_sprockets() {
 }
 
 #[test]
+fn more_than_64_sprockets() {
+    // The contact generator's reach sets are 64-bit masks: a 65th sprocket is
+    // refused by name, not dropped.
+    let blocks: Vec<&str> = L60MC_TOML.split("[[sprockets]]").collect();
+    let mut text = L60MC_TOML.to_string();
+    for _ in 0..61 {
+        text.push_str("[[sprockets]]");
+        text.push_str(blocks[2]);
+    }
+    assert_eq!(text.matches("[[sprockets]]").count(), 65);
+    let msg = error_of(&text);
+    assert!(
+        msg.contains("sprockets: a drive has at most 64 sprockets, got 65"),
+        "{msg}"
+    );
+}
+
+#[test]
 fn all_errors_are_reported_at_once() {
     let text = L60MC_TOML
         .replace("roller_mass_kg = 3.01", "roller_mass_kg = -3.01")
