@@ -196,6 +196,8 @@ pub struct ForceGenerator {
     pending_reach_until_s: Vec<f64>,
     /// See `remeasured`.
     pending_reach_mask: Vec<u64>,
+    /// Scratch: each sprocket's pose and speed.
+    frames: Vec<Frame>,
     /// The last evaluation's stretches of rollers within reach.
     runs: Buffer<Run>,
     /// Stretches of rollers within reach of several sprockets (index ranges).
@@ -252,6 +254,7 @@ impl ForceGenerator {
             pending_reach_mask: vec![0; rollers],
             // Room for a run per roller and sprocket pair in reach twice over:
             // the step loop does not allocate.
+            frames: vec![Frame::default(); sprockets],
             runs: Buffer::with_capacity(2 * rollers + sprockets),
             shared: Buffer::with_capacity(rollers),
             contact_sum: vec![[0.0; 2]; rollers],
@@ -334,10 +337,6 @@ impl ForceGenerator {
     /// [`Self::evaluate`].
     pub fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
         let started = self.timing.map(|_| std::time::Instant::now());
-        let m = model.roller_mass_kg;
-        let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
-        self.fx.fill(gx);
-        self.fy.fill(gy);
         self.chain_torque.fill(0.0);
         self.chain_force.fill([0.0; 2]);
         self.links(model, state);
@@ -380,11 +379,12 @@ impl ForceGenerator {
         })
     }
 
-    /// Spring-damper links (MODEL.md §2).
+    /// Gravity and the spring-damper links (MODEL.md §2): sets each roller's
+    /// force to its weight plus its two links.
     ///
     /// Two passes: the links' force vectors first (independent iterations,
-    /// which the compiler pipelines and vectorises), then each roller's sum of
-    /// its two links, so no iteration waits on the previous one's store.
+    /// which the compiler pipelines and vectorises), then each roller's sum
+    /// of its two links, so no iteration waits on the previous one's store.
     fn links(&mut self, model: &DriveModel, s: &DriveState) {
         let n = s.x.len();
         let law = LinkLaw {
@@ -419,7 +419,7 @@ impl ForceGenerator {
             *fy = force_n * uy;
             *st = s;
         }
-        let (f, ux, uy, s) = law.eval(
+        let (f, ux, uy, last) = law.eval(
             x[0] - x[n - 1],
             y[0] - y[n - 1],
             vx[0] - vx[n - 1],
@@ -428,26 +428,24 @@ impl ForceGenerator {
         force[n - 1] = f;
         lfx[n - 1] = f * ux;
         lfy[n - 1] = f * uy;
-        stretch[n - 1] = s;
+        stretch[n - 1] = last;
         // `max` drops a NaN: keep it visible to the blow-up check.
-        let stretch_is_nan = stretch.iter().any(|s| s.is_nan());
+        let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
         let max_stretch = stretch.iter().fold(0.0f64, |m, s| m.max(s.abs()));
-        let (fx, fy) = (&mut self.fx[..n], &mut self.fy[..n]);
-        fx[0] += lfx[0] - lfx[n - 1];
-        fy[0] += lfy[0] - lfy[n - 1];
-        for i in 1..n {
-            fx[i] += lfx[i] - lfx[i - 1];
-            fy[i] += lfy[i] - lfy[i - 1];
-        }
         let max_speed_sq = vx
             .iter()
             .zip(vy)
             .fold(0.0f64, |m, (a, b)| m.max(a * a + b * b));
-        self.max_stretch_m = if stretch_is_nan {
-            f64::NAN
-        } else {
-            max_stretch
-        };
+        let m = model.roller_mass_kg;
+        let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
+        let (fx, fy) = (&mut self.fx[..n], &mut self.fy[..n]);
+        fx[0] = gx + (lfx[0] - lfx[n - 1]);
+        fy[0] = gy + (lfy[0] - lfy[n - 1]);
+        for i in 1..n {
+            fx[i] = gx + (lfx[i] - lfx[i - 1]);
+            fy[i] = gy + (lfy[i] - lfy[i - 1]);
+        }
+        self.max_stretch_m = if nan { f64::NAN } else { max_stretch };
         self.max_speed_m_s = max_speed_sq.sqrt();
     }
 
@@ -502,20 +500,18 @@ impl ForceGenerator {
             energy_j: 0.0,
             max_penetration_m: 0.0,
         };
-        let mut last: Option<(usize, Frame)> = None;
+        // Each sprocket's frame once, for the sprockets with rollers within reach.
+        let mut framed = 0u64;
+        for run in self.runs.iter() {
+            if framed >> run.sprocket & 1 == 0 {
+                framed |= 1 << run.sprocket;
+                let j = run.sprocket;
+                self.frames[j] = Frame::of(model.sprockets[j].center_m, s.theta[j], s.omega[j], j);
+            }
+        }
         for run in self.runs.iter() {
             let sp = &model.sprockets[run.sprocket];
-            // Runs of one sprocket follow each other except where reach circles overlap.
-            let frame = match last {
-                Some((index, frame)) if index == run.sprocket => frame,
-                _ => Frame::of(
-                    sp.center_m,
-                    s.theta[run.sprocket],
-                    s.omega[run.sprocket],
-                    run.sprocket,
-                ),
-            };
-            last = Some((run.sprocket, frame));
+            let frame = self.frames[run.sprocket];
             let (force, torque) = match (&sp.profile, run.shared) {
                 (ToothProfile::Circular(c), false) => pass.run::<ROWS, false, _>(c, &frame, run),
                 (ToothProfile::Circular(c), true) => pass.run::<ROWS, true, _>(c, &frame, run),
@@ -681,7 +677,7 @@ impl Stretch {
 }
 
 /// One sprocket's pose and speed, fixed for its contact pass.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Debug, Default)]
 struct Frame {
     index: usize,
     center: [f64; 2],
@@ -749,6 +745,10 @@ impl ContactPass<'_> {
         let remembered = &self.remembered[a..b];
         let pending_memory = &mut self.pending_memory[a..b];
         let gap_hint = &mut self.gap_hint[a..b];
+        let (fx_out, fy_out) = (&mut self.fx[a..b], &mut self.fy[a..b]);
+        let touching = &mut self.touching[a..b];
+        let contact_force = &mut self.contact_force[a..b];
+        let (sums, used_by) = (&mut self.sum[a..b], &mut self.used[a..b]);
         let mut patches = [Patch::default(); MAX_PATCHES];
         let (mut force, mut torque) = ([0.0f64; 2], 0.0f64);
         let (mut energy, mut max_pen) = (0.0, self.max_penetration_m);
@@ -774,9 +774,8 @@ impl ContactPass<'_> {
             } else {
                 [FREE; MAX_PATCHES]
             };
-            let i = a + k;
             let (mut next, mut used, mut total) = if SHARED {
-                (pending_memory[k], usize::from(self.used[i]), self.sum[i])
+                (pending_memory[k], usize::from(used_by[k]), sums[k])
             } else {
                 ([FREE; MAX_PATCHES], 0, [0.0; 2])
             };
@@ -831,16 +830,17 @@ impl ContactPass<'_> {
             }
             pending_memory[k] = next;
             if SHARED {
-                self.used[i] = used as u8;
-                self.sum[i] = total;
+                used_by[k] = used as u8;
+                sums[k] = total;
             } else {
-                self.fx[i] += total[0];
-                self.fy[i] += total[1];
-                self.touching[i] = true;
-                self.contact_force[i] = (total[0] * total[0] + total[1] * total[1]).sqrt();
+                fx_out[k] += total[0];
+                fy_out[k] += total[1];
+                touching[k] = true;
+                contact_force[k] = (total[0] * total[0] + total[1] * total[1]).sqrt();
             }
             // A roller's implicit row holds the first sprocket it touches;
             // contacts on a second one (overlapping reach) stay explicit.
+            let i = a + k;
             if ROWS
                 && let Some(rows) = &mut self.rows
                 && rows.sprocket[i] == u32::MAX
