@@ -202,6 +202,10 @@ pub struct ForceGenerator {
     runs: Buffer<Run>,
     /// Stretches of rollers within reach of several sprockets (index ranges).
     shared: Buffer<[u32; 2]>,
+    /// The runs of the committed sets (`reach_mask`).
+    committed_runs: Buffer<Run>,
+    /// The shared stretches of the committed sets.
+    committed_shared: Buffer<[u32; 2]>,
     /// Scratch: contact force on each roller of a shared stretch, N.
     contact_sum: Vec<[f64; 2]>,
     /// Scratch: patches found for each roller of a shared stretch.
@@ -257,6 +261,8 @@ impl ForceGenerator {
             frames: vec![Frame::default(); sprockets],
             runs: Buffer::with_capacity(2 * rollers + sprockets),
             shared: Buffer::with_capacity(rollers),
+            committed_runs: Buffer::with_capacity(2 * rollers + sprockets),
+            committed_shared: Buffer::with_capacity(rollers),
             contact_sum: vec![[0.0; 2]; rollers],
             patches_used: vec![0; rollers],
             max_speed_m_s: 0.0,
@@ -288,6 +294,8 @@ impl ForceGenerator {
         self.reach_until_s.fill(f64::NEG_INFINITY);
         self.reach_mask.fill(0);
         self.remeasured.clear();
+        self.committed_runs.clear();
+        self.committed_shared.clear();
     }
 
     /// Replaces the contact law (the static relaxation uses a dissipative
@@ -330,6 +338,8 @@ impl ForceGenerator {
             self.reach_mask[i] = self.pending_reach_mask[i];
         }
         self.remeasured.clear();
+        self.committed_runs.clone_from(&self.runs);
+        self.committed_shared.clone_from(&self.shared);
     }
 
     /// Evaluates all forces at `state` without advancing the contact memory
@@ -551,8 +561,6 @@ impl ForceGenerator {
                 c.max_skip_s,
             )
         });
-        self.runs.clear();
-        self.shared.clear();
         self.remeasured.clear();
         // Slices of one length: the compiler drops the bounds checks on `[i]`.
         let n = s.x.len();
@@ -560,33 +568,48 @@ impl ForceGenerator {
         let (until, kept) = (&self.reach_until_s[..n], &self.reach_mask[..n]);
         let pending_until = &mut self.pending_reach_until_s[..n];
         let pending_mask = &mut self.pending_reach_mask[..n];
+        // Measure the rollers whose kept set has expired (a few per step).
+        let mut changed = false;
+        for i in 0..n {
+            if s.t_s < until[i] {
+                continue;
+            }
+            let mut mask = 0u64;
+            let mut clearance = f64::INFINITY;
+            for (j, sp) in model.sprockets.iter().enumerate().take(64) {
+                let rx = xs[i] - sp.center_m[0];
+                let ry = ys[i] - sp.center_m[1];
+                let d_sq = rx * rx + ry * ry;
+                if d_sq <= sp.reach_sq_m2 {
+                    mask |= 1 << j;
+                }
+                if cull.is_some() {
+                    clearance = clearance.min((d_sq.sqrt() - sp.reach_m).abs());
+                }
+            }
+            pending_mask[i] = mask;
+            pending_until[i] = match cull {
+                Some((speed_bound, max_skip)) => s.t_s + (clearance / speed_bound).min(max_skip),
+                None => f64::NEG_INFINITY,
+            };
+            self.remeasured.push(i as u32);
+            changed |= mask != kept[i];
+        }
+        // Runs are a function of the sets alone: with no set changed they
+        // are the committed ones.
+        if !changed {
+            self.runs.clone_from(&self.committed_runs);
+            self.shared.clone_from(&self.committed_shared);
+            return;
+        }
+        self.runs.clear();
+        self.shared.clear();
         let mut stretch = Stretch::default();
         for i in 0..n {
             let mask = if s.t_s < until[i] {
                 kept[i]
             } else {
-                let mut mask = 0u64;
-                let mut clearance = f64::INFINITY;
-                for (j, sp) in model.sprockets.iter().enumerate().take(64) {
-                    let rx = xs[i] - sp.center_m[0];
-                    let ry = ys[i] - sp.center_m[1];
-                    let d_sq = rx * rx + ry * ry;
-                    if d_sq <= sp.reach_sq_m2 {
-                        mask |= 1 << j;
-                    }
-                    if cull.is_some() {
-                        clearance = clearance.min((d_sq.sqrt() - sp.reach_m).abs());
-                    }
-                }
-                pending_mask[i] = mask;
-                pending_until[i] = match cull {
-                    Some((speed_bound, max_skip)) => {
-                        s.t_s + (clearance / speed_bound).min(max_skip)
-                    }
-                    None => f64::NEG_INFINITY,
-                };
-                self.remeasured.push(i as u32);
-                mask
+                pending_mask[i]
             };
             if mask != stretch.mask {
                 stretch.close(i, &mut self.runs, &mut self.shared);
@@ -781,6 +804,7 @@ impl ContactPass<'_> {
             };
             // Implicit damping row: (C, C v_sp, elastic, explicit damping).
             let mut row = ([0.0f64; 3], [0.0f64; 2], [0.0f64; 2], [0.0f64; 2]);
+            let mut last_force = 0.0;
             for p in &patches[..count] {
                 // Normal back to the world frame.
                 let nx = cos * p.normal[0] - sin * p.normal[1];
@@ -817,6 +841,7 @@ impl ContactPass<'_> {
                     row.3[0] += (f - elastic) * nx;
                     row.3[1] += (f - elastic) * ny;
                 }
+                last_force = f;
                 let (fx, fy) = (f * nx, f * ny);
                 total[0] += fx;
                 total[1] += fy;
@@ -836,7 +861,12 @@ impl ContactPass<'_> {
                 fx_out[k] += total[0];
                 fy_out[k] += total[1];
                 touching[k] = true;
-                contact_force[k] = (total[0] * total[0] + total[1] * total[1]).sqrt();
+                // One patch (the rule): its force is the magnitude, no square root.
+                contact_force[k] = if count == 1 {
+                    last_force
+                } else {
+                    (total[0] * total[0] + total[1] * total[1]).sqrt()
+                };
             }
             // A roller's implicit row holds the first sprocket it touches;
             // contacts on a second one (overlapping reach) stay explicit.

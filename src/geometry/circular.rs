@@ -130,10 +130,11 @@ impl CircularProfile {
         }
         let len = len_sq.sqrt();
         let depth_m = len - self.clearance_m;
-        // len > ΔR > 0 here, so the normalisation is safe.
+        // len > ΔR > 0 here, so the normalisation is safe (one division).
+        let inv_len = 1.0 / len;
         out[0] = Patch {
             depth_m,
-            normal: [-e[0] / len, -e[1] / len],
+            normal: [-e[0] * inv_len, -e[1] * inv_len],
             area: 4,
             gap,
             patch_id: gap,
