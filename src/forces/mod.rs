@@ -441,11 +441,8 @@ impl ForceGenerator {
         stretch[n - 1] = last;
         // `max` drops a NaN: keep it visible to the blow-up check.
         let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
-        let max_stretch = stretch.iter().fold(0.0f64, |m, s| m.max(s.abs()));
-        let max_speed_sq = vx
-            .iter()
-            .zip(vy)
-            .fold(0.0f64, |m, (a, b)| m.max(a * a + b * b));
+        let max_stretch = largest(stretch, stretch, |s, _| s.abs());
+        let max_speed_sq = largest(vx, vy, |a, b| a * a + b * b);
         let m = model.roller_mass_kg;
         let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
         let (fx, fy) = (&mut self.fx[..n], &mut self.fy[..n]);
@@ -618,6 +615,29 @@ impl ForceGenerator {
         }
         stretch.close(n, &mut self.runs, &mut self.shared);
     }
+}
+
+/// The largest `f(a_i, b_i)`, at least 0, in four independent lanes of plain
+/// comparisons, which the compiler turns into packed `max` instructions. A
+/// NaN is dropped, as by `f64::max` (the links report NaN stretches apart; a
+/// NaN speed comes with a NaN position, which the blow-up check stops on).
+#[inline(always)]
+fn largest(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> f64 {
+    let larger = |m: f64, v: f64| if v > m { v } else { m };
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut lanes = [0.0f64; 4];
+    for (ca, cb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for k in 0..4 {
+            lanes[k] = larger(lanes[k], f(ca[k], cb[k]));
+        }
+    }
+    let tail = n - n % 4;
+    let rest = a[tail..]
+        .iter()
+        .zip(&b[tail..])
+        .fold(0.0f64, |m, (&x, &y)| larger(m, f(x, y)));
+    lanes.into_iter().fold(rest, larger)
 }
 
 /// A reused scratch list whose clone keeps the capacity (a derived `Vec`
@@ -907,4 +927,27 @@ fn slid_from<P: Outline>(
                 && profile.continues(mem.key as u32, patch_id)
         })
         .map(|mem| mem.damping_per_speed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::largest;
+
+    #[test]
+    fn largest_matches_the_plain_fold() {
+        // Oracle: `f64::max` over the items (NaNs dropped), at least 0; every
+        // length 0..12 (so every tail of the four lanes), mixed signs.
+        let a: Vec<f64> = (0..12).map(|k| ((k * 7 % 5) as f64 - 2.0) * 0.3).collect();
+        let b: Vec<f64> = (0..12).map(|k| ((k * 3 % 7) as f64 - 3.0) * 0.2).collect();
+        for n in 0..=12 {
+            let f = |x: f64, y: f64| x * y + x;
+            let plain = a[..n]
+                .iter()
+                .zip(&b[..n])
+                .fold(0.0f64, |m, (&x, &y)| m.max(f(x, y)));
+            assert_eq!(largest(&a[..n], &b[..n], f), plain, "n = {n}");
+        }
+        let with_nan = [1.0, f64::NAN, 3.0, -4.0, 2.0];
+        assert_eq!(largest(&with_nan, &with_nan, |x, _| x.abs()), 4.0);
+    }
 }
