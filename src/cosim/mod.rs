@@ -49,9 +49,12 @@
 //!   taken out of rapier's step and applied inside the chain's substeps,
 //!   together with the angular-velocity change its joints caused, so the
 //!   chain and the motor are integrated together at the small dt (a motor
-//!   feels the load at once). Its centre follows its body's position once
-//!   per frame; the chain's mean force on it is applied to the body as a user
-//!   force over rapier's step. A mounted body's own other colliders do not
+//!   feels the load at once). Its centre starts each frame at its body's
+//!   position and moves on at the body's velocity through the substeps, as
+//!   rapier's step will move the body (a swinging tensioner arm does not
+//!   jump into the rollers at each frame); the contact damping sees the
+//!   centre's velocity. The chain's mean force on it is applied to the body
+//!   as a user force over rapier's step. A mounted body's own other colliders do not
 //!   touch the chain.
 //! - Not coupled: other bodies hitting a sprocket the drive owns (its
 //!   kinematic body does not pass their impulses on; mount the sprocket on
@@ -97,6 +100,8 @@ struct SprocketLink {
     mean_omega: f64,
     /// The chain's mean force on the sprocket over the frame, N.
     mean_chain_force: [f64; 2],
+    /// A mounted body's position at the frame's start, m.
+    frame_start_m: [f64; 2],
 }
 
 /// A chain drive living in a user's rapier world.
@@ -217,6 +222,7 @@ impl ChainDrive {
                 user_torque_n_m: 0.0,
                 mean_omega: 0.0,
                 mean_chain_force: [0.0; 2],
+                frame_start_m: sp.center_m,
             });
         }
         let mut roller_colliders = Vec::with_capacity(state.rollers());
@@ -319,18 +325,31 @@ impl ChainDrive {
         dt_s: f64,
     ) -> Result<(), SimError> {
         let started = Instant::now();
-        // Sprockets: centres, user torques (taken out of rapier's step).
+        // Sprockets: centres, user torques (taken out of rapier's step). A
+        // mounted body moves on through the frame at its velocity (rapier's
+        // step will take it there): its sprocket follows in the substeps.
+        let mut moving = false;
         for (k, link) in self.links.iter_mut().enumerate() {
             let Some(b) = bodies.get_mut(link.body) else {
                 continue;
             };
+            let sprocket = &mut self.model.sprockets[k];
             if link.mounted {
-                let c = b.translation();
-                self.model.sprockets[k].center_m = [c.x, c.y];
+                let (c, v) = (b.translation(), b.linvel());
+                moving |= sprocket.center_m != [c.x, c.y]
+                    || sprocket.center_velocity_m_s != [0.0; 2]
+                    || v != Vector::ZERO;
+                sprocket.center_m = [c.x, c.y];
+                sprocket.center_velocity_m_s = [v.x, v.y];
+                link.frame_start_m = [c.x, c.y];
                 link.user_torque_n_m = b.user_torque();
                 b.reset_torques(false);
             }
-            self.model.sprockets[k].load_torque_n_m = link.scene_load_n_m + link.user_torque_n_m;
+            sprocket.load_torque_n_m = link.scene_load_n_m + link.user_torque_n_m;
+        }
+        if moving {
+            // The kept reach sets assumed the old centres and speeds.
+            self.forces.forget_reach();
         }
         for (s, p) in self
             .start
@@ -383,6 +402,18 @@ impl ChainDrive {
                 self.contacts.integrate(dt);
             }
             self.state.t_s = t0 + step as f64 * dt;
+            if moving {
+                let tau = step as f64 * dt;
+                for (link, sprocket) in self.links.iter().zip(&mut self.model.sprockets) {
+                    if link.mounted {
+                        let [vx, vy] = sprocket.center_velocity_m_s;
+                        sprocket.center_m = [
+                            link.frame_start_m[0] + vx * tau,
+                            link.frame_start_m[1] + vy * tau,
+                        ];
+                    }
+                }
+            }
             self.forces.evaluate(&self.model, &self.state);
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)?;
             for (sum, f) in self.force_sum.iter_mut().zip(&self.forces.chain_force) {

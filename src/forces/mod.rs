@@ -47,7 +47,7 @@ mod contact_law;
 pub use contact_law::ContactLawParams;
 
 use crate::geometry::{MAX_PATCHES, Outline, Patch, ToothProfile};
-use crate::model::{DriveModel, DriveState};
+use crate::model::{DriveModel, DriveState, SprocketModel};
 
 /// Remembered onset of one contact patch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -298,6 +298,14 @@ impl ForceGenerator {
         self.committed_shared.clear();
     }
 
+    /// Forgets every kept reach set ([`Culling`]): the next evaluation
+    /// measures every roller again. Call when a sprocket centre has moved
+    /// other than at its `center_velocity_m_s` (a co-simulation frame's new
+    /// mount position and velocity).
+    pub fn forget_reach(&mut self) {
+        self.reach_until_s.fill(f64::NEG_INFINITY);
+    }
+
     /// Replaces the contact law (the static relaxation uses a dissipative
     /// one whatever the run's restitution).
     pub fn set_law(&mut self, law: ContactLawParams) {
@@ -513,7 +521,7 @@ impl ForceGenerator {
             if framed >> run.sprocket & 1 == 0 {
                 framed |= 1 << run.sprocket;
                 let j = run.sprocket;
-                self.frames[j] = Frame::of(model.sprockets[j].center_m, s.theta[j], s.omega[j], j);
+                self.frames[j] = Frame::of(&model.sprockets[j], s.theta[j], s.omega[j], j);
             }
         }
         for run in self.runs.iter() {
@@ -552,9 +560,16 @@ impl ForceGenerator {
     /// within reach, kept while [`Culling`] proves it unchanged and measured
     /// against every sprocket otherwise, gathered into [`Run`]s.
     fn reach(&mut self, model: &DriveModel, s: &DriveState) {
+        // Rollers and moving sprocket centres (mounted sprockets) approach
+        // each other at most at the sum of their speeds.
+        let centre_speed = model
+            .sprockets
+            .iter()
+            .map(|sp| sp.center_velocity_m_s[0].hypot(sp.center_velocity_m_s[1]))
+            .fold(0.0, f64::max);
         let cull = self.culling.map(|c| {
             (
-                c.speed_factor * self.max_speed_m_s + c.speed_floor_m_s,
+                c.speed_factor * self.max_speed_m_s + c.speed_floor_m_s + centre_speed,
                 c.max_skip_s,
             )
         });
@@ -724,17 +739,20 @@ impl Stretch {
 struct Frame {
     index: usize,
     center: [f64; 2],
+    /// Velocity of the centre (a moving mount), m/s.
+    velocity: [f64; 2],
     sin: f64,
     cos: f64,
     omega: f64,
 }
 
 impl Frame {
-    fn of(center: [f64; 2], theta: f64, omega: f64, index: usize) -> Self {
+    fn of(sprocket: &SprocketModel, theta: f64, omega: f64, index: usize) -> Self {
         let (sin, cos) = theta.sin_cos();
         Self {
             index,
-            center,
+            center: sprocket.center_m,
+            velocity: sprocket.center_velocity_m_s,
             sin,
             cos,
             omega,
@@ -807,9 +825,10 @@ impl ContactPass<'_> {
                 }
                 continue;
             }
-            // Velocity of the roller relative to the sprocket point under it (16)–(18).
-            let vrx = vxs[k] + omega * ry;
-            let vry = vys[k] - omega * rx;
+            // Velocity of the roller relative to the sprocket point under it
+            // (16)–(18), v − v_c − ω × r (v_c: a moving mount's centre).
+            let vrx = vxs[k] - frame.velocity[0] + omega * ry;
+            let vry = vys[k] - frame.velocity[1] - omega * rx;
             // A roller that was within no reach circle at the committed
             // evaluation left its memory behind there.
             let onsets = if remembered[k] != 0 {
@@ -849,8 +868,9 @@ impl ContactPass<'_> {
                 energy += elastic * p.depth_m * energy_factor;
                 if ROWS {
                     let c = elastic * damping;
-                    // Surface velocity of the sprocket under the roller: ω × r.
-                    let v_sp_n = -omega * ry * nx + omega * rx * ny;
+                    // Surface velocity of the sprocket under the roller: v_c + ω × r.
+                    let v_sp_n = (frame.velocity[0] - omega * ry) * nx
+                        + (frame.velocity[1] + omega * rx) * ny;
                     row.0[0] += c * nx * nx;
                     row.0[1] += c * nx * ny;
                     row.0[2] += c * ny * ny;

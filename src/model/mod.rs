@@ -20,8 +20,12 @@ use crate::scene::{Role, Scene, SpeedLaw};
 /// Constant data of one sprocket.
 #[derive(Clone, Debug)]
 pub struct SprocketModel {
-    /// Centre, m (fixed during a run).
+    /// Centre, m (fixed in a standalone run; a mounted sprocket's body may
+    /// move it in a co-simulation).
     pub center_m: [f64; 2],
+    /// Velocity of the centre, m/s: zero but for a sprocket mounted on a
+    /// moving body (the contact damping and the reach caching use it).
+    pub center_velocity_m_s: [f64; 2],
     /// 1 / J, 1/(kg·m²).
     pub inv_inertia: f64,
     /// The driver's speed law; `None` for a free sprocket.
@@ -184,6 +188,7 @@ impl DriveModel {
                 let reach = profile.reach_m();
                 SprocketModel {
                     center_m: s.center_m,
+                    center_velocity_m_s: [0.0; 2],
                     inv_inertia: 1.0 / s.inertia_kg_m2,
                     speed_law: s.speed_law(),
                     load_torque_n_m: s.load_torque_n_m(),
