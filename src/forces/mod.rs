@@ -359,12 +359,18 @@ impl ForceGenerator {
         self.chain_force.fill([0.0; 2]);
         self.links(model, state);
         let links_done = started.map(|_| std::time::Instant::now());
-        // Two copies of the contact loop: without damping rows (every scheme
-        // but implicit damping) the rows' accumulators compile away.
-        if self.damping_rows.is_some() {
-            self.contacts::<true>(model, state);
-        } else {
-            self.contacts::<false>(model, state);
+        // Copies of the contact loop: without damping rows (every scheme but
+        // implicit damping) the rows' accumulators compile away, and without
+        // moving sprocket centres (mounts in a co-simulation) their velocity.
+        let moving = model
+            .sprockets
+            .iter()
+            .any(|sp| sp.center_velocity_m_s != [0.0; 2]);
+        match (self.damping_rows.is_some(), moving) {
+            (true, true) => self.contacts::<true, true>(model, state),
+            (true, false) => self.contacts::<true, false>(model, state),
+            (false, true) => self.contacts::<false, true>(model, state),
+            (false, false) => self.contacts::<false, false>(model, state),
         }
         if let (Some(t), Some(start), Some(mid)) = (&mut self.timing, started, links_done) {
             t.evaluations += 1;
@@ -477,7 +483,11 @@ impl ForceGenerator {
     /// overlap) sum their contacts over their runs and are finished last.
     /// Every sum runs in roller order within a sprocket, whatever was kept or
     /// measured, so culling changes no bit (the oracle test `culling_changes_nothing`).
-    fn contacts<const ROWS: bool>(&mut self, model: &DriveModel, s: &DriveState) {
+    fn contacts<const ROWS: bool, const MOVING: bool>(
+        &mut self,
+        model: &DriveModel,
+        s: &DriveState,
+    ) {
         // The last evaluation's contact outputs are cleared where it wrote them.
         for run in self.runs.iter() {
             let (a, b) = (run.start, run.end);
@@ -528,10 +538,18 @@ impl ForceGenerator {
             let sp = &model.sprockets[run.sprocket];
             let frame = self.frames[run.sprocket];
             let (force, torque) = match (&sp.profile, run.shared) {
-                (ToothProfile::Circular(c), false) => pass.run::<ROWS, false, _>(c, &frame, run),
-                (ToothProfile::Circular(c), true) => pass.run::<ROWS, true, _>(c, &frame, run),
-                (ToothProfile::Real(r), false) => pass.run::<ROWS, false, _>(&**r, &frame, run),
-                (ToothProfile::Real(r), true) => pass.run::<ROWS, true, _>(&**r, &frame, run),
+                (ToothProfile::Circular(c), false) => {
+                    pass.run::<ROWS, false, MOVING, _>(c, &frame, run)
+                }
+                (ToothProfile::Circular(c), true) => {
+                    pass.run::<ROWS, true, MOVING, _>(c, &frame, run)
+                }
+                (ToothProfile::Real(r), false) => {
+                    pass.run::<ROWS, false, MOVING, _>(&**r, &frame, run)
+                }
+                (ToothProfile::Real(r), true) => {
+                    pass.run::<ROWS, true, MOVING, _>(&**r, &frame, run)
+                }
             };
             let total = &mut self.chain_force[run.sprocket];
             total[0] += force[0];
@@ -565,8 +583,12 @@ impl ForceGenerator {
         let centre_speed = model
             .sprockets
             .iter()
-            .map(|sp| sp.center_velocity_m_s[0].hypot(sp.center_velocity_m_s[1]))
-            .fold(0.0, f64::max);
+            .map(|sp| {
+                let [vx, vy] = sp.center_velocity_m_s;
+                vx * vx + vy * vy
+            })
+            .fold(0.0, f64::max)
+            .sqrt();
         let cull = self.culling.map(|c| {
             (
                 c.speed_factor * self.max_speed_m_s + c.speed_floor_m_s + centre_speed,
@@ -789,7 +811,7 @@ impl ContactPass<'_> {
     /// moment on its sprocket. A shared run adds to the rollers' sums (the
     /// caller finishes them); any other writes each roller's outputs.
     #[inline(always)]
-    fn run<const ROWS: bool, const SHARED: bool, P: Outline>(
+    fn run<const ROWS: bool, const SHARED: bool, const MOVING: bool, P: Outline>(
         &mut self,
         profile: &P,
         frame: &Frame,
@@ -827,8 +849,14 @@ impl ContactPass<'_> {
             }
             // Velocity of the roller relative to the sprocket point under it
             // (16)–(18), v − v_c − ω × r (v_c: a moving mount's centre).
-            let vrx = vxs[k] - frame.velocity[0] + omega * ry;
-            let vry = vys[k] - frame.velocity[1] - omega * rx;
+            let (vrx, vry) = if MOVING {
+                (
+                    vxs[k] - frame.velocity[0] + omega * ry,
+                    vys[k] - frame.velocity[1] - omega * rx,
+                )
+            } else {
+                (vxs[k] + omega * ry, vys[k] - omega * rx)
+            };
             // A roller that was within no reach circle at the committed
             // evaluation left its memory behind there.
             let onsets = if remembered[k] != 0 {
@@ -869,8 +897,12 @@ impl ContactPass<'_> {
                 if ROWS {
                     let c = elastic * damping;
                     // Surface velocity of the sprocket under the roller: v_c + ω × r.
-                    let v_sp_n = (frame.velocity[0] - omega * ry) * nx
-                        + (frame.velocity[1] + omega * rx) * ny;
+                    let v_sp_n = if MOVING {
+                        (frame.velocity[0] - omega * ry) * nx
+                            + (frame.velocity[1] + omega * rx) * ny
+                    } else {
+                        -omega * ry * nx + omega * rx * ny
+                    };
                     row.0[0] += c * nx * nx;
                     row.0[1] += c * nx * ny;
                     row.0[2] += c * ny * ny;
