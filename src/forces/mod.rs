@@ -200,12 +200,8 @@ pub struct ForceGenerator {
     frames: Vec<Frame>,
     /// The last evaluation's stretches of rollers within reach.
     runs: Buffer<Run>,
-    /// Stretches of rollers within reach of several sprockets (index ranges).
-    shared: Buffer<[u32; 2]>,
     /// The runs of the committed sets (`reach_mask`).
     committed_runs: Buffer<Run>,
-    /// The shared stretches of the committed sets.
-    committed_shared: Buffer<[u32; 2]>,
     /// Scratch: contact force on each roller of a shared stretch, N.
     contact_sum: Vec<[f64; 2]>,
     /// Scratch: patches found for each roller of a shared stretch.
@@ -260,9 +256,7 @@ impl ForceGenerator {
             // the step loop does not allocate.
             frames: vec![Frame::default(); sprockets],
             runs: Buffer::with_capacity(2 * rollers + sprockets),
-            shared: Buffer::with_capacity(rollers),
             committed_runs: Buffer::with_capacity(2 * rollers + sprockets),
-            committed_shared: Buffer::with_capacity(rollers),
             contact_sum: vec![[0.0; 2]; rollers],
             patches_used: vec![0; rollers],
             max_speed_m_s: 0.0,
@@ -295,7 +289,6 @@ impl ForceGenerator {
         self.reach_mask.fill(0);
         self.remeasured.clear();
         self.committed_runs.clear();
-        self.committed_shared.clear();
     }
 
     /// Forgets every kept reach set ([`Culling`]): the next evaluation
@@ -347,7 +340,6 @@ impl ForceGenerator {
         }
         self.remeasured.clear();
         self.committed_runs.clone_from(&self.runs);
-        self.committed_shared.clone_from(&self.shared);
     }
 
     /// Evaluates all forces at `state` without advancing the contact memory
@@ -362,15 +354,13 @@ impl ForceGenerator {
         // Copies of the contact loop: without damping rows (every scheme but
         // implicit damping) the rows' accumulators compile away, and without
         // moving sprocket centres (mounts in a co-simulation) their velocity.
-        let moving = model
-            .sprockets
-            .iter()
-            .any(|sp| sp.center_velocity_m_s != [0.0; 2]);
-        match (self.damping_rows.is_some(), moving) {
-            (true, true) => self.contacts::<true, true>(model, state),
-            (true, false) => self.contacts::<true, false>(model, state),
-            (false, true) => self.contacts::<false, true>(model, state),
-            (false, false) => self.contacts::<false, false>(model, state),
+        let centres = model.moving_centres_speed_m_s();
+        let centre_speed = centres.unwrap_or(0.0);
+        match (self.damping_rows.is_some(), centres.is_some()) {
+            (true, true) => self.contacts::<true, true>(model, state, centre_speed),
+            (true, false) => self.contacts::<true, false>(model, state, centre_speed),
+            (false, true) => self.contacts::<false, true>(model, state, centre_speed),
+            (false, false) => self.contacts::<false, false>(model, state, centre_speed),
         }
         if let (Some(t), Some(start), Some(mid)) = (&mut self.timing, started, links_done) {
             t.evaluations += 1;
@@ -483,10 +473,12 @@ impl ForceGenerator {
     /// overlap) sum their contacts over their runs and are finished last.
     /// Every sum runs in roller order within a sprocket, whatever was kept or
     /// measured, so culling changes no bit (the oracle test `culling_changes_nothing`).
+    /// `centre_speed` is the fastest sprocket centre's speed (moving mounts), m/s.
     fn contacts<const ROWS: bool, const MOVING: bool>(
         &mut self,
         model: &DriveModel,
         s: &DriveState,
+        centre_speed: f64,
     ) {
         // The last evaluation's contact outputs are cleared where it wrote them.
         for run in self.runs.iter() {
@@ -497,9 +489,9 @@ impl ForceGenerator {
                 rows.sprocket[a..b].fill(u32::MAX);
             }
         }
-        self.reach(model, s);
-        for &[a, b] in self.shared.iter() {
-            let (a, b) = (a as usize, b as usize);
+        self.reach(model, s, centre_speed);
+        for range in shared_stretches(&self.runs) {
+            let (a, b) = (range.start, range.end);
             self.contact_sum[a..b].fill([0.0; 2]);
             self.patches_used[a..b].fill(0);
             self.pending_memory[a..b].fill([FREE; MAX_PATCHES]);
@@ -558,8 +550,8 @@ impl ForceGenerator {
         }
         self.max_penetration_m = pass.max_penetration_m;
         self.contact_energy_j = pass.energy_j;
-        for &[a, b] in self.shared.iter() {
-            for i in a as usize..b as usize {
+        for range in shared_stretches(&self.runs) {
+            for i in range {
                 let [sx, sy] = self.contact_sum[i];
                 let touching = self.patches_used[i] > 0;
                 self.fx[i] += sx;
@@ -577,18 +569,9 @@ impl ForceGenerator {
     /// The reach pass of [`Self::contacts`]: each roller's set of sprockets
     /// within reach, kept while [`Culling`] proves it unchanged and measured
     /// against every sprocket otherwise, gathered into [`Run`]s.
-    fn reach(&mut self, model: &DriveModel, s: &DriveState) {
+    fn reach(&mut self, model: &DriveModel, s: &DriveState, centre_speed: f64) {
         // Rollers and moving sprocket centres (mounted sprockets) approach
         // each other at most at the sum of their speeds.
-        let centre_speed = model
-            .sprockets
-            .iter()
-            .map(|sp| {
-                let [vx, vy] = sp.center_velocity_m_s;
-                vx * vx + vy * vy
-            })
-            .fold(0.0, f64::max)
-            .sqrt();
         let cull = self.culling.map(|c| {
             (
                 c.speed_factor * self.max_speed_m_s + c.speed_floor_m_s + centre_speed,
@@ -633,11 +616,9 @@ impl ForceGenerator {
         // are the committed ones.
         if !changed {
             self.runs.clone_from(&self.committed_runs);
-            self.shared.clone_from(&self.committed_shared);
             return;
         }
         self.runs.clear();
-        self.shared.clear();
         let mut stretch = Stretch::default();
         for i in 0..n {
             let mask = if s.t_s < until[i] {
@@ -646,11 +627,11 @@ impl ForceGenerator {
                 pending_mask[i]
             };
             if mask != stretch.mask {
-                stretch.close(i, &mut self.runs, &mut self.shared);
+                stretch.close(i, &mut self.runs);
                 stretch = Stretch { mask, start: i };
             }
         }
-        stretch.close(n, &mut self.runs, &mut self.shared);
+        stretch.close(n, &mut self.runs);
     }
 }
 
@@ -726,6 +707,15 @@ struct Run {
     shared: bool,
 }
 
+/// The stretches of rollers within reach of several sprockets, each once:
+/// a stretch's runs (one per sprocket) follow each other and share its range.
+fn shared_stretches(runs: &[Run]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    runs.iter()
+        .enumerate()
+        .filter(|&(k, run)| run.shared && (k == 0 || runs[k - 1].start != run.start))
+        .map(|(_, run)| run.start..run.end)
+}
+
 /// Consecutive rollers with one set of sprockets within reach, while the reach pass grows it.
 #[derive(Default)]
 struct Stretch {
@@ -735,14 +725,11 @@ struct Stretch {
 
 impl Stretch {
     /// Ends the stretch before roller `end`: one run per sprocket of its set.
-    fn close(&self, end: usize, runs: &mut Buffer<Run>, shared: &mut Buffer<[u32; 2]>) {
+    fn close(&self, end: usize, runs: &mut Buffer<Run>) {
         if self.mask == 0 || end == self.start {
             return;
         }
         let several = !self.mask.is_power_of_two();
-        if several {
-            shared.push([self.start as u32, end as u32]);
-        }
         let mut mask = self.mask;
         while mask != 0 {
             runs.push(Run {

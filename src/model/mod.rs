@@ -229,6 +229,21 @@ impl DriveModel {
         self.sprockets.len()
     }
 
+    /// The fastest sprocket centre's speed, m/s, or `None` when no centre
+    /// moves (only a sprocket mounted on a moving body in a co-simulation
+    /// does).
+    pub fn moving_centres_speed_m_s(&self) -> Option<f64> {
+        self.sprockets
+            .iter()
+            .filter(|sp| sp.center_velocity_m_s != [0.0; 2])
+            .map(|sp| {
+                let [vx, vy] = sp.center_velocity_m_s;
+                vx * vx + vy * vy
+            })
+            .reduce(f64::max)
+            .map(f64::sqrt)
+    }
+
     /// Index of the driver.
     pub fn driver(&self) -> usize {
         self.sprockets
