@@ -63,7 +63,8 @@ pub trait Outline {
     fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize;
 
     /// Whether a roller sliding from patch `a` onto patch `b` stays in one
-    /// continuous contact, so its remembered onset carries over.
+    /// continuous contact (the real profile's flank → topping joint), so its
+    /// remembered onset carries over.
     fn continues(&self, a: u32, b: u32) -> bool;
 }
 
@@ -134,17 +135,6 @@ impl ToothProfile {
         match self {
             Self::Circular(c) => c.outline(max_step_rad),
             Self::Real(r) => r.outline(max_step_rad),
-        }
-    }
-
-    /// Whether a roller sliding from patch `a` onto patch `b` stays in one
-    /// continuous contact (the real profile's flank → topping joint), so its
-    /// remembered onset carries over.
-    #[inline]
-    pub fn continues(&self, a: u32, b: u32) -> bool {
-        match self {
-            Self::Circular(c) => c.continues(a, b),
-            Self::Real(r) => r.continues(a, b),
         }
     }
 
