@@ -87,7 +87,7 @@ fn substepped_run_writes_poses_into_rapier() {
 fn culling_changes_nothing() {
     // Oracle: with and without reach caching ("culling") the run is bitwise
     // identical. The real profile's reach circles overlap on this drive, so
-    // its rollers between sprockets 1 and 2 are in shared runs.
+    // some of its rollers (e.g. 61–62 during the run-up) are in shared runs.
     for profile in [ProfileKind::Circular, ProfileKind::Real] {
         let mut scene = l60mc(0.0);
         scene.set_profile(profile);
