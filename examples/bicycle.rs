@@ -10,7 +10,7 @@
 use chaindrive::cosim::ChainDrive;
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::Scene;
-use chaindrive::sim::{Observer, Sample};
+use chaindrive::sim::Observer;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -62,13 +62,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         body.reset_torques(false);
         body.add_torque(drag, true);
         drive.step_world(&mut world, &(), &())?;
-        recorder.sample(&Sample {
-            model: &drive.model,
-            state: &drive.state,
-            forces: &drive.forces,
-        });
+        recorder.sample(&drive.sample());
         if frame % 120 == 119 {
             let tension = drive
+                .sample()
                 .forces
                 .link_force
                 .iter()

@@ -13,7 +13,7 @@
 use chaindrive::cosim::ChainDrive;
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::Scene;
-use chaindrive::sim::{Observer, Sample};
+use chaindrive::sim::Observer;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -83,11 +83,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             boxes.push(b);
         }
         drive.step_world(&mut world, &(), &())?;
-        recorder.sample(&Sample {
-            model: &drive.model,
-            state: &drive.state,
-            forces: &drive.forces,
-        });
+        recorder.sample(&drive.sample());
     }
     recorder.finish(RunEnd::Completed)?;
     println!(

@@ -10,7 +10,7 @@
 use chaindrive::cosim::ChainDrive;
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{L60MC_TOML, Scene};
-use chaindrive::sim::{Observer, Sample};
+use chaindrive::sim::Observer;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
@@ -50,11 +50,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let started = std::time::Instant::now();
     for _ in 0..frames {
         drive.step_world(&mut world, &(), &())?;
-        recorder.sample(&Sample {
-            model: &drive.model,
-            state: &drive.state,
-            forces: &drive.forces,
-        });
+        recorder.sample(&drive.sample());
     }
     let wall = started.elapsed().as_secs_f64();
     recorder.finish(RunEnd::Completed)?;

@@ -212,9 +212,19 @@ impl RunSummary {
             .collect();
         let (_, link_min, _) = stats(in_window.iter().map(|r| r.link_range_n.0));
         let (_, _, link_max) = stats(in_window.iter().map(|r| r.link_range_n.1));
-        let driver = model.driver();
-        let (omega_driver, _, _) = stats(in_window.iter().map(|r| r.omega_rad_s[driver]));
-        let chain_speed = omega_driver.abs() * model.sprockets[driver].pitch_radius_m;
+        // The chain's speed from the driver; in a drive without one, the mean
+        // over the sprockets (each passes the same chain length per unit time).
+        let chain_speed_at = |j: usize| {
+            let (omega, _, _) = stats(in_window.iter().map(|r| r.omega_rad_s[j]));
+            omega.abs() * model.sprockets[j].pitch_radius_m
+        };
+        let chain_speed = match model.driver() {
+            Some(driver) => chain_speed_at(driver),
+            None => {
+                let count = model.sprocket_count();
+                (0..count).map(chain_speed_at).sum::<f64>() / count as f64
+            }
+        };
         let spectrum_rows: Vec<&SampleRow> = rows
             .iter()
             .filter(|r| r.t_s >= spectrum_window[0] && r.t_s <= spectrum_window[1])
@@ -271,11 +281,15 @@ impl RunSummary {
                 }
             })
             .collect();
-        let (power, _, _) = stats(
-            in_window
-                .iter()
-                .map(|r| -r.chain_torque_n_m[driver] * r.omega_rad_s[driver]),
-        );
+        // No driver, no driver power (the drive is moved by load torques only).
+        let power = model.driver().map_or(0.0, |driver| {
+            stats(
+                in_window
+                    .iter()
+                    .map(|r| -r.chain_torque_n_m[driver] * r.omega_rad_s[driver]),
+            )
+            .0
+        });
         RunSummary {
             scene: scene.name.clone(),
             profile: scene.profile_name().to_owned(),

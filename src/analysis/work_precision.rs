@@ -314,10 +314,12 @@ pub fn integrate(
                 signals.omega_rad_s.push(state.omega[s]);
             }
         }
-        signals.link_force_n.extend_from_slice(&forces.link_force);
+        signals
+            .link_force_n
+            .extend_from_slice(&forces.output().link_force);
         signals
             .contact_force_n
-            .extend_from_slice(&forces.contact_force);
+            .extend_from_slice(&forces.output().contact_force);
     }
     let wall_s = started.elapsed().as_secs_f64();
     let stats = integration.stats;

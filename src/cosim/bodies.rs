@@ -67,7 +67,7 @@
 use rapier2d_f64::parry::bounding_volume::Aabb;
 use rapier2d_f64::prelude::*;
 
-use crate::forces::{ContactLawParams, ForceGenerator};
+use crate::forces::{ContactLawParams, Forces};
 use crate::model::DriveState;
 use crate::scene::Contact;
 
@@ -441,7 +441,7 @@ impl BodyContacts {
         &mut self,
         coupling: &Coupling,
         state: &DriveState,
-        forces: &mut ForceGenerator,
+        forces: &mut Forces,
         tau_s: f64,
         dt_s: f64,
     ) {

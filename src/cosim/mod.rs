@@ -273,6 +273,16 @@ impl ChainDrive {
         })
     }
 
+    /// The drive as an observer sees it (a recorder, a signal sampler), at
+    /// the end of the last substep.
+    pub fn sample(&self) -> crate::sim::Sample<'_> {
+        crate::sim::Sample {
+            model: &self.model,
+            state: &self.state,
+            forces: self.forces.output(),
+        }
+    }
+
     /// The force each roller receives from rapier's contacts with bodies
     /// that are not carried (held over the coming frame), N.
     pub fn external_forces(&self) -> &[[f64; 2]] {
@@ -388,14 +398,19 @@ impl ChainDrive {
         for step in 1..=substeps {
             if self.any_external {
                 for (i, f) in self.external.iter().enumerate() {
-                    self.forces.fx[i] += f[0];
-                    self.forces.fy[i] += f[1];
+                    self.forces.output_mut().fx[i] += f[0];
+                    self.forces.output_mut().fy[i] += f[1];
                 }
             }
             if with_bodies {
                 let tau = (step - 1) as f64 * dt;
-                self.contacts
-                    .apply(&self.coupling, &self.state, &mut self.forces, tau, dt);
+                self.contacts.apply(
+                    &self.coupling,
+                    &self.state,
+                    self.forces.output_mut(),
+                    tau,
+                    dt,
+                );
             }
             symplectic_euler(&self.model, &mut self.state, &self.forces, dt, None);
             if with_bodies {
@@ -416,7 +431,11 @@ impl ChainDrive {
             }
             self.forces.evaluate(&self.model, &self.state);
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)?;
-            for (sum, f) in self.force_sum.iter_mut().zip(&self.forces.chain_force) {
+            for (sum, f) in self
+                .force_sum
+                .iter_mut()
+                .zip(&self.forces.output().chain_force)
+            {
                 sum[0] += f[0];
                 sum[1] += f[1];
             }

@@ -63,6 +63,39 @@ pub struct DriveModel {
     pub path: ChainPath,
     /// Free-strand classification of links.
     pub segments: Segments,
+    /// Further rigid bodies' coordinates (a tensioner arm's angle, a
+    /// plunger's travel), beside the rollers and sprockets.
+    pub bodies: Vec<BodyModel>,
+    /// Scalar states of first order (a hydraulic chamber's pressure).
+    pub scalars: Vec<ScalarModel>,
+}
+
+/// One coordinate of a further rigid body (an arm's angle about its pivot,
+/// a plunger's travel): a second-order state q with speed u, advanced by
+/// every integrator under the generalised force the force elements put in
+/// [`crate::forces::Forces::body_force`], ü = Q / m.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BodyModel {
+    /// Name, for outputs and errors.
+    pub name: String,
+    /// 1 / m, the inverse of the coordinate's mass or moment of inertia,
+    /// 1/kg or 1/(kg·m²).
+    pub inv_mass: f64,
+    /// The coordinate's error scale for the adaptive integrator, m or rad:
+    /// a change of this size matters as much as the static link stretch does
+    /// for a roller. Its speed's scale is this over the step's time scale.
+    pub error_scale: f64,
+}
+
+/// A scalar state of first order (a hydraulic chamber's pressure), advanced
+/// by every integrator at the rate the force elements put in
+/// [`crate::forces::Forces::scalar_rate`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalarModel {
+    /// Name, for outputs and errors.
+    pub name: String,
+    /// The error scale for the adaptive integrator, in the state's unit.
+    pub error_scale: f64,
 }
 
 /// The state that is integrated: rollers as structure of arrays, sprockets.
@@ -84,6 +117,12 @@ pub struct DriveState {
     pub theta: Vec<f64>,
     /// Sprocket angular speeds, rad/s.
     pub omega: Vec<f64>,
+    /// Further bodies' coordinates ([`BodyModel`]), m or rad.
+    pub q: Vec<f64>,
+    /// Their speeds, m/s or rad/s.
+    pub u: Vec<f64>,
+    /// Scalar states ([`ScalarModel`]).
+    pub z: Vec<f64>,
 }
 
 impl Clone for DriveState {
@@ -96,6 +135,9 @@ impl Clone for DriveState {
             vy: self.vy.clone(),
             theta: self.theta.clone(),
             omega: self.omega.clone(),
+            q: self.q.clone(),
+            u: self.u.clone(),
+            z: self.z.clone(),
         }
     }
 
@@ -107,6 +149,9 @@ impl Clone for DriveState {
         self.vy.clone_from(&source.vy);
         self.theta.clone_from(&source.theta);
         self.omega.clone_from(&source.omega);
+        self.q.clone_from(&source.q);
+        self.u.clone_from(&source.u);
+        self.z.clone_from(&source.z);
     }
 }
 
@@ -209,6 +254,9 @@ impl DriveModel {
             vy: vec![0.0; n],
             theta: layout.sprocket_angles_rad.clone(),
             omega: vec![0.0; scene.sprockets.len()],
+            q: Vec::new(),
+            u: Vec::new(),
+            z: Vec::new(),
         };
         let segments = Segments::new(&path);
         let model = DriveModel {
@@ -220,6 +268,8 @@ impl DriveModel {
             sprockets,
             path,
             segments,
+            bodies: Vec::new(),
+            scalars: Vec::new(),
         };
         Ok((model, state, layout))
     }
@@ -244,12 +294,11 @@ impl DriveModel {
             .map(f64::sqrt)
     }
 
-    /// Index of the driver.
-    pub fn driver(&self) -> usize {
-        self.sprockets
-            .iter()
-            .position(|s| s.speed_law.is_some())
-            .unwrap_or(0)
+    /// Index of the driver, the sprocket with a speed law; `None` in a drive
+    /// without one (every sprocket free, as in a co-simulation whose motor
+    /// drives a mounted sprocket).
+    pub fn driver(&self) -> Option<usize> {
+        self.sprockets.iter().position(|s| s.speed_law.is_some())
     }
 }
 

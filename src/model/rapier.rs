@@ -6,7 +6,7 @@
 //! rapier's own contact never acts between rollers and sprockets, nor between
 //! rollers: their colliders belong to [`CHAIN_GROUP`] and filter it out. Any
 //! other collider in the world (default groups) still touches rollers and
-//! sprockets as usual. The chain's forces come from [`crate::forces`] instead.
+//! sprockets as usual. The chain's forces are applied by the stepping stage ([`crate::sim`]).
 //!
 //! This module moves data between the drive's arrays and the bodies; it
 //! does not step anything.
@@ -14,7 +14,6 @@
 use rapier2d_f64::prelude::*;
 
 use super::{DriveModel, DriveState};
-use crate::forces::ForceGenerator;
 
 /// The collision group of every roller and sprocket collider.
 pub const CHAIN_GROUP: Group = Group::GROUP_32;
@@ -164,37 +163,6 @@ impl ChainBodies {
                 let turns = ((prev - a) / std::f64::consts::TAU).round();
                 state.theta[i] = a + turns * std::f64::consts::TAU;
                 state.omega[i] = b.angvel();
-            }
-        }
-    }
-
-    /// Replaces the bodies' user forces by the generator's (rapier keeps user
-    /// forces across steps, so they are reset first). Gravity on the rollers
-    /// is left to rapier: it is taken out of the generator's roller forces.
-    pub fn apply_forces(
-        &self,
-        model: &DriveModel,
-        forces: &ForceGenerator,
-        bodies: &mut RigidBodySet,
-    ) {
-        let m = model.roller_mass_kg;
-        let g = model.gravity_m_s2;
-        for (i, h) in self.rollers.iter().enumerate() {
-            if let Some(b) = bodies.get_mut(*h) {
-                b.reset_forces(false);
-                b.add_force(
-                    Vector::new(forces.fx[i] - m * g[0], forces.fy[i] - m * g[1]),
-                    false,
-                );
-            }
-        }
-        for (i, (h, sp)) in self.sprockets.iter().zip(&model.sprockets).enumerate() {
-            if let Some(b) = bodies.get_mut(*h) {
-                b.reset_forces(false);
-                b.reset_torques(false);
-                if sp.speed_law.is_none() {
-                    b.add_torque(forces.chain_torque[i] + sp.load_torque_n_m, false);
-                }
             }
         }
     }

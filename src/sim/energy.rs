@@ -41,7 +41,7 @@ impl Energy {
         Self {
             kinetic_j: kinetic,
             links_j: links,
-            contacts_j: forces.contact_energy_j,
+            contacts_j: forces.output().contact_energy_j,
             gravity_j: gravity,
         }
     }

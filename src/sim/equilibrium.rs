@@ -68,12 +68,6 @@ pub struct RelaxSettings {
     pub max_stretch_m: f64,
 }
 
-/// The contact damping factor χ used while relaxing, whatever the run's law
-/// and restitution: Lankarani–Nikravesh at e = 0. The static equilibrium does
-/// not depend on it; without it a stiff elastic contact (K_g = 1e10, e = 1)
-/// rings through the first tensioning until the stretch guard trips.
-const RELAXATION_CHI: f64 = 0.75;
-
 /// Relaxes `state` to rest with the driver held. Returns the residual speed.
 ///
 /// Steps symplectic Euler with the contact damping implicit
@@ -88,10 +82,9 @@ pub fn relax(
     let relax = Some(Relaxation {
         rate_per_s: settings.rate_per_s,
     });
-    let law = *forces.law();
-    let had_rows = forces.damping_rows().is_some();
-    forces.set_law(law.with_chi(RELAXATION_CHI));
-    forces.enable_damping_rows();
+    // The elements switch to what relaxing needs (the contact: a dissipative
+    // law and damping rows for the implicit step).
+    forces.begin_equilibrium();
     let mut torque = vec![0.0; model.sprockets.len()];
     let t0 = state.t_s;
     let steps = (settings.max_time_s / settings.dt_s).ceil() as usize;
@@ -100,8 +93,8 @@ pub fn relax(
     let mut blown = None;
     for step in 1..=steps {
         forces.evaluate(model, state);
-        if !(forces.max_stretch_m <= settings.max_stretch_m) {
-            blown = Some(forces.max_stretch_m);
+        if !(forces.output().max_stretch_m <= settings.max_stretch_m) {
+            blown = Some(forces.output().max_stretch_m);
             break;
         }
         implicit_damping_step(model, state, forces, settings.dt_s, &mut torque, relax);
@@ -112,10 +105,7 @@ pub fn relax(
             }
         }
     }
-    forces.set_law(law);
-    if !had_rows {
-        forces.disable_damping_rows();
-    }
+    forces.end_equilibrium();
     if let Some(stretch_m) = blown {
         return Err(EquilibriumError::BlowUp { stretch_m });
     }
@@ -123,6 +113,7 @@ pub fn relax(
     state.vx.fill(0.0);
     state.vy.fill(0.0);
     state.omega.fill(0.0);
+    state.u.fill(0.0);
     forces.reset_memory();
     forces.evaluate(model, state);
     Ok(residual)
@@ -148,7 +139,7 @@ pub fn free_strand_tension(
     let (mut sum, mut count) = (0.0, 0usize);
     for i in 0..n {
         let j = (i + 1) % n;
-        if forces.touching[i] || forces.touching[j] {
+        if forces.output().touching[i] || forces.output().touching[j] {
             continue;
         }
         if model
@@ -156,7 +147,7 @@ pub fn free_strand_tension(
             .segment_of([state.x[i], state.y[i]], [state.x[j], state.y[j]])
             .is_some()
         {
-            sum += forces.link_force[i];
+            sum += forces.output().link_force[i];
             count += 1;
         }
     }

@@ -54,7 +54,10 @@ pub fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
     match sim.run(until, 100, &mut NoObserver, None) {
         Ok(_) => {
             let finite = |v: &[f64]| v.iter().all(|x| x.is_finite());
-            if finite(&sim.state.x) && finite(&sim.state.y) && finite(&sim.forces.link_force) {
+            if finite(&sim.state.x)
+                && finite(&sim.state.y)
+                && finite(&sim.forces.output().link_force)
+            {
                 Ok(FuzzOutcome::Ran)
             } else {
                 Err(format!(

@@ -60,7 +60,8 @@
 //! to a step later. Separation by the force clamp (damping cancelling the
 //! elastic force while δ > 0) is not located.
 
-use super::{Relaxation, SimError, stepper::driver_speed};
+use super::stepper::{advance_extras, driver_speed};
+use super::{Relaxation, SimError};
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::Integrator;
@@ -152,6 +153,8 @@ pub struct Integration {
     theta_scratch: Vec<f64>,
     /// Scratch: chain torque on each sprocket (implicit damping).
     torque_scratch: Vec<f64>,
+    /// Scratch: the scalar states' rates at the step's start (velocity Verlet).
+    rate_scratch: Vec<f64>,
     /// Error scales per state field: x/y, vx/vy, and per sprocket θ, ω.
     scale_position_m: f64,
     scale_speed_m_s: f64,
@@ -197,6 +200,7 @@ impl Integration {
             touching_start: vec![false; state.rollers()],
             theta_scratch: vec![0.0; state.theta.len()],
             torque_scratch: vec![0.0; state.theta.len()],
+            rate_scratch: vec![0.0; state.z.len()],
             scale_position_m,
             scale_speed_m_s,
             scale_theta: model
@@ -284,7 +288,7 @@ impl Integration {
         // `start.vx/vy` keep the half-step velocities, `torque_scratch` the sprockets'.
         let (vhx, vhy) = (&mut self.start.vx, &mut self.start.vy);
         for i in 0..state.rollers() {
-            let (kx, ky) = (half * forces.fx[i], half * forces.fy[i]);
+            let (kx, ky) = (half * forces.output().fx[i], half * forces.output().fy[i]);
             vhx[i] = state.vx[i] + kx;
             vhy[i] = state.vy[i] + ky;
             state.x[i] += h * vhx[i];
@@ -297,24 +301,51 @@ impl Integration {
             if sp.speed_law.is_some() {
                 state.theta[s] += h * driver_speed(model, s, state.t_s, h);
             } else {
-                let kick = 0.5 * h * (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia;
+                let kick = 0.5
+                    * h
+                    * (forces.output().chain_torque[s] + sp.load_torque_n_m)
+                    * sp.inv_inertia;
                 omega_half[s] = state.omega[s] + kick;
                 state.theta[s] += h * omega_half[s];
                 state.omega[s] = omega_half[s] + kick;
             }
         }
+        // Further bodies as the sprockets; scalar states by Heun's rule
+        // (an Euler predictor here, the trapezoid after the trial forces).
+        let out = forces.output();
+        for (k, body) in model.bodies.iter().enumerate() {
+            let kick = 0.5 * h * out.body_force[k] * body.inv_mass;
+            self.start.u[k] = state.u[k] + kick;
+            state.q[k] += h * self.start.u[k];
+            state.u[k] = self.start.u[k] + kick;
+        }
+        self.start.z.copy_from_slice(&state.z);
+        self.rate_scratch.copy_from_slice(&out.scalar_rate);
+        for (z, rate) in state.z.iter_mut().zip(&out.scalar_rate) {
+            *z += h * rate;
+        }
         state.t_s += h;
         set_driver_speed(model, state);
         self.trial(model, state, forces);
         for i in 0..state.rollers() {
-            state.vx[i] = self.start.vx[i] + half * forces.fx[i];
-            state.vy[i] = self.start.vy[i] + half * forces.fy[i];
+            state.vx[i] = self.start.vx[i] + half * forces.output().fx[i];
+            state.vy[i] = self.start.vy[i] + half * forces.output().fy[i];
         }
         for (s, sp) in model.sprockets.iter().enumerate() {
             if sp.speed_law.is_none() {
                 state.omega[s] = self.torque_scratch[s]
-                    + 0.5 * h * (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia;
+                    + 0.5
+                        * h
+                        * (forces.output().chain_torque[s] + sp.load_torque_n_m)
+                        * sp.inv_inertia;
             }
+        }
+        let out = forces.output();
+        for (k, body) in model.bodies.iter().enumerate() {
+            state.u[k] = self.start.u[k] + 0.5 * h * out.body_force[k] * body.inv_mass;
+        }
+        for (k, rate) in out.scalar_rate.iter().enumerate() {
+            state.z[k] = self.start.z[k] + 0.5 * h * (self.rate_scratch[k] + rate);
         }
         self.commit(model, state, forces);
     }
@@ -373,7 +404,8 @@ impl Integration {
             // Cut short by the interval's end or an event rather than by the error.
             let mut cut_short = h < proposed;
             self.start.clone_from(state);
-            self.touching_start.copy_from_slice(&forces.touching);
+            self.touching_start
+                .copy_from_slice(&forces.output().touching);
             rate(model, state, forces, &mut self.k[0]);
             loop {
                 if !(h >= MIN_STEP_S) {
@@ -481,6 +513,22 @@ impl Integration {
                 worst = e;
             }
         }
+        // Further bodies: a coordinate's scale is its own, its speed's the
+        // same over the links' time scale, as for the rollers.
+        let per_time = self.scale_speed_m_s / self.scale_position_m;
+        for (k, body) in model.bodies.iter().enumerate() {
+            let e = (est(|st| &st.q, k) / (tol * body.error_scale))
+                .max(est(|st| &st.u, k) / (tol * body.error_scale * per_time));
+            if !(e <= worst) {
+                worst = e;
+            }
+        }
+        for (k, scalar) in model.scalars.iter().enumerate() {
+            let e = est(|st| &st.z, k) / (tol * scalar.error_scale);
+            if !(e <= worst) {
+                worst = e;
+            }
+        }
         worst
     }
 
@@ -498,7 +546,7 @@ impl Integration {
         let mut earliest: Option<f64> = None;
         for i in 0..start.rollers() {
             let before = self.touching_start[i];
-            if forces.touching[i] == before {
+            if forces.output().touching[i] == before {
                 continue;
             }
             let (mut lo, mut hi) = (0.0f64, 1.0f64);
@@ -545,14 +593,14 @@ pub(crate) fn implicit_damping_step(
 ) {
     let m = model.roller_mass_kg;
     let scale = relax.map_or(1.0, |r| 1.0 / (1.0 + h * r.rate_per_s));
-    torque.copy_from_slice(&forces.chain_torque);
+    torque.copy_from_slice(&forces.output().chain_torque);
     let Some(rows) = forces.damping_rows() else {
         // Without rows there is nothing implicit to do: the explicit step.
         super::symplectic_euler(model, state, forces, h, relax);
         return;
     };
     for i in 0..state.rollers() {
-        let (fx, fy) = (forces.fx[i], forces.fy[i]);
+        let (fx, fy) = (forces.output().fx[i], forces.output().fy[i]);
         let (vx, vy) = (state.vx[i], state.vy[i]);
         let s = rows.sprocket[i];
         let (nvx, nvy) = if s == u32::MAX {
@@ -599,6 +647,7 @@ pub(crate) fn implicit_damping_step(
         state.omega[s] = omega;
         state.theta[s] += h * omega;
     }
+    advance_extras(model, state, forces.output(), h, scale);
     state.t_s += h;
 }
 
@@ -629,10 +678,10 @@ fn rate(model: &DriveModel, state: &DriveState, forces: &ForceGenerator, out: &m
     let inv_m = 1.0 / model.roller_mass_kg;
     out.x.copy_from_slice(&state.vx);
     out.y.copy_from_slice(&state.vy);
-    for (o, f) in out.vx.iter_mut().zip(&forces.fx) {
+    for (o, f) in out.vx.iter_mut().zip(&forces.output().fx) {
         *o = f * inv_m;
     }
-    for (o, f) in out.vy.iter_mut().zip(&forces.fy) {
+    for (o, f) in out.vy.iter_mut().zip(&forces.output().fy) {
         *o = f * inv_m;
     }
     for (s, sp) in model.sprockets.iter().enumerate() {
@@ -640,9 +689,15 @@ fn rate(model: &DriveModel, state: &DriveState, forces: &ForceGenerator, out: &m
         out.omega[s] = if sp.speed_law.is_some() {
             0.0
         } else {
-            (forces.chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia
+            (forces.output().chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia
         };
     }
+    let f = forces.output();
+    out.q.copy_from_slice(&state.u);
+    for ((o, q), body) in out.u.iter_mut().zip(&f.body_force).zip(&model.bodies) {
+        *o = q * body.inv_mass;
+    }
+    out.z.copy_from_slice(&f.scalar_rate);
 }
 
 /// `out = start + h Σ a_j k_j` over every state field (time excluded).
@@ -672,6 +727,9 @@ fn combine(out: &mut DriveState, start: &DriveState, h: f64, a: &[f64], k: &[Dri
     field(&mut out.vy, &start.vy, h, a, k, |s| &s.vy);
     field(&mut out.theta, &start.theta, h, a, k, |s| &s.theta);
     field(&mut out.omega, &start.omega, h, a, k, |s| &s.omega);
+    field(&mut out.q, &start.q, h, a, k, |s| &s.q);
+    field(&mut out.u, &start.u, h, a, k, |s| &s.u);
+    field(&mut out.z, &start.z, h, a, k, |s| &s.z);
 }
 
 #[cfg(test)]

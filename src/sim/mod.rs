@@ -26,7 +26,7 @@ use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
 
-use crate::forces::{ContactLawParams, ForceGenerator, ForceTimes};
+use crate::forces::{ContactLawParams, ForceGenerator, ForceTimes, Forces};
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BuildError, DriveModel, DriveState};
@@ -35,8 +35,8 @@ use crate::scene::{Integrator, PretensionRule, Role, Scene, Stepping};
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     ForceGenerator::new(
         ContactLawParams::new(&scene.contact),
+        model,
         scene.chain.rollers,
-        model.sprocket_count(),
     )
 }
 
@@ -235,7 +235,7 @@ pub struct Sample<'a> {
     /// The state.
     pub state: &'a DriveState,
     /// Forces at the state (as evaluated for the step that led here).
-    pub forces: &'a ForceGenerator,
+    pub forces: &'a Forces,
 }
 
 /// Watches a run. Every method has a no-op default.
@@ -257,7 +257,7 @@ pub struct NoObserver;
 impl Observer for NoObserver {}
 
 /// Where a run's wall time went (`Simulation::timings`), s.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct StageTimes {
     /// Integration steps timed.
     pub steps: u64,
@@ -274,12 +274,12 @@ pub struct StageTimes {
 impl StageTimes {
     /// The integrator's own arithmetic: stepping minus the force evaluations.
     pub fn integrator_s(&self) -> f64 {
-        self.stepping_s - self.forces.links_s - self.forces.contacts_s
+        self.stepping_s - self.forces.total_s()
     }
 }
 
 /// How a run ended.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct RunOutcome {
     /// Integration steps taken.
     pub steps: u64,
@@ -294,13 +294,17 @@ pub struct RunOutcome {
 }
 
 /// Checks the blow-up detectors against the last force evaluation at `state`.
+///
+/// A detector that fires names the body where its quantity is largest: the
+/// roller that penetrates a tooth deepest, the link stretched (or
+/// compressed) most.
 pub fn check_blow_up(
     model: &DriveModel,
     state: &DriveState,
     forces: &ForceGenerator,
     limits: &BlowUpLimits,
 ) -> Result<(), SimError> {
-    let f = forces;
+    let f = forces.output();
     let fail = |detector: Detector, body: String, value: f64, limit: f64| {
         Err(SimError::BlowUp {
             t_s: state.t_s,
@@ -310,30 +314,44 @@ pub fn check_blow_up(
             limit,
         })
     };
-    if !f.max_stretch_m.is_finite() || !f.max_penetration_m.is_finite() {
-        let body = (0..state.rollers())
-            .find(|&i| !(state.x[i].is_finite() && state.y[i].is_finite()))
-            .map_or_else(|| "the chain".to_owned(), |i| format!("roller {i}"));
-        return fail(Detector::NonFinite, body, f64::NAN, 0.0);
+    let nan_body = || {
+        let roller =
+            (0..state.rollers()).find(|&i| !(state.x[i].is_finite() && state.y[i].is_finite()));
+        let body =
+            (0..state.q.len()).find(|&k| !(state.q[k].is_finite() && state.u[k].is_finite()));
+        let scalar = state.z.iter().position(|z| !z.is_finite());
+        match (roller, body, scalar) {
+            (Some(i), _, _) => format!("roller {i}"),
+            (None, Some(k), _) => model.bodies[k].name.clone(),
+            (None, None, Some(k)) => model.scalars[k].name.clone(),
+            (None, None, None) => "the chain".to_owned(),
+        }
+    };
+    let extras_finite = state
+        .q
+        .iter()
+        .chain(&state.u)
+        .chain(&state.z)
+        .all(|v| v.is_finite());
+    if !f.max_stretch_m.is_finite() || !f.max_penetration_m.is_finite() || !extras_finite {
+        return fail(Detector::NonFinite, nan_body(), f64::NAN, 0.0);
     }
     if f.max_penetration_m > limits.max_penetration_m {
-        let i = (0..state.rollers())
-            .max_by(|&a, &b| f.contact_force[a].total_cmp(&f.contact_force[b]))
-            .unwrap_or(0);
+        let body = forces
+            .contact
+            .deepest_roller(model, state)
+            .map_or_else(|| "a roller".to_owned(), |(i, _)| format!("roller {i}"));
         return fail(
             Detector::Penetration,
-            format!("roller {i}"),
+            body,
             f.max_penetration_m,
             limits.max_penetration_m,
         );
     }
     if f.max_stretch_m > limits.max_stretch_m {
-        let i = (0..state.rollers())
-            .max_by(|&a, &b| {
-                let sa = (f.link_force[a] / model.stiffness_n_m).abs();
-                let sb = (f.link_force[b] / model.stiffness_n_m).abs();
-                sa.total_cmp(&sb)
-            })
+        let stretch = forces.links.stretch();
+        let i = (0..stretch.len())
+            .max_by(|&a, &b| stretch[a].abs().total_cmp(&stretch[b].abs()))
             .unwrap_or(0);
         return fail(
             Detector::Stretch,
@@ -496,10 +514,13 @@ impl Simulation {
     /// One step integrated by rapier: the generator's forces are applied to
     /// the bodies, the driver's speed is set, and rapier steps the world.
     fn rapier_step(&mut self, dt_s: f64) {
-        self.bodies
-            .apply_forces(&self.model, &self.forces, &mut self.world.bodies);
-        let driver = self.model.driver();
-        if self.model.sprockets[driver].speed_law.is_some() {
+        apply_forces(
+            &self.bodies,
+            &self.model,
+            self.forces.output(),
+            &mut self.world.bodies,
+        );
+        if let Some(driver) = self.model.driver() {
             let omega = driver_speed(&self.model, driver, self.state.t_s, dt_s);
             if let Some(b) = self.world.bodies.get_mut(self.bodies.sprockets[driver]) {
                 b.set_angvel(omega, false);
@@ -508,6 +529,15 @@ impl Simulation {
         self.world.integration_parameters.dt = dt_s;
         self.world.step();
         self.bodies.read_state(&self.world.bodies, &mut self.state);
+        // Further bodies and scalar states are not rapier's: symplectic Euler
+        // under the same forces, beside rapier's step.
+        stepper::advance_extras(
+            &self.model,
+            &mut self.state,
+            self.forces.output(),
+            dt_s,
+            1.0,
+        );
         self.state.t_s += dt_s;
     }
 
@@ -560,7 +590,7 @@ impl Simulation {
             let t = clock(timed);
             self.check_blow_up()?;
             let checked = lap(t);
-            max_pen = max_pen.max(self.forces.max_penetration_m);
+            max_pen = max_pen.max(self.forces.output().max_penetration_m);
             let t = clock(timed);
             if self.state.t_s >= per_step_from {
                 observer.step(&self.sample());
@@ -598,7 +628,38 @@ impl Simulation {
         Sample {
             model: &self.model,
             state: &self.state,
-            forces: &self.forces,
+            forces: self.forces.output(),
+        }
+    }
+}
+
+/// Replaces the drive's bodies' user forces by the generator's (rapier keeps
+/// user forces across steps, so they are reset first). Gravity on the rollers
+/// is left to rapier: it is taken out of the generator's roller forces.
+fn apply_forces(
+    handles: &ChainBodies,
+    model: &DriveModel,
+    forces: &Forces,
+    bodies: &mut RigidBodySet,
+) {
+    let m = model.roller_mass_kg;
+    let g = model.gravity_m_s2;
+    for (i, h) in handles.rollers.iter().enumerate() {
+        if let Some(b) = bodies.get_mut(*h) {
+            b.reset_forces(false);
+            b.add_force(
+                Vector::new(forces.fx[i] - m * g[0], forces.fy[i] - m * g[1]),
+                false,
+            );
+        }
+    }
+    for (i, (h, sp)) in handles.sprockets.iter().zip(&model.sprockets).enumerate() {
+        if let Some(b) = bodies.get_mut(*h) {
+            b.reset_forces(false);
+            b.reset_torques(false);
+            if sp.speed_law.is_none() {
+                b.add_torque(forces.chain_torque[i] + sp.load_torque_n_m, false);
+            }
         }
     }
 }

@@ -5,7 +5,7 @@
 //! chain's moment plus their load; the driver follows its speed law, sampled
 //! at the step's midpoint so that a ramp's angle is integrated exactly.
 
-use crate::forces::ForceGenerator;
+use crate::forces::{ForceGenerator, Forces};
 use crate::model::{DriveModel, DriveState};
 
 /// Extra viscous damping used only while relaxing to static equilibrium:
@@ -36,8 +36,22 @@ pub fn symplectic_euler(
 ) {
     let h = dt_s / model.roller_mass_kg;
     let scale = relax.map_or(1.0, |r| 1.0 / (1.0 + dt_s * r.rate_per_s));
-    kick_drift(&mut state.vx, &mut state.x, &forces.fx, h, dt_s, scale);
-    kick_drift(&mut state.vy, &mut state.y, &forces.fy, h, dt_s, scale);
+    kick_drift(
+        &mut state.vx,
+        &mut state.x,
+        &forces.output().fx,
+        h,
+        dt_s,
+        scale,
+    );
+    kick_drift(
+        &mut state.vy,
+        &mut state.y,
+        &forces.output().fy,
+        h,
+        dt_s,
+        scale,
+    );
     for (s, sp) in model.sprockets.iter().enumerate() {
         let omega = if sp.speed_law.is_some() {
             if relax.is_some() {
@@ -46,13 +60,33 @@ pub fn symplectic_euler(
                 driver_speed(model, s, state.t_s, dt_s)
             }
         } else {
-            let torque = forces.chain_torque[s] + sp.load_torque_n_m;
+            let torque = forces.output().chain_torque[s] + sp.load_torque_n_m;
             (state.omega[s] + dt_s * torque * sp.inv_inertia) * scale
         };
         state.omega[s] = omega;
         state.theta[s] += dt_s * omega;
     }
+    advance_extras(model, state, forces.output(), dt_s, scale);
     state.t_s += dt_s;
+}
+
+/// Symplectic Euler for the further bodies' coordinates (u ← (u + dt·Q/m)·scale,
+/// q ← q + dt·u) and explicit Euler for the scalar states (z ← z + dt·ż).
+/// `scale` is the relaxation's velocity factor (1 in a run).
+pub(crate) fn advance_extras(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &Forces,
+    dt_s: f64,
+    scale: f64,
+) {
+    for (k, body) in model.bodies.iter().enumerate() {
+        state.u[k] = (state.u[k] + dt_s * forces.body_force[k] * body.inv_mass) * scale;
+        state.q[k] += dt_s * state.u[k];
+    }
+    for (z, rate) in state.z.iter_mut().zip(&forces.scalar_rate) {
+        *z += dt_s * rate;
+    }
 }
 
 /// One coordinate of the rollers' update: v ← (v + h·f)·scale, x ← x + dt·v.

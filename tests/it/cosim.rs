@@ -89,8 +89,8 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
                 None,
             )
             .expect("run");
-        forces_cosim.push(drive.forces.link_force.clone());
-        forces_alone.push(alone.forces.link_force.clone());
+        forces_cosim.push(drive.forces.output().link_force.clone());
+        forces_alone.push(alone.forces.output().link_force.clone());
     }
     // Same substeps, same forces: the chain evolves as it does standalone.
     assert!((drive.state.t_s - 1.5).abs() < scene.solver.dt_s);
@@ -167,8 +167,8 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
             drive.model.segments.mean_forces(
                 &drive.state.x,
                 &drive.state.y,
-                &drive.forces.link_force,
-                &drive.forces.touching,
+                &drive.forces.output().link_force,
+                &drive.forces.output().touching,
                 &mut seg,
             );
             if let [Some(a), Some(b)] = seg {
@@ -272,7 +272,7 @@ fn upper_strand_tension(drive: &ChainDrive, top: f64) -> f64 {
                 |k: usize| s.x[k] > 0.15 && s.x[k] < CENTRES_M - 0.15 && s.y[k] > 0.5 * top;
             inside(i) && inside(j)
         })
-        .map(|i| drive.forces.link_force[i])
+        .map(|i| drive.forces.output().link_force[i])
         .collect();
     links.iter().sum::<f64>() / links.len().max(1) as f64
 }
@@ -616,7 +616,7 @@ fn a_sprocket_on_a_swinging_arm_follows_it_through_the_frame() {
         let mut drive =
             ChainDrive::insert(&scene, &[None, Some(arm)], &mut w.bodies, &mut w.colliders)
                 .expect("drive");
-        drive.forces.culling = cached.then_some(Culling {
+        drive.forces.contact.culling = cached.then_some(Culling {
             // No margin beyond the fastest roller: only the mount's own
             // speed in the bound keeps the kept sets right.
             speed_factor: 1.0,

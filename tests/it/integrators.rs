@@ -55,7 +55,7 @@ impl Start {
                 .advance(&self.model, &mut state, &mut forces, dt_s)
                 .expect("step");
             check_blow_up(&self.model, &state, &forces, &limits).expect("stable");
-            let touching = forces.touching.iter().filter(|t| **t).count();
+            let touching = forces.output().touching.iter().filter(|t| **t).count();
             lo = lo.min(touching);
             hi = hi.max(touching);
         }
@@ -80,7 +80,7 @@ fn smooth_start() -> Start {
     let mut start = Start::of(&scene);
     let n = start.state.rollers();
     for i in 0..n {
-        if !start.forces.touching[i] {
+        if !start.forces.output().touching[i] {
             let phase = std::f64::consts::TAU * 7.0 * i as f64 / n as f64;
             start.state.vy[i] += 0.05 * phase.sin();
             start.state.vx[i] += 0.02 * phase.cos();
@@ -188,7 +188,8 @@ fn free_running_conservative() -> Start {
         let (mut sum, mut count) = (0.0, 0);
         for i in 0..rollers {
             let (rx, ry) = (s.x[i] - c[0], s.y[i] - c[1]);
-            if start.forces.touching[i] && rx.hypot(ry) < start.model.sprockets[k].reach_m {
+            if start.forces.output().touching[i] && rx.hypot(ry) < start.model.sprockets[k].reach_m
+            {
                 sum += (rx * s.vy[i] - ry * s.vx[i]) / (rx * rx + ry * ry);
                 count += 1;
             }

@@ -93,13 +93,17 @@ fn culling_changes_nothing() {
         scene.set_profile(profile);
         let mut a = Simulation::new(&scene).expect("sim");
         let mut b = Simulation::new(&scene).expect("sim");
-        b.forces.culling = None;
+        b.forces.contact.culling = None;
         let dt = scene.solver.dt_s;
         for _ in 0..25_000 {
             a.step(dt).expect("stable step");
             b.step(dt).expect("stable step");
         }
         assert_eq!(a.state, b.state, "{profile:?}");
-        assert_eq!(a.forces.chain_torque, b.forces.chain_torque, "{profile:?}");
+        assert_eq!(
+            a.forces.output().chain_torque,
+            b.forces.output().chain_torque,
+            "{profile:?}"
+        );
     }
 }

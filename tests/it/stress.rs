@@ -98,7 +98,7 @@ fn generated_drives_close_and_reach_their_pretension() {
         let st = &sim.state;
         let n = st.rollers();
         assert_eq!(n, rollers);
-        let forces = &sim.forces.link_force;
+        let forces = &sim.forces.output().link_force;
         // Every link, the closing one included, carries a force within the
         // pretension's order: none is a gap or an overlap.
         for (i, f) in forces.iter().enumerate() {

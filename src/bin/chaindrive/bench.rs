@@ -163,7 +163,8 @@ fn soak(
     let every = (1e-3 / scene.solver.dt_s).round().max(1.0) as u64;
     let started = std::time::Instant::now();
     let outcome = sim.run(duration, every, &mut obs, None)?;
-    let driver = sim.model.driver();
+    // Speed ratios against the driver, or the first sprocket in a drive without one.
+    let driver = sim.model.driver().unwrap_or(0);
     let teeth: Vec<f64> = scene.sprockets.iter().map(|s| f64::from(s.teeth)).collect();
     let sense: Vec<f64> = scene.sprockets.iter().map(|s| s.wrap.sign()).collect();
     println!(

@@ -349,17 +349,16 @@ fn print_stage_times(t: &StageTimes, evaluations: u64) {
     let steps = t.steps.max(1) as f64;
     let total = t.stepping_s + t.blow_up_checks_s + t.observers_s;
     println!(
-        "stage timings ({} steps, {} force evaluations; the clock reads add ~2 × 25 ns per evaluation):",
+        "stage timings ({} steps, {} force evaluations; the clock reads add ~25 ns per element and evaluation):",
         t.steps, evaluations
     );
     println!("stage              wall_s    ns/step  share");
-    for (name, secs) in [
-        ("links", t.forces.links_s),
-        ("contacts", t.forces.contacts_s),
+    let stages = t.forces.elements.iter().copied().chain([
         ("integrator", t.integrator_s()),
         ("blow-up checks", t.blow_up_checks_s),
         ("observers", t.observers_s),
-    ] {
+    ]);
+    for (name, secs) in stages {
         println!(
             "{name:<16} {secs:>8.3}  {:>9.0}  {:>4.1} %",
             secs * 1e9 / steps,

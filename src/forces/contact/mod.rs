@@ -1,0 +1,350 @@
+//! The roller–tooth contact (docs/model.md, “Contact law” and “Contact
+//! memory”) and its reactions on the sprockets, in two passes per
+//! evaluation:
+//!
+//! 1. **Reach** ([`reach`], per roller): each roller's set of sprockets
+//!    within reach, kept between measurements ([`Culling`]); consecutive
+//!    rollers with the same set form a run.
+//! 2. **Contact** ([`pass`], per run): the sprocket's frame, speed and
+//!    profile kind are fixed for the whole run and its reactions summed in
+//!    registers; the loop is compiled once per profile kind.
+//!
+//! Rollers within reach of several sprockets (where reach circles overlap)
+//! sum their contacts over their runs and are finished last. Every sum runs
+//! in roller order within a sprocket, whatever was kept or measured, so
+//! culling changes no bit (the oracle test `culling_changes_nothing`).
+//!
+//! Contact state: each contact patch remembers the approach speed δ̇⁻ at its
+//! onset, keyed by (sprocket, patch id), until it separates. An evaluation
+//! writes the advanced memory aside; [`ForceElement::commit`] adopts it.
+
+mod pass;
+mod reach;
+
+pub use reach::Culling;
+
+use pass::{ContactPass, Frame};
+use reach::{Reach, shared_stretches};
+
+use super::rows::DampingRows;
+use super::{ContactLawParams, ForceElement, Forces};
+use crate::geometry::{MAX_PATCHES, Patch, ToothProfile};
+use crate::model::{DriveModel, DriveState};
+
+/// Remembered onset of one contact patch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Memory {
+    /// (sprocket << 32) | patch id; `EMPTY` when unused.
+    pub(super) key: u64,
+    /// χ / δ̇⁻ (δ̇⁻ floored), s/m.
+    pub(super) damping_per_speed: f64,
+}
+
+pub(super) const EMPTY: u64 = u64::MAX;
+
+pub(super) const FREE: Memory = Memory {
+    key: EMPTY,
+    damping_per_speed: 0.0,
+};
+
+/// The contact damping factor χ used while relaxing to static equilibrium,
+/// whatever the run's law and restitution: Lankarani–Nikravesh at e = 0. The
+/// static equilibrium does not depend on it; without it a stiff elastic
+/// contact (K_g = 1e10, e = 1) rings through the first tensioning until the
+/// stretch guard trips.
+const RELAXATION_CHI: f64 = 0.75;
+
+/// The roller–tooth contact element.
+#[derive(Clone, Debug)]
+pub struct ToothContact {
+    law: ContactLawParams,
+    /// The run's law and whether it recorded damping rows, kept aside while
+    /// the static equilibrium uses its own.
+    run_settings: Option<(ContactLawParams, bool)>,
+    memory: Vec<[Memory; MAX_PATCHES]>,
+    /// The memory as the last evaluation left it (swapped in on commit).
+    pending_memory: Vec<[Memory; MAX_PATCHES]>,
+    /// Linear forms of the contact damping, when enabled.
+    damping_rows: Option<DampingRows>,
+    /// Last gap each roller touched: where the O(1) gap search starts.
+    gap_hint: Vec<u32>,
+    /// Reach caching settings; `None` checks every roller against every
+    /// sprocket at each evaluation.
+    pub culling: Option<Culling>,
+    reach: Reach,
+    /// Scratch: each sprocket's pose and speed.
+    frames: Vec<Frame>,
+    /// Scratch: contact force on each roller of a shared stretch, N.
+    contact_sum: Vec<[f64; 2]>,
+    /// Scratch: patches found for each roller of a shared stretch.
+    patches_used: Vec<u8>,
+}
+
+impl ToothContact {
+    /// Buffers for `rollers` rollers and `sprockets` sprockets (at most 64:
+    /// a roller's set of sprockets within reach is a 64-bit mask).
+    pub fn new(law: ContactLawParams, rollers: usize, sprockets: usize) -> Self {
+        debug_assert!(sprockets <= 64, "a drive has at most 64 sprockets");
+        Self {
+            law,
+            run_settings: None,
+            memory: vec![[FREE; MAX_PATCHES]; rollers],
+            pending_memory: vec![[FREE; MAX_PATCHES]; rollers],
+            damping_rows: None,
+            gap_hint: vec![0; rollers],
+            culling: Some(Culling::default()),
+            reach: Reach::new(rollers, sprockets),
+            frames: vec![Frame::default(); sprockets],
+            contact_sum: vec![[0.0; 2]; rollers],
+            patches_used: vec![0; rollers],
+        }
+    }
+
+    /// The contact law in use.
+    pub fn law(&self) -> &ContactLawParams {
+        &self.law
+    }
+
+    /// Replaces the contact law.
+    pub fn set_law(&mut self, law: ContactLawParams) {
+        self.law = law;
+    }
+
+    /// Forgets every kept reach set ([`Culling`]): the next evaluation
+    /// measures every roller again. Call when a sprocket centre has moved
+    /// other than at its `center_velocity_m_s` (a co-simulation frame's new
+    /// mount position and velocity).
+    pub fn forget_reach(&mut self) {
+        self.reach.expire();
+    }
+
+    /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
+    pub fn enable_damping_rows(&mut self) {
+        if self.damping_rows.is_none() {
+            self.damping_rows = Some(DampingRows::new(self.gap_hint.len()));
+        }
+    }
+
+    /// Stops recording [`DampingRows`].
+    pub fn disable_damping_rows(&mut self) {
+        self.damping_rows = None;
+    }
+
+    /// The damping rows of the last evaluation, if enabled.
+    pub fn damping_rows(&self) -> Option<&DampingRows> {
+        self.damping_rows.as_ref()
+    }
+
+    /// Whether a roller centred at (`x`, `y`) touches any sprocket, the
+    /// sprockets at angles `theta` (for locating contact events; the roller's
+    /// gap hint is read, not updated).
+    pub fn touches(
+        &self,
+        model: &DriveModel,
+        roller: usize,
+        x: f64,
+        y: f64,
+        theta: &[f64],
+    ) -> bool {
+        self.deepest_patch(model, roller, x, y, theta).is_some()
+    }
+
+    /// The roller of `state` that penetrates a tooth deepest, with its
+    /// depth, m (a slow search of every roller against every sprocket, for
+    /// reports).
+    pub fn deepest_roller(&self, model: &DriveModel, state: &DriveState) -> Option<(usize, f64)> {
+        (0..state.rollers())
+            .filter_map(|i| {
+                self.deepest_patch(model, i, state.x[i], state.y[i], &state.theta)
+                    .map(|d| (i, d))
+            })
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+    }
+
+    /// The deepest patch of one roller on any sprocket, m, if it touches one.
+    fn deepest_patch(
+        &self,
+        model: &DriveModel,
+        roller: usize,
+        x: f64,
+        y: f64,
+        theta: &[f64],
+    ) -> Option<f64> {
+        let mut patches = [Patch::default(); MAX_PATCHES];
+        model
+            .sprockets
+            .iter()
+            .zip(theta)
+            .filter_map(|(sp, &th)| {
+                let (rx, ry) = (x - sp.center_m[0], y - sp.center_m[1]);
+                if rx * rx + ry * ry > sp.reach_sq_m2 {
+                    return None;
+                }
+                let (sin, cos) = th.sin_cos();
+                let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+                let mut hint = self.gap_hint[roller];
+                let count = sp.profile.contacts(local, &mut hint, &mut patches);
+                patches[..count].iter().map(|p| p.depth_m).reduce(f64::max)
+            })
+            .reduce(f64::max)
+    }
+
+    /// The contact pass, compiled per (damping rows, moving centres).
+    fn contacts<const ROWS: bool, const MOVING: bool>(
+        &mut self,
+        model: &DriveModel,
+        s: &DriveState,
+        out: &mut Forces,
+        centre_speed: f64,
+    ) {
+        // The last evaluation's contact outputs are cleared where it wrote them.
+        for run in self.reach.runs.iter() {
+            let (a, b) = (run.start, run.end);
+            out.touching[a..b].fill(false);
+            out.contact_force[a..b].fill(0.0);
+            if let Some(rows) = &mut self.damping_rows {
+                rows.sprocket[a..b].fill(u32::MAX);
+            }
+        }
+        // Rollers and moving sprocket centres (mounted sprockets) approach
+        // each other at most at the sum of their speeds.
+        let cull = self.culling.map(|c| {
+            (
+                c.speed_factor * out.max_roller_speed_m_s + c.speed_floor_m_s + centre_speed,
+                c.max_skip_s,
+            )
+        });
+        self.reach.measure(model, s, cull);
+        for range in shared_stretches(&self.reach.runs) {
+            let (a, b) = (range.start, range.end);
+            self.contact_sum[a..b].fill([0.0; 2]);
+            self.patches_used[a..b].fill(0);
+            self.pending_memory[a..b].fill([FREE; MAX_PATCHES]);
+        }
+        let mut pass = ContactPass {
+            law: self.law,
+            state: s,
+            memory: &self.memory,
+            remembered: &self.reach.mask,
+            pending_memory: &mut self.pending_memory,
+            gap_hint: &mut self.gap_hint,
+            fx: &mut out.fx,
+            fy: &mut out.fy,
+            touching: &mut out.touching,
+            contact_force: &mut out.contact_force,
+            sum: &mut self.contact_sum,
+            used: &mut self.patches_used,
+            rows: if ROWS {
+                self.damping_rows.as_mut()
+            } else {
+                None
+            },
+            energy_j: 0.0,
+            max_penetration_m: 0.0,
+        };
+        // Each sprocket's frame once, for the sprockets with rollers within reach.
+        let mut framed = 0u64;
+        for run in self.reach.runs.iter() {
+            if framed >> run.sprocket & 1 == 0 {
+                framed |= 1 << run.sprocket;
+                let j = run.sprocket;
+                self.frames[j] = Frame::of(&model.sprockets[j], s.theta[j], s.omega[j], j);
+            }
+        }
+        for run in self.reach.runs.iter() {
+            let sp = &model.sprockets[run.sprocket];
+            let frame = self.frames[run.sprocket];
+            let (force, torque) = match (&sp.profile, run.shared) {
+                (ToothProfile::Circular(c), false) => {
+                    pass.run::<ROWS, false, MOVING, _>(c, &frame, run)
+                }
+                (ToothProfile::Circular(c), true) => {
+                    pass.run::<ROWS, true, MOVING, _>(c, &frame, run)
+                }
+                (ToothProfile::Real(r), false) => {
+                    pass.run::<ROWS, false, MOVING, _>(&**r, &frame, run)
+                }
+                (ToothProfile::Real(r), true) => {
+                    pass.run::<ROWS, true, MOVING, _>(&**r, &frame, run)
+                }
+            };
+            let total = &mut out.chain_force[run.sprocket];
+            total[0] += force[0];
+            total[1] += force[1];
+            out.chain_torque[run.sprocket] += torque;
+        }
+        out.max_penetration_m = pass.max_penetration_m;
+        out.contact_energy_j = pass.energy_j;
+        for range in shared_stretches(&self.reach.runs) {
+            for i in range {
+                let [sx, sy] = self.contact_sum[i];
+                let touching = self.patches_used[i] > 0;
+                out.fx[i] += sx;
+                out.fy[i] += sy;
+                out.touching[i] = touching;
+                out.contact_force[i] = if touching {
+                    (sx * sx + sy * sy).sqrt()
+                } else {
+                    0.0
+                };
+            }
+        }
+    }
+}
+
+impl ForceElement for ToothContact {
+    fn name(&self) -> &'static str {
+        "contacts"
+    }
+
+    fn evaluate(&mut self, model: &DriveModel, state: &DriveState, out: &mut Forces) {
+        // Copies of the contact loop: without damping rows (every scheme but
+        // implicit damping) the rows' accumulators compile away, and without
+        // moving sprocket centres (mounts in a co-simulation) their velocity.
+        let centres = model.moving_centres_speed_m_s();
+        let centre_speed = centres.unwrap_or(0.0);
+        match (self.damping_rows.is_some(), centres.is_some()) {
+            (true, true) => self.contacts::<true, true>(model, state, out, centre_speed),
+            (true, false) => self.contacts::<true, false>(model, state, out, centre_speed),
+            (false, true) => self.contacts::<false, true>(model, state, out, centre_speed),
+            (false, false) => self.contacts::<false, false>(model, state, out, centre_speed),
+        }
+    }
+
+    fn commit(&mut self) {
+        std::mem::swap(&mut self.memory, &mut self.pending_memory);
+        self.reach.commit();
+    }
+
+    fn reset(&mut self) {
+        self.memory.fill([FREE; MAX_PATCHES]);
+        self.pending_memory.fill([FREE; MAX_PATCHES]);
+        self.reach.reset();
+    }
+
+    /// A dissipative law while relaxing, whatever the run's restitution, and
+    /// damping rows: the relaxation steps with the contact damping implicit.
+    fn begin_equilibrium(&mut self) {
+        let had_rows = self.damping_rows.is_some();
+        let (run_law, _) = *self.run_settings.get_or_insert((self.law, had_rows));
+        self.law = run_law.with_chi(RELAXATION_CHI);
+        self.enable_damping_rows();
+    }
+
+    fn end_equilibrium(&mut self) {
+        if let Some((law, had_rows)) = self.run_settings.take() {
+            self.law = law;
+            if !had_rows {
+                self.disable_damping_rows();
+            }
+        }
+    }
+
+    fn clone_box(&self) -> Box<dyn ForceElement> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}

@@ -1,0 +1,207 @@
+//! The reach pass of the roller–tooth contact: each roller's set of
+//! sprockets within reach, kept between measurements ([`Culling`]), and the
+//! [`Run`]s of consecutive rollers with one set.
+
+use super::super::buffer::Buffer;
+use crate::model::{DriveModel, DriveState};
+
+/// Reach caching ("culling"): a roller's set of sprockets within reach is
+/// measured, then kept for
+/// τ = min(c / (speed_factor · v_max + speed_floor), max_skip_s),
+/// c the distance from the roller's centre to the nearest reach circle's
+/// edge, v_max the chain's fastest roller at that moment. Within τ a roller
+/// could only cross that edge by more than doubling its speed plus the floor
+/// (5 m/s) within ≤ 1 ms — an acceleration beyond 5000 m/s², i.e. a blow-up.
+/// A roller within no reach circle costs nothing more until then; one within
+/// reach goes straight to its sprockets' contact loops. The oracle test
+/// `culling_changes_nothing` checks the bitwise equality of runs with and
+/// without it (without: every roller measured against every sprocket at
+/// every evaluation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Culling {
+    /// Factor on the fastest roller speed.
+    pub speed_factor: f64,
+    /// Speed added to the bound, m/s (covers rollers starting from rest).
+    pub speed_floor_m_s: f64,
+    /// Longest skip, s.
+    pub max_skip_s: f64,
+}
+
+impl Default for Culling {
+    fn default() -> Self {
+        Self {
+            speed_factor: 2.0,
+            speed_floor_m_s: 5.0,
+            max_skip_s: 1e-3,
+        }
+    }
+}
+
+/// Consecutive rollers within reach of one sprocket.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Run {
+    pub(super) sprocket: usize,
+    pub(super) start: usize,
+    pub(super) end: usize,
+    /// Its rollers are within reach of other sprockets too.
+    pub(super) shared: bool,
+}
+
+/// The stretches of rollers within reach of several sprockets, each once:
+/// a stretch's runs (one per sprocket) follow each other and share its range.
+pub(super) fn shared_stretches(runs: &[Run]) -> impl Iterator<Item = std::ops::Range<usize>> + '_ {
+    runs.iter()
+        .enumerate()
+        .filter(|&(k, run)| run.shared && (k == 0 || runs[k - 1].start != run.start))
+        .map(|(_, run)| run.start..run.end)
+}
+
+/// Each roller's set of sprockets within reach, with the runs they form.
+#[derive(Clone, Debug)]
+pub(super) struct Reach {
+    /// Time before which roller i's set of sprockets within reach is kept (see [`Culling`]).
+    until_s: Vec<f64>,
+    /// That set, bit j for sprocket j. It is also the set in effect at the
+    /// last committed evaluation, so the contact memory of roller i is
+    /// current only where it is not empty.
+    pub(super) mask: Vec<u64>,
+    /// Rollers whose set the last evaluation measured again, with the new
+    /// set and time in `pending_*` (adopted on commit).
+    remeasured: Buffer<u32>,
+    /// See `remeasured`.
+    pending_until_s: Vec<f64>,
+    /// See `remeasured`.
+    pending_mask: Vec<u64>,
+    /// The last evaluation's stretches of rollers within reach.
+    pub(super) runs: Buffer<Run>,
+    /// The runs of the committed sets (`mask`).
+    committed_runs: Buffer<Run>,
+}
+
+impl Reach {
+    pub(super) fn new(rollers: usize, sprockets: usize) -> Self {
+        Self {
+            until_s: vec![f64::NEG_INFINITY; rollers],
+            mask: vec![0; rollers],
+            remeasured: Buffer::with_capacity(rollers),
+            pending_until_s: vec![f64::NEG_INFINITY; rollers],
+            pending_mask: vec![0; rollers],
+            // Room for a run per roller and sprocket pair in reach twice over:
+            // the step loop does not allocate.
+            runs: Buffer::with_capacity(2 * rollers + sprockets),
+            committed_runs: Buffer::with_capacity(2 * rollers + sprockets),
+        }
+    }
+
+    /// Forgets every kept set and the committed runs.
+    pub(super) fn reset(&mut self) {
+        self.until_s.fill(f64::NEG_INFINITY);
+        self.mask.fill(0);
+        self.remeasured.clear();
+        self.committed_runs.clear();
+    }
+
+    /// Expires every kept set: the next pass measures every roller again.
+    pub(super) fn expire(&mut self) {
+        self.until_s.fill(f64::NEG_INFINITY);
+    }
+
+    /// Adopts the last pass's measurements.
+    pub(super) fn commit(&mut self) {
+        for &i in self.remeasured.iter() {
+            let i = i as usize;
+            self.until_s[i] = self.pending_until_s[i];
+            self.mask[i] = self.pending_mask[i];
+        }
+        self.remeasured.clear();
+        self.committed_runs.clone_from(&self.runs);
+    }
+
+    /// Measures the rollers whose kept set has expired and gathers the runs.
+    /// `cull` is (speed bound, longest skip) with culling on; `None`
+    /// measures every roller.
+    pub(super) fn measure(&mut self, model: &DriveModel, s: &DriveState, cull: Option<(f64, f64)>) {
+        self.remeasured.clear();
+        // Slices of one length: the compiler drops the bounds checks on `[i]`.
+        let n = s.x.len();
+        let (xs, ys) = (&s.x[..n], &s.y[..n]);
+        let (until, kept) = (&self.until_s[..n], &self.mask[..n]);
+        let pending_until = &mut self.pending_until_s[..n];
+        let pending_mask = &mut self.pending_mask[..n];
+        // Measure the rollers whose kept set has expired (a few per step).
+        let mut changed = false;
+        for i in 0..n {
+            if s.t_s < until[i] {
+                continue;
+            }
+            let mut mask = 0u64;
+            let mut clearance = f64::INFINITY;
+            // A scene holds at most 64 sprockets (the validator's limit), one bit each.
+            for (j, sp) in model.sprockets.iter().enumerate() {
+                let rx = xs[i] - sp.center_m[0];
+                let ry = ys[i] - sp.center_m[1];
+                let d_sq = rx * rx + ry * ry;
+                if d_sq <= sp.reach_sq_m2 {
+                    mask |= 1 << j;
+                }
+                if cull.is_some() {
+                    clearance = clearance.min((d_sq.sqrt() - sp.reach_m).abs());
+                }
+            }
+            pending_mask[i] = mask;
+            pending_until[i] = match cull {
+                Some((speed_bound, max_skip)) => s.t_s + (clearance / speed_bound).min(max_skip),
+                None => f64::NEG_INFINITY,
+            };
+            self.remeasured.push(i as u32);
+            changed |= mask != kept[i];
+        }
+        // Runs are a function of the sets alone: with no set changed they
+        // are the committed ones.
+        if !changed {
+            self.runs.clone_from(&self.committed_runs);
+            return;
+        }
+        self.runs.clear();
+        let mut stretch = Stretch::default();
+        for i in 0..n {
+            let mask = if s.t_s < until[i] {
+                kept[i]
+            } else {
+                pending_mask[i]
+            };
+            if mask != stretch.mask {
+                stretch.close(i, &mut self.runs);
+                stretch = Stretch { mask, start: i };
+            }
+        }
+        stretch.close(n, &mut self.runs);
+    }
+}
+
+/// Consecutive rollers with one set of sprockets within reach, while the reach pass grows it.
+#[derive(Default)]
+struct Stretch {
+    mask: u64,
+    start: usize,
+}
+
+impl Stretch {
+    /// Ends the stretch before roller `end`: one run per sprocket of its set.
+    fn close(&self, end: usize, runs: &mut Buffer<Run>) {
+        if self.mask == 0 || end == self.start {
+            return;
+        }
+        let several = !self.mask.is_power_of_two();
+        let mut mask = self.mask;
+        while mask != 0 {
+            runs.push(Run {
+                sprocket: mask.trailing_zeros() as usize,
+                start: self.start,
+                end,
+                shared: several,
+            });
+            mask &= mask - 1;
+        }
+    }
+}

@@ -1,0 +1,183 @@
+//! The links: linear spring-dampers between consecutive rollers
+//! (docs/model.md, “Links”), and the rollers' weight.
+
+use super::{ForceElement, Forces};
+use crate::model::{DriveModel, DriveState};
+
+/// The link law for one link.
+#[derive(Clone, Copy)]
+struct LinkLaw {
+    stiffness: f64,
+    damping: f64,
+    rest: f64,
+}
+
+impl LinkLaw {
+    /// From the link vector d = q_j − q_i and the velocity difference:
+    /// (F_link, u_x, u_y, l − rest).
+    #[inline(always)]
+    fn eval(&self, dx: f64, dy: f64, dvx: f64, dvy: f64) -> (f64, f64, f64, f64) {
+        let l = (dx * dx + dy * dy).sqrt();
+        // Coincident rollers have no direction: no force rather than NaN (the
+        // blow-up detector stops the run, the stretch being a whole pitch).
+        let inv = if l > 0.0 { 1.0 / l } else { 0.0 };
+        let (ux, uy) = (dx * inv, dy * inv);
+        let stretch = l - self.rest;
+        let f = self.stiffness * stretch + self.damping * (dvx * ux + dvy * uy);
+        (f, ux, uy, stretch)
+    }
+}
+
+/// The chain's links and the rollers' weight: the first force element of
+/// every drive. It *sets* each roller's force to its weight plus its two
+/// links (every later element adds to it), the links' forces, the largest
+/// stretch and the largest roller speed.
+#[derive(Clone, Debug)]
+pub struct Links {
+    /// Scratch: force vector of link i on roller i, N.
+    link_fx: Vec<f64>,
+    /// Scratch: its y component, N.
+    link_fy: Vec<f64>,
+    /// l − rest length of link i at the last evaluation, m.
+    stretch: Vec<f64>,
+}
+
+impl Links {
+    /// Buffers for a chain of `rollers` rollers (and as many links).
+    pub fn new(rollers: usize) -> Self {
+        Self {
+            link_fx: vec![0.0; rollers],
+            link_fy: vec![0.0; rollers],
+            stretch: vec![0.0; rollers],
+        }
+    }
+
+    /// l − rest length of each link at the last evaluation, m.
+    pub fn stretch(&self) -> &[f64] {
+        &self.stretch
+    }
+}
+
+impl ForceElement for Links {
+    fn name(&self) -> &'static str {
+        "links"
+    }
+
+    /// Two passes: the links' force vectors first (independent iterations,
+    /// which the compiler pipelines and vectorises), then each roller's sum
+    /// of its two links, so no iteration waits on the previous one's store.
+    fn evaluate(&mut self, model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        let n = s.x.len();
+        let law = LinkLaw {
+            stiffness: model.stiffness_n_m,
+            damping: model.damping_n_s_m,
+            rest: model.rest_length_m,
+        };
+        let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let force = &mut out.link_force[..n];
+        let (lfx, lfy) = (&mut self.link_fx[..n], &mut self.link_fy[..n]);
+        let stretch = &mut self.stretch[..n];
+        // Links 0..n−1 join consecutive rollers: a branch-free loop over
+        // zipped slices, which the compiler vectorises (square roots and
+        // divisions two or four at a time). The closing link n−1 → 0 after it.
+        let pairs = x[..n - 1]
+            .iter()
+            .zip(&x[1..])
+            .zip(y[..n - 1].iter().zip(&y[1..]))
+            .zip(vx[..n - 1].iter().zip(&vx[1..]))
+            .zip(vy[..n - 1].iter().zip(&vy[1..]));
+        let outs = force[..n - 1]
+            .iter_mut()
+            .zip(lfx[..n - 1].iter_mut())
+            .zip(lfy[..n - 1].iter_mut())
+            .zip(stretch[..n - 1].iter_mut());
+        for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), (((f, fx), fy), st)) in
+            pairs.zip(outs)
+        {
+            let (force_n, ux, uy, s) = law.eval(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
+            *f = force_n;
+            *fx = force_n * ux;
+            *fy = force_n * uy;
+            *st = s;
+        }
+        let (f, ux, uy, last) = law.eval(
+            x[0] - x[n - 1],
+            y[0] - y[n - 1],
+            vx[0] - vx[n - 1],
+            vy[0] - vy[n - 1],
+        );
+        force[n - 1] = f;
+        lfx[n - 1] = f * ux;
+        lfy[n - 1] = f * uy;
+        stretch[n - 1] = last;
+        // `max` drops a NaN: keep it visible to the blow-up check.
+        let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
+        let max_stretch = largest(stretch, stretch, |s, _| s.abs());
+        let max_speed_sq = largest(vx, vy, |a, b| a * a + b * b);
+        let m = model.roller_mass_kg;
+        let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
+        let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
+        fx[0] = gx + (lfx[0] - lfx[n - 1]);
+        fy[0] = gy + (lfy[0] - lfy[n - 1]);
+        for i in 1..n {
+            fx[i] = gx + (lfx[i] - lfx[i - 1]);
+            fy[i] = gy + (lfy[i] - lfy[i - 1]);
+        }
+        out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
+        out.max_roller_speed_m_s = max_speed_sq.sqrt();
+    }
+
+    fn clone_box(&self) -> Box<dyn ForceElement> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// The largest `f(a_i, b_i)`, at least 0, in four independent lanes of plain
+/// comparisons, which the compiler turns into packed `max` instructions. A
+/// NaN is dropped, as by `f64::max` (the links report NaN stretches apart; a
+/// NaN speed comes with a NaN position, which the blow-up check stops on).
+#[inline(always)]
+fn largest(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> f64 {
+    let larger = |m: f64, v: f64| if v > m { v } else { m };
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut lanes = [0.0f64; 4];
+    for (ca, cb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for k in 0..4 {
+            lanes[k] = larger(lanes[k], f(ca[k], cb[k]));
+        }
+    }
+    let tail = n - n % 4;
+    let rest = a[tail..]
+        .iter()
+        .zip(&b[tail..])
+        .fold(0.0f64, |m, (&x, &y)| larger(m, f(x, y)));
+    lanes.into_iter().fold(rest, larger)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::largest;
+
+    #[test]
+    fn largest_matches_the_plain_fold() {
+        // Oracle: `f64::max` over the items (NaNs dropped), at least 0; every
+        // length 0..12 (so every tail of the four lanes), mixed signs.
+        let a: Vec<f64> = (0..12).map(|k| ((k * 7 % 5) as f64 - 2.0) * 0.3).collect();
+        let b: Vec<f64> = (0..12).map(|k| ((k * 3 % 7) as f64 - 3.0) * 0.2).collect();
+        for n in 0..=12 {
+            let f = |x: f64, y: f64| x * y + x;
+            let plain = a[..n]
+                .iter()
+                .zip(&b[..n])
+                .fold(0.0f64, |m, (&x, &y)| m.max(f(x, y)));
+            assert_eq!(largest(&a[..n], &b[..n], f), plain, "n = {n}");
+        }
+        let with_nan = [1.0, f64::NAN, 3.0, -4.0, 2.0];
+        assert_eq!(largest(&with_nan, &with_nan, |x, _| x.abs()), 4.0);
+    }
+}

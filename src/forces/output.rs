@@ -1,0 +1,70 @@
+//! [`Forces`]: what one force evaluation leaves for the integrators, the
+//! observers, the blow-up detectors, the co-simulation and the rapier sync.
+
+/// The forces at one state, written by the force elements of a
+/// [`super::ForceGenerator`] and read by everything after them.
+///
+/// Roller forces include gravity. Per-sprocket sums hold the chain's action
+/// on each sprocket (its load torque is the model's, not added here).
+#[derive(Clone, Debug, Default)]
+pub struct Forces {
+    /// Force on each roller (links, contacts, gravity, further elements), N.
+    pub fx: Vec<f64>,
+    /// Force on each roller, y, N.
+    pub fy: Vec<f64>,
+    /// Link force F_link of link i (roller i to i + 1), N, tension positive.
+    pub link_force: Vec<f64>,
+    /// Whether roller i touches any sprocket.
+    pub touching: Vec<bool>,
+    /// Total contact force magnitude on each roller (the magnitude of the
+    /// vector sum of its patches' forces), N.
+    pub contact_force: Vec<f64>,
+    /// Moment of the chain's contact forces on each sprocket about its centre, N·m.
+    pub chain_torque: Vec<f64>,
+    /// Resultant of the chain's contact forces on each sprocket, N.
+    pub chain_force: Vec<[f64; 2]>,
+    /// Generalised force on each further body's coordinate
+    /// ([`crate::model::BodyModel`]), N or N·m.
+    pub body_force: Vec<f64>,
+    /// Time derivative of each scalar state ([`crate::model::ScalarModel`]).
+    pub scalar_rate: Vec<f64>,
+    /// Largest penetration in this evaluation, m.
+    pub max_penetration_m: f64,
+    /// Largest |l − rest length| of any link in this evaluation, m (NaN propagates).
+    pub max_stretch_m: f64,
+    /// Largest roller speed in this evaluation, m/s (the links measure it;
+    /// the contact's reach caching bounds its skips with it).
+    pub max_roller_speed_m_s: f64,
+    /// Elastic energy stored in the contacts, Σ K δⁿ⁺¹/(n + 1), J.
+    pub contact_energy_j: f64,
+}
+
+impl Forces {
+    /// Zeroed outputs for a drive of these sizes.
+    pub fn new(rollers: usize, sprockets: usize, bodies: usize, scalars: usize) -> Self {
+        Self {
+            fx: vec![0.0; rollers],
+            fy: vec![0.0; rollers],
+            link_force: vec![0.0; rollers],
+            touching: vec![false; rollers],
+            contact_force: vec![0.0; rollers],
+            chain_torque: vec![0.0; sprockets],
+            chain_force: vec![[0.0; 2]; sprockets],
+            body_force: vec![0.0; bodies],
+            scalar_rate: vec![0.0; scalars],
+            max_penetration_m: 0.0,
+            max_stretch_m: 0.0,
+            max_roller_speed_m_s: 0.0,
+            contact_energy_j: 0.0,
+        }
+    }
+
+    /// Clears the sums that every element adds to (per sprocket, per body,
+    /// per scalar). The roller forces are not cleared: the links set them.
+    pub(crate) fn begin(&mut self) {
+        self.chain_torque.fill(0.0);
+        self.chain_force.fill([0.0; 2]);
+        self.body_force.fill(0.0);
+        self.scalar_rate.fill(0.0);
+    }
+}
