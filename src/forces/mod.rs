@@ -174,6 +174,12 @@ impl ForceGenerator {
         self.elements.push(element);
     }
 
+    /// Sizes the outputs of further bodies and scalar states to `model`'s.
+    pub fn fit(&mut self, model: &DriveModel) {
+        self.output.body_force.resize(model.bodies.len(), 0.0);
+        self.output.scalar_rate.resize(model.scalars.len(), 0.0);
+    }
+
     /// The further element of type `T`, if the drive has one.
     pub fn element<T: ForceElement + 'static>(&self) -> Option<&T> {
         self.elements

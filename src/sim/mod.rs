@@ -26,10 +26,10 @@ use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
 
-use crate::forces::{ContactLawParams, ForceGenerator, ForceTimes, Forces};
+use crate::forces::{ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces};
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
-use crate::model::{BuildError, DriveModel, DriveState};
+use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
 use crate::scene::{Integrator, PretensionRule, Role, Scene, Stepping};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
@@ -539,6 +539,48 @@ impl Simulation {
             1.0,
         );
         self.state.t_s += dt_s;
+    }
+
+    /// Adds a further body coordinate ([`BodyModel`]) at coordinate `q` and
+    /// speed `u`; returns its index in [`DriveState::q`]. Its forces come from
+    /// force elements ([`Self::add_force_element`]).
+    pub fn add_body(&mut self, body: BodyModel, q: f64, u: f64) -> usize {
+        self.model.bodies.push(body);
+        self.state.q.push(q);
+        self.state.u.push(u);
+        self.refit();
+        self.state.q.len() - 1
+    }
+
+    /// Adds a scalar state ([`ScalarModel`]) at `z`; returns its index in
+    /// [`DriveState::z`].
+    pub fn add_scalar(&mut self, scalar: ScalarModel, z: f64) -> usize {
+        self.model.scalars.push(scalar);
+        self.state.z.push(z);
+        self.refit();
+        self.state.z.len() - 1
+    }
+
+    /// Adds a force element, evaluated after the links, the contact and the
+    /// elements added before it.
+    pub fn add_force_element(&mut self, element: Box<dyn ForceElement>) {
+        self.forces.add(element);
+        self.refit();
+    }
+
+    /// After the drive's make-up changed: outputs and integrator buffers
+    /// sized anew, forces evaluated at the current state.
+    fn refit(&mut self) {
+        self.forces.fit(&self.model);
+        self.integration = Integration::new(
+            self.integration.scheme(),
+            self.scene.solver.tolerance,
+            &self.model,
+            &self.state,
+            &mut self.forces,
+            self.scene.chain.pretension_n / self.model.stiffness_n_m,
+        );
+        self.forces.evaluate(&self.model, &self.state);
     }
 
     /// Writes the drive's state into its rapier bodies.

@@ -12,6 +12,7 @@ mod paper;
 mod profile;
 mod record;
 mod scene_errors;
+mod seam;
 mod stepping;
 mod stress;
 
