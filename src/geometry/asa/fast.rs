@@ -3,6 +3,8 @@
 use super::TIE_M;
 use super::pieces::{Joint, Piece, Shape};
 use super::v2::{V2, add, dot, neg, norm, polar, scale, sub, unit_or};
+#[cfg(doc)]
+use super::{AsaProfile, pieces::nearest_hit};
 
 /// Trig-free form of one [`Piece`] for the hot path of [`AsaProfile::contacts`]: the same
 /// closest-point rule as [`Piece::closest`], with the angular window tested by dot and cross
@@ -293,7 +295,10 @@ impl FastPiece {
     }
 }
 
-/// [`patch_hit`] for [`Near`] results.
+/// Closest owned point of a patch, from the results of its pieces: `None` when the nearest
+/// point of the run lies beyond one of its shared joints (it then belongs to the
+/// neighbouring patch). On a tie (within [`TIE_M`], e.g. both toppings at the tip) the
+/// earlier piece wins. The reference implementation's `patch_hit` for [`Near`] results.
 #[inline(always)]
 pub(super) fn patch_near(hits: &[Near]) -> Option<Near> {
     let mut best: Option<Near> = None;
@@ -306,7 +311,8 @@ pub(super) fn patch_near(hits: &[Near]) -> Option<Near> {
     best.filter(|h| h.owned)
 }
 
-/// [`nearest_hit`] for [`Near`] results.
+/// The result with the smallest distance (the first on a tie): [`nearest_hit`] for [`Near`]
+/// results.
 #[inline(always)]
 pub(super) fn nearest_near(hits: &[Near; 8]) -> Near {
     let mut best = hits[0];
@@ -318,7 +324,8 @@ pub(super) fn nearest_near(hits: &[Near; 8]) -> Near {
     best
 }
 
-/// [`insert_deepest`] for [`Near`] results.
+/// Keeps the two deepest (largest r − sd, i.e. smallest sd) candidates, deepest first: the
+/// reference implementation's `insert_deepest` for [`Near`] results.
 #[inline(always)]
 pub(super) fn insert_deepest_near(best: &mut [Option<(Near, u32)>; 2], c: (Near, u32)) {
     let deeper = |a: &(Near, u32), b: &Option<(Near, u32)>| b.is_none_or(|b| a.0.sd_m < b.0.sd_m);

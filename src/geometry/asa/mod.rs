@@ -92,6 +92,8 @@ use v2::{V2, atan2_approx, dot};
 
 pub use dimensions::{AsaDimensions, GapPoints};
 
+use super::OutlinePoint;
+
 /// 0.003 in expressed in metres (additive constant of Dt and xy).
 pub const IN_0_003_M: f64 = 7.62e-5;
 /// 0.0015 in expressed in metres (additive constant of Rt, RE and RF).
@@ -188,19 +190,6 @@ pub struct Patch {
     pub gap: i64,
     /// Stable identity of the place touched (see the module docs).
     pub patch_id: u32,
-}
-
-/// One sample of the sprocket outline, in the sprocket frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OutlinePoint {
-    /// x in metres.
-    pub x_m: f64,
-    /// y in metres.
-    pub y_m: f64,
-    /// Gap (0..N) the sampled piece belongs to.
-    pub gap: i64,
-    /// Area 1..=7 of the sampled piece.
-    pub area: u8,
 }
 
 /// Precomputed geometry of one ASA sprocket: the pieces of one gap in its local frame, the

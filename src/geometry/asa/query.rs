@@ -1,6 +1,8 @@
 //! The contact query: the direct rules for the bottom and the free space of a gap, and
 //! the general path that examines every piece within reach.
 
+#[cfg(doc)]
+use super::TIE_M;
 use super::dimensions::{AsaDimensions, GapPoints};
 use super::fast::{
     FAR, FastPiece, Found, NONE, Near, insert_deepest_near, nearest_near, patch_near,

@@ -5,6 +5,7 @@ use super::pieces::{Piece, Shape};
 use super::query::SKIP_MARGIN_M;
 use super::v2::{add, dot, mirror, norm, polar, scale, sub, unit_or};
 use super::*;
+use crate::geometry::testing::Lcg;
 
 const P: f64 = 0.0889;
 const DR: f64 = 0.054;
@@ -385,21 +386,6 @@ fn outline_is_closed_and_ordered() {
     // Non-finite and tiny steps are guarded.
     assert!(!pr.outline(f64::NAN).is_empty());
     assert!(!pr.outline(-1.0).is_empty());
-}
-
-/// Simple LCG in [0, 1).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
 }
 
 fn seg_dist(p: V2, a: V2, b: V2) -> f64 {
