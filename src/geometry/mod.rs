@@ -82,15 +82,18 @@ pub struct OutlinePoint {
 pub struct Patch {
     /// Penetration depth δ > 0, m.
     pub depth_m: f64,
-    /// Unit normal from the closest outline point towards the roller centre:
-    /// the direction of the force on the roller.
+    /// Unit normal from the closest outline point towards the roller centre
+    /// (when the centre is in free space): the direction of the force on the
+    /// roller.
     pub normal: [f64; 2],
-    /// Tooth-profile area (1–7 for the real profile, 4 for the circular seat).
+    /// Tooth-profile area of the piece that holds the closest point (1–7 for
+    /// the real profile, 4 for the circular seat).
     pub area: u8,
-    /// Gap index in 0..N.
+    /// Gap (0..N) whose piece holds the closest point.
     pub gap: u32,
     /// Identity of the contact patch: constant while a roller slides along
-    /// tangent-continuous pieces, different for separate places.
+    /// tangent-continuous pieces, different for separate places (the real
+    /// profile's ids are described in [`asa`]).
     pub patch_id: u32,
 }
 

@@ -92,7 +92,7 @@ use v2::{V2, atan2_approx, dot};
 
 pub use dimensions::{AsaDimensions, GapPoints};
 
-use super::OutlinePoint;
+use super::{MAX_PATCHES, OutlinePoint, Patch};
 
 /// 0.003 in expressed in metres (additive constant of Dt and xy).
 pub const IN_0_003_M: f64 = 7.62e-5;
@@ -173,23 +173,14 @@ impl fmt::Display for AsaError {
 
 impl std::error::Error for AsaError {}
 
-/// One contact patch between a roller and the profile, in the SPROCKET frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Patch {
-    /// Penetration depth r − sd in metres, > 0.
-    pub depth_m: f64,
-    /// Unit free-side normal at the closest point: from the closest surface point towards
-    /// the roller centre (when the centre is in free space). Direction of the force on the
-    /// roller.
-    pub normal: [f64; 2],
-    /// Closest surface point, metres.
+/// A contact patch of [`AsaProfile::contacts`] with the place it touches: the closest
+/// outline point, in the sprocket frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LocatedPatch {
+    /// Depth, normal, area, gap and identity of the patch.
+    pub patch: Patch,
+    /// Closest outline point, metres.
     pub point: [f64; 2],
-    /// Area 1..=7 of the piece that holds the closest point.
-    pub area: u8,
-    /// Gap (0..N) whose piece holds the closest point.
-    pub gap: i64,
-    /// Stable identity of the place touched (see the module docs).
-    pub patch_id: u32,
 }
 
 /// Precomputed geometry of one ASA sprocket: the pieces of one gap in its local frame, the
@@ -490,7 +481,12 @@ impl AsaProfile {
     /// Not examined: the concave parts of the neighbouring gaps. A roller in free space
     /// could only reach them across a whole tooth, i.e. with a radius of the order of the
     /// tooth width.
-    pub fn contacts(&self, p: [f64; 2], roller_radius_m: f64, out: &mut [Patch; 2]) -> usize {
+    pub fn contacts(
+        &self,
+        p: [f64; 2],
+        roller_radius_m: f64,
+        out: &mut [LocatedPatch; 2],
+    ) -> usize {
         let mut hint = u32::MAX;
         self.contacts_hinted(p, roller_radius_m, &mut hint, out)
     }
@@ -504,20 +500,16 @@ impl AsaProfile {
         p: [f64; 2],
         roller_radius_m: f64,
         hint: &mut u32,
-        out: &mut [Patch; 2],
+        out: &mut [LocatedPatch; 2],
     ) -> usize {
         if !(roller_radius_m.is_finite() && roller_radius_m >= 0.0) {
             return 0;
         }
         let mut emit = |slot: usize, gap: usize, f: Found| {
             if let Some(slot) = out.get_mut(slot) {
-                *slot = Patch {
-                    depth_m: f.depth_m,
-                    normal: self.to_global_vec(gap, f.normal),
+                *slot = LocatedPatch {
+                    patch: self.patch(gap, &f),
                     point: self.to_global_point(gap, f.point),
-                    area: f.area,
-                    gap: self.wrap_gap(gap, f.gap_offset),
-                    patch_id: f.patch_id,
                 };
             }
         };
@@ -528,26 +520,32 @@ impl AsaProfile {
         }
     }
 
-    /// [`AsaProfile::contacts_hinted`] for the profile's own roller (radius Dr/2), written
-    /// as the contact generator's [`super::Patch`] (no contact point): the same patches.
+    /// [`AsaProfile::contacts_hinted`] for the profile's own roller (radius Dr/2), without
+    /// the contact point (the contact generator's call): the same patches.
     #[inline]
     pub fn contacts_nominal(
         &self,
         p: [f64; 2],
         hint: &mut u32,
-        out: &mut [super::Patch; super::MAX_PATCHES],
+        out: &mut [Patch; MAX_PATCHES],
     ) -> usize {
         self.query(p, &self.nominal, hint, &mut |slot, gap, f: Found| {
             if let Some(slot) = out.get_mut(slot) {
-                *slot = super::Patch {
-                    depth_m: f.depth_m,
-                    normal: self.to_global_vec(gap, f.normal),
-                    area: f.area,
-                    gap: self.wrap_gap(gap, f.gap_offset) as u32,
-                    patch_id: f.patch_id,
-                };
+                *slot = self.patch(gap, &f);
             }
         })
+    }
+
+    /// A gap-local patch of `gap` written in the sprocket frame.
+    #[inline(always)]
+    fn patch(&self, gap: usize, f: &Found) -> Patch {
+        Patch {
+            depth_m: f.depth_m,
+            normal: self.to_global_vec(gap, f.normal),
+            area: f.area,
+            gap: self.wrap_gap(gap, f.gap_offset) as u32,
+            patch_id: f.patch_id,
+        }
     }
 
     /// Signed distance from `p` (sprocket frame) to the outline: positive in free space,

@@ -2,7 +2,7 @@
 //! skipping, no direct rules), kept as the oracle of the fast one.
 
 use super::pieces::{Hit, nearest_hit};
-use super::{AsaProfile, CONSISTENCY_TOL_M, Patch, TIE_M};
+use super::{AsaProfile, CONSISTENCY_TOL_M, LocatedPatch, Patch, TIE_M};
 
 /// Closest owned point of a patch, from the hits of its pieces: `None` when the nearest
 /// point of the run lies beyond one of its shared joints (it then belongs to the
@@ -37,7 +37,7 @@ impl AsaProfile {
         &self,
         p: [f64; 2],
         roller_radius_m: f64,
-        out: &mut [Patch; 2],
+        out: &mut [LocatedPatch; 2],
     ) -> usize {
         if !(p[0].is_finite() && p[1].is_finite() && roller_radius_m.is_finite())
             || roller_radius_m < 0.0
@@ -84,13 +84,15 @@ impl AsaProfile {
         let mut written = 0;
         for (h, id) in best.into_iter().flatten() {
             if let Some(slot) = out.get_mut(written) {
-                *slot = Patch {
-                    depth_m: roller_radius_m - h.sd_m,
-                    normal: self.to_global_vec(gap, h.normal),
+                *slot = LocatedPatch {
+                    patch: Patch {
+                        depth_m: roller_radius_m - h.sd_m,
+                        normal: self.to_global_vec(gap, h.normal),
+                        area: h.area,
+                        gap: self.wrap_gap(gap, h.gap_offset) as u32,
+                        patch_id: id,
+                    },
                     point: self.to_global_point(gap, h.point),
-                    area: h.area,
-                    gap: self.wrap_gap(gap, h.gap_offset),
-                    patch_id: id,
                 };
                 written += 1;
             }

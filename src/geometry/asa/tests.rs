@@ -443,11 +443,11 @@ fn signed_distance_matches_brute_force_oracle() {
         }
         assert!((1..=7).contains(&area) && (0..28).contains(&gap));
         // The contact with a zero-radius probe is consistent with the distance.
-        let mut out = [empty_patch(); 2];
+        let mut out = [LocatedPatch::default(); 2];
         let k = pr.contacts(p, 0.0, &mut out);
         assert_eq!(k > 0, sd < 0.0, "probe at {p:?}");
         if k > 0 {
-            check("probe depth", out[0].depth_m, -sd, 1e-12);
+            check("probe depth", out[0].patch.depth_m, -sd, 1e-12);
         }
         // A roller of random size: the deepest patch is the nearest outline point, and
         // every patch is a local minimum of the distance to the (sampled) outline.
@@ -455,14 +455,14 @@ fn signed_distance_matches_brute_force_oracle() {
         let k = pr.contacts(p, r, &mut out);
         assert_eq!(k > 0, sd < r, "roller at {p:?} r {r}");
         if k > 0 {
-            check("deepest = nearest", out[0].depth_m, r - sd, 1e-12);
+            check("deepest = nearest", out[0].patch.depth_m, r - sd, 1e-12);
         }
         for x in &out[..k] {
             let (sq, _, _, _) = pr.signed_distance(x.point);
             check("patch point on outline", sq, 0.0, 1e-12);
             let dq = norm(sub(p, x.point));
             if sd > 0.0 {
-                check("depth = r - |p-q|", x.depth_m, r - dq, 1e-12);
+                check("depth = r - |p-q|", x.patch.depth_m, r - dq, 1e-12);
             }
             let near_closer = poly
                 .iter()
@@ -474,19 +474,8 @@ fn signed_distance_matches_brute_force_oracle() {
     }
 }
 
-fn empty_patch() -> Patch {
-    Patch {
-        depth_m: 0.0,
-        normal: [0.0; 2],
-        point: [0.0; 2],
-        area: 0,
-        gap: 0,
-        patch_id: 0,
-    }
-}
-
-fn contacts(pr: &AsaProfile, p: V2, r: f64) -> Vec<Patch> {
-    let mut out = [empty_patch(); 2];
+fn contacts(pr: &AsaProfile, p: V2, r: f64) -> Vec<LocatedPatch> {
+    let mut out = [LocatedPatch::default(); 2];
     let k = pr.contacts(p, r, &mut out);
     out[..k].to_vec()
 }
@@ -507,26 +496,29 @@ fn seated_roller() {
         for depth in [1e-6, 1e-4, 1e-3] {
             let c = contacts(&pr, [rs - d.clearance_m - depth, 0.0], RR);
             assert_eq!(c.len(), 1);
-            check("depth", c[0].depth_m, depth, 1e-14);
-            check("nx", c[0].normal[0], 1.0, 1e-15);
-            check("ny", c[0].normal[1], 0.0, 1e-15);
+            check("depth", c[0].patch.depth_m, depth, 1e-14);
+            check("nx", c[0].patch.normal[0], 1.0, 1e-15);
+            check("ny", c[0].patch.normal[1], 0.0, 1e-15);
             check("px", c[0].point[0], d.root_radius_m, 1e-14);
             check("py", c[0].point[1], 0.0, 1e-15);
-            assert_eq!((c[0].area, c[0].gap, c[0].patch_id), (4, 0, 0));
+            assert_eq!(
+                (c[0].patch.area, c[0].patch.gap, c[0].patch.patch_id),
+                (4, 0, 0)
+            );
         }
         // Same in gap 5, rotated.
         let psi = 5.0 * pr.pitch_angle_rad();
         let r = rs - d.clearance_m - 1e-4;
         let c = contacts(&pr, [r * psi.cos(), r * psi.sin()], RR);
         assert_eq!(c.len(), 1);
-        check("depth gap 5", c[0].depth_m, 1e-4, 1e-13);
+        check("depth gap 5", c[0].patch.depth_m, 1e-4, 1e-13);
         check(
             "n gap 5",
-            dot(c[0].normal, [psi.cos(), psi.sin()]),
+            dot(c[0].patch.normal, [psi.cos(), psi.sin()]),
             1.0,
             1e-14,
         );
-        assert_eq!((c[0].gap, c[0].patch_id), (5, 10));
+        assert_eq!((c[0].patch.gap, c[0].patch.patch_id), (5, 10));
     }
 }
 
@@ -556,17 +548,17 @@ fn rotational_symmetry() {
         assert_eq!(a.len(), b.len(), "at {p:?}");
         seen += a.len();
         for (x, y) in a.iter().zip(&b) {
-            check("depth", y.depth_m, x.depth_m, 1e-12);
+            check("depth", y.patch.depth_m, x.patch.depth_m, 1e-12);
             check(
                 "n",
-                norm(sub(y.normal, rotate(x.normal, phi_p))),
+                norm(sub(y.patch.normal, rotate(x.patch.normal, phi_p))),
                 0.0,
                 1e-12,
             );
             check("q", norm(sub(y.point, rotate(x.point, phi_p))), 0.0, 1e-12);
-            assert_eq!(y.area, x.area);
-            assert_eq!(y.gap, (x.gap + 1).rem_euclid(n));
-            assert_eq!(y.patch_id, (x.patch_id + 2) % (2 * n as u32));
+            assert_eq!(y.patch.area, x.patch.area);
+            assert_eq!(y.patch.gap, (x.patch.gap + 1) % n as u32);
+            assert_eq!(y.patch.patch_id, (x.patch.patch_id + 2) % (2 * n as u32));
         }
         let (sa, qa, aa, ga) = pr.signed_distance(p);
         let (sb, qb, ab, gb) = pr.signed_distance(rotate(p, phi_p));
@@ -598,8 +590,13 @@ fn mirror_symmetry() {
         let b = contacts(&pr, flip(p), RR);
         assert_eq!(a.len(), b.len());
         for (x, y) in a.iter().zip(&b) {
-            check("depth", y.depth_m, x.depth_m, 1e-12);
-            check("n", norm(sub(y.normal, flip(x.normal))), 0.0, 1e-12);
+            check("depth", y.patch.depth_m, x.patch.depth_m, 1e-12);
+            check(
+                "n",
+                norm(sub(y.patch.normal, flip(x.patch.normal))),
+                0.0,
+                1e-12,
+            );
         }
     }
     // Within a gap's local frame: pieces mirror onto pieces.
@@ -650,17 +647,17 @@ fn force_is_continuous_from_seat_over_tip_into_next_gap() {
             let patches = contacts(&pr, c, RR);
             assert_eq!(patches.len(), 1, "N={n} step {k}: {patches:?}");
             let p = patches[0];
-            check("depth", p.depth_m, depth, 1e-9);
-            check("|n|", norm(p.normal), 1.0, 1e-12);
+            check("depth", p.patch.depth_m, depth, 1e-9);
+            check("|n|", norm(p.patch.normal), 1.0, 1e-12);
             // The normal points from the surface point to the centre.
             let to_c = sub(c, p.point);
             check(
                 "n || q->c",
-                norm(sub(scale(p.normal, norm(to_c)), to_c)),
+                norm(sub(scale(p.patch.normal, norm(to_c)), to_c)),
                 0.0,
                 1e-9,
             );
-            let force = scale(p.normal, p.depth_m);
+            let force = scale(p.patch.normal, p.patch.depth_m);
             if let Some((f0, c0)) = prev {
                 assert!(
                     norm(sub(c, c0)) < 1e-4,
@@ -670,16 +667,16 @@ fn force_is_continuous_from_seat_over_tip_into_next_gap() {
                 max_jump = max_jump.max(norm(sub(force, f0)));
             }
             prev = Some((force, c));
-            if areas.last() != Some(&p.area) {
-                areas.push(p.area);
+            if areas.last() != Some(&p.patch.area) {
+                areas.push(p.patch.area);
             }
-            if ids.last() != Some(&p.patch_id) {
+            if ids.last() != Some(&p.patch.patch_id) {
                 assert!(
                     ids.last()
-                        .is_none_or(|&last| pr.patches_are_neighbours(last, p.patch_id)),
+                        .is_none_or(|&last| pr.patches_are_neighbours(last, p.patch.patch_id)),
                     "patch {p:?} after {ids:?}"
                 );
-                ids.push(p.patch_id);
+                ids.push(p.patch.patch_id);
             }
         }
         // The path steps are < 100 µm (mostly ≈ 5 µm); the tightest turn of the normal is in the seat
@@ -710,9 +707,9 @@ fn depth_is_continuous_across_every_joint() {
             for s in -100..=100 {
                 let p = add(base, scale(dir, 1e-7 * f64::from(s)));
                 let c = contacts(&pr, p, RR);
-                let f = c
-                    .iter()
-                    .fold([0.0, 0.0], |acc, x| add(acc, scale(x.normal, x.depth_m)));
+                let f = c.iter().fold([0.0, 0.0], |acc, x| {
+                    add(acc, scale(x.patch.normal, x.patch.depth_m))
+                });
                 if let Some(l) = last {
                     assert!(norm(sub(f, l)) < 1e-6, "jump at joint {k}: {c:?}");
                 }
@@ -731,8 +728,13 @@ fn two_separate_places_give_two_patches() {
     let p = [d.pitch_radius_m + 0.010, 0.0];
     let c = contacts(&pr, p, r);
     assert_eq!(c.len(), 2, "{c:?}");
-    check("equal depths", c[0].depth_m, c[1].depth_m, 1e-12);
-    let mut ids = [c[0].patch_id, c[1].patch_id];
+    check(
+        "equal depths",
+        c[0].patch.depth_m,
+        c[1].patch.depth_m,
+        1e-12,
+    );
+    let mut ids = [c[0].patch.patch_id, c[1].patch.patch_id];
     ids.sort_unstable();
     assert_eq!(ids, [0, 56]);
     assert!(pr.patches_are_neighbours(0, 56));
@@ -741,8 +743,8 @@ fn two_separate_places_give_two_patches() {
         let c = contacts(&pr, [p[0], dy], r);
         assert_eq!(c.len(), 2);
         for x in &c {
-            let id = if x.area >= 5 { 0 } else { 56 };
-            assert_eq!(x.patch_id, id, "{x:?}");
+            let id = if x.patch.area >= 5 { 0 } else { 56 };
+            assert_eq!(x.patch.patch_id, id, "{x:?}");
         }
     }
     // A 40 mm roller wedged between the topping of tooth 0 (area 1) and the opposite
@@ -750,7 +752,7 @@ fn two_separate_places_give_two_patches() {
     let p = pr.to_global_point(0, [-0.002, 0.020]);
     let c = contacts(&pr, p, r);
     assert_eq!(c.len(), 2, "{c:?}");
-    let mut got: Vec<(u8, u32)> = c.iter().map(|x| (x.area, x.patch_id)).collect();
+    let mut got: Vec<(u8, u32)> = c.iter().map(|x| (x.patch.area, x.patch.patch_id)).collect();
     got.sort_unstable();
     assert_eq!(got, vec![(1, 1), (6, 0)]);
     assert!(
@@ -759,10 +761,10 @@ fn two_separate_places_give_two_patches() {
     );
     for x in &c {
         let v = sub(p, x.point);
-        check("depth = r - |p-q|", x.depth_m, r - norm(v), 1e-12);
+        check("depth = r - |p-q|", x.patch.depth_m, r - norm(v), 1e-12);
         check(
             "normal",
-            norm(sub(x.normal, scale(v, 1.0 / norm(v)))),
+            norm(sub(x.patch.normal, scale(v, 1.0 / norm(v)))),
             0.0,
             1e-12,
         );
@@ -787,7 +789,7 @@ fn neighbour_relation_of_patch_ids() {
 #[test]
 fn no_panics_and_non_finite_input() {
     let pr = profile(17);
-    let mut out = [empty_patch(); 2];
+    let mut out = [LocatedPatch::default(); 2];
     for p in [
         [f64::NAN, 0.0],
         [0.0, f64::INFINITY],
@@ -805,9 +807,9 @@ fn no_panics_and_non_finite_input() {
         let p = if k % 7 == 0 { [0.0, 0.0] } else { p };
         let n = pr.contacts(p, RR, &mut out);
         for x in &out[..n] {
-            assert!(x.depth_m > 0.0 && x.depth_m.is_finite());
-            assert!((norm(x.normal) - 1.0).abs() < 1e-9, "{x:?} at {p:?}");
-            assert!((0..17).contains(&x.gap) && (1..=7).contains(&x.area));
+            assert!(x.patch.depth_m > 0.0 && x.patch.depth_m.is_finite());
+            assert!((norm(x.patch.normal) - 1.0).abs() < 1e-9, "{x:?} at {p:?}");
+            assert!((0..17).contains(&x.patch.gap) && (1..=7).contains(&x.patch.area));
         }
         let _ = pr.signed_distance(p);
     }
@@ -815,9 +817,9 @@ fn no_panics_and_non_finite_input() {
 
 /// Compares the fast `contacts` (and `contacts_hinted`) with the previous implementation.
 fn assert_same_as_reference(pr: &AsaProfile, p: V2, r: f64, hint: &mut u32) {
-    let mut want = [empty_patch(); 2];
-    let mut got = [empty_patch(); 2];
-    let mut got_h = [empty_patch(); 2];
+    let mut want = [LocatedPatch::default(); 2];
+    let mut got = [LocatedPatch::default(); 2];
+    let mut got_h = [LocatedPatch::default(); 2];
     let kw = pr.contacts_reference(p, r, &mut want);
     let kg = pr.contacts(p, r, &mut got);
     let kh = pr.contacts_hinted(p, r, hint, &mut got_h);
@@ -831,28 +833,24 @@ fn assert_same_as_reference(pr: &AsaProfile, p: V2, r: f64, hint: &mut u32) {
     assert_eq!(kh, kg, "hinted count at {p:?} r {r}");
     assert_eq!(got_h[..kh], got[..kg], "hinted at {p:?} r {r}");
     if r == 0.5 * pr.dimensions().roller_diameter_m {
-        let mut nominal = [crate::geometry::Patch::default(); 2];
+        let mut nominal = [Patch::default(); 2];
         let kn = pr.contacts_nominal(p, &mut 0, &mut nominal);
         assert_eq!(kn, kg, "nominal count at {p:?}");
         for (a, b) in nominal[..kn].iter().zip(&got[..kg]) {
-            assert_eq!(
-                (a.depth_m, a.normal, a.area, i64::from(a.gap), a.patch_id),
-                (b.depth_m, b.normal, b.area, b.gap, b.patch_id),
-                "nominal at {p:?}"
-            );
+            assert_eq!(*a, b.patch, "nominal at {p:?}");
         }
     }
     for (g, w) in got[..kg].iter().zip(&want[..kw]) {
         assert_eq!(
-            (g.area, g.gap, g.patch_id),
-            (w.area, w.gap, w.patch_id),
+            (g.patch.area, g.patch.gap, g.patch.patch_id),
+            (w.patch.area, w.patch.gap, w.patch.patch_id),
             "labels at {p:?} r {r}: {g:?} vs {w:?}"
         );
         let close = |a: f64, b: f64| (a - b).abs() <= 1e-12;
         assert!(
-            close(g.depth_m, w.depth_m)
-                && close(g.normal[0], w.normal[0])
-                && close(g.normal[1], w.normal[1])
+            close(g.patch.depth_m, w.patch.depth_m)
+                && close(g.patch.normal[0], w.patch.normal[0])
+                && close(g.patch.normal[1], w.patch.normal[1])
                 && close(g.point[0], w.point[0])
                 && close(g.point[1], w.point[1]),
             "values at {p:?} r {r}: {g:?} vs {w:?}"
@@ -881,7 +879,7 @@ fn fast_contacts_match_the_reference_implementation() {
                 _ => RR,
             };
             assert_same_as_reference(&pr, p, r, &mut hint);
-            let mut out = [empty_patch(); 2];
+            let mut out = [LocatedPatch::default(); 2];
             touching += usize::from(pr.contacts(p, r, &mut out) > 0);
             total += 1;
         }
@@ -1004,7 +1002,7 @@ fn direct_rules_match_the_reference_implementation() {
             let mut h = [gap as u32, u32::MAX, hint][(k % 3) as usize];
             assert_same_as_reference(&pr, p, r, &mut h);
             hint = h;
-            let mut out = [empty_patch(); 2];
+            let mut out = [LocatedPatch::default(); 2];
             if pr.contacts(p, r, &mut out) > 0 {
                 contacts_by_rule[rule] += 1;
             }
