@@ -1,5 +1,5 @@
-//! The standard's dimensions of one sprocket and the construction points of one gap
-//! (`tooth-profile.md` §1–§2), with the checks that the construction closes.
+//! The standard's dimensions of one sprocket and the construction points of one gap, with
+//! the checks that the construction closes.
 
 use std::f64::consts::PI;
 

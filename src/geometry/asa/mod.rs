@@ -70,7 +70,7 @@
 //! or the seat bottom between the two flank halves), the point belongs to the neighbour. The
 //! ownership at each shared end is decided by ONE half-plane test (the normal line at the
 //! joint), evaluated identically for both sides, so a point is never claimed twice and never
-//! dropped by rounding.
+//! dropped by rounding (proof: docs/tooth-profile.md, section “Patches and patch ownership”).
 
 mod dimensions;
 mod fast;
@@ -83,7 +83,6 @@ mod tests;
 mod v2;
 
 use std::f64::consts::PI;
-use std::fmt;
 
 use fast::{FastPiece, Found, farthest_from};
 use pieces::{Hit, Piece, gap_pieces, nearest_hit, neighbour_map};
@@ -110,24 +109,28 @@ const CONSISTENCY_TOL_M: f64 = 1e-9;
 const TIE_M: f64 = 1e-15;
 
 /// Why a profile cannot be built.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum AsaError {
     /// Fewer than [`MIN_TEETH`] teeth.
+    #[error("ASA sprocket needs at least {} teeth, got {teeth}", MIN_TEETH)]
     TooFewTeeth {
         /// The requested tooth count.
         teeth: u32,
     },
     /// More than [`MAX_TEETH`] teeth.
+    #[error("ASA sprocket supports at most {} teeth, got {teeth}", MAX_TEETH)]
     TooManyTeeth {
         /// The requested tooth count.
         teeth: u32,
     },
     /// An input that must be finite and positive is not.
+    #[error("{what} must be finite and positive")]
     NonPositive {
         /// Which input.
         what: &'static str,
     },
     /// The seating curves of neighbouring gaps would meet (Dt ≥ P).
+    #[error("seating diameter {seating_diameter_m} m is not smaller than the pitch {pitch_m} m")]
     RollerTooBig {
         /// Seating diameter Dt in metres.
         seating_diameter_m: f64,
@@ -135,43 +138,12 @@ pub enum AsaError {
         pitch_m: f64,
     },
     /// The standard's construction does not give a valid profile for these inputs.
+    #[error("degenerate ASA tooth profile: {reason}")]
     DegenerateProfile {
         /// What failed.
         reason: &'static str,
     },
 }
-
-impl fmt::Display for AsaError {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        match self {
-            AsaError::TooFewTeeth { teeth } => {
-                write!(
-                    f,
-                    "ASA sprocket needs at least {MIN_TEETH} teeth, got {teeth}"
-                )
-            }
-            AsaError::TooManyTeeth { teeth } => {
-                write!(
-                    f,
-                    "ASA sprocket supports at most {MAX_TEETH} teeth, got {teeth}"
-                )
-            }
-            AsaError::NonPositive { what } => write!(f, "{what} must be finite and positive"),
-            AsaError::RollerTooBig {
-                seating_diameter_m,
-                pitch_m,
-            } => write!(
-                f,
-                "seating diameter {seating_diameter_m} m is not smaller than the pitch {pitch_m} m"
-            ),
-            AsaError::DegenerateProfile { reason } => {
-                write!(f, "degenerate ASA tooth profile: {reason}")
-            }
-        }
-    }
-}
-
-impl std::error::Error for AsaError {}
 
 /// A contact patch of [`AsaProfile::contacts`] with the place it touches: the closest
 /// outline point, in the sprocket frame.
@@ -472,8 +444,9 @@ impl AsaProfile {
     /// Speed: a roller outside the tip circle, or in the seat with clearance, is rejected
     /// after one or two products. At the bottom of the gap (seated, or rocked onto a working
     /// curve past x or x*) and in the free space of the gap, direct rules answer with at most
-    /// one square root (`Shortcuts` in the source). Otherwise every piece that is provably farther than the
-    /// radius (by its whole circle or line) is skipped. Once the nearest outline point is
+    /// one square root (docs/tooth-profile.md, sections “Direct rule: bottom of the gap” and
+    /// “Direct rule: free space of the gap”). Otherwise every piece that is provably farther
+    /// than the radius (by its whole circle or line) is skipped. Once the nearest outline point is
     /// known to be in free space (from the nearest evaluated piece, or, when all pieces are
     /// far, from the outline seen as a graph over ξ), a skipped piece can change no result.
     /// A centre inside the material falls back to examining every piece.

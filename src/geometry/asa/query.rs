@@ -22,59 +22,20 @@ pub(super) const JOINT_LINE_MARGIN: f64 = 2e-5;
 pub(super) const BOTTOM_MARGIN_M: f64 = 1e-12;
 
 /// The two direct rules of [`AsaProfile::contacts_hinted`], for the places where almost
-/// every query of a running drive falls: the bottom of the gap (seated rollers, and rollers
-/// rocked onto a working curve just past the joint x or x*), and the free space of the gap
-/// above it. Radius-independent part; [`Reach`] holds the rest.
+/// every query of a running drive falls. Radius-independent part; [`Reach`] holds the rest.
 ///
-/// **Bottom of the gap**: `q` (gap-local) with `min_r ≤ |q| < R_L`, R_L = min(far − reach,
-/// Rt(1 − 10⁻³)). Let s = cos A·η + sin A·|ξ|, the signed distance of `q` from the line
-/// through c, O and x (from its mirror through c*, O, x* when ξ ≤ 0), positive on the
-/// working curve's side. The owning half is the one with ξ > 0 (pieces 2, 3) or ξ ≤ 0
-/// (pieces 5, 4), as the seat-bottom joint decides. Then:
-/// - s ≤ −s_min: the seat foot, depth r − (Rt − |q|), area 4, id 2g;
-/// - s ≥ s_min and the seat bottom farther than min(d_w + margin, reach): the working curve's
-///   foot, depth r − d_w with d_w = RE − |q − c|, area 5 (3), id 2g;
-/// - otherwise the general path.
+/// **Bottom of the gap** (seated rollers, and rollers rocked onto a working curve just past
+/// x or x*): for `min_r ≤ |q| < R_L`, with s = cos A·η + sin A·|ξ| the signed distance of `q`
+/// from the joint line c–O–x (its mirror when ξ ≤ 0), the answer is the owning seat half's
+/// foot when s ≤ −s_min, the working curve's foot when s ≥ s_min and the seat bottom is
+/// farther, else the general path (proof: docs/tooth-profile.md, section “Direct rule: bottom
+/// of the gap”).
 ///
-/// Why this is the general answer:
-/// - Pieces 0, 1, 6, 7 and both neighbouring toppings are at least `far` from O (checked
-///   at construction), so farther than `reach` from `q`: never in contact (a negative
-///   signed distance below −reach fails the consistency test, the nearest own piece having
-///   a positive distance: `q` is deep in the free space of the gap, R_L < Rt), and never
-///   preferred in a patch to a piece in contact (dist ≤ r < reach).
-/// - The line c–O–x is the common normal of the seat and working circles at their tangent
-///   point x. On its seat side, `q` is in the owning seat half's window (its wedge is
-///   bounded by that line and by ξ = 0) and outside the working curve's window, whose
-///   nearest point is then x: |q − x|² − (Rt − |q|)² = 2|q|Rt(1 − cos σ) with |q| sin σ = |s|,
-///   so x is farther than the seat foot by at least s²/(2|q|). On the working side, `q` is
-///   outside the seat's window (which lies on the other side of the line) and inside the
-///   working curve's window (O is on its x edge, and the line c–y is farther than R_L from
-///   O: checked); |q − x|² − (RE − |q − c|)² = 2|q − c|RE(1 − cos σ) gives the margin
-///   s²/(2|q − c|) over x, and the bottom point, the seat half's other end, is checked at
-///   run time. So the owning side's patch (pieces 1–3, resp. 4–6) is the stated foot.
-/// - The other side's patch is empty. Its seat half is not owned (the bottom joint gives
-///   ξ > 0 to piece 3 only) and its nearest point is an end (`q` is outside its wedge). Its
-///   working curve reaches `q` either at the shared joint x*, where the seat half comes
-///   first and wins the tie, or at its foot: `q` is then on that curve's side of its line,
-///   so the angle between q and c* − O is at most π/2 − A, q·(c* − O) ≥ |q||c*| sin A and
-///   |q − c*|² < |c*|² as |q| < 2|c*| sin A (checked): the foot is farther than Rt > reach.
-/// - The teeth patches are far pieces (first point).
-///
-/// **Free space of the gap** (the roller is lifted out of the gap or coming in): `q`
-/// outside the seat's wedge (s > 0 for ξ or for −ξ) and, on both sides (the left side by the
-/// mirror image of `q` against the right side's pieces):
-/// - on the free side of the straight portion's line by more than the reach,
-/// - outside the topping circle by more than the reach,
-/// - inside the working circle by more than the reach, unless `q` is beyond the working
-///   curve's y end (then y, on the straight line, is its nearest point).
-///
-/// Each is a lower bound of the distance to its piece (the seat's nearest point is then x or
-/// x*, on the working circles), so no own piece is within `reach`. And `q` is in free space:
-/// below the outline, within the gap's sector, a point is inside the seat's wedge, or
-/// outside a working circle, or beyond a straight line, or inside a topping circle (checked
-/// over the graph of the outline, see [`SideGraph`]). The nearest outline point then has a
-/// signed distance above the reach, so no candidate is both in contact and consistent with
-/// it, the neighbouring toppings included: the answer is no contact.
+/// **Free space of the gap** (a roller lifted out or coming in): `q` outside the seat's
+/// wedge and, on both sides, farther than the reach from the straight portion's line, the
+/// topping circle and the working circle (unless beyond its y end) has no contact (proof:
+/// docs/tooth-profile.md, section “Direct rule: free space of the gap”; the free side is told
+/// by [`SideGraph`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Shortcuts {
     /// (cos A, sin A): s = cos A·η + sin A·|ξ|.

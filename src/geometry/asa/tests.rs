@@ -1108,5 +1108,13 @@ fn invalid_inputs_are_errors() {
         Err(AsaError::RollerTooBig { .. })
     ));
     let e = AsaError::TooFewTeeth { teeth: 3 };
-    assert!(e.to_string().contains('3'));
+    assert_eq!(e.to_string(), "ASA sprocket needs at least 4 teeth, got 3");
+    let e = AsaError::RollerTooBig {
+        seating_diameter_m: 0.5,
+        pitch_m: 0.25,
+    };
+    assert_eq!(
+        e.to_string(),
+        "seating diameter 0.5 m is not smaller than the pitch 0.25 m"
+    );
 }
