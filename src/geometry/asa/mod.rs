@@ -70,7 +70,7 @@
 //! or the seat bottom between the two flank halves), the point belongs to the neighbour. The
 //! ownership at each shared end is decided by ONE half-plane test (the normal line at the
 //! joint), evaluated identically for both sides, so a point is never claimed twice and never
-//! dropped by rounding (proof: docs/tooth-profile.md, section “Patches and patch ownership”).
+//! dropped by rounding (proof: docs/tooth-profile.md, section “Patch ownership at shared joints”).
 
 mod dimensions;
 mod fast;
@@ -441,15 +441,10 @@ impl AsaProfile {
     /// of the neighbouring topping circles that reach into this gap. The deepest patch is
     /// always the nearest outline point, so `depth = r − signed_distance(p)`.
     ///
-    /// Speed: a roller outside the tip circle, or in the seat with clearance, is rejected
-    /// after one or two products. At the bottom of the gap (seated, or rocked onto a working
-    /// curve past x or x*) and in the free space of the gap, direct rules answer with at most
-    /// one square root (docs/tooth-profile.md, sections “Direct rule: bottom of the gap” and
-    /// “Direct rule: free space of the gap”). Otherwise every piece that is provably farther
-    /// than the radius (by its whole circle or line) is skipped. Once the nearest outline point is
-    /// known to be in free space (from the nearest evaluated piece, or, when all pieces are
-    /// far, from the outline seen as a graph over ξ), a skipped piece can change no result.
-    /// A centre inside the material falls back to examining every piece.
+    /// Speed: the commonest cases (beyond the tips, seated with clearance, the bottom and the
+    /// free space of the gap) are decided by direct rules with at most one square root;
+    /// otherwise the pieces provably farther than the radius are skipped, which changes no
+    /// result (docs/tooth-profile.md, section “The general query”).
     ///
     /// Not examined: the concave parts of the neighbouring gaps. A roller in free space
     /// could only reach them across a whole tooth, i.e. with a radius of the order of the
@@ -541,7 +536,8 @@ impl AsaProfile {
 
     /// Nearest point of the whole outline to the gap-local point `q`, `q` in this gap's
     /// sector. The sector is a union of two mirror half-sectors of the dihedral symmetry,
-    /// so the nearest outline point lies on this gap's own pieces.
+    /// so the nearest outline point lies on this gap's own pieces (docs/tooth-profile.md,
+    /// section “The nearest point lies in the roller's own gap”).
     fn nearest_own(&self, q: V2) -> Hit {
         nearest_hit(&self.own.map(|piece| piece.closest(q)))
     }

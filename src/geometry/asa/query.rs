@@ -168,7 +168,8 @@ impl Reach {
 /// The half outline of one gap (ξ ≥ 0: seat half, working curve, straight, topping) as a
 /// graph η = h(ξ) over 0 ≤ ξ ≤ ξ_f, mirrored for ξ < 0. Within the gap's sector a vertical
 /// line meets the outline once, so a point is in the material exactly when it lies below
-/// the graph (points with |ξ| > ξ_f in the sector are above the tip, in free space).
+/// the graph (points with |ξ| > ξ_f in the sector are above the tip, in free space;
+/// docs/tooth-profile.md, section “The outline as a graph”).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct SideGraph {
     /// ξ of x, y, z and f.
