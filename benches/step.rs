@@ -12,7 +12,7 @@
 use std::hint::black_box;
 
 use chaindrive::forces::ContactLawParams;
-use chaindrive::geometry::asa::AsaProfile;
+use chaindrive::geometry::asa::{AsaProfile, LocatedPatch};
 use chaindrive::geometry::{CircularProfile, Patch};
 use chaindrive::scene::{ProfileKind, Scene, Stepping};
 use chaindrive::sim::{NoObserver, Simulation};
@@ -71,7 +71,7 @@ fn kernels(c: &mut Criterion) {
         ("profile/real_contacts_just_outside", just_outside),
     ] {
         c.bench_function(name, |b| {
-            let mut out = [EMPTY; 2];
+            let mut out = [LocatedPatch::default(); 2];
             let mut hint = 0;
             b.iter(|| real.contacts_hinted(black_box(q), 0.027, &mut hint, &mut out))
         });
@@ -83,15 +83,6 @@ fn kernels(c: &mut Criterion) {
         b.iter(|| real.contacts_nominal(black_box(seated), &mut hint, &mut out))
     });
 }
-
-const EMPTY: chaindrive::geometry::asa::Patch = chaindrive::geometry::asa::Patch {
-    depth_m: 0.0,
-    normal: [0.0; 2],
-    point: [0.0; 2],
-    area: 0,
-    gap: 0,
-    patch_id: 0,
-};
 
 fn steps(c: &mut Criterion) {
     let mut group = c.benchmark_group("paper_drive_step");

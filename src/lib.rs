@@ -18,12 +18,14 @@
 //! ## Pipeline
 //!
 //! The data flows once, forward; each stage lives in one module and never
-//! imports a later one:
+//! imports a later one. [`geometry`] is plain arithmetic that imports nothing
+//! else of the crate, so it is the lowest stage: the scene uses it for the
+//! sprockets' pitch radii and to generate drives whose chain path closes.
 //!
 //! | stage | module | what it does |
 //! |---|---|---|
-//! | scene | [`scene`] | TOML → validated [`scene::Scene`], every error with its field path |
 //! | geometry | [`geometry`] | tooth profiles, chain path (plain/crossed tangents), roller layout |
+//! | scene | [`scene`] | TOML → validated [`scene::Scene`], every error with its field path |
 //! | model | [`model`] | parameters, structure-of-arrays state, rapier bodies |
 //! | forces | [`forces`] | link spring-dampers, contact law, roller–tooth contact generator |
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |

@@ -6,7 +6,7 @@
 //! whose centre lies radially outside the seating centre is free, so it can
 //! leave the gap. The gap is found in O(1) from the roller's polar angle.
 
-use super::{MAX_PATCHES, Patch, pitch_radius, seating_radius};
+use super::{MAX_PATCHES, OutlinePoint, Patch, pitch_radius, seating_radius};
 
 /// One seating arc per gap.
 #[derive(Clone, Debug)]
@@ -148,7 +148,7 @@ impl CircularProfile {
     /// (area 0, not a contact surface; tooth-profile.md §5). Each arc runs
     /// from the gap's clockwise side through its bottom to its
     /// counter-clockwise side.
-    pub fn outline(&self, max_step_rad: f64) -> Vec<super::asa::OutlinePoint> {
+    pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
         use std::f64::consts::PI;
         let step = if max_step_rad.is_finite() && max_step_rad > 0.0 {
             max_step_rad.min(PI / 8.0)
@@ -163,7 +163,7 @@ impl CircularProfile {
             for k in 0..=pieces {
                 // From ψ − π/2 (clockwise side) down to ψ − 3π/2 (counter-clockwise side).
                 let a = psi - 0.5 * PI - PI * k as f64 / pieces as f64;
-                out.push(super::asa::OutlinePoint {
+                out.push(OutlinePoint {
                     x_m: c[0] + self.seating_radius_m * a.cos(),
                     y_m: c[1] + self.seating_radius_m * a.sin(),
                     gap: i64::from(gap),
@@ -182,6 +182,7 @@ impl CircularProfile {
 
 #[cfg(test)]
 mod tests {
+    use super::super::testing::Lcg;
     use super::*;
 
     const P: f64 = 0.0889;
@@ -249,12 +250,12 @@ mod tests {
     fn hinted_gap_equals_atan2_gap() {
         // Oracle: the hint path must agree with the plain atan2 rule everywhere.
         let c = CircularProfile::new(28, P, RR);
-        let mut rng = crate::scene::mutate::Lcg::new(12345);
+        let mut rng = Lcg(12345);
         for _ in 0..20000 {
-            let a = rng.unit() * std::f64::consts::TAU;
-            let r = 0.3 + 0.2 * rng.unit();
+            let a = rng.range(0.0, std::f64::consts::TAU);
+            let r = rng.range(0.3, 0.5);
             let p = [r * a.cos(), r * a.sin()];
-            let hint = rng.below(28) as u32;
+            let hint = rng.range(0.0, 28.0) as u32;
             assert_eq!(c.gap_near(p, hint), c.gap_of(p));
         }
     }

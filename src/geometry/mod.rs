@@ -2,8 +2,10 @@
 //! around the sprockets, and the initial layout of the rollers.
 //!
 //! Everything here is plain arithmetic on `[f64; 2]` points in metres and
-//! radians (counter-clockwise positive). It knows nothing of rapier bodies or
-//! of time stepping; [`crate::model`] builds bodies from it and
+//! radians (counter-clockwise positive). It is the lowest layer of the crate
+//! and imports nothing else of it: it knows nothing of scenes, of rapier
+//! bodies or of time stepping. [`crate::scene`] uses it for pitch radii and
+//! generated drives, [`crate::model`] builds bodies from it and
 //! [`crate::forces`] queries the profiles.
 //!
 //! Sprocket frame: origin at the sprocket centre, gap 0's seating centre on
@@ -14,12 +16,12 @@ pub mod asa;
 mod circular;
 mod layout;
 mod path;
+#[cfg(test)]
+mod testing;
 
 pub use circular::CircularProfile;
 pub use layout::{Layout, LayoutError, layout_rollers};
 pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
-
-use crate::scene::{Chain, ProfileKind, Sprocket};
 
 /// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two
 /// seated roller centres is exactly the pitch.
@@ -33,20 +35,65 @@ pub fn seating_radius(roller_radius_m: f64) -> f64 {
     (1.005 * 2.0 * roller_radius_m + INCH_0_003_M) / 2.0
 }
 
+/// Which tooth profile a sprocket uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum ProfileKind {
+    /// One seating arc per gap (the paper's §2.3).
+    Circular,
+    /// The ASA B29.1 tooth form (the paper's §2.4).
+    Real,
+}
+
+impl ProfileKind {
+    /// The name used in scene files and outputs.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Circular => "circular",
+            Self::Real => "real",
+        }
+    }
+
+    /// Parses a scene-file name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "circular" => Some(Self::Circular),
+            "real" => Some(Self::Real),
+            _ => None,
+        }
+    }
+}
+
+/// One sample of a sprocket outline, in the sprocket frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OutlinePoint {
+    /// x in metres.
+    pub x_m: f64,
+    /// y in metres.
+    pub y_m: f64,
+    /// Gap (0..N) the sampled piece belongs to.
+    pub gap: i64,
+    /// Tooth-profile area of the sampled piece: 1–7 for the real profile; 4 (seating
+    /// arc) or 0 (the segment across a tooth, not a contact surface) for the circular one.
+    pub area: u8,
+}
+
 /// One contact patch between a roller and a tooth outline, in the sprocket frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Patch {
     /// Penetration depth δ > 0, m.
     pub depth_m: f64,
-    /// Unit normal from the closest outline point towards the roller centre:
-    /// the direction of the force on the roller.
+    /// Unit normal from the closest outline point towards the roller centre
+    /// (when the centre is in free space): the direction of the force on the
+    /// roller.
     pub normal: [f64; 2],
-    /// Tooth-profile area (1–7 for the real profile, 4 for the circular seat).
+    /// Tooth-profile area of the piece that holds the closest point (1–7 for
+    /// the real profile, 4 for the circular seat).
     pub area: u8,
-    /// Gap index in 0..N.
+    /// Gap (0..N) whose piece holds the closest point.
     pub gap: u32,
     /// Identity of the contact patch: constant while a roller slides along
-    /// tangent-continuous pieces, different for separate places.
+    /// tangent-continuous pieces, different for separate places (the real
+    /// profile's ids are described in [`asa`]).
     pub patch_id: u32,
 }
 
@@ -102,18 +149,25 @@ pub enum ToothProfile {
 }
 
 impl ToothProfile {
-    /// Builds the profile of a sprocket.
-    pub fn new(sprocket: &Sprocket, chain: &Chain) -> Result<Self, asa::AsaError> {
-        Ok(match sprocket.profile {
-            ProfileKind::Circular => Self::Circular(CircularProfile::new(
-                sprocket.teeth,
-                chain.pitch_m,
-                chain.roller_radius_m,
-            )),
+    /// Builds the profile of kind `kind` for a sprocket with `teeth` teeth and
+    /// a chain of pitch `pitch_m` and roller radius `roller_radius_m`.
+    ///
+    /// # Errors
+    /// [`asa::AsaError`] when the real profile cannot be built for these inputs.
+    pub fn new(
+        kind: ProfileKind,
+        teeth: u32,
+        pitch_m: f64,
+        roller_radius_m: f64,
+    ) -> Result<Self, asa::AsaError> {
+        Ok(match kind {
+            ProfileKind::Circular => {
+                Self::Circular(CircularProfile::new(teeth, pitch_m, roller_radius_m))
+            }
             ProfileKind::Real => Self::Real(Box::new(asa::AsaProfile::new(
-                sprocket.teeth,
-                chain.pitch_m,
-                2.0 * chain.roller_radius_m,
+                teeth,
+                pitch_m,
+                2.0 * roller_radius_m,
             )?)),
         })
     }
@@ -131,7 +185,7 @@ impl ToothProfile {
 
     /// The whole outline in the sprocket frame, counter-clockwise, arcs
     /// sampled at ≤ `max_step_rad` (for drawing, colliders and the outline CSV).
-    pub fn outline(&self, max_step_rad: f64) -> Vec<asa::OutlinePoint> {
+    pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
         match self {
             Self::Circular(c) => c.outline(max_step_rad),
             Self::Real(r) => r.outline(max_step_rad),

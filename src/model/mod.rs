@@ -192,10 +192,12 @@ impl DriveModel {
             .iter()
             .enumerate()
             .map(|(i, s)| {
-                ToothProfile::new(s, chain).map_err(|source| BuildError::Profile {
-                    sprocket: i,
-                    source,
-                })
+                ToothProfile::new(s.profile, s.teeth, chain.pitch_m, chain.roller_radius_m).map_err(
+                    |source| BuildError::Profile {
+                        sprocket: i,
+                        source,
+                    },
+                )
             })
             .collect::<Result<_, _>>()?;
         let pitch_circles: Vec<PathCircle> = scene

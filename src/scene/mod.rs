@@ -14,6 +14,7 @@ pub mod mutate;
 pub use error::{FieldError, SceneError, locate};
 pub use file::{ChainFile, ContactFile, EquilibriumFile, SceneFile, SolverFile, SprocketFile};
 
+pub use crate::geometry::ProfileKind;
 use crate::geometry::pitch_radius;
 
 /// The most sprockets a drive may have (the contact generator keeps each
@@ -22,34 +23,6 @@ pub const MAX_SPROCKETS: usize = 64;
 
 /// The paper's drive (MAN B&W L60MC camshaft chain), embedded as the default scene.
 pub const L60MC_TOML: &str = include_str!("../../assets/l60mc.toml");
-
-/// Which tooth profile a sprocket uses.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ProfileKind {
-    /// One seating arc per gap (the paper's §2.3).
-    Circular,
-    /// The ASA B29.1 tooth form (the paper's §2.4).
-    Real,
-}
-
-impl ProfileKind {
-    /// The name used in scene files and outputs.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Circular => "circular",
-            Self::Real => "real",
-        }
-    }
-
-    /// Parses a scene-file name.
-    pub fn parse(s: &str) -> Option<Self> {
-        match s {
-            "circular" => Some(Self::Circular),
-            "real" => Some(Self::Real),
-            _ => None,
-        }
-    }
-}
 
 /// Contact laws of the Hunt–Crossley family `K δⁿ (1 + χ δ̇/δ̇⁻)` (MODEL.md §3).
 ///
