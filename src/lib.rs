@@ -165,3 +165,4 @@ pub mod model;
 pub mod record;
 pub mod scene;
 pub mod sim;
+pub mod studies;

@@ -1,5 +1,5 @@
 //! `chaindrive bench work-precision`: wall time against error for every
-//! integrator (see `chaindrive::analysis::work_precision` for the measure).
+//! integrator (see `chaindrive::studies::work_precision` for the measure).
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use chaindrive::analysis::figures::{Mark, Plot, Trace, save};
-use chaindrive::analysis::work_precision::{Settings, WorkPrecision, study};
+use chaindrive::studies::work_precision::{Settings, WorkPrecision, study};
 
 /// Arguments of `chaindrive bench work-precision`.
 #[derive(clap::Args)]
