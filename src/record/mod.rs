@@ -37,10 +37,13 @@
 //! that unwinds. A process killed outright (SIGKILL) loses the unfinished
 //! chunk and the footer.
 //!
+//! Reading a recording back is [`read`]'s job.
+//!
 //! What it does not do: decimate on its own (it records every sample the run
 //! hands it) or stream to a live viewer.
 
 mod messages;
+pub mod read;
 mod visual;
 
 pub use messages::{
