@@ -68,8 +68,8 @@ pub use cells::{
     all_integrators, big_chain_integrators, core_integrators, default_matrix, quick_matrix,
 };
 pub use output::{
-    BLOWUPS_CSV_HEADER, CSV_HEADER, LIMITS_CSV_HEADER, RollerCost, blowup_csv_rows, csv_rows,
-    first_failure, limits_csv_rows, num, roller_costs,
+    BLOWUPS_CSV_HEADER, BlowupRow, CSV_HEADER, LIMITS_CSV_HEADER, LimitRow, RollerCost, RunRow,
+    blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, num, roller_costs,
 };
 
 use crate::scene::generate::GenerateError;
