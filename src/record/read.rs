@@ -15,7 +15,7 @@
 //!
 //! Only the samples present on every channel read are kept. The messages
 //! are decoded with `prost`: Foxglove's own types for its schemas
-//! (`foxglove.PointCloud`), mirrors of [`super::messages`]' derived schemas
+//! (`foxglove.PointCloud`), mirrors of the derived schemas of [`super::SegmentSignals`] and its kin
 //! for the run's signals (field numbers in declaration order). A file cut
 //! short (a killed run) yields what precedes the damage.
 //!

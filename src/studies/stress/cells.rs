@@ -5,7 +5,7 @@ use super::{Case, StressError};
 use crate::scene::generate::DriveSpec;
 use crate::scene::{Integrator, L60MC_TOML, ProfileKind, Scene, SceneFile};
 /// Every integrator.
-pub fn all_integrators() -> Vec<Integrator> {
+pub(crate) fn all_integrators() -> Vec<Integrator> {
     Integrator::ALL.iter().map(|(_, i)| *i).collect()
 }
 
@@ -13,7 +13,7 @@ pub fn all_integrators() -> Vec<Integrator> {
 /// ones (RK4's and Dormand–Prince's per-roller cost is read from the
 /// 1,000-roller cells; on 10,000 rollers their ladders alone would take
 /// several minutes).
-pub fn big_chain_integrators() -> Vec<Integrator> {
+pub(crate) fn big_chain_integrators() -> Vec<Integrator> {
     vec![
         Integrator::SymplecticEuler,
         Integrator::VelocityVerlet,
@@ -26,7 +26,7 @@ pub fn big_chain_integrators() -> Vec<Integrator> {
 /// 1200 rpm keeps all five for the comparison): velocity Verlet's limit equals symplectic
 /// Euler's on every cheaper cell, and the adaptive scheme costs some 1.7 s
 /// per simulated second on the baseline already.
-pub fn core_integrators() -> Vec<Integrator> {
+pub(crate) fn core_integrators() -> Vec<Integrator> {
     vec![
         Integrator::SymplecticEuler,
         Integrator::Rk4,

@@ -64,12 +64,10 @@ mod output;
 
 use std::time::Instant;
 
-pub use cells::{
-    all_integrators, big_chain_integrators, core_integrators, default_matrix, quick_matrix,
-};
+pub use cells::{default_matrix, quick_matrix};
 pub use output::{
     BLOWUPS_CSV_HEADER, BlowupRow, CSV_HEADER, LIMITS_CSV_HEADER, LimitRow, RollerCost, RunRow,
-    blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, num, roller_costs,
+    blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, roller_costs,
 };
 
 use crate::scene::generate::GenerateError;
@@ -464,7 +462,7 @@ pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s:
 }
 
 /// The adaptive scheme's first rung (5 µs × 1.5⁴ ≈ 25 µs on the default ladder).
-pub const ADAPTIVE_FIRST_RUNG: i32 = 4;
+pub(crate) const ADAPTIVE_FIRST_RUNG: i32 = 4;
 
 /// Runs one integrator's ladder on a settled cell; `report` sees every run.
 pub fn run_ladder(

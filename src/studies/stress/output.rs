@@ -15,8 +15,8 @@ pub const LIMITS_CSV_HEADER: &str = "case,rollers,sprockets,profile,integrator,e
 /// The column header of `stress_blowups.csv` (one row per unstable run).
 pub const BLOWUPS_CSV_HEADER: &str = "case,integrator,dt_s,detector,t_s,body,value,limit";
 
-/// One row of `stress.csv`: one run. Numbers are already formatted
-/// ([`num`]), so the file holds no float noise; the column names are the
+/// One row of `stress.csv`: one run. Numbers are already formatted (up to
+/// 6 significant digits, `7.5e-6` rather than `7.500000000000001e-6`); the column names are the
 /// field names ([`CSV_HEADER`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RunRow {
@@ -74,7 +74,7 @@ pub fn csv_rows(result: &CaseResult) -> Vec<RunRow> {
 
 /// A number in the CSVs: up to 6 significant digits, no float noise
 /// (`7.5e-6`, not `7.500000000000001e-6`).
-pub fn num(x: f64) -> String {
+pub(crate) fn num(x: f64) -> String {
     if x == 0.0 || !x.is_finite() {
         return format!("{x}");
     }
