@@ -14,9 +14,10 @@
 //!   and position.
 //!
 //! Only the samples present on every channel read are kept. The messages
-//! are decoded with `prost`: Foxglove's own types for its schemas
-//! (`foxglove.PointCloud`), mirrors of the derived schemas of [`super::SegmentSignals`] and its kin
-//! for the run's signals (field numbers in declaration order). A file cut
+//! are decoded with `prost`: Foxglove's own type for its schema
+//! (`foxglove.PointCloud`), and for the run's signals mirrors of the schemas
+//! derived from [`super::SegmentSignals`] and its kin (field numbers in
+//! declaration order). A file cut
 //! short (a killed run) yields what precedes the damage.
 //!
 //! What it does not do: rebuild the drive or measure anything (that is
