@@ -561,7 +561,7 @@ mod tests {
     use super::*;
 
     #[test]
-    fn wire_reader_reads_packed_and_unpacked_doubles() {
+    fn forces_decode_from_packed_and_unpacked_doubles() {
         // field 1 = 1.5 (fixed64), field 2 = [2.0] unpacked, field 2 = [3.0, 4.0] packed.
         let mut buf = vec![0x09];
         buf.extend(1.5f64.to_le_bytes());
