@@ -8,7 +8,7 @@
 //! ```
 
 use chaindrive::analysis::figures::{FigureChoice, paper_figures};
-use chaindrive::analysis::reproduce::{
+use chaindrive::studies::reproduce::{
     Findings, StudySettings, report_markdown, run_paper_study, summaries_json,
 };
 

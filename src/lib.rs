@@ -31,6 +31,7 @@
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |
 //! | co-simulation | [`cosim`] | the drive inside a user's rapier world, stepped at the user's dt |
 //! | analysis | [`analysis`] | sampled signals, spectra, run summary, analytical references |
+//! | studies | [`studies`] | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
 //!
 //! ## Quick start
 //!
@@ -167,3 +168,4 @@ pub mod model;
 pub mod record;
 pub mod scene;
 pub mod sim;
+pub mod studies;

@@ -14,13 +14,10 @@ pub mod binder;
 pub mod figures;
 #[cfg(feature = "record")]
 pub mod recorded;
-pub mod reproduce;
 pub mod spectrum;
-pub mod stress;
 pub mod study;
 mod summary;
 pub mod theory;
-pub mod work_precision;
 
 pub use summary::{RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs};
 

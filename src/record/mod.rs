@@ -37,10 +37,13 @@
 //! that unwinds. A process killed outright (SIGKILL) loses the unfinished
 //! chunk and the footer.
 //!
+//! Reading a recording back is [`read`]'s job.
+//!
 //! What it does not do: decimate on its own (it records every sample the run
 //! hands it) or stream to a live viewer.
 
 mod messages;
+pub mod read;
 mod visual;
 
 pub use messages::{
@@ -116,42 +119,51 @@ impl Channel {
             Self::Segments => "/segments",
         }
     }
-
-    fn bit(self) -> u8 {
-        1 << (self as u8)
-    }
 }
 
 /// Topic of the static scene, written once at the first sample.
 pub const STATIC_SCENE_TOPIC: &str = "/scene/static";
 
-/// A set of channels.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Channels(u8);
+bitflags::bitflags! {
+    /// A set of channels, one flag per [`Channel`] (`Channels::from(c)`).
+    #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+    pub struct Channels: u8 {
+        /// [`Channel::Scene`].
+        const SCENE = 1 << 0;
+        /// [`Channel::Transforms`].
+        const TRANSFORMS = 1 << 1;
+        /// [`Channel::Rollers`].
+        const ROLLERS = 1 << 2;
+        /// [`Channel::Links`].
+        const LINKS = 1 << 3;
+        /// [`Channel::Contacts`].
+        const CONTACTS = 1 << 4;
+        /// [`Channel::Sprockets`].
+        const SPROCKETS = 1 << 5;
+        /// [`Channel::Segments`].
+        const SEGMENTS = 1 << 6;
+    }
+}
+
+impl From<Channel> for Channels {
+    fn from(c: Channel) -> Self {
+        match c {
+            Channel::Scene => Self::SCENE,
+            Channel::Transforms => Self::TRANSFORMS,
+            Channel::Rollers => Self::ROLLERS,
+            Channel::Links => Self::LINKS,
+            Channel::Contacts => Self::CONTACTS,
+            Channel::Sprockets => Self::SPROCKETS,
+            Channel::Segments => Self::SEGMENTS,
+        }
+    }
+}
 
 impl Channels {
-    /// No channel.
-    pub const NONE: Self = Self(0);
-
-    /// Every channel.
-    pub fn all() -> Self {
-        Channel::ALL.iter().fold(Self::NONE, |s, &c| s.with(c))
-    }
-
-    /// This set plus `c`.
-    pub fn with(self, c: Channel) -> Self {
-        Self(self.0 | c.bit())
-    }
-
-    /// Whether `c` is in the set.
-    pub fn contains(self, c: Channel) -> bool {
-        self.0 & c.bit() != 0
-    }
-
     /// Parses a comma-separated list of channel names (`all` for every
     /// channel), e.g. `scene,sprockets,segments`.
     pub fn parse(list: &str) -> Result<Self, RecordError> {
-        let mut set = Self::NONE;
+        let mut set = Self::empty();
         for name in list.split(',').map(str::trim).filter(|n| !n.is_empty()) {
             if name == "all" {
                 set = Self::all();
@@ -161,9 +173,9 @@ impl Channels {
                 .iter()
                 .find(|c| c.name() == name)
                 .ok_or_else(|| RecordError::UnknownChannel(name.to_owned()))?;
-            set = set.with(*c);
+            set |= Self::from(*c);
         }
-        if set == Self::NONE {
+        if set.is_empty() {
             return Err(RecordError::UnknownChannel(list.to_owned()));
         }
         Ok(set)
@@ -488,7 +500,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         let channels = options.channels;
         let mut ids = ChannelIds::default();
         for (slot, &c) in ids.per_sample.iter_mut().zip(&Channel::ALL) {
-            if !channels.contains(c) {
+            if !channels.contains(c.into()) {
                 continue;
             }
             let topic = c.topic();
@@ -658,7 +670,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
         if !self.started {
             self.started = true;
             let static_scene = ch
-                .contains(Channel::Scene)
+                .contains(Channels::SCENE)
                 .then(|| Box::new(visual::static_scene(&self.scene, s.model, t_ns)));
             let centers_m = s.model.sprockets.iter().map(|s| s.center_m).collect();
             self.send(Job::Start {
@@ -667,7 +679,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                 centers_m,
             });
         }
-        let wants = |c: &[Channel]| c.iter().any(|&c| ch.contains(c));
+        let wants = |c: &[Channel]| c.iter().any(|&c| ch.contains(c.into()));
         let copy = |yes: bool, v: &[f64]| if yes { v.to_vec() } else { Vec::new() };
         let positions = wants(&[Channel::Scene, Channel::Rollers]);
         let mut frame = Frame {
@@ -682,7 +694,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
             segments: Vec::new(),
         };
-        if ch.contains(Channel::Segments) {
+        if ch.contains(Channels::SEGMENTS) {
             let segments = &s.model.segments;
             self.segment_force.resize(segments.len(), None);
             segments.mean_forces(
@@ -708,5 +720,28 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             self.frames += 1;
             self.last_t_ns = t_ns;
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_channel_has_its_own_flag_and_all_holds_them() {
+        let union = Channel::ALL
+            .iter()
+            .fold(Channels::empty(), |s, &c| s | Channels::from(c));
+        assert_eq!(union, Channels::all());
+        let bits: u32 = Channel::ALL
+            .iter()
+            .map(|&c| Channels::from(c).bits().count_ones())
+            .sum();
+        assert_eq!(bits, Channel::ALL.len() as u32);
+        assert_eq!(
+            Channels::parse("segments, sprockets").ok(),
+            Some(Channels::SEGMENTS | Channels::SPROCKETS)
+        );
+        assert_eq!(Channels::parse("all").ok(), Some(Channels::all()));
     }
 }

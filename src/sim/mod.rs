@@ -9,7 +9,6 @@
 
 mod energy;
 mod equilibrium;
-pub mod fuzz;
 pub mod integrate;
 mod stepper;
 

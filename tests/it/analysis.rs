@@ -214,10 +214,10 @@ fn reproduce_rejects_bad_indices_and_durations_before_running() {
 #[test]
 fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
     use chaindrive::analysis::figures::{FigureChoice, Mark, Plot, Trace, paper_figures, save};
-    use chaindrive::analysis::reproduce::run_scene;
     use chaindrive::analysis::study::{
         AnalysisError, link_force_series, roller_contact_series, segment_force_series,
     };
+    use chaindrive::studies::reproduce::run_scene;
     let data = run_scene("circular", &crate::l60mc(0.2), 1000.0, None).expect("short run");
     let e = segment_force_series(&data, 5, [0.0, 0.2]).expect_err("segment 5");
     assert_eq!(

@@ -4,7 +4,7 @@
 //! `chaindrive bench fuzz --cases N`.
 
 use chaindrive::scene::L60MC_TOML;
-use chaindrive::sim::fuzz::{FuzzOutcome, run_case};
+use chaindrive::studies::fuzz::{FuzzOutcome, run_case};
 
 #[test]
 fn mutated_scenes_never_panic_and_explain_themselves() {

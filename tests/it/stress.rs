@@ -3,9 +3,9 @@
 
 use std::process::Command;
 
-use chaindrive::analysis::stress::CSV_HEADER;
 use chaindrive::scene::generate::DriveSpec;
 use chaindrive::sim::Simulation;
+use chaindrive::studies::stress::CSV_HEADER;
 
 /// The exact header of `stress.csv`, as issue 7 specifies it.
 const HEADER: &str = "case,rollers,sprockets,rpm,e,damping_ratio,kg,profile,integrator,dt_s,stable,detector,wall_per_sim_s";

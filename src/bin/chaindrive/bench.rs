@@ -6,12 +6,16 @@
 //! - `fuzz`: thousands of mutated scene files through parse, layout,
 //!   equilibrium and a short run (the property test runs a few hundred).
 //! - `stress`: the stress matrix (`super::stress`).
+//!
+//! The studies themselves live in `chaindrive::studies`; this file parses the
+//! arguments and prints.
 
 use std::process::ExitCode;
 
 use chaindrive::scene::{L60MC_TOML, ProfileKind, Scene};
-use chaindrive::sim::fuzz::{FuzzOutcome, run_case};
-use chaindrive::sim::{Observer, Sample, Simulation};
+use chaindrive::sim::Simulation;
+use chaindrive::studies::fuzz::{FuzzOutcome, run_case};
+use chaindrive::studies::soak::Soak;
 
 /// Arguments of `chaindrive bench`.
 #[derive(clap::Args)]
@@ -67,73 +71,6 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
     }
 }
 
-/// Per-window sums.
-#[derive(Clone, Default)]
-struct Window {
-    samples: usize,
-    omega_sum: Vec<f64>,
-    force_sum: Vec<f64>,
-    force_count: Vec<usize>,
-    max_penetration_m: f64,
-}
-
-struct SoakObserver {
-    window_s: f64,
-    windows: Vec<Window>,
-    scratch: Vec<Option<f64>>,
-}
-
-impl SoakObserver {
-    fn current(&mut self, t_s: f64, sprockets: usize, segments: usize) -> &mut Window {
-        let k = ((t_s - 1e-12) / self.window_s).floor().max(0.0) as usize;
-        while self.windows.len() <= k {
-            self.windows.push(Window {
-                omega_sum: vec![0.0; sprockets],
-                force_sum: vec![0.0; segments],
-                force_count: vec![0; segments],
-                ..Window::default()
-            });
-        }
-        &mut self.windows[k]
-    }
-}
-
-impl Observer for SoakObserver {
-    fn sample(&mut self, s: &Sample<'_>) {
-        let st = s.state;
-        let mut scratch = std::mem::take(&mut self.scratch);
-        s.model.segments.mean_forces(
-            &st.x,
-            &st.y,
-            &s.forces.link_force,
-            &s.forces.touching,
-            &mut scratch,
-        );
-        let w = self.current(st.t_s, st.omega.len(), scratch.len());
-        w.samples += 1;
-        for (sum, omega) in w.omega_sum.iter_mut().zip(&st.omega) {
-            *sum += omega;
-        }
-        for (k, f) in scratch.iter().enumerate() {
-            if let Some(f) = f {
-                w.force_sum[k] += f;
-                w.force_count[k] += 1;
-            }
-        }
-        self.scratch = scratch;
-    }
-
-    fn step(&mut self, s: &Sample<'_>) {
-        let pen = s.forces.max_penetration_m;
-        let w = self.current(s.state.t_s, s.state.omega.len(), s.model.segments.len());
-        w.max_penetration_m = w.max_penetration_m.max(pen);
-    }
-
-    fn per_step_from_s(&self) -> f64 {
-        0.0
-    }
-}
-
 fn soak(
     duration: f64,
     window: f64,
@@ -155,11 +92,7 @@ fn soak(
         scene.solver.dt_s = dt;
     }
     let mut sim = Simulation::new(&scene)?;
-    let mut obs = SoakObserver {
-        window_s: window,
-        windows: Vec::new(),
-        scratch: vec![None; sim.model.segments.len()],
-    };
+    let mut obs = Soak::new(window, sim.model.segments.len());
     let every = (1e-3 / scene.solver.dt_s).round().max(1.0) as u64;
     let started = std::time::Instant::now();
     let outcome = sim.run(duration, every, &mut obs, None)?;
@@ -182,8 +115,7 @@ fn soak(
     }
     println!("  max_penetration_um");
     for (i, w) in obs.windows.iter().enumerate() {
-        let n = w.samples.max(1) as f64;
-        let omega: Vec<f64> = w.omega_sum.iter().map(|s| s / n).collect();
+        let omega = w.mean_omega_rad_s();
         print!(
             "{:>5.0}–{:<5.0}",
             i as f64 * window,
@@ -199,11 +131,8 @@ fn soak(
             };
             print!("  {err:>15.1}");
         }
-        for (sum, count) in w.force_sum.iter().zip(&w.force_count) {
-            print!(
-                "  {:>11.0}",
-                if *count > 0 { sum / *count as f64 } else { 0.0 }
-            );
+        for f in w.mean_force_n() {
+            print!("  {f:>11.0}");
         }
         println!("  {:>18.1}", w.max_penetration_m * 1e6);
     }

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use chaindrive::analysis::figures::{FigureChoice, paper_figures};
-use chaindrive::analysis::reproduce::{
+use chaindrive::studies::reproduce::{
     Findings, StudySettings, report_markdown, run_paper_study, summaries_json,
 };
 

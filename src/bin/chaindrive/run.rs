@@ -68,31 +68,30 @@ pub struct RunArgs {
 /// run keeps every row already computed.
 struct CliObserver {
     signals: Signals,
-    csv: Option<BufWriter<File>>,
+    csv: Option<csv::Writer<File>>,
     csv_error: Option<std::io::Error>,
     progress: Option<indicatif::ProgressBar>,
     recorder: Option<Recorder<BufWriter<File>>>,
 }
 
 impl CliObserver {
-    fn write_row(&mut self) -> std::io::Result<()> {
+    /// The latest sample as a series row; numbers as Rust prints them
+    /// (shortest round-trip), an absent segment force as an empty field.
+    fn write_row(&mut self) -> csv::Result<()> {
         let (Some(csv), Some(row)) = (self.csv.as_mut(), self.signals.rows.last()) else {
             return Ok(());
         };
-        write!(csv, "{}", row.t_s)?;
+        csv.write_field(row.t_s.to_string())?;
         for w in &row.omega_rad_s {
-            write!(csv, ",{w}")?;
+            csv.write_field(w.to_string())?;
         }
         for f in &row.segment_force_n {
-            match f {
-                Some(f) => write!(csv, ",{f}")?,
-                None => write!(csv, ",")?,
-            }
+            csv.write_field(f.map(|f| f.to_string()).unwrap_or_default())?;
         }
         for d in &row.transverse_m {
-            write!(csv, ",{d}")?;
+            csv.write_field(d.to_string())?;
         }
-        writeln!(csv)
+        csv.write_record(None::<&[u8]>)
     }
 }
 
@@ -105,7 +104,7 @@ impl Observer for CliObserver {
         if self.csv_error.is_none()
             && let Err(e) = self.write_row()
         {
-            self.csv_error = Some(e);
+            self.csv_error = Some(io_error(e));
         }
         if let Some(p) = &self.progress {
             p.set_position((s.state.t_s * 1000.0) as u64);
@@ -119,10 +118,20 @@ impl Observer for CliObserver {
     }
 }
 
+fn create_file(path: &PathBuf, what: &str) -> anyhow::Result<File> {
+    File::create(path).with_context(|| format!("cannot write the {what} to {}", path.display()))
+}
+
 fn create(path: &PathBuf, what: &str) -> anyhow::Result<BufWriter<File>> {
-    File::create(path)
-        .map(BufWriter::new)
-        .with_context(|| format!("cannot write the {what} to {}", path.display()))
+    create_file(path, what).map(BufWriter::new)
+}
+
+/// The I/O error under a CSV writer's error (the only kind writing text fields can meet).
+fn io_error(e: csv::Error) -> std::io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(e) => e,
+        other => std::io::Error::other(format!("{other:?}")),
+    }
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
@@ -196,10 +205,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .as_ref()
         .map(|p| create(p, "summary"))
         .transpose()?;
+    // Numbers are written as text: csv's own float formatting (ryu) would
+    // print `1.0` and `1e-5` where the series has always had `1` and `0.00001`.
     let csv = args
         .series
         .as_ref()
-        .map(|p| create(p, "series"))
+        .map(|p| create_file(p, "series").map(csv::Writer::from_writer))
         .transpose()?;
     let recorder = args
         .record
@@ -250,7 +261,7 @@ fn simulate(
     args: &RunArgs,
     scene: chaindrive::scene::Scene,
     mut summary_file: Option<BufWriter<File>>,
-    mut csv: Option<BufWriter<File>>,
+    mut csv: Option<csv::Writer<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
 ) -> anyhow::Result<ExitCode> {
     // Ctrl-C/SIGTERM from here on end the run cleanly (also during the static
@@ -280,17 +291,12 @@ fn simulate(
     let rate_hz = 1.0 / (sample_every as f64 * scene.solver.dt_s);
     let duration = scene.solver.duration_s;
     if let Some(csv) = csv.as_mut() {
-        write!(csv, "t_s")?;
-        for i in 1..=scene.sprockets.len() {
-            write!(csv, ",omega_{i}_rad_s")?;
-        }
-        for k in 1..=sim.model.segments.len() {
-            write!(csv, ",seg{k}_link_force_n")?;
-        }
-        for k in 1..=sim.model.segments.len() {
-            write!(csv, ",seg{k}_transverse_m")?;
-        }
-        writeln!(csv)?;
+        let segments = 1..=sim.model.segments.len();
+        let header = std::iter::once("t_s".to_owned())
+            .chain((1..=scene.sprockets.len()).map(|i| format!("omega_{i}_rad_s")))
+            .chain(segments.clone().map(|k| format!("seg{k}_link_force_n")))
+            .chain(segments.map(|k| format!("seg{k}_transverse_m")));
+        csv.write_record(header).map_err(io_error)?;
     }
     let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
         let p = indicatif::ProgressBar::new((duration * 1000.0) as u64);

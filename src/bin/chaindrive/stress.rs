@@ -1,4 +1,4 @@
-//! `chaindrive bench stress`: the stress matrix of [`chaindrive::analysis::stress`].
+//! `chaindrive bench stress`: the stress matrix of [`chaindrive::studies::stress`].
 //!
 //! Progress goes to stderr, one line per ladder and per cell; the tables and
 //! findings to stdout; `DIR/stress.csv` (one row per run),
@@ -7,7 +7,6 @@
 //! are written cell by cell, so an interrupted matrix leaves what it did.
 
 use std::fs::File;
-use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -15,7 +14,7 @@ use std::sync::mpsc;
 use std::time::Instant;
 
 use anyhow::Context;
-use chaindrive::analysis::stress::{
+use chaindrive::studies::stress::{
     BLOWUPS_CSV_HEADER, CSV_HEADER, CaseResult, LIMITS_CSV_HEADER, Ladder, Progress,
     blowup_csv_rows, csv_rows, default_matrix, first_failure, limits_csv_rows, quick_matrix,
     roller_costs, run_case,
@@ -40,20 +39,23 @@ pub struct StressArgs {
 }
 
 struct Outputs {
-    runs: BufWriter<File>,
-    limits: BufWriter<File>,
-    blowups: BufWriter<File>,
+    runs: csv::Writer<File>,
+    limits: csv::Writer<File>,
+    blowups: csv::Writer<File>,
 }
 
 impl Outputs {
     fn create(dir: &Path) -> anyhow::Result<Self> {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-        let open = |name: &str, header: &str| -> anyhow::Result<BufWriter<File>> {
+        // The header first, even for a file that gets no row.
+        let open = |name: &str, header: &str| -> anyhow::Result<csv::Writer<File>> {
             let path = dir.join(name);
-            let mut w = BufWriter::new(
-                File::create(&path).with_context(|| format!("cannot create {}", path.display()))?,
-            );
-            writeln!(w, "{header}")?;
+            let file =
+                File::create(&path).with_context(|| format!("cannot create {}", path.display()))?;
+            let mut w = csv::WriterBuilder::new()
+                .has_headers(false)
+                .from_writer(file);
+            w.write_record(header.split(','))?;
             Ok(w)
         };
         Ok(Self {
@@ -63,18 +65,21 @@ impl Outputs {
         })
     }
 
+    /// Appends a cell's rows and flushes, so an interrupted matrix leaves what it did.
     fn append(&mut self, r: &CaseResult) -> anyhow::Result<()> {
-        for (w, rows) in [
-            (&mut self.runs, csv_rows(r)),
-            (&mut self.limits, limits_csv_rows(r)),
-            (&mut self.blowups, blowup_csv_rows(r)),
-        ] {
+        fn rows<T: serde::Serialize>(
+            w: &mut csv::Writer<File>,
+            rows: Vec<T>,
+        ) -> anyhow::Result<()> {
             for row in rows {
-                writeln!(w, "{row}")?;
+                w.serialize(row)?;
             }
             w.flush()?;
+            Ok(())
         }
-        Ok(())
+        rows(&mut self.runs, csv_rows(r))?;
+        rows(&mut self.limits, limits_csv_rows(r))?;
+        rows(&mut self.blowups, blowup_csv_rows(r))
     }
 }
 

@@ -1,5 +1,5 @@
 //! `chaindrive bench work-precision`: wall time against error for every
-//! integrator (see `chaindrive::analysis::work_precision` for the measure).
+//! integrator (see `chaindrive::studies::work_precision` for the measure).
 
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use chaindrive::analysis::figures::{Mark, Plot, Trace, save};
-use chaindrive::analysis::work_precision::{Settings, WorkPrecision, study};
+use chaindrive::studies::work_precision::{Settings, WorkPrecision, study};
 
 /// Arguments of `chaindrive bench work-precision`.
 #[derive(clap::Args)]
@@ -95,7 +95,7 @@ pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
     })
     .context("work-precision study")?;
     let csv = args.out.join("work_precision.csv");
-    std::fs::write(&csv, to_csv(&result))
+    std::fs::write(&csv, to_csv(&result)?)
         .with_context(|| format!("cannot write {}", csv.display()))?;
     let md = args.out.join("work_precision.md");
     let report = to_markdown(&result);
@@ -122,27 +122,52 @@ fn fmt_order(order: Option<f64>) -> String {
     order.map_or(String::new(), |o| format!("{o:.2}"))
 }
 
-fn to_csv(r: &WorkPrecision) -> String {
-    let mut s = String::from("integrator,setting,dt_s,wall_s,horizon_s,error,order\n");
+/// The columns of `work_precision.csv`.
+const CSV_HEADER: [&str; 7] = [
+    "integrator",
+    "setting",
+    "dt_s",
+    "wall_s",
+    "horizon_s",
+    "error",
+    "order",
+];
+
+/// One row of `work_precision.csv`; numbers formatted as the file has them
+/// (`{:e}` for steps, wall times and errors, `inf` for a failed run).
+#[derive(serde::Serialize)]
+struct CsvRow {
+    integrator: &'static str,
+    setting: String,
+    dt_s: String,
+    wall_s: String,
+    horizon_s: String,
+    error: String,
+    order: String,
+}
+
+fn to_csv(r: &WorkPrecision) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    w.write_record(CSV_HEADER)?;
     for row in &r.rows {
         let error = if row.error.is_finite() {
             format!("{:e}", row.error)
         } else {
             "inf".to_owned()
         };
-        let _ = writeln!(
-            s,
-            "{},{},{:e},{:e},{},{},{}",
-            row.run.integrator.name(),
-            row.run.setting.label(),
-            row.run.dt_s,
-            row.run.wall_s,
-            r.horizon_s,
+        w.serialize(CsvRow {
+            integrator: row.run.integrator.name(),
+            setting: row.run.setting.label(),
+            dt_s: format!("{:e}", row.run.dt_s),
+            wall_s: format!("{:e}", row.run.wall_s),
+            horizon_s: r.horizon_s.to_string(),
             error,
-            fmt_order(row.order)
-        );
+            order: fmt_order(row.order),
+        })?;
     }
-    s
+    Ok(w.into_inner()?)
 }
 
 fn to_markdown(r: &WorkPrecision) -> String {
@@ -244,5 +269,27 @@ fn plot(r: &WorkPrecision) -> Plot {
         y_label: "log10 wall time (s)".to_owned(),
         traces,
         notes: Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_row_fields_are_the_header() {
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.serialize(CsvRow {
+            integrator: "rk4",
+            setting: "dt=1e-5".into(),
+            dt_s: "1e-5".into(),
+            wall_s: "1e0".into(),
+            horizon_s: "0.05".into(),
+            error: "inf".into(),
+            order: String::new(),
+        })
+        .expect("serializes");
+        let text = String::from_utf8(w.into_inner().expect("flushes")).expect("UTF-8");
+        assert_eq!(text.lines().next(), Some(CSV_HEADER.join(",").as_str()));
     }
 }

@@ -4,9 +4,9 @@
 //! syntax error), no NaN in an accepted run. Used by the property test and by
 //! `chaindrive bench fuzz`.
 
-use super::{NoObserver, Simulation};
 use crate::scene::mutate::{Lcg, mutate};
 use crate::scene::{Scene, SceneError};
+use crate::sim::{NoObserver, Simulation};
 
 /// How a case ended (all of them acceptable).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

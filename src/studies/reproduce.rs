@@ -21,14 +21,14 @@ use std::time::Instant;
 
 use serde::Serialize;
 
-use super::binder::centrifugal_tension_n;
-use super::spectrum::main_peak;
-use super::study::{
+use crate::analysis::binder::centrifugal_tension_n;
+use crate::analysis::spectrum::main_peak;
+use crate::analysis::study::{
     AnalysisError, BinderComparison, Both, DriveFacts, Probes, RunData, binder_comparison,
     segment_force_series, spectrum_with_peaks, transverse_series,
 };
-use super::theory::string_frequency_hz;
-use super::{RunSummary, Signals};
+use crate::analysis::theory::string_frequency_hz;
+use crate::analysis::{RunSummary, Signals};
 use crate::scene::{ProfileKind, Scene};
 use crate::sim::{
     BlowUpLimits, EquilibriumError, RelaxSettings, SimError, Simulation, StaticEquilibrium,

@@ -1,0 +1,223 @@
+//! `chaindrive analyze`'s figures of a recorded run (PNG and SVG), drawn
+//! with `chaindrive::analysis::figures`.
+
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+
+use chaindrive::analysis::figures::{Mark, Plot, Trace, save};
+use chaindrive::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
+use chaindrive::analysis::study::{
+    Series, link_force_series, roller_contact_series, segment_force_series, spectrum_with_peaks,
+    transverse_series,
+};
+
+/// Figures drawn: (file stem, caption).
+pub(super) type FigureList = Vec<(String, String)>;
+
+/// The single-run figures: the chosen link's force, each segment's average
+/// link force, transverse displacement and spectrum, the chosen roller's
+/// contact force, and each sprocket's latest complete contact against (49).
+/// A figure whose data is absent (channel not recorded, no free link, no
+/// complete contact) is not drawn; the report says why. Returns each
+/// figure's stem and caption, and the paths written.
+pub(super) fn recorded_figures(
+    run: &RecordedRun,
+    a: &RecordedAnalysis,
+    options: &AnalyzeOptions,
+    dir: &Path,
+) -> anyhow::Result<(FigureList, Vec<PathBuf>)> {
+    /// A plot of one signal over time, drawn as a line.
+    fn time_plot(title: String, y_label: &str, label: String, points: Vec<(f64, f64)>) -> Plot {
+        Plot {
+            title,
+            x_label: "t (s)".into(),
+            y_label: y_label.into(),
+            traces: vec![Trace {
+                label,
+                points,
+                mark: Mark::Line,
+                color: 0,
+            }],
+            notes: Vec::new(),
+        }
+    }
+    let d = &run.data;
+    let mut out = Vec::new();
+    let mut paths = Vec::new();
+    let pts = |s: &Series, scale: f64, t0: f64| -> Vec<(f64, f64)> {
+        s.t_s
+            .iter()
+            .zip(&s.value)
+            .map(|(t, v)| (t - t0, v * scale))
+            .collect()
+    };
+    let mut emit = |plot: Plot, stem: String| -> anyhow::Result<()> {
+        paths.extend(save(&plot, dir, &stem)?);
+        out.push((stem, plot.title));
+        Ok(())
+    };
+    if let Some(l) = &a.link {
+        let s = link_force_series(d, l.link, a.window_s)?;
+        emit(
+            time_plot(
+                format!("force of link {}", l.link),
+                "link force (kN)",
+                d.label.clone(),
+                pts(&s, 1e-3, 0.0),
+            ),
+            format!("link{}_force", l.link),
+        )?;
+    }
+    for seg in &a.segments {
+        let k = seg.segment;
+        if options.segment.is_some_and(|s| s != k) {
+            continue;
+        }
+        if seg.mean_link_force_n.is_some() {
+            let s = segment_force_series(d, k, a.window_s)?;
+            emit(
+                time_plot(
+                    format!("average link force of segment {k}"),
+                    "average link force (kN)",
+                    format!("{} (mean {:.2} kN)", d.label, s.mean() * 1e-3),
+                    pts(&s, 1e-3, 0.0),
+                ),
+                format!("segment{k}_force"),
+            )?;
+        }
+        let s = transverse_series(d, k, a.spectrum_window_s)?;
+        emit(
+            time_plot(
+                format!("transverse displacement of the middle of segment {k}"),
+                "displacement (mm)",
+                d.label.clone(),
+                pts(&s, 1e3, 0.0),
+            ),
+            format!("segment{k}_transverse"),
+        )?;
+        let picked = spectrum_with_peaks(&s, d.signals.rate_hz, [1.0, 200.0], 5, 2.0);
+        let spectrum: Vec<(f64, f64)> = picked
+            .freq_hz
+            .iter()
+            .zip(&picked.amplitude)
+            .filter(|(f, _)| **f <= 200.0)
+            .map(|(f, amp)| (*f, amp * 1e3))
+            .collect();
+        if spectrum.len() >= 2 {
+            let mut traces = vec![Trace {
+                label: d.label.clone(),
+                points: spectrum,
+                mark: Mark::Line,
+                color: 0,
+            }];
+            if !picked.peaks.is_empty() {
+                traces.push(Trace {
+                    label: "peaks".into(),
+                    points: picked
+                        .peaks
+                        .iter()
+                        .map(|(f, amp)| (*f, amp * 1e3))
+                        .collect(),
+                    mark: Mark::Dots,
+                    color: 1,
+                });
+            }
+            if seg.string_f1_hz > 0.0 {
+                let top = picked.peaks.first().map_or(0.0, |p| p.1 * 1e3);
+                traces.push(Trace {
+                    label: format!("moving string f₁ = {:.2} Hz", seg.string_f1_hz),
+                    points: vec![(seg.string_f1_hz, 0.0), (seg.string_f1_hz, top)],
+                    mark: Mark::Crosses,
+                    color: 2,
+                });
+            }
+            emit(
+                Plot {
+                    title: format!("amplitude spectrum of segment {k}'s transverse displacement"),
+                    x_label: "frequency (Hz)".into(),
+                    y_label: "amplitude (mm)".into(),
+                    traces,
+                    notes: picked
+                        .peaks
+                        .iter()
+                        .take(3)
+                        .map(|(f, amp)| (*f + 1.5, amp * 1e3, format!("{f:.1} Hz")))
+                        .collect(),
+                },
+                format!("segment{k}_spectrum"),
+            )?;
+        }
+    }
+    if let Some(r) = &a.roller {
+        let (s, _) = roller_contact_series(d, r.roller, r.window_s)?;
+        emit(
+            time_plot(
+                format!("contact force on roller {}", r.roller),
+                "contact force (kN)",
+                d.label.clone(),
+                pts(&s, 1e-3, 0.0),
+            ),
+            format!("roller{}_contact", r.roller),
+        )?;
+    }
+    for (k, b) in a.binder.iter().enumerate() {
+        let Some(b) = b else { continue };
+        let ex = &b.example;
+        emit(
+            Plot {
+                title: format!(
+                    "contact force on a roller bedded on sprocket {}, and Binder's (49)",
+                    k + 1
+                ),
+                x_label: "time since contact start (s)".into(),
+                y_label: "contact force (kN)".into(),
+                traces: vec![
+                    Trace {
+                        label: format!("roller {}", ex.roller),
+                        points: pts(&ex.simulated, 1e-3, ex.t_start_s),
+                        mark: Mark::Line,
+                        color: 0,
+                    },
+                    Trace {
+                        label: format!("(49) (nb = {})", ex.inputs.bedded),
+                        points: ex
+                            .binder_t_s
+                            .iter()
+                            .zip(&ex.binder_n)
+                            .map(|(t, f)| (t - ex.t_start_s, f * 1e-3))
+                            .collect(),
+                        mark: Mark::Dots,
+                        color: 1,
+                    },
+                ],
+                notes: Vec::new(),
+            },
+            format!("sprocket{}_contact_vs_binder", k + 1),
+        )?;
+    }
+    Ok((out, paths))
+}
+
+/// Removes the figure files this analysis may have drawn.
+pub(super) fn remove_known_stems(dir: &Path, a: &RecordedAnalysis) {
+    let mut stems: BTreeSet<String> = BTreeSet::new();
+    if let Some(l) = &a.link {
+        stems.insert(format!("link{}_force", l.link));
+    }
+    if let Some(r) = &a.roller {
+        stems.insert(format!("roller{}_contact", r.roller));
+    }
+    for s in &a.segments {
+        for what in ["force", "transverse", "spectrum"] {
+            stems.insert(format!("segment{}_{what}", s.segment));
+        }
+    }
+    for s in &a.sprockets {
+        stems.insert(format!("sprocket{}_contact_vs_binder", s.sprocket));
+    }
+    for stem in stems {
+        for ext in ["png", "svg"] {
+            let _ = std::fs::remove_file(dir.join(format!("{stem}.{ext}")));
+        }
+    }
+}

@@ -1,0 +1,158 @@
+//! `chaindrive analyze`: the paper-reproduction analysis for any recorded run.
+//!
+//! The library reads the recording (`chaindrive::record::read`) and measures
+//! it (`chaindrive::analysis::recorded`); this command writes the results:
+//! `DIR/report.md` ([`report`]), `DIR/analysis.json` and the figures
+//! ([`figures`]).
+
+mod figures;
+mod report;
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use chaindrive::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
+
+use figures::{recorded_figures, remove_known_stems};
+use report::report_markdown;
+
+/// Arguments of `chaindrive analyze`.
+#[derive(clap::Args)]
+pub struct AnalyzeArgs {
+    /// Recording written by `chaindrive run --record` (needs /segments and
+    /// /sprockets; /links, /contacts and /rollers for the link and contact analyses).
+    recording: PathBuf,
+    /// Output directory (created if missing): report.md, analysis.json, figures.
+    #[arg(long, default_value = "analysis")]
+    out: PathBuf,
+    /// Link whose force is shown (0-based; default 0 when /links was recorded).
+    #[arg(long)]
+    link: Option<usize>,
+    /// Roller whose contact force is shown (0-based; default 0 when /contacts was recorded).
+    #[arg(long)]
+    roller: Option<usize>,
+    /// Draw only this segment's figures (1-based; default every segment).
+    #[arg(long)]
+    segment: Option<usize>,
+    /// One window for every statistic, spectrum and figure, s (default: the run summary's windows).
+    #[arg(long, value_name = "T0,T1", value_parser = parse_window)]
+    window: Option<Window>,
+}
+
+/// `T0,T1` in seconds.
+#[derive(Clone, Copy, Debug)]
+pub struct Window([f64; 2]);
+
+fn parse_window(s: &str) -> Result<Window, String> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let [a, b] = parts.as_slice() else {
+        return Err(format!("expected T0,T1 (two times in s), got {s:?}"));
+    };
+    let parse = |v: &str| {
+        v.parse::<f64>()
+            .ok()
+            .filter(|x| x.is_finite())
+            .ok_or_else(|| format!("{v:?} is not a finite time in s"))
+    };
+    let (t0, t1) = (parse(a)?, parse(b)?);
+    if !(t0 < t1) {
+        return Err(format!(
+            "the window's start {t0} must be before its end {t1}"
+        ));
+    }
+    Ok(Window([t0, t1]))
+}
+
+pub fn analyze(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
+    let options = AnalyzeOptions {
+        link: args.link,
+        roller: args.roller,
+        segment: args.segment,
+        window_s: args.window.map(|w| w.0),
+    };
+    let (analysis, written) = write_analysis(&args.recording, &options, &args.out)?;
+    for note in &analysis.notes {
+        eprintln!("note: {note}");
+    }
+    println!(
+        "analysed {} ({} samples, {} segments, {} sprockets): wrote {}, {} and {} figures (PNG + SVG) in {}",
+        args.recording.display(),
+        analysis.samples,
+        analysis.segments.len(),
+        analysis.sprockets.len(),
+        written.report.display(),
+        written.json.display(),
+        written.figures.len(),
+        args.out.display()
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A file that could not be written.
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {path}: {source}")]
+struct WriteError {
+    path: String,
+    source: std::io::Error,
+}
+
+/// What [`write_analysis`] wrote.
+#[derive(Clone, Debug, PartialEq)]
+struct Written {
+    /// `DIR/report.md`.
+    report: PathBuf,
+    /// `DIR/analysis.json`.
+    json: PathBuf,
+    /// Figures: (stem, caption); each as PNG and SVG.
+    figures: Vec<(String, String)>,
+}
+
+/// Reads the recording at `path`, checks `options`, measures, and writes
+/// `dir/report.md`, `dir/analysis.json` and the figures. Nothing is written
+/// (not even `dir`) before the recording and the options have passed every
+/// check; if drawing or writing fails, what was written is removed.
+fn write_analysis(
+    path: &Path,
+    options: &AnalyzeOptions,
+    dir: &Path,
+) -> anyhow::Result<(RecordedAnalysis, Written)> {
+    let run = RecordedRun::read(path)?;
+    let analysis = run.analyze(options)?;
+    let write_err = |p: &Path| {
+        let path = p.display().to_string();
+        move |source| WriteError { path, source }
+    };
+    std::fs::create_dir_all(dir).map_err(write_err(dir))?;
+    let (figures, paths) = match recorded_figures(&run, &analysis, options, dir) {
+        Ok(f) => f,
+        Err(e) => {
+            // Figures of the failed call are not left to look like a result.
+            remove_known_stems(dir, &analysis);
+            return Err(e);
+        }
+    };
+    let json = dir.join("analysis.json");
+    let report = dir.join("report.md");
+    let text = serde_json::to_string_pretty(&analysis).map_err(|e| WriteError {
+        path: json.display().to_string(),
+        source: std::io::Error::other(e),
+    });
+    let result = text.and_then(|text| std::fs::write(&json, text + "\n").map_err(write_err(&json)));
+    let result = result.and_then(|()| {
+        std::fs::write(&report, report_markdown(&analysis, &figures)).map_err(write_err(&report))
+    });
+    if let Err(e) = result {
+        for p in paths.iter().chain([&json, &report]) {
+            let _ = std::fs::remove_file(p);
+        }
+        return Err(e.into());
+    }
+    Ok((
+        analysis,
+        Written {
+            report,
+            json,
+            figures,
+        },
+    ))
+}

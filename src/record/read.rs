@@ -1,0 +1,650 @@
+//! Reading a recording back: an MCAP file written by [`super::Recorder`]
+//! (`chaindrive run --record`) decoded into its scene and its samples.
+//!
+//! What is read, and from where:
+//!
+//! - the scene: the attached scene file (`Scene::from_toml`), with the run's
+//!   overrides taken from the `chaindrive` metadata (profile, dt, stepping,
+//!   duration);
+//! - `/segments` and `/sprockets` (required): each segment's average link
+//!   force and transverse displacement, each sprocket's speed and chain
+//!   moment;
+//! - `/links` (optional): every link's force;
+//! - `/contacts` with `/rollers` (optional): every roller's contact force
+//!   and position.
+//!
+//! Only the samples present on every channel read are kept. The messages
+//! are decoded with `prost`: Foxglove's own type for its schema
+//! (`foxglove.PointCloud`), and for the run's signals mirrors of the schemas
+//! derived from [`super::SegmentSignals`] and its kin (field numbers in
+//! declaration order). A file cut
+//! short (a killed run) yields what precedes the damage.
+//!
+//! What it does not do: rebuild the drive or measure anything (that is
+//! `crate::analysis::recorded`).
+//!
+//! Errors: a file that is not MCAP, a recording without the scene or
+//! without the needed channels (naming what is missing and what was found),
+//! a message that does not decode or does not fit the scene, too few samples.
+
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+use std::path::Path;
+
+use foxglove::schemas::PointCloud;
+use prost::Message as _;
+
+use super::Channel;
+use crate::scene::{ProfileKind, Scene, Stepping};
+
+/// The first bytes of every MCAP file.
+const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
+
+/// Why a recording cannot be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    /// The file could not be read.
+    #[error("cannot read {path}: {source}")]
+    Read {
+        /// The path.
+        path: String,
+        /// Why.
+        source: std::io::Error,
+    },
+    /// The file is not an MCAP file (or is damaged).
+    #[error("{path} is not a readable MCAP recording: {found}")]
+    NotMcap {
+        /// The path.
+        path: String,
+        /// What was found instead.
+        found: String,
+    },
+    /// No scene file is attached.
+    #[error(
+        "the recording has no scene file attached (found attachments: {found}); record it with `chaindrive run --record`"
+    )]
+    NoScene {
+        /// Attachments present.
+        found: String,
+    },
+    /// The attached scene does not parse or validate.
+    #[error("the attached scene {name} is invalid: {message}")]
+    Scene {
+        /// Attachment name.
+        name: String,
+        /// The scene errors, one per line.
+        message: String,
+    },
+    /// Channels that are needed are absent.
+    #[error(
+        "the recording lacks channel(s) {missing} needed for {needed_for}; it has: {found}. Record with `--record-channels all` (or include {channels})"
+    )]
+    MissingChannels {
+        /// Missing topics.
+        missing: String,
+        /// What needs them.
+        needed_for: String,
+        /// Topics in the file.
+        found: String,
+        /// The `--record-channels` names to add.
+        channels: String,
+    },
+    /// A message could not be decoded or does not fit the scene.
+    #[error("{topic}: {message}")]
+    Decode {
+        /// The topic.
+        topic: String,
+        /// Why.
+        message: String,
+    },
+    /// The recording holds too few samples.
+    #[error("the recording holds {samples} sample(s) on {topics}; at least 2 are needed")]
+    TooFewSamples {
+        /// Samples found.
+        samples: usize,
+        /// The topics read.
+        topics: String,
+    },
+}
+
+impl ReadError {
+    /// `missing` topics (of [`Channel`]s) needed for `needed_for`, with the
+    /// topics `found` in the file.
+    pub fn missing_channels(needed_for: &str, missing: &[&str], found: &[String]) -> Self {
+        let channels: Vec<&str> = missing
+            .iter()
+            .filter_map(|t| {
+                Channel::ALL
+                    .iter()
+                    .find(|c| c.topic() == *t)
+                    .map(|c| c.name())
+            })
+            .collect();
+        Self::MissingChannels {
+            missing: missing.join(", "),
+            needed_for: needed_for.to_owned(),
+            found: found.join(", "),
+            channels: channels.join(","),
+        }
+    }
+}
+
+// ---------------------------------------------------------------------------
+// The run's own messages (`super::messages`), mirrored for decoding.
+
+/// `ChainLinkForces` / `ChainContactForces`.
+#[derive(Clone, PartialEq, prost::Message)]
+struct ForcesPb {
+    #[prost(double, tag = "1")]
+    t_s: f64,
+    #[prost(double, repeated, tag = "2")]
+    force_n: Vec<f64>,
+}
+
+/// `SprocketSignals`.
+#[derive(Clone, PartialEq, prost::Message)]
+struct SprocketsPb {
+    #[prost(double, tag = "1")]
+    t_s: f64,
+    #[prost(double, repeated, tag = "2")]
+    angle_rad: Vec<f64>,
+    #[prost(double, repeated, tag = "3")]
+    speed_rad_s: Vec<f64>,
+    #[prost(double, repeated, tag = "4")]
+    chain_torque_n_m: Vec<f64>,
+}
+
+/// `SegmentSignal` (its segment read as any varint, as written: `uint32`).
+#[derive(Clone, PartialEq, prost::Message)]
+struct SegmentPb {
+    #[prost(uint64, tag = "1")]
+    segment: u64,
+    #[prost(double, optional, tag = "2")]
+    link_force_n: Option<f64>,
+    #[prost(double, tag = "3")]
+    transverse_m: f64,
+}
+
+/// `SegmentSignals`.
+#[derive(Clone, PartialEq, prost::Message)]
+struct SegmentsPb {
+    #[prost(double, tag = "1")]
+    t_s: f64,
+    #[prost(message, repeated, tag = "2")]
+    segments: Vec<SegmentPb>,
+}
+
+/// `ChainLinkForces` / `ChainContactForces`: (t, values).
+fn decode_forces(buf: &[u8]) -> Result<(f64, Vec<f64>), String> {
+    let m = ForcesPb::decode(buf).map_err(|e| e.to_string())?;
+    Ok((m.t_s, m.force_n))
+}
+
+/// `SprocketSignals`: (t, speeds, chain moments).
+fn decode_sprockets(buf: &[u8]) -> Result<(f64, Vec<f64>, Vec<f64>), String> {
+    let m = SprocketsPb::decode(buf).map_err(|e| e.to_string())?;
+    Ok((m.t_s, m.speed_rad_s, m.chain_torque_n_m))
+}
+
+/// `SegmentSignals`: (t, forces, transverse displacements), in segment order.
+type SegmentsMsg = (f64, Vec<Option<f64>>, Vec<f64>);
+
+fn decode_segments(buf: &[u8]) -> Result<SegmentsMsg, String> {
+    let mut m = SegmentsPb::decode(buf).map_err(|e| e.to_string())?;
+    m.segments.sort_by_key(|s| s.segment);
+    Ok((
+        m.t_s,
+        m.segments.iter().map(|s| s.link_force_n).collect(),
+        m.segments.iter().map(|s| s.transverse_m).collect(),
+    ))
+}
+
+/// `foxglove.PointCloud` of f32 x, y: the roller centres.
+fn decode_cloud(buf: &[u8]) -> Result<Vec<[f64; 2]>, String> {
+    let cloud = PointCloud::decode(buf).map_err(|e| e.to_string())?;
+    let stride = cloud.point_stride as usize;
+    let offsets: BTreeMap<&str, usize> = cloud
+        .fields
+        .iter()
+        .map(|f| (f.name.as_str(), f.offset as usize))
+        .collect();
+    let (ox, oy) = (
+        offsets.get("x").copied().unwrap_or(0),
+        offsets.get("y").copied().unwrap_or(4),
+    );
+    if stride < 8 || ox + 4 > stride || oy + 4 > stride {
+        return Err(format!("unsupported point layout (stride {stride})"));
+    }
+    let f = |c: &[u8], o: usize| {
+        c.get(o..o + 4)
+            .and_then(|b| b.try_into().ok())
+            .map_or(f64::NAN, |b| f64::from(f32::from_le_bytes(b)))
+    };
+    Ok(cloud
+        .data
+        .chunks_exact(stride)
+        .map(|c| [f(c, ox), f(c, oy)])
+        .collect())
+}
+
+// ---------------------------------------------------------------------------
+// Reading.
+
+/// One sample present on every channel read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordedSample {
+    /// Simulated time, s.
+    pub t_s: f64,
+    /// Mean link force of each segment's free strand, N (`None`: no free link).
+    pub segment_force_n: Vec<Option<f64>>,
+    /// Transverse displacement of each segment's middle, m.
+    pub transverse_m: Vec<f64>,
+    /// Sprocket angular speeds, rad/s.
+    pub speed_rad_s: Vec<f64>,
+    /// Moment of the chain on each sprocket, N·m.
+    pub chain_torque_n_m: Vec<f64>,
+    /// Every link's force, N (`/links` recorded).
+    pub link_force_n: Option<Vec<f64>>,
+    /// Every roller's contact force, N, and centre, m (`/contacts` and `/rollers` recorded).
+    pub contacts: Option<(Vec<f64>, Vec<[f64; 2]>)>,
+}
+
+/// A recording read back.
+pub struct Recording {
+    /// The name it was read under (its path).
+    pub name: String,
+    /// The attached scene, with the run's overrides applied.
+    pub scene: Scene,
+    /// Topics found in the file.
+    pub topics: Vec<String>,
+    /// The `chaindrive` metadata record.
+    pub metadata: BTreeMap<String, String>,
+    /// How the run ended (`chaindrive.end` status; `unknown` if absent).
+    pub end_status: String,
+    /// Whether `/links` was read.
+    pub has_links: bool,
+    /// Whether `/contacts` and `/rollers` were read.
+    pub has_contacts: bool,
+    /// The samples, in time order (at least 2).
+    pub samples: Vec<RecordedSample>,
+}
+
+fn not_mcap(path: &str, bytes: &[u8]) -> ReadError {
+    let found = if bytes.is_empty() {
+        "the file is empty".to_owned()
+    } else if bytes.starts_with(MCAP_MAGIC) {
+        "it starts like MCAP but cannot be read".to_owned()
+    } else {
+        let head: String = bytes
+            .iter()
+            .take(16)
+            .map(|&b| {
+                if b.is_ascii_graphic() || b == b' ' {
+                    char::from(b)
+                } else {
+                    '.'
+                }
+            })
+            .collect();
+        format!(
+            "it starts with {head:?}, not the MCAP magic \"\\x89MCAP0\\r\\n\" ({} bytes)",
+            bytes.len()
+        )
+    };
+    ReadError::NotMcap {
+        path: path.to_owned(),
+        found,
+    }
+}
+
+/// Reads the recording at `path` (see the module documentation).
+pub fn read_recording(path: &Path) -> Result<Recording, ReadError> {
+    let name = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|source| ReadError::Read {
+        path: name.clone(),
+        source,
+    })?;
+    read_recording_bytes(&name, &bytes)
+}
+
+/// Messages of one topic: log time (ns) → payload.
+type Topic<'a> = BTreeMap<u64, Cow<'a, [u8]>>;
+
+/// Reads a recording held in memory; `name` is used in messages.
+pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadError> {
+    if !bytes.starts_with(MCAP_MAGIC) {
+        return Err(not_mcap(name, bytes));
+    }
+    // Top-level records: metadata, attachments (outside chunks).
+    let mut metadata: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
+    let mut attachments: Vec<(String, String, Vec<u8>)> = Vec::new();
+    let reader = mcap::read::LinearReader::new(bytes).map_err(|e| ReadError::NotMcap {
+        path: name.to_owned(),
+        found: e.to_string(),
+    })?;
+    for record in reader {
+        // A file cut short (a killed run) still yields what precedes the damage.
+        let Ok(record) = record else { break };
+        match record {
+            mcap::records::Record::Metadata(m) => {
+                metadata.insert(m.name, m.metadata);
+            }
+            mcap::records::Record::Attachment { header, data, .. } => {
+                attachments.push((header.name, header.media_type, data.into_owned()));
+            }
+            _ => {}
+        }
+    }
+    let mut topics: BTreeMap<String, Topic<'_>> = BTreeMap::new();
+    let stream = mcap::MessageStream::new(bytes).map_err(|e| ReadError::NotMcap {
+        path: name.to_owned(),
+        found: e.to_string(),
+    })?;
+    for m in stream {
+        let Ok(m) = m else { break };
+        topics
+            .entry(m.channel.topic.clone())
+            .or_default()
+            .insert(m.log_time, m.data);
+    }
+    let found: Vec<String> = topics.keys().cloned().collect();
+    let found_text = if found.is_empty() {
+        "no messages".to_owned()
+    } else {
+        found.join(", ")
+    };
+    let meta = metadata.remove("chaindrive").unwrap_or_default();
+    let end_status = metadata
+        .get("chaindrive.end")
+        .and_then(|m| m.get("status"))
+        .cloned()
+        .unwrap_or_else(|| "unknown (no end record)".to_owned());
+
+    // The scene and its overrides.
+    let Some((scene_name, _, scene_bytes)) = attachments
+        .iter()
+        .find(|a| a.1 == "application/toml" || a.0.ends_with(".toml"))
+    else {
+        return Err(ReadError::NoScene {
+            found: if attachments.is_empty() {
+                "none".to_owned()
+            } else {
+                attachments
+                    .iter()
+                    .map(|a| format!("{} ({})", a.0, a.1))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            },
+        });
+    };
+    let text = String::from_utf8_lossy(scene_bytes);
+    let mut scene = Scene::from_toml(&text).map_err(|e| ReadError::Scene {
+        name: scene_name.clone(),
+        message: e.lines().join("; "),
+    })?;
+    if let Some(p) = meta.get("profile").and_then(|p| ProfileKind::parse(p)) {
+        scene.set_profile(p);
+    }
+    if let Some(dt) = meta.get("dt_s").and_then(|v| v.parse::<f64>().ok())
+        && dt.is_finite()
+        && dt > 0.0
+    {
+        scene.solver.dt_s = dt;
+    }
+    if let Some(d) = meta.get("duration_s").and_then(|v| v.parse::<f64>().ok())
+        && d.is_finite()
+        && d >= 0.0
+    {
+        scene.solver.duration_s = d;
+    }
+    match meta.get("stepping").map(String::as_str) {
+        Some("rapier") => scene.solver.stepping = Stepping::Rapier,
+        Some("substepped") => scene.solver.stepping = Stepping::Substepped,
+        _ => {}
+    }
+
+    // Required channels.
+    let required = [Channel::Segments, Channel::Sprockets];
+    let missing: Vec<Channel> = required
+        .iter()
+        .copied()
+        .filter(|c| !topics.contains_key(c.topic()))
+        .collect();
+    if !missing.is_empty() {
+        return Err(ReadError::MissingChannels {
+            missing: missing
+                .iter()
+                .map(|c| c.topic())
+                .collect::<Vec<_>>()
+                .join(", "),
+            needed_for: "segment forces, transverse displacements and sprocket speeds".to_owned(),
+            found: found_text,
+            channels: missing
+                .iter()
+                .map(|c| c.name())
+                .collect::<Vec<_>>()
+                .join(","),
+        });
+    }
+    let has_links = topics.contains_key(Channel::Links.topic());
+    let has_contacts = topics.contains_key(Channel::Contacts.topic())
+        && topics.contains_key(Channel::Rollers.topic());
+
+    // Samples present on every channel read.
+    let rollers = scene.chain.rollers;
+    // One free strand per sprocket: strand k runs from sprocket k to the next.
+    let (n_seg, n_spr) = (scene.sprockets.len(), scene.sprockets.len());
+    let mut used = vec![Channel::Segments.topic(), Channel::Sprockets.topic()];
+    if has_links {
+        used.push(Channel::Links.topic());
+    }
+    if has_contacts {
+        used.push(Channel::Contacts.topic());
+        used.push(Channel::Rollers.topic());
+    }
+    let empty = Topic::new();
+    let get = |t: &str| topics.get(t).unwrap_or(&empty);
+    let times: Vec<u64> = get(Channel::Segments.topic())
+        .keys()
+        .copied()
+        .filter(|t| used.iter().all(|u| get(u).contains_key(t)))
+        .collect();
+    if times.len() < 2 {
+        return Err(ReadError::TooFewSamples {
+            samples: times.len(),
+            topics: used.join(", "),
+        });
+    }
+    let bad = |topic: &str, t_ns: u64, message: String| ReadError::Decode {
+        topic: topic.to_owned(),
+        message: format!("message at t = {} s: {message}", t_ns as f64 * 1e-9),
+    };
+    let shape = |topic: &str, t_ns: u64, what: &str, got: usize, want: usize| {
+        bad(
+            topic,
+            t_ns,
+            format!("{got} {what}, but the attached scene has {want}"),
+        )
+    };
+
+    let mut samples = Vec::with_capacity(times.len());
+    for &t_ns in &times {
+        let seg_topic = Channel::Segments.topic();
+        let spr_topic = Channel::Sprockets.topic();
+        let (t_s, force, transverse) = get(seg_topic)
+            .get(&t_ns)
+            .map(|d| decode_segments(d))
+            .transpose()
+            .map_err(|e| bad(seg_topic, t_ns, e))?
+            .unwrap_or_default();
+        if force.len() != n_seg {
+            return Err(shape(seg_topic, t_ns, "segments", force.len(), n_seg));
+        }
+        let (_, speed, torque) = get(spr_topic)
+            .get(&t_ns)
+            .map(|d| decode_sprockets(d))
+            .transpose()
+            .map_err(|e| bad(spr_topic, t_ns, e))?
+            .unwrap_or_default();
+        if speed.len() != n_spr || torque.len() != n_spr {
+            return Err(shape(
+                spr_topic,
+                t_ns,
+                "sprocket values",
+                speed.len(),
+                n_spr,
+            ));
+        }
+        let links = if has_links {
+            let topic = Channel::Links.topic();
+            let (_, l) = get(topic)
+                .get(&t_ns)
+                .map(|d| decode_forces(d))
+                .transpose()
+                .map_err(|e| bad(topic, t_ns, e))?
+                .unwrap_or_default();
+            if l.len() != rollers {
+                return Err(shape(topic, t_ns, "link forces", l.len(), rollers));
+            }
+            Some(l)
+        } else {
+            None
+        };
+        let contacts = if has_contacts {
+            let topic = Channel::Contacts.topic();
+            let (_, c) = get(topic)
+                .get(&t_ns)
+                .map(|d| decode_forces(d))
+                .transpose()
+                .map_err(|e| bad(topic, t_ns, e))?
+                .unwrap_or_default();
+            if c.len() != rollers {
+                return Err(shape(topic, t_ns, "contact forces", c.len(), rollers));
+            }
+            let topic = Channel::Rollers.topic();
+            let xy = get(topic)
+                .get(&t_ns)
+                .map(|d| decode_cloud(d))
+                .transpose()
+                .map_err(|e| bad(topic, t_ns, e))?
+                .unwrap_or_default();
+            if xy.len() != rollers {
+                return Err(shape(topic, t_ns, "roller positions", xy.len(), rollers));
+            }
+            Some((c, xy))
+        } else {
+            None
+        };
+        samples.push(RecordedSample {
+            t_s,
+            segment_force_n: force,
+            transverse_m: transverse,
+            speed_rad_s: speed,
+            chain_torque_n_m: torque,
+            link_force_n: links,
+            contacts,
+        });
+    }
+    Ok(Recording {
+        name: name.to_owned(),
+        scene,
+        topics: found,
+        metadata: meta,
+        end_status,
+        has_links,
+        has_contacts,
+        samples,
+    })
+}
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn forces_decode_from_packed_and_unpacked_doubles() {
+        // field 1 = 1.5 (fixed64), field 2 = [2.0] unpacked, field 2 = [3.0, 4.0] packed.
+        let mut buf = vec![0x09];
+        buf.extend(1.5f64.to_le_bytes());
+        buf.push(0x11);
+        buf.extend(2.0f64.to_le_bytes());
+        buf.extend([0x12, 16]);
+        buf.extend(3.0f64.to_le_bytes());
+        buf.extend(4.0f64.to_le_bytes());
+        let (t, v) = decode_forces(&buf).expect("decodes");
+        assert_eq!(t, 1.5);
+        assert_eq!(v, vec![2.0, 3.0, 4.0]);
+        assert!(decode_forces(&buf[..5]).is_err());
+    }
+
+    #[test]
+    fn derived_messages_decode() {
+        use crate::record::{SegmentSignal, SegmentSignals, SprocketSignals};
+        use foxglove::Encode;
+        let msg = SegmentSignals {
+            t_s: 0.25,
+            segments: vec![
+                SegmentSignal {
+                    segment: 1,
+                    link_force_n: Some(21e3),
+                    transverse_m: -1e-3,
+                },
+                SegmentSignal {
+                    segment: 2,
+                    link_force_n: None,
+                    transverse_m: 2e-3,
+                },
+            ],
+        };
+        let mut buf = Vec::new();
+        msg.encode(&mut buf).expect("encodes");
+        let (t, f, d) = decode_segments(&buf).expect("decodes");
+        assert_eq!(t, 0.25);
+        assert_eq!(f, vec![Some(21e3), None]);
+        assert_eq!(d, vec![-1e-3, 2e-3]);
+        let msg = SprocketSignals {
+            t_s: 1.0,
+            angle_rad: vec![0.1, 0.2],
+            speed_rad_s: vec![12.0, -3.0],
+            chain_torque_n_m: vec![5.0, 6.0],
+        };
+        buf.clear();
+        msg.encode(&mut buf).expect("encodes");
+        let (t, speed, torque) = decode_sprockets(&buf).expect("decodes");
+        assert_eq!((t, speed, torque), (1.0, vec![12.0, -3.0], vec![5.0, 6.0]));
+    }
+
+    #[test]
+    fn point_cloud_decodes() {
+        use foxglove::Encode;
+        use foxglove::schemas::{PackedElementField, PointCloud, packed_element_field};
+        let mut data = Vec::new();
+        for (x, y) in [(1.0f32, 0.5f32), (-2.5, 3.0)] {
+            data.extend(x.to_le_bytes());
+            data.extend(y.to_le_bytes());
+            data.extend(0.0f32.to_le_bytes());
+        }
+        let field = |name: &str, offset: u32| PackedElementField {
+            name: name.to_owned(),
+            offset,
+            r#type: packed_element_field::NumericType::Float32 as i32,
+        };
+        let cloud = PointCloud {
+            point_stride: crate::record::POINT_STRIDE,
+            fields: vec![field("x", 0), field("y", 4), field("z", 8)],
+            data: foxglove::bytes::Bytes::from(data),
+            ..PointCloud::default()
+        };
+        let mut buf = Vec::new();
+        Encode::encode(&cloud, &mut buf).expect("encodes");
+        let xy = decode_cloud(&buf).expect("decodes");
+        assert_eq!(xy, vec![[1.0, 0.5], [-2.5, 3.0]]);
+    }
+
+    #[test]
+    fn not_mcap_names_what_was_found() {
+        let e = read_recording_bytes("x.mcap", b"name = \"a scene\"\n").err();
+        let text = e.map(|e| e.to_string()).unwrap_or_default();
+        assert!(text.contains("not a readable MCAP"), "{text}");
+        assert!(text.contains("name = "), "{text}");
+    }
+}

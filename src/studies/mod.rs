@@ -1,0 +1,19 @@
+//! Studies: experiments that drive simulations — many runs of a scene under
+//! changed settings — and measure them with [`crate::analysis`].
+//!
+//! - [`reproduce`]: the paper's study (both tooth profiles, the quantities
+//!   the paper reports, compared with it and with the analytical references);
+//! - [`stress`]: the stability matrix of hard cases × integrators × steps;
+//! - [`work_precision`]: wall time against error for every integrator;
+//! - [`soak`]: a long run reported window by window, to show there is no drift;
+//! - [`fuzz`]: one mutated scene file through parsing, layout and a short run.
+//!
+//! What a single run's signals mean and how they are measured is
+//! [`crate::analysis`]'s business; writing files and printing tables is the
+//! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
+
+pub mod fuzz;
+pub mod reproduce;
+pub mod soak;
+pub mod stress;
+pub mod work_precision;
