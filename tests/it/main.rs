@@ -8,6 +8,7 @@ mod cli;
 mod cosim;
 mod fuzz;
 mod integrators;
+mod layering;
 mod paper;
 mod profile;
 mod record;
