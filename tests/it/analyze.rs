@@ -4,35 +4,23 @@
 //! spectra, `src/analysis/summary.rs`), and its refusals of bad input.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn chaindrive(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("chaindrive runs")
-}
+use approx::abs_diff_eq;
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).expect("readable")).expect("JSON")
-}
+use crate::common::{chaindrive_in, read_json, stderr};
 
 fn f(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
 }
 
+/// `a` within `rel` of `b`, relative to `b`.
 fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * b.abs().max(1e-12)
+    abs_diff_eq!(a, b, epsilon = rel * b.abs().max(1e-12))
 }
 
 /// Fails with a clear message, non-zero exit, and writes no output directory.
 fn refused(dir: &Path, args: &[&str], out: &str, expect: &[&str]) {
-    let o = chaindrive(args, dir);
+    let o = chaindrive_in(dir, args);
     let err = stderr(&o);
     assert!(!o.status.success(), "{args:?} succeeded");
     for e in expect {
@@ -46,7 +34,8 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let dir = tmp.path();
     // 2 s: the summary's spectrum window (ramp end 1 s + 0.5 s to the end) holds 0.5 s.
-    let run = chaindrive(
+    let run = chaindrive_in(
+        dir,
         &[
             "run",
             "--duration",
@@ -57,10 +46,9 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
             "s.json",
             "--quiet",
         ],
-        dir,
     );
     assert!(run.status.success(), "{}", stderr(&run));
-    let o = chaindrive(&["analyze", "x.mcap", "--out", "d"], dir);
+    let o = chaindrive_in(dir, &["analyze", "x.mcap", "--out", "d"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = dir.join("d");
     for name in [
@@ -80,8 +68,8 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
             "{name} missing or empty"
         );
     }
-    let summary = json(&dir.join("s.json"));
-    let analysis = json(&out.join("analysis.json"));
+    let summary = read_json(&dir.join("s.json"));
+    let analysis = read_json(&out.join("analysis.json"));
     let report = std::fs::read_to_string(out.join("report.md")).expect("report");
     assert_eq!(analysis["window_s"], summary["window_s"]);
     assert_eq!(analysis["spectrum_window_s"], summary["spectrum_window_s"]);
@@ -184,7 +172,8 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let dir = tmp.path();
     let record = |file: &str, channels: &str| {
-        let o = chaindrive(
+        let o = chaindrive_in(
+            dir,
             &[
                 "run",
                 "--duration",
@@ -195,7 +184,6 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
                 channels,
                 "--quiet",
             ],
-            dir,
         );
         assert!(o.status.success(), "{}", stderr(&o));
     };
@@ -228,7 +216,7 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
         "e",
         &["lacks channel(s) /contacts, /rollers"],
     );
-    let o = chaindrive(&["analyze", "signals.mcap", "--out", "ok"], dir);
+    let o = chaindrive_in(dir, &["analyze", "signals.mcap", "--out", "ok"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("contact forces: not recorded"));
     let report = std::fs::read_to_string(dir.join("ok/report.md")).expect("report");
