@@ -31,7 +31,7 @@
 //! Nothing is written before every check has passed, and a figure with no
 //! data is never drawn.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::path::Path;
 
@@ -1595,7 +1595,9 @@ pub struct Written {
 /// Reads the recording at `path`, checks `options`, measures, and writes
 /// `dir/report.md`, `dir/analysis.json` and the figures. Nothing is written
 /// (not even `dir`) before the recording and the options have passed every
-/// check; if drawing or writing fails, what was written is removed.
+/// check. Everything is drawn and written aside first (a hidden directory in
+/// `dir`, removed afterwards) and moved into `dir` only once all of it has
+/// been: a failed analysis leaves the outputs of an earlier one as they were.
 #[cfg(feature = "figures")]
 pub fn write_analysis(
     path: &Path,
@@ -1604,68 +1606,80 @@ pub fn write_analysis(
 ) -> Result<(RecordedAnalysis, Written), RecordedError> {
     let run = read_recording(path)?;
     let analysis = run.analyze(options)?;
-    let write_err = |p: &Path| {
-        let path = p.display().to_string();
-        move |source| RecordedError::Write { path, source }
-    };
     std::fs::create_dir_all(dir).map_err(write_err(dir))?;
-    let (figures, paths) = match recorded_figures(&run, &analysis, options, dir) {
-        Ok(f) => f,
-        Err(e) => {
-            // Figures of the failed call are not left to look like a result.
-            remove_known_stems(dir, &analysis);
-            return Err(e);
-        }
-    };
-    let json = dir.join("analysis.json");
-    let report = dir.join("report.md");
-    let text = serde_json::to_string_pretty(&analysis).map_err(|e| RecordedError::Write {
-        path: json.display().to_string(),
-        source: std::io::Error::other(e),
-    });
-    let result = text.and_then(|text| std::fs::write(&json, text + "\n").map_err(write_err(&json)));
-    let result = result.and_then(|()| {
-        std::fs::write(&report, report_markdown(&analysis, &figures)).map_err(write_err(&report))
-    });
-    if let Err(e) = result {
-        for p in paths.iter().chain([&json, &report]) {
-            let _ = std::fs::remove_file(p);
-        }
-        return Err(e);
-    }
+    let staging = dir.join(format!(".analysis-{}.tmp", std::process::id()));
+    std::fs::create_dir_all(&staging).map_err(write_err(&staging))?;
+    let result = stage(&run, &analysis, options, &staging, dir)
+        .and_then(|(figures, names)| commit(&staging, dir, &names).map(|()| figures));
+    // Whatever happened, nothing staged stays behind (moved files are gone from it).
+    let _ = std::fs::remove_dir_all(&staging);
+    let figures = result?;
     Ok((
         analysis,
         Written {
-            report,
-            json,
+            report: dir.join("report.md"),
+            json: dir.join("analysis.json"),
             figures,
         },
     ))
 }
 
-/// Removes the figure files this analysis may have drawn.
+/// The error of a failed write to `p`.
 #[cfg(feature = "figures")]
-fn remove_known_stems(dir: &Path, a: &RecordedAnalysis) {
-    let mut stems: BTreeSet<String> = BTreeSet::new();
-    if let Some(l) = &a.link {
-        stems.insert(format!("link{}_force", l.link));
-    }
-    if let Some(r) = &a.roller {
-        stems.insert(format!("roller{}_contact", r.roller));
-    }
-    for s in &a.segments {
-        for what in ["force", "transverse", "spectrum"] {
-            stems.insert(format!("segment{}_{what}", s.segment));
+fn write_err(p: &Path) -> impl FnOnce(std::io::Error) -> RecordedError {
+    let path = p.display().to_string();
+    move |source| RecordedError::Write { path, source }
+}
+
+/// Draws the figures and writes the JSON and the report into `staging`;
+/// returns the figures and the names of the files written. Errors name the
+/// files' places in `dir`.
+#[cfg(feature = "figures")]
+fn stage(
+    run: &RecordedRun,
+    analysis: &RecordedAnalysis,
+    options: &AnalyzeOptions,
+    staging: &Path,
+    dir: &Path,
+) -> Result<(FigureList, Vec<std::ffi::OsString>), RecordedError> {
+    let (figures, paths) = recorded_figures(run, analysis, options, staging)?;
+    let text = serde_json::to_string_pretty(analysis).map_err(|e| RecordedError::Write {
+        path: dir.join("analysis.json").display().to_string(),
+        source: std::io::Error::other(e),
+    })?;
+    std::fs::write(staging.join("analysis.json"), text + "\n")
+        .map_err(write_err(&dir.join("analysis.json")))?;
+    std::fs::write(
+        staging.join("report.md"),
+        report_markdown(analysis, &figures),
+    )
+    .map_err(write_err(&dir.join("report.md")))?;
+    let mut names: Vec<std::ffi::OsString> = paths
+        .iter()
+        .filter_map(|p| p.file_name())
+        .map(Into::into)
+        .collect();
+    names.extend(["analysis.json".into(), "report.md".into()]);
+    Ok((figures, names))
+}
+
+/// Moves the files `names` from `staging` into `dir`, replacing earlier
+/// ones. A directory where a file goes is refused before anything moves.
+#[cfg(feature = "figures")]
+fn commit(staging: &Path, dir: &Path, names: &[std::ffi::OsString]) -> Result<(), RecordedError> {
+    for name in names {
+        let target = dir.join(name);
+        if target.symlink_metadata().is_ok_and(|m| m.is_dir()) {
+            return Err(write_err(&target)(std::io::Error::other(
+                "a directory is in the way",
+            )));
         }
     }
-    for s in &a.sprockets {
-        stems.insert(format!("sprocket{}_contact_vs_binder", s.sprocket));
+    for name in names {
+        let target = dir.join(name);
+        std::fs::rename(staging.join(name), &target).map_err(write_err(&target))?;
     }
-    for stem in stems {
-        for ext in ["png", "svg"] {
-            let _ = std::fs::remove_file(dir.join(format!("{stem}.{ext}")));
-        }
-    }
+    Ok(())
 }
 
 #[cfg(test)]

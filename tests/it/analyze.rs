@@ -238,3 +238,66 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
         &["cannot read absent.mcap"],
     );
 }
+
+#[test]
+fn a_failed_analysis_leaves_the_outputs_of_an_earlier_one_alone() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let dir = tmp.path();
+    let run = chaindrive_in(
+        dir,
+        &["run", "--duration", "0.3", "--record", "x.mcap", "--quiet"],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let ok = chaindrive_in(dir, &["analyze", "x.mcap", "--out", "d"]);
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    let read_all = || {
+        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir.join("d"))
+            .expect("d")
+            .map(|e| e.expect("entry").path())
+            .filter(|p| p.is_file())
+            .map(|p| {
+                let name = p.file_name().expect("name").to_string_lossy().into_owned();
+                (name, std::fs::read(&p).expect("readable"))
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let before = read_all();
+    assert!(
+        before.iter().any(|(n, _)| n == "link0_force.png"),
+        "{before:?}"
+    );
+    // A second analysis (another window, so other figures) that cannot write
+    // one of its figures: a directory stands where segment 4's spectrum goes.
+    let blocked = dir.join("d/segment4_spectrum.png");
+    std::fs::remove_file(&blocked).expect("remove");
+    std::fs::create_dir(&blocked).expect("directory in the way");
+    let before: Vec<_> = before
+        .into_iter()
+        .filter(|(n, _)| n != "segment4_spectrum.png")
+        .collect();
+    let failed = chaindrive_in(
+        dir,
+        &["analyze", "x.mcap", "--out", "d", "--window", "0.1,0.3"],
+    );
+    assert!(!failed.status.success(), "the blocked figure was written");
+    assert!(
+        stderr(&failed).contains("segment4_spectrum"),
+        "{}",
+        stderr(&failed)
+    );
+    // Every file of the earlier analysis is still there, unchanged, and
+    // nothing of the failed one is left beside them.
+    let after = read_all();
+    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&after), names(&before));
+    for ((name, a), (_, b)) in after.iter().zip(&before) {
+        assert!(a == b, "{name} changed");
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.join("d")).expect("d").count(),
+        after.len() + 1,
+        "only the blocking directory besides the earlier files"
+    );
+}
