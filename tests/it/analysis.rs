@@ -211,6 +211,8 @@ fn reproduce_rejects_bad_indices_and_durations_before_running() {
         (vec!["--roller", "122"], "unknown roller 122"),
         (vec!["--link", "500"], "unknown link 500"),
         (vec!["--duration", "0"], "--duration"),
+        // 1/(3000 Hz · 1e-5 s) is no whole number of the scene's steps.
+        (vec!["--rate", "3000"], "--rate"),
     ] {
         let mut all = vec!["reproduce", "--out", path];
         all.extend(args);

@@ -88,6 +88,35 @@ fn run_writes_summary_and_series_matching_the_contract() {
 }
 
 #[test]
+fn a_rate_the_step_does_not_divide_is_refused() {
+    // 1/(3000 Hz · 1e-5 s) = 33.3 steps: no whole number of steps samples at
+    // 3 kHz, and a run at another rate would not be the one asked for.
+    let dir = tempfile::tempdir().expect("tmp");
+    let summary = dir.path().join("s.json");
+    let out = chaindrive(&[
+        "run",
+        "--rate",
+        "3000",
+        "--dt",
+        "1e-5",
+        "--duration",
+        "0.01",
+        "--quiet",
+        "--summary",
+        summary.to_str().expect("utf8"),
+    ]);
+    assert!(
+        !out.status.success(),
+        "accepted; the summary says sample_rate_hz = {}",
+        read_json(&summary)["sample_rate_hz"]
+    );
+    let err = stderr(&out);
+    assert!(err.contains("--rate") && err.contains("3000"), "{err}");
+    assert!(err.contains("1e-5"), "the step is named: {err}");
+    assert!(!summary.exists(), "nothing simulated");
+}
+
+#[test]
 fn bad_scene_names_file_field_and_reason() {
     let dir = tempfile::tempdir().expect("tmp");
     let scene = dir.path().join("bad.toml");

@@ -9,7 +9,7 @@ use std::process::{Command, Output};
 
 use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::scene::Scene;
-use chaindrive::sim::Simulation;
+use chaindrive::sim::{SampleRate, Simulation};
 
 /// The paper's drive, shortened for tests.
 pub fn l60mc(duration_s: f64) -> Scene {
@@ -23,9 +23,11 @@ pub fn l60mc(duration_s: f64) -> Scene {
 pub fn run_summary(duration_s: f64, rate_hz: f64) -> RunSummary {
     let scene = l60mc(duration_s);
     let mut sim = Simulation::new(&scene).expect("equilibrium");
-    let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
-    let mut signals = Signals::new(&sim.model, rate_hz, duration_s - 1.0);
-    let out = sim.run(duration_s, every, &mut signals, None).expect("run");
+    let sampling = SampleRate::new(rate_hz, scene.solver.dt_s).expect("a whole number of steps");
+    let mut signals = Signals::new(&sim.model, sampling.rate_hz, duration_s - 1.0);
+    let out = sim
+        .run(duration_s, sampling.every, &mut signals, None)
+        .expect("run");
     RunSummary::of_run(&sim, &out, &signals, 0.0)
 }
 

@@ -14,7 +14,7 @@ use approx::abs_diff_eq;
 use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{L60MC_TOML, Scene};
-use chaindrive::sim::{Observer, Sample, Simulation};
+use chaindrive::sim::{Observer, Sample, SampleRate, Simulation};
 use foxglove::schemas::{FrameTransforms, PointCloud, SceneUpdate};
 use prost::Message as _;
 
@@ -161,18 +161,18 @@ impl<W: std::io::Write + std::io::Seek + Send + 'static> Observer for Both<'_, W
 /// file's bytes and the run's summary.
 fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>, RunSummary) {
     let mut sim = Simulation::new(scene).expect("sim");
-    let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
-    let mut signals = Signals::new(&sim.model, rate_hz, 0.0);
+    let sampling = SampleRate::new(rate_hz, scene.solver.dt_s).expect("a whole number of steps");
+    let mut signals = Signals::new(&sim.model, sampling.rate_hz, 0.0);
     let options = RecordOptions {
         channels,
         scene_file: Some(("l60mc.toml".to_owned(), L60MC_TOML.as_bytes().to_vec())),
-        rate_hz,
+        rate_hz: sampling.rate_hz,
     };
     let mut recorder = Recorder::new(Cursor::new(Vec::new()), scene, &options).expect("recorder");
     let outcome = sim
         .run(
             scene.solver.duration_s,
-            every,
+            sampling.every,
             &mut Both {
                 signals: &mut signals,
                 recorder: &mut recorder,
