@@ -36,14 +36,16 @@
 //! ## Quick start
 //!
 //! ```no_run
-//! use chaindrive::{analysis::{RunSummary, Signals}, scene::Scene, sim::Simulation};
+//! use chaindrive::analysis::{RunSummary, Signals};
+//! use chaindrive::{scene::Scene, sim::{SampleRate, Simulation}};
 //!
 //! let mut scene = Scene::l60mc(); // the paper's drive
 //! scene.solver.duration_s = 2.0;
 //! let mut sim = Simulation::new(&scene)?; // layout + static equilibrium at 21 kN
-//! let mut signals = Signals::new(&sim.model, 1000.0, 1.0);
-//! let every = (1.0 / (1000.0 * scene.solver.dt_s)).round() as u64;
-//! let outcome = sim.run(scene.solver.duration_s, every, &mut signals, None)?;
+//! // 1 kHz: every 100 steps of 10 µs (a rate the step does not divide is an error).
+//! let sampling = SampleRate::new(1000.0, scene.solver.dt_s)?;
+//! let mut signals = Signals::new(&sim.model, sampling.rate_hz, 1.0);
+//! let outcome = sim.run(scene.solver.duration_s, sampling.every, &mut signals, None)?;
 //! let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
 //! println!("segment 1 mean link force: {:.0} N", summary.segments[0].mean_link_force_n);
 //! # Ok::<(), Box<dyn std::error::Error>>(())

@@ -22,7 +22,9 @@ pub struct ChainLinkForces {
 pub struct ChainContactForces {
     /// Simulated time, s.
     pub t_s: f64,
-    /// Sum of the magnitudes of roller i's contact patches, N (0: free).
+    /// Magnitude of the vector sum of the contact forces on roller i over
+    /// all its patches, N (0: free); two patches' forces at an angle give
+    /// less than the sum of their magnitudes.
     pub force_n: Vec<f64>,
 }
 

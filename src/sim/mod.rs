@@ -10,6 +10,7 @@
 mod energy;
 mod equilibrium;
 pub mod integrate;
+mod sample_rate;
 mod stepper;
 
 pub use energy::Energy;
@@ -18,6 +19,7 @@ pub use equilibrium::{
     settle_rest_length,
 };
 pub use integrate::{Integration, IntegrationStats};
+pub use sample_rate::{SampleRate, SampleRateError};
 pub use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};

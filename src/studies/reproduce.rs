@@ -31,8 +31,8 @@ use crate::analysis::theory::string_frequency_hz;
 use crate::analysis::{RunSummary, Signals};
 use crate::scene::{ProfileKind, Scene};
 use crate::sim::{
-    BlowUpLimits, EquilibriumError, RelaxSettings, SimError, Simulation, StaticEquilibrium,
-    free_strand_tension, relax,
+    BlowUpLimits, EquilibriumError, RelaxSettings, SampleRate, SimError, Simulation,
+    StaticEquilibrium, free_strand_tension, relax,
 };
 
 /// Labels of the three runs, in order.
@@ -95,11 +95,8 @@ pub fn run_scene(
         label: label.to_owned(),
         source,
     };
-    if !(rate_hz > 0.0 && scene.solver.dt_s > 0.0) {
-        return Err(StudyError::Settings(format!(
-            "sample rate must be positive, got {rate_hz}"
-        )));
-    }
+    let sampling = SampleRate::new(rate_hz, scene.solver.dt_s)
+        .map_err(|e| StudyError::Settings(e.to_string()))?;
     let setup = Instant::now();
     let mut sim = Simulation::new(scene).map_err(sim_err)?;
     if let Some(rest) = rest_length_m {
@@ -124,9 +121,7 @@ pub fn run_scene(
         sim.sync_world();
     }
     let setup_wall_s = setup.elapsed().as_secs_f64();
-    let dt = scene.solver.dt_s;
-    let every = (1.0 / (rate_hz * dt)).round().max(1.0) as u64;
-    let rate = 1.0 / (every as f64 * dt);
+    let (every, rate) = (sampling.every, sampling.rate_hz);
     let duration = scene.solver.duration_s;
     let mut signals = Signals::new(&sim.model, rate, (duration - 1.0).max(0.0));
     let mut probes = Probes::new(&sim.model);

@@ -2,13 +2,16 @@
 //! values computed by hand, and `chaindrive reproduce` end to end.
 
 use std::f64::consts::PI;
-use std::process::Command;
 
+use approx::{abs_diff_eq, assert_abs_diff_eq};
 use chaindrive::analysis::binder::{
     BinderInputs, beta, centrifugal_tension_n, placement_times_s, pressure_angle_rad,
     printed_contact_forces, printed_link_forces,
 };
 use chaindrive::analysis::study::{Series, spectrum_with_peaks};
+
+#[cfg(feature = "cli")]
+use crate::common::{chaindrive, stderr};
 
 #[test]
 fn spectrum_finds_a_known_sines_frequency_and_amplitude() {
@@ -29,10 +32,10 @@ fn spectrum_finds_a_known_sines_frequency_and_amplitude() {
     let (f1, a1) = p.peaks[0];
     let (f2, a2) = p.peaks[1];
     // Bin width 0.125 Hz; Hann window: the peak bin holds the amplitude within a few percent.
-    assert!((f1 - 5.5).abs() <= 0.125, "{f1}");
-    assert!((a1 - 2e-3).abs() < 0.05 * 2e-3, "{a1}");
-    assert!((f2 - 83.0).abs() <= 0.125, "{f2}");
-    assert!((a2 - 0.5e-3).abs() < 0.05 * 0.5e-3, "{a2}");
+    assert_abs_diff_eq!(f1, 5.5, epsilon = 0.125);
+    assert_abs_diff_eq!(a1, 2e-3, epsilon = 0.05 * 2e-3);
+    assert_abs_diff_eq!(f2, 83.0, epsilon = 0.125);
+    assert_abs_diff_eq!(a2, 0.5e-3, epsilon = 0.05 * 0.5e-3);
     assert!(
         p.amplitude.iter().all(|a| a.is_finite()),
         "no NaN in the spectrum"
@@ -49,15 +52,19 @@ fn beta_by_hand(nt: f64) -> (f64, f64, f64) {
 #[test]
 fn binder_formulas_match_hand_computed_values() {
     // nt = 60: α = 33°, φ = 6°, β = sin 33° / sin 39° = 0.544639 / 0.629320 = 0.865440.
-    assert!((pressure_angle_rad(60) - 33f64.to_radians()).abs() < 1e-15);
-    assert!((beta(60) - 0.865_440).abs() < 1e-6, "{}", beta(60));
+    assert_abs_diff_eq!(pressure_angle_rad(60), 33f64.to_radians(), epsilon = 1e-15);
+    assert_abs_diff_eq!(beta(60), 0.865_440, epsilon = 1e-6);
     // nt = 30: α = 31°, φ = 12°: sin 31° / sin 43° = 0.515038 / 0.681998 = 0.755190.
-    assert!((beta(30) - 0.755_190).abs() < 1e-6, "{}", beta(30));
+    assert_abs_diff_eq!(beta(30), 0.755_190, epsilon = 1e-6);
     // nt = 28: α = 30.714286°, φ = 12.857143°: sin / sin = 0.510757 / 0.689258 = 0.741024.
-    assert!((beta(28) - 0.741_024).abs() < 1e-6, "{}", beta(28));
+    assert_abs_diff_eq!(beta(28), 0.741_024, epsilon = 1e-6);
     // q_c = m_r V²/P: 3.01 × (12.566 × 0.849325)² / 0.0889 = 3.86 kN (MODEL.md §6).
     let v = 4.0 * PI * 0.849_325;
-    assert!((centrifugal_tension_n(3.01, v, 0.0889) - 3857.0).abs() < 10.0);
+    assert_abs_diff_eq!(
+        centrifugal_tension_n(3.01, v, 0.0889),
+        3857.0,
+        epsilon = 10.0
+    );
 
     for (nt, nb) in [(60u32, 33usize), (30, 6), (28, 15)] {
         let (b, alpha, phi) = beta_by_hand(f64::from(nt));
@@ -77,25 +84,32 @@ fn binder_formulas_match_hand_computed_values() {
         for i in 1..=nb {
             let expect = ((qa - qc) * pow(i - 1) + (qb - qc) * pow(nb - i)) * ratio;
             assert!(
-                (fc[i - 1] - expect).abs() < 1e-9 * expect.abs().max(1.0),
-                "nt {nt} i {i}"
+                abs_diff_eq!(fc[i - 1], expect, epsilon = 1e-9 * expect.abs().max(1.0)),
+                "nt {nt} i {i}: {} vs {expect}",
+                fc[i - 1]
             );
             let printed =
                 (qa * pow(i - 1) + qb * pow(nb - i)) * ratio + 2.0 * qc * (phi / 2.0).sin();
             let p = printed_contact_forces(&inputs)[i - 1];
-            assert!((p - printed).abs() < 1e-9 * printed, "nt {nt} i {i}");
+            assert!(
+                abs_diff_eq!(p, printed, epsilon = 1e-9 * printed),
+                "nt {nt} i {i}: {p} vs {printed}"
+            );
         }
         let fl = inputs.link_forces();
         assert_eq!(fl.len(), nb + 1);
         for (i, f) in fl.iter().enumerate() {
             let expect = (qa - qc) * pow(i) + (qb - qc) * pow(nb - i) + qc;
-            assert!((f - expect).abs() < 1e-9 * expect, "nt {nt} link {i}");
+            assert!(
+                abs_diff_eq!(*f, expect, epsilon = 1e-9 * expect),
+                "nt {nt} link {i}: {f} vs {expect}"
+            );
         }
         // Boundary links carry the strand tensions (to within the other side's decayed share).
-        assert!((fl[0] - qa - (qb - qc) * pow(nb)).abs() < 1e-6);
+        assert_abs_diff_eq!(fl[0] - qa, (qb - qc) * pow(nb), epsilon = 1e-6);
         let pl = printed_link_forces(&inputs);
         assert_eq!(pl.len(), nb);
-        assert!((pl[0] - (qa * b + qb * pow(nb) + qc)).abs() < 1e-6);
+        assert_abs_diff_eq!(pl[0], qa * b + qb * pow(nb) + qc, epsilon = 1e-6);
         // Equilibrium of a bedded roller (consistent form): consecutive links differ by
         // the tangential share of its contact force; with q_b = q_c the link force
         // above q_c decays by exactly β per roller from the entering side.
@@ -106,23 +120,17 @@ fn binder_formulas_match_hand_computed_values() {
         .link_forces();
         for i in 1..=nb {
             let r = (one_sided[i] - qc) / (one_sided[i - 1] - qc);
-            assert!((r - b).abs() < 1e-12, "nt {nt} link {i}");
+            assert!(abs_diff_eq!(r, b, epsilon = 1e-12), "nt {nt} link {i}: {r}");
         }
     }
     // (51): t_i = t_s + (i − 1)(t_e − t_s)/(nb − 1).
     let t = placement_times_s(9.3, 9.6, 4);
     for (i, ti) in t.iter().enumerate() {
-        assert!((ti - (9.3 + i as f64 * 0.1)).abs() < 1e-12);
+        assert_abs_diff_eq!(*ti, 9.3 + i as f64 * 0.1, epsilon = 1e-12);
     }
 }
 
-fn chaindrive(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
-
+#[cfg(feature = "cli")]
 #[test]
 fn reproduce_writes_report_summaries_and_figures() {
     let dir = tempfile::tempdir().expect("tmp");
@@ -134,10 +142,8 @@ fn reproduce_writes_report_summaries_and_figures() {
         "--duration",
         "1.5",
     ]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let summary: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).expect("summary"))
-            .expect("json");
+    assert!(o.status.success(), "{}", stderr(&o));
+    let summary = crate::common::read_json(&out.join("summary.json"));
     for key in ["circular", "real", "real_same_rest_length"] {
         let s = &summary[key];
         assert!(
@@ -151,7 +157,11 @@ fn reproduce_writes_report_summaries_and_figures() {
     }
     // The same rest length as the circular run, hence a lower static tension (MODEL.md §9 (b)).
     let rest = |k: &str| summary[k]["rest_length_m"].as_f64().expect("rest");
-    assert!((rest("circular") - rest("real_same_rest_length")).abs() < 1e-12);
+    assert_abs_diff_eq!(
+        rest("circular"),
+        rest("real_same_rest_length"),
+        epsilon = 1e-12
+    );
     let tension = |k: &str| summary[k]["static_tension_n"].as_f64().expect("tension");
     assert!(tension("real_same_rest_length") < tension("circular") - 1000.0);
 
@@ -191,6 +201,7 @@ fn reproduce_writes_report_summaries_and_figures() {
     assert!(png.len() > 10_000);
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn reproduce_rejects_bad_indices_and_durations_before_running() {
     let dir = tempfile::tempdir().expect("tmp");
@@ -200,17 +211,20 @@ fn reproduce_rejects_bad_indices_and_durations_before_running() {
         (vec!["--roller", "122"], "unknown roller 122"),
         (vec!["--link", "500"], "unknown link 500"),
         (vec!["--duration", "0"], "--duration"),
+        // 1/(3000 Hz · 1e-5 s) is no whole number of the scene's steps.
+        (vec!["--rate", "3000"], "--rate"),
     ] {
         let mut all = vec!["reproduce", "--out", path];
         all.extend(args);
         let o = chaindrive(&all);
         assert!(!o.status.success());
-        let err = String::from_utf8_lossy(&o.stderr);
+        let err = stderr(&o);
         assert!(err.contains(needle), "{err}");
         assert!(!out.join("report.md").exists() && !out.join("fig16_link_force.png").exists());
     }
 }
 
+#[cfg(feature = "figures")]
 #[test]
 fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
     use chaindrive::analysis::figures::{FigureChoice, Mark, Plot, Trace, paper_figures, save};
@@ -218,7 +232,7 @@ fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
         AnalysisError, link_force_series, roller_contact_series, segment_force_series,
     };
     use chaindrive::studies::reproduce::run_scene;
-    let data = run_scene("circular", &crate::l60mc(0.2), 1000.0, None).expect("short run");
+    let data = run_scene("circular", &crate::common::l60mc(0.2), 1000.0, None).expect("short run");
     let e = segment_force_series(&data, 5, [0.0, 0.2]).expect_err("segment 5");
     assert_eq!(
         e,

@@ -4,35 +4,23 @@
 //! spectra, `src/analysis/summary.rs`), and its refusals of bad input.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn chaindrive(args: &[&str], dir: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("chaindrive runs")
-}
+use approx::abs_diff_eq;
 
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn json(path: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(path).expect("readable")).expect("JSON")
-}
+use crate::common::{chaindrive_in, read_json, stderr};
 
 fn f(v: &serde_json::Value) -> f64 {
     v.as_f64().unwrap_or(f64::NAN)
 }
 
+/// `a` within `rel` of `b`, relative to `b`.
 fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * b.abs().max(1e-12)
+    abs_diff_eq!(a, b, epsilon = rel * b.abs().max(1e-12))
 }
 
 /// Fails with a clear message, non-zero exit, and writes no output directory.
 fn refused(dir: &Path, args: &[&str], out: &str, expect: &[&str]) {
-    let o = chaindrive(args, dir);
+    let o = chaindrive_in(dir, args);
     let err = stderr(&o);
     assert!(!o.status.success(), "{args:?} succeeded");
     for e in expect {
@@ -46,7 +34,8 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let dir = tmp.path();
     // 2 s: the summary's spectrum window (ramp end 1 s + 0.5 s to the end) holds 0.5 s.
-    let run = chaindrive(
+    let run = chaindrive_in(
+        dir,
         &[
             "run",
             "--duration",
@@ -57,10 +46,9 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
             "s.json",
             "--quiet",
         ],
-        dir,
     );
     assert!(run.status.success(), "{}", stderr(&run));
-    let o = chaindrive(&["analyze", "x.mcap", "--out", "d"], dir);
+    let o = chaindrive_in(dir, &["analyze", "x.mcap", "--out", "d"]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = dir.join("d");
     for name in [
@@ -80,8 +68,8 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
             "{name} missing or empty"
         );
     }
-    let summary = json(&dir.join("s.json"));
-    let analysis = json(&out.join("analysis.json"));
+    let summary = read_json(&dir.join("s.json"));
+    let analysis = read_json(&out.join("analysis.json"));
     let report = std::fs::read_to_string(out.join("report.md")).expect("report");
     assert_eq!(analysis["window_s"], summary["window_s"]);
     assert_eq!(analysis["spectrum_window_s"], summary["spectrum_window_s"]);
@@ -184,7 +172,8 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
     let tmp = tempfile::tempdir().expect("tempdir");
     let dir = tmp.path();
     let record = |file: &str, channels: &str| {
-        let o = chaindrive(
+        let o = chaindrive_in(
+            dir,
             &[
                 "run",
                 "--duration",
@@ -195,7 +184,6 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
                 channels,
                 "--quiet",
             ],
-            dir,
         );
         assert!(o.status.success(), "{}", stderr(&o));
     };
@@ -228,7 +216,7 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
         "e",
         &["lacks channel(s) /contacts, /rollers"],
     );
-    let o = chaindrive(&["analyze", "signals.mcap", "--out", "ok"], dir);
+    let o = chaindrive_in(dir, &["analyze", "signals.mcap", "--out", "ok"]);
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(stderr(&o).contains("contact forces: not recorded"));
     let report = std::fs::read_to_string(dir.join("ok/report.md")).expect("report");
@@ -248,5 +236,68 @@ fn analyze_names_missing_channels_and_rejects_files_that_are_not_mcap() {
         &["analyze", "absent.mcap", "--out", "e"],
         "e",
         &["cannot read absent.mcap"],
+    );
+}
+
+#[test]
+fn a_failed_analysis_leaves_the_outputs_of_an_earlier_one_alone() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let dir = tmp.path();
+    let run = chaindrive_in(
+        dir,
+        &["run", "--duration", "0.3", "--record", "x.mcap", "--quiet"],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let ok = chaindrive_in(dir, &["analyze", "x.mcap", "--out", "d"]);
+    assert!(ok.status.success(), "{}", stderr(&ok));
+    let read_all = || {
+        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir.join("d"))
+            .expect("d")
+            .map(|e| e.expect("entry").path())
+            .filter(|p| p.is_file())
+            .map(|p| {
+                let name = p.file_name().expect("name").to_string_lossy().into_owned();
+                (name, std::fs::read(&p).expect("readable"))
+            })
+            .collect();
+        files.sort();
+        files
+    };
+    let before = read_all();
+    assert!(
+        before.iter().any(|(n, _)| n == "link0_force.png"),
+        "{before:?}"
+    );
+    // A second analysis (another window, so other figures) that cannot write
+    // one of its figures: a directory stands where segment 4's spectrum goes.
+    let blocked = dir.join("d/segment4_spectrum.png");
+    std::fs::remove_file(&blocked).expect("remove");
+    std::fs::create_dir(&blocked).expect("directory in the way");
+    let before: Vec<_> = before
+        .into_iter()
+        .filter(|(n, _)| n != "segment4_spectrum.png")
+        .collect();
+    let failed = chaindrive_in(
+        dir,
+        &["analyze", "x.mcap", "--out", "d", "--window", "0.1,0.3"],
+    );
+    assert!(!failed.status.success(), "the blocked figure was written");
+    assert!(
+        stderr(&failed).contains("segment4_spectrum"),
+        "{}",
+        stderr(&failed)
+    );
+    // Every file of the earlier analysis is still there, unchanged, and
+    // nothing of the failed one is left beside them.
+    let after = read_all();
+    let names = |v: &[(String, Vec<u8>)]| v.iter().map(|f| f.0.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&after), names(&before));
+    for ((name, a), (_, b)) in after.iter().zip(&before) {
+        assert!(a == b, "{name} changed");
+    }
+    assert_eq!(
+        std::fs::read_dir(dir.join("d")).expect("d").count(),
+        after.len() + 1,
+        "only the blocking directory besides the earlier files"
     );
 }

@@ -1,18 +1,8 @@
 //! The real `chaindrive` binary, driven end to end.
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-fn chaindrive(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
+use crate::common::{chaindrive, command, read_json, stderr};
 
 /// Every `required` field of the schema (recursively through `items` and
 /// `properties`) is present in `value`, with a finite number where a number is due.
@@ -69,8 +59,7 @@ fn run_writes_summary_and_series_matching_the_contract() {
         series.to_str().expect("utf8"),
     ]);
     assert!(out.status.success(), "{}", stderr(&out));
-    let value: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary")).expect("json");
+    let value = read_json(&summary);
     let schema: serde_json::Value =
         serde_json::from_str(include_str!("../data/run-summary.schema.json")).expect("schema");
     check_contract(&schema, &value, "summary");
@@ -96,6 +85,35 @@ fn run_writes_summary_and_series_matching_the_contract() {
     // t = 0 plus one row per 1/500 s.
     let rows = lines.count();
     assert!((rows as i64 - 601).abs() <= 1, "{rows} rows");
+}
+
+#[test]
+fn a_rate_the_step_does_not_divide_is_refused() {
+    // 1/(3000 Hz · 1e-5 s) = 33.3 steps: no whole number of steps samples at
+    // 3 kHz, and a run at another rate would not be the one asked for.
+    let dir = tempfile::tempdir().expect("tmp");
+    let summary = dir.path().join("s.json");
+    let out = chaindrive(&[
+        "run",
+        "--rate",
+        "3000",
+        "--dt",
+        "1e-5",
+        "--duration",
+        "0.01",
+        "--quiet",
+        "--summary",
+        summary.to_str().expect("utf8"),
+    ]);
+    assert!(
+        !out.status.success(),
+        "accepted; the summary says sample_rate_hz = {}",
+        read_json(&summary)["sample_rate_hz"]
+    );
+    let err = stderr(&out);
+    assert!(err.contains("--rate") && err.contains("3000"), "{err}");
+    assert!(err.contains("1e-5"), "the step is named: {err}");
+    assert!(!summary.exists(), "nothing simulated");
 }
 
 #[test]
@@ -209,7 +227,7 @@ fn sigint_and_sigterm_end_the_run_with_a_summary_marked_interrupted() {
         let dir = tempfile::tempdir().expect("tmp");
         let summary = dir.path().join("s.json");
         let series = dir.path().join("s.csv");
-        let mut child = Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+        let mut child = command()
             .args(["run", "--duration", "60", "--quiet"])
             .args(["--summary", summary.to_str().expect("utf8")])
             .args(["--series", series.to_str().expect("utf8")])
@@ -223,16 +241,14 @@ fn sigint_and_sigterm_end_the_run_with_a_summary_marked_interrupted() {
             assert!(started.elapsed().as_secs() < 60, "no samples written");
             std::thread::sleep(std::time::Duration::from_millis(50));
         }
-        let kill = Command::new("kill")
+        let kill = std::process::Command::new("kill")
             .args([signal, &child.id().to_string()])
             .status()
             .expect("kill");
         assert!(kill.success());
         let status = child.wait().expect("wait");
         assert_eq!(status.code(), Some(130), "{signal}");
-        let value: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary"))
-                .expect("json");
+        let value = read_json(&summary);
         assert_eq!(value["interrupted"], true, "{signal}");
         let t = value["duration_s"].as_f64().expect("duration");
         assert!(t > 0.0 && t < 60.0, "{signal}: {t}");

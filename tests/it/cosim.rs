@@ -1,6 +1,7 @@
 //! The drive inside a user's rapier world: stepped at 1/60 s with other
 //! bodies, motors and loads on mounted bodies.
 
+use approx::{abs_diff_eq, assert_abs_diff_eq};
 use chaindrive::cosim::ChainDrive;
 use chaindrive::forces::Culling;
 use chaindrive::scene::Scene;
@@ -93,7 +94,7 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
         forces_alone.push(alone.forces.output().link_force.clone());
     }
     // Same substeps, same forces: the chain evolves as it does standalone.
-    assert!((drive.state.t_s - 1.5).abs() < scene.solver.dt_s);
+    assert_abs_diff_eq!(drive.state.t_s, 1.5, epsilon = scene.solver.dt_s);
     let worst = (0..drive.state.rollers())
         .map(|i| (drive.state.x[i] - alone.state.x[i]).hypot(drive.state.y[i] - alone.state.y[i]))
         .fold(0.0, f64::max);
@@ -113,7 +114,8 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
     );
     // The rapier bodies follow the chain.
     let p = w.bodies[drive.rollers[7]].translation();
-    assert!((p.x - drive.state.x[7]).abs() < 1e-9 && (p.y - drive.state.y[7]).abs() < 1e-9);
+    assert_abs_diff_eq!(p.x, drive.state.x[7], epsilon = 1e-9);
+    assert_abs_diff_eq!(p.y, drive.state.y[7], epsilon = 1e-9);
 }
 
 #[test]
@@ -294,7 +296,9 @@ fn a_fixed_guide_deflects_a_tensioned_strand_and_carries_2_t_sin_theta() {
         let s = &drive.state;
         let y0 = drive.model.sprockets[0].pitch_radius_m * (std::f64::consts::PI / 20.0).cos();
         let roller_at = |x: f64| {
-            (0..s.rollers()).find(|&i| (s.x[i] - x).abs() < 1e-4 && (s.y[i] - y0).abs() < 1e-4)
+            (0..s.rollers()).find(|&i| {
+                abs_diff_eq!(s.x[i], x, epsilon = 1e-4) && abs_diff_eq!(s.y[i], y0, epsilon = 1e-4)
+            })
         };
         let middle = [0.5 * (CENTRES_M - PITCH_M), 0.5 * (CENTRES_M + PITCH_M)];
         let ends = [0.5 * PITCH_M, CENTRES_M - 0.5 * PITCH_M];
@@ -362,7 +366,7 @@ fn a_fixed_guide_deflects_a_tensioned_strand_and_carries_2_t_sin_theta() {
     // approach ≈ 4 µm at 2 N each against 2e8 N/m^1.5) and each half strand
     // is straight: deflection d · (distance from its end) / a, a = C/2 − P.
     let a = 0.5 * CENTRES_M - PITCH_M;
-    assert!((d - 0.005).abs() < 2e-4, "imposed deflection {d}");
+    assert_abs_diff_eq!(d, 0.005, epsilon = 2e-4);
     let worst = shape
         .iter()
         .map(|&(from_end, w)| (w - d * (from_end / a).min(1.0)).abs())
@@ -569,7 +573,7 @@ fn a_box_held_by_a_stop_drags_on_the_sliding_chain_with_mu_m_g() {
     let b = &w.bodies[bx];
     assert!(b.linvel().x.abs() < 0.01, "box not held: {}", b.linvel().x);
     assert!(
-        (b.translation().x - 0.6).abs() < 2e-3,
+        abs_diff_eq!(b.translation().x, 0.6, epsilon = 2e-3),
         "box at {}",
         b.translation().x
     );

@@ -7,6 +7,10 @@ use chaindrive::model::{DriveModel, DriveState};
 use chaindrive::scene::{Integrator, L60MC_TOML, ProfileKind, Scene};
 use chaindrive::sim::{Energy, Integration, Simulation, check_blow_up};
 
+use crate::common::allocations;
+#[cfg(feature = "cli")]
+use crate::common::{chaindrive, command, stderr};
+
 /// A state to integrate from, with its model and forces.
 struct Start {
     model: DriveModel,
@@ -281,10 +285,11 @@ fn implicit_damping_stays_accurate_where_the_explicit_step_fails() {
     }
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn work_precision_bench_writes_its_contract() {
     let dir = tempfile::tempdir().expect("tmp");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+    let out = command()
         .args([
             "bench",
             "work-precision",
@@ -300,11 +305,7 @@ fn work_precision_bench_writes_its_contract() {
         .arg(dir.path())
         .output()
         .expect("binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", stderr(&out));
     let csv = std::fs::read_to_string(dir.path().join("work_precision.csv")).expect("csv");
     let mut lines = csv.lines();
     assert_eq!(
@@ -333,12 +334,10 @@ fn work_precision_bench_writes_its_contract() {
     assert!(dir.path().join("work_precision.md").exists());
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn run_timings_account_for_the_stepping_loop() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-        .args(["run", "--duration", "0.05", "--quiet", "--timings"])
-        .output()
-        .expect("binary runs");
+    let out = chaindrive(&["run", "--duration", "0.05", "--quiet", "--timings"]);
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     let shares: Vec<f64> = [
@@ -382,14 +381,14 @@ fn no_integrator_allocates_in_the_step_loop() {
             start.stretch_m,
         );
         let limits = chaindrive::sim::BlowUpLimits::for_scene(&scene);
-        let before = super::allocations::count();
+        let before = allocations::count();
         for _ in 0..2000 {
             integration
                 .advance(&start.model, &mut state, &mut forces, 1e-5)
                 .expect("step");
             check_blow_up(&start.model, &state, &forces, &limits).expect("stable");
         }
-        let made = super::allocations::count() - before;
+        let made = allocations::count() - before;
         assert_eq!(made, 0, "{scheme:?} allocated {made} times in 2000 steps");
     }
 }
@@ -399,11 +398,11 @@ fn a_run_allocates_nothing_per_step() {
     let mut sim = Simulation::new(&Scene::l60mc()).expect("settles");
     sim.run(0.001, 10, &mut chaindrive::sim::NoObserver, None)
         .expect("warm-up");
-    let before = super::allocations::count();
+    let before = allocations::count();
     let outcome = sim
         .run(0.021, 10, &mut chaindrive::sim::NoObserver, None)
         .expect("stable");
-    let made = super::allocations::count() - before;
+    let made = allocations::count() - before;
     assert_eq!(outcome.steps, 2000);
     // Whatever a run allocates, it does not grow with its length.
     assert!(made < 20, "{made} allocations in 2000 steps");

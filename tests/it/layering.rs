@@ -113,7 +113,8 @@ fn no_module_imports_a_later_stage() {
 
 #[test]
 fn the_scan_opens_use_groups_and_skips_comments() {
-    let code = "use crate::{forces::{A, B}, model::C};\n// crate::studies\nlet x = crate::sim::f();";
+    let code =
+        "use crate::{forces::{A, B}, model::C};\n// crate::studies\nlet x = crate::sim::f();";
     let found = crate_modules(code);
     let want: BTreeSet<String> = ["forces", "model", "sim"].map(str::to_owned).into();
     assert_eq!(found, want);

@@ -1,67 +1,26 @@
 //! Integration tests: one binary, one module per topic. Every expected
 //! number comes from outside the code under test (the paper's Table 4,
 //! closed forms, the public contract), with its source in a comment.
+//!
+//! Modules that drive the `chaindrive` binary, read MCAP recordings or draw
+//! figures need the features that build those (`cli`, `record`, `figures`);
+//! `cargo test --no-default-features` runs the rest.
 
 mod analysis;
+#[cfg(feature = "cli")]
 mod analyze;
+#[cfg(feature = "cli")]
 mod cli;
+mod common;
 mod cosim;
 mod fuzz;
 mod integrators;
 mod layering;
 mod paper;
 mod profile;
+#[cfg(feature = "record")]
 mod record;
 mod scene_errors;
 mod seam;
 mod stepping;
 mod stress;
-
-use chaindrive::scene::Scene;
-
-/// The paper's drive, shortened for tests.
-pub fn l60mc(duration_s: f64) -> Scene {
-    let mut scene = Scene::l60mc();
-    scene.solver.duration_s = duration_s;
-    scene
-}
-
-/// Counts the allocations made by the current thread, so that a test can
-/// check a loop allocates nothing while other tests run in parallel.
-pub mod allocations {
-    use std::alloc::{GlobalAlloc, Layout, System};
-    use std::cell::Cell;
-
-    thread_local! {
-        static COUNT: Cell<u64> = const { Cell::new(0) };
-    }
-
-    struct Counting;
-
-    // SAFETY: every call is forwarded unchanged to the system allocator; the
-    // counter is a const-initialised thread-local (no allocation to reach it).
-    unsafe impl GlobalAlloc for Counting {
-        unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-            COUNT.with(|c| c.set(c.get() + 1));
-            // SAFETY: forwarded with the caller's layout.
-            unsafe { System.alloc(layout) }
-        }
-        unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-            // SAFETY: forwarded with the caller's pointer and layout.
-            unsafe { System.dealloc(ptr, layout) }
-        }
-        unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-            COUNT.with(|c| c.set(c.get() + 1));
-            // SAFETY: forwarded with the caller's arguments.
-            unsafe { System.realloc(ptr, layout, new_size) }
-        }
-    }
-
-    #[global_allocator]
-    static GLOBAL: Counting = Counting;
-
-    /// Allocations made by this thread so far.
-    pub fn count() -> u64 {
-        COUNT.with(Cell::get)
-    }
-}

@@ -1,11 +1,11 @@
 //! The paper's drive: Table 4, static pretension, speed ratios, the strands'
 //! transverse frequency against the moving-string estimate.
 
-use chaindrive::analysis::{RunSummary, Signals};
+use approx::{abs_diff_eq, assert_abs_diff_eq};
 use chaindrive::model::DriveModel;
 use chaindrive::sim::Simulation;
 
-use super::l60mc;
+use crate::common::{l60mc, run_summary};
 
 /// Pedersen (2005) Table 4, as checked in MODEL.md §8 (segment 4's angle
 /// computes to 3.20109; the table prints 3.2010).
@@ -19,19 +19,19 @@ fn strands_reproduce_table4() {
     for (k, s) in model.path.strands.iter().enumerate() {
         // Printed to 4 decimals: within half a unit of the last digit, and 1e-4 as required.
         assert!(
-            (s.length_m - TABLE4_LENGTH_M[k]).abs() < 1e-4,
+            abs_diff_eq!(s.length_m, TABLE4_LENGTH_M[k], epsilon = 1e-4),
             "segment {} length {}",
             k + 1,
             s.length_m
         );
         assert!(
-            (s.angle_on_from_rad - TABLE4_ANGLE_FROM[k]).abs() < 1e-4,
+            abs_diff_eq!(s.angle_on_from_rad, TABLE4_ANGLE_FROM[k], epsilon = 1e-4),
             "segment {} from-angle {}",
             k + 1,
             s.angle_on_from_rad
         );
         assert!(
-            (s.angle_on_to_rad - TABLE4_ANGLE_TO[k]).abs() < 1e-4,
+            abs_diff_eq!(s.angle_on_to_rad, TABLE4_ANGLE_TO[k], epsilon = 1e-4),
             "segment {} to-angle {}",
             k + 1,
             s.angle_on_to_rad
@@ -44,7 +44,7 @@ fn strands_reproduce_table4() {
         .iter()
         .zip([3.4306, 1.2153, 3.2005, 0.8674])
     {
-        assert!((w.wrap_rad - expected).abs() < 1e-4, "wrap {}", w.wrap_rad);
+        assert_abs_diff_eq!(w.wrap_rad, expected, epsilon = 1e-4);
     }
 }
 
@@ -52,11 +52,7 @@ fn strands_reproduce_table4() {
 fn polygon_through_seated_rollers_is_the_papers() {
     // MODEL.md §8: about 10.8475 m against 122 × 0.0889 = 10.8458 m.
     let (_, _, layout) = DriveModel::build(&l60mc(0.0)).expect("layout");
-    assert!(
-        (layout.polygon_length_m - 10.8475).abs() < 3e-4,
-        "{}",
-        layout.polygon_length_m
-    );
+    assert_abs_diff_eq!(layout.polygon_length_m, 10.8475, epsilon = 3e-4);
     assert_eq!(layout.rollers_m.len(), 122);
 }
 
@@ -70,21 +66,7 @@ fn static_equilibrium_reaches_the_pretension() {
         "static tension {t}"
     );
     // MODEL.md §8: the rest length comes out near 0.08888 m.
-    assert!(
-        (sim.model.rest_length_m - 0.08888).abs() < 1e-5,
-        "{}",
-        sim.model.rest_length_m
-    );
-}
-
-/// Runs the paper's drive and returns its summary (every output finite).
-pub fn run_summary(duration_s: f64, rate_hz: f64) -> RunSummary {
-    let scene = l60mc(duration_s);
-    let mut sim = Simulation::new(&scene).expect("equilibrium");
-    let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
-    let mut signals = Signals::new(&sim.model, rate_hz, duration_s - 1.0);
-    let out = sim.run(duration_s, every, &mut signals, None).expect("run");
-    RunSummary::of_run(&sim, &out, &signals, 0.0)
+    assert_abs_diff_eq!(sim.model.rest_length_m, 0.08888, epsilon = 1e-5);
 }
 
 #[test]

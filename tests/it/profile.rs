@@ -3,8 +3,7 @@
 //! projection on a fine tessellation, the sprocket colliders in the rapier
 //! world, and the real profile running the paper's drive.
 
-use std::process::Command;
-
+use approx::{abs_diff_eq, assert_abs_diff_eq};
 use chaindrive::geometry::ToothProfile;
 use chaindrive::scene::mutate::Lcg;
 use chaindrive::scene::{ProfileKind, Scene};
@@ -12,21 +11,12 @@ use parry2d_f64::math::Vector;
 use parry2d_f64::query::PointQuery;
 use parry2d_f64::shape::Polyline;
 
-fn chaindrive(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-        .args(args)
-        .output()
-        .expect("binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).expect("utf8")
-}
+#[cfg(feature = "cli")]
+use crate::common::chaindrive_stdout;
 
 /// tooth-profile.md §4 (P = 0.0889 m, Dr = 0.054 m), mm and degrees:
 /// (N, A, B, C, Rs, R_t, M, T, R_E, W, V, R_F, H, S, yz, tip radius).
+#[cfg(feature = "cli")]
 const TABLE: [(u32, [f64; 15]); 3] = [
     (
         60,
@@ -50,6 +40,7 @@ const TABLE: [(u32, [f64; 15]); 3] = [
         ],
     ),
 ];
+#[cfg(feature = "cli")]
 const NAMES: [&str; 15] = [
     "A",
     "B",
@@ -68,10 +59,11 @@ const NAMES: [&str; 15] = [
     "tip radius",
 ];
 
+#[cfg(feature = "cli")]
 #[test]
 fn dimension_table_reproduces_tooth_profile_md() {
     for (teeth, expected) in TABLE {
-        let text = chaindrive(&[
+        let text = chaindrive_stdout(&[
             "profile",
             "--teeth",
             &teeth.to_string(),
@@ -92,15 +84,16 @@ fn dimension_table_reproduces_tooth_profile_md() {
                 .expect("number");
             // Printed to 4 decimals: within half a unit of the last digit.
             assert!(
-                (got - value).abs() <= 0.5e-4 + 1e-9,
+                abs_diff_eq!(got, value, epsilon = 0.5e-4 + 1e-9),
                 "N = {teeth}, {name}: {got} vs {value}"
             );
         }
     }
 }
 
+#[cfg(feature = "cli")]
 fn csv_points(args: &[&str]) -> Vec<(f64, f64, i64, u8)> {
-    let text = chaindrive(args);
+    let text = chaindrive_stdout(args);
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("x_m,y_m,gap,area"));
     lines
@@ -116,6 +109,7 @@ fn csv_points(args: &[&str]) -> Vec<(f64, f64, i64, u8)> {
         .collect()
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn outline_csv_contract() {
     let pts = csv_points(&[
@@ -149,7 +143,7 @@ fn outline_csv_contract() {
         .filter(|p| p.2 == 0 && p.3 == 4)
         .map(|p| p.0.hypot(p.1))
         .fold(f64::INFINITY, f64::min);
-    assert!((root - 369.8278e-3).abs() < 1e-7, "{root}");
+    assert_abs_diff_eq!(root, 369.8278e-3, epsilon = 1e-7);
     let circular = csv_points(&[
         "profile",
         "--teeth",
@@ -188,7 +182,7 @@ fn exact_distance_agrees_with_parry_on_a_fine_tessellation() {
         let proj = polyline.project_local_point(Vector::new(p[0], p[1]), false);
         let d = (proj.point.x - p[0]).hypot(proj.point.y - p[1]);
         assert!(
-            (sd.abs() - d).abs() < 5e-9,
+            abs_diff_eq!(sd.abs(), d, epsilon = 5e-9),
             "at {p:?}: exact {sd}, parry {d}"
         );
     }
@@ -217,10 +211,10 @@ fn real_profile_seated_contact_is_hertzian() {
     state.y[0] = r * theta.sin();
     forces.evaluate(&model, &state);
     let expected = 1e9 * delta.powf(1.5);
-    assert!(
-        (forces.output().contact_force[0] - expected).abs() < 1e-9 * expected,
-        "{} vs {expected}",
-        forces.output().contact_force[0]
+    assert_abs_diff_eq!(
+        forces.output().contact_force[0],
+        expected,
+        epsilon = 1e-9 * expected
     );
 }
 
@@ -270,7 +264,7 @@ fn parry_projection_on_the_sprocket_collider_agrees_to_its_tessellation() {
         let proj = shape.project_local_point(Vector::new(p[0], p[1]), false);
         let d = (proj.point.x - p[0]).hypot(proj.point.y - p[1]);
         assert!(
-            (sd.abs() - d).abs() <= tolerance,
+            abs_diff_eq!(sd.abs(), d, epsilon = tolerance),
             "at {p:?}: exact {sd}, collider {d}"
         );
     }

@@ -4,16 +4,23 @@
 
 use std::collections::BTreeMap;
 use std::io::Cursor;
+#[cfg(feature = "cli")]
 use std::path::Path;
-use std::process::Command;
+#[cfg(feature = "cli")]
 use std::time::{Duration, Instant};
+
+use approx::abs_diff_eq;
 
 use chaindrive::analysis::{RunSummary, Signals, SummaryInputs};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{L60MC_TOML, Scene};
-use chaindrive::sim::{Observer, Sample, Simulation};
+use chaindrive::sim::{Observer, Sample, SampleRate, Simulation};
 use foxglove::schemas::{FrameTransforms, PointCloud, SceneUpdate};
 use prost::Message as _;
+
+use crate::common::l60mc;
+#[cfg(feature = "cli")]
+use crate::common::{command, stderr};
 
 // Mirrors of the derived schemas (field numbers in declaration order); the
 // test `derived_schemas_name_their_fields` checks them against the file's
@@ -154,18 +161,18 @@ impl<W: std::io::Write + std::io::Seek + Send + 'static> Observer for Both<'_, W
 /// file's bytes and the run's summary.
 fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>, RunSummary) {
     let mut sim = Simulation::new(scene).expect("sim");
-    let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
-    let mut signals = Signals::new(&sim.model, rate_hz, 0.0);
+    let sampling = SampleRate::new(rate_hz, scene.solver.dt_s).expect("a whole number of steps");
+    let mut signals = Signals::new(&sim.model, sampling.rate_hz, 0.0);
     let options = RecordOptions {
         channels,
         scene_file: Some(("l60mc.toml".to_owned(), L60MC_TOML.as_bytes().to_vec())),
-        rate_hz,
+        rate_hz: sampling.rate_hz,
     };
     let mut recorder = Recorder::new(Cursor::new(Vec::new()), scene, &options).expect("recorder");
     let outcome = sim
         .run(
             scene.solver.duration_s,
-            every,
+            sampling.every,
             &mut Both {
                 signals: &mut signals,
                 recorder: &mut recorder,
@@ -206,7 +213,7 @@ const PER_SAMPLE_TOPICS: [&str; 7] = [
 #[test]
 fn library_round_trip_matches_the_run_summary() {
     // 1.5 s at 1 kHz: the statistics window (the last second) is fully recorded.
-    let scene = super::l60mc(1.5);
+    let scene = l60mc(1.5);
     let rate = 1000.0;
     let (bytes, summary) = record_in_memory(&scene, rate, Channels::all());
     let rec = Recording::read(&bytes);
@@ -278,7 +285,11 @@ fn library_round_trip_matches_the_run_summary() {
         assert!(!forces.is_empty(), "segment {}", k + 1);
         let mean = forces.iter().sum::<f64>() / forces.len() as f64;
         assert!(
-            (mean - seg.mean_link_force_n).abs() <= 1e-9 * seg.mean_link_force_n.abs(),
+            abs_diff_eq!(
+                mean,
+                seg.mean_link_force_n,
+                epsilon = 1e-9 * seg.mean_link_force_n.abs()
+            ),
             "segment {}: recorded mean {mean} vs summary {}",
             k + 1,
             seg.mean_link_force_n
@@ -293,7 +304,11 @@ fn library_round_trip_matches_the_run_summary() {
             .collect();
         let mean = speeds.iter().sum::<f64>() / speeds.len() as f64;
         assert!(
-            (mean - sp.mean_speed_rad_s).abs() <= 1e-9 * sp.mean_speed_rad_s.abs().max(1e-9),
+            abs_diff_eq!(
+                mean,
+                sp.mean_speed_rad_s,
+                epsilon = 1e-9 * sp.mean_speed_rad_s.abs().max(1e-9)
+            ),
             "sprocket {}: {mean} vs {}",
             i + 1,
             sp.mean_speed_rad_s
@@ -333,7 +348,7 @@ fn library_round_trip_matches_the_run_summary() {
 #[test]
 fn derived_schemas_name_their_fields() {
     // The test's prost mirrors rely on these names and numbers.
-    let (bytes, _) = record_in_memory(&super::l60mc(0.01), 1000.0, Channels::all());
+    let (bytes, _) = record_in_memory(&l60mc(0.01), 1000.0, Channels::all());
     let rec = Recording::read(&bytes);
     let fields = |topic: &str| -> Vec<(String, i32)> {
         let set = prost_types::FileDescriptorSet::decode(&rec.schemas[topic].2[..])
@@ -372,7 +387,7 @@ fn derived_schemas_name_their_fields() {
 
 #[test]
 fn identical_runs_give_identical_recordings_and_unrequested_channels_are_absent() {
-    let scene = super::l60mc(0.05);
+    let scene = l60mc(0.05);
     let (a, _) = record_in_memory(&scene, 1000.0, Channels::all());
     let (b, _) = record_in_memory(&scene, 1000.0, Channels::all());
     assert!(a == b, "two identical runs differ");
@@ -387,15 +402,12 @@ fn identical_runs_give_identical_recordings_and_unrequested_channels_are_absent(
     assert!(Channels::parse("").is_err());
 }
 
-fn chaindrive() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_chaindrive"))
-}
-
+#[cfg(feature = "cli")]
 #[test]
 fn binary_records_a_readable_file_at_the_series_rate() {
     let dir = tempfile::tempdir().expect("tmp");
     let path = dir.path().join("run.mcap");
-    let out = chaindrive()
+    let out = command()
         .args([
             "run",
             "--duration",
@@ -408,11 +420,7 @@ fn binary_records_a_readable_file_at_the_series_rate() {
         .arg(&path)
         .output()
         .expect("binary runs");
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{}", stderr(&out));
     let rec = Recording::read(&std::fs::read(&path).expect("file"));
     for topic in PER_SAMPLE_TOPICS {
         assert_eq!(rec.count(topic), 61, "{topic}");
@@ -422,15 +430,16 @@ fn binary_records_a_readable_file_at_the_series_rate() {
     assert_eq!(rec.end_status(), "completed");
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn unwritable_recording_path_fails_before_simulating() {
     let started = Instant::now();
-    let out = chaindrive()
+    let out = command()
         .args(["run", "--record", "/nonexistent-dir/x.mcap"])
         .output()
         .expect("binary runs");
     assert!(!out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    let err = stderr(&out);
     assert!(
         err.contains("recording") && err.contains("/nonexistent-dir/x.mcap"),
         "{err}"
@@ -439,7 +448,7 @@ fn unwritable_recording_path_fails_before_simulating() {
         started.elapsed() < Duration::from_secs(5),
         "it simulated first"
     );
-    let out = chaindrive()
+    let out = command()
         .args([
             "run",
             "--record",
@@ -451,11 +460,12 @@ fn unwritable_recording_path_fails_before_simulating() {
         .output()
         .expect("binary runs");
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("nope"));
+    assert!(stderr(&out).contains("nope"));
 }
 
 /// The paper's drive with a driver speed it cannot take: it blows up ~20 ms
 /// into the run (penetration detector), after static equilibrium.
+#[cfg(feature = "cli")]
 fn blow_up_scene(dir: &Path) -> std::path::PathBuf {
     let text = L60MC_TOML.replace("speed_rpm = 120.0", "speed_rpm = 2000.0");
     assert_ne!(text, L60MC_TOML);
@@ -464,12 +474,13 @@ fn blow_up_scene(dir: &Path) -> std::path::PathBuf {
     path
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn a_run_that_blows_up_leaves_a_readable_recording() {
     let dir = tempfile::tempdir().expect("tmp");
     let scene = blow_up_scene(dir.path());
     let path = dir.path().join("blow-up.mcap");
-    let out = chaindrive()
+    let out = command()
         .arg("run")
         .arg(&scene)
         .args(["--duration", "1", "--quiet", "--record"])
@@ -477,7 +488,7 @@ fn a_run_that_blows_up_leaves_a_readable_recording() {
         .output()
         .expect("binary runs");
     assert!(!out.status.success());
-    assert!(String::from_utf8_lossy(&out.stderr).contains("blow-up"));
+    assert!(stderr(&out).contains("blow-up"));
     let rec = Recording::read(&std::fs::read(&path).expect("file"));
     let frames = rec.count("/rollers");
     assert!(frames > 5 && frames < 1000, "{frames} frames");
@@ -498,7 +509,7 @@ fn a_run_that_blows_up_leaves_a_readable_recording() {
     )
     .expect("write scene");
     let path = dir.path().join("setup.mcap");
-    let out = chaindrive()
+    let out = command()
         .arg("run")
         .arg(&unreachable)
         .args(["--quiet", "--record"])
@@ -511,11 +522,12 @@ fn a_run_that_blows_up_leaves_a_readable_recording() {
     assert!(rec.metadata.contains_key("chaindrive"));
 }
 
+#[cfg(feature = "cli")]
 #[test]
 fn a_run_interrupted_with_sigint_leaves_a_readable_recording() {
     let dir = tempfile::tempdir().expect("tmp");
     let path = dir.path().join("interrupted.mcap");
-    let mut child = chaindrive()
+    let mut child = command()
         .args(["run", "--duration", "60", "--quiet", "--record"])
         .arg(&path)
         .stdout(std::process::Stdio::null())
@@ -531,7 +543,7 @@ fn a_run_interrupted_with_sigint_leaves_a_readable_recording() {
         );
         std::thread::sleep(Duration::from_millis(20));
     }
-    let killed = Command::new("kill")
+    let killed = std::process::Command::new("kill")
         .args(["-INT", &child.id().to_string()])
         .status()
         .expect("kill runs");

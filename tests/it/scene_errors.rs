@@ -194,7 +194,7 @@ fn all_errors_are_reported_at_once() {
 #[test]
 fn two_runs_give_identical_summaries() {
     let run = || {
-        let mut s = super::paper::run_summary(0.6, 1000.0);
+        let mut s = crate::common::run_summary(0.6, 1000.0);
         s.wall_s = 0.0;
         s.ns_per_step = 0.0;
         serde_json::to_string(&s).expect("json")

@@ -3,7 +3,7 @@
 use chaindrive::scene::{ProfileKind, Stepping};
 use chaindrive::sim::Simulation;
 
-use super::l60mc;
+use crate::common::l60mc;
 
 /// Steps a substepped and a rapier-integrated copy of the same drive
 /// `steps` times from the substepped one's current state; returns the largest

@@ -1,29 +1,28 @@
-//! The stress matrix's contract (`chaindrive bench stress`, issue 7) and the
-//! scene generator it relies on.
+//! The stress matrix's contract (`chaindrive bench stress`) and the scene
+//! generator it relies on.
 
-use std::process::Command;
-
+#[cfg(feature = "cli")]
+use crate::common::{command, stderr};
 use chaindrive::scene::generate::DriveSpec;
 use chaindrive::sim::Simulation;
-use chaindrive::studies::stress::CSV_HEADER;
 
-/// The exact header of `stress.csv`, as issue 7 specifies it.
+/// The exact header of `stress.csv`, a public contract.
+#[cfg(feature = "cli")]
 const HEADER: &str = "case,rollers,sprockets,rpm,e,damping_ratio,kg,profile,integrator,dt_s,stable,detector,wall_per_sim_s";
 
+#[cfg(feature = "cli")]
 #[test]
 fn quick_matrix_writes_the_promised_csv() {
+    use chaindrive::studies::stress::CSV_HEADER;
+
     let dir = tempfile::tempdir().expect("tempdir");
-    let out = Command::new(env!("CARGO_BIN_EXE_chaindrive"))
+    let out = command()
         .args(["bench", "stress", "--quick", "--out"])
         .arg(dir.path())
         .output()
         .expect("runs");
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{stdout}\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    assert!(out.status.success(), "{stdout}\n{}", stderr(&out));
     assert!(stdout.contains("largest stable dt"), "{stdout}");
     let text = std::fs::read_to_string(dir.path().join("stress.csv")).expect("stress.csv");
     let mut lines = text.lines();

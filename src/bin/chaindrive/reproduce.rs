@@ -39,13 +39,11 @@ pub fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
         "--duration must be a positive number of seconds, got {}",
         args.duration
     );
-    anyhow::ensure!(
-        args.rate > 0.0 && args.rate.is_finite(),
-        "--rate must be positive, got {}",
-        args.rate
-    );
-    // The paper's chain has 122 rollers: reject bad indices before minutes of simulation.
-    let rollers = chaindrive::scene::Scene::l60mc().chain.rollers;
+    // The paper's drive: reject a bad rate or index before minutes of simulation.
+    let paper = chaindrive::scene::Scene::l60mc();
+    chaindrive::sim::SampleRate::new(args.rate, paper.solver.dt_s)
+        .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
+    let rollers = paper.chain.rollers;
     anyhow::ensure!(
         args.link < rollers,
         "unknown link {}: the chain has links 0 to {}",

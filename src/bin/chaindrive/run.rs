@@ -12,7 +12,7 @@ use anyhow::Context;
 use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, ProfileKind, Stepping};
-use chaindrive::sim::{Observer, Sample, Simulation, StageTimes, StepLimits};
+use chaindrive::sim::{Observer, Sample, SampleRate, Simulation, StageTimes, StepLimits};
 
 /// Arguments of `chaindrive run`.
 #[derive(clap::Args)]
@@ -194,11 +194,8 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         );
         scene.contact.law = law;
     }
-    anyhow::ensure!(
-        args.rate.is_finite() && args.rate > 0.0,
-        "--rate must be a finite number > 0, got {}",
-        args.rate
-    );
+    let sampling = SampleRate::new(args.rate, scene.solver.dt_s)
+        .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
     // Outputs are opened before anything is simulated: an unwritable path fails now.
     let summary_file = args
         .summary
@@ -215,9 +212,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let recorder = args
         .record
         .as_ref()
-        .map(|p| start_recording(p, &args, &scene))
+        .map(|p| start_recording(p, &args, &scene, sampling))
         .transpose()?;
-    let result = simulate(&args, scene, summary_file, csv, recorder);
+    let result = simulate(&args, scene, sampling, summary_file, csv, recorder);
     if result.is_err()
         && let Some(p) = &args.summary
     {
@@ -233,6 +230,7 @@ fn start_recording(
     path: &PathBuf,
     args: &RunArgs,
     scene: &chaindrive::scene::Scene,
+    sampling: SampleRate,
 ) -> anyhow::Result<Recorder<BufWriter<File>>> {
     let channels = Channels::parse(&args.record_channels)?;
     let scene_file = match &args.scene {
@@ -246,11 +244,10 @@ fn start_recording(
             chaindrive::scene::L60MC_TOML.as_bytes().to_vec(),
         ),
     };
-    let sample_every = (1.0 / (args.rate * scene.solver.dt_s)).round().max(1.0);
     let options = RecordOptions {
         channels,
         scene_file: Some(scene_file),
-        rate_hz: 1.0 / (sample_every * scene.solver.dt_s),
+        rate_hz: sampling.rate_hz,
     };
     let file = create(path, "recording")?;
     Recorder::new(file, scene, &options)
@@ -260,6 +257,7 @@ fn start_recording(
 fn simulate(
     args: &RunArgs,
     scene: chaindrive::scene::Scene,
+    sampling: SampleRate,
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<csv::Writer<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
@@ -287,8 +285,6 @@ fn simulate(
     let setup = Instant::now();
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
-    let sample_every = (1.0 / (args.rate * scene.solver.dt_s)).round().max(1.0) as u64;
-    let rate_hz = 1.0 / (sample_every as f64 * scene.solver.dt_s);
     let duration = scene.solver.duration_s;
     if let Some(csv) = csv.as_mut() {
         let segments = 1..=sim.model.segments.len();
@@ -307,14 +303,14 @@ fn simulate(
         p
     });
     let mut observer = CliObserver {
-        signals: Signals::new(&sim.model, rate_hz, (duration - 1.0).max(0.0)),
+        signals: Signals::new(&sim.model, sampling.rate_hz, (duration - 1.0).max(0.0)),
         csv,
         csv_error: None,
         progress,
         recorder,
     };
     sim.timings = args.timings;
-    let outcome = sim.run(duration, sample_every, &mut observer, Some(&stop));
+    let outcome = sim.run(duration, sampling.every, &mut observer, Some(&stop));
     if let Some(p) = &observer.progress {
         p.finish_and_clear();
     }

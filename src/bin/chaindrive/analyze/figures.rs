@@ -1,7 +1,6 @@
 //! `chaindrive analyze`'s figures of a recorded run (PNG and SVG), drawn
 //! with `chaindrive::analysis::figures`.
 
-use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use chaindrive::analysis::figures::{Mark, Plot, Trace, save};
@@ -196,28 +195,4 @@ pub(super) fn recorded_figures(
         )?;
     }
     Ok((out, paths))
-}
-
-/// Removes the figure files this analysis may have drawn.
-pub(super) fn remove_known_stems(dir: &Path, a: &RecordedAnalysis) {
-    let mut stems: BTreeSet<String> = BTreeSet::new();
-    if let Some(l) = &a.link {
-        stems.insert(format!("link{}_force", l.link));
-    }
-    if let Some(r) = &a.roller {
-        stems.insert(format!("roller{}_contact", r.roller));
-    }
-    for s in &a.segments {
-        for what in ["force", "transverse", "spectrum"] {
-            stems.insert(format!("segment{}_{what}", s.segment));
-        }
-    }
-    for s in &a.sprockets {
-        stems.insert(format!("sprocket{}_contact_vs_binder", s.sprocket));
-    }
-    for stem in stems {
-        for ext in ["png", "svg"] {
-            let _ = std::fs::remove_file(dir.join(format!("{stem}.{ext}")));
-        }
-    }
 }

@@ -13,7 +13,7 @@ use std::process::ExitCode;
 
 use chaindrive::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
 
-use figures::{recorded_figures, remove_known_stems};
+use figures::recorded_figures;
 use report::report_markdown;
 
 /// Arguments of `chaindrive analyze`.
@@ -110,7 +110,9 @@ struct Written {
 /// Reads the recording at `path`, checks `options`, measures, and writes
 /// `dir/report.md`, `dir/analysis.json` and the figures. Nothing is written
 /// (not even `dir`) before the recording and the options have passed every
-/// check; if drawing or writing fails, what was written is removed.
+/// check. Everything is drawn and written aside first (a hidden directory in
+/// `dir`, removed afterwards) and moved into `dir` only once all of it has
+/// been: a failed analysis leaves the outputs of an earlier one as they were.
 fn write_analysis(
     path: &Path,
     options: &AnalyzeOptions,
@@ -118,41 +120,75 @@ fn write_analysis(
 ) -> anyhow::Result<(RecordedAnalysis, Written)> {
     let run = RecordedRun::read(path)?;
     let analysis = run.analyze(options)?;
-    let write_err = |p: &Path| {
-        let path = p.display().to_string();
-        move |source| WriteError { path, source }
-    };
     std::fs::create_dir_all(dir).map_err(write_err(dir))?;
-    let (figures, paths) = match recorded_figures(&run, &analysis, options, dir) {
-        Ok(f) => f,
-        Err(e) => {
-            // Figures of the failed call are not left to look like a result.
-            remove_known_stems(dir, &analysis);
-            return Err(e);
-        }
-    };
-    let json = dir.join("analysis.json");
-    let report = dir.join("report.md");
-    let text = serde_json::to_string_pretty(&analysis).map_err(|e| WriteError {
-        path: json.display().to_string(),
-        source: std::io::Error::other(e),
-    });
-    let result = text.and_then(|text| std::fs::write(&json, text + "\n").map_err(write_err(&json)));
-    let result = result.and_then(|()| {
-        std::fs::write(&report, report_markdown(&analysis, &figures)).map_err(write_err(&report))
-    });
-    if let Err(e) = result {
-        for p in paths.iter().chain([&json, &report]) {
-            let _ = std::fs::remove_file(p);
-        }
-        return Err(e.into());
-    }
+    let staging = dir.join(format!(".analysis-{}.tmp", std::process::id()));
+    std::fs::create_dir_all(&staging).map_err(write_err(&staging))?;
+    let result = stage(&run, &analysis, options, &staging, dir)
+        .and_then(|(figures, names)| commit(&staging, dir, &names).map(|()| figures));
+    // Whatever happened, nothing staged stays behind (moved files are gone from it).
+    let _ = std::fs::remove_dir_all(&staging);
+    let figures = result?;
     Ok((
         analysis,
         Written {
-            report,
-            json,
+            report: dir.join("report.md"),
+            json: dir.join("analysis.json"),
             figures,
         },
     ))
+}
+
+/// The error of a failed write to `p`.
+fn write_err(p: &Path) -> impl FnOnce(std::io::Error) -> WriteError {
+    let path = p.display().to_string();
+    move |source| WriteError { path, source }
+}
+
+/// Draws the figures and writes the JSON and the report into `staging`;
+/// returns the figures and the names of the files written. Errors name the
+/// files' places in `dir`.
+fn stage(
+    run: &RecordedRun,
+    analysis: &RecordedAnalysis,
+    options: &AnalyzeOptions,
+    staging: &Path,
+    dir: &Path,
+) -> anyhow::Result<(Vec<(String, String)>, Vec<std::ffi::OsString>)> {
+    let (figures, paths) = recorded_figures(run, analysis, options, staging)?;
+    let text = serde_json::to_string_pretty(analysis).map_err(|e| WriteError {
+        path: dir.join("analysis.json").display().to_string(),
+        source: std::io::Error::other(e),
+    })?;
+    std::fs::write(staging.join("analysis.json"), text + "\n")
+        .map_err(write_err(&dir.join("analysis.json")))?;
+    std::fs::write(
+        staging.join("report.md"),
+        report_markdown(analysis, &figures),
+    )
+    .map_err(write_err(&dir.join("report.md")))?;
+    let mut names: Vec<std::ffi::OsString> = paths
+        .iter()
+        .filter_map(|p| p.file_name())
+        .map(Into::into)
+        .collect();
+    names.extend(["analysis.json".into(), "report.md".into()]);
+    Ok((figures, names))
+}
+
+/// Moves the files `names` from `staging` into `dir`, replacing earlier
+/// ones. A directory where a file goes is refused before anything moves.
+fn commit(staging: &Path, dir: &Path, names: &[std::ffi::OsString]) -> anyhow::Result<()> {
+    for name in names {
+        let target = dir.join(name);
+        if target.symlink_metadata().is_ok_and(|m| m.is_dir()) {
+            return Err(
+                write_err(&target)(std::io::Error::other("a directory is in the way")).into(),
+            );
+        }
+    }
+    for name in names {
+        let target = dir.join(name);
+        std::fs::rename(staging.join(name), &target).map_err(write_err(&target))?;
+    }
+    Ok(())
 }
