@@ -33,14 +33,14 @@
 //! ## Quick start
 //!
 //! ```no_run
-//! use chaindrive::{analysis::{RunSummary, Signals}, scene::Scene, sim::Simulation};
+//! use chaindrive::{analysis::{RunSummary, Signals}, scene::{Overrides, Scene}, sim::Simulation};
 //!
-//! let mut scene = Scene::l60mc(); // the paper's drive
-//! scene.solver.duration_s = 2.0;
+//! // The paper's drive, for 2 s instead of the scene file's 10 s.
+//! let scene = Scene::l60mc().with(&Overrides { duration_s: Some(2.0), ..Overrides::default() })?;
 //! let mut sim = Simulation::new(&scene)?; // layout + static equilibrium at 21 kN
 //! let mut signals = Signals::new(&sim.model, 1000.0, 1.0);
-//! let every = (1.0 / (1000.0 * scene.solver.dt_s)).round() as u64;
-//! let outcome = sim.run(scene.solver.duration_s, every, &mut signals, None)?;
+//! let every = (1.0 / (1000.0 * scene.solver().dt_s)).round() as u64;
+//! let outcome = sim.run(scene.solver().duration_s, every, &mut signals, None)?;
 //! let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
 //! println!("segment 1 mean link force: {:.0} N", summary.segments[0].mean_link_force_n);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -105,7 +105,7 @@
 //!     .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
 //!     .map(|i| s.y[i])
 //!     .fold(f64::INFINITY, f64::min);
-//! let top = lowest - scene.chain.roller_radius_m + 1e-5;
+//! let top = lowest - scene.chain().roller_radius_m + 1e-5;
 //! let strip = ColliderBuilder::cuboid(0.35, 0.005)
 //!     .translation(Vector::new(0.5, top - 0.005))
 //!     .friction(0.1);

@@ -62,7 +62,7 @@
 use std::time::Instant;
 
 use crate::scene::generate::{DriveSpec, GenerateError};
-use crate::scene::{Integrator, L60MC_TOML, ProfileKind, Scene, SceneError, SceneFile};
+use crate::scene::{Integrator, L60MC_TOML, Overrides, ProfileKind, Scene, SceneError, SceneFile};
 use crate::sim::{Observer, Sample, SimError, Simulation, StepLimits};
 
 /// The column header of `stress.csv`.
@@ -383,11 +383,13 @@ impl Observer for NanWatch {
 }
 
 /// A fresh simulation of `base`'s settled drive with another scheme and step.
-fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Simulation {
-    let mut scene = base.scene.clone();
-    scene.solver.integrator = integrator;
-    scene.solver.dt_s = dt_s;
-    Simulation::assemble(
+fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Result<Simulation, SceneError> {
+    let scene = base.scene.with(&Overrides {
+        integrator: Some(integrator),
+        dt_s: Some(dt_s),
+        ..Overrides::default()
+    })?;
+    Ok(Simulation::assemble(
         scene,
         base.model.clone(),
         base.state.clone(),
@@ -395,7 +397,7 @@ fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Simulation {
         base.layout.clone(),
         base.equilibrium,
         base.limits,
-    )
+    ))
 }
 
 /// Runs `base`'s drive with `integrator` at `dt_s` to the scene's horizon.
@@ -403,7 +405,31 @@ pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s:
     /// Simulated time between wall-budget checks, s.
     const CHUNK_S: f64 = 0.01;
     let horizon = base.scene.solver.duration_s;
-    let mut sim = fork(base, integrator, dt_s);
+    let mut sim = match fork(base, integrator, dt_s) {
+        Ok(sim) => sim,
+        // Only a step the scene refuses (not finite, not positive) lands here.
+        Err(e) => {
+            return RunRecord {
+                integrator,
+                dt_s,
+                refinement: false,
+                sim_s: 0.0,
+                verdict: Verdict::BlowUp {
+                    detector: "error",
+                    t_s: base.state.t_s,
+                    body: e.to_string(),
+                    value: 0.0,
+                    limit: 0.0,
+                },
+                wall_s: 0.0,
+                steps: 0,
+                evaluations: 0,
+                nan_in_output_t_s: None,
+                max_penetration_m: 0.0,
+                max_link_force_n: 0.0,
+            };
+        }
+    };
     let mut watch = NanWatch::default();
     let every = (1e-3 / dt_s).round().max(1.0) as u64;
     let started = Instant::now();
@@ -642,7 +668,7 @@ pub fn run_case(
 
 /// Every integrator.
 pub fn all_integrators() -> Vec<Integrator> {
-    Integrator::ALL.iter().map(|(_, i)| *i).collect()
+    Integrator::ALL.to_vec()
 }
 
 /// The schemes run on the 10,000-roller drives: the one- and two-evaluation
@@ -1132,7 +1158,7 @@ pub fn roller_costs(results: &[CaseResult]) -> Vec<RollerCost> {
             .collect()
     };
     let mut out = Vec::new();
-    for (_, integrator) in Integrator::ALL {
+    for &integrator in Integrator::ALL {
         let mut common = stable_dts(series[0], integrator);
         for r in &series[1..] {
             let other = stable_dts(r, integrator);

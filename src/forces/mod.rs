@@ -593,7 +593,13 @@ impl ForceGenerator {
             }
             let mut mask = 0u64;
             let mut clearance = f64::INFINITY;
-            for (j, sp) in model.sprockets.iter().enumerate().take(64) {
+            // One bit per sprocket: the validator admits no more than the mask holds.
+            for (j, sp) in model
+                .sprockets
+                .iter()
+                .enumerate()
+                .take(crate::scene::MAX_SPROCKETS)
+            {
                 let rx = xs[i] - sp.center_m[0];
                 let ry = ys[i] - sp.center_m[1];
                 let d_sq = rx * rx + ry * ry;

@@ -15,13 +15,16 @@ mod scene_errors;
 mod stepping;
 mod stress;
 
-use chaindrive::scene::Scene;
+use chaindrive::scene::{Overrides, Scene};
 
 /// The paper's drive, shortened for tests.
 pub fn l60mc(duration_s: f64) -> Scene {
-    let mut scene = Scene::l60mc();
-    scene.solver.duration_s = duration_s;
-    scene
+    Scene::l60mc()
+        .with(&Overrides {
+            duration_s: Some(duration_s),
+            ..Overrides::default()
+        })
+        .expect("a valid duration")
 }
 
 /// Counts the allocations made by the current thread, so that a test can

@@ -81,7 +81,7 @@ fn static_equilibrium_reaches_the_pretension() {
 pub fn run_summary(duration_s: f64, rate_hz: f64) -> RunSummary {
     let scene = l60mc(duration_s);
     let mut sim = Simulation::new(&scene).expect("equilibrium");
-    let every = (1.0 / (rate_hz * scene.solver.dt_s)).round() as u64;
+    let every = (1.0 / (rate_hz * scene.solver().dt_s)).round() as u64;
     let mut signals = Signals::new(&sim.model, rate_hz, duration_s - 1.0);
     let out = sim.run(duration_s, every, &mut signals, None).expect("run");
     RunSummary::of_run(&sim, &out, &signals, 0.0)

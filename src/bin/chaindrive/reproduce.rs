@@ -45,7 +45,7 @@ pub fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
         args.rate
     );
     // The paper's chain has 122 rollers: reject bad indices before minutes of simulation.
-    let rollers = chaindrive::scene::Scene::l60mc().chain.rollers;
+    let rollers = chaindrive::scene::Scene::l60mc().chain().rollers;
     anyhow::ensure!(
         args.link < rollers,
         "unknown link {}: the chain has links 0 to {}",
