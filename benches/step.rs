@@ -34,7 +34,7 @@ fn running_drive(stepping: Stepping, profile: ProfileKind) -> Simulation {
 
 fn kernels(c: &mut Criterion) {
     let scene = Scene::l60mc();
-    let law = ContactLawParams::new(&scene.contact());
+    let law = ContactLawParams::new(scene.contact());
     c.bench_function("contact_law/lankarani_nikravesh", |b| {
         b.iter(|| law.force_with(black_box(2e-4), black_box(0.3), black_box(15.0)))
     });

@@ -205,7 +205,7 @@ fn real_profile_seated_contact_is_hertzian() {
         .expect("valid scene");
     let (model, mut state, _) = chaindrive::model::DriveModel::build(&scene).expect("layout");
     let mut forces = chaindrive::forces::ForceGenerator::new(
-        chaindrive::forces::ContactLawParams::new(&scene.contact()),
+        chaindrive::forces::ContactLawParams::new(scene.contact()),
         state.rollers(),
         model.sprocket_count(),
     );
