@@ -48,6 +48,7 @@ pub use contact_law::ContactLawParams;
 
 use crate::geometry::{MAX_PATCHES, Outline, Patch, ToothProfile};
 use crate::model::{DriveModel, DriveState, SprocketModel};
+use crate::scene::MAX_SPROCKETS;
 
 /// Remembered onset of one contact patch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -594,12 +595,7 @@ impl ForceGenerator {
             let mut mask = 0u64;
             let mut clearance = f64::INFINITY;
             // One bit per sprocket: the validator admits no more than the mask holds.
-            for (j, sp) in model
-                .sprockets
-                .iter()
-                .enumerate()
-                .take(crate::scene::MAX_SPROCKETS)
-            {
+            for (j, sp) in model.sprockets.iter().enumerate().take(MAX_SPROCKETS) {
                 let rx = xs[i] - sp.center_m[0];
                 let ry = ys[i] - sp.center_m[1];
                 let d_sq = rx * rx + ry * ry;
