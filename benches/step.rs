@@ -14,15 +14,19 @@ use std::hint::black_box;
 use chaindrive::forces::ContactLawParams;
 use chaindrive::geometry::asa::{AsaProfile, LocatedPatch};
 use chaindrive::geometry::{CircularProfile, Patch};
-use chaindrive::scene::{ProfileKind, Scene, Stepping};
+use chaindrive::scene::{Overrides, ProfileKind, Scene, Stepping};
 use chaindrive::sim::{NoObserver, Simulation};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 /// The paper's drive, run to full speed (1.5 s), in the given stepping mode.
 fn running_drive(stepping: Stepping, profile: ProfileKind) -> Simulation {
-    let mut scene = Scene::l60mc();
-    scene.solver.stepping = stepping;
-    scene.set_profile(profile);
+    let scene = Scene::l60mc()
+        .with(&Overrides {
+            stepping: Some(stepping),
+            profile: Some(profile),
+            ..Overrides::default()
+        })
+        .expect("paper drive");
     let mut sim = Simulation::new(&scene).expect("paper drive");
     sim.run(1.5, 1000, &mut NoObserver, None).expect("run");
     sim
@@ -30,7 +34,7 @@ fn running_drive(stepping: Stepping, profile: ProfileKind) -> Simulation {
 
 fn kernels(c: &mut Criterion) {
     let scene = Scene::l60mc();
-    let law = ContactLawParams::new(&scene.contact);
+    let law = ContactLawParams::new(scene.contact());
     c.bench_function("contact_law/lankarani_nikravesh", |b| {
         b.iter(|| law.force_with(black_box(2e-4), black_box(0.3), black_box(15.0)))
     });
@@ -92,7 +96,7 @@ fn steps(c: &mut Criterion) {
         (Stepping::Rapier, ProfileKind::Circular),
     ] {
         let mut sim = running_drive(stepping, profile);
-        let dt = sim.scene.solver.dt_s;
+        let dt = sim.scene.solver().dt_s;
         let name = format!("{}_{}", stepping.name(), profile.name());
         group.bench_function(name, |b| b.iter(|| sim.step(dt).expect("stable")));
     }

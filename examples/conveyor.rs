@@ -51,7 +51,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
         .map(|i| s.y[i])
         .fold(f64::INFINITY, f64::min);
-    let strip_top = lowest - scene.chain.roller_radius_m - 0.0005;
+    let strip_top = lowest - scene.chain().roller_radius_m - 0.0005;
     world.colliders.insert(
         ColliderBuilder::cuboid(0.35, 0.005)
             .translation(Vector::new(0.5, strip_top - 0.005))

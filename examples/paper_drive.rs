@@ -7,20 +7,31 @@
 //! ```
 
 use chaindrive::analysis::{RunSummary, Signals};
-use chaindrive::scene::Scene;
+use chaindrive::scene::{Overrides, Scene};
 use chaindrive::sim::{SampleRate, Simulation};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
-    let mut scene = Scene::l60mc();
-    scene.solver.duration_s = 3.0;
+    let scene = Scene::l60mc().with(&Overrides {
+        duration_s: Some(3.0),
+        ..Overrides::default()
+    })?;
     let mut sim = Simulation::new(&scene)?;
     println!(
         "static tension {:.0} N with link rest length {:.6} m",
         sim.equilibrium.tension_n, sim.model.rest_length_m
     );
-    let sampling = SampleRate::new(1000.0, scene.solver.dt_s)?;
-    let mut signals = Signals::new(&sim.model, sampling.rate_hz, scene.solver.duration_s - 1.0);
-    let outcome = sim.run(scene.solver.duration_s, sampling.every, &mut signals, None)?;
+    let sampling = SampleRate::new(1000.0, scene.solver().dt_s)?;
+    let mut signals = Signals::new(
+        &sim.model,
+        sampling.rate_hz,
+        scene.solver().duration_s - 1.0,
+    );
+    let outcome = sim.run(
+        scene.solver().duration_s,
+        sampling.every,
+        &mut signals,
+        None,
+    )?;
     let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
     println!("{}", serde_json::to_string_pretty(&summary)?);
     Ok(())

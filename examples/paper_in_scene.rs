@@ -66,7 +66,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "per frame: chain substeps {:.3} ms ({:.2} µs per substep), rapier step {:.3} ms, \
          sync {:.3} ms, collider search {:.3} ms",
         per(t.substeps_s),
-        t.substeps_s / (drive.state.t_s / scene.solver.dt_s).max(1.0) * 1e6,
+        t.substeps_s / (drive.state.t_s / scene.solver().dt_s).max(1.0) * 1e6,
         per(t.world_s),
         per(t.sync_s),
         per(t.search_s),

@@ -37,15 +37,16 @@
 //!
 //! ```no_run
 //! use chaindrive::analysis::{RunSummary, Signals};
-//! use chaindrive::{scene::Scene, sim::{SampleRate, Simulation}};
+//! use chaindrive::scene::{Overrides, Scene};
+//! use chaindrive::sim::{SampleRate, Simulation};
 //!
-//! let mut scene = Scene::l60mc(); // the paper's drive
-//! scene.solver.duration_s = 2.0;
+//! // The paper's drive, for 2 s instead of the scene file's 10 s.
+//! let scene = Scene::l60mc().with(&Overrides { duration_s: Some(2.0), ..Overrides::default() })?;
 //! let mut sim = Simulation::new(&scene)?; // layout + static equilibrium at 21 kN
 //! // 1 kHz: every 100 steps of 10 µs (a rate the step does not divide is an error).
-//! let sampling = SampleRate::new(1000.0, scene.solver.dt_s)?;
+//! let sampling = SampleRate::new(1000.0, scene.solver().dt_s)?;
 //! let mut signals = Signals::new(&sim.model, sampling.rate_hz, 1.0);
-//! let outcome = sim.run(scene.solver.duration_s, sampling.every, &mut signals, None)?;
+//! let outcome = sim.run(scene.solver().duration_s, sampling.every, &mut signals, None)?;
 //! let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
 //! println!("segment 1 mean link force: {:.0} N", summary.segments[0].mean_link_force_n);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
@@ -110,7 +111,7 @@
 //!     .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
 //!     .map(|i| s.y[i])
 //!     .fold(f64::INFINITY, f64::min);
-//! let top = lowest - scene.chain.roller_radius_m + 1e-5;
+//! let top = lowest - scene.chain().roller_radius_m + 1e-5;
 //! let strip = ColliderBuilder::cuboid(0.35, 0.005)
 //!     .translation(Vector::new(0.5, top - 0.005))
 //!     .friction(0.1);

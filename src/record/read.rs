@@ -35,7 +35,7 @@ use foxglove::schemas::PointCloud;
 use prost::Message as _;
 
 use super::Channel;
-use crate::scene::{ProfileKind, Scene, Stepping};
+use crate::scene::{Overrides, ProfileKind, Scene, Stepping};
 
 /// The first bytes of every MCAP file.
 const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
@@ -378,30 +378,19 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         });
     };
     let text = String::from_utf8_lossy(scene_bytes);
-    let mut scene = Scene::from_toml(&text).map_err(|e| ReadError::Scene {
+    // The run's own settings, where the recording states them sensibly.
+    let number = |key: &str| meta.get(key).and_then(|v| v.parse::<f64>().ok());
+    let overrides = Overrides {
+        profile: meta.get("profile").and_then(|p| ProfileKind::parse(p)),
+        dt_s: number("dt_s").filter(|dt| dt.is_finite() && *dt > 0.0),
+        duration_s: number("duration_s").filter(|d| d.is_finite() && *d >= 0.0),
+        stepping: meta.get("stepping").and_then(|s| Stepping::from_name(s)),
+        ..Overrides::default()
+    };
+    let scene = Scene::from_toml_with(&text, &overrides).map_err(|e| ReadError::Scene {
         name: scene_name.clone(),
         message: e.lines().join("; "),
     })?;
-    if let Some(p) = meta.get("profile").and_then(|p| ProfileKind::parse(p)) {
-        scene.set_profile(p);
-    }
-    if let Some(dt) = meta.get("dt_s").and_then(|v| v.parse::<f64>().ok())
-        && dt.is_finite()
-        && dt > 0.0
-    {
-        scene.solver.dt_s = dt;
-    }
-    if let Some(d) = meta.get("duration_s").and_then(|v| v.parse::<f64>().ok())
-        && d.is_finite()
-        && d >= 0.0
-    {
-        scene.solver.duration_s = d;
-    }
-    match meta.get("stepping").map(String::as_str) {
-        Some("rapier") => scene.solver.stepping = Stepping::Rapier,
-        Some("substepped") => scene.solver.stepping = Stepping::Substepped,
-        _ => {}
-    }
 
     // Required channels.
     let required = [Channel::Segments, Channel::Sprockets];

@@ -98,14 +98,21 @@ impl SceneError {
         }])
     }
 
-    /// Fills in every field error's line and column from the scene's text.
-    pub fn located(self, text: &str) -> Self {
+    /// Fills in every field error's line and column from the scene's text,
+    /// except for the fields at `overridden` paths (their value is not in it).
+    pub fn located(self, text: &str, overridden: &[&str]) -> Self {
         match self {
             Self::Invalid(errors) => Self::Invalid(
                 errors
                     .into_iter()
                     .map(|e| FieldError {
-                        location: e.location.or_else(|| locate(text, &e.path)),
+                        location: e.location.or_else(|| {
+                            if overridden.contains(&e.path.as_str()) {
+                                None
+                            } else {
+                                locate(text, &e.path)
+                            }
+                        }),
                         ..e
                     })
                     .collect(),

@@ -1,11 +1,15 @@
 //! The scene file as written by a user: plain serde structs, every field
 //! named with its unit, unknown fields rejected. Nothing here is checked
 //! beyond its TOML type; [`super::Scene`] is the validated form.
+//!
+//! The enumerated fields (`law`, `wrap`, `role`, …) are strings here, read
+//! into their enumerations by the validator: an unknown name is then one
+//! field error among all the others, with its path and the allowed names.
 
 use serde::{Deserialize, Serialize};
 
 /// A whole scene file (TOML).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SceneFile {
     /// Free-form name, reported in every output.
@@ -35,7 +39,7 @@ fn default_profile() -> String {
 }
 
 /// The chain: rollers joined by spring-damper links.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChainFile {
     /// Number of rollers (= number of links, the chain is closed).
@@ -63,7 +67,7 @@ fn default_pretension_by() -> String {
 }
 
 /// Contact law parameters (MODEL.md §3).
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {
     /// `"lankarani_nikravesh"` (the paper's), `"hunt_crossley"`, `"flores"` or `"gonthier"`.
@@ -92,7 +96,7 @@ fn default_min_approach() -> f64 {
 }
 
 /// One sprocket.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SprocketFile {
     /// Name, for humans.
@@ -131,7 +135,7 @@ pub struct SprocketFile {
 }
 
 /// Integration settings.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct SolverFile {
     /// `"substepped"` (the fast path) or `"rapier"` (rapier integrates every body).
@@ -181,7 +185,7 @@ fn default_duration() -> f64 {
 }
 
 /// Static equilibrium before t = 0: damped relaxation with the driver held.
-#[derive(Clone, Debug, Deserialize, Serialize)]
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct EquilibriumFile {
     /// Relative tolerance on the pretension (rest-length or tensioner iteration).

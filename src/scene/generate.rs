@@ -1,12 +1,13 @@
 //! Generated drives: a closed chain of any length around 2 to
-//! [`MAX_SPROCKETS`] sprockets, placed so that the chain's path closes with
+//! [`MAX_GENERATED_SPROCKETS`] sprockets, placed so that the chain's path closes with
 //! exactly the requested roller count. Used by `chaindrive bench stress` and
 //! by tests that need a drive the paper does not have (1,000 or 10,000
 //! rollers, ten sprockets).
 //!
-//! A generated drive is written as a [`SceneFile`] and goes through TOML and
-//! the same validation as a hand-written scene ([`DriveSpec::scene`]), so it
-//! is a scene like any other; [`DriveSpec::toml`] gives its text.
+//! A generated drive is put together with a [`SceneBuilder`] and goes
+//! through the same validation as a hand-written scene
+//! ([`DriveSpec::scene`]), so it is a scene like any other;
+//! [`DriveSpec::toml`] gives its text.
 //!
 //! # Placement
 //!
@@ -44,12 +45,14 @@
 use std::f64::consts::{PI, TAU};
 
 use super::{
-    L60MC_TOML, ProfileKind, Scene, SceneError, SceneFile, SolverFile, SprocketFile, TEETH_RANGE,
+    L60MC_TOML, ProfileKind, RoleKind, Scene, SceneBuilder, SceneError, SceneFile, SolverFile,
+    SprocketFile, TEETH_RANGE, Wrap,
 };
 use crate::geometry::{LayoutError, PathCircle, chain_path, layout_rollers, pitch_radius};
 
-/// Most sprockets a generated drive may have.
-pub const MAX_SPROCKETS: usize = 16;
+/// Most sprockets a generated drive may have (the placement's own limit,
+/// well below the [`super::MAX_SPROCKETS`] any scene may have).
+pub const MAX_GENERATED_SPROCKETS: usize = 16;
 
 /// Teeth, mass and inertia of the paper's 30-tooth counterweight, the
 /// reference the generated sprockets scale from.
@@ -60,8 +63,8 @@ const REFERENCE_INERTIA_KG_M2: f64 = 82.0;
 /// Why a drive cannot be generated.
 #[derive(Debug, thiserror::Error)]
 pub enum GenerateError {
-    /// The sprocket count is outside 2..=MAX_SPROCKETS.
-    #[error("a generated drive has 2 to {MAX_SPROCKETS} sprockets, asked for {0}")]
+    /// The sprocket count is outside 2..=MAX_GENERATED_SPROCKETS.
+    #[error("a generated drive has 2 to {MAX_GENERATED_SPROCKETS} sprockets, asked for {0}")]
     SprocketCount(usize),
     /// The tooth list does not match the sprocket count, or a count is out of range.
     #[error("teeth: {0}")]
@@ -129,7 +132,7 @@ impl DriveSpec {
     /// The paper's chain, `rollers` long, round `sprockets` sprockets (the
     /// driver with 60 teeth, the others with 30), 120 rpm after a 0.1 s ramp.
     pub fn new(rollers: usize, sprockets: usize) -> Result<Self, GenerateError> {
-        if !(2..=MAX_SPROCKETS).contains(&sprockets) {
+        if !(2..=MAX_GENERATED_SPROCKETS).contains(&sprockets) {
             return Err(GenerateError::SprocketCount(sprockets));
         }
         let paper: SceneFile =
@@ -156,8 +159,13 @@ impl DriveSpec {
 
     /// The placed drive as a scene file.
     pub fn scene_file(&self) -> Result<SceneFile, GenerateError> {
+        Ok(self.builder()?.file()?)
+    }
+
+    /// The placed drive's parts, ready to build.
+    fn builder(&self) -> Result<SceneBuilder, GenerateError> {
         let k = self.teeth.len();
-        if !(2..=MAX_SPROCKETS).contains(&k) {
+        if !(2..=MAX_GENERATED_SPROCKETS).contains(&k) {
             return Err(GenerateError::SprocketCount(k));
         }
         if let Some(t) = self
@@ -204,8 +212,14 @@ impl DriveSpec {
                     pitch_radius_m: None,
                     mass_kg: REFERENCE_MASS_KG * scale,
                     inertia_kg_m2: REFERENCE_INERTIA_KG_M2 * scale * scale,
-                    wrap: "ccw".to_owned(),
-                    role: if driver { "driver" } else { "free" }.to_owned(),
+                    wrap: Wrap::Ccw.name().to_owned(),
+                    role: if driver {
+                        RoleKind::Driver
+                    } else {
+                        RoleKind::Free
+                    }
+                    .name()
+                    .to_owned(),
                     speed_rpm: driver.then_some(self.speed_rpm),
                     ramp_s: driver.then_some(self.ramp_s),
                     load_torque_n_m: None,
@@ -213,19 +227,17 @@ impl DriveSpec {
                     profile: None,
                 }
             })
-            .collect();
+            .collect::<Vec<_>>();
         let mut chain = self.chain.clone();
         chain.rollers = i64::try_from(self.rollers).unwrap_or(i64::MAX);
-        Ok(SceneFile {
-            name: self.name.clone(),
-            gravity_m_s2: self.gravity_m_s2,
-            profile: self.profile.name().to_owned(),
-            chain,
-            contact: self.contact.clone(),
-            sprockets,
-            solver: self.solver.clone(),
-            equilibrium: self.equilibrium.clone(),
-        })
+        Ok(Scene::builder(self.name.clone())
+            .gravity_m_s2(self.gravity_m_s2)
+            .profile(self.profile)
+            .chain(chain)
+            .contact(self.contact.clone())
+            .sprockets(sprockets)
+            .solver(self.solver.clone())
+            .equilibrium(self.equilibrium.clone()))
     }
 
     /// The scene file's TOML text.
@@ -233,9 +245,9 @@ impl DriveSpec {
         toml::to_string(&self.scene_file()?).map_err(|e| GenerateError::Toml(e.to_string()))
     }
 
-    /// The validated scene, parsed from [`Self::toml`] like a user's file.
+    /// The validated scene, checked like a user's file.
     pub fn scene(&self) -> Result<Scene, GenerateError> {
-        Ok(Scene::from_toml(&self.toml()?)?)
+        Ok(self.builder()?.build()?)
     }
 }
 
@@ -425,6 +437,9 @@ mod tests {
         let scene = spec.scene().expect("valid");
         assert_eq!(scene.chain.rollers, 300);
         assert_eq!(scene.sprockets.len(), 5);
-        assert!(scene.source_toml.is_some());
+        // The same scene, bit for bit, when it is written out and read back.
+        let mut parsed = Scene::from_toml(&spec.toml().expect("toml")).expect("valid");
+        parsed.source_toml = None;
+        assert_eq!(parsed, scene);
     }
 }

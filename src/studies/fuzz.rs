@@ -5,7 +5,7 @@
 //! `chaindrive bench fuzz`.
 
 use crate::scene::mutate::{Lcg, mutate};
-use crate::scene::{Scene, SceneError};
+use crate::scene::{Overrides, Scene, SceneError};
 use crate::sim::{NoObserver, Simulation};
 
 /// How a case ended (all of them acceptable).
@@ -26,7 +26,7 @@ pub enum FuzzOutcome {
 pub fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
     let mut rng = Lcg::new(seed);
     let text = mutate(base, &mut rng);
-    let mut scene = match Scene::from_toml(&text) {
+    let scene = match Scene::from_toml(&text) {
         Ok(s) => s,
         Err(e) => {
             for line in e.lines() {
@@ -44,7 +44,14 @@ pub fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
         }
     };
     // Short: a capped relaxation and 300 steps are enough to meet NaN.
-    scene.equilibrium.max_relax_s = scene.equilibrium.max_relax_s.min(0.003);
+    let capped = Overrides {
+        max_relax_s: Some(scene.equilibrium().max_relax_s.min(0.003)),
+        ..Overrides::default()
+    };
+    let scene = match scene.with(&capped) {
+        Ok(s) => s,
+        Err(e) => return Err(format!("seed {seed}: the capped scene is refused: {e}")),
+    };
     let mut sim = match Simulation::new(&scene) {
         Ok(sim) => sim,
         Err(e) if !e.to_string().is_empty() => return Ok(FuzzOutcome::Failed),

@@ -29,7 +29,7 @@ use crate::analysis::study::{
 };
 use crate::analysis::theory::string_frequency_hz;
 use crate::analysis::{RunSummary, Signals};
-use crate::scene::{ProfileKind, Scene};
+use crate::scene::{Overrides, ProfileKind, Scene};
 use crate::sim::{
     BlowUpLimits, EquilibriumError, RelaxSettings, SampleRate, SimError, Simulation,
     StaticEquilibrium, free_strand_tension, relax,
@@ -157,10 +157,17 @@ pub fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
         )));
     }
     let started = Instant::now();
-    let mut circular = Scene::l60mc();
-    circular.solver.duration_s = settings.duration_s;
-    let mut real = circular.clone();
-    real.set_profile(ProfileKind::Real);
+    let run = |profile| {
+        Scene::l60mc()
+            .with(&Overrides {
+                duration_s: Some(settings.duration_s),
+                profile,
+                ..Overrides::default()
+            })
+            .map_err(|e| StudyError::Settings(e.to_string()))
+    };
+    let circular = run(None)?;
+    let real = run(Some(ProfileKind::Real))?;
     // The circular run's rest length, from its static equilibrium (cheap next to the runs).
     let rest = Simulation::new(&circular)
         .map_err(|source| StudyError::Sim {

@@ -264,3 +264,15 @@ fn sigint_and_sigterm_end_the_run_with_a_summary_marked_interrupted() {
         );
     }
 }
+
+#[test]
+fn a_bad_override_names_its_option() {
+    let out = chaindrive(&["run", "--dt=0", "--duration", "0.1"]);
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(
+        err.contains("--dt (solver.dt_s): must be > 0, got 0"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty(), "nothing simulated");
+}

@@ -8,14 +8,17 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use chaindrive::analysis::{RunSummary, Signals};
-use chaindrive::scene::Scene;
+use chaindrive::scene::{Overrides, Scene};
 use chaindrive::sim::{SampleRate, Simulation};
 
 /// The paper's drive, shortened for tests.
 pub fn l60mc(duration_s: f64) -> Scene {
-    let mut scene = Scene::l60mc();
-    scene.solver.duration_s = duration_s;
-    scene
+    Scene::l60mc()
+        .with(&Overrides {
+            duration_s: Some(duration_s),
+            ..Overrides::default()
+        })
+        .expect("a valid duration")
 }
 
 /// Runs the paper's drive for `duration_s`, sampled at `rate_hz`, and
@@ -23,7 +26,7 @@ pub fn l60mc(duration_s: f64) -> Scene {
 pub fn run_summary(duration_s: f64, rate_hz: f64) -> RunSummary {
     let scene = l60mc(duration_s);
     let mut sim = Simulation::new(&scene).expect("equilibrium");
-    let sampling = SampleRate::new(rate_hz, scene.solver.dt_s).expect("a whole number of steps");
+    let sampling = SampleRate::new(rate_hz, scene.solver().dt_s).expect("a whole number of steps");
     let mut signals = Signals::new(&sim.model, sampling.rate_hz, duration_s - 1.0);
     let out = sim
         .run(duration_s, sampling.every, &mut signals, None)

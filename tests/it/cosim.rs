@@ -94,7 +94,7 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
         forces_alone.push(alone.forces.output().link_force.clone());
     }
     // Same substeps, same forces: the chain evolves as it does standalone.
-    assert_abs_diff_eq!(drive.state.t_s, 1.5, epsilon = scene.solver.dt_s);
+    assert_abs_diff_eq!(drive.state.t_s, 1.5, epsilon = scene.solver().dt_s);
     let worst = (0..drive.state.rollers())
         .map(|i| (drive.state.x[i] - alone.state.x[i]).hypot(drive.state.y[i] - alone.state.y[i]))
         .fold(0.0, f64::max);

@@ -4,7 +4,7 @@
 
 use chaindrive::forces::ForceGenerator;
 use chaindrive::model::{DriveModel, DriveState};
-use chaindrive::scene::{Integrator, L60MC_TOML, ProfileKind, Scene};
+use chaindrive::scene::{Integrator, L60MC_TOML, Overrides, ProfileKind, Scene};
 use chaindrive::sim::{Energy, Integration, Simulation, check_blow_up};
 
 use crate::common::allocations;
@@ -24,7 +24,7 @@ impl Start {
     fn of(scene: &Scene) -> Self {
         let sim = Simulation::new(scene).expect("settles");
         Self {
-            stretch_m: scene.chain.pretension_n / sim.model.stiffness_n_m,
+            stretch_m: scene.chain().pretension_n / sim.model.stiffness_n_m,
             model: sim.model,
             state: sim.state,
             forces: sim.forces,
@@ -79,8 +79,12 @@ fn distance(a: &DriveState, b: &DriveState) -> f64 {
 /// sine along the chain) — smooth, and no roller engages or leaves a tooth
 /// within the 2 ms horizon (checked).
 fn smooth_start() -> Start {
-    let mut scene = Scene::l60mc();
-    scene.set_profile(ProfileKind::Real);
+    let scene = Scene::l60mc()
+        .with(&Overrides {
+            profile: Some(ProfileKind::Real),
+            ..Overrides::default()
+        })
+        .expect("valid scene");
     let mut start = Start::of(&scene);
     let n = start.state.rollers();
     for i in 0..n {
@@ -173,9 +177,12 @@ fn free_running_conservative() -> Start {
         .replace("ramp_s = 1.0", "")
         .replace("damping_n_s_m = 250.0", "damping_n_s_m = 0.0")
         .replace("restitution = 0.0 ", "restitution = 1.0 ");
-    let mut scene = Scene::from_toml(&text).expect("valid scene");
-    assert_eq!(scene.contact.restitution, 1.0);
-    scene.set_profile(ProfileKind::Real);
+    let real = Overrides {
+        profile: Some(ProfileKind::Real),
+        ..Overrides::default()
+    };
+    let scene = Scene::from_toml_with(&text, &real).expect("valid scene");
+    assert_eq!(scene.contact().restitution, 1.0);
     let mut start = Start::of(&scene);
     let (s, n) = (&mut start.state, start.model.sprockets.len());
     let rollers = s.rollers();
@@ -261,9 +268,12 @@ fn implicit_damping_stays_accurate_where_the_explicit_step_fails() {
             "min_approach_speed_m_s = 0.002",
         );
     let max_penetration = |scheme: Integrator, dt: f64| {
-        let mut scene = Scene::from_toml(&text).expect("valid scene");
-        scene.solver.integrator = scheme;
-        scene.solver.dt_s = dt;
+        let overrides = Overrides {
+            integrator: Some(scheme),
+            dt_s: Some(dt),
+            ..Overrides::default()
+        };
+        let scene = Scene::from_toml_with(&text, &overrides).expect("valid scene");
         let mut sim = Simulation::new(&scene).expect("settles");
         sim.run(0.6, u64::MAX, &mut chaindrive::sim::NoObserver, None)
             .map(|outcome| outcome.max_penetration_m)
@@ -366,10 +376,14 @@ fn run_timings_account_for_the_stepping_loop() {
 
 #[test]
 fn no_integrator_allocates_in_the_step_loop() {
-    let mut scene = Scene::l60mc();
-    scene.set_profile(ProfileKind::Real);
+    let scene = Scene::l60mc()
+        .with(&Overrides {
+            profile: Some(ProfileKind::Real),
+            ..Overrides::default()
+        })
+        .expect("valid scene");
     let start = Start::of(&scene);
-    for (_, scheme) in Integrator::ALL {
+    for &scheme in Integrator::ALL {
         let mut state = start.state.clone();
         let mut forces = start.forces.clone();
         let mut integration = Integration::new(

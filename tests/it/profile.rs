@@ -6,7 +6,7 @@
 use approx::{abs_diff_eq, assert_abs_diff_eq};
 use chaindrive::geometry::ToothProfile;
 use chaindrive::scene::mutate::Lcg;
-use chaindrive::scene::{ProfileKind, Scene};
+use chaindrive::scene::{Overrides, ProfileKind, Scene};
 use parry2d_f64::math::Vector;
 use parry2d_f64::query::PointQuery;
 use parry2d_f64::shape::Polyline;
@@ -191,11 +191,15 @@ fn exact_distance_agrees_with_parry_on_a_fine_tessellation() {
 #[test]
 fn real_profile_seated_contact_is_hertzian() {
     // A roller pressed radially into the seating curve by δ: force K_g δ^1.5 along +e_r.
-    let mut scene = Scene::l60mc();
-    scene.set_profile(ProfileKind::Real);
+    let scene = Scene::l60mc()
+        .with(&Overrides {
+            profile: Some(ProfileKind::Real),
+            ..Overrides::default()
+        })
+        .expect("valid scene");
     let (model, mut state, _) = chaindrive::model::DriveModel::build(&scene).expect("layout");
     let mut forces = chaindrive::forces::ForceGenerator::new(
-        chaindrive::forces::ContactLawParams::new(&scene.contact),
+        chaindrive::forces::ContactLawParams::new(scene.contact()),
         &model,
         state.rollers(),
     );

@@ -161,7 +161,7 @@ impl<W: std::io::Write + std::io::Seek + Send + 'static> Observer for Both<'_, W
 /// file's bytes and the run's summary.
 fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>, RunSummary) {
     let mut sim = Simulation::new(scene).expect("sim");
-    let sampling = SampleRate::new(rate_hz, scene.solver.dt_s).expect("a whole number of steps");
+    let sampling = SampleRate::new(rate_hz, scene.solver().dt_s).expect("a whole number of steps");
     let mut signals = Signals::new(&sim.model, sampling.rate_hz, 0.0);
     let options = RecordOptions {
         channels,
@@ -171,7 +171,7 @@ fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>
     let mut recorder = Recorder::new(Cursor::new(Vec::new()), scene, &options).expect("recorder");
     let outcome = sim
         .run(
-            scene.solver.duration_s,
+            scene.solver().duration_s,
             sampling.every,
             &mut Both {
                 signals: &mut signals,
@@ -234,7 +234,7 @@ fn library_round_trip_matches_the_run_summary() {
     }
 
     // Counts: duration × rate, ±1 (the sample at t = 0 is the +1).
-    let expected = scene.solver.duration_s * rate;
+    let expected = scene.solver().duration_s * rate;
     for topic in PER_SAMPLE_TOPICS {
         let n = rec.count(topic) as f64;
         assert!((n - expected).abs() <= 1.0, "{topic}: {n} messages");
@@ -335,7 +335,7 @@ fn library_round_trip_matches_the_run_summary() {
 
     // Metadata and the scene file.
     let meta = &rec.metadata["chaindrive"];
-    assert_eq!(meta["scene"], scene.name);
+    assert_eq!(meta["scene"], scene.name());
     assert_eq!(meta["profile"], "circular");
     assert_eq!(meta["contact_law"], summary.contact_law);
     assert_eq!(meta["integrator"], summary.integrator);

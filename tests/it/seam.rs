@@ -6,7 +6,7 @@ use std::any::Any;
 
 use chaindrive::forces::{ForceElement, Forces};
 use chaindrive::model::{BodyModel, DriveModel, DriveState, ScalarModel};
-use chaindrive::scene::{Integrator, Scene};
+use chaindrive::scene::{Integrator, Overrides, Scene};
 use chaindrive::sim::{BlowUpLimits, SimError, Simulation, check_blow_up};
 
 /// A linear spring on body coordinate 0 (Q = −k q) and a first-order decay
@@ -52,8 +52,12 @@ fn every_integrator_advances_further_bodies_and_scalar_states() {
         Integrator::DormandPrince45,
         Integrator::ImplicitDamping,
     ] {
-        let mut scene = Scene::l60mc();
-        scene.solver.integrator = scheme;
+        let scene = Scene::l60mc()
+            .with(&Overrides {
+                integrator: Some(scheme),
+                ..Overrides::default()
+            })
+            .expect("a valid scheme");
         let mut sim = Simulation::new(&scene).expect("the paper's drive settles");
         let body = sim.add_body(
             BodyModel {

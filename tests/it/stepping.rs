@@ -1,6 +1,6 @@
 //! The two ways of stepping share one force generator and agree.
 
-use chaindrive::scene::{ProfileKind, Stepping};
+use chaindrive::scene::{Overrides, ProfileKind, Stepping};
 use chaindrive::sim::Simulation;
 
 use crate::common::l60mc;
@@ -13,8 +13,12 @@ fn compare_modes(
     scene: &chaindrive::scene::Scene,
     steps: usize,
 ) -> (f64, f64) {
-    let mut scene = scene.clone();
-    scene.solver.stepping = Stepping::Rapier;
+    let scene = scene
+        .with(&Overrides {
+            stepping: Some(Stepping::Rapier),
+            ..Overrides::default()
+        })
+        .expect("rapier stepping");
     let mut literal = Simulation::new(&scene).expect("rapier");
     literal.state = fast.state.clone();
     literal.forces = fast.forces.clone();
@@ -24,7 +28,7 @@ fn compare_modes(
         literal.world.integration_parameters.num_solver_iterations,
         1
     );
-    let dt = scene.solver.dt_s;
+    let dt = scene.solver().dt_s;
     for _ in 0..steps {
         fast.step(dt).expect("stable step");
         literal.step(dt).expect("stable step");
@@ -89,12 +93,16 @@ fn culling_changes_nothing() {
     // identical. The real profile's reach circles overlap on this drive, so
     // some of its rollers (e.g. 61–62 during the run-up) are in shared runs.
     for profile in [ProfileKind::Circular, ProfileKind::Real] {
-        let mut scene = l60mc(0.0);
-        scene.set_profile(profile);
+        let scene = l60mc(0.0)
+            .with(&Overrides {
+                profile: Some(profile),
+                ..Overrides::default()
+            })
+            .expect("valid scene");
         let mut a = Simulation::new(&scene).expect("sim");
         let mut b = Simulation::new(&scene).expect("sim");
         b.forces.contact.culling = None;
-        let dt = scene.solver.dt_s;
+        let dt = scene.solver().dt_s;
         for _ in 0..25_000 {
             a.step(dt).expect("stable step");
             b.step(dt).expect("stable step");

@@ -84,14 +84,14 @@ fn generated_drives_close_and_reach_their_pretension() {
         // relaxation; the pretension is reached long before.
         spec.equilibrium.max_relax_s = 0.3;
         let scene = spec.scene().expect("valid scene");
-        assert_eq!(scene.chain.rollers, rollers);
-        assert_eq!(scene.sprockets.len(), sprockets);
+        assert_eq!(scene.chain().rollers, rollers);
+        assert_eq!(scene.sprockets().len(), sprockets);
         let sim = Simulation::new(&scene)
             .unwrap_or_else(|e| panic!("{rollers} rollers, {sprockets} sprockets: {e}"));
-        let target = scene.chain.pretension_n;
+        let target = scene.chain().pretension_n;
         let tension = sim.equilibrium.tension_n;
         assert!(
-            ((tension - target) / target).abs() <= scene.equilibrium.tension_tolerance,
+            ((tension - target) / target).abs() <= scene.equilibrium().tension_tolerance,
             "{rollers}x{sprockets}: static tension {tension} N, target {target} N"
         );
         let st = &sim.state;
@@ -107,7 +107,7 @@ fn generated_drives_close_and_reach_their_pretension() {
             );
         }
         let closing = (st.x[0] - st.x[n - 1]).hypot(st.y[0] - st.y[n - 1]);
-        let p = scene.chain.pitch_m;
+        let p = scene.chain().pitch_m;
         assert!(
             (closing - p).abs() < 1e-3 * p,
             "{rollers}x{sprockets}: closing link {closing} m vs pitch {p} m"

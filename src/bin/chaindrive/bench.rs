@@ -12,7 +12,7 @@
 
 use std::process::ExitCode;
 
-use chaindrive::scene::{L60MC_TOML, ProfileKind, Scene};
+use chaindrive::scene::{L60MC_TOML, Overrides, ProfileKind};
 use chaindrive::sim::Simulation;
 use chaindrive::studies::fuzz::{FuzzOutcome, run_case};
 use chaindrive::studies::soak::Soak;
@@ -82,24 +82,32 @@ fn soak(
         "--duration must be > 0"
     );
     anyhow::ensure!(window.is_finite() && window > 0.0, "--window must be > 0");
-    let mut scene = Scene::l60mc();
-    if let Some(p) = profile.and_then(ProfileKind::parse) {
-        scene.set_profile(p);
-    }
-    scene.solver.duration_s = duration;
-    if let Some(dt) = dt {
-        anyhow::ensure!(dt.is_finite() && dt > 0.0, "--dt must be > 0");
-        scene.solver.dt_s = dt;
-    }
+    let overrides = Overrides {
+        profile: profile.and_then(ProfileKind::parse),
+        duration_s: Some(duration),
+        dt_s: dt,
+        ..Overrides::default()
+    };
+    let scene = match crate::load_scene(None, &overrides)? {
+        Ok(s) => s,
+        Err(lines) => {
+            eprintln!("{lines}");
+            return Ok(ExitCode::FAILURE);
+        }
+    };
     let mut sim = Simulation::new(&scene)?;
     let mut obs = Soak::new(window, sim.model.segments.len());
-    let every = (1e-3 / scene.solver.dt_s).round().max(1.0) as u64;
+    let every = (1e-3 / scene.solver().dt_s).round().max(1.0) as u64;
     let started = std::time::Instant::now();
     let outcome = sim.run(duration, every, &mut obs, None)?;
     // Speed ratios against the driver, or the first sprocket in a drive without one.
     let driver = sim.model.driver().unwrap_or(0);
-    let teeth: Vec<f64> = scene.sprockets.iter().map(|s| f64::from(s.teeth)).collect();
-    let sense: Vec<f64> = scene.sprockets.iter().map(|s| s.wrap.sign()).collect();
+    let teeth: Vec<f64> = scene
+        .sprockets()
+        .iter()
+        .map(|s| f64::from(s.teeth))
+        .collect();
+    let sense: Vec<f64> = scene.sprockets().iter().map(|s| s.wrap.sign()).collect();
     println!(
         "soak: {} profile, {duration} s simulated in {:.1} s wall ({:.0} ns/step), windows of {window} s",
         scene.profile_name(),

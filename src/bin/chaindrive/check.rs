@@ -14,7 +14,7 @@ pub struct CheckArgs {
 }
 
 pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let scene = match crate::load_scene(args.scene.as_deref())? {
+    let scene = match crate::load_scene(args.scene.as_deref(), &Default::default())? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
@@ -34,9 +34,9 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     };
     println!(
         "scene: {} ({} rollers, {} sprockets)",
-        scene.name,
-        scene.chain.rollers,
-        scene.sprockets.len()
+        scene.name(),
+        scene.chain().rollers,
+        scene.sprockets().len()
     );
     println!("segment  from  to   length_m   angle_on_from_rad  angle_on_to_rad  links");
     for (k, s) in model.path.strands.iter().enumerate() {
@@ -52,7 +52,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         );
     }
     println!("sprocket  teeth  pitch_radius_m  wrap_rad  wrap_pitches");
-    for (k, (sp, w)) in scene.sprockets.iter().zip(&model.path.wraps).enumerate() {
+    for (k, (sp, w)) in scene.sprockets().iter().zip(&model.path.wraps).enumerate() {
         println!(
             "{:>8}  {:>5}  {:>14.6}  {:>8.4}  {:>12.2}",
             k + 1,
@@ -65,19 +65,19 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     println!(
         "polygon through the seated rollers: {:.4} m; unstretched chain: {:.4} m",
         layout.polygon_length_m,
-        scene.chain.rollers as f64 * scene.chain.pitch_m
+        scene.chain().rollers as f64 * scene.chain().pitch_m
     );
     let limits = StepLimits::of(&scene);
     println!(
         "explicit step limits: links {:.1} µs, contact damping {:.1} µs; dt = {:.1} µs",
         limits.links_s * 1e6,
         limits.contact_damping_s * 1e6,
-        scene.solver.dt_s * 1e6
+        scene.solver().dt_s * 1e6
     );
-    if scene.solver.dt_s > limits.min_s() {
+    if scene.solver().dt_s > limits.min_s() {
         eprintln!(
             "{name}: warning: solver.dt_s = {:e} s exceeds the estimated stability limit {:.2e} s",
-            scene.solver.dt_s,
+            scene.solver().dt_s,
             limits.min_s()
         );
     }
@@ -85,7 +85,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         Ok(sim) => println!(
             "static equilibrium: tension {:.1} N (target {:.1} N), link rest length {:.7} m, {} iteration(s)",
             sim.equilibrium.tension_n,
-            scene.chain.pretension_n,
+            scene.chain().pretension_n,
             sim.model.rest_length_m,
             sim.equilibrium.iterations
         ),

@@ -63,12 +63,14 @@ fn main() -> std::process::ExitCode {
     }
 }
 
-/// Loads a scene file (or the embedded paper drive), reporting every error
-/// prefixed with the file name, one per line.
+/// Loads a scene file (or the embedded paper drive) with the command line's
+/// `overrides`, reporting every error prefixed with the file name, one per
+/// line, or with the option for an overridden field.
 pub(crate) fn load_scene(
     path: Option<&std::path::Path>,
+    overrides: &chaindrive::scene::Overrides,
 ) -> anyhow::Result<Result<chaindrive::scene::Scene, String>> {
-    use chaindrive::scene::{L60MC_TOML, Scene};
+    use chaindrive::scene::{L60MC_TOML, Scene, SceneError};
     let (name, text) = match path {
         Some(p) => (
             p.display().to_string(),
@@ -77,18 +79,42 @@ pub(crate) fn load_scene(
         ),
         None => ("<embedded l60mc.toml>".to_owned(), L60MC_TOML.to_owned()),
     };
-    Ok(Scene::from_toml(&text).map_err(|e| {
-        e.lines()
-            .iter()
-            // `file:line:col: path: reason` when the field was located, else `file: path: reason`.
-            .map(|l| {
-                if l.starts_with(|c: char| c.is_ascii_digit()) {
-                    format!("{name}:{l}")
-                } else {
-                    format!("{name}: {l}")
-                }
-            })
-            .collect::<Vec<_>>()
-            .join("\n")
+    let overridden = overrides.paths();
+    Ok(Scene::from_toml_with(&text, overrides).map_err(|e| {
+        let lines = match &e {
+            SceneError::Invalid(errors) => errors
+                .iter()
+                .map(|f| match option_for(&f.path) {
+                    Some(option) if overridden.contains(&f.path.as_str()) => {
+                        format!("{option} ({}): {}", f.path, f.message)
+                    }
+                    _ => with_file_name(&name, &f.to_string()),
+                })
+                .collect::<Vec<_>>(),
+            SceneError::Syntax(_) => e.lines().iter().map(|l| with_file_name(&name, l)).collect(),
+        };
+        lines.join("\n")
     }))
+}
+
+/// `file:line:col: path: reason` when the field was located, else `file: path: reason`.
+fn with_file_name(name: &str, line: &str) -> String {
+    if line.starts_with(|c: char| c.is_ascii_digit()) {
+        format!("{name}:{line}")
+    } else {
+        format!("{name}: {line}")
+    }
+}
+
+/// The command-line option that overrides a scene-file field.
+fn option_for(path: &str) -> Option<&'static str> {
+    Some(match path {
+        "solver.duration_s" => "--duration",
+        "solver.dt_s" => "--dt",
+        "solver.stepping" => "--stepping",
+        "solver.integrator" => "--integrator",
+        "solver.tolerance" => "--tolerance",
+        "contact.law" => "--contact-law",
+        _ => return None,
+    })
 }

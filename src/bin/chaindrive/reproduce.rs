@@ -41,9 +41,9 @@ pub fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
     );
     // The paper's drive: reject a bad rate or index before minutes of simulation.
     let paper = chaindrive::scene::Scene::l60mc();
-    chaindrive::sim::SampleRate::new(args.rate, paper.solver.dt_s)
+    chaindrive::sim::SampleRate::new(args.rate, paper.solver().dt_s)
         .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
-    let rollers = paper.chain.rollers;
+    let rollers = paper.chain().rollers;
     anyhow::ensure!(
         args.link < rollers,
         "unknown link {}: the chain has links 0 to {}",

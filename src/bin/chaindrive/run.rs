@@ -11,7 +11,7 @@ use std::time::Instant;
 use anyhow::Context;
 use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
-use chaindrive::scene::{ContactLaw, Integrator, ProfileKind, Stepping};
+use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
 use chaindrive::sim::{Observer, Sample, SampleRate, Simulation, StageTimes, StepLimits};
 
 /// Arguments of `chaindrive run`.
@@ -29,17 +29,17 @@ pub struct RunArgs {
     #[arg(long)]
     dt: Option<f64>,
     /// How the chain is stepped (overrides the scene).
-    #[arg(long, value_parser = ["substepped", "rapier"])]
-    stepping: Option<String>,
+    #[arg(long, value_enum)]
+    stepping: Option<Stepping>,
     /// The chain's integrator (overrides the scene).
-    #[arg(long, value_parser = ["symplectic_euler", "velocity_verlet", "rk4", "dormand_prince45", "implicit_damping"])]
-    integrator: Option<String>,
+    #[arg(long, value_enum)]
+    integrator: Option<Integrator>,
     /// Error tolerance of the adaptive integrator (overrides the scene).
     #[arg(long)]
     tolerance: Option<f64>,
     /// Contact law (overrides the scene).
-    #[arg(long, value_parser = ["lankarani_nikravesh", "hunt_crossley", "flores", "gonthier"])]
-    contact_law: Option<String>,
+    #[arg(long, value_enum)]
+    contact_law: Option<ContactLaw>,
     /// Write the run summary (JSON) here.
     #[arg(long)]
     summary: Option<PathBuf>,
@@ -135,66 +135,24 @@ fn io_error(e: csv::Error) -> std::io::Error {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
-    let mut scene = match crate::load_scene(args.scene.as_deref())? {
+    let overrides = Overrides {
+        profile: args.profile.as_deref().and_then(ProfileKind::parse),
+        duration_s: args.duration,
+        dt_s: args.dt,
+        stepping: args.stepping,
+        integrator: args.integrator,
+        tolerance: args.tolerance,
+        contact_law: args.contact_law,
+        max_relax_s: None,
+    };
+    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
             return Ok(ExitCode::FAILURE);
         }
     };
-    if let Some(p) = args.profile.as_deref().and_then(ProfileKind::parse) {
-        scene.set_profile(p);
-    }
-    if let Some(d) = args.duration {
-        anyhow::ensure!(
-            d.is_finite() && d >= 0.0,
-            "--duration must be a finite number >= 0, got {d}"
-        );
-        scene.solver.duration_s = d;
-    }
-    if let Some(dt) = args.dt {
-        anyhow::ensure!(
-            dt.is_finite() && dt > 0.0,
-            "--dt must be a finite number > 0, got {dt}"
-        );
-        scene.solver.dt_s = dt;
-    }
-    if let Some(s) = args.stepping.as_deref() {
-        scene.solver.stepping = if s == "rapier" {
-            Stepping::Rapier
-        } else {
-            Stepping::Substepped
-        };
-    }
-    if let Some(name) = args.integrator.as_deref() {
-        scene.solver.integrator = Integrator::parse(name)
-            .ok_or_else(|| anyhow::anyhow!("--integrator: unknown scheme \"{name}\""))?;
-        anyhow::ensure!(
-            scene.solver.integrator == Integrator::SymplecticEuler
-                || scene.solver.stepping == Stepping::Substepped,
-            "--integrator {name} needs --stepping substepped (rapier integrates with symplectic Euler)"
-        );
-    }
-    if let Some(tol) = args.tolerance {
-        anyhow::ensure!(
-            tol.is_finite() && tol > 0.0 && tol < 1.0,
-            "--tolerance must lie in (0, 1), got {tol}"
-        );
-        scene.solver.tolerance = tol;
-    }
-    if let Some(name) = args.contact_law.as_deref() {
-        let law = ContactLaw::ALL
-            .iter()
-            .find(|(n, _)| *n == name)
-            .map(|x| x.1)
-            .ok_or_else(|| anyhow::anyhow!("--contact-law: unknown law \"{name}\""))?;
-        anyhow::ensure!(
-            !(law.needs_positive_restitution() && scene.contact.restitution == 0.0),
-            "--contact-law {name} needs contact.restitution > 0 (the scene has e = 0)"
-        );
-        scene.contact.law = law;
-    }
-    let sampling = SampleRate::new(args.rate, scene.solver.dt_s)
+    let sampling = SampleRate::new(args.rate, scene.solver().dt_s)
         .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
     // Outputs are opened before anything is simulated: an unwritable path fails now.
     let summary_file = args
@@ -271,12 +229,12 @@ fn simulate(
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
     let limits = StepLimits::of(&scene);
-    let limit_s = limits.for_integrator(scene.solver.integrator);
-    if scene.solver.dt_s > limit_s {
+    let limit_s = limits.for_integrator(scene.solver().integrator);
+    if scene.solver().dt_s > limit_s {
         eprintln!(
             "warning: dt = {:e} s exceeds {}'s estimated stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s, for symplectic Euler)",
-            scene.solver.dt_s,
-            scene.solver.integrator.name(),
+            scene.solver().dt_s,
+            scene.solver().integrator.name(),
             limit_s,
             limits.links_s,
             limits.contact_damping_s
@@ -285,11 +243,11 @@ fn simulate(
     let setup = Instant::now();
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
-    let duration = scene.solver.duration_s;
+    let duration = scene.solver().duration_s;
     if let Some(csv) = csv.as_mut() {
         let segments = 1..=sim.model.segments.len();
         let header = std::iter::once("t_s".to_owned())
-            .chain((1..=scene.sprockets.len()).map(|i| format!("omega_{i}_rad_s")))
+            .chain((1..=scene.sprockets().len()).map(|i| format!("omega_{i}_rad_s")))
             .chain(segments.clone().map(|k| format!("seg{k}_link_force_n")))
             .chain(segments.map(|k| format!("seg{k}_transverse_m")));
         csv.write_record(header).map_err(io_error)?;

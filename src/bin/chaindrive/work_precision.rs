@@ -33,20 +33,20 @@ pub struct WorkPrecisionArgs {
 }
 
 pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
-    let mut scene = match crate::load_scene(args.scene.as_deref())? {
+    let overrides = chaindrive::scene::Overrides {
+        profile: args
+            .profile
+            .as_deref()
+            .and_then(chaindrive::scene::ProfileKind::parse),
+        ..Default::default()
+    };
+    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
             return Ok(ExitCode::FAILURE);
         }
     };
-    if let Some(p) = args
-        .profile
-        .as_deref()
-        .and_then(chaindrive::scene::ProfileKind::parse)
-    {
-        scene.set_profile(p);
-    }
     anyhow::ensure!(
         args.horizon.is_finite() && args.horizon > 0.0,
         "--horizon must be a finite number > 0, got {}",
@@ -76,7 +76,9 @@ pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     eprintln!(
         "work-precision on {}: warm-up {} s, horizon {} s",
-        scene.name, settings.warmup_s, settings.horizon_s
+        scene.name(),
+        settings.warmup_s,
+        settings.horizon_s
     );
     let result = study(&scene, &settings, |run, [speeds, link, contact]| {
         eprintln!(

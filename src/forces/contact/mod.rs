@@ -30,6 +30,7 @@ use super::rows::DampingRows;
 use super::{ContactLawParams, ForceElement, Forces};
 use crate::geometry::{MAX_PATCHES, Patch, ToothProfile};
 use crate::model::{DriveModel, DriveState};
+use crate::scene::MAX_SPROCKETS;
 
 /// Remembered onset of one contact patch.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,10 +82,14 @@ pub struct ToothContact {
 }
 
 impl ToothContact {
-    /// Buffers for `rollers` rollers and `sprockets` sprockets (at most 64:
-    /// a roller's set of sprockets within reach is a 64-bit mask).
+    /// Buffers for `rollers` rollers and `sprockets` sprockets (at most
+    /// [`MAX_SPROCKETS`]: a roller's set of sprockets within reach is a
+    /// 64-bit mask; the scene's validator holds every drive to it).
     pub fn new(law: ContactLawParams, rollers: usize, sprockets: usize) -> Self {
-        debug_assert!(sprockets <= 64, "a drive has at most 64 sprockets");
+        debug_assert!(
+            sprockets <= MAX_SPROCKETS,
+            "a drive has at most 64 sprockets"
+        );
         Self {
             law,
             run_settings: None,

@@ -4,6 +4,7 @@
 
 use super::super::buffer::Buffer;
 use crate::model::{DriveModel, DriveState};
+use crate::scene::MAX_SPROCKETS;
 
 /// Reach caching ("culling"): a roller's set of sprockets within reach is
 /// measured, then kept for
@@ -136,8 +137,8 @@ impl Reach {
             }
             let mut mask = 0u64;
             let mut clearance = f64::INFINITY;
-            // A scene holds at most 64 sprockets (the validator's limit), one bit each.
-            for (j, sp) in model.sprockets.iter().enumerate() {
+            // One bit per sprocket: a scene holds at most MAX_SPROCKETS (64).
+            for (j, sp) in model.sprockets.iter().enumerate().take(MAX_SPROCKETS) {
                 let rx = xs[i] - sp.center_m[0];
                 let ry = ys[i] - sp.center_m[1];
                 let d_sq = rx * rx + ry * ry;

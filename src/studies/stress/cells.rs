@@ -6,7 +6,7 @@ use crate::scene::generate::DriveSpec;
 use crate::scene::{Integrator, L60MC_TOML, ProfileKind, Scene, SceneFile};
 /// Every integrator.
 pub(crate) fn all_integrators() -> Vec<Integrator> {
-    Integrator::ALL.iter().map(|(_, i)| *i).collect()
+    Integrator::ALL.to_vec()
 }
 
 /// The schemes run on the 10,000-roller drives: the one- and two-evaluation

@@ -71,7 +71,7 @@ pub use output::{
 };
 
 use crate::scene::generate::GenerateError;
-use crate::scene::{Integrator, Scene, SceneError};
+use crate::scene::{Integrator, Overrides, Scene, SceneError};
 use crate::sim::{Observer, Sample, SimError, Simulation, StepLimits};
 
 /// Why the matrix cannot be set up.
@@ -383,11 +383,13 @@ impl Observer for NanWatch {
 }
 
 /// A fresh simulation of `base`'s settled drive with another scheme and step.
-fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Simulation {
-    let mut scene = base.scene.clone();
-    scene.solver.integrator = integrator;
-    scene.solver.dt_s = dt_s;
-    Simulation::assemble(
+fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Result<Simulation, SceneError> {
+    let scene = base.scene.with(&Overrides {
+        integrator: Some(integrator),
+        dt_s: Some(dt_s),
+        ..Overrides::default()
+    })?;
+    Ok(Simulation::assemble(
         scene,
         base.model.clone(),
         base.state.clone(),
@@ -395,7 +397,7 @@ fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Simulation {
         base.layout.clone(),
         base.equilibrium,
         base.limits,
-    )
+    ))
 }
 
 /// Runs `base`'s drive with `integrator` at `dt_s` to the scene's horizon.
@@ -403,7 +405,31 @@ pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s:
     /// Simulated time between wall-budget checks, s.
     const CHUNK_S: f64 = 0.01;
     let horizon = base.scene.solver.duration_s;
-    let mut sim = fork(base, integrator, dt_s);
+    let mut sim = match fork(base, integrator, dt_s) {
+        Ok(sim) => sim,
+        // Only a step the scene refuses (not finite, not positive) lands here.
+        Err(e) => {
+            return RunRecord {
+                integrator,
+                dt_s,
+                refinement: false,
+                sim_s: 0.0,
+                verdict: Verdict::BlowUp {
+                    detector: "error",
+                    t_s: base.state.t_s,
+                    body: e.to_string(),
+                    value: 0.0,
+                    limit: 0.0,
+                },
+                wall_s: 0.0,
+                steps: 0,
+                evaluations: 0,
+                nan_in_output_t_s: None,
+                max_penetration_m: 0.0,
+                max_link_force_n: 0.0,
+            };
+        }
+    };
     let mut watch = NanWatch::default();
     let every = (1e-3 / dt_s).round().max(1.0) as u64;
     let started = Instant::now();

@@ -272,7 +272,7 @@ pub fn roller_costs(results: &[CaseResult]) -> Vec<RollerCost> {
             .collect()
     };
     let mut out = Vec::new();
-    for (_, integrator) in Integrator::ALL {
+    for &integrator in Integrator::ALL {
         let mut common = stable_dts(series[0], integrator);
         for r in &series[1..] {
             let other = stable_dts(r, integrator);

@@ -1,0 +1,150 @@
+//! The validated parts of a scene: chain, contact, sprockets, solver and
+//! static-equilibrium settings, in SI units. Built only by the validator
+//! ([`super::Scene`]); read, never written, by the rest of the crate.
+
+use super::{ContactLaw, Integrator, PretensionRule, ProfileKind, Stepping, Wrap};
+
+/// A driver's prescribed speed: a linear ramp from rest, then constant.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpeedLaw {
+    /// Final speed, rad/s, counter-clockwise positive.
+    pub speed_rad_s: f64,
+    /// Ramp time from rest, s (0 = constant speed from t = 0).
+    pub ramp_s: f64,
+}
+
+impl SpeedLaw {
+    /// Angular speed at time `t_s` (rest before t = 0).
+    pub fn speed_at(&self, t_s: f64) -> f64 {
+        if t_s <= 0.0 && self.ramp_s > 0.0 {
+            0.0
+        } else if t_s < self.ramp_s {
+            self.speed_rad_s * t_s / self.ramp_s
+        } else {
+            self.speed_rad_s
+        }
+    }
+}
+
+/// What a sprocket does.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Role {
+    /// Kinematically driven at a prescribed speed.
+    Driver(SpeedLaw),
+    /// Turns freely about a fixed centre, optionally against a load torque (N·m, CCW positive).
+    Free {
+        /// Constant external torque on the sprocket, N·m.
+        load_torque_n_m: f64,
+    },
+    /// Turns freely; its centre is moved along `direction` to reach the pretension.
+    Tensioner {
+        /// Constant external torque on the sprocket, N·m.
+        load_torque_n_m: f64,
+        /// Unit adjustment direction (world frame).
+        direction: [f64; 2],
+    },
+}
+
+/// A validated sprocket.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sprocket {
+    /// Name, for humans.
+    pub name: String,
+    /// Centre, m.
+    pub center_m: [f64; 2],
+    /// Tooth count.
+    pub teeth: u32,
+    /// Pitch radius P / (2 sin(π/N)), m.
+    pub pitch_radius_m: f64,
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Polar moment of inertia, kg·m².
+    pub inertia_kg_m2: f64,
+    /// Wrap sense.
+    pub wrap: Wrap,
+    /// Driver, free or tensioner.
+    pub role: Role,
+    /// Tooth profile.
+    pub profile: ProfileKind,
+}
+
+impl Sprocket {
+    /// The driver's speed law, if this is the driver.
+    pub fn speed_law(&self) -> Option<SpeedLaw> {
+        match self.role {
+            Role::Driver(law) => Some(law),
+            _ => None,
+        }
+    }
+
+    /// External load torque (zero for the driver).
+    pub fn load_torque_n_m(&self) -> f64 {
+        match self.role {
+            Role::Driver(_) => 0.0,
+            Role::Free { load_torque_n_m }
+            | Role::Tensioner {
+                load_torque_n_m, ..
+            } => load_torque_n_m,
+        }
+    }
+}
+
+/// A validated chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chain {
+    /// Number of rollers (and of links).
+    pub rollers: usize,
+    /// Pitch, m.
+    pub pitch_m: f64,
+    /// Roller radius, m.
+    pub roller_radius_m: f64,
+    /// Roller mass, kg.
+    pub roller_mass_kg: f64,
+    /// Link stiffness K, N/m.
+    pub stiffness_n_m: f64,
+    /// Link damping D, N·s/m.
+    pub damping_n_s_m: f64,
+    /// Static pretension, N.
+    pub pretension_n: f64,
+    /// How the pretension is reached.
+    pub pretension_by: PretensionRule,
+}
+
+/// Validated contact-law parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    /// The law.
+    pub law: ContactLaw,
+    /// K_g, N/m^n.
+    pub stiffness: f64,
+    /// n.
+    pub exponent: f64,
+    /// e.
+    pub restitution: f64,
+    /// Floor on δ̇⁻, m/s.
+    pub min_approach_speed_m_s: f64,
+}
+
+/// Validated solver settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Solver {
+    /// How the chain is advanced.
+    pub stepping: Stepping,
+    /// Integration scheme.
+    pub integrator: Integrator,
+    /// Step, s (the adaptive scheme's largest step and sample step).
+    pub dt_s: f64,
+    /// Error tolerance of the adaptive scheme (see [`crate::sim::integrate`]).
+    pub tolerance: f64,
+    /// Simulated time, s.
+    pub duration_s: f64,
+}
+
+/// Validated static-equilibrium settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Equilibrium {
+    /// Relative tolerance on the pretension.
+    pub tension_tolerance: f64,
+    /// Largest relaxation time per iteration, s.
+    pub max_relax_s: f64,
+}

@@ -1,0 +1,402 @@
+//! Validation: a [`SceneFile`] becomes a [`Scene`] only through
+//! [`TryFrom`], which checks every field, converts units (rpm → rad/s) and
+//! reports *every* problem with its field's path.
+
+use super::kinds::Named;
+use super::{
+    Chain, ChainFile, Contact, ContactFile, ContactLaw, Equilibrium, FieldError, Integrator,
+    MAX_SPROCKETS, PITCH_RADIUS_TOLERANCE, PretensionRule, ProfileKind, Role, RoleKind, Scene,
+    SceneError, SceneFile, Solver, SolverFile, SpeedLaw, Sprocket, SprocketFile, Stepping,
+    TEETH_RANGE, Wrap,
+};
+use crate::geometry::pitch_radius;
+
+/// Collects field errors while a file is checked.
+struct Checker {
+    errors: Vec<FieldError>,
+}
+
+impl Checker {
+    fn new() -> Self {
+        Self { errors: Vec::new() }
+    }
+
+    fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
+        self.errors.push(FieldError {
+            path: path.into(),
+            message: message.into(),
+            location: None,
+        });
+    }
+
+    /// A finite, strictly positive quantity.
+    fn positive(&mut self, path: &str, value: f64) -> f64 {
+        if !value.is_finite() {
+            self.fail(path, format!("must be a finite number, got {value}"));
+        } else if value <= 0.0 {
+            self.fail(path, format!("must be > 0, got {value}"));
+        }
+        value
+    }
+
+    /// A finite quantity ≥ 0.
+    fn non_negative(&mut self, path: &str, value: f64) -> f64 {
+        if !value.is_finite() {
+            self.fail(path, format!("must be a finite number, got {value}"));
+        } else if value < 0.0 {
+            self.fail(path, format!("must be >= 0, got {value}"));
+        }
+        value
+    }
+
+    fn finite(&mut self, path: &str, value: f64) -> f64 {
+        if !value.is_finite() {
+            self.fail(path, format!("must be a finite number, got {value}"));
+        }
+        value
+    }
+
+    /// A name of the enumeration `T`; an unknown one is an error listing the allowed names.
+    fn one_of<T: Named>(&mut self, path: &str, value: &str) -> Option<T> {
+        let found = T::ALL.iter().copied().find(|v| v.name() == value);
+        if found.is_none() {
+            let names: Vec<String> = T::ALL.iter().map(|v| format!("\"{}\"", v.name())).collect();
+            self.fail(
+                path,
+                format!("unknown value \"{value}\"; allowed: {}", names.join(", ")),
+            );
+        }
+        found
+    }
+}
+
+impl TryFrom<SceneFile> for Scene {
+    type Error = SceneError;
+
+    fn try_from(file: SceneFile) -> Result<Self, SceneError> {
+        let mut c = Checker::new();
+        for (i, g) in file.gravity_m_s2.iter().enumerate() {
+            c.finite(&format!("gravity_m_s2[{i}]"), *g);
+        }
+        let default_profile = c.one_of::<ProfileKind>("profile", &file.profile);
+        let chain = check_chain(&mut c, &file.chain);
+        let contact = check_contact(&mut c, &file.contact);
+        let sprockets = check_sprockets(
+            &mut c,
+            &file.sprockets,
+            &chain,
+            default_profile.unwrap_or(ProfileKind::Circular),
+        );
+        let solver = check_solver(&mut c, &file.solver);
+        let equilibrium = Equilibrium {
+            tension_tolerance: c.positive(
+                "equilibrium.tension_tolerance",
+                file.equilibrium.tension_tolerance,
+            ),
+            max_relax_s: c.positive("equilibrium.max_relax_s", file.equilibrium.max_relax_s),
+        };
+        if chain.pretension_by == PretensionRule::Tensioner
+            && !sprockets
+                .iter()
+                .any(|s| matches!(s.role, Role::Tensioner { .. }))
+        {
+            c.fail(
+                "chain.pretension_by",
+                "is \"tensioner\" but no sprocket has role = \"tensioner\"",
+            );
+        }
+        if !c.errors.is_empty() {
+            return Err(SceneError::Invalid(c.errors));
+        }
+        Ok(Scene {
+            name: file.name.clone(),
+            gravity_m_s2: file.gravity_m_s2,
+            chain,
+            contact,
+            sprockets,
+            solver,
+            equilibrium,
+            file,
+            source_toml: None,
+        })
+    }
+}
+
+fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
+    if f.rollers < 4 {
+        c.fail(
+            "chain.rollers",
+            format!("must be at least 4, got {}", f.rollers),
+        );
+    }
+    let pitch_m = c.positive("chain.pitch_m", f.pitch_m);
+    let roller_radius_m = c.positive("chain.roller_radius_m", f.roller_radius_m);
+    if pitch_m.is_finite() && roller_radius_m.is_finite() && 2.0 * roller_radius_m >= pitch_m {
+        c.fail(
+            "chain.roller_radius_m",
+            format!(
+                "rollers of diameter {} m overlap at pitch {pitch_m} m",
+                2.0 * roller_radius_m
+            ),
+        );
+    }
+    Chain {
+        rollers: f.rollers.max(0) as usize,
+        pitch_m,
+        roller_radius_m,
+        roller_mass_kg: c.positive("chain.roller_mass_kg", f.roller_mass_kg),
+        stiffness_n_m: c.positive("chain.stiffness_n_m", f.stiffness_n_m),
+        damping_n_s_m: c.non_negative("chain.damping_n_s_m", f.damping_n_s_m),
+        pretension_n: c.positive("chain.pretension_n", f.pretension_n),
+        pretension_by: c
+            .one_of("chain.pretension_by", &f.pretension_by)
+            .unwrap_or(PretensionRule::RestLength),
+    }
+}
+
+fn check_contact(c: &mut Checker, f: &ContactFile) -> Contact {
+    let law = c
+        .one_of("contact.law", &f.law)
+        .unwrap_or(ContactLaw::LankaraniNikravesh);
+    let restitution = c.finite("contact.restitution", f.restitution);
+    if !(0.0..=1.0).contains(&restitution) {
+        c.fail(
+            "contact.restitution",
+            format!("must lie in [0, 1], got {restitution}"),
+        );
+    } else if restitution == 0.0 && law.needs_positive_restitution() {
+        c.fail(
+            "contact.restitution",
+            format!(
+                "must be > 0 with law \"{}\" (its damping factor is infinite at e = 0)",
+                law.name()
+            ),
+        );
+    }
+    let exponent = c.positive("contact.exponent", f.exponent);
+    if exponent.is_finite() && exponent < 1.0 {
+        c.fail(
+            "contact.exponent",
+            format!("must be >= 1 (a stiffening contact), got {exponent}"),
+        );
+    }
+    Contact {
+        law,
+        stiffness: c.positive("contact.stiffness", f.stiffness),
+        exponent,
+        restitution,
+        min_approach_speed_m_s: c
+            .positive("contact.min_approach_speed_m_s", f.min_approach_speed_m_s),
+    }
+}
+
+fn check_sprockets(
+    c: &mut Checker,
+    files: &[SprocketFile],
+    chain: &Chain,
+    default_profile: ProfileKind,
+) -> Vec<Sprocket> {
+    if files.len() < 2 {
+        c.fail(
+            "sprockets",
+            format!("a drive needs at least 2 sprockets, got {}", files.len()),
+        );
+    }
+    if files.len() > MAX_SPROCKETS {
+        c.fail(
+            "sprockets",
+            format!(
+                "a drive has at most {MAX_SPROCKETS} sprockets, got {}",
+                files.len()
+            ),
+        );
+    }
+    let mut out = Vec::with_capacity(files.len());
+    let mut drivers = 0;
+    for (i, f) in files.iter().enumerate() {
+        let p = |field: &str| format!("sprockets[{i}].{field}");
+        let center_m = [
+            c.finite(&p("center_m[0]"), f.center_m[0]),
+            c.finite(&p("center_m[1]"), f.center_m[1]),
+        ];
+        let teeth_ok = TEETH_RANGE.contains(&f.teeth);
+        if !teeth_ok {
+            c.fail(
+                p("teeth"),
+                format!(
+                    "must lie in {}..={}, got {}",
+                    TEETH_RANGE.start(),
+                    TEETH_RANGE.end(),
+                    f.teeth
+                ),
+            );
+        }
+        let teeth = f.teeth.clamp(*TEETH_RANGE.start(), *TEETH_RANGE.end()) as u32;
+        let radius = pitch_radius(chain.pitch_m, teeth);
+        if let Some(stated) = f.pitch_radius_m {
+            let stated = c.positive(&p("pitch_radius_m"), stated);
+            if teeth_ok
+                && radius.is_finite()
+                && stated.is_finite()
+                && ((stated - radius) / radius).abs() > PITCH_RADIUS_TOLERANCE
+            {
+                c.fail(
+                    p("pitch_radius_m"),
+                    format!(
+                        "{stated} m disagrees with P / (2 sin(pi/N)) = {radius:.6} m for P = {} m, N = {teeth} (tolerance {PITCH_RADIUS_TOLERANCE:e} relative); omit it to use the computed value",
+                        chain.pitch_m
+                    ),
+                );
+            }
+        }
+        let wrap = c.one_of(&p("wrap"), &f.wrap).unwrap_or(Wrap::Ccw);
+        let profile = match &f.profile {
+            Some(name) => c.one_of(&p("profile"), name).unwrap_or(default_profile),
+            None => default_profile,
+        };
+        let role = check_role(c, f, i);
+        if matches!(role, Role::Driver(_)) {
+            drivers += 1;
+        }
+        out.push(Sprocket {
+            name: f.name.clone(),
+            center_m,
+            teeth,
+            pitch_radius_m: radius,
+            mass_kg: c.positive(&p("mass_kg"), f.mass_kg),
+            inertia_kg_m2: c.positive(&p("inertia_kg_m2"), f.inertia_kg_m2),
+            wrap,
+            role,
+            profile,
+        });
+    }
+    // No driver is allowed: a drive turned by torques on mounted bodies (crate::cosim).
+    if drivers > 1 {
+        c.fail(
+            "sprockets",
+            format!("at most one sprocket may have role = \"driver\", found {drivers}"),
+        );
+    }
+    check_overlaps(c, &out, chain);
+    out
+}
+
+fn check_role(c: &mut Checker, f: &SprocketFile, i: usize) -> Role {
+    let p = |field: &str| format!("sprockets[{i}].{field}");
+    let forbid = |c: &mut Checker, field: &str, present: bool, role: &str| {
+        if present {
+            c.fail(p(field), format!("is not allowed for role = \"{role}\""));
+        }
+    };
+    let Some(kind) = c.one_of::<RoleKind>(&p("role"), &f.role) else {
+        return Role::Free {
+            load_torque_n_m: 0.0,
+        };
+    };
+    match kind {
+        RoleKind::Driver => {
+            forbid(c, "load_torque_n_m", f.load_torque_n_m.is_some(), "driver");
+            forbid(
+                c,
+                "adjust_direction",
+                f.adjust_direction.is_some(),
+                "driver",
+            );
+            let speed_rpm = match f.speed_rpm {
+                Some(v) => c.finite(&p("speed_rpm"), v),
+                None => {
+                    c.fail(p("speed_rpm"), "is required for role = \"driver\"");
+                    0.0
+                }
+            };
+            let ramp_s = c.non_negative(&p("ramp_s"), f.ramp_s.unwrap_or(0.0));
+            Role::Driver(SpeedLaw {
+                speed_rad_s: speed_rpm * std::f64::consts::TAU / 60.0,
+                ramp_s,
+            })
+        }
+        RoleKind::Free | RoleKind::Tensioner => {
+            forbid(c, "speed_rpm", f.speed_rpm.is_some(), kind.name());
+            forbid(c, "ramp_s", f.ramp_s.is_some(), kind.name());
+            let load_torque_n_m = c.finite(&p("load_torque_n_m"), f.load_torque_n_m.unwrap_or(0.0));
+            if kind == RoleKind::Free {
+                forbid(c, "adjust_direction", f.adjust_direction.is_some(), "free");
+                return Role::Free { load_torque_n_m };
+            }
+            let direction = match f.adjust_direction {
+                Some([x, y]) => {
+                    let n = x.hypot(y);
+                    if !n.is_finite() || n <= 0.0 {
+                        c.fail(p("adjust_direction"), "must be a finite, non-zero vector");
+                        [0.0, 1.0]
+                    } else {
+                        [x / n, y / n]
+                    }
+                }
+                None => {
+                    c.fail(
+                        p("adjust_direction"),
+                        "is required for role = \"tensioner\"",
+                    );
+                    [0.0, 1.0]
+                }
+            };
+            Role::Tensioner {
+                load_torque_n_m,
+                direction,
+            }
+        }
+    }
+}
+
+/// Two sprockets whose tip circles (pitch radius + roller radius) intersect cannot both turn.
+fn check_overlaps(c: &mut Checker, sprockets: &[Sprocket], chain: &Chain) {
+    for i in 0..sprockets.len() {
+        for j in i + 1..sprockets.len() {
+            let (a, b) = (&sprockets[i], &sprockets[j]);
+            let d = (a.center_m[0] - b.center_m[0]).hypot(a.center_m[1] - b.center_m[1]);
+            let reach = a.pitch_radius_m + b.pitch_radius_m + 2.0 * chain.roller_radius_m;
+            if d.is_finite() && reach.is_finite() && d < reach {
+                c.fail(
+                    format!("sprockets[{j}].center_m"),
+                    format!(
+                        "sprocket \"{}\" overlaps sprocket {i} (\"{}\"): centres {d:.4} m apart, need at least {reach:.4} m",
+                        b.name, a.name
+                    ),
+                );
+            }
+        }
+    }
+}
+
+fn check_solver(c: &mut Checker, f: &SolverFile) -> Solver {
+    let stepping = c
+        .one_of("solver.stepping", &f.stepping)
+        .unwrap_or(Stepping::Substepped);
+    let integrator = c
+        .one_of("solver.integrator", &f.integrator)
+        .unwrap_or(Integrator::SymplecticEuler);
+    if stepping == Stepping::Rapier && integrator != Integrator::SymplecticEuler {
+        c.fail(
+            "solver.integrator",
+            format!(
+                "\"{}\" needs stepping = \"substepped\": rapier integrates with symplectic Euler",
+                integrator.name()
+            ),
+        );
+    }
+    let tolerance = c.positive("solver.tolerance", f.tolerance);
+    if tolerance.is_finite() && tolerance >= 1.0 {
+        c.fail(
+            "solver.tolerance",
+            format!("must be below 1 (a relative error), got {tolerance}"),
+        );
+    }
+    Solver {
+        stepping,
+        integrator,
+        dt_s: c.positive("solver.dt_s", f.dt_s),
+        tolerance,
+        duration_s: c.non_negative("solver.duration_s", f.duration_s),
+    }
+}
