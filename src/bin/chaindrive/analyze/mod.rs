@@ -13,7 +13,7 @@ use std::process::ExitCode;
 
 use chaindrive::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
 
-use figures::recorded_figures;
+use figures::{FigureList, recorded_figures};
 use report::report_markdown;
 
 /// Arguments of `chaindrive analyze`.
@@ -153,7 +153,7 @@ fn stage(
     options: &AnalyzeOptions,
     staging: &Path,
     dir: &Path,
-) -> anyhow::Result<(Vec<(String, String)>, Vec<std::ffi::OsString>)> {
+) -> anyhow::Result<(FigureList, Vec<std::ffi::OsString>)> {
     let (figures, paths) = recorded_figures(run, analysis, options, staging)?;
     let text = serde_json::to_string_pretty(analysis).map_err(|e| WriteError {
         path: dir.join("analysis.json").display().to_string(),
