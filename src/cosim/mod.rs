@@ -125,7 +125,7 @@ pub struct ChainDrive {
     /// How the user's colliders near the rollers are treated (see [`Coupling`]).
     pub coupling: Coupling,
     /// Wall time spent per stage, accumulated over frames.
-    pub stage_times: StageTimes,
+    pub stage_times: FrameTimes,
     /// The drive's colliders; `true` for a roller's.
     colliders: HashMap<ColliderHandle, bool>,
     roller_colliders: Vec<ColliderHandle>,
@@ -149,7 +149,7 @@ pub struct ChainDrive {
 
 /// Wall time of a drive's stages, summed over frames, s.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct StageTimes {
+pub struct FrameTimes {
     /// Frames counted.
     pub frames: u64,
     /// Finding the user's colliders near the chain (once per frame).
@@ -164,7 +164,7 @@ pub struct StageTimes {
     pub projections: u64,
 }
 
-impl StageTimes {
+impl FrameTimes {
     /// Mean wall time per frame of all stages, s.
     pub fn per_frame_s(&self) -> f64 {
         (self.search_s + self.substeps_s + self.sync_s + self.world_s) / self.frames.max(1) as f64
@@ -249,7 +249,7 @@ impl ChainDrive {
             sprockets: links.iter().map(|l| l.body).collect(),
             mounted: links.iter().filter(|l| l.mounted).map(|l| l.body).collect(),
             coupling: Coupling::new(&scene.contact),
-            stage_times: StageTimes::default(),
+            stage_times: FrameTimes::default(),
             contacts: BodyContacts::new(n, scene.chain.roller_mass_kg, scene.chain.roller_radius_m),
             theta0: vec![0.0; sprocket_count],
             force_sum: vec![[0.0; 2]; sprocket_count],

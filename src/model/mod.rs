@@ -15,7 +15,7 @@ use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
     layout_rollers,
 };
-use crate::scene::{Role, Scene, SpeedLaw};
+use crate::scene::{Scene, SpeedLaw};
 
 /// Constant data of one sprocket.
 #[derive(Clone, Debug)]
@@ -302,9 +302,4 @@ impl DriveModel {
     pub fn driver(&self) -> Option<usize> {
         self.sprockets.iter().position(|s| s.speed_law.is_some())
     }
-}
-
-/// Whether a sprocket's role lets it turn freely under the chain.
-pub fn is_free(role: &Role) -> bool {
-    !matches!(role, Role::Driver(_))
 }

@@ -58,7 +58,7 @@ pub struct Scene {
 /// K_g = 1 GN/m^1.5 and e = 0 a 20 kN contact has c = χ F / δ̇⁻ = 3·10⁵ N·s/m at
 /// 0.05 m/s, right at the explicit limit 2 m_r/dt for dt = 20 µs; seating
 /// impacts in the paper's drive run at 0.3–1 m/s, well above the floor.
-pub const DEFAULT_MIN_APPROACH_SPEED_M_S: f64 = 0.05;
+pub(crate) const DEFAULT_MIN_APPROACH_SPEED_M_S: f64 = 0.05;
 
 /// Relative tolerance between a stated pitch radius and P / (2 sin(π/N)).
 pub const PITCH_RADIUS_TOLERANCE: f64 = 1e-5;

@@ -117,7 +117,7 @@ impl Settings {
 
 /// The sampled signals of one run (grid-point-major).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Signals {
+pub struct GridSignals {
     /// Free sprockets' speeds, all of them per grid point, rad/s.
     pub omega_rad_s: Vec<f64>,
     /// Every link's force per grid point, N.
@@ -137,7 +137,7 @@ pub struct Probe {
     pub roller: usize,
 }
 
-impl Signals {
+impl GridSignals {
     fn column(values: &[f64], stride: usize, index: usize) -> impl Iterator<Item = f64> + '_ {
         values.iter().skip(index).step_by(stride.max(1)).copied()
     }
@@ -237,7 +237,7 @@ impl Start {
         let mut sim = Simulation::new(scene)?;
         sim.run(warmup_s, u64::MAX, &mut NoObserver, None)?;
         let mut forces = sim.forces.clone();
-        // Signals compare from the horizon's start: forget nothing, but
+        // GridSignals compare from the horizon's start: forget nothing, but
         // re-evaluate so every method starts from identical buffers.
         forces.evaluate(&sim.model, &sim.state);
         Ok(Self {
@@ -263,8 +263,8 @@ pub struct Run {
     pub wall_s: f64,
     /// Work counters.
     pub stats: IntegrationStats,
-    /// Signals, or why the run stopped.
-    pub outcome: Result<Signals, String>,
+    /// GridSignals, or why the run stopped.
+    pub outcome: Result<GridSignals, String>,
 }
 
 /// Integrates `horizon_s` from `start` with one method.
@@ -291,9 +291,9 @@ pub fn integrate(
     );
     let grid_points = (settings.horizon_s / settings.grid_s).round() as usize;
     let per_grid = (settings.grid_s / dt).round().max(1.0) as usize;
-    let mut signals = Signals {
+    let mut signals = GridSignals {
         rollers: state.rollers(),
-        ..Signals::default()
+        ..GridSignals::default()
     };
     let t0 = state.t_s;
     let started = Instant::now();
@@ -398,7 +398,7 @@ pub fn observed_order(points: &[(f64, f64)], floor: f64) -> Option<f64> {
 
 /// Why the study could not be made.
 #[derive(Debug, thiserror::Error)]
-pub enum StudyError {
+pub enum WorkPrecisionError {
     /// The warm start could not be built or run.
     #[error(transparent)]
     Start(#[from] SimError),
@@ -412,7 +412,7 @@ pub fn study(
     scene: &Scene,
     settings: &Settings,
     mut progress: impl FnMut(&Run, [f64; 3]),
-) -> Result<WorkPrecision, StudyError> {
+) -> Result<WorkPrecision, WorkPrecisionError> {
     let start = Start::warm(scene, settings.warmup_s)?;
     let reference = integrate(
         &start,
@@ -420,7 +420,7 @@ pub fn study(
         Setting::Tolerance(settings.reference_tolerance),
         settings,
     );
-    let reference_signals = reference.outcome.map_err(StudyError::Reference)?;
+    let reference_signals = reference.outcome.map_err(WorkPrecisionError::Reference)?;
     let check = integrate(
         &start,
         Integrator::Rk4,
@@ -515,7 +515,7 @@ mod tests {
     #[test]
     fn relative_rms_of_the_probed_link() {
         // Two rollers, two grid points: link 1's force is (3, 4) then (3, 4.5).
-        let r = Signals {
+        let r = GridSignals {
             omega_rad_s: vec![1.0, 1.0],
             link_force_n: vec![9.0, 3.0, 9.0, 4.0],
             contact_force_n: vec![0.0, 1.0, 0.0, 1.0],

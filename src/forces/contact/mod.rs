@@ -131,7 +131,7 @@ impl ToothContact {
     }
 
     /// Stops recording [`DampingRows`].
-    pub fn disable_damping_rows(&mut self) {
+    pub(crate) fn disable_damping_rows(&mut self) {
         self.damping_rows = None;
     }
 

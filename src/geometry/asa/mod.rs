@@ -94,15 +94,15 @@ pub use dimensions::{AsaDimensions, GapPoints};
 use super::{MAX_PATCHES, OutlinePoint, Patch};
 
 /// 0.003 in expressed in metres (additive constant of Dt and xy).
-pub const IN_0_003_M: f64 = 7.62e-5;
+pub(crate) const IN_0_003_M: f64 = 7.62e-5;
 /// 0.0015 in expressed in metres (additive constant of Rt, RE and RF).
-pub const IN_0_0015_M: f64 = 3.81e-5;
+pub(crate) const IN_0_0015_M: f64 = 3.81e-5;
 /// Smallest tooth count accepted before the geometric checks (B, C > 0 needs N ≥ 4).
 pub const MIN_TEETH: u32 = 4;
 /// Largest tooth count accepted (keeps patch ids well inside `u32`).
 pub const MAX_TEETH: u32 = 100_000;
 /// Smallest arc step used by [`AsaProfile::outline`] (bounds the allocation).
-pub const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
+pub(crate) const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
 /// Rounding allowance when comparing a patch with the nearest outline point.
 const CONSISTENCY_TOL_M: f64 = 1e-9;
 /// Distances closer than this are a tie (the earlier piece is kept: own before neighbour).
