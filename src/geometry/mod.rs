@@ -35,8 +35,11 @@ pub fn seating_radius(roller_radius_m: f64) -> f64 {
     (1.005 * 2.0 * roller_radius_m + INCH_0_003_M) / 2.0
 }
 
-/// Which tooth profile a sprocket uses.
+/// Which tooth profile a sprocket uses. Its names (`circular`, `real`) are
+/// those of [`ProfileKind::name`]; the command line's are derived from the
+/// same variants.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "cli", derive(clap::ValueEnum))]
 pub enum ProfileKind {
     /// One seating arc per gap (the paper's §2.3).
     Circular,

@@ -35,8 +35,8 @@ enum Study {
         #[arg(long, default_value_t = 5.0)]
         window: f64,
         /// Tooth profile of every sprocket.
-        #[arg(long, value_parser = ["circular", "real"])]
-        profile: Option<String>,
+        #[arg(long, value_enum)]
+        profile: Option<ProfileKind>,
         /// The chain's integration step, s (overrides the scene).
         #[arg(long)]
         dt: Option<f64>,
@@ -64,7 +64,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             window,
             profile,
             dt,
-        } => soak(duration, window, profile.as_deref(), dt),
+        } => soak(duration, window, profile, dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
         Study::WorkPrecision(args) => crate::work_precision::work_precision(args),
         Study::Stress(args) => super::stress::stress(args),
@@ -74,7 +74,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
 fn soak(
     duration: f64,
     window: f64,
-    profile: Option<&str>,
+    profile: Option<ProfileKind>,
     dt: Option<f64>,
 ) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(
@@ -83,7 +83,7 @@ fn soak(
     );
     anyhow::ensure!(window.is_finite() && window > 0.0, "--window must be > 0");
     let overrides = Overrides {
-        profile: profile.and_then(ProfileKind::parse),
+        profile,
         duration_s: Some(duration),
         dt_s: dt,
         ..Overrides::default()

@@ -9,7 +9,7 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use chaindrive::geometry::CircularProfile;
+use chaindrive::geometry::{CircularProfile, ProfileKind};
 use chaindrive::geometry::asa::AsaProfile;
 
 /// Arguments of `chaindrive profile`.
@@ -25,8 +25,8 @@ pub struct ProfileArgs {
     #[arg(long)]
     roller_diameter: f64,
     /// Tooth profile.
-    #[arg(long, default_value = "real", value_parser = ["real", "circular"])]
-    profile: String,
+    #[arg(long, value_enum, default_value_t = ProfileKind::Real)]
+    profile: ProfileKind,
     /// Print the outline as CSV instead of the dimension table.
     #[arg(long)]
     csv: bool,
@@ -53,7 +53,7 @@ pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
     );
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());
-    if args.profile == "circular" {
+    if args.profile == ProfileKind::Circular {
         anyhow::ensure!(
             args.roller_diameter < args.pitch,
             "--roller-diameter {} must be smaller than --pitch {}",

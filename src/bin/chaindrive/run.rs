@@ -20,8 +20,8 @@ pub struct RunArgs {
     /// Scene file (TOML). Default: the paper's drive (embedded `assets/l60mc.toml`).
     scene: Option<PathBuf>,
     /// Tooth profile of every sprocket.
-    #[arg(long, value_parser = ["circular", "real"])]
-    profile: Option<String>,
+    #[arg(long, value_enum)]
+    profile: Option<ProfileKind>,
     /// Simulated time, s (overrides the scene).
     #[arg(long)]
     duration: Option<f64>,
@@ -136,7 +136,7 @@ fn io_error(e: csv::Error) -> std::io::Error {
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let overrides = Overrides {
-        profile: args.profile.as_deref().and_then(ProfileKind::parse),
+        profile: args.profile,
         duration_s: args.duration,
         dt_s: args.dt,
         stepping: args.stepping,

@@ -22,8 +22,8 @@ pub struct WorkPrecisionArgs {
     #[arg(long, default_value_t = 1.2)]
     warmup: f64,
     /// Tooth profile of every sprocket.
-    #[arg(long, value_parser = ["circular", "real"])]
-    profile: Option<String>,
+    #[arg(long, value_enum)]
+    profile: Option<chaindrive::scene::ProfileKind>,
     /// Output directory: work_precision.csv, work_precision.md, work_precision.png/.svg.
     #[arg(long, default_value = "work-precision")]
     out: PathBuf,
@@ -34,10 +34,7 @@ pub struct WorkPrecisionArgs {
 
 pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
     let overrides = chaindrive::scene::Overrides {
-        profile: args
-            .profile
-            .as_deref()
-            .and_then(chaindrive::scene::ProfileKind::parse),
+        profile: args.profile,
         ..Default::default()
     };
     let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
