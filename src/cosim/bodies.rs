@@ -42,7 +42,7 @@
 //! ```text
 //! δ = R_r − |c − p|  (c outside the shape)      n̂ = (c − p) / |c − p|
 //! δ = R_r + |c − p|  (c inside a solid shape)   n̂ = (p − c) / |c − p|
-//! f_n = K δⁿ (1 + χ δ̇ / δ̇⁻) ≥ 0                  (Hunt–Crossley family, MODEL.md §3)
+//! f_n = K δⁿ (1 + χ δ̇ / δ̇⁻) ≥ 0                  (Hunt–Crossley family, docs/model.md, “Contact law”)
 //! |f_t| = min(μ f_n, m_eff |v_t| / dt)           against the relative tangential speed v_t
 //! ```
 //!

@@ -6,7 +6,8 @@
 //!   the tangent points (the nearest such strand, within 0.25 m of its line);
 //! - segment k's transverse displacement is the signed perpendicular distance,
 //!   from the nominal line, of the roller nearest the line's middle; positive to
-//!   the left of the direction from `from` to `to` (MODEL.md §9).
+//!   the left of the direction from `from` to `to` (docs/model.md, “Segment link force and transverse
+//!   displacement”).
 
 use crate::geometry::ChainPath;
 

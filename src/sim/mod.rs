@@ -50,8 +50,8 @@ type Settled = (
     StaticEquilibrium,
 );
 
-/// The tensioner rule (MODEL.md §8): links keep their rest length P; the
-/// tensioner's centre moves along its adjustment direction, by a secant
+/// The tensioner rule (docs/model.md, “Pretension and static equilibrium”):
+/// links keep their rest length P; the tensioner's centre moves along its adjustment direction, by a secant
 /// iteration on the static tension, until the pretension is reached. Each
 /// iterate lays the chain out anew and relaxes it. The returned scene holds
 /// the tensioner's final centre, so every output describes the drive simulated.
@@ -108,7 +108,8 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
-/// Estimated largest stable steps of the explicit schemes (MODEL.md §7), s.
+/// Estimated largest stable steps of the explicit schemes, s (docs/model.md,
+/// “Time scales and stability”).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepLimits {
     /// Links: 2 / ω_max with ω_max = 2 √(K / m_r) (symplectic Euler, velocity Verlet).
@@ -152,7 +153,7 @@ impl StepLimits {
     }
 }
 
-/// Blow-up thresholds (MODEL.md; the core's defaults).
+/// Blow-up thresholds (docs/model.md, “Blow-up detection”).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlowUpLimits {
     /// Largest penetration, m (default: a quarter of the roller radius).
