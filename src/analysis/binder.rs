@@ -122,8 +122,9 @@ pub fn placement_times_s(t_start_s: f64, t_end_s: f64, bedded: usize) -> Vec<f64
     (0..bedded).map(|i| t_start_s + i as f64 * step).collect()
 }
 
-/// Polygonal action (docs/model.md, “Polygonal action”): the strand speed leaving a sprocket of nt
-/// teeth at constant ω varies by 1 − cos(π/nt) of its maximum.
+/// Polygonal action (docs/model.md, “Polygonal action”): the strand speed
+/// leaving a sprocket of nt teeth at constant ω varies by 1 − cos(π/nt) of its
+/// maximum.
 pub fn polygonal_speed_variation(teeth: u32) -> f64 {
     1.0 - (PI / f64::from(teeth)).cos()
 }

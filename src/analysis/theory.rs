@@ -42,8 +42,8 @@ mod tests {
 
     #[test]
     fn moving_string_gives_segment1_frequencies_at_25_and_19_kn() {
-        // docs/model.md, “Transverse vibration of a free strand”: segment 1 at 120 rpm (V = 10.67 m/s, μ = 33.86 kg/m):
-        // 25 kN → 6.1 Hz, 19 kN → 5.0 Hz.
+        // docs/model.md, “Transverse vibration of a free strand”: segment 1 at 120 rpm
+        // (V = 10.67 m/s, μ = 33.86 kg/m): 25 kN → 6.1 Hz, 19 kN → 5.0 Hz.
         let mu = 3.01 / 0.0889;
         let f25 = moving_string_frequency_hz(1, 25e3, 1.8797, mu, 10.67);
         let f19 = moving_string_frequency_hz(1, 19e3, 1.8797, mu, 10.67);

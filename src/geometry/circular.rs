@@ -191,7 +191,8 @@ mod tests {
 
     #[test]
     fn clearance_matches_tooth_profile_table() {
-        // docs/tooth-profile.md, “Dimensions of the paper's sprockets”: R_t = 27.1731 mm, ΔR = 0.1731 mm.
+        // docs/tooth-profile.md, “Dimensions of the paper's sprockets”:
+        // R_t = 27.1731 mm, ΔR = 0.1731 mm.
         let c = CircularProfile::new(60, P, RR);
         assert!((c.seating_radius_m - 27.1731e-3).abs() < 5e-8);
         assert!((c.clearance_m - 0.1731e-3).abs() < 5e-8);

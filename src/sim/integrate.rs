@@ -9,8 +9,9 @@
 //! | `implicit_damping` | 1 | 1 | 57 µs, and still 57 µs where the contact damping limits symplectic Euler (17 µs on a 10-sprocket drive) |
 //!
 //! (`chaindrive bench stress` measures these; the estimates of docs/model.md,
-//! “Time scales and stability”, are 60 µs for the links and 19 µs for the contact damping at the approach-speed
-//! floor, the latter far too pessimistic over real runs.)
+//! “Time scales and stability”, are 60 µs for the links and 19 µs for the
+//! contact damping at the approach-speed floor, the latter far too pessimistic
+//! over real runs.)
 //!
 //! Every scheme leaves the force generator holding the forces at the step's
 //! end state with the contact memory advanced to it (the invariant

@@ -50,11 +50,12 @@ type Settled = (
     StaticEquilibrium,
 );
 
-/// The tensioner rule (docs/model.md, “Pretension and static equilibrium”):
-/// links keep their rest length P; the tensioner's centre moves along its adjustment direction, by a secant
+/// The tensioner rule: links keep their rest length P; the
+/// tensioner's centre moves along its adjustment direction, by a secant
 /// iteration on the static tension, until the pretension is reached. Each
 /// iterate lays the chain out anew and relaxes it. The returned scene holds
-/// the tensioner's final centre, so every output describes the drive simulated.
+/// the tensioner's final centre, so every output describes the drive simulated
+/// (docs/model.md, “Pretension and static equilibrium”).
 fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, SimError> {
     const MAX_ITERATIONS: usize = 20;
     const FIRST_STEP_M: f64 = 1e-4;

@@ -7,8 +7,8 @@ use chaindrive::sim::Simulation;
 
 use crate::common::{l60mc, run_summary};
 
-/// Pedersen (2005) Table 4, as checked in docs/model.md, “Table 4: strand data” (segment 4's angle
-/// computes to 3.20109; the table prints 3.2010).
+/// Pedersen (2005) Table 4, as checked in docs/model.md, “Table 4: strand data”
+/// (segment 4's angle computes to 3.20109; the table prints 3.2010).
 const TABLE4_LENGTH_M: [f64; 4] = [1.8797, 0.4104, 1.2619, 2.2312];
 const TABLE4_ANGLE_FROM: [f64; 4] = [0.3485, 2.2748, 2.3337, 3.20109];
 const TABLE4_ANGLE_TO: [f64; 4] = [3.4901, 5.4164, 2.3337, 3.20109];

@@ -132,7 +132,8 @@ pub(super) fn check_inputs(
     Ok(())
 }
 
-/// The standard dimensions (docs/tooth-profile.md, “Constants”), with the checks that the construction closes.
+/// The standard dimensions (docs/tooth-profile.md, “Constants”), with the checks that the
+/// construction closes.
 pub(super) fn dimensions(teeth: u32, pitch_m: f64, dr: f64) -> Result<AsaDimensions, AsaError> {
     check_inputs(teeth, pitch_m, dr)?;
     let n = f64::from(teeth);

@@ -38,10 +38,11 @@
 //! - Gap-local frame (ξ, η), the paper's eq. (24): origin O_j, η = e_r (radially outward),
 //!   ξ = (sin ψ, −cos ψ) (clockwise tangential). A point (ξ, η) is at
 //!   (Rs + η) e_r + ξ ξ̂ in the sprocket frame.
-//! - Areas 1..=7 as in docs/tooth-profile.md: 7 topping (convex, clockwise side, ξ > 0), 6 straight,
-//!   5 working (concave), 4 seating (concave), 3 working, 2 straight, 1 topping
-//!   (counter-clockwise side, ξ < 0). A counter-clockwise walk meets them in the order
-//!   7, 6, 5, 4, 3, 2, 1; the material is on the left of that walk.
+//! - Areas 1..=7 as in docs/tooth-profile.md, “Construction”: 7 topping (convex,
+//!   clockwise side, ξ > 0), 6 straight, 5 working (concave), 4 seating (concave),
+//!   3 working, 2 straight, 1 topping (counter-clockwise side, ξ < 0). A counter-clockwise
+//!   walk meets them in the order 7, 6, 5, 4, 3, 2, 1; the material is on the left of
+//!   that walk.
 //! - Signed distance: positive in free space, negative inside the material.
 //! - Contact: depth = r − sd (contact when depth > 0); the normal is the unit free-side
 //!   normal at the closest point, i.e. the unit vector from the closest outline point towards
