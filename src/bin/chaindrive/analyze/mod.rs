@@ -144,6 +144,9 @@ fn write_err(p: &Path) -> impl FnOnce(std::io::Error) -> WriteError {
     move |source| WriteError { path, source }
 }
 
+/// The figures drawn and the names of the files written.
+type Staged = (figures::FigureList, Vec<std::ffi::OsString>);
+
 /// Draws the figures and writes the JSON and the report into `staging`;
 /// returns the figures and the names of the files written. Errors name the
 /// files' places in `dir`.
@@ -153,7 +156,7 @@ fn stage(
     options: &AnalyzeOptions,
     staging: &Path,
     dir: &Path,
-) -> anyhow::Result<(Vec<(String, String)>, Vec<std::ffi::OsString>)> {
+) -> anyhow::Result<Staged> {
     let (figures, paths) = recorded_figures(run, analysis, options, staging)?;
     let text = serde_json::to_string_pretty(analysis).map_err(|e| WriteError {
         path: dir.join("analysis.json").display().to_string(),
