@@ -1,5 +1,6 @@
 //! Binder's quasi-static force distribution over the rollers bedded on a
-//! sprocket (the paper's (47)–(51), MODEL.md §6), and the kinematic
+//! sprocket (the paper's (47)–(51); docs/model.md, “Binder's quasi-static contact
+//! forces”), and the kinematic
 //! polygonal-action reference.
 //!
 //! A sprocket has `nb` rollers bedded, numbered i = 1 … nb in the direction of
@@ -121,8 +122,9 @@ pub fn placement_times_s(t_start_s: f64, t_end_s: f64, bedded: usize) -> Vec<f64
     (0..bedded).map(|i| t_start_s + i as f64 * step).collect()
 }
 
-/// Polygonal action (MODEL.md §6): the strand speed leaving a sprocket of nt
-/// teeth at constant ω varies by 1 − cos(π/nt) of its maximum.
+/// Polygonal action (docs/model.md, “Polygonal action”): the strand speed
+/// leaving a sprocket of nt teeth at constant ω varies by 1 − cos(π/nt) of its
+/// maximum.
 pub fn polygonal_speed_variation(teeth: u32) -> f64 {
     1.0 - (PI / f64::from(teeth)).cos()
 }

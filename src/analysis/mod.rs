@@ -1,9 +1,10 @@
 //! Analysis: the signals of a run, sampled by an observer ([`Signals`]), and
 //! the run summary computed from them ([`RunSummary`], the public contract of
 //! `chaindrive run --summary`), with the analytical references it compares
-//! against (the moving string's eigenfrequency, MODEL.md §6).
+//! against (the moving string's eigenfrequency; docs/model.md, “Transverse vibration of
+//! a free strand”).
 //!
-//! Definitions every output shares (MODEL.md §8–9 and the core work item):
+//! Definitions every output shares (docs/model.md, “Segments and strands”):
 //! a segment's link force is the mean over the links of its free strand; its
 //! transverse displacement is the roller nearest the nominal strand's middle,
 //! signed to the left of the strand's direction. Samples with no free link in

@@ -1,4 +1,4 @@
-//! Analytical references (MODEL.md §6).
+//! Analytical references (docs/model.md, “Analytical references”).
 
 /// Transverse eigenfrequency n of a pretensioned string (52):
 /// f_n = n √(F / (4 l m)), F tension (N), l length (m), m the strand's mass (kg).
@@ -41,9 +41,9 @@ mod tests {
     }
 
     #[test]
-    fn model_md_segment1_values() {
-        // MODEL.md §6: segment 1 at 120 rpm (V = 10.67 m/s, μ = 33.86 kg/m):
-        // 25 kN → 6.1 Hz, 19 kN → 5.0 Hz.
+    fn moving_string_gives_segment1_frequencies_at_25_and_19_kn() {
+        // docs/model.md, “Transverse vibration of a free strand”: segment 1 at 120 rpm
+        // (V = 10.67 m/s, μ = 33.86 kg/m): 25 kN → 6.1 Hz, 19 kN → 5.0 Hz.
         let mu = 3.01 / 0.0889;
         let f25 = moving_string_frequency_hz(1, 25e3, 1.8797, mu, 10.67);
         let f19 = moving_string_frequency_hz(1, 19e3, 1.8797, mu, 10.67);

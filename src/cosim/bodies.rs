@@ -42,18 +42,18 @@
 //! ```text
 //! δ = R_r − |c − p|  (c outside the shape)      n̂ = (c − p) / |c − p|
 //! δ = R_r + |c − p|  (c inside a solid shape)   n̂ = (p − c) / |c − p|
-//! f_n = K δⁿ (1 + χ δ̇ / δ̇⁻) ≥ 0                  (Hunt–Crossley family, MODEL.md §3)
+//! f_n = K δⁿ (1 + χ δ̇ / δ̇⁻) ≥ 0                  (Hunt–Crossley family)
 //! |f_t| = min(μ f_n, m_eff |v_t| / dt)           against the relative tangential speed v_t
 //! ```
 //!
-//! The normal law is the drive's roller–tooth law by default (its K_g, n, e,
-//! δ̇⁻ floor; [`Coupling::law`] to change it), δ̇⁻ remembered per (roller,
-//! collider) from onset to separation. μ combines the roller collider's and
-//! the other collider's friction coefficients by rapier's combine rules.
-//! Friction below the Coulomb limit removes the pair's relative tangential
-//! speed in one substep for the pair's effective mass (the roller's mass in
-//! series with the body's translational and rotational mass at p, the body's
-//! share divided among its roller contacts): sticking without a
+//! The normal law (docs/model.md, “Contact law”) is the drive's roller–tooth
+//! law by default (its K_g, n, e, δ̇⁻ floor; [`Coupling::law`] to change it),
+//! δ̇⁻ remembered per (roller, collider) from onset to separation. μ combines
+//! the roller collider's and the other collider's friction coefficients by
+//! rapier's combine rules. Friction below the Coulomb limit removes the pair's
+//! relative tangential speed in one substep for the pair's effective mass (the
+//! roller's mass in series with the body's translational and rotational mass at
+//! p, the body's share divided among its roller contacts): sticking without a
 //! regularisation speed, and unconditionally stable. The force acts at the
 //! roller's centre on the roller, its reaction at p on a carried body.
 //!

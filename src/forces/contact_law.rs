@@ -1,4 +1,5 @@
-//! Continuous contact laws of the Hunt–Crossley family (MODEL.md §3):
+//! Continuous contact laws of the Hunt–Crossley family (docs/model.md,
+//! “Contact law”):
 //!
 //! ```text
 //! f = K_g δⁿ (1 + χ δ̇ / δ̇⁻),   Lankarani–Nikravesh: χ = 3 (1 − e²) / 4
@@ -178,7 +179,8 @@ mod tests {
     #[test]
     fn effective_restitution_table() {
         use ContactLaw::*;
-        // MODEL.md §3: Lankarani–Nikravesh with e = 0 rebounds at about 0.66.
+        // docs/model.md, “Limits of the contact law”: Lankarani–Nikravesh with e = 0 rebounds at
+        // about 0.66.
         let ln0 = rebound(LankaraniNikravesh, 0.0);
         assert!((0.65..0.68).contains(&ln0), "{ln0}");
         // Near e = 1 every law was built to give e (within 3 %).

@@ -1,4 +1,5 @@
-//! The circular tooth profile (the paper's §2.3, tooth-profile.md §5).
+//! The circular tooth profile (the paper's §2.3; docs/tooth-profile.md,
+//! “The circular profile”).
 //!
 //! Each gap j is a seating circle of radius R_t centred at (R_s + ΔR) e_r(jφ),
 //! ΔR = R_t − R_r, so that a seated roller rests on the pitch circle. Only the
@@ -145,8 +146,8 @@ impl CircularProfile {
     /// The whole outline in the sprocket frame, counter-clockwise: each gap's
     /// active seating arc (area 4), sampled at ≤ `max_step_rad` about its
     /// centre, then the straight segment across the tooth to the next gap
-    /// (area 0, not a contact surface; tooth-profile.md §5). Each arc runs
-    /// from the gap's clockwise side through its bottom to its
+    /// (area 0, not a contact surface; docs/tooth-profile.md, “The circular
+    /// profile”). Each arc runs from the gap's clockwise side through its bottom to its
     /// counter-clockwise side.
     pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
         use std::f64::consts::PI;
@@ -190,7 +191,8 @@ mod tests {
 
     #[test]
     fn clearance_matches_tooth_profile_table() {
-        // tooth-profile.md §4: R_t = 27.1731 mm, ΔR = 0.1731 mm.
+        // docs/tooth-profile.md, “Dimensions of the paper's sprockets”:
+        // R_t = 27.1731 mm, ΔR = 0.1731 mm.
         let c = CircularProfile::new(60, P, RR);
         assert!((c.seating_radius_m - 27.1731e-3).abs() < 5e-8);
         assert!((c.clearance_m - 0.1731e-3).abs() < 5e-8);

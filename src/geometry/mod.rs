@@ -29,7 +29,8 @@ pub fn pitch_radius(pitch_m: f64, teeth: u32) -> f64 {
     pitch_m / (2.0 * (std::f64::consts::PI / f64::from(teeth)).sin())
 }
 
-/// Seating-curve radius R_t = (1.005 D_r + 0.003 in) / 2 (ASA B29.1; tooth-profile.md §1).
+/// Seating-curve radius R_t = (1.005 D_r + 0.003 in) / 2 (ASA B29.1;
+/// docs/tooth-profile.md, “Constants”).
 pub fn seating_radius(roller_radius_m: f64) -> f64 {
     const INCH_0_003_M: f64 = 7.62e-5;
     (1.005 * 2.0 * roller_radius_m + INCH_0_003_M) / 2.0

@@ -5,8 +5,9 @@
 //!   a sprocket and its midpoint projects onto strand k's nominal line between
 //!   the tangent points (the nearest such strand, within 0.25 m of its line);
 //! - segment k's transverse displacement is the signed perpendicular distance,
-//!   from the nominal line, of the roller nearest the line's middle; positive to
-//!   the left of the direction from `from` to `to` (MODEL.md §9).
+//!   from the nominal line, of the roller nearest the line's middle; positive
+//!   to the left of the direction from `from` to `to` (docs/model.md, “Segment
+//!   link force and transverse displacement”).
 
 use crate::geometry::ChainPath;
 

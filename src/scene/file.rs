@@ -66,7 +66,7 @@ fn default_pretension_by() -> String {
     "rest_length".to_owned()
 }
 
-/// Contact law parameters (MODEL.md §3).
+/// Contact law parameters (docs/model.md, “Contact law”).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactFile {

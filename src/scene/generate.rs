@@ -28,7 +28,7 @@
 //!
 //! # Defaults
 //!
-//! The chain and the contact law are the paper's (MODEL.md §8, read from
+//! The chain and the contact law are the paper's (docs/model.md, “The paper's drive”, read from
 //! the embedded `l60mc.toml`): P = 88.9 mm, m_r = 3.01 kg, K = 815 MN/m,
 //! D = 250 N·s/m, 21 kN pretension by rest length, K_g = 1 GN/m^1.5, e = 0.
 //! The driver has 60 teeth, every other sprocket 30 (the paper's crankshaft

@@ -71,7 +71,8 @@ impl Named for super::ProfileKind {
 }
 
 scene_enum! {
-    /// Contact laws of the Hunt–Crossley family `K δⁿ (1 + χ δ̇/δ̇⁻)` (MODEL.md §3).
+    /// Contact laws of the Hunt–Crossley family `K δⁿ (1 + χ δ̇/δ̇⁻)`
+    /// (docs/model.md, “Laws of the family”).
     ///
     /// They differ only in the damping factor χ(e); the effective restitution of a
     /// single Hertzian impact under each law is tabled in [`crate::forces`].
@@ -106,7 +107,7 @@ impl ContactLaw {
 }
 
 scene_enum! {
-    /// How the chain reaches its pretension (MODEL.md §8).
+    /// How the chain reaches its pretension (docs/model.md, “Pretension and static equilibrium”).
     pub enum PretensionRule {
         /// Keep every position and shorten the links' rest length.
         RestLength,

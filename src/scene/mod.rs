@@ -160,7 +160,8 @@ mod tests {
         let scene = Scene::from_toml(L60MC_TOML).expect("valid");
         assert_eq!(scene.sprockets.len(), 4);
         assert_eq!(scene.chain.rollers, 122);
-        // Pitch radii of MODEL.md §8 (tabled to 6 digits; agree within 5 µm).
+        // Pitch radii of the paper's drive (docs/model.md, “The paper's drive”;
+        // tabled to 6 digits; agree within 5 µm).
         for (s, r) in scene
             .sprockets
             .iter()

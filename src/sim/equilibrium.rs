@@ -1,4 +1,5 @@
-//! Static equilibrium before t = 0 (MODEL.md §8): the driver is held, gravity
+//! Static equilibrium before t = 0 (docs/model.md, “Pretension and static
+//! equilibrium”): the driver is held, gravity
 //! acts as set, and the chain relaxes under extra viscous damping until it is
 //! at rest. The pretension rule then iterates: with `rest_length`, the links'
 //! rest length is corrected by a secant iteration until the mean link force of

@@ -8,9 +8,10 @@
 //! | `dormand_prince45` | 5(4) | 6 per trial step + located events | chosen by the error estimate (stable at every cap up to 128 µs) |
 //! | `implicit_damping` | 1 | 1 | 57 µs, and still 57 µs where the contact damping limits symplectic Euler (17 µs on a 10-sprocket drive) |
 //!
-//! (`chaindrive bench stress` measures these; MODEL.md §7's estimates are
-//! 60 µs for the links and 19 µs for the contact damping at the approach-speed
-//! floor, the latter far too pessimistic over real runs.)
+//! (`chaindrive bench stress` measures these; the estimates of docs/model.md,
+//! “Time scales and stability”, are 60 µs for the links and 19 µs for the
+//! contact damping at the approach-speed floor, the latter far too pessimistic
+//! over real runs.)
 //!
 //! Every scheme leaves the force generator holding the forces at the step's
 //! end state with the contact memory advanced to it (the invariant
@@ -28,7 +29,8 @@
 //!
 //! The Lankarani–Nikravesh damping coefficient of a contact is
 //! c = χ K δⁿ / δ̇⁻; a contact begun at the approach-speed floor makes c so
-//! large that explicit schemes need dt < 2 m_r / c (MODEL.md §3, §7).
+//! large that explicit schemes need dt < 2 m_r / c (docs/model.md,
+//! “Guards” and “Time scales and stability”).
 //! `implicit_damping` is symplectic Euler with the contact damping force
 //! evaluated at the *new* velocity: per roller the 2×2 system
 //! `(m I + h C) v' = m v + h (F_rest + C v_sp)` (see

@@ -50,11 +50,12 @@ type Settled = (
     StaticEquilibrium,
 );
 
-/// The tensioner rule (MODEL.md §8): links keep their rest length P; the
+/// The tensioner rule: links keep their rest length P; the
 /// tensioner's centre moves along its adjustment direction, by a secant
 /// iteration on the static tension, until the pretension is reached. Each
 /// iterate lays the chain out anew and relaxes it. The returned scene holds
-/// the tensioner's final centre, so every output describes the drive simulated.
+/// the tensioner's final centre, so every output describes the drive simulated
+/// (docs/model.md, “Pretension and static equilibrium”).
 fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, SimError> {
     const MAX_ITERATIONS: usize = 20;
     const FIRST_STEP_M: f64 = 1e-4;
@@ -108,7 +109,8 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
-/// Estimated largest stable steps of the explicit schemes (MODEL.md §7), s.
+/// Estimated largest stable steps of the explicit schemes, s (docs/model.md,
+/// “Time scales and stability”).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepLimits {
     /// Links: 2 / ω_max with ω_max = 2 √(K / m_r) (symplectic Euler, velocity Verlet).
@@ -152,7 +154,7 @@ impl StepLimits {
     }
 }
 
-/// Blow-up thresholds (MODEL.md; the core's defaults).
+/// Blow-up thresholds (docs/model.md, “Blow-up detection”).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlowUpLimits {
     /// Largest penetration, m (default: a quarter of the roller radius).

@@ -1,6 +1,7 @@
-//! The paper's study (Pedersen 2005, section 3): the L60MC drive run with
-//! both tooth profiles, the quantities of MODEL.md §9 measured, compared with
-//! the paper and with the analytical references, and written up as a report.
+//! The paper's study (Pedersen 2005, section 3): the L60MC drive run with both
+//! tooth profiles, the quantities of the paper's results measured
+//! (docs/model.md, “The paper's values”), compared with the paper and with the
+//! analytical references, and written up as a report.
 //!
 //! Three runs, each of the same length and settings (e = 0 as in the paper):
 //!
@@ -9,7 +10,7 @@
 //! - `real_same_rest_length`: the ASA tooth form with the circular run's rest
 //!   length, re-relaxed to static equilibrium. The real profile seats each
 //!   roller about ΔR deeper, so its static tension drops: most likely what
-//!   the paper did (MODEL.md §9 (b)).
+//!   the paper did (docs/model.md, “The real profile and the rest length”).
 //!
 //! [`run_paper_study`] runs them (in parallel threads), [`Findings::measure`]
 //! cuts the numbers, [`report_markdown`] writes the report. Figures are drawn
@@ -335,7 +336,8 @@ fn measure_run(data: &RunData) -> Result<RunFindings, StudyError> {
     })
 }
 
-/// The paper's value (MODEL.md §9) for a run: circular for `circular`, real otherwise.
+/// The paper's value (docs/model.md, “The paper's values”) for a run: circular for `circular`, real
+/// otherwise.
 fn paper(label: &str, circular: f64, real: f64) -> f64 {
     if label == RUN_LABELS[0] {
         circular
@@ -396,11 +398,12 @@ pub fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, S
     let _ = writeln!(md, "## The paper's quantities\n");
     let _ = writeln!(
         md,
-        "Paper: MODEL.md §9 (circular column for `circular`, real column for both real runs). \
-         Theory: `static + q_c` is the run's static tension plus the centrifugal tension \
+        "Paper: Pedersen (2005), section 3, as tabled in docs/model.md, \
+         “The paper's values” (circular column for `circular`, real column for both real \
+         runs). Theory: `static + q_c` is the run's static tension plus the centrifugal tension \
          m_r V²/P; `moving string` is f₁ = (1/2l) c (1 − V²/c²), c² = F/μ, from the segment's own \
-         mean force (MODEL.md §6). Amplitude: the largest deviation of the segment's average link \
-         force from its mean over the window.\n"
+         mean force (docs/model.md, “Transverse vibration of a free strand”). Amplitude: the \
+         largest deviation of the segment's average link force from its mean over the window.\n"
     );
     let _ = writeln!(
         md,
@@ -630,12 +633,12 @@ pub fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, S
             md,
             "- **Mean link force.** Segment 1 runs at {} (circular), {} (real) and {} \
              (real, same rest length) against the paper's 25 and 19 kN. At equal pretension the \
-             real profile does {}lower the mean (MODEL.md §9 (b)). With the circular run's rest \
-             length the real profile's static tension falls to {}, because it seats each roller \
-             deeper; this is the likeliest reading of the paper's lower real-profile forces. The \
-             running mean sits above the static tension by more than the centrifugal q_c: the \
-             free strands' link-scale sideways zig-zag, which the links' axial dampers hardly \
-             damp (MODEL.md §9 (a)).",
+             real profile does {}lower the mean (docs/model.md, “The real profile and the rest \
+             length”). With the circular run's rest length the real profile's static tension \
+             falls to {}, because it seats each roller deeper; this is the likeliest reading of \
+             the paper's lower real-profile forces. The running mean sits above the static \
+             tension by more than the centrifugal q_c: the free strands' link-scale sideways \
+             zig-zag, which the links' axial dampers hardly damp (docs/model.md, “Mean link force above the pretension”).",
             kn(c.mean_n),
             kn(r.mean_n),
             kn(rs.mean_n),
@@ -673,7 +676,8 @@ pub fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, S
          dynamics of the strands. The comparison above is of the level over the contact; the \
          short contacts on sprockets 2 and 4 (a few rollers) compare poorly with any profile, as \
          in the paper.\n- **Printed formulas.** The paper's printed (47)/(49) count the centrifugal \
-         tension twice; the table gives the RMS against both forms (MODEL.md §6).\n"
+         tension twice; the table gives the RMS against both forms (docs/model.md, \
+         “Binder's quasi-static contact forces”).\n"
     );
 
     let _ = writeln!(md, "## Runs\n");

@@ -58,7 +58,8 @@ fn binder_formulas_match_hand_computed_values() {
     assert_abs_diff_eq!(beta(30), 0.755_190, epsilon = 1e-6);
     // nt = 28: α = 30.714286°, φ = 12.857143°: sin / sin = 0.510757 / 0.689258 = 0.741024.
     assert_abs_diff_eq!(beta(28), 0.741_024, epsilon = 1e-6);
-    // q_c = m_r V²/P: 3.01 × (12.566 × 0.849325)² / 0.0889 = 3.86 kN (MODEL.md §6).
+    // q_c = m_r V²/P: 3.01 × (12.566 × 0.849325)² / 0.0889 = 3.86 kN
+    // (docs/model.md, “Binder's quasi-static contact forces”).
     let v = 4.0 * PI * 0.849_325;
     assert_abs_diff_eq!(
         centrifugal_tension_n(3.01, v, 0.0889),
@@ -155,7 +156,8 @@ fn reproduce_writes_report_summaries_and_figures() {
             "{key}"
         );
     }
-    // The same rest length as the circular run, hence a lower static tension (MODEL.md §9 (b)).
+    // The same rest length as the circular run, hence a lower static tension
+    // (docs/model.md, “The real profile and the rest length”).
     let rest = |k: &str| summary[k]["rest_length_m"].as_f64().expect("rest");
     assert_abs_diff_eq!(
         rest("circular"),

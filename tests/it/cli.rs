@@ -176,7 +176,8 @@ fn unwritable_output_fails_before_simulating() {
 
 #[test]
 fn blow_up_is_an_error_naming_time_body_and_detector() {
-    // 0.2 ms is beyond every explicit stability limit of the links (60 µs, MODEL.md §7).
+    // 0.2 ms is beyond every explicit stability limit of the links (60 µs;
+    // docs/model.md, “Time scales and stability”).
     let dir = tempfile::tempdir().expect("tmp");
     let summary = dir.path().join("s.json");
     let out = chaindrive(&[

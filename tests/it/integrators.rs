@@ -260,7 +260,8 @@ fn implicit_damping_stays_accurate_where_the_explicit_step_fails() {
     // The paper's drive at 30 rpm with the approach-speed floor at 2 mm/s:
     // the Lankarani–Nikravesh damping of a slowly begun contact reaches
     // c = ¾ · 21 kN / 2 mm/s ≈ 8e6 N·s/m, so symplectic Euler needs
-    // dt < 2 m_r / c ≈ 0.8 µs there (MODEL.md §3, §7).
+    // dt < 2 m_r / c ≈ 0.8 µs there (docs/model.md, “Guards” and
+    // “Time scales and stability”).
     let text = L60MC_TOML
         .replace("speed_rpm = 120.0", "speed_rpm = 30.0")
         .replace(

@@ -7,8 +7,8 @@ use chaindrive::sim::Simulation;
 
 use crate::common::{l60mc, run_summary};
 
-/// Pedersen (2005) Table 4, as checked in MODEL.md §8 (segment 4's angle
-/// computes to 3.20109; the table prints 3.2010).
+/// Pedersen (2005) Table 4, as checked in docs/model.md, “Table 4: strand data”
+/// (segment 4's angle computes to 3.20109; the table prints 3.2010).
 const TABLE4_LENGTH_M: [f64; 4] = [1.8797, 0.4104, 1.2619, 2.2312];
 const TABLE4_ANGLE_FROM: [f64; 4] = [0.3485, 2.2748, 2.3337, 3.20109];
 const TABLE4_ANGLE_TO: [f64; 4] = [3.4901, 5.4164, 2.3337, 3.20109];
@@ -37,7 +37,7 @@ fn strands_reproduce_table4() {
             s.angle_on_to_rad
         );
     }
-    // MODEL.md §8: wrap angles 3.4306, 1.2153, 3.2005, 0.8674 rad.
+    // docs/model.md, “Table 4: strand data”: wrap angles 3.4306, 1.2153, 3.2005, 0.8674 rad.
     for (w, expected) in model
         .path
         .wraps
@@ -50,7 +50,7 @@ fn strands_reproduce_table4() {
 
 #[test]
 fn polygon_through_seated_rollers_is_the_papers() {
-    // MODEL.md §8: about 10.8475 m against 122 × 0.0889 = 10.8458 m.
+    // docs/model.md, “Table 4: strand data”: about 10.8475 m against 122 × 0.0889 = 10.8458 m.
     let (_, _, layout) = DriveModel::build(&l60mc(0.0)).expect("layout");
     assert_abs_diff_eq!(layout.polygon_length_m, 10.8475, epsilon = 3e-4);
     assert_eq!(layout.rollers_m.len(), 122);
@@ -65,7 +65,7 @@ fn static_equilibrium_reaches_the_pretension() {
         ((t - 21_000.0) / 21_000.0).abs() < 0.005,
         "static tension {t}"
     );
-    // MODEL.md §8: the rest length comes out near 0.08888 m.
+    // docs/model.md, “Table 4: strand data”: the rest length comes out near 0.08888 m.
     assert_abs_diff_eq!(sim.model.rest_length_m, 0.08888, epsilon = 1e-5);
 }
 
@@ -85,7 +85,8 @@ fn paper_drive_speeds_and_strand_frequencies() {
             sp.mean_speed_rad_s
         );
     }
-    // Segment 1's transverse peak sits on its own moving-string estimate (MODEL.md §6).
+    // Segment 1's transverse peak sits on its own moving-string estimate (docs/model.md,
+    // “Transverse vibration of a free strand”).
     let seg1 = &s.segments[0];
     assert!(
         ((seg1.transverse_peak_hz - seg1.string_f1_hz) / seg1.string_f1_hz).abs() < 0.10,
@@ -93,7 +94,8 @@ fn paper_drive_speeds_and_strand_frequencies() {
         seg1.transverse_peak_hz,
         seg1.string_f1_hz
     );
-    // Running tension: above the static 21 kN (centrifugal 3.9 kN at 120 rpm and more, MODEL.md §9).
+    // Running tension: above the static 21 kN (centrifugal 3.9 kN at 120 rpm and more;
+    // docs/model.md, “Mean link force above the pretension”).
     for seg in &s.segments {
         assert!(
             seg.mean_link_force_n > 21_000.0 && seg.mean_link_force_n < 40_000.0,

@@ -14,7 +14,8 @@ use parry2d_f64::shape::Polyline;
 #[cfg(feature = "cli")]
 use crate::common::chaindrive_stdout;
 
-/// tooth-profile.md §4 (P = 0.0889 m, Dr = 0.054 m), mm and degrees:
+/// docs/tooth-profile.md, “Dimensions of the paper's sprockets” (P = 0.0889 m,
+/// Dr = 0.054 m), mm and degrees:
 /// (N, A, B, C, Rs, R_t, M, T, R_E, W, V, R_F, H, S, yz, tip radius).
 #[cfg(feature = "cli")]
 const TABLE: [(u32, [f64; 15]); 3] = [
@@ -61,7 +62,7 @@ const NAMES: [&str; 15] = [
 
 #[cfg(feature = "cli")]
 #[test]
-fn dimension_table_reproduces_tooth_profile_md() {
+fn profile_prints_the_dimension_table_of_the_papers_sprockets() {
     for (teeth, expected) in TABLE {
         let text = chaindrive_stdout(&[
             "profile",

@@ -2,9 +2,9 @@
 //!
 //! Public contract: the outline of a whole sprocket in its own frame, gap 0's
 //! seating centre at (R_s, 0), gaps numbered counter-clockwise; CSV columns
-//! `x_m,y_m,gap,area`, every piece sampled, arcs at ≤ 0.5° steps; areas 1–7
-//! as in tooth-profile.md for the real profile, 4 (seating arcs) and 0 (the
-//! segments joining them) for the circular one.
+//! `x_m,y_m,gap,area`, every piece sampled, arcs at ≤ 0.5° steps; areas 1–7 as
+//! in docs/tooth-profile.md, “Construction”, for the real profile, 4 (seating
+//! arcs) and 0 (the segments joining them) for the circular one.
 
 use std::io::Write;
 use std::process::ExitCode;

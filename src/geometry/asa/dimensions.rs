@@ -8,7 +8,7 @@ use super::{AsaError, IN_0_003_M, IN_0_0015_M, MAX_TEETH, MIN_TEETH};
 
 /// Standard dimensions of one sprocket (all SI: metres, radians).
 ///
-/// Symbols and formulas are those of `tooth-profile.md` §1; points and angles of the
+/// Symbols and formulas are those of docs/tooth-profile.md, “Constants”; points and angles of the
 /// construction are in [`GapPoints`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct AsaDimensions {
@@ -62,7 +62,8 @@ pub struct AsaDimensions {
 ///
 /// Unstarred points are on the clockwise side (ξ > 0); the starred ones are their mirror
 /// images ξ → −ξ (angles θ → π − θ). Angles are polar angles about the named centre,
-/// measured from +ξ counter-clockwise, in the ranges printed in the spec.
+/// measured from +ξ counter-clockwise, in the ranges of docs/tooth-profile.md,
+/// “Construction” (e.g. θ2a = 2π − A).
 #[derive(Clone, Debug, PartialEq)]
 pub struct GapPoints {
     /// x: seating ↔ working joint, Rt (cos A, −sin A).
@@ -131,7 +132,8 @@ pub(super) fn check_inputs(
     Ok(())
 }
 
-/// The standard dimensions (§1), with the checks that the construction closes.
+/// The standard dimensions (docs/tooth-profile.md, “Constants”), with the checks that the
+/// construction closes.
 pub(super) fn dimensions(teeth: u32, pitch_m: f64, dr: f64) -> Result<AsaDimensions, AsaError> {
     check_inputs(teeth, pitch_m, dr)?;
     let n = f64::from(teeth);
@@ -188,7 +190,7 @@ pub(super) fn dimensions(teeth: u32, pitch_m: f64, dr: f64) -> Result<AsaDimensi
     })
 }
 
-/// Construction points and angles (§2) of one gap.
+/// Construction points and angles of one gap (docs/tooth-profile.md, “Construction”).
 pub(super) fn gap_points(d: &AsaDimensions) -> Result<GapPoints, AsaError> {
     let phi = PI / f64::from(d.teeth);
     let (a, b) = (d.a_rad, d.b_rad);

@@ -2,9 +2,9 @@
 //! roller contact.
 //!
 //! This module builds the "real tooth profile" of Pedersen (Arch. Appl. Mech. 74 (2005),
-//! §2.4) exactly as written out in `tooth-profile.md` (the checked specification): the
-//! standard's constants (§1), the seven contact areas of one tooth gap in the gap-local
-//! frame (§2), and the contact rules (§2 "Contact").
+//! §2.4) exactly as written out in docs/tooth-profile.md: the standard's constants
+//! (“Constants”), the seven contact areas of one tooth gap in the gap-local frame
+//! (“Construction”), and the contact rules (“Contact with a roller”).
 //!
 //! # What it does
 //! - [`AsaDimensions`]: every standard dimension of one sprocket (A, B, C, α, Rs, Rt, ΔR,
@@ -38,10 +38,11 @@
 //! - Gap-local frame (ξ, η), the paper's eq. (24): origin O_j, η = e_r (radially outward),
 //!   ξ = (sin ψ, −cos ψ) (clockwise tangential). A point (ξ, η) is at
 //!   (Rs + η) e_r + ξ ξ̂ in the sprocket frame.
-//! - Areas 1..=7 as in the spec: 7 topping (convex, clockwise side, ξ > 0), 6 straight,
-//!   5 working (concave), 4 seating (concave), 3 working, 2 straight, 1 topping
-//!   (counter-clockwise side, ξ < 0). A counter-clockwise walk meets them in the order
-//!   7, 6, 5, 4, 3, 2, 1; the material is on the left of that walk.
+//! - Areas 1..=7 as in docs/tooth-profile.md, “Construction”: 7 topping (convex,
+//!   clockwise side, ξ > 0), 6 straight, 5 working (concave), 4 seating (concave),
+//!   3 working, 2 straight, 1 topping (counter-clockwise side, ξ < 0). A counter-clockwise
+//!   walk meets them in the order 7, 6, 5, 4, 3, 2, 1; the material is on the left of
+//!   that walk.
 //! - Signed distance: positive in free space, negative inside the material.
 //! - Contact: depth = r − sd (contact when depth > 0); the normal is the unit free-side
 //!   normal at the closest point, i.e. the unit vector from the closest outline point towards

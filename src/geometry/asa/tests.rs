@@ -38,7 +38,8 @@ fn deg(what: &str, got_rad: f64, want_deg: f64) {
     check(what, got_rad.to_degrees(), want_deg, HALF_E4);
 }
 
-/// One column of the §4 table (lengths mm, angles deg).
+/// One column of the table in docs/tooth-profile.md, “Dimensions of the paper's
+/// sprockets” (lengths mm, angles deg).
 struct Column {
     n: u32,
     abc: [f64; 3],
@@ -150,7 +151,7 @@ fn table() -> [Column; 3] {
 }
 
 #[test]
-fn dimension_tables_of_section_4() {
+fn dimension_tables_of_the_papers_sprockets() {
     for col in table() {
         let pr = profile(col.n);
         let d = pr.dimensions();
@@ -191,7 +192,7 @@ fn dimension_tables_of_section_4() {
         deg(&tag("sweep"), g.topping_sweep_rad, col.sweep);
         mm(&tag("root"), d.root_radius_m, col.root);
         mm(&tag("tip"), d.tip_radius_m, col.tip);
-        // Derived identities of §1.
+        // Derived identities of the constants (docs/tooth-profile.md, “Constants”).
         let phi = PI / f64::from(col.n);
         check(&tag("C=A-B-phi"), d.c_rad, d.a_rad - d.b_rad - phi, 1e-15);
         check(

@@ -214,7 +214,7 @@ pub fn default_matrix() -> Result<Vec<Case>, StressError> {
         f.contact.stiffness = 1e10;
         f.contact.restitution = 1.0;
     })?);
-    // The brief's short ramp: a physical overload (see the module docs).
+    // A 0.1 s ramp to 120 rpm: a physical overload (see the module docs).
     for (name, profile) in [("ramp-0.1", Circular), ("ramp-0.1-real", Real)] {
         cases.push(paper_cell(name, 120.0, |f| {
             set_speed(f, 120.0, 0.1, HOLD_S);
