@@ -60,12 +60,21 @@ impl StrandRuns {
         self.runs.get(k).copied().flatten()
     }
 
-    /// The links of segment `k`'s free strand (link i joins rollers i and i + 1).
-    pub fn links(&self, k: usize) -> impl Iterator<Item = usize> + '_ {
+    /// The links of segment `k`'s free strand (link i joins rollers i and
+    /// i + 1), in index order (a run across the last roller gives its links
+    /// from 0 first), so that sums over them do not depend on where the
+    /// chain's numbering starts.
+    pub fn links(&self, k: usize) -> impl Iterator<Item = usize> {
         let (first, links) = self
             .get(k)
             .map_or((0, 0), |r| (r.first, r.rollers.saturating_sub(1)));
-        (0..links).map(move |j| wrap(first + j, self.n))
+        let end = first + links;
+        let (wrapped, end) = if end > self.n {
+            (end - self.n, self.n)
+        } else {
+            (0, end)
+        };
+        (0..wrapped).chain(first..end)
     }
 }
 
@@ -260,7 +269,8 @@ mod tests {
             })
         );
         assert_eq!(runs.links(1).collect::<Vec<_>>(), vec![13, 14]);
-        // 2 -> 0 across the seam: rollers 19, 0, 1; links 19 and 0.
+        // 2 -> 0 across the seam: rollers 19, 0, 1; links 19 and 0, given
+        // in index order.
         assert_eq!(
             runs.get(2),
             Some(Run {
@@ -268,7 +278,7 @@ mod tests {
                 rollers: 3
             })
         );
-        assert_eq!(runs.links(2).collect::<Vec<_>>(), vec![19, 0]);
+        assert_eq!(runs.links(2).collect::<Vec<_>>(), vec![0, 19]);
     }
 
     #[test]
