@@ -5,9 +5,11 @@
 //! a free strand”).
 //!
 //! Definitions every output shares (docs/model.md, “Segments and strands”):
-//! a segment's link force is the mean over the links of its free strand; its
-//! transverse displacement is the roller nearest the nominal strand's middle,
-//! signed to the left of the strand's direction. Samples with no free link in
+//! a segment's link force is the mean over the links of its free strand (the
+//! rollers in chain order between the last one engaged on its first sprocket
+//! and the first one engaged on the next); its transverse displacement is the
+//! roller of that strand nearest the nominal strand's middle, signed to the
+//! left of the strand's direction. Samples with no free link in
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
 pub mod binder;
@@ -85,15 +87,11 @@ impl Observer for Signals {
     fn sample(&mut self, s: &Sample<'_>) {
         self.track_extremes(s);
         let st = s.state;
-        s.model.segments.mean_forces(
-            &st.x,
-            &st.y,
-            &s.forces.link_force,
-            &s.forces.touching,
-            &mut self.scratch,
-        );
-        let transverse = (0..s.model.segments.len())
-            .map(|k| s.model.segments.transverse(k, &st.x, &st.y))
+        let segments = &s.model.segments;
+        let runs = segments.runs(&s.model.sprockets, &st.x, &st.y, &s.forces.touching);
+        segments.mean_forces(&runs, &s.forces.link_force, &mut self.scratch);
+        let transverse = (0..segments.len())
+            .map(|k| segments.transverse(k, &runs, &st.x, &st.y))
             .collect();
         self.rows.push(SampleRow {
             t_s: st.t_s,

@@ -9,7 +9,7 @@
 pub mod rapier;
 mod segments;
 
-pub use segments::Segments;
+pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,

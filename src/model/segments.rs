@@ -1,15 +1,26 @@
 //! Which links belong to which free strand ("segment"), and the strands'
 //! transverse displacement — the definitions every output shares:
 //!
-//! - a link is in segment k's free strand when neither of its rollers touches
-//!   a sprocket and its midpoint projects onto strand k's nominal line between
-//!   the tangent points (the nearest such strand, within 0.25 m of its line);
+//! - segment k's free strand is found **in chain order, from the contact
+//!   state**: it is the run of consecutive rollers after the last roller
+//!   engaged on sprocket k and before the first roller engaged on sprocket
+//!   k + 1 (a roller is engaged when it touches a sprocket; it is engaged on
+//!   the sprocket whose pitch circle it lies nearest). The run follows the
+//!   rollers as they move, however far a long strand sags;
+//! - a link is in segment k's free strand when both its rollers are in that
+//!   run (so neither touches a sprocket);
 //! - segment k's transverse displacement is the signed perpendicular distance,
-//!   from the nominal line, of the roller nearest the line's middle; positive
-//!   to the left of the direction from `from` to `to` (docs/model.md, “Segment
+//!   from the nominal line, of the roller of that run (or its two tangent
+//!   rollers) nearest the line's middle; positive to the left of the
+//!   direction from `from` to `to` (docs/model.md, “Segment
 //!   link force and transverse displacement”).
+//!
+//! It does not decide what touches: that is the contact generator's
+//! [`crate::forces::Forces::touching`].
 
+use super::SprocketModel;
 use crate::geometry::ChainPath;
+use crate::scene::MAX_SPROCKETS;
 
 /// The nominal strand lines, prepared for classification.
 #[derive(Clone, Debug)]
@@ -19,16 +30,59 @@ pub struct Segments {
 
 #[derive(Clone, Copy, Debug)]
 struct Line {
-    start: [f64; 2],
     dir: [f64; 2],
-    length: f64,
     mid: [f64; 2],
 }
 
-/// Largest perpendicular distance of a free link's midpoint from its strand line, m.
-/// Free strands vibrate by millimetres to centimetres; a link is given to the
-/// nearest strand line within this distance.
-const MAX_OFFSET_M: f64 = 0.25;
+/// One segment's free run at one instant: `rollers` consecutive free rollers
+/// from roller `first` on (chain order, modulo the roller count). Roller
+/// `first − 1` is the last engaged on the segment's `from` sprocket, roller
+/// `first + rollers` the first engaged on its `to` sprocket.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Run {
+    /// First free roller.
+    pub first: usize,
+    /// Number of free rollers (links in the free strand: one fewer).
+    pub rollers: usize,
+}
+
+/// Every segment's free run at one instant ([`Segments::runs`]); held on the
+/// stack, so finding them allocates nothing.
+#[derive(Clone, Copy, Debug)]
+pub struct StrandRuns {
+    n: usize,
+    runs: [Option<Run>; MAX_SPROCKETS],
+}
+
+impl StrandRuns {
+    /// Segment `k`'s run; `None` when the contact state shows no passage from
+    /// its `from` sprocket to its `to` sprocket (the chain off a sprocket).
+    pub fn get(&self, k: usize) -> Option<Run> {
+        self.runs.get(k).copied().flatten()
+    }
+
+    /// The links of segment `k`'s free strand (link i joins rollers i and
+    /// i + 1), in index order (a run across the last roller gives its links
+    /// from 0 first), so that sums over them do not depend on where the
+    /// chain's numbering starts.
+    pub fn links(&self, k: usize) -> impl Iterator<Item = usize> {
+        let (first, links) = self
+            .get(k)
+            .map_or((0, 0), |r| (r.first, r.rollers.saturating_sub(1)));
+        let end = first + links;
+        let (wrapped, end) = if end > self.n {
+            (end - self.n, self.n)
+        } else {
+            (0, end)
+        };
+        (0..wrapped).chain(first..end)
+    }
+}
+
+/// `i` modulo `n` for `i < 2n`.
+fn wrap(i: usize, n: usize) -> usize {
+    if i >= n { i - n } else { i }
+}
 
 impl Segments {
     /// From the nominal path.
@@ -37,17 +91,12 @@ impl Segments {
             lines: path
                 .strands
                 .iter()
-                .map(|s| {
-                    let dir = s.direction();
-                    Line {
-                        start: s.start_m,
-                        dir,
-                        length: s.length_m,
-                        mid: [
-                            0.5 * (s.start_m[0] + s.end_m[0]),
-                            0.5 * (s.start_m[1] + s.end_m[1]),
-                        ],
-                    }
+                .map(|s| Line {
+                    dir: s.direction(),
+                    mid: [
+                        0.5 * (s.start_m[0] + s.end_m[0]),
+                        0.5 * (s.start_m[1] + s.end_m[1]),
+                    ],
                 })
                 .collect(),
         }
@@ -63,70 +112,226 @@ impl Segments {
         self.lines.is_empty()
     }
 
-    /// The segment whose free strand holds the link from `a` to `b`, if any
-    /// (the caller checks that neither roller touches a sprocket).
-    pub fn segment_of(&self, a: [f64; 2], b: [f64; 2]) -> Option<usize> {
-        let m = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-        // The nearest strand line whose span the midpoint projects onto (strands
-        // of a small drive can lie closer together than MAX_OFFSET_M).
-        let mut best: Option<(usize, f64)> = None;
-        for (k, l) in self.lines.iter().enumerate() {
-            let d = [m[0] - l.start[0], m[1] - l.start[1]];
-            let along = d[0] * l.dir[0] + d[1] * l.dir[1];
-            let across = (-d[0] * l.dir[1] + d[1] * l.dir[0]).abs();
-            if (0.0..=l.length).contains(&along)
-                && across < MAX_OFFSET_M
-                && best.is_none_or(|(_, a)| across < a)
-            {
-                best = Some((k, across));
+    /// Every segment's free run, from the rollers' positions and which of
+    /// them touch a sprocket: one pass over the chain, O(rollers), starting
+    /// at a touching roller. A touching roller is engaged on the sprocket
+    /// whose pitch circle is nearest to its centre; each change of that
+    /// sprocket from k to k + 1 along the chain closes segment k's run.
+    pub fn runs(
+        &self,
+        sprockets: &[SprocketModel],
+        x: &[f64],
+        y: &[f64],
+        touching: &[bool],
+    ) -> StrandRuns {
+        let n = x.len().min(y.len()).min(touching.len());
+        let count = self.lines.len().min(sprockets.len());
+        self.runs_by(&touching[..n], count, |i| {
+            nearest_pitch_circle(sprockets, x[i], y[i])
+        })
+    }
+
+    /// [`Segments::runs`] with the sprocket each touching roller is engaged
+    /// on given by `engaged_on` (`count` sprockets).
+    fn runs_by(
+        &self,
+        touching: &[bool],
+        count: usize,
+        engaged_on: impl Fn(usize) -> usize,
+    ) -> StrandRuns {
+        let n = touching.len();
+        let mut out = StrandRuns {
+            n,
+            runs: [None; MAX_SPROCKETS],
+        };
+        let count = count.min(self.lines.len()).min(MAX_SPROCKETS);
+        let Some(start) = touching.iter().position(|&t| t) else {
+            return out;
+        };
+        let mut last = (start, engaged_on(start));
+        for step in 1..=n {
+            let i = wrap(start + step, n);
+            if !touching[i] {
+                continue;
             }
+            let on = engaged_on(i);
+            if on != last.1 && last.1 < count && on == (last.1 + 1) % count {
+                // Rollers strictly between the two engaged ones (i == start
+                // on the last step: the whole loop back to it).
+                let between = wrap(i + n - last.0, n);
+                let rollers = if between == 0 { n - 1 } else { between - 1 };
+                out.runs[last.1] = Some(Run {
+                    first: wrap(last.0 + 1, n),
+                    rollers,
+                });
+            }
+            last = (i, on);
         }
-        best.map(|(k, _)| k)
+        out
     }
 
     /// Mean link force of each segment's free strand; NaN-free: a segment with
     /// no free link gets `None`.
-    pub fn mean_forces(
-        &self,
-        x: &[f64],
-        y: &[f64],
-        link_force: &[f64],
-        touching: &[bool],
-        out: &mut [Option<f64>],
-    ) {
-        let n = x.len();
-        let mut sum = [0.0f64; 32];
-        let mut count = [0usize; 32];
-        let k_max = self.lines.len().min(32);
-        for i in 0..n {
-            let j = if i + 1 == n { 0 } else { i + 1 };
-            if touching[i] || touching[j] {
-                continue;
+    pub fn mean_forces(&self, runs: &StrandRuns, link_force: &[f64], out: &mut [Option<f64>]) {
+        for (k, o) in out.iter_mut().enumerate().take(self.lines.len()) {
+            let (mut sum, mut count) = (0.0, 0usize);
+            for i in runs.links(k) {
+                if let Some(f) = link_force.get(i) {
+                    sum += f;
+                    count += 1;
+                }
             }
-            if let Some(k) = self.segment_of([x[i], y[i]], [x[j], y[j]])
-                && k < k_max
-            {
-                sum[k] += link_force[i];
-                count[k] += 1;
-            }
-        }
-        for (k, o) in out.iter_mut().enumerate().take(k_max) {
-            *o = (count[k] > 0).then(|| sum[k] / count[k] as f64);
+            *o = (count > 0).then(|| sum / count as f64);
         }
     }
 
-    /// Signed transverse displacement of segment `k`: the roller nearest the
-    /// middle of the nominal line, its distance from the line (left positive).
-    pub fn transverse(&self, k: usize, x: &[f64], y: &[f64]) -> f64 {
-        let l = &self.lines[k];
+    /// Signed transverse displacement of segment `k`: among the rollers of its
+    /// run and its two tangent rollers, the one nearest the middle of the
+    /// nominal line, its distance from the line (left positive). Without a
+    /// run (the chain off a sprocket), the nearest roller of the whole chain.
+    pub fn transverse(&self, k: usize, runs: &StrandRuns, x: &[f64], y: &[f64]) -> f64 {
+        let Some(l) = self.lines.get(k) else {
+            return 0.0;
+        };
+        let n = x.len().min(y.len());
         let mut best = (f64::INFINITY, 0.0);
-        for (xi, yi) in x.iter().zip(y) {
-            let d = [xi - l.mid[0], yi - l.mid[1]];
+        let mut consider = |i: usize| {
+            let d = [x[i] - l.mid[0], y[i] - l.mid[1]];
             let dist_sq = d[0] * d[0] + d[1] * d[1];
             if dist_sq < best.0 {
                 best = (dist_sq, -d[0] * l.dir[1] + d[1] * l.dir[0]);
             }
+        };
+        match runs.get(k) {
+            Some(r) if n > 0 && runs.n == n => {
+                // From the tangent roller on `from` to the one on `to`.
+                let before = wrap(r.first + n - 1, n);
+                for j in 0..(r.rollers + 2).min(n) {
+                    consider(wrap(before + j, n));
+                }
+            }
+            _ => (0..n).for_each(consider),
         }
         best.1
+    }
+}
+
+/// The sprocket whose pitch circle lies nearest the point (x, y).
+fn nearest_pitch_circle(sprockets: &[SprocketModel], x: f64, y: f64) -> usize {
+    let mut best = (f64::INFINITY, 0);
+    for (s, sp) in sprockets.iter().enumerate() {
+        let gap = ((x - sp.center_m[0]).hypot(y - sp.center_m[1]) - sp.pitch_radius_m).abs();
+        if gap < best.0 {
+            best = (gap, s);
+        }
+    }
+    best.1
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn three_segments() -> Segments {
+        let line = Line {
+            dir: [1.0, 0.0],
+            mid: [0.0, 0.0],
+        };
+        Segments {
+            lines: vec![line; 3],
+        }
+    }
+
+    /// Runs of a hand-labelled chain of 20 rollers on 3 sprockets, the loop
+    /// starting inside strand 3 (so it wraps past roller 0): label s means
+    /// engaged on sprocket s, `.` free.
+    #[test]
+    fn runs_follow_chain_order_between_engaged_rollers() {
+        //             01234567890123456789
+        let labels = b"..000.0..1111...222.";
+        let touching: Vec<bool> = labels.iter().map(|c| *c != b'.').collect();
+        let runs = three_segments().runs_by(&touching, 3, |i| (labels[i] - b'0') as usize);
+        // Sprocket 0 -> 1: after roller 6 (the last on 0; 5 lifted inside the
+        // wrap), before 9.
+        assert_eq!(
+            runs.get(0),
+            Some(Run {
+                first: 7,
+                rollers: 2
+            })
+        );
+        assert_eq!(runs.links(0).collect::<Vec<_>>(), vec![7]);
+        // 1 -> 2: rollers 13, 14, 15.
+        assert_eq!(
+            runs.get(1),
+            Some(Run {
+                first: 13,
+                rollers: 3
+            })
+        );
+        assert_eq!(runs.links(1).collect::<Vec<_>>(), vec![13, 14]);
+        // 2 -> 0 across the seam: rollers 19, 0, 1; links 19 and 0, given
+        // in index order.
+        assert_eq!(
+            runs.get(2),
+            Some(Run {
+                first: 19,
+                rollers: 3
+            })
+        );
+        assert_eq!(runs.links(2).collect::<Vec<_>>(), vec![0, 19]);
+    }
+
+    #[test]
+    fn a_sprocket_the_chain_has_left_gives_its_neighbours_no_run() {
+        let labels = b"..000....222....";
+        let touching: Vec<bool> = labels.iter().map(|c| *c != b'.').collect();
+        let runs = three_segments().runs_by(&touching, 3, |i| (labels[i] - b'0') as usize);
+        assert_eq!(runs.get(0), None);
+        assert_eq!(runs.get(1), None);
+        assert_eq!(
+            runs.get(2),
+            Some(Run {
+                first: 12,
+                rollers: 6
+            })
+        );
+        let none = three_segments().runs_by(&[false; 8], 3, |_| 0);
+        assert!((0..3).all(|k| none.get(k).is_none() && none.links(k).count() == 0));
+    }
+
+    /// The mean is over the run's links only, and the transverse value is the
+    /// run's own roller nearest the middle, even when another strand's
+    /// roller lies nearer (a strand sagging past another's line).
+    #[test]
+    fn means_and_transverse_use_only_the_segments_own_rollers() {
+        let labels = b"0....1....";
+        let touching: Vec<bool> = labels.iter().map(|c| *c != b'.').collect();
+        let segs = Segments {
+            lines: vec![
+                Line {
+                    dir: [1.0, 0.0],
+                    mid: [0.0, 0.0],
+                },
+                Line {
+                    dir: [-1.0, 0.0],
+                    mid: [0.0, 1.0],
+                },
+            ],
+        };
+        let runs = segs.runs_by(&touching, 2, |i| (labels[i] - b'0') as usize);
+        let force: Vec<f64> = (0..10).map(|i| i as f64).collect();
+        let mut mean = [None; 2];
+        segs.mean_forces(&runs, &force, &mut mean);
+        // Segment 0: links 1, 2, 3 (rollers 1–4); segment 1: links 6, 7, 8.
+        assert_eq!(mean, [Some(2.0), Some(7.0)]);
+        // Segment 1 (line y = 1) sags past segment 0's line (y = 0): its
+        // roller 7 at the middle lies 1.2 below its line, segment 0's roller
+        // 2 only 0.99.
+        let x = [-2.0, -1.0, 0.0, 1.0, 2.0, 2.0, 1.0, 0.0, -1.0, -2.0];
+        let y = [0.0, 0.0, 0.01, 0.0, 0.0, 1.0, 0.0, -0.2, 0.0, 1.0];
+        // Left of −x is −y: a sag of 1.2 is +1.2.
+        assert!((segs.transverse(1, &runs, &x, &y) - 1.2).abs() < 1e-12);
+        assert!((segs.transverse(0, &runs, &x, &y) - 0.01).abs() < 1e-12);
     }
 }

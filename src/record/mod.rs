@@ -697,13 +697,8 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
         if ch.contains(Channels::SEGMENTS) {
             let segments = &s.model.segments;
             self.segment_force.resize(segments.len(), None);
-            segments.mean_forces(
-                &st.x,
-                &st.y,
-                &f.link_force,
-                &f.touching,
-                &mut self.segment_force,
-            );
+            let runs = segments.runs(&s.model.sprockets, &st.x, &st.y, &f.touching);
+            segments.mean_forces(&runs, &f.link_force, &mut self.segment_force);
             frame.segments = self
                 .segment_force
                 .iter()
@@ -711,7 +706,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                 .map(|(k, force)| SegmentSignal {
                     segment: (k + 1) as u32,
                     link_force_n: force.filter(|v| v.is_finite()),
-                    transverse_m: segments.transverse(k, &st.x, &st.y),
+                    transverse_m: segments.transverse(k, &runs, &st.x, &st.y),
                 })
                 .collect();
         }

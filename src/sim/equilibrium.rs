@@ -136,19 +136,14 @@ pub fn free_strand_tension(
     state: &DriveState,
     forces: &ForceGenerator,
 ) -> Option<f64> {
-    let n = state.rollers();
+    let out = forces.output();
+    let runs = model
+        .segments
+        .runs(&model.sprockets, &state.x, &state.y, &out.touching);
     let (mut sum, mut count) = (0.0, 0usize);
-    for i in 0..n {
-        let j = (i + 1) % n;
-        if forces.output().touching[i] || forces.output().touching[j] {
-            continue;
-        }
-        if model
-            .segments
-            .segment_of([state.x[i], state.y[i]], [state.x[j], state.y[j]])
-            .is_some()
-        {
-            sum += forces.output().link_force[i];
+    for k in 0..model.segments.len() {
+        for i in runs.links(k) {
+            sum += out.link_force[i];
             count += 1;
         }
     }

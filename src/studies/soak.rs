@@ -77,13 +77,9 @@ impl Observer for Soak {
     fn sample(&mut self, s: &Sample<'_>) {
         let st = s.state;
         let mut scratch = std::mem::take(&mut self.scratch);
-        s.model.segments.mean_forces(
-            &st.x,
-            &st.y,
-            &s.forces.link_force,
-            &s.forces.touching,
-            &mut scratch,
-        );
+        let segments = &s.model.segments;
+        let runs = segments.runs(&s.model.sprockets, &st.x, &st.y, &s.forces.touching);
+        segments.mean_forces(&runs, &s.forces.link_force, &mut scratch);
         let w = self.current(st.t_s, st.omega.len(), scratch.len());
         w.samples += 1;
         for (sum, omega) in w.omega_sum.iter_mut().zip(&st.omega) {

@@ -166,13 +166,15 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
         if frame >= 60 {
             // Strand 1 runs along the bottom from sprocket 1 to 2, strand 2 back on top.
             let mut seg = [None; 2];
-            drive.model.segments.mean_forces(
+            let out = drive.forces.output();
+            let segments = &drive.model.segments;
+            let runs = segments.runs(
+                &drive.model.sprockets,
                 &drive.state.x,
                 &drive.state.y,
-                &drive.forces.output().link_force,
-                &drive.forces.output().touching,
-                &mut seg,
+                &out.touching,
             );
+            segments.mean_forces(&runs, &out.link_force, &mut seg);
             if let [Some(a), Some(b)] = seg {
                 lower += a;
                 upper += b;

@@ -23,4 +23,5 @@ mod record;
 mod scene_errors;
 mod seam;
 mod stepping;
+mod strands;
 mod stress;

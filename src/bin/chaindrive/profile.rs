@@ -9,8 +9,8 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use chaindrive::geometry::{CircularProfile, ProfileKind};
 use chaindrive::geometry::asa::AsaProfile;
+use chaindrive::geometry::{CircularProfile, ProfileKind};
 
 /// Arguments of `chaindrive profile`.
 #[derive(clap::Args)]
