@@ -16,6 +16,8 @@ mod cosim;
 mod fuzz;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod outputs;
 mod paper;
 mod profile;
 #[cfg(feature = "record")]

@@ -3,6 +3,7 @@
 mod analyze;
 mod bench;
 mod check;
+mod outputs;
 mod profile;
 mod reproduce;
 mod run;
