@@ -22,6 +22,8 @@ mod paper;
 mod profile;
 #[cfg(feature = "record")]
 mod record;
+#[cfg(feature = "cli")]
+mod recover;
 mod scene_errors;
 mod seam;
 mod stepping;
