@@ -130,12 +130,10 @@ pub fn recover<W: Write + Seek>(bytes: &[u8], out: W) -> Result<(W, Recovered), 
                     found.channels += 1;
                 }
             }
-            Record::Message { header, data } => {
-                if known_channels.contains(&header.channel_id) {
-                    w.write_to_known_channel(&header, &data)?;
-                    found.messages += 1;
-                    found.last_log_time_ns = found.last_log_time_ns.max(header.log_time);
-                }
+            Record::Message { header, data } if known_channels.contains(&header.channel_id) => {
+                w.write_to_known_channel(&header, &data)?;
+                found.messages += 1;
+                found.last_log_time_ns = found.last_log_time_ns.max(header.log_time);
             }
             Record::Attachment { header, data, .. } => {
                 w.attach(&mcap::Attachment {

@@ -177,6 +177,9 @@ fn write_err(p: &Path) -> impl FnOnce(std::io::Error) -> WriteError {
     move |source| WriteError { path, source }
 }
 
+/// What [`stage`] wrote: the figures (stem, caption) and the files' names.
+type Staged = (Vec<(String, String)>, Vec<std::ffi::OsString>);
+
 /// Draws the figures and writes the JSON and the report into `staging`;
 /// returns the figures and the names of the files written. Errors name the
 /// files' places in `dir`.
@@ -186,7 +189,7 @@ fn stage(
     options: &AnalyzeOptions,
     staging: &Path,
     dir: &Path,
-) -> anyhow::Result<(Vec<(String, String)>, Vec<std::ffi::OsString>)> {
+) -> anyhow::Result<Staged> {
     let (figures, paths) = recorded_figures(run, analysis, options, staging)?;
     let text = serde_json::to_string_pretty(analysis).map_err(|e| WriteError {
         path: dir.join("analysis.json").display().to_string(),
