@@ -27,15 +27,20 @@
 //! Cost: the stepping loop only copies the arrays the requested channels
 //! need (and computes the segment signals when asked); a writer thread of
 //! the recorder builds the messages, encodes them, compresses them (zstd
-//! chunks of 1 MiB) and writes them, in order. The simulation itself stays
-//! single-threaded and deterministic.
+//! chunks of at most 1 MiB) and writes them, in order. The simulation itself
+//! stays single-threaded and deterministic.
 //!
 //! A recording is finished by [`Recorder::finish`]; dropping a recorder
 //! finishes it too (the writer thread drains its queue and the MCAP writer
 //! writes its summary and footer), so a file is readable up to its last
 //! frame however the run ends: normal end, blow-up, interruption, or a panic
-//! that unwinds. A process killed outright (SIGKILL) loses the unfinished
-//! chunk and the footer.
+//! that unwinds. A process killed outright (SIGKILL, an out-of-memory kill)
+//! loses the open chunk, the summary and the footer: so that the open chunk
+//! never holds much, it is closed and written to the file whenever it is
+//! full or [`FLUSH_INTERVAL_NS`] (0.1 s) of simulated time has passed since
+//! the last one. Such a file streams up to its last chunk, but seeking
+//! readers (Foxglove, Rerun) need the index: [`recover`] rewrites it whole
+//! (`chaindrive recover`).
 //!
 //! Reading a recording back is [`read`]'s job.
 //!
@@ -44,6 +49,7 @@
 
 mod messages;
 pub mod read;
+pub mod recover;
 mod visual;
 
 pub use messages::{
@@ -324,6 +330,14 @@ struct Frame {
 /// Samples queued for the writer thread before the stepping loop waits for it.
 const QUEUE_FRAMES: usize = 256;
 
+/// Uncompressed size at which a chunk is closed and written, bytes.
+pub(crate) const CHUNK_BYTES: u64 = 1 << 20;
+
+/// Simulated time after which the open chunk is closed and written to the
+/// file even if it is not full, ns: a process killed outright loses at most
+/// this much of the run (or one chunk, if that is less).
+pub const FLUSH_INTERVAL_NS: u64 = 100_000_000;
+
 /// The writer thread's state: messages kept between frames, updated in place.
 struct Writer<W: Write + Seek> {
     sink: Sink<W>,
@@ -335,6 +349,8 @@ struct Writer<W: Write + Seek> {
     contacts: ChainContactForces,
     sprockets: SprocketSignals,
     segments: SegmentSignals,
+    /// Simulated time of the last chunk closed by [`FLUSH_INTERVAL_NS`], ns.
+    flushed_ns: u64,
 }
 
 impl<W: Write + Seek> Writer<W> {
@@ -352,7 +368,17 @@ impl<W: Write + Seek> Writer<W> {
                 }
                 Ok(())
             }
-            Job::Frame(f) => self.frame(*f),
+            Job::Frame(f) => {
+                let t_ns = f.t_ns;
+                self.frame(*f)?;
+                // Simulated, not wall-clock, time: two identical runs still
+                // give byte-identical files.
+                if t_ns.saturating_sub(self.flushed_ns) >= FLUSH_INTERVAL_NS {
+                    self.flushed_ns = t_ns;
+                    self.sink.writer.flush()?;
+                }
+                Ok(())
+            }
         }
     }
 
@@ -465,7 +491,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             .compression(Some(mcap::Compression::Zstd))
             .compression_level(3)
             .compression_threads(0)
-            .chunk_size(Some(1 << 20))
+            .chunk_size(Some(CHUNK_BYTES))
             .library(format!("chaindrive {}", env!("CARGO_PKG_VERSION")))
             .create(writer)?;
         let metadata: BTreeMap<String, String> = [
@@ -536,6 +562,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             contacts: ChainContactForces::default(),
             sprockets: SprocketSignals::default(),
             segments: SegmentSignals::default(),
+            flushed_ns: 0,
         };
         let (tx, rx) = std::sync::mpsc::sync_channel::<Job>(QUEUE_FRAMES);
         let thread = std::thread::Builder::new()

@@ -297,6 +297,39 @@ fn not_mcap(path: &str, bytes: &[u8]) -> ReadError {
     }
 }
 
+/// Whether the MCAP file held in `bytes` is complete: it ends with a footer
+/// that points at a summary section (the index seeking readers need) and
+/// with the closing magic. A recording whose process was killed outright is
+/// not; [`super::recover::recover`] rewrites it whole.
+pub fn is_complete_mcap(bytes: &[u8]) -> bool {
+    // Footer record: opcode 0x02, length u64, summary_start u64,
+    // summary_offset_start u64, summary_crc u32 (29 bytes), then the magic.
+    const FOOTER: usize = 1 + 8 + 8 + 8 + 4;
+    let n = bytes.len();
+    if n < MCAP_MAGIC.len() * 2 + FOOTER || !bytes.ends_with(MCAP_MAGIC) {
+        return false;
+    }
+    let footer = &bytes[n - MCAP_MAGIC.len() - FOOTER..n - MCAP_MAGIC.len()];
+    let summary_start = footer
+        .get(9..17)
+        .and_then(|b| <[u8; 8]>::try_from(b).ok())
+        .map_or(0, u64::from_le_bytes);
+    footer[0] == 0x02 && summary_start != 0
+}
+
+/// Whether the MCAP file at `path` is complete ([`is_complete_mcap`]),
+/// reading only its last bytes.
+pub fn is_complete_mcap_file(path: &Path) -> std::io::Result<bool> {
+    use std::io::{Read, Seek, SeekFrom};
+    let mut f = std::fs::File::open(path)?;
+    let n = f.seek(SeekFrom::End(0))?;
+    let tail = n.min(64);
+    f.seek(SeekFrom::Start(n - tail))?;
+    let mut buf = Vec::with_capacity(tail as usize);
+    f.read_to_end(&mut buf)?;
+    Ok(is_complete_mcap(&buf))
+}
+
 /// Reads the recording at `path` (see the module documentation).
 pub fn read_recording(path: &Path) -> Result<Recording, ReadError> {
     let name = path.display().to_string();

@@ -9,6 +9,7 @@ use super::{
     SceneError, SceneFile, Solver, SolverFile, SpeedLaw, Sprocket, SprocketFile, Stepping,
     TEETH_RANGE, Wrap,
 };
+use crate::geometry::asa::IN_0_003_M;
 use crate::geometry::pitch_radius;
 
 /// Collects field errors while a file is checked.
@@ -87,6 +88,7 @@ impl TryFrom<SceneFile> for Scene {
             &chain,
             default_profile.unwrap_or(ProfileKind::Circular),
         );
+        check_seating(&mut c, &chain, &sprockets);
         let solver = check_solver(&mut c, &file.solver);
         let equilibrium = Equilibrium {
             tension_tolerance: c.positive(
@@ -187,6 +189,35 @@ fn check_contact(c: &mut Checker, f: &ContactFile) -> Contact {
         restitution,
         min_approach_speed_m_s: c
             .positive("contact.min_approach_speed_m_s", f.min_approach_speed_m_s),
+    }
+}
+
+/// The real (ASA) profile seats a roller of diameter Dr in a curve of
+/// diameter Dt = 1.005 Dr + 0.003 in, which must be narrower than the pitch P
+/// for two gaps to leave a tooth between them (the profile's construction,
+/// `crate::geometry::asa`, refuses it too, but in its own terms). Blamed on
+/// the fields the user wrote, with the largest roller allowed.
+fn check_seating(c: &mut Checker, chain: &Chain, sprockets: &[Sprocket]) {
+    let (pitch_m, r_m) = (chain.pitch_m, chain.roller_radius_m);
+    let Some(i) = sprockets
+        .iter()
+        .position(|s| s.profile == ProfileKind::Real)
+    else {
+        return;
+    };
+    // Rollers that overlap at this pitch are already refused (check_chain).
+    if !(pitch_m.is_finite() && r_m.is_finite() && 2.0 * r_m < pitch_m) {
+        return;
+    }
+    let seating_diameter_m = 1.005 * 2.0 * r_m + IN_0_003_M;
+    if seating_diameter_m >= pitch_m {
+        let max_radius_m = (pitch_m - IN_0_003_M) / 2.01;
+        c.fail(
+            "chain.roller_radius_m",
+            format!(
+                "{r_m} m is too large for the real tooth profile (sprockets[{i}]) at chain.pitch_m = {pitch_m} m: its seating diameter 1.005 × 2 × roller_radius_m + 0.003 in = {seating_diameter_m:.6} m must be below the pitch; allowed: roller_radius_m < {max_radius_m:.6} m, or profile = \"circular\""
+            ),
+        );
     }
 }
 

@@ -16,10 +16,14 @@ mod cosim;
 mod fuzz;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod outputs;
 mod paper;
 mod profile;
 #[cfg(feature = "record")]
 mod record;
+#[cfg(feature = "cli")]
+mod recover;
 mod scene_errors;
 mod seam;
 mod stepping;

@@ -201,3 +201,50 @@ fn two_runs_give_identical_summaries() {
     };
     assert_eq!(run(), run());
 }
+
+/// Regression: a roller too large for the real profile's seating curve was
+/// blamed on `sprockets[0].profile: seating diameter …`, a field not in the
+/// file. ASA B29.1: the seating diameter is Dt = 1.005 Dr + 0.003 in and must
+/// be below the pitch P, so for P = 0.0889 m the largest roller radius is
+/// r < (P − 0.003 in) / 2.01 = (0.0889 − 7.62e-5) / 2.01 = 0.0441909 m.
+/// r = 0.0443 m passes the overlap check (2r = 0.0886 m < P) and fails this one;
+/// r = 0.0441 m passes both.
+#[test]
+fn a_roller_too_large_for_the_real_profile_names_the_chain_fields() {
+    let big = L60MC_TOML
+        .replace("roller_radius_m = 0.027", "roller_radius_m = 0.0443")
+        .replace("profile = \"circular\"", "profile = \"real\"");
+    assert!(
+        big.contains("profile = \"real\""),
+        "the scene names its profile"
+    );
+    let Err(e) = Scene::from_toml(&big) else {
+        panic!("a roller too large for the real profile was accepted");
+    };
+    let text = e.to_string();
+    assert!(text.contains("chain.roller_radius_m"), "{text}");
+    assert!(text.contains("chain.pitch_m = 0.0889 m"), "{text}");
+    assert!(text.contains("roller_radius_m < 0.044191 m"), "{text}");
+    assert!(!text.contains("seating diameter 0."), "{text}");
+    // The bound is the profile construction's own: just below it the
+    // construction does not refuse the roller, just above it does.
+    use chaindrive::geometry::asa::{AsaError, AsaProfile};
+    let refused = |r: f64| {
+        matches!(
+            AsaProfile::new(50, 0.0889, 2.0 * r),
+            Err(AsaError::RollerTooBig { .. })
+        )
+    };
+    let max_radius_m = (0.0889 - 7.62e-5) / 2.01;
+    assert!(refused(max_radius_m * (1.0 + 1e-9)));
+    assert!(!refused(max_radius_m * (1.0 - 1e-9)));
+    let small = big.replace("roller_radius_m = 0.0443", "roller_radius_m = 0.0441");
+    if let Err(e) = Scene::from_toml(&small) {
+        assert!(!e.to_string().contains("real tooth profile"), "{e}");
+    }
+    // The circular profile has no seating curve: only the overlap check applies.
+    let circular = L60MC_TOML.replace("roller_radius_m = 0.027", "roller_radius_m = 0.0443");
+    if let Err(e) = Scene::from_toml(&circular) {
+        assert!(!e.to_string().contains("real tooth profile"), "{e}");
+    }
+}

@@ -3,7 +3,9 @@
 mod analyze;
 mod bench;
 mod check;
+mod outputs;
 mod profile;
+mod recover;
 mod reproduce;
 mod run;
 mod stress;
@@ -35,6 +37,9 @@ enum Command {
     Reproduce(reproduce::ReproduceArgs),
     /// Analyse a recording (`run --record`) of any scene: report, JSON, figures.
     Analyze(analyze::AnalyzeArgs),
+    /// Rewrite a recording cut short (a killed run) as a complete, indexed
+    /// MCAP file that every viewer opens.
+    Recover(recover::RecoverArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -46,6 +51,7 @@ fn main() -> std::process::ExitCode {
         Command::Profile(args) => profile::profile(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
+        Command::Recover(args) => recover::recover(args),
     };
     match result {
         Ok(code) => code,

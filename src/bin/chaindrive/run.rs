@@ -135,6 +135,14 @@ fn io_error(e: csv::Error) -> std::io::Error {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
+    crate::outputs::check_distinct(
+        &[("scene file", args.scene.as_deref())],
+        &[
+            ("--summary", args.summary.as_deref()),
+            ("--series", args.series.as_deref()),
+            ("--record", args.record.as_deref()),
+        ],
+    )?;
     let overrides = Overrides {
         profile: args.profile,
         duration_s: args.duration,

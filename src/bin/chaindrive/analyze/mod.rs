@@ -70,7 +70,25 @@ pub fn analyze(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
         segment: args.segment,
         window_s: args.window.map(|w| w.0),
     };
-    let (analysis, written) = write_analysis(&args.recording, &options, &args.out)?;
+    // A recording whose run was killed outright streams up to its last
+    // chunk but has no index: analyse it, and say how to make it whole.
+    let unfinished = unfinished_mcap(&args.recording).then(|| {
+        format!(
+            "{} has no summary or index (the run was killed before it finished?): viewers will not open it; `chaindrive recover {} FIXED.mcap` writes a complete copy",
+            args.recording.display(),
+            args.recording.display()
+        )
+    });
+    let (analysis, written) = match write_analysis(&args.recording, &options, &args.out) {
+        Ok(done) => done,
+        Err(e) => match &unfinished {
+            Some(hint) => anyhow::bail!("{e:#}\n{hint}"),
+            None => return Err(e),
+        },
+    };
+    if let Some(hint) = &unfinished {
+        eprintln!("warning: {hint}");
+    }
     for note in &analysis.notes {
         eprintln!("note: {note}");
     }
@@ -86,6 +104,21 @@ pub fn analyze(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
         args.out.display()
     );
     Ok(ExitCode::SUCCESS)
+}
+
+/// Whether `path` starts like an MCAP file but lacks its summary and footer.
+fn unfinished_mcap(path: &Path) -> bool {
+    use std::io::Read;
+    let mut head = [0_u8; 8];
+    let starts_like_mcap = std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok()
+        && head == *b"\x89MCAP0\r\n";
+    starts_like_mcap
+        && matches!(
+            chaindrive::record::read::is_complete_mcap_file(path),
+            Ok(false)
+        )
 }
 
 /// A file that could not be written.
