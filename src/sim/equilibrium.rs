@@ -20,6 +20,9 @@ pub struct StaticEquilibrium {
     pub iterations: usize,
     /// Largest roller speed left at the end of the last relaxation, m/s.
     pub residual_speed_m_s: f64,
+    /// Largest force on a roller at the equilibrium (links, contact and
+    /// gravity), relative to the pretension.
+    pub force_residual: f64,
 }
 
 /// Why no equilibrium was found.
@@ -45,7 +48,7 @@ pub enum EquilibriumError {
     },
     /// The relaxation itself blew up (dt too large for the scene).
     #[error(
-        "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:e} m); reduce solver.dt_s"
+        "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:.3e} m)"
     )]
     BlowUp {
         /// Largest link stretch seen, m.
@@ -154,8 +157,64 @@ pub fn free_strand_tension(
     (count > 0).then(|| sum / count as f64)
 }
 
+/// Largest force on a roller at `state`, relative to `scale_n`: the
+/// equilibrium's residual. `forces` must have been evaluated at `state`.
+pub fn force_residual(forces: &ForceGenerator, scale_n: f64) -> f64 {
+    let out = forces.output();
+    let largest = out
+        .fx
+        .iter()
+        .zip(&out.fy)
+        .map(|(x, y)| x.hypot(*y))
+        .fold(0.0, f64::max);
+    largest / scale_n.abs().max(f64::MIN_POSITIVE)
+}
+
+/// The next rest length of the pretension iteration: a secant step on
+/// T(l₀), safeguarded.
+///
+/// T falls as l₀ grows, with a slope between −K (every link stretched
+/// alike) and 0. The slope is near 0 wherever the chain is slack: without
+/// gravity a strand at no tension holds no length, and the real profile's
+/// seating clearance lets the rollers on a wrap give up length as well, so
+/// after the first relaxation the static tension may be about zero whatever
+/// l₀ is near. A plain secant step there is huge (millimetres per link) and
+/// the next relaxation blows up. The step is therefore at most
+/// `MAX_STEP_FACTOR` elastic steps (target − T)/K, and once the target is
+/// bracketed it stays inside the bracket (bisection when the secant leaves
+/// it).
+fn next_rest_length(
+    k: f64,
+    (rest, tension): (f64, f64),
+    previous: Option<(f64, f64)>,
+    bracket: (Option<f64>, Option<f64>),
+    target_n: f64,
+) -> f64 {
+    const MAX_STEP_FACTOR: f64 = 8.0;
+    let slope = match previous {
+        Some((r0, t0)) if (rest - r0).abs() > 0.0 => (tension - t0) / (rest - r0),
+        _ => -k,
+    };
+    // Within [−K, −K / MAX_STEP_FACTOR]: a secant with the wrong sign or a
+    // flat one (a slack chain) takes the longest step allowed.
+    let slope = if slope.is_finite() {
+        slope.clamp(-k, -k / MAX_STEP_FACTOR)
+    } else {
+        -k
+    };
+    let proposal = rest + (target_n - tension) / slope;
+    match bracket {
+        // `low`: a rest length whose tension is above the target; `high`: below.
+        (Some(low), Some(high)) if !(proposal > low.min(high) && proposal < low.max(high)) => {
+            0.5 * (low + high)
+        }
+        _ => proposal,
+    }
+}
+
 /// Brings the drive to static equilibrium at `target_n` by shortening the
-/// links' rest length (secant iteration on T(rest length)).
+/// links' rest length (safeguarded secant iteration on T(rest length), see
+/// `next_rest_length`).
 pub fn settle_rest_length(
     model: &mut DriveModel,
     state: &mut DriveState,
@@ -164,11 +223,13 @@ pub fn settle_rest_length(
     target_n: f64,
     tolerance: f64,
 ) -> Result<StaticEquilibrium, EquilibriumError> {
-    const MAX_ITERATIONS: usize = 12;
+    const MAX_ITERATIONS: usize = 30;
     let k = model.stiffness_n_m;
     // First guess: links on the wraps are exactly one pitch long; stretch them to the target.
     let mut rest = model.rest_length_m - target_n / k;
     let mut previous: Option<(f64, f64)> = None;
+    // Rest lengths known to give a tension above (low) and below (high) the target.
+    let (mut above, mut below): (Option<f64>, Option<f64>) = (None, None);
     let mut last = (f64::NAN, f64::INFINITY);
     for iteration in 1..=MAX_ITERATIONS {
         model.rest_length_m = rest;
@@ -182,17 +243,17 @@ pub fn settle_rest_length(
                 rest_length_m: rest,
                 iterations: iteration,
                 residual_speed_m_s: residual,
+                force_residual: force_residual(forces, target_n),
             });
         }
-        // Slope dT/d(rest): secant once two points exist, −K before.
-        let slope = match previous {
-            Some((r0, t0)) if (rest - r0).abs() > 0.0 && (tension - t0).abs() > 0.0 => {
-                (tension - t0) / (rest - r0)
-            }
-            _ => -k,
-        };
+        if tension > target_n {
+            above = Some(rest);
+        } else {
+            below = Some(rest);
+        }
+        let next = next_rest_length(k, (rest, tension), previous, (above, below), target_n);
         previous = Some((rest, tension));
-        rest += (target_n - tension) / slope;
+        rest = next;
     }
     Err(EquilibriumError::NotConverged {
         tension_n: last.0,

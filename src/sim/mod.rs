@@ -15,7 +15,7 @@ mod stepper;
 
 pub use energy::Energy;
 pub use equilibrium::{
-    EquilibriumError, RelaxSettings, StaticEquilibrium, free_strand_tension, relax,
+    EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension, relax,
     settle_rest_length,
 };
 pub use integrate::{Integration, IntegrationStats};
@@ -80,6 +80,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             rest_length_m: model.rest_length_m,
             iterations: 0,
             residual_speed_m_s: residual,
+            force_residual: force_residual(&forces, target),
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };

@@ -117,6 +117,7 @@ pub fn run_scene(
             rest_length_m: rest,
             iterations: sim.equilibrium.iterations + 1,
             residual_speed_m_s: residual,
+            ..sim.equilibrium
         };
         sim.sync_world();
     }
