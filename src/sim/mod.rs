@@ -9,6 +9,7 @@
 
 mod energy;
 mod equilibrium;
+mod feasibility;
 pub mod integrate;
 mod sample_rate;
 mod stepper;
@@ -410,6 +411,8 @@ impl Simulation {
         let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
                 let (mut model, mut state, layout) = DriveModel::build(scene)?;
+                feasibility::check_chain_length(scene, &layout)?;
+                feasibility::check_load(scene, &layout)?;
                 let mut forces = new_forces(scene, &model);
                 let eq = settle_rest_length(
                     &mut model,
