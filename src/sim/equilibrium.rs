@@ -290,7 +290,14 @@ pub fn settle_rest_length(
         } else {
             below = Some(rest);
         }
-        let next = next_rest_length(k, (rest, tension), previous, (above, below), target_n, &mut step_factor);
+        let next = next_rest_length(
+            k,
+            (rest, tension),
+            previous,
+            (above, below),
+            target_n,
+            &mut step_factor,
+        );
         previous = Some((rest, tension));
         rest = next;
     }
