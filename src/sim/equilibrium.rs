@@ -21,6 +21,9 @@ pub struct StaticEquilibrium {
     pub iterations: usize,
     /// Largest roller speed left at the end of the last relaxation, m/s.
     pub residual_speed_m_s: f64,
+    /// Largest force on a roller at the equilibrium (links, contact and
+    /// gravity), relative to the pretension.
+    pub force_residual: f64,
 }
 
 /// Why no equilibrium was found.
@@ -44,9 +47,41 @@ pub enum EquilibriumError {
         /// Iterations used.
         iterations: usize,
     },
+    /// The chain is too short for the pretension (see the feasibility module).
+    #[error(
+        "the chain is {short_m:.4} m ({short_pitches:.2} pitches) shorter than the path through the seated rollers, but at chain.pretension_n its {free_links} free links stretch {allowed_m:.2e} m in all; it would carry about {needed_tension_n:.0} N: add rollers or move the sprockets closer"
+    )]
+    ChainTooShort {
+        /// Missing length, m.
+        short_m: f64,
+        /// Missing length, pitches.
+        short_pitches: f64,
+        /// Links of the free strands.
+        free_links: usize,
+        /// Length the pretension takes up, m.
+        allowed_m: f64,
+        /// Static tension the short chain would carry, N.
+        needed_tension_n: f64,
+    },
+    /// A load torque needs more pretension than the scene has.
+    #[error(
+        "load torque {load_n_m} N·m on sprocket \"{sprocket}\" exceeds the {limit_n_m:.1} N·m the slack strand can hold at chain.pretension_n = {pretension_n:.1} N (it would need compression); raise chain.pretension_n to at least {needed_n:.1} N"
+    )]
+    LoadBeyondPretension {
+        /// The loaded sprocket's name.
+        sprocket: String,
+        /// Its load torque, N·m.
+        load_n_m: f64,
+        /// Largest load the pretension holds, N·m.
+        limit_n_m: f64,
+        /// Pretension, N.
+        pretension_n: f64,
+        /// Least pretension that holds the load, N.
+        needed_n: f64,
+    },
     /// The relaxation itself blew up (dt too large for the scene).
     #[error(
-        "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:e} m); reduce solver.dt_s"
+        "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:.3e} m)"
     )]
     BlowUp {
         /// Largest link stretch seen, m.
@@ -150,8 +185,70 @@ pub fn free_strand_tension(
     (count > 0).then(|| sum / count as f64)
 }
 
+/// Largest force on a roller at `state`, relative to `scale_n`: the
+/// equilibrium's residual. `forces` must have been evaluated at `state`.
+pub fn force_residual(forces: &ForceGenerator, scale_n: f64) -> f64 {
+    let out = forces.output();
+    let largest = out
+        .fx
+        .iter()
+        .zip(&out.fy)
+        .map(|(x, y)| x.hypot(*y))
+        .fold(0.0, f64::max);
+    largest / scale_n.abs().max(f64::MIN_POSITIVE)
+}
+
+/// The next rest length of the pretension iteration: a secant step on
+/// T(l₀), safeguarded.
+///
+/// T falls as l₀ grows, with a slope between −K (every link stretched
+/// alike) and 0. The slope is near 0 wherever the chain is slack: without
+/// gravity a strand at no tension holds no length, and the real profile's
+/// seating clearance lets the rollers on a wrap give up length as well, so
+/// after the first relaxation the static tension may be about zero whatever
+/// l₀ is near. A plain secant step there is huge (millimetres per link) and
+/// the next relaxation blows up. The step is therefore at most
+/// `step_factor` elastic steps (target − T)/K; the factor starts at 8 and
+/// doubles each time it limits the step (where the slope is truly shallow,
+/// e.g. the real profile's wraps under gravity give up length at about K/50),
+/// and once the target is bracketed the step stays inside the bracket
+/// (bisection when the secant leaves it).
+fn next_rest_length(
+    k: f64,
+    (rest, tension): (f64, f64),
+    previous: Option<(f64, f64)>,
+    bracket: (Option<f64>, Option<f64>),
+    target_n: f64,
+    step_factor: &mut f64,
+) -> f64 {
+    let slope = match previous {
+        Some((r0, t0)) if (rest - r0).abs() > 0.0 => (tension - t0) / (rest - r0),
+        _ => -k,
+    };
+    // Within [−K, −K / step_factor]: a secant with the wrong sign or a flat
+    // one (a slack chain) takes the longest step allowed.
+    let limit = -k / *step_factor;
+    let slope = if !slope.is_finite() {
+        -k
+    } else if slope > limit {
+        *step_factor *= 2.0;
+        limit
+    } else {
+        slope.max(-k)
+    };
+    let proposal = rest + (target_n - tension) / slope;
+    match bracket {
+        // `low`: a rest length whose tension is above the target; `high`: below.
+        (Some(low), Some(high)) if !(proposal > low.min(high) && proposal < low.max(high)) => {
+            0.5 * (low + high)
+        }
+        _ => proposal,
+    }
+}
+
 /// Brings the drive to static equilibrium at `target_n` by shortening the
-/// links' rest length (secant iteration on T(rest length)).
+/// links' rest length (safeguarded secant iteration on T(rest length), see
+/// `next_rest_length`).
 pub fn settle_rest_length(
     model: &mut DriveModel,
     state: &mut DriveState,
@@ -160,12 +257,15 @@ pub fn settle_rest_length(
     target_n: f64,
     tolerance: f64,
 ) -> Result<StaticEquilibrium, EquilibriumError> {
-    const MAX_ITERATIONS: usize = 12;
+    const MAX_ITERATIONS: usize = 30;
     let k = model.stiffness_n_m;
     // First guess: links on the wraps are exactly one pitch long; stretch them to the target.
     let mut rest = model.rest_length_m - target_n / k;
     let mut previous: Option<(f64, f64)> = None;
+    // Rest lengths known to give a tension above (low) and below (high) the target.
+    let (mut above, mut below): (Option<f64>, Option<f64>) = (None, None);
     let mut last = (f64::NAN, f64::INFINITY);
+    let mut step_factor = 8.0;
     for iteration in 1..=MAX_ITERATIONS {
         model.rest_length_m = rest;
         let residual = relax(model, state, forces, settings)?;
@@ -178,17 +278,24 @@ pub fn settle_rest_length(
                 rest_length_m: rest,
                 iterations: iteration,
                 residual_speed_m_s: residual,
+                force_residual: force_residual(forces, target_n),
             });
         }
-        // Slope dT/d(rest): secant once two points exist, −K before.
-        let slope = match previous {
-            Some((r0, t0)) if (rest - r0).abs() > 0.0 && (tension - t0).abs() > 0.0 => {
-                (tension - t0) / (rest - r0)
-            }
-            _ => -k,
-        };
+        if tension > target_n {
+            above = Some(rest);
+        } else {
+            below = Some(rest);
+        }
+        let next = next_rest_length(
+            k,
+            (rest, tension),
+            previous,
+            (above, below),
+            target_n,
+            &mut step_factor,
+        );
         previous = Some((rest, tension));
-        rest += (target_n - tension) / slope;
+        rest = next;
     }
     Err(EquilibriumError::NotConverged {
         tension_n: last.0,

@@ -9,13 +9,14 @@
 
 mod energy;
 mod equilibrium;
+mod feasibility;
 pub mod integrate;
 mod sample_rate;
 mod stepper;
 
 pub use energy::Energy;
 pub use equilibrium::{
-    EquilibriumError, RelaxSettings, StaticEquilibrium, free_strand_tension, relax,
+    EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension, relax,
     settle_rest_length,
 };
 pub use integrate::{Integration, IntegrationStats};
@@ -81,6 +82,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             rest_length_m: model.rest_length_m,
             iterations: 0,
             residual_speed_m_s: residual,
+            force_residual: force_residual(&forces, target),
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };
@@ -411,6 +413,8 @@ impl Simulation {
         let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
                 let (mut model, mut state, layout) = DriveModel::build(scene)?;
+                feasibility::check_chain_length(scene, &layout)?;
+                feasibility::check_load(scene, &layout)?;
                 let mut forces = new_forces(scene, &model);
                 let eq = settle_rest_length(
                     &mut model,

@@ -33,7 +33,7 @@ use crate::analysis::{RunSummary, Signals};
 use crate::scene::{Overrides, ProfileKind, Scene};
 use crate::sim::{
     BlowUpLimits, EquilibriumError, RelaxSettings, SampleRate, SimError, Simulation,
-    StaticEquilibrium, free_strand_tension, relax,
+    StaticEquilibrium, force_residual, free_strand_tension, relax,
 };
 
 /// Labels of the three runs, in order.
@@ -118,6 +118,7 @@ pub fn run_scene(
             rest_length_m: rest,
             iterations: sim.equilibrium.iterations + 1,
             residual_speed_m_s: residual,
+            force_residual: force_residual(&sim.forces, scene.chain.pretension_n),
         };
         sim.sync_world();
     }

@@ -81,13 +81,16 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             limits.min_s()
         );
     }
+    let started = std::time::Instant::now();
     match Simulation::new(&scene) {
         Ok(sim) => println!(
-            "static equilibrium: tension {:.1} N (target {:.1} N), link rest length {:.7} m, {} iteration(s)",
+            "static equilibrium: tension {:.1} N (target {:.1} N), link rest length {:.7} m, {} iteration(s), residual {:.1e} of the pretension, {:.2} s",
             sim.equilibrium.tension_n,
             scene.chain().pretension_n,
             sim.model.rest_length_m,
-            sim.equilibrium.iterations
+            sim.equilibrium.iterations,
+            sim.equilibrium.force_residual,
+            started.elapsed().as_secs_f64()
         ),
         Err(e) => {
             eprintln!("{name}: {e}");
