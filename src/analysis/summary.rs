@@ -127,7 +127,7 @@ pub struct RunSummary {
     pub driver_mean_power_w: f64,
     /// Largest roller penetration over the run, m.
     pub max_penetration_m: f64,
-    /// Where a result is suspect, one sentence each ([`super::warnings`]).
+    /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
 }

@@ -170,17 +170,24 @@ impl GrowthWatch {
     /// Forgets the past (after the state was changed from outside).
     pub fn clear(&mut self) {
         self.filled = 0;
+        self.ring.fill(0.0);
     }
 
     /// Records this step's largest stretch; returns the value `steps` steps
-    /// ago once the window is full.
-    fn push(&mut self, stretch_m: f64) -> Option<f64> {
+    /// ago (0 before that many steps: growth is then judged against the
+    /// floor, the static stretch, so a blow-up in the first steps is caught
+    /// too).
+    fn push(&mut self, stretch_m: f64) -> f64 {
         let len = self.ring.len();
         self.ring[self.next] = stretch_m;
         self.next = (self.next + 1) % len;
         self.filled = (self.filled + 1).min(len);
         // After the write, `next` indexes the oldest value of a full ring.
-        (self.filled == len).then(|| self.ring[self.next])
+        if self.filled == len {
+            self.ring[self.next]
+        } else {
+            0.0
+        }
     }
 
     /// The last values, oldest first, m.
@@ -381,7 +388,7 @@ fn check_with(
     mut watch: Option<&mut GrowthWatch>,
 ) -> Result<(), SimError> {
     let f = forces.output();
-    let past = watch.as_mut().and_then(|w| w.push(f.max_stretch_m));
+    let past = watch.as_mut().map(|w| w.push(f.max_stretch_m));
     let history = watch.as_ref().map(|w| w.recent()).unwrap_or_default();
     let fail = |detector: Detector, body: String, value: f64, limit: f64| {
         Err(SimError::BlowUp {
