@@ -389,8 +389,10 @@ fn check_with(
 ) -> Result<(), SimError> {
     let f = forces.output();
     let past = watch.as_mut().map(|w| w.push(f.max_stretch_m));
-    let history = watch.as_ref().map(|w| w.recent()).unwrap_or_default();
+    let watch = watch.as_deref();
+    // The history is read only when a detector fires: no allocation per step.
     let fail = |detector: Detector, body: String, value: f64, limit: f64| {
+        let history = watch.map(GrowthWatch::recent).unwrap_or_default();
         Err(SimError::BlowUp {
             t_s: state.t_s,
             detector: detector.name(),
