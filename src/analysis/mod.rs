@@ -21,8 +21,10 @@ pub mod spectrum;
 pub mod study;
 mod summary;
 pub mod theory;
+mod warnings;
 
 pub use summary::{RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs};
+pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
 
 use crate::model::DriveModel;
 use crate::sim::{Observer, Sample};

@@ -88,6 +88,9 @@ pub struct RunSummary {
     pub gravity_m_s2: [f64; 2],
     /// Chain step, s.
     pub dt_s: f64,
+    /// Whether the step was chosen automatically (`solver.dt_s = "auto"`).
+    #[serde(default)]
+    pub dt_auto: bool,
     /// Simulated time reached, s.
     pub duration_s: f64,
     /// Whether the run stopped before its planned end.
@@ -124,6 +127,9 @@ pub struct RunSummary {
     pub driver_mean_power_w: f64,
     /// Largest roller penetration over the run, m.
     pub max_penetration_m: f64,
+    /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
+    #[serde(default)]
+    pub warnings: Vec<String>,
 }
 
 /// What the summary needs besides the signals.
@@ -144,6 +150,20 @@ pub struct SummaryInputs<'a> {
     pub interrupted: bool,
     /// Largest penetration over the run, m.
     pub max_penetration_m: f64,
+}
+
+/// What the warnings judge: the summary and the window's rows.
+pub(crate) struct Judged<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The summary, warnings not yet filled in.
+    pub summary: &'a RunSummary,
+    /// The samples of the statistics window.
+    pub window_rows: &'a [&'a SampleRow],
+    /// The driver's ramp time, s.
+    pub ramp_s: f64,
+    /// The mean chain speed over the window, m/s.
+    pub chain_speed_m_s: f64,
 }
 
 /// Mean and (min, max) of the finite values of an iterator; zeros when empty.
@@ -290,7 +310,7 @@ impl RunSummary {
             )
             .0
         });
-        RunSummary {
+        let mut summary = RunSummary {
             scene: scene.name.clone(),
             profile: scene.profile_name().to_owned(),
             contact_law: scene.contact.law.name().to_owned(),
@@ -298,6 +318,7 @@ impl RunSummary {
             stepping: scene.solver.stepping.name().to_owned(),
             gravity_m_s2: scene.gravity_m_s2,
             dt_s: scene.solver.dt_s,
+            dt_auto: scene.solver.dt_auto,
             duration_s: t_end,
             interrupted: inputs.interrupted,
             window_s: window,
@@ -320,6 +341,15 @@ impl RunSummary {
             sprockets,
             driver_mean_power_w: power,
             max_penetration_m: inputs.max_penetration_m,
-        }
+            warnings: Vec::new(),
+        };
+        summary.warnings = super::warnings::of_run(&Judged {
+            scene,
+            summary: &summary,
+            window_rows: &in_window,
+            ramp_s: ramp,
+            chain_speed_m_s: chain_speed,
+        });
+        summary
     }
 }

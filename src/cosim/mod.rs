@@ -447,6 +447,7 @@ impl ChainDrive {
                 body: "a roller against a user's collider".to_owned(),
                 value: self.contacts.max_depth_m,
                 limit: self.limits.max_penetration_m,
+                detail: String::new(),
             });
         }
         if !self.contacts.finish_substeps(bodies, substeps, dt_s) {
@@ -456,6 +457,7 @@ impl ChainDrive {
                 body: "a carried body".to_owned(),
                 value: f64::NAN,
                 limit: 0.0,
+                detail: String::new(),
             });
         }
         let stepped = Instant::now();

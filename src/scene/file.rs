@@ -145,15 +145,60 @@ pub struct SolverFile {
     /// (adaptive) or `"implicit_damping"`.
     #[serde(default = "default_integrator")]
     pub integrator: String,
-    /// The chain's integration step, s (the adaptive scheme's largest step).
-    #[serde(default = "default_dt")]
-    pub dt_s: f64,
+    /// The chain's integration step: seconds, or `"auto"` (the default: the
+    /// largest step within the integrator's stability estimates times a safety
+    /// factor; see docs/model.md). The adaptive scheme's largest step.
+    #[serde(default)]
+    pub dt_s: StepFile,
     /// Error tolerance of the adaptive scheme (relative to the static link stretch).
     #[serde(default = "default_tolerance")]
     pub tolerance: f64,
     /// Simulated time after t = 0, s.
     #[serde(default = "default_duration")]
     pub duration_s: f64,
+    /// The blow-up detectors' limits (`[solver.limits]`); each left out takes
+    /// its default, derived from the chain.
+    #[serde(default)]
+    pub limits: LimitsFile,
+}
+
+/// `solver.dt_s` as written: a number of seconds or the word `"auto"`.
+#[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
+#[serde(untagged)]
+pub enum StepFile {
+    /// A fixed step, s.
+    Seconds(f64),
+    /// A word; only `"auto"` is valid.
+    Word(String),
+}
+
+impl Default for StepFile {
+    fn default() -> Self {
+        Self::Word(AUTO.to_owned())
+    }
+}
+
+/// The word that asks for an automatic step.
+pub(crate) const AUTO: &str = "auto";
+
+/// The blow-up detectors' limits (`[solver.limits]`), each optional.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct LimitsFile {
+    /// Deepest roller penetration into a tooth, m (default: the roller
+    /// radius, the roller's centre on the tooth's surface).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_penetration_m: Option<f64>,
+    /// Largest |link length − rest length|, m (default: 10 % of the pitch).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub max_stretch_m: Option<f64>,
+    /// Growth of the largest link stretch within `growth_steps` steps taken
+    /// as numerical blow-up (default: 100).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub growth_factor: Option<f64>,
+    /// The window of the growth detector, steps (default: 20).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub growth_steps: Option<i64>,
 }
 
 impl Default for SolverFile {
@@ -161,9 +206,10 @@ impl Default for SolverFile {
         Self {
             stepping: default_stepping(),
             integrator: default_integrator(),
-            dt_s: default_dt(),
+            dt_s: StepFile::default(),
             tolerance: default_tolerance(),
             duration_s: default_duration(),
+            limits: LimitsFile::default(),
         }
     }
 }
@@ -173,9 +219,6 @@ fn default_stepping() -> String {
 }
 fn default_integrator() -> String {
     "symplectic_euler".to_owned()
-}
-fn default_dt() -> f64 {
-    1e-5
 }
 fn default_tolerance() -> f64 {
     1e-3

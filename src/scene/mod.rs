@@ -17,16 +17,21 @@ pub mod generate;
 mod kinds;
 pub mod mutate;
 mod overrides;
+mod stability;
 mod types;
 mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use error::{FieldError, SceneError, locate};
-pub use file::{ChainFile, ContactFile, EquilibriumFile, SceneFile, SolverFile, SprocketFile};
+pub use file::{
+    ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
+    StepFile,
+};
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
-pub use types::{Chain, Contact, Equilibrium, Role, Solver, SpeedLaw, Sprocket};
+pub use stability::{AUTO_SAFETY, StepLimits};
+pub use types::{Chain, Contact, Equilibrium, Limits, Role, Solver, SpeedLaw, Sprocket};
 
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit

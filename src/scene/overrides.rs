@@ -4,7 +4,9 @@
 //! form* and the result is validated like any file, so a [`Scene`] is never
 //! edited behind the validator's back.
 
-use super::{ContactLaw, Integrator, ProfileKind, Scene, SceneError, SceneFile, Stepping};
+use super::{
+    ContactLaw, Integrator, ProfileKind, Scene, SceneError, SceneFile, StepFile, Stepping,
+};
 
 /// Settings replacing a scene file's own; `None` keeps the file's value.
 ///
@@ -72,7 +74,9 @@ impl SceneFile {
         }
         let solver = &mut self.solver;
         set(&mut solver.duration_s, duration_s);
-        set(&mut solver.dt_s, dt_s);
+        if let Some(dt) = dt_s {
+            solver.dt_s = StepFile::Seconds(dt);
+        }
         set(&mut solver.tolerance, tolerance);
         set_name(&mut solver.stepping, stepping.map(Stepping::name));
         set_name(&mut solver.integrator, integrator.map(Integrator::name));

@@ -134,10 +134,29 @@ pub struct Solver {
     pub integrator: Integrator,
     /// Step, s (the adaptive scheme's largest step and sample step).
     pub dt_s: f64,
+    /// Whether `dt_s` was chosen automatically (`dt_s = "auto"` or left out).
+    pub dt_auto: bool,
+    /// The blow-up detectors' limits.
+    pub limits: Limits,
     /// Error tolerance of the adaptive scheme (see [`crate::sim::integrate`]).
     pub tolerance: f64,
     /// Simulated time, s.
     pub duration_s: f64,
+}
+
+/// Validated blow-up limits (`[solver.limits]`, docs/model.md "Blow-up
+/// detectors"), defaults filled in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Deepest penetration of a roller into a tooth, m.
+    pub max_penetration_m: f64,
+    /// Largest |link length − rest length|, m.
+    pub max_stretch_m: f64,
+    /// Growth of the largest link stretch within `growth_steps` steps that
+    /// counts as numerical blow-up.
+    pub growth_factor: f64,
+    /// The growth detector's window, steps.
+    pub growth_steps: u32,
 }
 
 /// Validated static-equilibrium settings.

@@ -2,12 +2,14 @@
 //! [`TryFrom`], which checks every field, converts units (rpm → rad/s) and
 //! reports *every* problem with its field's path.
 
+use super::file::{AUTO, LimitsFile};
 use super::kinds::Named;
+use super::types::Limits;
 use super::{
     Chain, ChainFile, Contact, ContactFile, ContactLaw, Equilibrium, FieldError, Integrator,
     MAX_SPROCKETS, PITCH_RADIUS_TOLERANCE, PretensionRule, ProfileKind, Role, RoleKind, Scene,
-    SceneError, SceneFile, Solver, SolverFile, SpeedLaw, Sprocket, SprocketFile, Stepping,
-    TEETH_RANGE, Wrap,
+    SceneError, SceneFile, Solver, SolverFile, SpeedLaw, Sprocket, SprocketFile, StepFile,
+    StepLimits, Stepping, TEETH_RANGE, Wrap,
 };
 use crate::geometry::asa::IN_0_003_M;
 use crate::geometry::pitch_radius;
@@ -89,7 +91,7 @@ impl TryFrom<SceneFile> for Scene {
             default_profile.unwrap_or(ProfileKind::Circular),
         );
         check_seating(&mut c, &chain, &sprockets);
-        let solver = check_solver(&mut c, &file.solver);
+        let solver = check_solver(&mut c, &file.solver, &chain, &contact);
         let equilibrium = Equilibrium {
             tension_tolerance: c.positive(
                 "equilibrium.tension_tolerance",
@@ -400,7 +402,7 @@ fn check_overlaps(c: &mut Checker, sprockets: &[Sprocket], chain: &Chain) {
     }
 }
 
-fn check_solver(c: &mut Checker, f: &SolverFile) -> Solver {
+fn check_solver(c: &mut Checker, f: &SolverFile, chain: &Chain, contact: &Contact) -> Solver {
     let stepping = c
         .one_of("solver.stepping", &f.stepping)
         .unwrap_or(Stepping::Substepped);
@@ -423,11 +425,73 @@ fn check_solver(c: &mut Checker, f: &SolverFile) -> Solver {
             format!("must be below 1 (a relative error), got {tolerance}"),
         );
     }
+    let (dt_s, dt_auto) = match &f.dt_s {
+        StepFile::Seconds(dt) => (c.positive("solver.dt_s", *dt), false),
+        StepFile::Word(w) if w == AUTO => {
+            let dt = StepLimits::of_parts(chain, contact).auto_step_s(integrator);
+            // Only a chain or contact already reported invalid lands here.
+            if !(dt.is_finite() && dt > 0.0) && c.errors.is_empty() {
+                c.fail(
+                    "solver.dt_s",
+                    format!("\"auto\" found no finite step for this chain (got {dt}); give one in seconds"),
+                );
+            }
+            (dt, true)
+        }
+        StepFile::Word(w) => {
+            c.fail(
+                "solver.dt_s",
+                format!("must be a step in seconds or \"auto\", got \"{w}\""),
+            );
+            (f64::NAN, false)
+        }
+    };
     Solver {
         stepping,
         integrator,
-        dt_s: c.positive("solver.dt_s", f.dt_s),
+        dt_s,
+        dt_auto,
         tolerance,
         duration_s: c.non_negative("solver.duration_s", f.duration_s),
+        limits: check_limits(c, &f.limits, chain),
+    }
+}
+
+/// `[solver.limits]`, defaults filled in from the chain (docs/model.md).
+fn check_limits(c: &mut Checker, f: &LimitsFile, chain: &Chain) -> Limits {
+    let path = |name: &str| format!("solver.limits.{name}");
+    let mut positive_or = |name: &str, value: Option<f64>, default: f64| match value {
+        Some(v) => c.positive(&path(name), v),
+        None => default,
+    };
+    let max_penetration_m = positive_or(
+        "max_penetration_m",
+        f.max_penetration_m,
+        chain.roller_radius_m,
+    );
+    let max_stretch_m = positive_or("max_stretch_m", f.max_stretch_m, 0.1 * chain.pitch_m);
+    let growth_factor = positive_or("growth_factor", f.growth_factor, 100.0);
+    if growth_factor.is_finite() && growth_factor <= 1.0 {
+        c.fail(
+            path("growth_factor"),
+            format!("must be > 1 (a growth), got {growth_factor}"),
+        );
+    }
+    let growth_steps = match f.growth_steps {
+        None => 20,
+        Some(n) if (1..=1000).contains(&n) => n as u32,
+        Some(n) => {
+            c.fail(
+                path("growth_steps"),
+                format!("must be an integer from 1 to 1000, got {n}"),
+            );
+            20
+        }
+    };
+    Limits {
+        max_penetration_m,
+        max_stretch_m,
+        growth_factor,
+        growth_steps,
     }
 }

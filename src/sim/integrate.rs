@@ -417,6 +417,7 @@ impl Integration {
                         body: "the chain".to_owned(),
                         value: h,
                         limit: MIN_STEP_S,
+                        detail: String::new(),
                     });
                 }
                 let err = self.dp45_trial(model, state, forces, h);

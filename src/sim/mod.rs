@@ -32,7 +32,7 @@ use crate::forces::{ContactLawParams, ForceElement, ForceGenerator, ForceTimes, 
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
-use crate::scene::{Integrator, PretensionRule, Role, Scene, Stepping};
+use crate::scene::{PretensionRule, Role, Scene, Stepping};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     ForceGenerator::new(
@@ -111,68 +111,108 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
-/// Estimated largest stable steps of the explicit schemes, s (docs/model.md,
-/// “Time scales and stability”).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StepLimits {
-    /// Links: 2 / ω_max with ω_max = 2 √(K / m_r) (symplectic Euler, velocity Verlet).
-    pub links_s: f64,
-    /// Contact damping at the approach-speed floor: 2 m_r / c with
-    /// c = χ F / δ̇⁻_min, F taken as the pretension (a roller carrying the
-    /// chain's tension, its contact begun slower than the floor).
-    pub contact_damping_s: f64,
-}
+pub use crate::scene::StepLimits;
 
-impl StepLimits {
-    /// The limits of a scene's chain and contact law.
-    pub fn of(scene: &Scene) -> Self {
-        let m = scene.chain.roller_mass_kg;
-        let law = ContactLawParams::new(&scene.contact);
-        let c = law.chi * scene.chain.pretension_n / law.min_approach_speed_m_s;
-        Self {
-            links_s: (m / scene.chain.stiffness_n_m).sqrt(),
-            contact_damping_s: if c > 0.0 { 2.0 * m / c } else { f64::INFINITY },
-        }
-    }
-
-    /// The smaller of the two.
-    pub fn min_s(&self) -> f64 {
-        self.links_s.min(self.contact_damping_s)
-    }
-
-    /// The estimated largest stable step of `scheme`, s (∞ for the adaptive
-    /// scheme, which chooses its own). RK4's stability region reaches 2√2 on
-    /// the imaginary axis (oscillating links) and 2.785 on the negative real
-    /// axis (damping), against 2 and 2 for symplectic Euler.
-    pub fn for_integrator(&self, scheme: Integrator) -> f64 {
-        match scheme {
-            Integrator::SymplecticEuler | Integrator::VelocityVerlet => self.min_s(),
-            Integrator::Rk4 => {
-                (self.links_s * std::f64::consts::SQRT_2).min(self.contact_damping_s * 1.3925)
-            }
-            Integrator::DormandPrince45 => f64::INFINITY,
-            Integrator::ImplicitDamping => self.links_s,
-        }
-    }
-}
-
-/// Blow-up thresholds (docs/model.md, “Blow-up detection”).
+/// Blow-up thresholds (docs/model.md, “Blow-up detection”): the scene's
+/// `[solver.limits]` with their defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct BlowUpLimits {
-    /// Largest penetration, m (default: a quarter of the roller radius).
+    /// Largest penetration, m (default: the roller radius, the roller's
+    /// centre on the tooth's surface).
     pub max_penetration_m: f64,
-    /// Largest |link length − rest length|, m (default: 1% of the pitch).
+    /// Largest |link length − rest length|, m (default: 10 % of the pitch).
     pub max_stretch_m: f64,
+    /// Growth of the largest link stretch within [`Self::growth_steps`] steps
+    /// that no dynamics of the drive explains (default: 100).
+    pub growth_factor: f64,
+    /// The growth detector's window, steps (default: 20).
+    pub growth_steps: u32,
+    /// Below this stretch growth is not judged, m: the static stretch
+    /// (pretension / K), or 10⁻⁴ of the pitch if larger.
+    pub growth_floor_m: f64,
 }
 
 impl BlowUpLimits {
-    /// The defaults for a scene.
+    /// The scene's limits.
     pub fn for_scene(scene: &Scene) -> Self {
+        let l = scene.solver.limits;
         Self {
-            max_penetration_m: 0.25 * scene.chain.roller_radius_m,
-            max_stretch_m: 0.01 * scene.chain.pitch_m,
+            max_penetration_m: l.max_penetration_m,
+            max_stretch_m: l.max_stretch_m,
+            growth_factor: l.growth_factor,
+            growth_steps: l.growth_steps,
+            growth_floor_m: (scene.chain.pretension_n / scene.chain.stiffness_n_m)
+                .max(1e-4 * scene.chain.pitch_m),
         }
     }
+}
+
+/// The growth detector's memory: the largest link stretch of the last
+/// steps, in a ring allocated once.
+#[derive(Clone, Debug)]
+pub struct GrowthWatch {
+    ring: Vec<f64>,
+    next: usize,
+    filled: usize,
+}
+
+/// How many past values a blow-up message quotes.
+const HISTORY_SHOWN: usize = 8;
+
+impl GrowthWatch {
+    /// A watch over `steps` steps.
+    pub fn new(steps: u32) -> Self {
+        let len = steps as usize + 1;
+        Self {
+            ring: vec![0.0; len],
+            next: 0,
+            filled: 0,
+        }
+    }
+
+    /// Forgets the past (after the state was changed from outside).
+    pub fn clear(&mut self) {
+        self.filled = 0;
+        self.ring.fill(0.0);
+    }
+
+    /// Records this step's largest stretch; returns the value `steps` steps
+    /// ago (0 before that many steps: growth is then judged against the
+    /// floor, the static stretch, so a blow-up in the first steps is caught
+    /// too).
+    fn push(&mut self, stretch_m: f64) -> f64 {
+        let len = self.ring.len();
+        self.ring[self.next] = stretch_m;
+        self.next = (self.next + 1) % len;
+        self.filled = (self.filled + 1).min(len);
+        // After the write, `next` indexes the oldest value of a full ring.
+        if self.filled == len {
+            self.ring[self.next]
+        } else {
+            0.0
+        }
+    }
+
+    /// The last values, oldest first, m.
+    pub fn recent(&self) -> Vec<f64> {
+        let len = self.ring.len();
+        let n = self.filled.min(HISTORY_SHOWN);
+        (0..n)
+            .map(|k| self.ring[(self.next + len - n + k) % len])
+            .collect()
+    }
+}
+
+fn history_text(history: &[f64]) -> String {
+    if history.is_empty() {
+        return String::new();
+    }
+    let values: Vec<String> = history.iter().map(|v| format!("{v:.3e}")).collect();
+    format!(
+        "; largest link stretch over the last {} steps: [{}] m",
+        history.len(),
+        values.join(", ")
+    )
 }
 
 /// Which detector fired.
@@ -184,6 +224,8 @@ pub enum Detector {
     Penetration,
     /// A link stretched or shrank beyond the limit.
     Stretch,
+    /// The largest link stretch grew faster than the dynamics explains.
+    Growth,
     /// The adaptive scheme's step fell below its minimum.
     StepSize,
 }
@@ -195,7 +237,29 @@ impl Detector {
             Self::NonFinite => "non-finite",
             Self::Penetration => "penetration",
             Self::Stretch => "link-stretch",
+            Self::Growth => "stretch-growth",
             Self::StepSize => "step-size",
+        }
+    }
+
+    /// What else than a too large step could have made it fire.
+    fn causes(self) -> &'static str {
+        match self {
+            Self::NonFinite => {
+                "a step above the stability limit (reduce solver.dt_s, or set it to \"auto\"), or a force element or load that returned NaN"
+            }
+            Self::Penetration => {
+                "a step above the stability limit, or a contact too soft for the load (contact.stiffness); if the depth is real, raise solver.limits.max_penetration_m"
+            }
+            Self::Stretch => {
+                "a step above the stability limit, or links too soft for the load (chain.stiffness_n_m); if the stretch is real, raise solver.limits.max_stretch_m"
+            }
+            Self::Growth => {
+                "a step above the stability limit (reduce solver.dt_s, or set it to \"auto\"); an impact that really loads the chain this fast would need a larger solver.limits.growth_factor"
+            }
+            Self::StepSize => {
+                "a stiff event the adaptive scheme cannot resolve (loosen solver.tolerance)"
+            }
         }
     }
 }
@@ -211,7 +275,7 @@ pub enum SimError {
     Equilibrium(EquilibriumError),
     /// The run blew up.
     #[error(
-        "blow-up at t = {t_s:.6} s: {detector} detector fired on {body} ({value:e} against limit {limit:e}); reduce solver.dt_s or check the scene"
+        "blow-up at t = {t_s:.6} s: {detector} detector fired on {body} ({value:e} against limit {limit:e}){detail}"
     )]
     BlowUp {
         /// Simulated time, s.
@@ -224,6 +288,9 @@ pub enum SimError {
         value: f64,
         /// The limit.
         limit: f64,
+        /// The quantity's recent history and the possible causes, starting
+        /// with "; " (or empty).
+        detail: String,
     },
 }
 
@@ -298,7 +365,9 @@ pub struct RunOutcome {
     pub stage_times: Option<StageTimes>,
 }
 
-/// Checks the blow-up detectors against the last force evaluation at `state`.
+/// Checks the blow-up detectors against the last force evaluation at `state`:
+/// non-finite values, the penetration and stretch ceilings. The growth
+/// detector needs a history: [`Simulation::run`] keeps one.
 ///
 /// A detector that fires names the body where its quantity is largest: the
 /// roller that penetrates a tooth deepest, the link stretched (or
@@ -309,14 +378,35 @@ pub fn check_blow_up(
     forces: &ForceGenerator,
     limits: &BlowUpLimits,
 ) -> Result<(), SimError> {
+    check_with(model, state, forces, limits, None)
+}
+
+/// [`check_blow_up`], and the growth detector when `watch` is given (it
+/// records this step's stretch).
+fn check_with(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    limits: &BlowUpLimits,
+    mut watch: Option<&mut GrowthWatch>,
+) -> Result<(), SimError> {
     let f = forces.output();
+    let past = watch.as_mut().map(|w| w.push(f.max_stretch_m));
+    let watch = watch.as_deref();
+    // The history is read only when a detector fires: no allocation per step.
     let fail = |detector: Detector, body: String, value: f64, limit: f64| {
+        let history = watch.map(GrowthWatch::recent).unwrap_or_default();
         Err(SimError::BlowUp {
             t_s: state.t_s,
             detector: detector.name(),
             body,
             value,
             limit,
+            detail: format!(
+                "{}; possible causes: {}",
+                history_text(&history),
+                detector.causes()
+            ),
         })
     };
     let nan_body = || {
@@ -353,17 +443,33 @@ pub fn check_blow_up(
             limits.max_penetration_m,
         );
     }
-    if f.max_stretch_m > limits.max_stretch_m {
+    let most_stretched = || {
         let stretch = forces.links.stretch();
         let i = (0..stretch.len())
             .max_by(|&a, &b| stretch[a].abs().total_cmp(&stretch[b].abs()))
             .unwrap_or(0);
+        format!("link {i}")
+    };
+    if f.max_stretch_m > limits.max_stretch_m {
         return fail(
             Detector::Stretch,
-            format!("link {i}"),
+            most_stretched(),
             f.max_stretch_m,
             limits.max_stretch_m,
         );
+    }
+    if let Some(past) = past {
+        // Growth relative to the static stretch at least: a slack chain's
+        // tiny stretches may grow by any factor.
+        let growth = f.max_stretch_m / past.max(limits.growth_floor_m);
+        if growth >= limits.growth_factor {
+            return fail(
+                Detector::Growth,
+                most_stretched(),
+                growth,
+                limits.growth_factor,
+            );
+        }
     }
     Ok(())
 }
@@ -388,6 +494,8 @@ pub struct Simulation {
     pub bodies: ChainBodies,
     /// Blow-up limits.
     pub limits: BlowUpLimits,
+    /// The growth detector's history.
+    pub growth: GrowthWatch,
     /// The chain's integrator (substepped stepping).
     pub integration: Integration,
     /// Time every stage of [`Simulation::run`] (off by default: a few clock
@@ -492,6 +600,7 @@ impl Simulation {
             world,
             bodies,
             limits,
+            growth: GrowthWatch::new(limits.growth_steps),
             integration,
             timings: false,
         }
@@ -595,9 +704,16 @@ impl Simulation {
         self.bodies.write_state(&self.state, &mut self.world.bodies);
     }
 
-    /// Checks the blow-up detectors against the last force evaluation.
-    pub fn check_blow_up(&self) -> Result<(), SimError> {
-        check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
+    /// Checks the blow-up detectors against the last force evaluation, the
+    /// growth detector included (this records the step in its history).
+    pub fn check_blow_up(&mut self) -> Result<(), SimError> {
+        check_with(
+            &self.model,
+            &self.state,
+            &self.forces,
+            &self.limits,
+            Some(&mut self.growth),
+        )
     }
 
     /// Runs until `until_s`, with the scene's dt, calling `observer` every

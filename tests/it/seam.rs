@@ -140,6 +140,7 @@ fn blow_up_names_the_deepest_roller_not_the_one_with_the_largest_force() {
     let limits = BlowUpLimits {
         max_penetration_m: 1e-3,
         max_stretch_m: 1.0,
+        ..BlowUpLimits::for_scene(&sim.scene)
     };
     let body = blamed(check_blow_up(&sim.model, &sim.state, &sim.forces, &limits));
     assert_eq!(body, format!("roller {a}"));
@@ -175,6 +176,7 @@ fn blow_up_names_the_most_stretched_link_not_the_one_with_the_largest_force() {
     let limits = BlowUpLimits {
         max_penetration_m: 1.0,
         max_stretch_m: 5e-5,
+        ..BlowUpLimits::for_scene(&sim.scene)
     };
     let body = blamed(check_blow_up(&sim.model, &sim.state, &sim.forces, &limits));
     assert_eq!(body, format!("link {}", r - 1));

@@ -69,10 +69,18 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     );
     let limits = StepLimits::of(&scene);
     println!(
-        "explicit step limits: links {:.1} µs, contact damping {:.1} µs; dt = {:.1} µs",
+        "explicit step limits: links {:.1} µs, contact damping {:.1} µs; dt = {:.2} µs{}",
         limits.links_s * 1e6,
         limits.contact_damping_s * 1e6,
-        scene.solver().dt_s * 1e6
+        scene.solver().dt_s * 1e6,
+        if scene.solver().dt_auto {
+            format!(
+                " (auto: {} x the integrator's limit)",
+                chaindrive::scene::AUTO_SAFETY
+            )
+        } else {
+            String::new()
+        }
     );
     if scene.solver().dt_s > limits.min_s() {
         eprintln!(

@@ -238,6 +238,14 @@ fn simulate(
     }
     let limits = StepLimits::of(&scene);
     let limit_s = limits.for_integrator(scene.solver().integrator);
+    if scene.solver().dt_auto && !args.quiet {
+        eprintln!(
+            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit)",
+            scene.solver().dt_s,
+            chaindrive::scene::AUTO_SAFETY,
+            scene.solver().integrator.name(),
+        );
+    }
     if scene.solver().dt_s > limit_s {
         eprintln!(
             "warning: dt = {:e} s exceeds {}'s estimated stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s, for symplectic Euler)",
@@ -303,6 +311,9 @@ fn simulate(
         f.flush().context("writing the summary failed")?;
     }
     print_summary(&summary);
+    for w in &summary.warnings {
+        eprintln!("warning: {w}");
+    }
     if let Some(times) = &outcome.stage_times {
         print_stage_times(times, sim.integration.stats.evaluations);
     }
@@ -337,8 +348,14 @@ fn print_stage_times(t: &StageTimes, evaluations: u64) {
 
 fn print_summary(s: &RunSummary) {
     println!(
-        "{} — {} profile, {}, {} ({}), dt {:e} s",
-        s.scene, s.profile, s.contact_law, s.integrator, s.stepping, s.dt_s
+        "{} — {} profile, {}, {} ({}), dt {:e} s{}",
+        s.scene,
+        s.profile,
+        s.contact_law,
+        s.integrator,
+        s.stepping,
+        s.dt_s,
+        if s.dt_auto { " (auto)" } else { "" }
     );
     println!(
         "simulated {:.3} s{} in {:.2} s wall ({} steps, {:.0} ns/step; setup {:.2} s)",

@@ -69,7 +69,7 @@ fn cell(
     cost_series: bool,
 ) -> Result<Case, StressError> {
     file.name = format!("stress: {name}");
-    file.solver.dt_s = 1e-5;
+    file.solver.dt_s = crate::scene::StepFile::Seconds(1e-5);
     file.solver.integrator = "symplectic_euler".to_owned();
     let text = toml::to_string(&file).map_err(|e| StressError::Toml {
         case: name.to_owned(),

@@ -444,6 +444,7 @@ pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s:
                 body,
                 value,
                 limit,
+                ..
             }) => {
                 verdict = Verdict::BlowUp {
                     detector,

@@ -1,0 +1,124 @@
+//! Warnings where a run's result is suspect (the summary's `warnings`, a line
+//! each on `run`'s stderr). Each criterion and its threshold is documented in
+//! docs/model.md, "Warnings"; none fires on the paper's drive at 120 rpm.
+//!
+//! They judge the summary and the statistics window's samples only: no
+//! warning stops a run (the blow-up detectors do, [`crate::sim`]).
+
+use super::summary::Judged;
+use crate::scene::Role;
+
+/// Deepest penetration, as a fraction of the roller radius, above which a run
+/// is flagged (the paper's drive: 3 % at 120 rpm, 18 % at 600 rpm).
+pub const PENETRATION_FRACTION: f64 = 0.1;
+
+/// Tolerance of the energy balance, as a fraction of the power that flows
+/// through the drive.
+pub const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
+
+/// The slackest strand's mean force above this multiple of static + m v² is
+/// flagged.
+pub const RUNNING_TENSION_RATIO: f64 = 1.25;
+
+/// The warnings of a run, one sentence each.
+pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {
+    [
+        penetration(j),
+        energy_balance(j),
+        compression(j),
+        running_tension(j),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
+fn penetration(j: &Judged<'_>) -> Option<String> {
+    let r = j.scene.chain.roller_radius_m;
+    let depth = j.summary.max_penetration_m;
+    (depth > PENETRATION_FRACTION * r).then(|| {
+        format!(
+            "penetration: a roller sank {:.2} mm into a tooth, {:.0} % of the roller radius (warning above {:.0} %); the contact law is fitted to small depths, so forces this deep are an extrapolation: consider a stiffer contact (contact.stiffness) or check the load",
+            depth * 1e3,
+            100.0 * depth / r,
+            100.0 * PENETRATION_FRACTION
+        )
+    })
+}
+
+/// Energy balance over the window, at steady driver speed: the driver and
+/// the load torques are the only sources; links' damping and contact
+/// hysteresis only dissipate, gravity does no net work over a cycle. So the
+/// net power in, P_driver + Σ τ_load ω̄, cannot be negative. A deficit beyond
+/// [`ENERGY_BALANCE_TOLERANCE`] of the power flowing through (mean
+/// |P_driver| + Σ |τ_load ω̄|) is energy the integration made.
+fn energy_balance(j: &Judged<'_>) -> Option<String> {
+    let rows = j.window_rows;
+    let first = rows.first()?;
+    let driver = j
+        .scene
+        .sprockets
+        .iter()
+        .position(|s| matches!(s.role, Role::Driver(_)))?;
+    // Before the ramp's end the chain's kinetic energy is still growing.
+    if first.t_s < j.ramp_s {
+        return None;
+    }
+    let n = rows.len() as f64;
+    let mean_speed = |s: usize| rows.iter().map(|r| r.omega_rad_s[s]).sum::<f64>() / n;
+    let abs_driver_power = rows
+        .iter()
+        .map(|r| (r.chain_torque_n_m[driver] * r.omega_rad_s[driver]).abs())
+        .sum::<f64>()
+        / n;
+    let loads: Vec<f64> = j
+        .scene
+        .sprockets
+        .iter()
+        .enumerate()
+        .map(|(s, sp)| sp.load_torque_n_m() * mean_speed(s))
+        .collect();
+    let net = j.summary.driver_mean_power_w + loads.iter().sum::<f64>();
+    let through = abs_driver_power + loads.iter().map(|p| p.abs()).sum::<f64>();
+    (through > 0.0 && net < -ENERGY_BALANCE_TOLERANCE * through).then(|| {
+        format!(
+            "energy balance: the driver and the loads put {net:.1} W net into the drive, below zero by {:.1} % of the {through:.1} W flowing through (tolerance {:.0} %); nothing in the model can supply it: the step is likely too large for the contacts (reduce solver.dt_s)",
+            -100.0 * net / through,
+            100.0 * ENERGY_BALANCE_TOLERANCE
+        )
+    })
+}
+
+fn compression(j: &Judged<'_>) -> Option<String> {
+    let min = j.summary.link_force_min_n;
+    (min < 0.0).then(|| {
+        format!(
+            "link compression: the smallest link force was {min:.1} N; the model's links push as well as pull (a spring-damper both ways), a real chain's do not, so results where slack strands or impacts matter are stiffer than the chain (docs/model.md, \"Link compression\")"
+        )
+    })
+}
+
+/// The slackest strand runs at about static + m v² (the centrifugal tension
+/// of a moving string); far above it, the strands carry a tension the
+/// statics and the string theory do not explain.
+fn running_tension(j: &Judged<'_>) -> Option<String> {
+    let slack = j
+        .summary
+        .segments
+        .iter()
+        .map(|s| s.mean_link_force_n)
+        .fold(f64::INFINITY, f64::min);
+    if !slack.is_finite() {
+        return None;
+    }
+    let chain = &j.scene.chain;
+    let centrifugal = chain.roller_mass_kg / chain.pitch_m * j.chain_speed_m_s.powi(2);
+    let expected = j.summary.static_tension_n + centrifugal;
+    (expected > 0.0 && slack > RUNNING_TENSION_RATIO * expected).then(|| {
+        format!(
+            "running tension: the slackest strand's mean force is {slack:.0} N, {:.2} times static + m v² = {:.0} + {centrifugal:.0} N; the chain's fixed length makes every strand carry the dynamic stretch of the others (polygonal action, impacts on engagement): see docs/model.md, \"Running tension\"",
+            slack / expected,
+            j.summary.static_tension_n
+        )
+    })
+}
