@@ -103,7 +103,7 @@ pub const MIN_TEETH: u32 = 4;
 /// Largest tooth count accepted (keeps patch ids well inside `u32`).
 pub const MAX_TEETH: u32 = 100_000;
 /// Smallest arc step used by [`AsaProfile::outline`] (bounds the allocation).
-pub(crate) const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
+pub const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
 /// Rounding allowance when comparing a patch with the nearest outline point.
 const CONSISTENCY_TOL_M: f64 = 1e-9;
 /// Distances closer than this are a tie (the earlier piece is kept: own before neighbour).

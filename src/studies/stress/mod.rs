@@ -327,7 +327,7 @@ pub struct CaseResult {
 
 /// Watches a run's outputs for non-finite numbers and keeps its peaks.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct NanWatch {
+pub struct NanWatch {
     /// First time a non-finite number was seen, s.
     pub first_t_s: Option<f64>,
     /// Largest penetration, m.
