@@ -60,8 +60,14 @@ fn energy_balance(j: &Judged<'_>) -> Option<String> {
         .sprockets
         .iter()
         .position(|s| matches!(s.role, Role::Driver(_)))?;
-    // Before the ramp's end the chain's kinetic energy is still growing.
-    if first.t_s < j.ramp_s {
+    // Before the ramp's end the chain's kinetic energy is still growing; before
+    // a load ramp's end the load is not the constant assumed below.
+    if first.t_s < j.ramp_s
+        || j.scene
+            .sprockets
+            .iter()
+            .any(|s| first.t_s < s.load_ramp_s())
+    {
         return None;
     }
     let n = rows.len() as f64;

@@ -30,8 +30,12 @@ pub struct SprocketModel {
     pub inv_inertia: f64,
     /// The driver's speed law; `None` for a free sprocket.
     pub speed_law: Option<SpeedLaw>,
-    /// External load torque, N·m.
+    /// External load torque at full value, N·m (read through
+    /// [`SprocketModel::load_torque_at`]).
     pub load_torque_n_m: f64,
+    /// Time over which the load rises linearly from zero to its full value, s
+    /// (0: the load acts from rest on).
+    pub load_ramp_s: f64,
     /// Tooth outline used by the contact generator.
     pub profile: ToothProfile,
     /// Radius beyond which no roller centre touches the sprocket, m.
@@ -42,6 +46,27 @@ pub struct SprocketModel {
     pub pitch_radius_m: f64,
     /// Tooth count.
     pub teeth: u32,
+}
+
+impl SprocketModel {
+    /// The external load torque at time `t_s`, N·m: `M·t/t_r` while
+    /// `t < t_r = load_ramp_s`, the full `M` after (and always when no ramp is
+    /// set, so the load at rest is `M` exactly).
+    #[inline]
+    pub fn load_torque_at(&self, t_s: f64) -> f64 {
+        if t_s < self.load_ramp_s {
+            self.load_torque_n_m * (t_s / self.load_ramp_s)
+        } else {
+            self.load_torque_n_m
+        }
+    }
+
+    /// The load held while the drive relaxes to static equilibrium, N·m: the
+    /// load at rest (t = 0), zero where the load ramps in.
+    #[inline]
+    pub fn load_at_rest_n_m(&self) -> f64 {
+        self.load_torque_at(0.0)
+    }
 }
 
 /// Constant parameters of a drive, derived from a scene.
@@ -239,6 +264,7 @@ impl DriveModel {
                     inv_inertia: 1.0 / s.inertia_kg_m2,
                     speed_law: s.speed_law(),
                     load_torque_n_m: s.load_torque_n_m(),
+                    load_ramp_s: s.load_ramp_s(),
                     reach_m: reach,
                     reach_sq_m2: reach * reach,
                     pitch_radius_m: s.pitch_radius_m,

@@ -126,6 +126,11 @@ pub struct SprocketFile {
     /// Free or tensioner: constant load torque on the sprocket, N·m (counter-clockwise positive).
     #[serde(default)]
     pub load_torque_n_m: Option<f64>,
+    /// Free or tensioner with a load torque: time of the load's linear rise
+    /// from zero to its full value, s (0 or absent: the load acts from rest on,
+    /// and the static equilibrium carries it).
+    #[serde(default)]
+    pub load_ramp_s: Option<f64>,
     /// Tensioner only: direction along which the centre is moved to reach the pretension.
     #[serde(default)]
     pub adjust_direction: Option<[f64; 2]>,

@@ -223,6 +223,7 @@ impl DriveSpec {
                     speed_rpm: driver.then_some(self.speed_rpm),
                     ramp_s: driver.then_some(self.ramp_s),
                     load_torque_n_m: None,
+                    load_ramp_s: None,
                     adjust_direction: None,
                     profile: None,
                 }

@@ -33,13 +33,17 @@ pub enum Role {
     Driver(SpeedLaw),
     /// Turns freely about a fixed centre, optionally against a load torque (N·m, CCW positive).
     Free {
-        /// Constant external torque on the sprocket, N·m.
+        /// External torque on the sprocket at full value, N·m.
         load_torque_n_m: f64,
+        /// Time of the load's linear rise from zero, s (0: applied at rest).
+        load_ramp_s: f64,
     },
     /// Turns freely; its centre is moved along `direction` to reach the pretension.
     Tensioner {
-        /// Constant external torque on the sprocket, N·m.
+        /// External torque on the sprocket at full value, N·m.
         load_torque_n_m: f64,
+        /// Time of the load's linear rise from zero, s (0: applied at rest).
+        load_ramp_s: f64,
         /// Unit adjustment direction (world frame).
         direction: [f64; 2],
     },
@@ -81,10 +85,21 @@ impl Sprocket {
     pub fn load_torque_n_m(&self) -> f64 {
         match self.role {
             Role::Driver(_) => 0.0,
-            Role::Free { load_torque_n_m }
+            Role::Free {
+                load_torque_n_m, ..
+            }
             | Role::Tensioner {
                 load_torque_n_m, ..
             } => load_torque_n_m,
+        }
+    }
+
+    /// Time over which the load torque rises linearly from zero, s (0: the
+    /// load acts from rest on; always 0 for the driver).
+    pub fn load_ramp_s(&self) -> f64 {
+        match self.role {
+            Role::Driver(_) => 0.0,
+            Role::Free { load_ramp_s, .. } | Role::Tensioner { load_ramp_s, .. } => load_ramp_s,
         }
     }
 }

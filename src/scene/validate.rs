@@ -324,11 +324,13 @@ fn check_role(c: &mut Checker, f: &SprocketFile, i: usize) -> Role {
     let Some(kind) = c.one_of::<RoleKind>(&p("role"), &f.role) else {
         return Role::Free {
             load_torque_n_m: 0.0,
+            load_ramp_s: 0.0,
         };
     };
     match kind {
         RoleKind::Driver => {
             forbid(c, "load_torque_n_m", f.load_torque_n_m.is_some(), "driver");
+            forbid(c, "load_ramp_s", f.load_ramp_s.is_some(), "driver");
             forbid(
                 c,
                 "adjust_direction",
@@ -352,9 +354,23 @@ fn check_role(c: &mut Checker, f: &SprocketFile, i: usize) -> Role {
             forbid(c, "speed_rpm", f.speed_rpm.is_some(), kind.name());
             forbid(c, "ramp_s", f.ramp_s.is_some(), kind.name());
             let load_torque_n_m = c.finite(&p("load_torque_n_m"), f.load_torque_n_m.unwrap_or(0.0));
+            let load_ramp_s = match f.load_ramp_s {
+                Some(_) if f.load_torque_n_m.is_none() => {
+                    c.fail(
+                        p("load_ramp_s"),
+                        "is allowed only on a sprocket with a load_torque_n_m",
+                    );
+                    0.0
+                }
+                Some(v) => c.non_negative(&p("load_ramp_s"), v),
+                None => 0.0,
+            };
             if kind == RoleKind::Free {
                 forbid(c, "adjust_direction", f.adjust_direction.is_some(), "free");
-                return Role::Free { load_torque_n_m };
+                return Role::Free {
+                    load_torque_n_m,
+                    load_ramp_s,
+                };
             }
             let direction = match f.adjust_direction {
                 Some([x, y]) => {
@@ -376,6 +392,7 @@ fn check_role(c: &mut Checker, f: &SprocketFile, i: usize) -> Role {
             };
             Role::Tensioner {
                 load_torque_n_m,
+                load_ramp_s,
                 direction,
             }
         }

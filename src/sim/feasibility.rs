@@ -64,7 +64,8 @@ pub(crate) fn check_load(scene: &Scene, layout: &Layout) -> Result<(), Equilibri
     }
     let t0 = scene.chain.pretension_n;
     for sp in &scene.sprockets {
-        if matches!(sp.role, Role::Driver(_)) {
+        // A ramped load is not held at rest: the equilibrium carries none.
+        if matches!(sp.role, Role::Driver(_)) || sp.load_ramp_s() > 0.0 {
             continue;
         }
         let m = sp.load_torque_n_m().abs();

@@ -305,7 +305,7 @@ impl Integration {
             } else {
                 let kick = 0.5
                     * h
-                    * (forces.output().chain_torque[s] + sp.load_torque_n_m)
+                    * (forces.output().chain_torque[s] + sp.load_torque_at(state.t_s))
                     * sp.inv_inertia;
                 omega_half[s] = state.omega[s] + kick;
                 state.theta[s] += h * omega_half[s];
@@ -338,7 +338,7 @@ impl Integration {
                 state.omega[s] = self.torque_scratch[s]
                     + 0.5
                         * h
-                        * (forces.output().chain_torque[s] + sp.load_torque_n_m)
+                        * (forces.output().chain_torque[s] + sp.load_torque_at(state.t_s))
                         * sp.inv_inertia;
             }
         }
@@ -645,7 +645,12 @@ pub(crate) fn implicit_damping_step(
                 driver_speed(model, s, state.t_s, h)
             }
         } else {
-            (state.omega[s] + h * (torque[s] + sp.load_torque_n_m) * sp.inv_inertia) * scale
+            let load = if relax.is_some() {
+                sp.load_at_rest_n_m()
+            } else {
+                sp.load_torque_at(state.t_s)
+            };
+            (state.omega[s] + h * (torque[s] + load) * sp.inv_inertia) * scale
         };
         state.omega[s] = omega;
         state.theta[s] += h * omega;
@@ -692,7 +697,7 @@ fn rate(model: &DriveModel, state: &DriveState, forces: &ForceGenerator, out: &m
         out.omega[s] = if sp.speed_law.is_some() {
             0.0
         } else {
-            (forces.output().chain_torque[s] + sp.load_torque_n_m) * sp.inv_inertia
+            (forces.output().chain_torque[s] + sp.load_torque_at(state.t_s)) * sp.inv_inertia
         };
     }
     let f = forces.output();

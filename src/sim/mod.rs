@@ -633,6 +633,7 @@ impl Simulation {
         apply_forces(
             &self.bodies,
             &self.model,
+            self.state.t_s,
             self.forces.output(),
             &mut self.world.bodies,
         );
@@ -804,6 +805,7 @@ impl Simulation {
 fn apply_forces(
     handles: &ChainBodies,
     model: &DriveModel,
+    t_s: f64,
     forces: &Forces,
     bodies: &mut RigidBodySet,
 ) {
@@ -823,7 +825,7 @@ fn apply_forces(
             b.reset_forces(false);
             b.reset_torques(false);
             if sp.speed_law.is_none() {
-                b.add_torque(forces.chain_torque[i] + sp.load_torque_n_m, false);
+                b.add_torque(forces.chain_torque[i] + sp.load_torque_at(t_s), false);
             }
         }
     }

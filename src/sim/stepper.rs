@@ -60,7 +60,12 @@ pub fn symplectic_euler(
                 driver_speed(model, s, state.t_s, dt_s)
             }
         } else {
-            let torque = forces.output().chain_torque[s] + sp.load_torque_n_m;
+            let load = if relax.is_some() {
+                sp.load_at_rest_n_m()
+            } else {
+                sp.load_torque_at(state.t_s)
+            };
+            let torque = forces.output().chain_torque[s] + load;
             (state.omega[s] + dt_s * torque * sp.inv_inertia) * scale
         };
         state.omega[s] = omega;

@@ -82,3 +82,95 @@ fn load_beyond_pretension_is_named() {
     approx::assert_relative_eq!(limit_n_m, 2.0 * r * 200.0, max_relative = 1e-9);
     approx::assert_relative_eq!(needed_n, 400.0 / (2.0 * r), max_relative = 1e-9);
 }
+
+/// The over-loaded 15T/45T drive with its load ramped in over 0.5 s
+/// (`load_ramp_s`): the static equilibrium carries no load, so it settles
+/// although |M| = 400 N·m > 2 R T₀ = 254.9 N·m, and the load and the driver
+/// then rise together. 0.3 s of the run (30 000 steps) end without a blow-up
+/// and with the loaded sprocket turning no faster than the driver's chain
+/// speed allows: |ω₄₅| R₄₅ ≤ 2 ω₁₅ R₁₅ at 10 rpm (a bound, not a fit: the
+/// strands' stretch lets the driven sprocket lag or surge, never reverse
+/// the chain beyond twice the drive's speed).
+#[test]
+fn ramped_overload_settles_and_runs() {
+    let scene = scene("overload_15_45_ramped.toml");
+    let mut sim = Simulation::new(&scene).expect("a static equilibrium with no load");
+    let pitch = scene.chain().pitch_m;
+    let (r15, r45) = (pitch_radius_m(pitch, 15), pitch_radius_m(pitch, 45));
+    approx::assert_relative_eq!(
+        sim.equilibrium.tension_n,
+        scene.chain().pretension_n,
+        max_relative = scene.equilibrium().tension_tolerance
+    );
+    sim.run(0.3, u64::MAX, &mut chaindrive::sim::NoObserver, None)
+        .expect("no blow-up while the load ramps in");
+    let omega = &sim.state.omega;
+    assert!(omega.iter().all(|w| w.is_finite()), "{omega:?}");
+    let driver_chain_speed = 10.0 * std::f64::consts::TAU / 60.0 * r15;
+    assert!(
+        omega[1].abs() * r45 <= 2.0 * driver_chain_speed,
+        "driven chain speed {} m/s, driver's {driver_chain_speed} m/s",
+        omega[1].abs() * r45
+    );
+}
+
+/// With a ramp, the relaxation holds no load: the static tension (and the
+/// rest length the pretension rule found) equal those of the same drive
+/// with the load removed, to 1e-9 relative (the same computation, so in
+/// practice to the bit).
+#[test]
+fn ramped_load_equilibrium_is_the_unloaded_one() {
+    let ramped = scene("overload_15_45_ramped.toml");
+    let path = format!(
+        "{}/tests/data/overload_15_45_ramped.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(path).expect("the scene file exists");
+    let unloaded_text = text
+        .replace("load_torque_n_m = -400.0\n", "")
+        .replace("load_ramp_s = 0.5\n", "");
+    assert_ne!(text, unloaded_text);
+    let unloaded = Scene::from_toml(&unloaded_text).expect("a valid scene");
+    let a = Simulation::new(&ramped).expect("settles").equilibrium;
+    let b = Simulation::new(&unloaded).expect("settles").equilibrium;
+    approx::assert_relative_eq!(a.tension_n, b.tension_n, max_relative = 1e-9);
+    approx::assert_relative_eq!(a.rest_length_m, b.rest_length_m, max_relative = 1e-9);
+}
+
+/// `load_ramp_s` must be finite and ≥ 0, and is allowed only with a load.
+#[test]
+fn bad_load_ramp_names_its_field() {
+    let path = format!(
+        "{}/tests/data/overload_15_45_ramped.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(path).expect("the scene file exists");
+    let cases = [
+        (
+            text.replace("load_ramp_s = 0.5", "load_ramp_s = -0.1"),
+            ">= 0",
+        ),
+        (
+            text.replace("load_ramp_s = 0.5", "load_ramp_s = nan"),
+            "finite",
+        ),
+        (
+            text.replace("load_torque_n_m = -400.0\n", ""),
+            "only on a sprocket with a load_torque_n_m",
+        ),
+    ];
+    for (bad, reason) in &cases {
+        let msg = Scene::from_toml(bad).expect_err("rejected").to_string();
+        assert!(msg.contains("sprockets[1].load_ramp_s"), "{msg}");
+        assert!(msg.contains(reason), "expected '{reason}' in: {msg}");
+    }
+    let on_driver = text.replace(
+        "ramp_s = 0.5\n[[sprockets]]",
+        "ramp_s = 0.5\nload_ramp_s = 0.1\n[[sprockets]]",
+    );
+    assert_ne!(on_driver, text);
+    let msg = Scene::from_toml(&on_driver)
+        .expect_err("rejected")
+        .to_string();
+    assert!(msg.contains("sprockets[0].load_ramp_s"), "{msg}");
+}
