@@ -174,3 +174,27 @@ fn bad_load_ramp_names_its_field() {
         .to_string();
     assert!(msg.contains("sprockets[0].load_ramp_s"), "{msg}");
 }
+
+/// The load law M(t) = M t / t_L before t_L, M after, by hand for
+/// M = −400 N·m, t_L = 0.5 s; without a ramp the full load from t = 0.
+#[test]
+fn load_ramp_is_linear_then_constant() {
+    let (model, ..) =
+        chaindrive::model::DriveModel::build(&scene("overload_15_45_ramped.toml")).expect("builds");
+    let sp = &model.sprockets[1];
+    for (t_s, expected) in [
+        (0.0, 0.0),
+        (0.125, -100.0),
+        (0.25, -200.0),
+        (0.5, -400.0),
+        (3.0, -400.0),
+    ] {
+        approx::assert_relative_eq!(sp.load_torque_at(t_s), expected, epsilon = 1e-12);
+    }
+    assert_eq!(sp.load_at_rest_n_m(), 0.0);
+    let (model, ..) =
+        chaindrive::model::DriveModel::build(&scene("overload_15_45.toml")).expect("builds");
+    let sp = &model.sprockets[1];
+    assert_eq!(sp.load_torque_at(0.0), -400.0);
+    assert_eq!(sp.load_at_rest_n_m(), -400.0);
+}
