@@ -228,18 +228,26 @@ fn next_rest_length(
     // Within [−K, −K / step_factor]: a secant with the wrong sign or a flat
     // one (a slack chain) takes the longest step allowed.
     let limit = -k / *step_factor;
-    let slope = if !slope.is_finite() {
-        -k
+    let (slope, clamped) = if !slope.is_finite() {
+        (-k, true)
     } else if slope > limit {
         *step_factor *= 2.0;
-        limit
+        (limit, true)
+    } else if slope < -k {
+        (-k, true)
     } else {
-        slope.max(-k)
+        (slope, false)
     };
     let proposal = rest + (target_n - tension) / slope;
     match bracket {
-        // `low`: a rest length whose tension is above the target; `high`: below.
-        (Some(low), Some(high)) if !(proposal > low.min(high) && proposal < low.max(high)) => {
+        // `low`: a rest length whose tension is above the target; `high`:
+        // below. Only a clamped step is held to the bracket: a relaxation
+        // cut short by `max_relax_s` leaves T(rest length) depending on the
+        // iterations before, and a plain secant step then converges where a
+        // stale bracket would not.
+        (Some(low), Some(high))
+            if clamped && !(proposal > low.min(high) && proposal < low.max(high)) =>
+        {
             0.5 * (low + high)
         }
         _ => proposal,
