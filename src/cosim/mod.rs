@@ -92,8 +92,6 @@ struct SprocketLink {
     body: RigidBodyHandle,
     /// Whether the body is the user's (mounted) rather than the drive's own.
     mounted: bool,
-    /// The scene's load torque (the model's load torque is refreshed per frame).
-    scene_load_n_m: f64,
     /// The user's torque, stashed during rapier's step, N·m.
     user_torque_n_m: f64,
     /// Mean angular speed given to rapier for this frame, rad/s.
@@ -218,7 +216,6 @@ impl ChainDrive {
             links.push(SprocketLink {
                 body,
                 mounted,
-                scene_load_n_m: sp.load_torque_n_m,
                 user_torque_n_m: 0.0,
                 mean_omega: 0.0,
                 mean_chain_force: [0.0; 2],
@@ -355,7 +352,8 @@ impl ChainDrive {
                 link.user_torque_n_m = b.user_torque();
                 b.reset_torques(false);
             }
-            sprocket.load_torque_n_m = link.scene_load_n_m + link.user_torque_n_m;
+            // The scene's load keeps its ramp; the user's torque does not ramp.
+            sprocket.user_torque_n_m = link.user_torque_n_m;
         }
         if moving {
             // The kept reach sets assumed the old centres and speeds.

@@ -36,6 +36,9 @@ pub struct SprocketModel {
     /// Time over which the load rises linearly from zero to its full value, s
     /// (0: the load acts from rest on).
     pub load_ramp_s: f64,
+    /// A torque that does not ramp, N·m: a co-simulation's user torque on the
+    /// body a sprocket is mounted on (zero in a standalone run).
+    pub user_torque_n_m: f64,
     /// Tooth outline used by the contact generator.
     pub profile: ToothProfile,
     /// Radius beyond which no roller centre touches the sprocket, m.
@@ -49,16 +52,18 @@ pub struct SprocketModel {
 }
 
 impl SprocketModel {
-    /// The external load torque at time `t_s`, N·m: `M·t/t_r` while
+    /// The external torque at time `t_s`, N·m: the load `M·t/t_r` while
     /// `t < t_r = load_ramp_s`, the full `M` after (and always when no ramp is
-    /// set, so the load at rest is `M` exactly).
+    /// set, so the load at rest is `M` exactly), plus the user's torque, which
+    /// does not ramp.
     #[inline]
     pub fn load_torque_at(&self, t_s: f64) -> f64 {
-        if t_s < self.load_ramp_s {
+        let load = if t_s < self.load_ramp_s {
             self.load_torque_n_m * (t_s / self.load_ramp_s)
         } else {
             self.load_torque_n_m
-        }
+        };
+        load + self.user_torque_n_m
     }
 
     /// The load held while the drive relaxes to static equilibrium, N·m: the
@@ -265,6 +270,7 @@ impl DriveModel {
                     speed_law: s.speed_law(),
                     load_torque_n_m: s.load_torque_n_m(),
                     load_ramp_s: s.load_ramp_s(),
+                    user_torque_n_m: 0.0,
                     reach_m: reach,
                     reach_sq_m2: reach * reach,
                     pitch_radius_m: s.pitch_radius_m,

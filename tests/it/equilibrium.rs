@@ -198,3 +198,17 @@ fn load_ramp_is_linear_then_constant() {
     assert_eq!(sp.load_torque_at(0.0), -400.0);
     assert_eq!(sp.load_at_rest_n_m(), -400.0);
 }
+
+#[test]
+fn a_user_torque_is_not_ramped() {
+    // A co-simulation's user torque on a mounted sprocket (here 30 N·m) acts
+    // in full from t = 0; only the scene's load (−400 N·m over 0.5 s) ramps:
+    // M t / t_L + U.
+    let (mut model, ..) =
+        chaindrive::model::DriveModel::build(&scene("overload_15_45_ramped.toml")).expect("builds");
+    let sp = &mut model.sprockets[1];
+    sp.user_torque_n_m = 30.0;
+    for (t_s, expected) in [(0.0, 30.0), (0.25, -170.0), (0.5, -370.0), (2.0, -370.0)] {
+        approx::assert_relative_eq!(sp.load_torque_at(t_s), expected, epsilon = 1e-12);
+    }
+}
