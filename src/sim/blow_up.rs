@@ -159,7 +159,7 @@ impl Detector {
 
 /// Checks the blow-up detectors against the last force evaluation at `state`:
 /// non-finite values, the penetration and stretch ceilings. The growth
-/// detector needs a history: [`Simulation::run`] keeps one.
+/// detector needs a history: [`super::Simulation::run`] keeps one.
 ///
 /// A detector that fires names the body where its quantity is largest: the
 /// roller that penetrates a tooth deepest, the link stretched (or
