@@ -12,7 +12,7 @@ use super::{
     StepLimits, Stepping, TEETH_RANGE, Wrap,
 };
 use crate::geometry::asa::IN_0_003_M;
-use crate::geometry::pitch_radius;
+use crate::geometry::{pitch_radius, seating_radius};
 
 /// Collects field errors while a file is checked.
 struct Checker {
@@ -211,7 +211,7 @@ fn check_seating(c: &mut Checker, chain: &Chain, sprockets: &[Sprocket]) {
     if !(pitch_m.is_finite() && r_m.is_finite() && 2.0 * r_m < pitch_m) {
         return;
     }
-    let seating_diameter_m = 1.005 * 2.0 * r_m + IN_0_003_M;
+    let seating_diameter_m = 2.0 * seating_radius(r_m);
     if seating_diameter_m >= pitch_m {
         let max_radius_m = (pitch_m - IN_0_003_M) / 2.01;
         c.fail(

@@ -142,7 +142,7 @@ impl ToothContact {
 
     /// Whether a roller centred at (`x`, `y`) touches any sprocket, the
     /// sprockets at angles `theta` (for locating contact events; the roller's
-    /// gap hint is read, not updated).
+    /// gap hint is read, not updated). Stops at the first sprocket touched.
     pub fn touches(
         &self,
         model: &DriveModel,
@@ -151,47 +151,53 @@ impl ToothContact {
         y: f64,
         theta: &[f64],
     ) -> bool {
-        self.deepest_patch(model, roller, x, y, theta).is_some()
+        let mut patches = [Patch::default(); MAX_PATCHES];
+        (0..model.sprockets.len())
+            .any(|j| self.patches_on(model, j, roller, [x, y], theta[j], &mut patches) > 0)
     }
 
     /// The roller of `state` that penetrates a tooth deepest, with its
     /// depth, m (a slow search of every roller against every sprocket, for
     /// reports).
     pub fn deepest_roller(&self, model: &DriveModel, state: &DriveState) -> Option<(usize, f64)> {
-        (0..state.rollers())
-            .filter_map(|i| {
-                self.deepest_patch(model, i, state.x[i], state.y[i], &state.theta)
-                    .map(|d| (i, d))
-            })
-            .max_by(|a, b| a.1.total_cmp(&b.1))
+        let mut patches = [Patch::default(); MAX_PATCHES];
+        let mut deepest: Option<(usize, f64)> = None;
+        for i in 0..state.rollers() {
+            for j in 0..model.sprockets.len() {
+                let at = [state.x[i], state.y[i]];
+                let count = self.patches_on(model, j, i, at, state.theta[j], &mut patches);
+                for p in &patches[..count] {
+                    if deepest.is_none_or(|(_, d)| p.depth_m > d) {
+                        deepest = Some((i, p.depth_m));
+                    }
+                }
+            }
+        }
+        deepest
     }
 
-    /// The deepest patch of one roller on any sprocket, m, if it touches one.
-    fn deepest_patch(
+    /// The contact patches of roller `roller` centred at `at` on sprocket
+    /// `j` turned to `theta`, written to `patches`; returns their count (0
+    /// outside the sprocket's reach). The roller's gap hint is read, not
+    /// updated.
+    fn patches_on(
         &self,
         model: &DriveModel,
+        j: usize,
         roller: usize,
-        x: f64,
-        y: f64,
-        theta: &[f64],
-    ) -> Option<f64> {
-        let mut patches = [Patch::default(); MAX_PATCHES];
-        model
-            .sprockets
-            .iter()
-            .zip(theta)
-            .filter_map(|(sp, &th)| {
-                let (rx, ry) = (x - sp.center_m[0], y - sp.center_m[1]);
-                if rx * rx + ry * ry > sp.reach_sq_m2 {
-                    return None;
-                }
-                let (sin, cos) = th.sin_cos();
-                let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
-                let mut hint = self.gap_hint[roller];
-                let count = sp.profile.contacts(local, &mut hint, &mut patches);
-                patches[..count].iter().map(|p| p.depth_m).reduce(f64::max)
-            })
-            .reduce(f64::max)
+        at: [f64; 2],
+        theta: f64,
+        patches: &mut [Patch; MAX_PATCHES],
+    ) -> usize {
+        let sp = &model.sprockets[j];
+        let (rx, ry) = (at[0] - sp.center_m[0], at[1] - sp.center_m[1]);
+        if rx * rx + ry * ry > sp.reach_sq_m2 {
+            return 0;
+        }
+        let (sin, cos) = theta.sin_cos();
+        let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+        let mut hint = self.gap_hint[roller];
+        sp.profile.contacts(local, &mut hint, patches)
     }
 
     /// The contact pass, compiled per (damping rows, moving centres).
