@@ -12,7 +12,8 @@
 //! | `scene` | `/scene/static` | `foxglove.SceneUpdate` | once: each sprocket's tooth outline (circular or real profile), pitch circle, a spoke and its name, in its own frame `sprocketN`, frame-locked |
 //! | `scene` | `/scene` | `foxglove.SceneUpdate` | rollers (spheres) and links (lines coloured by force, blue = slack … red ≥ 2 × pretension, 16 bins) in frame `world` |
 //! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z |
-//! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world` |
+//! | `outlines` | `/outlines/sprocketN` | `foxglove.PointCloud` | once: sprocket N's tooth outline as points 0.5 mm apart, in its frame `sprocketN`, one colour per sprocket (what Rerun draws) |
+//! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world`, coloured (u8 red, green, blue, alpha) by the mean force of the roller's two links on the links' scale |
 //! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N |
 //! | `contacts` | `/contacts` | [`ChainContactForces`] | every roller's contact force, N |
 //! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
@@ -55,7 +56,10 @@ mod visual;
 pub use messages::{
     ChainContactForces, ChainLinkForces, SegmentSignal, SegmentSignals, SprocketSignals,
 };
-pub use visual::{FORCE_BINS, POINT_STRIDE, WORLD_FRAME, bin_color, sprocket_frame};
+pub use visual::{
+    FORCE_BINS, OUTLINE_SPACING_M, OUTLINES_TOPIC, POINT_STRIDE, WORLD_FRAME, bin_color,
+    outline_points, outline_topic, sprocket_color, sprocket_frame,
+};
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
@@ -78,6 +82,8 @@ pub enum Channel {
     Transforms,
     /// `/rollers` (`foxglove.PointCloud`).
     Rollers,
+    /// `/outlines/sprocketN` once (`foxglove.PointCloud`).
+    Outlines,
     /// `/links` ([`ChainLinkForces`]).
     Links,
     /// `/contacts` ([`ChainContactForces`]).
@@ -90,10 +96,11 @@ pub enum Channel {
 
 impl Channel {
     /// Every channel, in the order they are registered in a file.
-    pub const ALL: [Self; 7] = [
+    pub const ALL: [Self; 8] = [
         Self::Scene,
         Self::Transforms,
         Self::Rollers,
+        Self::Outlines,
         Self::Links,
         Self::Contacts,
         Self::Sprockets,
@@ -106,6 +113,7 @@ impl Channel {
             Self::Scene => "scene",
             Self::Transforms => "transforms",
             Self::Rollers => "rollers",
+            Self::Outlines => "outlines",
             Self::Links => "links",
             Self::Contacts => "contacts",
             Self::Sprockets => "sprockets",
@@ -113,12 +121,14 @@ impl Channel {
         }
     }
 
-    /// Topic written at every sample.
+    /// Topic written at every sample ([`Channel::Outlines`]: the prefix of
+    /// its per-sprocket topics, written once).
     pub fn topic(self) -> &'static str {
         match self {
             Self::Scene => "/scene",
             Self::Transforms => "/tf",
             Self::Rollers => "/rollers",
+            Self::Outlines => OUTLINES_TOPIC,
             Self::Links => "/links",
             Self::Contacts => "/contacts",
             Self::Sprockets => "/sprockets",
@@ -148,6 +158,8 @@ bitflags::bitflags! {
         const SPROCKETS = 1 << 5;
         /// [`Channel::Segments`].
         const SEGMENTS = 1 << 6;
+        /// [`Channel::Outlines`].
+        const OUTLINES = 1 << 7;
     }
 }
 
@@ -157,6 +169,7 @@ impl From<Channel> for Channels {
             Channel::Scene => Self::SCENE,
             Channel::Transforms => Self::TRANSFORMS,
             Channel::Rollers => Self::ROLLERS,
+            Channel::Outlines => Self::OUTLINES,
             Channel::Links => Self::LINKS,
             Channel::Contacts => Self::CONTACTS,
             Channel::Sprockets => Self::SPROCKETS,
@@ -222,7 +235,7 @@ pub enum RunEnd<'a> {
 pub enum RecordError {
     /// A name in the channel list is not a channel.
     #[error(
-        "unknown recording channel {0:?}; channels: scene, transforms, rollers, links, contacts, sprockets, segments, all"
+        "unknown recording channel {0:?}; channels: scene, transforms, rollers, outlines, links, contacts, sprockets, segments, all"
     )]
     UnknownChannel(String),
     /// The file could not be created.
@@ -255,11 +268,13 @@ pub enum RecordError {
     },
 }
 
-/// Channel ids in the file, by [`Channel`] (and the static scene).
-#[derive(Clone, Copy, Debug, Default)]
+/// Channel ids in the file, by [`Channel`] (and the static scene, and the
+/// outlines: one channel per sprocket).
+#[derive(Clone, Debug, Default)]
 struct ChannelIds {
     static_scene: Option<u16>,
-    per_sample: [Option<u16>; 7],
+    outlines: Vec<u16>,
+    per_sample: [Option<u16>; Channel::ALL.len()],
 }
 
 /// The MCAP writer with its encoding buffer.
@@ -302,10 +317,11 @@ impl<W: Write + Seek> Sink<W> {
 
 /// What the stepping loop hands the writer thread.
 enum Job {
-    /// The first sample: the static scene and the sprocket centres.
+    /// The first sample: the static scene, the outlines and the sprocket centres.
     Start {
         t_ns: u64,
         static_scene: Option<Box<SceneUpdate>>,
+        outlines: Vec<PointCloud>,
         centers_m: Vec<[f64; 2]>,
     },
     /// One sample, with only the arrays the requested channels need.
@@ -343,6 +359,8 @@ struct Writer<W: Write + Seek> {
     sink: Sink<W>,
     ids: ChannelIds,
     chain: visual::ChainScene,
+    /// Link force at the top of the rollers' colour scale, N.
+    full_scale_n: f64,
     centers_m: Vec<[f64; 2]>,
     tf: FrameTransforms,
     links: ChainLinkForces,
@@ -359,12 +377,16 @@ impl<W: Write + Seek> Writer<W> {
             Job::Start {
                 t_ns,
                 static_scene,
+                outlines,
                 centers_m,
             } => {
                 self.centers_m = centers_m;
                 if let Some(update) = static_scene {
                     self.sink
                         .write(self.ids.static_scene, STATIC_SCENE_TOPIC, t_ns, &*update)?;
+                }
+                for (&id, cloud) in self.ids.outlines.iter().zip(&outlines) {
+                    self.sink.write(Some(id), OUTLINES_TOPIC, t_ns, cloud)?;
                 }
                 Ok(())
             }
@@ -396,7 +418,7 @@ impl<W: Write + Seek> Writer<W> {
             sink.write(id(Channel::Transforms), "/tf", t_ns, &self.tf)?;
         }
         if id(Channel::Rollers).is_some() {
-            let cloud = visual::roller_cloud(&f.x, &f.y, t_ns);
+            let cloud = visual::roller_cloud(&f.x, &f.y, &f.link_force, self.full_scale_n, t_ns);
             sink.write(id(Channel::Rollers), "/rollers", t_ns, &cloud)?;
         }
         if id(Channel::Links).is_some() {
@@ -538,12 +560,22 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 }
                 Channel::Transforms => add_channel::<_, FrameTransforms>(&mut w, topic)?,
                 Channel::Rollers => add_channel::<_, PointCloud>(&mut w, topic)?,
+                Channel::Outlines => {
+                    for i in 0..scene.sprockets.len() {
+                        let id = add_channel::<_, PointCloud>(&mut w, &visual::outline_topic(i))?;
+                        ids.outlines.push(id);
+                    }
+                    // Nothing at every sample: the per-sprocket channels above.
+                    continue;
+                }
                 Channel::Links => add_channel::<_, ChainLinkForces>(&mut w, topic)?,
                 Channel::Contacts => add_channel::<_, ChainContactForces>(&mut w, topic)?,
                 Channel::Sprockets => add_channel::<_, SprocketSignals>(&mut w, topic)?,
                 Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, topic)?,
             });
         }
+        // Top of the force colour scale, shared by the links and the rollers.
+        let full_scale_n = visual::full_scale(2.0 * scene.chain.pretension_n);
         let writer = Writer {
             sink: Sink {
                 writer: w,
@@ -554,8 +586,9 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             chain: visual::ChainScene::new(
                 scene.chain.rollers,
                 scene.chain.roller_radius_m,
-                2.0 * scene.chain.pretension_n,
+                full_scale_n,
             ),
+            full_scale_n,
             centers_m: Vec::new(),
             tf: FrameTransforms::default(),
             links: ChainLinkForces::default(),
@@ -699,10 +732,21 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             let static_scene = ch
                 .contains(Channels::SCENE)
                 .then(|| Box::new(visual::static_scene(&self.scene, s.model, t_ns)));
+            let outlines = if ch.contains(Channels::OUTLINES) {
+                s.model
+                    .sprockets
+                    .iter()
+                    .enumerate()
+                    .map(|(i, sp)| visual::outline_cloud(&sp.profile, i, t_ns))
+                    .collect()
+            } else {
+                Vec::new()
+            };
             let centers_m = s.model.sprockets.iter().map(|s| s.center_m).collect();
             self.send(Job::Start {
                 t_ns,
                 static_scene,
+                outlines,
                 centers_m,
             });
         }
@@ -716,7 +760,10 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             y: copy(positions, &st.y),
             theta: copy(wants(&[Channel::Transforms, Channel::Sprockets]), &st.theta),
             omega: copy(wants(&[Channel::Sprockets]), &st.omega),
-            link_force: copy(wants(&[Channel::Scene, Channel::Links]), &f.link_force),
+            link_force: copy(
+                wants(&[Channel::Scene, Channel::Rollers, Channel::Links]),
+                &f.link_force,
+            ),
             contact_force: copy(wants(&[Channel::Contacts]), &f.contact_force),
             chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
             segments: Vec::new(),

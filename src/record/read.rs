@@ -651,7 +651,8 @@ mod tests {
             r#type: packed_element_field::NumericType::Float32 as i32,
         };
         let cloud = PointCloud {
-            point_stride: crate::record::POINT_STRIDE,
+            // x, y, z only, as recordings made before the colour fields.
+            point_stride: 12,
             fields: vec![field("x", 0), field("y", 4), field("z", 8)],
             data: foxglove::bytes::Bytes::from(data),
             ..PointCloud::default()

@@ -12,6 +12,7 @@ use foxglove::schemas::{
     line_primitive, packed_element_field,
 };
 
+use crate::geometry::ToothProfile;
 use crate::model::DriveModel;
 use crate::scene::Scene;
 
@@ -23,6 +24,23 @@ pub const FORCE_BINS: usize = 16;
 
 /// Outline sampling step of the real tooth profile, rad.
 const OUTLINE_STEP_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+
+/// Angular step of the fine outline that [`outline_points`] walks along, rad
+/// (0.1°: chords of at most 0.2 µm sag on a 10 mm arc).
+const FINE_OUTLINE_STEP_RAD: f64 = 0.1 * std::f64::consts::PI / 180.0;
+
+/// Spacing of the points of an outline cloud (`/outlines/sprocketN`) along
+/// the outline, m: dense enough to read as a line.
+pub const OUTLINE_SPACING_M: f64 = 0.5e-3;
+
+/// Topic prefix of the outline clouds: sprocket `i` (0-based) is on
+/// `/outlines/sprocket{i + 1}`.
+pub const OUTLINES_TOPIC: &str = "/outlines";
+
+/// Topic of sprocket `i`'s outline cloud (0-based): `/outlines/sprocket1`, ….
+pub fn outline_topic(i: usize) -> String {
+    format!("{OUTLINES_TOPIC}/{}", sprocket_frame(i))
+}
 
 /// Frame name of sprocket `i` (0-based): `sprocket1`, `sprocket2`, ….
 pub fn sprocket_frame(i: usize) -> String {
@@ -200,11 +218,7 @@ impl ChainScene {
                 deletions: Vec::new(),
                 entities: vec![entity],
             },
-            full_scale_n: if full_scale_n > 0.0 {
-                full_scale_n
-            } else {
-                1.0
-            },
+            full_scale_n: full_scale(full_scale_n),
         }
     }
 
@@ -250,6 +264,16 @@ impl ChainScene {
     }
 }
 
+/// The top of a force colour scale, N: `full_scale_n` if positive and
+/// finite, otherwise 1 N.
+pub(crate) fn full_scale(full_scale_n: f64) -> f64 {
+    if full_scale_n.is_finite() && full_scale_n > 0.0 {
+        full_scale_n
+    } else {
+        1.0
+    }
+}
+
 /// Force bin of a link force (slack and compressed links in bin 0).
 fn force_bin(force_n: f64, full_scale_n: f64) -> usize {
     let s = force_n / full_scale_n * FORCE_BINS as f64;
@@ -288,28 +312,166 @@ pub fn transforms(centers_m: &[[f64; 2]], theta: &[f64], t_ns: u64, out: &mut Fr
     }
 }
 
-/// Bytes per point of `/rollers`: x, y, z as little-endian f32.
-pub const POINT_STRIDE: u32 = 12;
+/// Bytes per point of `/rollers` and of the outline clouds: x, y, z as
+/// little-endian f32, then red, green, blue, alpha as u8 (0–255).
+pub const POINT_STRIDE: u32 = 16;
 
-/// `/rollers`: roller centres as a point cloud in the world frame (f32 x, y, z = 0).
-pub fn roller_cloud(x: &[f64], y: &[f64], t_ns: u64) -> PointCloud {
-    let mut data = Vec::with_capacity(x.len() * POINT_STRIDE as usize);
-    for (&xi, &yi) in x.iter().zip(y) {
-        data.extend_from_slice(&(xi as f32).to_le_bytes());
-        data.extend_from_slice(&(yi as f32).to_le_bytes());
-        data.extend_from_slice(&0.0f32.to_le_bytes());
-    }
-    let field = |name: &str, offset: u32| PackedElementField {
+/// The fields of a [`POINT_STRIDE`] point: f32 x, y, z and u8 red, green,
+/// blue, alpha, the names Foxglove's "RGBA (separate fields)" colour mode and
+/// Rerun's point-cloud import read.
+fn point_fields() -> Vec<PackedElementField> {
+    use packed_element_field::NumericType;
+    let field = |name: &str, offset: u32, ty: NumericType| PackedElementField {
         name: name.to_owned(),
         offset,
-        r#type: packed_element_field::NumericType::Float32 as i32,
+        r#type: ty as i32,
     };
+    vec![
+        field("x", 0, NumericType::Float32),
+        field("y", 4, NumericType::Float32),
+        field("z", 8, NumericType::Float32),
+        field("red", 12, NumericType::Uint8),
+        field("green", 13, NumericType::Uint8),
+        field("blue", 14, NumericType::Uint8),
+        field("alpha", 15, NumericType::Uint8),
+    ]
+}
+
+/// A colour as four bytes (0–255).
+fn rgba8(c: &Color) -> [u8; 4] {
+    let byte = |v: f64| (v.clamp(0.0, 1.0) * 255.0).round() as u8;
+    [byte(c.r), byte(c.g), byte(c.b), byte(c.a)]
+}
+
+/// Appends one point of [`POINT_STRIDE`] bytes.
+fn push_point(data: &mut Vec<u8>, x: f64, y: f64, rgba: [u8; 4]) {
+    data.extend_from_slice(&(x as f32).to_le_bytes());
+    data.extend_from_slice(&(y as f32).to_le_bytes());
+    data.extend_from_slice(&0.0f32.to_le_bytes());
+    data.extend_from_slice(&rgba);
+}
+
+/// A point cloud of [`point_fields`] in `frame_id`.
+fn cloud(frame_id: String, data: Vec<u8>, t_ns: u64) -> PointCloud {
     PointCloud {
         timestamp: Some(timestamp(t_ns)),
-        frame_id: WORLD_FRAME.to_owned(),
+        frame_id,
         pose: Some(identity_pose()),
         point_stride: POINT_STRIDE,
-        fields: vec![field("x", 0), field("y", 4), field("z", 8)],
+        fields: point_fields(),
         data: Bytes::from(data),
     }
+}
+
+/// Force of roller `i` on the colour scale: the mean of its two links'
+/// forces (link i − 1 ends at roller i, link i starts there), N.
+fn roller_force_n(link_force_n: &[f64], i: usize) -> f64 {
+    let n = link_force_n.len();
+    if n == 0 {
+        return 0.0;
+    }
+    let before = link_force_n[(i + n - 1) % n];
+    let after = link_force_n[i % n];
+    0.5 * (before + after)
+}
+
+/// `/rollers`: roller centres as a point cloud in the world frame (f32 x, y,
+/// z = 0), each coloured by the mean force of its two links on the links'
+/// scale ([`bin_color`] of 0 … `full_scale_n` in [`FORCE_BINS`] bins; grey
+/// when the link forces are not given).
+pub fn roller_cloud(
+    x: &[f64],
+    y: &[f64],
+    link_force_n: &[f64],
+    full_scale_n: f64,
+    t_ns: u64,
+) -> PointCloud {
+    let colors: Vec<[u8; 4]> = (0..FORCE_BINS).map(|b| rgba8(&bin_color(b))).collect();
+    let mut data = Vec::with_capacity(x.len() * POINT_STRIDE as usize);
+    for (i, (&xi, &yi)) in x.iter().zip(y).enumerate() {
+        let rgba = if link_force_n.len() == x.len() {
+            let b = force_bin(roller_force_n(link_force_n, i), full_scale_n);
+            colors.get(b).copied().unwrap_or([255; 4])
+        } else {
+            rgba8(&grey(0.6))
+        };
+        push_point(&mut data, xi, yi, rgba);
+    }
+    cloud(WORLD_FRAME.to_owned(), data, t_ns)
+}
+
+/// Colour of sprocket `i`'s outline (0-based), from a palette of eight that
+/// stands out against the force colours' blue … red and a dark background.
+pub fn sprocket_color(i: usize) -> [u8; 4] {
+    const PALETTE: [[u8; 4]; 8] = [
+        [255, 255, 255, 255], // white
+        [255, 105, 180, 255], // pink
+        [255, 165, 0, 255],   // orange
+        [160, 120, 255, 255], // violet
+        [170, 255, 170, 255], // pale green
+        [120, 200, 255, 255], // sky blue
+        [255, 230, 120, 255], // pale yellow
+        [200, 200, 200, 255], // light grey
+    ];
+    PALETTE[i % PALETTE.len()]
+}
+
+/// A sprocket's outline, in its frame, as points about `spacing_m` apart
+/// along it: the tooth profile sampled finely and walked at equal arc
+/// length, the closing stretch back to the start included.
+pub fn outline_points(profile: &ToothProfile, spacing_m: f64) -> Vec<[f64; 2]> {
+    let fine: Vec<[f64; 2]> = profile
+        .outline(FINE_OUTLINE_STEP_RAD)
+        .iter()
+        .map(|p| [p.x_m, p.y_m])
+        .collect();
+    resample_closed(&fine, spacing_m)
+}
+
+/// Points every `spacing_m` of arc length along the closed polyline `pts`
+/// (the last point joins the first), starting at the first.
+fn resample_closed(pts: &[[f64; 2]], spacing_m: f64) -> Vec<[f64; 2]> {
+    let Some(&first) = pts.first() else {
+        return Vec::new();
+    };
+    if !(spacing_m.is_finite() && spacing_m > 0.0) {
+        return pts.to_vec();
+    }
+    let mut out = vec![first];
+    // Arc length from the last point written to the start of the current piece.
+    let mut since_m = 0.0;
+    for (k, a) in pts.iter().enumerate() {
+        let b = pts[(k + 1) % pts.len()];
+        let len_m = (b[0] - a[0]).hypot(b[1] - a[1]);
+        let mut s_m = spacing_m - since_m;
+        while s_m < len_m {
+            let u = s_m / len_m;
+            out.push([a[0] + u * (b[0] - a[0]), a[1] + u * (b[1] - a[1])]);
+            s_m += spacing_m;
+        }
+        since_m = len_m - (s_m - spacing_m);
+    }
+    // The walk ends back at the start: drop a last point closer to it than a
+    // tenth of the spacing.
+    if let Some(&last) = out.last()
+        && out.len() > 1
+        && (last[0] - first[0]).hypot(last[1] - first[1]) < 0.1 * spacing_m
+    {
+        out.pop();
+    }
+    out
+}
+
+/// `/outlines/sprocketN`: sprocket `i`'s outline ([`outline_points`] at
+/// [`OUTLINE_SPACING_M`]) as a point cloud in its frame `sprocketN`, in its
+/// colour ([`sprocket_color`]). Written once, at the first sample; the
+/// frame's transform on `/tf` turns it.
+pub fn outline_cloud(profile: &ToothProfile, i: usize, t_ns: u64) -> PointCloud {
+    let points = outline_points(profile, OUTLINE_SPACING_M);
+    let rgba = sprocket_color(i);
+    let mut data = Vec::with_capacity(points.len() * POINT_STRIDE as usize);
+    for p in &points {
+        push_point(&mut data, p[0], p[1], rgba);
+    }
+    cloud(sprocket_frame(i), data, t_ns)
 }

@@ -26,6 +26,8 @@ mod profile;
 mod record;
 #[cfg(feature = "cli")]
 mod recover;
+#[cfg(feature = "record")]
+mod rerun_view;
 mod scene_errors;
 mod seam;
 mod stepping;

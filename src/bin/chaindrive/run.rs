@@ -50,7 +50,7 @@ pub struct RunArgs {
     #[arg(long, value_name = "PATH.mcap")]
     record: Option<PathBuf>,
     /// Channels to record, comma-separated: scene, transforms, rollers,
-    /// links, contacts, sprockets, segments, or all.
+    /// outlines, links, contacts, sprockets, segments, or all.
     #[arg(long, value_name = "LIST", default_value = "all")]
     record_channels: String,
     /// Sampling rate of every sampled output, Hz.
