@@ -7,7 +7,7 @@ protobuf messages of `/segments` and `/sprockets` by selectors.
 
 It applies to recordings converted with the application id `chaindrive`:
 
-    rerun mcap convert l60mc.mcap --application-id chaindrive -o l60mc.rrd
+    rerun mcap convert l60mc.mcap --timeline-type duration --application-id chaindrive -o l60mc.rrd
     rerun l60mc.rrd assets/l60mc.rbl
 
 Regenerate it after changing this script (rerun-sdk 0.41):

@@ -50,7 +50,7 @@ echo "---"
     echo "the README's Rerun recipe failed" >&2
     exit 1
 }
-grep -E 'Points3D|Transform3D' "$work/recipe.log" | head -5
+awk '/Points3D|Transform3D/ && n++ < 6' "$work/recipe.log"
 
 "$venv/bin/python" "$root/assets/l60mc_blueprint.py" "$work/check.rbl"
 
@@ -63,7 +63,7 @@ import pyarrow as pa
 import rerun as rr
 
 path = sys.argv[1]
-chunks = rr.chunk.RrdReader(path).stream().collect()
+chunks = rr.chunk.RrdReader(path).stream().to_chunks()
 archetypes = defaultdict(set)
 columns = defaultdict(lambda: defaultdict(list))
 for chunk in chunks:
