@@ -5,8 +5,11 @@
 //! the lower-cased struct name (e.g. `chainlinkforces.ChainLinkForces`).
 //! Foxglove's Plot panel addresses fields by path
 //! (`/sprockets.speed_rad_s[0]`, `/segments.segments[1].link_force_n`); Rerun
-//! decodes them through the schema. No field is ever NaN: a value that does
-//! not exist is left out (an `Option` that is `None`).
+//! decodes them through the schema into one struct component per topic
+//! (`segmentsignals.SegmentSignals:message`, …) whose fields a time-series
+//! view plots through a selector (`.segments[1].link_force_n`,
+//! `.speed_rad_s[0]`). No field is ever NaN: a value that does not exist is
+//! left out (an `Option` that is `None`).
 
 /// `/links`: the force of every link, tension positive.
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]

@@ -156,7 +156,8 @@ fn a_recording_killed_with_sigkill_is_recovered_whole() {
     assert_eq!(count, streamed_count);
     assert_eq!(stats.message_end_time, streamed_last_ns);
     // Channels, the scene file and the metadata came along.
-    assert_eq!(summary.channels.len(), 8, "{:?}", summary.channels.keys());
+    // Eight topics, and the paper's four sprockets' outlines.
+    assert_eq!(summary.channels.len(), 12, "{:?}", summary.channels.keys());
     let attached: Vec<&str> = summary
         .attachment_indexes
         .iter()
