@@ -54,7 +54,7 @@ awk '/Points3D|Transform3D/ && n++ < 6' "$work/recipe.log"
 
 "$venv/bin/python" "$root/assets/l60mc_blueprint.py" "$work/check.rbl"
 
-"$venv/bin/python" - "$work/l60mc.rrd" <<'EOF'
+"$venv/bin/python" - "$work/l60mc.rrd" "$root/assets/l60mc.rbl" <<'EOF'
 import math
 import sys
 from collections import defaultdict
@@ -117,12 +117,33 @@ need("Points3D" in archetypes["/rollers"], "/rollers holds Points3D")
 colors = {c for row in values("/rollers", "Points3D:colors") for c in (row or [])}
 need(len(colors) > 1, f"/rollers: {len(colors)} distinct colours")
 
-# The blueprint's plots: the same selectors as assets/l60mc_blueprint.py.
-plots = [
-    ("/segments", "segmentsignals.SegmentSignals:message", ".segments[0].link_force_n"),
-    ("/sprockets", "sprocketsignals.SprocketSignals:message", ".speed_rad_s[0]"),
-]
-for entity, component, query in plots:
+# The shipped blueprint's plots: every (component, selector) it maps to a
+# plotted scalar must give numbers on this recording.
+blueprint = rr.chunk.RrdReader(sys.argv[2])
+stores = blueprint.blueprints()
+need(
+    [s.application_id for s in stores] == ["chaindrive"],
+    f"{sys.argv[2]}: one blueprint for application id chaindrive",
+)
+plots = set()
+for chunk in blueprint.stream(store=stores[0]).to_chunks() if stores else []:
+    batch = chunk.to_record_batch()
+    for field, column in zip(batch.schema, batch.columns):
+        kind = (field.metadata or {}).get(b"rerun:component_type", b"")
+        if b"VisualizerComponentMapping" not in kind:
+            continue
+        for row in column.to_pylist():
+            for mappings in row or []:
+                for m in mappings if isinstance(mappings, list) else [mappings]:
+                    plots.add((m["source_component"], m["selector"]))
+need(len(plots) == 8, f"the blueprint plots {len(plots)} selected scalars")
+entity_of = {
+    component: entity
+    for entity, components in columns.items()
+    for component in components
+}
+for component, query in sorted(plots):
+    entity = entity_of.get(component, "(none)")
     selector = rr.chunk.Selector(query)
     numbers = []
     for column in columns[entity].get(component, []):
