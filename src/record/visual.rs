@@ -475,3 +475,34 @@ pub fn outline_cloud(profile: &ToothProfile, i: usize, t_ns: u64) -> PointCloud 
     }
     cloud(sprocket_frame(i), data, t_ns)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resampling_walks_a_closed_polyline_at_equal_arc_length() {
+        // A unit square walked every 0.3: arc lengths 0, 0.3, …, 3.9 (14
+        // points; 4.0 is the start again). Point k lies at arc length 0.3 k.
+        let square = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+        let pts = resample_closed(&square, 0.3);
+        assert_eq!(pts.len(), 14);
+        for (k, p) in pts.iter().enumerate() {
+            let s = 0.3 * k as f64;
+            let expected = match s {
+                s if s <= 1.0 => [s, 0.0],
+                s if s <= 2.0 => [1.0, s - 1.0],
+                s if s <= 3.0 => [3.0 - s, 1.0],
+                s => [0.0, 4.0 - s],
+            };
+            assert!(
+                (p[0] - expected[0]).abs() < 1e-12 && (p[1] - expected[1]).abs() < 1e-12,
+                "point {k}: {p:?} vs {expected:?}"
+            );
+        }
+        // Nothing to walk, or no spacing: no panic, no NaN.
+        assert!(resample_closed(&[], 0.3).is_empty());
+        assert_eq!(resample_closed(&square, f64::NAN).len(), 4);
+        assert_eq!(resample_closed(&square, 0.0).len(), 4);
+    }
+}
