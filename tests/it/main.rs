@@ -30,4 +30,5 @@ mod scene_errors;
 mod seam;
 mod stepping;
 mod strands;
+mod statistics;
 mod stress;
