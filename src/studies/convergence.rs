@@ -63,12 +63,12 @@ pub struct Settings {
 }
 
 impl Settings {
-    /// The default study: the fixed-step schemes from 2 µs to 50 µs (steps
+    /// The default study: the fixed-step schemes from 5 µs to 50 µs (steps
     /// that divide the 1 ms sampling interval), the adaptive scheme from
     /// tolerance 10⁻² to 10⁻⁴; symplectic Euler at 1 µs as the reference.
     pub fn default_for(duration_s: f64) -> Self {
         let steps = |list: &[f64]| list.iter().map(|&d| Setting::Step(d)).collect::<Vec<_>>();
-        let fixed = [2e-6, 5e-6, 1e-5, 2e-5, 4e-5, 5e-5];
+        let fixed = [5e-6, 1e-5, 2e-5, 4e-5, 5e-5];
         Self {
             warmup_s: 1.2,
             duration_s,
@@ -185,7 +185,9 @@ pub fn statistics(m: &Measured<'_>) -> Vec<Statistic> {
     for (name, per, extract) in STATISTICS {
         let (count, prefix): (usize, &dyn Fn(usize) -> String) = match per {
             Per::Segment => (m.summary.segments.len(), &|k| format!("seg{}_", k + 1)),
-            Per::Sprocket => (m.summary.sprockets.len(), &|j| format!("sprocket{}_", j + 1)),
+            Per::Sprocket => (m.summary.sprockets.len(), &|j| {
+                format!("sprocket{}_", j + 1)
+            }),
             Per::Run => (1, &|_| String::new()),
         };
         for i in 0..count {
@@ -323,7 +325,12 @@ pub enum ConvergenceError {
 }
 
 /// A copy of `base` (settled, warm) with another method.
-fn fork(base: &Simulation, integrator: Integrator, setting: Setting, rate_hz: f64) -> Result<Simulation, String> {
+fn fork(
+    base: &Simulation,
+    integrator: Integrator,
+    setting: Setting,
+    rate_hz: f64,
+) -> Result<Simulation, String> {
     let overrides = match setting {
         Setting::Step(dt) => Overrides {
             integrator: Some(integrator),
@@ -351,7 +358,12 @@ fn fork(base: &Simulation, integrator: Integrator, setting: Setting, rate_hz: f6
 }
 
 /// Runs `duration_s` from the warm `base` with one method.
-pub fn run_one(base: &Simulation, integrator: Integrator, setting: Setting, settings: &Settings) -> Run {
+pub fn run_one(
+    base: &Simulation,
+    integrator: Integrator,
+    setting: Setting,
+    settings: &Settings,
+) -> Run {
     let failed = |dt_s: f64, e: String| Run {
         integrator,
         setting,
@@ -399,9 +411,7 @@ pub fn run_one(base: &Simulation, integrator: Integrator, setting: Setting, sett
     });
     let dt_s = match setting {
         Setting::Step(dt) => dt,
-        Setting::Tolerance(_) => {
-            settings.duration_s / sim.integration.stats.steps.max(1) as f64
-        }
+        Setting::Tolerance(_) => settings.duration_s / sim.integration.stats.steps.max(1) as f64,
     };
     Run {
         integrator,

@@ -101,16 +101,17 @@ pub fn steady_from(means: &[Vec<f64>], ses: &[Vec<f64>]) -> Option<usize> {
     let n = means.len();
     let segments = means.first().map_or(0, Vec::len);
     let needed = STEADY_MIN_WINDOWS.max(n.div_ceil(2));
-    (0..n).take_while(|&start| n - start >= needed).find(|&start| {
-        (0..segments).all(|k| {
-            let overall =
-                means[start..].iter().map(|m| m[k]).sum::<f64>() / (n - start) as f64;
-            (start..n).all(|i| {
-                let d = (means[i][k] - overall).abs();
-                d <= STEADY_FRACTION * overall.abs() || d <= STEADY_SE * ses[i][k]
+    (0..n)
+        .take_while(|&start| n - start >= needed)
+        .find(|&start| {
+            (0..segments).all(|k| {
+                let overall = means[start..].iter().map(|m| m[k]).sum::<f64>() / (n - start) as f64;
+                (start..n).all(|i| {
+                    let d = (means[i][k] - overall).abs();
+                    d <= STEADY_FRACTION * overall.abs() || d <= STEADY_SE * ses[i][k]
+                })
             })
         })
-    })
 }
 
 /// Sums a run's samples in windows of `window_s` of simulated time.
@@ -210,7 +211,9 @@ mod tests {
     fn a_run_that_settles_is_steady_from_its_settling() {
         // Two segments; segment 1 climbs for three windows, then holds within
         // 1 % of 100 (band ±2 %), SE 0.1.
-        let seg1 = [80.0, 90.0, 96.0, 100.0, 101.0, 99.0, 100.5, 99.5, 100.0, 100.0];
+        let seg1 = [
+            80.0, 90.0, 96.0, 100.0, 101.0, 99.0, 100.5, 99.5, 100.0, 100.0,
+        ];
         let means: Vec<Vec<f64>> = seg1.iter().map(|&m| vec![m, 50.0]).collect();
         let ses = vec![vec![0.1, 0.1]; means.len()];
         assert_eq!(steady_from(&means, &ses), Some(3));
@@ -220,7 +223,9 @@ mod tests {
     fn a_run_that_drifts_is_not_steady() {
         // +1.5 % per window: no tail of ≥ 5 windows stays within ±2 % of its
         // mean (the ends lie 3 % away).
-        let means: Vec<Vec<f64>> = (0..10).map(|i| vec![100.0 * (1.0 + 0.015 * i as f64)]).collect();
+        let means: Vec<Vec<f64>> = (0..10)
+            .map(|i| vec![100.0 * (1.0 + 0.015 * i as f64)])
+            .collect();
         let ses = vec![vec![0.1]; 10];
         assert_eq!(steady_from(&means, &ses), None);
         // Unless the windows are that uncertain: 2 SE = 8 N covers the largest

@@ -28,7 +28,7 @@ mod record;
 mod recover;
 mod scene_errors;
 mod seam;
+mod statistics;
 mod stepping;
 mod strands;
-mod statistics;
 mod stress;

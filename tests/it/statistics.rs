@@ -61,11 +61,23 @@ fn a_steady_periodic_force_is_stationary_with_its_closed_form_rms() {
     );
     assert_eq!(s.window_s, [0.5, 1.5]);
     for seg in &s.segments {
-        approx::assert_relative_eq!(seg.link_force_rms_n, 200.0 / 2f64.sqrt(), max_relative = 1e-6);
-        assert!(seg.mean_link_force_se_n < 1e-6, "{}", seg.mean_link_force_se_n);
+        approx::assert_relative_eq!(
+            seg.link_force_rms_n,
+            200.0 / 2f64.sqrt(),
+            max_relative = 1e-6
+        );
+        assert!(
+            seg.mean_link_force_se_n < 1e-6,
+            "{}",
+            seg.mean_link_force_se_n
+        );
         assert!(seg.stationary);
     }
-    approx::assert_relative_eq!(s.sprockets[0].speed_rms_rad_s, 3.0 / 2f64.sqrt(), max_relative = 1e-6);
+    approx::assert_relative_eq!(
+        s.sprockets[0].speed_rms_rad_s,
+        3.0 / 2f64.sqrt(),
+        max_relative = 1e-6
+    );
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }
 
@@ -118,7 +130,10 @@ fn the_paper_drive_summary_bounds_its_fluctuation() {
         assert!(seg.mean_link_force_se_n < seg.link_force_rms_n, "{seg:?}");
     }
     for sp in &s.sprockets {
-        assert!(sp.speed_rms_rad_s <= 0.5 * sp.speed_p2p_rad_s + 1e-12, "{sp:?}");
+        assert!(
+            sp.speed_rms_rad_s <= 0.5 * sp.speed_p2p_rad_s + 1e-12,
+            "{sp:?}"
+        );
     }
 }
 
@@ -129,9 +144,7 @@ mod cli {
     #[test]
     fn run_window_is_checked_and_used() {
         for (window, reason) in [("-1", "> 0"), ("0", "> 0"), ("3", "longer than the run")] {
-            let out = chaindrive(&[
-                "run", "--duration", "0.5", "--window", window, "--quiet",
-            ]);
+            let out = chaindrive(&["run", "--duration", "0.5", "--window", window, "--quiet"]);
             assert!(!out.status.success());
             let err = stderr(&out);
             assert!(err.contains("--window") && err.contains(reason), "{err}");
@@ -160,7 +173,10 @@ mod cli {
         approx::assert_abs_diff_eq!(w[0], 0.2, epsilon = 1e-9);
         approx::assert_abs_diff_eq!(w[1], 0.6, epsilon = 1e-9);
         let table = String::from_utf8(out.stdout).expect("utf8");
-        assert!(table.contains("±se_n") && table.contains("speed_rms_rad_s"), "{table}");
+        assert!(
+            table.contains("±se_n") && table.contains("speed_rms_rad_s"),
+            "{table}"
+        );
     }
 
     #[test]
@@ -206,7 +222,11 @@ mod cli {
             let reference: f64 = r[7].parse().expect("a reference");
             let rel: f64 = r[9].parse().expect("a relative error");
             assert!(value.is_finite() && reference.is_finite(), "{r:?}");
-            approx::assert_abs_diff_eq!(r[4].parse::<f64>().expect("duration"), 0.1, epsilon = 1e-9);
+            approx::assert_abs_diff_eq!(
+                r[4].parse::<f64>().expect("duration"),
+                0.1,
+                epsilon = 1e-9
+            );
             // rel_error is what it says, from the row's own numbers.
             if reference != 0.0 {
                 approx::assert_relative_eq!(

@@ -198,17 +198,28 @@ fn table(c: &Convergence) -> String {
             "{:<30} {:>14.6e} {:>12}",
             r.name,
             r.reference,
-            r.reference_se.map_or("-".to_owned(), |v| format!("{v:.3e}"))
+            r.reference_se
+                .map_or("-".to_owned(), |v| format!("{v:.3e}"))
         );
     }
     let _ = writeln!(
         s,
-        "\n{:<18} {:<10} {:>9} {:>10} {:>11} {:>11}  {:<9}  worst statistic",
+        "\n{:<18} {:<10} {:>9} {:>10} {:>11} {:>11}  {:<9}  not converged",
         "integrator", "setting", "dt_s", "wall_s/s", "worst_rel", "worst_se", "converged"
     );
     for run in &c.runs {
         let compared = c.compare(run);
-        let (rel, name) = worst(c, run);
+        let (rel, _) = worst(c, run);
+        let failing: Vec<&str> = compared
+            .iter()
+            .filter(|x| !x.converged)
+            .map(|x| x.name.as_str())
+            .collect();
+        let failing = match failing.len() {
+            0 => String::new(),
+            1..=3 => failing.join(", "),
+            n => format!("{} and {} more", failing[..3].join(", "), n - 3),
+        };
         let worst_se = compared
             .iter()
             .filter_map(|x| x.se_error())
@@ -229,7 +240,7 @@ fn table(c: &Convergence) -> String {
             } else {
                 "no"
             },
-            if run.outcome.is_err() { "" } else { &name }
+            if run.outcome.is_err() { "" } else { &failing }
         );
     }
     s
