@@ -17,7 +17,8 @@
 //! compared are the rows of [`STATISTICS`], one line each. A statistic is
 //! *converged* when it lies within [`REL_TOLERANCE`] of the reference's or
 //! within [`SE_TOLERANCE`] of the reference's own standard error; the
-//! verdict is the cheapest run (wall time) at which all are.
+//! verdict is the cheapest run (wall time) at which all are; the robust
+//! verdict, the cheapest whose finer settings of the same method all are too.
 //!
 //! # Standard errors
 //!
@@ -108,7 +109,7 @@ pub struct Statistic {
 pub enum Per {
     /// Each segment (`seg{k}_` prefix).
     Segment,
-    /// Each sprocket (`sprocket{j}_` prefix).
+    /// Each sprocket but the driver, whose speed is prescribed (`sprocket{j}_` prefix).
     Sprocket,
     /// The run.
     Run,
@@ -183,17 +184,25 @@ pub const STATISTICS: &[(&str, Per, Extract)] = &[
 pub fn statistics(m: &Measured<'_>) -> Vec<Statistic> {
     let mut out = Vec::new();
     for (name, per, extract) in STATISTICS {
-        let (count, prefix): (usize, &dyn Fn(usize) -> String) = match per {
-            Per::Segment => (m.summary.segments.len(), &|k| format!("seg{}_", k + 1)),
-            Per::Sprocket => (m.summary.sprockets.len(), &|j| {
-                format!("sprocket{}_", j + 1)
-            }),
-            Per::Run => (1, &|_| String::new()),
+        let (indices, prefix): (Vec<usize>, &str) = match per {
+            Per::Segment => ((0..m.summary.segments.len()).collect(), "seg"),
+            Per::Sprocket => (
+                (0..m.summary.sprockets.len())
+                    .filter(|&j| Some(j) != m.driver)
+                    .collect(),
+                "sprocket",
+            ),
+            Per::Run => (vec![0], ""),
         };
-        for i in 0..count {
+        for i in indices {
             let (value, se) = extract(m, i);
+            let name = if prefix.is_empty() {
+                (*name).to_owned()
+            } else {
+                format!("{prefix}{}_{name}", i + 1)
+            };
             out.push(Statistic {
-                name: format!("{}{name}", prefix(i)),
+                name,
                 value,
                 se: se.filter(|s| s.is_finite()),
             });
@@ -283,6 +292,28 @@ impl Convergence {
         self.runs
             .iter()
             .filter(|r| self.converged(r))
+            .min_by(|a, b| a.wall_s.total_cmp(&b.wall_s))
+    }
+
+    /// The cheapest converged run whose finer settings (smaller step or
+    /// tolerance, same method) are all converged too: a converged coarse
+    /// run between failing finer ones agrees by chance, not by convergence.
+    pub fn robust_verdict(&self) -> Option<&Run> {
+        let finer = |a: &Run, b: &Run| match (a.setting, b.setting) {
+            (Setting::Step(x), Setting::Step(y))
+            | (Setting::Tolerance(x), Setting::Tolerance(y)) => x < y,
+            _ => false,
+        };
+        self.runs
+            .iter()
+            .filter(|r| {
+                self.converged(r)
+                    && self
+                        .runs
+                        .iter()
+                        .filter(|o| o.integrator == r.integrator && finer(o, r))
+                        .all(|o| self.converged(o))
+            })
             .min_by(|a, b| a.wall_s.total_cmp(&b.wall_s))
     }
 }
@@ -507,5 +538,32 @@ mod tests {
         assert_eq!(compare_one(&z, Some(0.0)).rel_error, 0.0);
         assert_eq!(compare_one(&z, Some(-1.0)).rel_error, f64::NEG_INFINITY);
         assert!(!compare_one(&z, None).converged);
+    }
+
+    #[test]
+    fn the_robust_verdict_needs_every_finer_setting_converged() {
+        // Reference 100 ± 1. Steps 10, 20, 40 µs give 100.5 (converged),
+        // 103 (not), 100.2 (converged by chance): the verdict is the
+        // cheapest, 40 µs; the robust verdict 10 µs.
+        let run = |dt: f64, value: f64, wall_s: f64| Run {
+            integrator: Integrator::SymplecticEuler,
+            setting: Setting::Step(dt),
+            dt_s: dt,
+            wall_s,
+            duration_s: 1.0,
+            outcome: Ok(vec![stat("a", value, None)]),
+        };
+        let mut reference = run(1e-6, 100.0, 10.0);
+        reference.outcome = Ok(vec![stat("a", 100.0, Some(1.0))]);
+        let c = Convergence {
+            reference,
+            runs: vec![
+                run(1e-5, 100.5, 1.0),
+                run(2e-5, 103.0, 0.5),
+                run(4e-5, 100.2, 0.25),
+            ],
+        };
+        assert_eq!(c.verdict().map(|r| r.dt_s), Some(4e-5));
+        assert_eq!(c.robust_verdict().map(|r| r.dt_s), Some(1e-5));
     }
 }

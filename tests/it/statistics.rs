@@ -209,9 +209,14 @@ mod cli {
             "integrator,setting,dt_s,wall_s,duration_s,statistic,value,reference,reference_se,rel_error"
         );
         let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.expect("row")).collect();
-        // The paper's drive: 4 segments × 3 statistics, 4 sprockets × 1, 2 for
-        // the run = 18 per run; the reference and 2 settings.
-        assert_eq!(rows.len(), 3 * 18, "{text}");
+        // The paper's drive: 4 segments × 3 statistics, the 3 sprockets
+        // besides the driver × 1, 2 for the run = 17 per run; the reference
+        // and 2 settings.
+        assert_eq!(rows.len(), 3 * 17, "{text}");
+        assert!(
+            !text.contains("sprocket1_"),
+            "the driver's speed is prescribed"
+        );
         let settings: std::collections::BTreeSet<&str> = rows.iter().map(|r| &r[1]).collect();
         assert_eq!(
             settings.into_iter().collect::<Vec<_>>(),

@@ -247,7 +247,16 @@ fn table(c: &Convergence) -> String {
 }
 
 fn verdict(c: &Convergence) -> String {
-    match c.verdict() {
+    let robust = match c.robust_verdict() {
+        Some(run) => format!(
+            "\nconverged with every finer setting of its method: {} at {}, {:.2} s wall per simulated second",
+            run.integrator.name(),
+            run.setting.label(),
+            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE)
+        ),
+        None => "\nno setting is converged with every finer setting of its method".to_owned(),
+    };
+    let first = match c.verdict() {
         Some(run) => format!(
             "verdict: {} at {} is the cheapest setting with every statistic within {:.0} % of the reference or {:.0} standard errors: {:.2} s wall per simulated second",
             run.integrator.name(),
@@ -261,7 +270,8 @@ fn verdict(c: &Convergence) -> String {
             100.0 * REL_TOLERANCE,
             SE_TOLERANCE
         ),
-    }
+    };
+    first + &robust
 }
 
 fn plot(c: &Convergence) -> Plot {
