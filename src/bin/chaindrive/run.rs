@@ -55,7 +55,7 @@ pub struct RunArgs {
     record_channels: String,
     /// Statistics window: the last S seconds of the run (default 1 s, or the
     /// whole run if shorter). Longer than --duration or not > 0 is an error.
-    #[arg(long, value_name = "S")]
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
     window: Option<f64>,
     /// Sampling rate of every sampled output, Hz.
     #[arg(long, default_value_t = 1000.0)]
