@@ -251,6 +251,25 @@ impl Compared {
         let (v, se) = (self.value?, self.reference_se?);
         (se > 0.0).then(|| (v - self.reference).abs() / se)
     }
+
+    /// |value − reference| over the larger of the two allowances,
+    /// [`REL_TOLERANCE`] |reference| and [`SE_TOLERANCE`] × its standard
+    /// error: converged exactly when at most 1 (∞ for a failed run).
+    pub fn normalized_error(&self) -> f64 {
+        let Some(v) = self.value else {
+            return f64::INFINITY;
+        };
+        let d = (v - self.reference).abs();
+        let allowed = (REL_TOLERANCE * self.reference.abs())
+            .max(SE_TOLERANCE * self.reference_se.unwrap_or(0.0));
+        if allowed > 0.0 {
+            d / allowed
+        } else if d == 0.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        }
+    }
 }
 
 /// The study's result.
@@ -530,6 +549,9 @@ mod tests {
         assert!(!c.converged);
         assert!((c.rel_error - 0.041).abs() < 1e-12);
         assert!((c.se_error().expect("se") - 2.05).abs() < 1e-12);
+        // Allowance max(1 % × 100, 2 × 2) = 4: 4.1 / 4.
+        assert!((c.normalized_error() - 1.025).abs() < 1e-12);
+        assert!(compare_one(&r, Some(103.9)).normalized_error() <= 1.0);
         // No SE: only 1 %.
         let r = stat("b", 100.0, None);
         assert!(!compare_one(&r, Some(101.5)).converged);
