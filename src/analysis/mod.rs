@@ -18,12 +18,16 @@ pub mod figures;
 #[cfg(feature = "record")]
 pub mod recorded;
 pub mod spectrum;
+pub mod stats;
 pub mod study;
 mod summary;
 pub mod theory;
 mod warnings;
 
-pub use summary::{RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs};
+pub(crate) use summary::segment_series;
+pub use summary::{
+    DEFAULT_WINDOW_S, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
+};
 pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
 
 use crate::model::DriveModel;

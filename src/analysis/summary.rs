@@ -1,7 +1,12 @@
 //! The run summary: the public contract of `chaindrive run --summary`
 //! (`contracts/run-summary.schema.json`). Field names stay; more may be added.
 //!
-//! - `window_s`: the last second of the run (force statistics, speeds, torques).
+//! - `window_s`: the last [`DEFAULT_WINDOW_S`] of the run, or the length
+//!   chosen ([`RunSummary::of_run_over`], `run --window`), the whole run when
+//!   it is shorter (force statistics, speeds, torques).
+//! - `mean_link_force_se_n`, `link_force_rms_n`, `stationary`, `speed_rms_rad_s`:
+//!   the estimators of [`super::stats`] over the window's samples (batch
+//!   means with 20 batches; first against last third at 3 standard errors).
 //! - `spectrum_window_s`: from the driver's ramp end + 0.5 s to the end (spectra);
 //!   the whole run if that is empty.
 //! - `mean_torque_n_m`: mean moment of the chain's contact forces on the
@@ -18,11 +23,19 @@
 use serde::{Deserialize, Serialize};
 
 use super::spectrum::main_peak;
+use super::stats as estimators;
 use super::theory::moving_string_frequency_hz;
 use super::{SampleRow, Signals};
 use crate::model::DriveModel;
 use crate::scene::Scene;
 use crate::sim::{RunOutcome, Simulation};
+
+/// Length of the statistics window unless chosen, s.
+pub const DEFAULT_WINDOW_S: f64 = 1.0;
+
+fn stationary_by_default() -> bool {
+    true
+}
 
 /// A free strand as laid out.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,6 +63,16 @@ pub struct SegmentSummary {
     pub mean_link_force_n: f64,
     /// Peak-to-peak of the segment's average link force, N.
     pub link_force_p2p_n: f64,
+    /// Standard error of `mean_link_force_n` by batch means (20 batches), N.
+    #[serde(default)]
+    pub mean_link_force_se_n: f64,
+    /// RMS of the segment's average link force about its mean, N.
+    #[serde(default)]
+    pub link_force_rms_n: f64,
+    /// Whether the first and last thirds of the window agree within three
+    /// combined standard errors (see [`super::stats`]).
+    #[serde(default = "stationary_by_default")]
+    pub stationary: bool,
     /// Main peak of the transverse displacement's spectrum in 1–50 Hz, Hz (0 if none).
     pub transverse_peak_hz: f64,
     /// Moving-string estimate of the first transverse eigenfrequency, Hz.
@@ -65,6 +88,9 @@ pub struct SprocketSummary {
     pub mean_speed_rad_s: f64,
     /// Peak-to-peak angular speed, rad/s.
     pub speed_p2p_rad_s: f64,
+    /// RMS of the angular speed about its mean, rad/s.
+    #[serde(default)]
+    pub speed_rms_rad_s: f64,
     /// Mean chain moment on the sprocket, N·m.
     pub mean_torque_n_m: f64,
     /// Largest chain force on the bearing, N.
@@ -182,6 +208,14 @@ fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
     }
 }
 
+/// Segment `k`'s average link force over `rows`, the samples with a free link.
+pub(crate) fn segment_series(rows: &[&SampleRow], k: usize) -> Vec<f64> {
+    rows.iter()
+        .filter_map(|r| r.segment_force_n[k])
+        .filter(|v| v.is_finite())
+        .collect()
+}
+
 impl RunSummary {
     /// The summary of a run of `sim` that ended with `outcome`, from the
     /// signals sampled along it; `setup_wall_s` is the wall time of
@@ -192,7 +226,19 @@ impl RunSummary {
         signals: &Signals,
         setup_wall_s: f64,
     ) -> Self {
-        Self::compute(
+        Self::of_run_over(sim, outcome, signals, setup_wall_s, DEFAULT_WINDOW_S)
+    }
+
+    /// [`RunSummary::of_run`] with a statistics window of the last
+    /// `window_s` (the whole run if it is shorter).
+    pub fn of_run_over(
+        sim: &Simulation,
+        outcome: &RunOutcome,
+        signals: &Signals,
+        setup_wall_s: f64,
+        window_s: f64,
+    ) -> Self {
+        Self::compute_over(
             &SummaryInputs {
                 scene: &sim.scene,
                 model: &sim.model,
@@ -204,16 +250,30 @@ impl RunSummary {
                 max_penetration_m: outcome.max_penetration_m,
             },
             signals,
+            window_s,
         )
     }
 
-    /// Computes the summary of a run from its signals.
+    /// Computes the summary of a run from its signals, statistics over the
+    /// last [`DEFAULT_WINDOW_S`].
     pub fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
+        Self::compute_over(inputs, signals, DEFAULT_WINDOW_S)
+    }
+
+    /// Computes the summary of a run from its signals, statistics over the
+    /// last `window_s` (the whole run if it is shorter; a window that is not
+    /// a positive number is the default).
+    pub fn compute_over(inputs: &SummaryInputs<'_>, signals: &Signals, window_s: f64) -> Self {
         let scene = inputs.scene;
         let model = inputs.model;
         let rows = &signals.rows;
         let t_end = rows.last().map_or(0.0, |r| r.t_s);
-        let window = [(t_end - 1.0).max(0.0), t_end];
+        let length = if window_s.is_finite() && window_s > 0.0 {
+            window_s
+        } else {
+            DEFAULT_WINDOW_S
+        };
+        let window = [(t_end - length).max(0.0), t_end];
         let ramp = scene
             .sprockets
             .iter()
@@ -269,6 +329,7 @@ impl RunSummary {
             .enumerate()
             .map(|(k, strand)| {
                 let (mean, lo, hi) = stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
+                let series = segment_series(&in_window, k);
                 let transverse: Vec<f64> =
                     spectrum_rows.iter().map(|r| r.transverse_m[k]).collect();
                 let peak = main_peak(&transverse, signals.rate_hz, 1.0, 50.0).map_or(0.0, |p| p.0);
@@ -276,6 +337,9 @@ impl RunSummary {
                     segment: k + 1,
                     mean_link_force_n: mean,
                     link_force_p2p_n: hi - lo,
+                    mean_link_force_se_n: estimators::standard_error(&series),
+                    link_force_rms_n: estimators::rms_about_mean(&series),
+                    stationary: estimators::stationarity(&series).stationary,
                     transverse_peak_hz: peak,
                     string_f1_hz: moving_string_frequency_hz(
                         1,
@@ -290,12 +354,18 @@ impl RunSummary {
         let sprockets = (0..model.sprocket_count())
             .map(|s| {
                 let (mean_speed, lo, hi) = stats(in_window.iter().map(|r| r.omega_rad_s[s]));
+                let speeds: Vec<f64> = in_window
+                    .iter()
+                    .map(|r| r.omega_rad_s[s])
+                    .filter(|v| v.is_finite())
+                    .collect();
                 let (torque, _, _) = stats(in_window.iter().map(|r| r.chain_torque_n_m[s]));
                 let (_, _, bearing) = stats(in_window.iter().map(|r| r.bearing_max_n[s]));
                 SprocketSummary {
                     sprocket: s + 1,
                     mean_speed_rad_s: mean_speed,
                     speed_p2p_rad_s: hi - lo,
+                    speed_rms_rad_s: estimators::rms_about_mean(&speeds),
                     mean_torque_n_m: torque,
                     max_bearing_force_n: bearing,
                 }

@@ -5,7 +5,8 @@
 //! They judge the summary and the statistics window's samples only: no
 //! warning stops a run (the blow-up detectors do, [`crate::sim`]).
 
-use super::summary::Judged;
+use super::stats::{STATIONARITY_SE, stationarity as test_stationarity};
+use super::summary::{Judged, segment_series};
 use crate::scene::Role;
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
@@ -27,6 +28,7 @@ pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {
         energy_balance(j),
         compression(j),
         running_tension(j),
+        stationarity(j),
     ]
     .into_iter()
     .flatten()
@@ -125,6 +127,36 @@ fn running_tension(j: &Judged<'_>) -> Option<String> {
             "running tension: the slackest strand's mean force is {slack:.0} N, {:.2} times static + m v² = {:.0} + {centrifugal:.0} N; the chain's fixed length makes every strand carry the dynamic stretch of the others (polygonal action, impacts on engagement): see docs/model.md, \"Running tension\"",
             slack / expected,
             j.summary.static_tension_n
+        )
+    })
+}
+
+/// A segment whose mean link force is not steady over the window (first
+/// against last third, [`super::stats`]): its mean, and everything derived
+/// from it, depends on when the run stops.
+fn stationarity(j: &Judged<'_>) -> Option<String> {
+    let drifting: Vec<String> = j
+        .summary
+        .segments
+        .iter()
+        .filter(|s| !s.stationary)
+        .map(|s| {
+            let t = test_stationarity(&segment_series(j.window_rows, s.segment - 1));
+            format!(
+                "segment {} ({:.0} N in the first third, {:.0} N in the last, {:.1} standard errors apart)",
+                s.segment,
+                t.first_mean,
+                t.last_mean,
+                t.z()
+            )
+        })
+        .collect();
+    (!drifting.is_empty()).then(|| {
+        format!(
+            "not stationary: the mean link force drifts over the window {:.2}–{:.2} s in {} (allowed: {STATIONARITY_SE:.0}); the means depend on when the run stops and their standard errors understate the uncertainty: run longer, or choose a later or longer window (--window)",
+            j.summary.window_s[0],
+            j.summary.window_s[1],
+            drifting.join(", ")
         )
     })
 }

@@ -5,6 +5,8 @@
 //!   the paper reports, compared with it and with the analytical references);
 //! - [`stress`]: the stability matrix of hard cases × integrators × steps;
 //! - [`work_precision`]: wall time against error for every integrator;
+//! - [`convergence`]: the summary statistics of every integrator over a
+//!   ladder of steps against a fine reference;
 //! - [`soak`]: a long run reported window by window, to show there is no drift;
 //! - [`fuzz`]: one mutated scene file through parsing, layout and a short run.
 //!
@@ -12,6 +14,7 @@
 //! [`crate::analysis`]'s business; writing files and printing tables is the
 //! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
 
+pub mod convergence;
 pub mod fuzz;
 pub mod reproduce;
 pub mod soak;

@@ -30,6 +30,7 @@ mod recover;
 mod rerun_view;
 mod scene_errors;
 mod seam;
+mod statistics;
 mod stepping;
 mod strands;
 mod stress;

@@ -6,6 +6,9 @@
 //! - `fuzz`: thousands of mutated scene files through parse, layout,
 //!   equilibrium and a short run (the property test runs a few hundred).
 //! - `stress`: the stress matrix (`super::stress`).
+//! - `convergence`: the summary statistics against a fine reference
+//!   (`super::convergence`).
+//! - `work-precision`: wall time against trajectory error (`super::work_precision`).
 //!
 //! The studies themselves live in `chaindrive::studies`; this file parses the
 //! arguments and prints.
@@ -15,7 +18,9 @@ use std::process::ExitCode;
 use chaindrive::scene::{L60MC_TOML, Overrides, ProfileKind};
 use chaindrive::sim::Simulation;
 use chaindrive::studies::fuzz::{FuzzOutcome, run_case};
-use chaindrive::studies::soak::Soak;
+use chaindrive::studies::soak::{
+    STEADY_FRACTION, STEADY_MIN_WINDOWS, STEADY_SE, Soak, steady_from,
+};
 
 /// Arguments of `chaindrive bench`.
 #[derive(clap::Args)]
@@ -41,6 +46,9 @@ enum Study {
         #[arg(long)]
         dt: Option<f64>,
     },
+    /// The summary statistics of every integrator over a ladder of steps
+    /// against a fine reference: table, CSV, figure, verdict.
+    Convergence(crate::convergence::ConvergenceArgs),
     /// Wall time against error for every integrator: table, CSV, figure.
     WorkPrecision(crate::work_precision::WorkPrecisionArgs),
     /// Mutated scene files: no panic, every rejection explained, no NaN.
@@ -66,6 +74,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             dt,
         } => soak(duration, window, profile, dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
+        Study::Convergence(args) => crate::convergence::convergence(args),
         Study::WorkPrecision(args) => crate::work_precision::work_precision(args),
         Study::Stress(args) => super::stress::stress(args),
     }
@@ -119,9 +128,10 @@ fn soak(
         print!("  ratio{}_err_ppm", j + 1);
     }
     for k in 0..sim.model.segments.len() {
-        print!("  seg{}_mean_n", k + 1);
+        print!("  seg{}_mean_n  ±se_n", k + 1);
     }
     println!("  max_penetration_um");
+    let (means, ses) = obs.means_and_ses();
     for (i, w) in obs.windows.iter().enumerate() {
         let omega = w.mean_omega_rad_s();
         print!(
@@ -139,10 +149,23 @@ fn soak(
             };
             print!("  {err:>15.1}");
         }
-        for f in w.mean_force_n() {
-            print!("  {f:>11.0}");
+        for (f, se) in means[i].iter().zip(&ses[i]) {
+            print!("  {f:>11.0}  {se:>5.0}");
         }
         println!("  {:>18.1}", w.max_penetration_m * 1e6);
+    }
+    match steady_from(&means, &ses) {
+        Some(k) => println!(
+            "steady from {:.0} s: from there every window's segment means lie within ±{:.0} % of their overall mean or within {:.0} standard errors",
+            k as f64 * window,
+            100.0 * STEADY_FRACTION,
+            STEADY_SE
+        ),
+        None => println!(
+            "not steady: no window start leaves at least half of the run (and {STEADY_MIN_WINDOWS} windows) with every window's segment means within ±{:.0} % of their overall mean or within {:.0} standard errors",
+            100.0 * STEADY_FRACTION,
+            STEADY_SE
+        ),
     }
     Ok(ExitCode::SUCCESS)
 }

@@ -3,6 +3,7 @@
 mod analyze;
 mod bench;
 mod check;
+mod convergence;
 mod outputs;
 mod profile;
 mod recover;

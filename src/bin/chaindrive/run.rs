@@ -9,7 +9,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use chaindrive::analysis::{RunSummary, Signals};
+use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
 use chaindrive::sim::{Observer, Sample, SampleRate, Simulation, StageTimes, StepLimits};
@@ -53,6 +53,10 @@ pub struct RunArgs {
     /// outlines, links, contacts, sprockets, segments, or all.
     #[arg(long, value_name = "LIST", default_value = "all")]
     record_channels: String,
+    /// Statistics window: the last S seconds of the run (default 1 s, or the
+    /// whole run if shorter). Longer than --duration or not > 0 is an error.
+    #[arg(long, value_name = "S", allow_negative_numbers = true)]
+    window: Option<f64>,
     /// Sampling rate of every sampled output, Hz.
     #[arg(long, default_value_t = 1000.0)]
     rate: f64,
@@ -160,6 +164,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
+    let window_s = statistics_window(args.window, scene.solver().duration_s)?;
     let sampling = SampleRate::new(args.rate, scene.solver().dt_s)
         .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
     // Outputs are opened before anything is simulated: an unwritable path fails now.
@@ -180,7 +185,17 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .as_ref()
         .map(|p| start_recording(p, &args, &scene, sampling))
         .transpose()?;
-    let result = simulate(&args, scene, sampling, summary_file, csv, recorder);
+    let result = simulate(
+        &args,
+        scene,
+        Sampling {
+            rate: sampling,
+            window_s,
+        },
+        summary_file,
+        csv,
+        recorder,
+    );
     if result.is_err()
         && let Some(p) = &args.summary
     {
@@ -220,10 +235,33 @@ fn start_recording(
         .with_context(|| format!("cannot write the recording to {}", path.display()))
 }
 
+/// The statistics window's length: `--window`, checked against the run's
+/// duration, or the default (clipped to the run).
+fn statistics_window(window: Option<f64>, duration_s: f64) -> anyhow::Result<f64> {
+    let Some(w) = window else {
+        return Ok(DEFAULT_WINDOW_S.min(duration_s));
+    };
+    anyhow::ensure!(
+        w.is_finite() && w > 0.0,
+        "--window {w}: the statistics window must be a number of seconds > 0"
+    );
+    anyhow::ensure!(
+        w <= duration_s * (1.0 + 1e-12),
+        "--window {w}: the statistics window must not be longer than the run (solver.duration_s = {duration_s} s)"
+    );
+    Ok(w.min(duration_s))
+}
+
+/// How the run is sampled and which window its statistics cover.
+struct Sampling {
+    rate: SampleRate,
+    window_s: f64,
+}
+
 fn simulate(
     args: &RunArgs,
     scene: chaindrive::scene::Scene,
-    sampling: SampleRate,
+    sampling: Sampling,
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<csv::Writer<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
@@ -277,14 +315,18 @@ fn simulate(
         p
     });
     let mut observer = CliObserver {
-        signals: Signals::new(&sim.model, sampling.rate_hz, (duration - 1.0).max(0.0)),
+        signals: Signals::new(
+            &sim.model,
+            sampling.rate.rate_hz,
+            (duration - sampling.window_s).max(0.0),
+        ),
         csv,
         csv_error: None,
         progress,
         recorder,
     };
     sim.timings = args.timings;
-    let outcome = sim.run(duration, sampling.every, &mut observer, Some(&stop));
+    let outcome = sim.run(duration, sampling.rate.every, &mut observer, Some(&stop));
     if let Some(p) = &observer.progress {
         p.finish_and_clear();
     }
@@ -304,7 +346,13 @@ fn simulate(
         r.finish(end).context("writing the recording failed")?;
     }
     let outcome = outcome?;
-    let summary = RunSummary::of_run(&sim, &outcome, &observer.signals, setup_wall_s);
+    let summary = RunSummary::of_run_over(
+        &sim,
+        &outcome,
+        &observer.signals,
+        setup_wall_s,
+        sampling.window_s,
+    );
     if let Some(f) = summary_file.as_mut() {
         serde_json::to_writer_pretty(&mut *f, &summary)?;
         writeln!(f)?;
@@ -375,24 +423,32 @@ fn print_summary(s: &RunSummary) {
         s.link_force_min_n,
         s.link_force_max_n
     );
-    println!("segment  length_m  mean_force_n  p2p_n  transverse_peak_hz  string_f1_hz");
+    println!(
+        "segment  length_m  mean_force_n  ±se_n  rms_n  p2p_n  stationary  transverse_peak_hz  string_f1_hz"
+    );
     for (seg, st) in s.segments.iter().zip(&s.strands) {
         println!(
-            "{:>7}  {:>8.4}  {:>12.0}  {:>5.0}  {:>18.2}  {:>12.2}",
+            "{:>7}  {:>8.4}  {:>12.0}  {:>5.0}  {:>5.0}  {:>5.0}  {:>10}  {:>18.2}  {:>12.2}",
             seg.segment,
             st.length_m,
             seg.mean_link_force_n,
+            seg.mean_link_force_se_n,
+            seg.link_force_rms_n,
             seg.link_force_p2p_n,
+            if seg.stationary { "yes" } else { "NO" },
             seg.transverse_peak_hz,
             seg.string_f1_hz
         );
     }
-    println!("sprocket  mean_speed_rad_s  speed_p2p_rad_s  mean_torque_n_m  max_bearing_force_n");
+    println!(
+        "sprocket  mean_speed_rad_s  speed_rms_rad_s  speed_p2p_rad_s  mean_torque_n_m  max_bearing_force_n"
+    );
     for sp in &s.sprockets {
         println!(
-            "{:>8}  {:>16.4}  {:>15.4}  {:>15.1}  {:>19.0}",
+            "{:>8}  {:>16.4}  {:>15.4}  {:>15.4}  {:>15.1}  {:>19.0}",
             sp.sprocket,
             sp.mean_speed_rad_s,
+            sp.speed_rms_rad_s,
             sp.speed_p2p_rad_s,
             sp.mean_torque_n_m,
             sp.max_bearing_force_n

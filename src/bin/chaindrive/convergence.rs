@@ -1,0 +1,342 @@
+//! `chaindrive bench convergence`: the summary statistics of every
+//! integrator over a ladder of steps against a fine reference (see
+//! `chaindrive::studies::convergence` for the measure).
+
+use std::io::Write as _;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use chaindrive::analysis::figures::{FigureError, Mark, Plot, Trace, save};
+use chaindrive::studies::convergence::{
+    Convergence, REL_TOLERANCE, Run, SE_TOLERANCE, Settings, study,
+};
+use chaindrive::studies::work_precision::Setting;
+
+/// Arguments of `chaindrive bench convergence`.
+#[derive(clap::Args)]
+pub struct ConvergenceArgs {
+    /// Scene file (TOML). Default: the paper's drive.
+    scene: Option<PathBuf>,
+    /// Tooth profile of every sprocket.
+    #[arg(long, value_enum)]
+    profile: Option<chaindrive::scene::ProfileKind>,
+    /// Simulated time of each run after the warm-up, s.
+    #[arg(long, default_value_t = 10.0)]
+    duration: f64,
+    /// Warm-up with the scene's own settings before every run, s.
+    #[arg(long, default_value_t = 1.2)]
+    warmup: f64,
+    /// Output directory: convergence.csv, convergence.png/.svg.
+    #[arg(long, default_value = "convergence")]
+    out: PathBuf,
+    /// Runs in parallel.
+    #[arg(long, default_value_t = 2)]
+    jobs: usize,
+    /// Two settings of symplectic Euler only, against a 5 µs reference (for tests).
+    #[arg(long)]
+    quick: bool,
+}
+
+pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
+    let overrides = chaindrive::scene::Overrides {
+        profile: args.profile,
+        ..Default::default()
+    };
+    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
+        Ok(s) => s,
+        Err(lines) => {
+            eprintln!("{lines}");
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    anyhow::ensure!(
+        args.duration.is_finite() && args.duration > 0.0,
+        "--duration must be a finite number > 0, got {}",
+        args.duration
+    );
+    anyhow::ensure!(
+        args.warmup.is_finite() && args.warmup >= 0.0,
+        "--warmup must be a finite number >= 0, got {}",
+        args.warmup
+    );
+    anyhow::ensure!(args.jobs >= 1, "--jobs must be at least 1");
+    let mut settings = Settings::default_for(args.duration);
+    settings.warmup_s = args.warmup;
+    settings.threads = args.jobs;
+    if args.quick {
+        settings.methods = vec![(
+            chaindrive::scene::Integrator::SymplecticEuler,
+            vec![Setting::Step(1e-5), Setting::Step(2e-5)],
+        )];
+        settings.reference = (
+            chaindrive::scene::Integrator::SymplecticEuler,
+            Setting::Step(5e-6),
+        );
+    }
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+    eprintln!(
+        "convergence on {} ({} profile): warm-up {} s, {} s per run, reference {} {}",
+        scene.name(),
+        scene.profile_name(),
+        settings.warmup_s,
+        settings.duration_s,
+        settings.reference.0.name(),
+        settings.reference.1.label()
+    );
+    let result = study(&scene, &settings, |run| {
+        eprintln!(
+            "  {:<18} {:<10} {:>8.1} s wall{}",
+            run.integrator.name(),
+            run.setting.label(),
+            run.wall_s,
+            run.outcome
+                .as_ref()
+                .err()
+                .map_or(String::new(), |e| format!("  ({e})"))
+        );
+    })
+    .context("convergence study")?;
+    let csv = args.out.join("convergence.csv");
+    std::fs::write(&csv, to_csv(&result)?)
+        .with_context(|| format!("cannot write {}", csv.display()))?;
+    // Every run failed: no points to draw, the CSV and the table still say why.
+    let figures = match save(&plot(&result), &args.out, "convergence") {
+        Ok(paths) => paths,
+        Err(FigureError::Empty(_)) => Vec::new(),
+        Err(e) => anyhow::bail!("figure: {e}"),
+    };
+    let mut out = std::io::stdout().lock();
+    write!(out, "{}", table(&result))?;
+    writeln!(out, "{}", verdict(&result))?;
+    writeln!(
+        out,
+        "wrote {}{}{}",
+        csv.display(),
+        if figures.is_empty() { "" } else { " and " },
+        figures
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    )?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The columns of `convergence.csv`.
+pub const CSV_HEADER: [&str; 10] = [
+    "integrator",
+    "setting",
+    "dt_s",
+    "wall_s",
+    "duration_s",
+    "statistic",
+    "value",
+    "reference",
+    "reference_se",
+    "rel_error",
+];
+
+/// A number as the file has it: Rust's shortest round-trip, `inf`/`-inf`,
+/// empty when absent.
+fn num(x: Option<f64>) -> String {
+    match x {
+        Some(v) if v.is_finite() => v.to_string(),
+        Some(v) if v.is_infinite() => if v > 0.0 { "inf" } else { "-inf" }.to_owned(),
+        _ => String::new(),
+    }
+}
+
+fn to_csv(c: &Convergence) -> anyhow::Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(CSV_HEADER)?;
+    for run in std::iter::once(&c.reference).chain(&c.runs) {
+        for s in c.compare(run) {
+            w.write_record([
+                run.integrator.name().to_owned(),
+                run.setting.label(),
+                num(Some(run.dt_s)),
+                num(Some(run.wall_s)),
+                num(Some(run.duration_s)),
+                s.name.clone(),
+                num(s.value),
+                num(Some(s.reference)),
+                num(s.reference_se),
+                num(Some(s.rel_error)),
+            ])?;
+        }
+    }
+    Ok(w.into_inner()?)
+}
+
+/// The worst statistic of a run: its largest |relative error| and its
+/// largest normalized error (converged when ≤ 1).
+fn worst(c: &Convergence, run: &Run) -> (f64, f64) {
+    c.compare(run)
+        .iter()
+        .fold((0.0f64, 0.0f64), |(rel, norm), s| {
+            (rel.max(s.rel_error.abs()), norm.max(s.normalized_error()))
+        })
+}
+
+fn table(c: &Convergence) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::new();
+    let reference = c.compare(&c.reference);
+    let _ = writeln!(
+        s,
+        "reference: {} {}, {:.1} s wall for {} s",
+        c.reference.integrator.name(),
+        c.reference.setting.label(),
+        c.reference.wall_s,
+        c.reference.duration_s
+    );
+    let _ = writeln!(s, "{:<30} {:>14} {:>12}", "statistic", "reference", "±se");
+    for r in &reference {
+        let _ = writeln!(
+            s,
+            "{:<30} {:>14.6e} {:>12}",
+            r.name,
+            r.reference,
+            r.reference_se
+                .map_or("-".to_owned(), |v| format!("{v:.3e}"))
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n{:<18} {:<10} {:>9} {:>10} {:>11} {:>11} {:>10}  {:<9}  not converged",
+        "integrator",
+        "setting",
+        "dt_s",
+        "wall_s/s",
+        "worst_rel",
+        "worst_se",
+        "worst_norm",
+        "converged"
+    );
+    for run in &c.runs {
+        let compared = c.compare(run);
+        let (rel, norm) = worst(c, run);
+        let failing: Vec<&str> = compared
+            .iter()
+            .filter(|x| !x.converged)
+            .map(|x| x.name.as_str())
+            .collect();
+        let failing = match failing.len() {
+            0 => String::new(),
+            1..=3 => failing.join(", "),
+            n => format!("{} and {} more", failing[..3].join(", "), n - 3),
+        };
+        let worst_se = compared
+            .iter()
+            .filter_map(|x| x.se_error())
+            .fold(0.0, f64::max);
+        let _ = writeln!(
+            s,
+            "{:<18} {:<10} {:>9.2e} {:>10.2} {:>11.2e} {:>11.2} {:>10.2}  {:<9}  {}",
+            run.integrator.name(),
+            run.setting.label(),
+            run.dt_s,
+            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE),
+            rel,
+            worst_se,
+            norm,
+            if run.outcome.is_err() {
+                "failed"
+            } else if c.converged(run) {
+                "yes"
+            } else {
+                "no"
+            },
+            if run.outcome.is_err() { "" } else { &failing }
+        );
+    }
+    s
+}
+
+fn verdict(c: &Convergence) -> String {
+    let robust = match c.robust_verdict() {
+        Some(run) => format!(
+            "\nconverged with every finer setting of its method: {} at {}, {:.2} s wall per simulated second",
+            run.integrator.name(),
+            run.setting.label(),
+            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE)
+        ),
+        None => "\nno setting is converged with every finer setting of its method".to_owned(),
+    };
+    let first = match c.verdict() {
+        Some(run) => format!(
+            "verdict: {} at {} is the cheapest setting with every statistic within {:.0} % of the reference or {:.0} standard errors: {:.2} s wall per simulated second",
+            run.integrator.name(),
+            run.setting.label(),
+            100.0 * REL_TOLERANCE,
+            SE_TOLERANCE,
+            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE)
+        ),
+        None => format!(
+            "verdict: no setting has every statistic within {:.0} % of the reference or {:.0} standard errors",
+            100.0 * REL_TOLERANCE,
+            SE_TOLERANCE
+        ),
+    };
+    first + &robust
+}
+
+fn plot(c: &Convergence) -> Plot {
+    let mut methods: Vec<_> = c.runs.iter().map(|r| r.integrator).collect();
+    methods.dedup();
+    let mut traces: Vec<Trace> = methods
+        .iter()
+        .enumerate()
+        .map(|(i, m)| Trace {
+            label: m.name().to_owned(),
+            points: c
+                .runs
+                .iter()
+                .filter(|r| r.integrator == *m && r.outcome.is_ok())
+                .map(|r| {
+                    let (_, norm) = worst(c, r);
+                    (
+                        (r.wall_s / r.duration_s.max(f64::MIN_POSITIVE)).log10(),
+                        norm.max(1e-6).log10(),
+                    )
+                })
+                .collect(),
+            mark: Mark::Line,
+            color: i,
+        })
+        .collect();
+    let walls: Vec<f64> = c
+        .runs
+        .iter()
+        .filter(|r| r.outcome.is_ok() && r.duration_s > 0.0)
+        .map(|r| (r.wall_s / r.duration_s).log10())
+        .filter(|v| v.is_finite())
+        .collect();
+    if let (Some(lo), Some(hi)) = (
+        walls.iter().copied().reduce(f64::min),
+        walls.iter().copied().reduce(f64::max),
+    ) {
+        traces.push(Trace {
+            label: "converged below".to_owned(),
+            points: vec![(lo, 0.0), (hi, 0.0)],
+            mark: Mark::Line,
+            color: 5,
+        });
+    }
+    Plot {
+        title: format!(
+            "Convergence of the summary statistics, {} s per run",
+            c.reference.duration_s
+        ),
+        x_label: "log10 wall time per simulated second (s)".to_owned(),
+        y_label: format!(
+            "log10 worst error / max({:.0} % of reference, {:.0} SE)",
+            100.0 * REL_TOLERANCE,
+            SE_TOLERANCE
+        ),
+        traces,
+        notes: Vec::new(),
+    }
+}
