@@ -13,6 +13,10 @@ use super::{Chain, Contact, Integrator};
 /// half keeps a margin below the worst case.
 pub const AUTO_SAFETY: f64 = 0.5;
 
+/// `dt_s = "auto"` chooses a whole fraction of this interval, s (1 ms: the
+/// default sample period).
+pub const AUTO_GRID_S: f64 = 1e-3;
+
 /// Estimated largest stable steps of the explicit schemes (docs/model.md), s.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepLimits {
@@ -61,14 +65,24 @@ impl StepLimits {
     }
 
     /// The step `dt_s = "auto"` chooses for `scheme`: [`AUTO_SAFETY`] times
-    /// its estimated limit. The adaptive scheme, which needs no limit, gets
-    /// the symplectic schemes' step as its largest (and sample) step.
+    /// its estimated limit, rounded down to a whole fraction of
+    /// [`AUTO_GRID_S`] (so that the default 1 kHz sampling, and every rate
+    /// dividing it, is a whole number of steps). The adaptive scheme, which
+    /// needs no limit, gets the symplectic schemes' step as its largest (and
+    /// sample) step.
     pub fn auto_step_s(&self, scheme: Integrator) -> f64 {
         let limit = match scheme {
             Integrator::DormandPrince45 => self.min_s(),
             other => self.for_integrator(other),
         };
-        AUTO_SAFETY * limit
+        let raw = AUTO_SAFETY * limit;
+        if !(raw.is_finite() && raw > 0.0) {
+            return raw;
+        }
+        // The largest AUTO_GRID_S / n not above `raw`; the small tolerance
+        // keeps a step that is already a whole fraction from losing one.
+        let n = (AUTO_GRID_S / raw * (1.0 - 1e-12)).ceil().max(1.0);
+        AUTO_GRID_S / n
     }
 }
 

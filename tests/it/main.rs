@@ -10,6 +10,8 @@ mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
 #[cfg(feature = "cli")]
+mod auto_step;
+#[cfg(feature = "cli")]
 mod cli;
 mod common;
 mod cosim;
@@ -24,8 +26,11 @@ mod paper;
 mod profile;
 #[cfg(feature = "record")]
 mod record;
+#[cfg(feature = "record")]
+mod recorded_settings;
 #[cfg(feature = "cli")]
 mod recover;
+mod running_tension;
 mod scene_errors;
 mod seam;
 mod stepping;

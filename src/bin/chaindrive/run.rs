@@ -25,9 +25,9 @@ pub struct RunArgs {
     /// Simulated time, s (overrides the scene).
     #[arg(long)]
     duration: Option<f64>,
-    /// The chain's integration step, s (overrides the scene).
-    #[arg(long)]
-    dt: Option<f64>,
+    /// The chain's integration step, s, or `auto` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto")]
+    dt: Option<crate::DtArg>,
     /// How the chain is stepped (overrides the scene).
     #[arg(long, value_enum)]
     stepping: Option<Stepping>,
@@ -143,10 +143,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             ("--record", args.record.as_deref()),
         ],
     )?;
+    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
         duration_s: args.duration,
-        dt_s: args.dt,
+        dt_s,
+        dt_auto,
         stepping: args.stepping,
         integrator: args.integrator,
         tolerance: args.tolerance,
