@@ -92,3 +92,31 @@ fn dt_auto_on_the_command_line() {
     assert!(stderr(&out).contains("--dt"), "{}", stderr(&out));
     assert!(stderr(&out).contains("\"auto\""), "{}", stderr(&out));
 }
+
+/// The motorcycle drive without its explicit step: stability alone gives
+/// ½ · 2 m_r / c = ½ · 2 · 0.02 / (0.5625 · 1000 / 0.5) = 17.8 µs against the
+/// links' ½ √(m_r/K) = ½ · 25.8 µs, i.e. 12.9 µs; the impact caps it. Impact
+/// (Hertz, n = 3/2): v = 6000 rpm · R₁₅ with R₁₅ = P / (2 sin(π/15)) =
+/// 0.038177 m: v = 23.99 m/s; v_i = v sin(24°) = 9.757 m/s; δ_max =
+/// (5 m_r v_i² / (4 K_g))^(2/5) = 0.355 mm; t_c = 2.9432 δ_max / v_i =
+/// 107 µs. The step: t_c / 16 = 6.70 µs, rounded down to 1 ms / 150.
+#[test]
+fn the_impact_caps_the_auto_step_of_a_fast_small_sprocket() {
+    let text = include_str!("../data/motorcycle_520.toml").replace("dt_s = 4e-6", "");
+    let scene = Scene::from_toml(&text).expect("valid");
+    let r15 = 0.015875 / (2.0 * (std::f64::consts::PI / 15.0).sin());
+    let v = 6000.0 * std::f64::consts::TAU / 60.0 * r15;
+    let v_i = v * (std::f64::consts::TAU / 15.0).sin();
+    let depth = (5.0 * 0.02 * v_i * v_i / (4.0 * 1e9)).powf(0.4);
+    let t_c = 2.9432 * depth / v_i;
+    approx::assert_relative_eq!(t_c, 1.071e-4, max_relative = 2e-3);
+    let impact =
+        chaindrive::scene::impact_duration_s(scene.chain(), scene.contact(), scene.sprockets());
+    approx::assert_relative_eq!(impact, t_c, max_relative = 1e-4);
+    assert_eq!(chaindrive::scene::AUTO_STEPS_PER_IMPACT, 16.0);
+    assert!(scene.solver().dt_auto);
+    approx::assert_relative_eq!(scene.solver().dt_s, 1e-3 / 150.0, max_relative = 1e-12);
+    // Without the cap: half the links' estimate.
+    let links = (0.02f64 / 3e7).sqrt();
+    assert!(scene.solver().dt_s < 0.6 * AUTO_SAFETY * links);
+}
