@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Convergence of the statistics a user reads against the step: each scene
+# that runs (tests/data/short_60_30.toml is a chain too short by design)
 # is run at the automatic step (`--dt auto`), at auto/2, auto/4 and at a
 # fine reference (auto/16), and every statistic is compared with the
 # reference. The table in benches/README.md ("Automatic step") comes from
@@ -19,7 +20,6 @@ trap 'rm -rf "$dir"' EXIT
 scenes=(
   "tests/data/motorcycle_520.toml 0.3"
   "tests/data/flat_30_30_real.toml 1.5"
-  "tests/data/short_60_30.toml 1.5"
   "tests/data/conveyor_sag_6m.toml 0.01"
   "tests/data/flat_20_40_1000rpm.toml 0.4"
   "paper 1.5"
