@@ -84,8 +84,9 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         scene.solver().dt_s * 1e6,
         if scene.solver().dt_auto {
             format!(
-                " (auto: {} x the integrator's limit)",
-                chaindrive::scene::AUTO_SAFETY
+                " (auto: {} x the integrator's limit, at most 1/{} of a roller's impact)",
+                chaindrive::scene::AUTO_SAFETY,
+                chaindrive::scene::AUTO_STEPS_PER_IMPACT
             )
         } else {
             String::new()

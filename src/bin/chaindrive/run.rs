@@ -242,10 +242,11 @@ fn simulate(
     let limit_s = limits.for_integrator(scene.solver().integrator);
     if scene.solver().dt_auto && !args.quiet {
         eprintln!(
-            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit)",
+            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit, at most 1/{} of a roller's impact, a whole fraction of 1 ms)",
             scene.solver().dt_s,
             chaindrive::scene::AUTO_SAFETY,
             scene.solver().integrator.name(),
+            chaindrive::scene::AUTO_STEPS_PER_IMPACT,
         );
     }
     if scene.solver().dt_s > limit_s {
