@@ -5,7 +5,8 @@
 //!
 //! - the scene: the attached scene file (`Scene::from_toml`), with the run's
 //!   overrides taken from the `chaindrive` metadata (profile, dt, stepping,
-//!   duration);
+//!   integrator, contact law, duration): the scene as it was run, not as
+//!   its file reads;
 //! - `/segments` and `/sprockets` (required): each segment's average link
 //!   force and transverse displacement, each sprocket's speed and chain
 //!   moment;
@@ -35,7 +36,7 @@ use foxglove::schemas::PointCloud;
 use prost::Message as _;
 
 use super::Channel;
-use crate::scene::{Overrides, ProfileKind, Scene, Stepping};
+use crate::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Scene, Stepping};
 
 /// The first bytes of every MCAP file.
 const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
@@ -418,6 +419,12 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         dt_s: number("dt_s").filter(|dt| dt.is_finite() && *dt > 0.0),
         duration_s: number("duration_s").filter(|d| d.is_finite() && *d >= 0.0),
         stepping: meta.get("stepping").and_then(|s| Stepping::from_name(s)),
+        integrator: meta
+            .get("integrator")
+            .and_then(|s| Integrator::from_name(s)),
+        contact_law: meta
+            .get("contact_law")
+            .and_then(|s| ContactLaw::from_name(s)),
         ..Overrides::default()
     };
     let scene = Scene::from_toml_with(&text, &overrides).map_err(|e| ReadError::Scene {

@@ -30,7 +30,9 @@ pub use file::{
 };
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
-pub use stability::{AUTO_SAFETY, StepLimits};
+pub use stability::{
+    AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
+};
 pub use types::{Chain, Contact, Equilibrium, Limits, Role, Solver, SpeedLaw, Sprocket};
 
 /// The most sprockets a drive may have: the contact generator keeps each

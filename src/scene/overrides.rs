@@ -22,6 +22,9 @@ pub struct Overrides {
     pub duration_s: Option<f64>,
     /// `solver.dt_s`: the chain's integration step, s.
     pub dt_s: Option<f64>,
+    /// `solver.dt_s = "auto"`: the step chosen from the scene (takes
+    /// precedence over `dt_s`).
+    pub dt_auto: bool,
     /// `solver.stepping`.
     pub stepping: Option<Stepping>,
     /// `solver.integrator`.
@@ -40,7 +43,7 @@ impl Overrides {
     pub fn paths(&self) -> Vec<&'static str> {
         [
             ("solver.duration_s", self.duration_s.is_some()),
-            ("solver.dt_s", self.dt_s.is_some()),
+            ("solver.dt_s", self.dt_s.is_some() || self.dt_auto),
             ("solver.stepping", self.stepping.is_some()),
             ("solver.integrator", self.integrator.is_some()),
             ("solver.tolerance", self.tolerance.is_some()),
@@ -61,6 +64,7 @@ impl SceneFile {
             profile,
             duration_s,
             dt_s,
+            dt_auto,
             stepping,
             integrator,
             tolerance,
@@ -74,7 +78,9 @@ impl SceneFile {
         }
         let solver = &mut self.solver;
         set(&mut solver.duration_s, duration_s);
-        if let Some(dt) = dt_s {
+        if dt_auto {
+            solver.dt_s = StepFile::Word(super::file::AUTO.to_owned());
+        } else if let Some(dt) = dt_s {
             solver.dt_s = StepFile::Seconds(dt);
         }
         set(&mut solver.tolerance, tolerance);

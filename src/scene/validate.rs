@@ -91,7 +91,7 @@ impl TryFrom<SceneFile> for Scene {
             default_profile.unwrap_or(ProfileKind::Circular),
         );
         check_seating(&mut c, &chain, &sprockets);
-        let solver = check_solver(&mut c, &file.solver, &chain, &contact);
+        let solver = check_solver(&mut c, &file.solver, &chain, &contact, &sprockets);
         let equilibrium = Equilibrium {
             tension_tolerance: c.positive(
                 "equilibrium.tension_tolerance",
@@ -419,7 +419,13 @@ fn check_overlaps(c: &mut Checker, sprockets: &[Sprocket], chain: &Chain) {
     }
 }
 
-fn check_solver(c: &mut Checker, f: &SolverFile, chain: &Chain, contact: &Contact) -> Solver {
+fn check_solver(
+    c: &mut Checker,
+    f: &SolverFile,
+    chain: &Chain,
+    contact: &Contact,
+    sprockets: &[Sprocket],
+) -> Solver {
     let stepping = c
         .one_of("solver.stepping", &f.stepping)
         .unwrap_or(Stepping::Substepped);
@@ -445,7 +451,8 @@ fn check_solver(c: &mut Checker, f: &SolverFile, chain: &Chain, contact: &Contac
     let (dt_s, dt_auto) = match &f.dt_s {
         StepFile::Seconds(dt) => (c.positive("solver.dt_s", *dt), false),
         StepFile::Word(w) if w == AUTO => {
-            let dt = StepLimits::of_parts(chain, contact).auto_step_s(integrator);
+            let impact_s = super::stability::impact_duration_s(chain, contact, sprockets);
+            let dt = StepLimits::of_parts(chain, contact).auto_step_s(integrator, impact_s);
             // Only a chain or contact already reported invalid lands here.
             if !(dt.is_finite() && dt > 0.0) && c.errors.is_empty() {
                 c.fail(

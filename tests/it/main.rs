@@ -10,6 +10,8 @@ mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
 #[cfg(feature = "cli")]
+mod auto_step;
+#[cfg(feature = "cli")]
 mod cli;
 mod common;
 mod cosim;
@@ -24,10 +26,13 @@ mod paper;
 mod profile;
 #[cfg(feature = "record")]
 mod record;
+#[cfg(feature = "record")]
+mod recorded_settings;
 #[cfg(feature = "cli")]
 mod recover;
 #[cfg(feature = "record")]
 mod rerun_view;
+mod running_tension;
 mod scene_errors;
 mod seam;
 mod statistics;

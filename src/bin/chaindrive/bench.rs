@@ -42,9 +42,9 @@ enum Study {
         /// Tooth profile of every sprocket.
         #[arg(long, value_enum)]
         profile: Option<ProfileKind>,
-        /// The chain's integration step, s (overrides the scene).
-        #[arg(long)]
-        dt: Option<f64>,
+        /// The chain's integration step, s, or `auto` (overrides the scene).
+        #[arg(long, value_name = "SECONDS|auto")]
+        dt: Option<crate::DtArg>,
     },
     /// The summary statistics of every integrator over a ladder of steps
     /// against a fine reference: table, CSV, figure, verdict.
@@ -84,17 +84,19 @@ fn soak(
     duration: f64,
     window: f64,
     profile: Option<ProfileKind>,
-    dt: Option<f64>,
+    dt: Option<crate::DtArg>,
 ) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(
         duration.is_finite() && duration > 0.0,
         "--duration must be > 0"
     );
     anyhow::ensure!(window.is_finite() && window > 0.0, "--window must be > 0");
+    let (dt_s, dt_auto) = crate::DtArg::overrides(dt);
     let overrides = Overrides {
         profile,
         duration_s: Some(duration),
-        dt_s: dt,
+        dt_s,
+        dt_auto,
         ..Overrides::default()
     };
     let scene = match crate::load_scene(None, &overrides)? {

@@ -11,10 +11,19 @@ use chaindrive::sim::{Simulation, StepLimits};
 pub struct CheckArgs {
     /// Scene file (TOML). Default: the embedded paper drive.
     scene: Option<PathBuf>,
+    /// The chain's integration step, s, or `auto` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto")]
+    dt: Option<crate::DtArg>,
 }
 
 pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let scene = match crate::load_scene(args.scene.as_deref(), &Default::default())? {
+    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
+    let overrides = chaindrive::scene::Overrides {
+        dt_s,
+        dt_auto,
+        ..Default::default()
+    };
+    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
@@ -75,8 +84,9 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         scene.solver().dt_s * 1e6,
         if scene.solver().dt_auto {
             format!(
-                " (auto: {} x the integrator's limit)",
-                chaindrive::scene::AUTO_SAFETY
+                " (auto: {} x the integrator's limit, at most 1/{} of a roller's impact)",
+                chaindrive::scene::AUTO_SAFETY,
+                chaindrive::scene::AUTO_STEPS_PER_IMPACT
             )
         } else {
             String::new()

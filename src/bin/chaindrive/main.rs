@@ -125,3 +125,37 @@ fn option_for(path: &str) -> Option<&'static str> {
         _ => return None,
     })
 }
+
+/// `--dt`: a step in seconds, or `auto` for the step the scene's stiffnesses,
+/// masses and damping allow (`solver.dt_s = "auto"`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) enum DtArg {
+    /// A fixed step, s.
+    Seconds(f64),
+    /// `auto`.
+    Auto,
+}
+
+impl std::str::FromStr for DtArg {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s.eq_ignore_ascii_case("auto") {
+            return Ok(Self::Auto);
+        }
+        s.parse::<f64>()
+            .map(Self::Seconds)
+            .map_err(|_| format!("a step in seconds (e.g. 1e-5) or \"auto\", got \"{s}\""))
+    }
+}
+
+impl DtArg {
+    /// The overrides' `(dt_s, dt_auto)` for an optional `--dt`.
+    pub(crate) fn overrides(dt: Option<Self>) -> (Option<f64>, bool) {
+        match dt {
+            Some(Self::Seconds(s)) => (Some(s), false),
+            Some(Self::Auto) => (None, true),
+            None => (None, false),
+        }
+    }
+}

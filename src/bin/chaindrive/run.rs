@@ -25,9 +25,9 @@ pub struct RunArgs {
     /// Simulated time, s (overrides the scene).
     #[arg(long)]
     duration: Option<f64>,
-    /// The chain's integration step, s (overrides the scene).
-    #[arg(long)]
-    dt: Option<f64>,
+    /// The chain's integration step, s, or `auto` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto")]
+    dt: Option<crate::DtArg>,
     /// How the chain is stepped (overrides the scene).
     #[arg(long, value_enum)]
     stepping: Option<Stepping>,
@@ -147,10 +147,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             ("--record", args.record.as_deref()),
         ],
     )?;
+    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
         duration_s: args.duration,
-        dt_s: args.dt,
+        dt_s,
+        dt_auto,
         stepping: args.stepping,
         integrator: args.integrator,
         tolerance: args.tolerance,
@@ -278,10 +280,11 @@ fn simulate(
     let limit_s = limits.for_integrator(scene.solver().integrator);
     if scene.solver().dt_auto && !args.quiet {
         eprintln!(
-            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit)",
+            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit, at most 1/{} of a roller's impact, a whole fraction of 1 ms)",
             scene.solver().dt_s,
             chaindrive::scene::AUTO_SAFETY,
             scene.solver().integrator.name(),
+            chaindrive::scene::AUTO_STEPS_PER_IMPACT,
         );
     }
     if scene.solver().dt_s > limit_s {
