@@ -13,7 +13,7 @@
 //! | `scene` | `/scene` | `foxglove.SceneUpdate` | rollers (spheres) and links (lines coloured by force, blue = slack … red ≥ 2 × pretension, 16 bins) in frame `world` |
 //! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z |
 //! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world` |
-//! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N |
+//! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N, and every joint's friction moment, N·m |
 //! | `contacts` | `/contacts` | [`ChainContactForces`] | every roller's contact force, N |
 //! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
 //! | `segments` | `/segments` | [`SegmentSignals`] | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
@@ -322,6 +322,7 @@ struct Frame {
     theta: Vec<f64>,
     omega: Vec<f64>,
     link_force: Vec<f64>,
+    joint_moment: Vec<f64>,
     contact_force: Vec<f64>,
     chain_torque: Vec<f64>,
     segments: Vec<SegmentSignal>,
@@ -402,6 +403,10 @@ impl<W: Write + Seek> Writer<W> {
         if id(Channel::Links).is_some() {
             self.links.t_s = f.t_s;
             std::mem::swap(&mut self.links.force_n, &mut f.link_force);
+            std::mem::swap(
+                &mut self.links.joint_friction_moment_n_m,
+                &mut f.joint_moment,
+            );
             sink.write(id(Channel::Links), "/links", t_ns, &self.links)?;
         }
         if id(Channel::Contacts).is_some() {
@@ -685,6 +690,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             &st.omega,
             &f.link_force,
             &f.contact_force,
+            &f.joint_moment_n_m,
         ]
         .iter()
         .flat_map(|v| v.iter())
@@ -717,6 +723,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             theta: copy(wants(&[Channel::Transforms, Channel::Sprockets]), &st.theta),
             omega: copy(wants(&[Channel::Sprockets]), &st.omega),
             link_force: copy(wants(&[Channel::Scene, Channel::Links]), &f.link_force),
+            joint_moment: copy(wants(&[Channel::Links]), &f.joint_moment_n_m),
             contact_force: copy(wants(&[Channel::Contacts]), &f.contact_force),
             chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
             segments: Vec::new(),

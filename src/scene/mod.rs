@@ -31,7 +31,10 @@ pub use file::{
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
 pub use stability::{AUTO_SAFETY, StepLimits};
-pub use types::{Chain, Contact, Equilibrium, Limits, Role, Solver, SpeedLaw, Sprocket};
+pub use types::{
+    Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,
+    Solver, SpeedLaw, Sprocket,
+};
 
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit
