@@ -66,6 +66,9 @@ impl JointFriction {
 /// much as the rest of the element.
 #[inline(always)]
 fn fast_tanh(x: f64) -> f64 {
+    // Beyond |x| = 10 the fraction would overflow to ∞/∞; its value there is 1.
+    let x = if x > 10.0 { 10.0 } else { x };
+    let x = if x < -10.0 { -10.0 } else { x };
     let x2 = x * x;
     let num = x * (135_135.0 + x2 * (17_325.0 + x2 * (378.0 + x2)));
     let den = 135_135.0 + x2 * (62_370.0 + x2 * (3_150.0 + 28.0 * x2));
