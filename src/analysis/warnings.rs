@@ -1,6 +1,8 @@
 //! Warnings where a run's result is suspect (the summary's `warnings`, a line
 //! each on `run`'s stderr). Each criterion and its threshold is documented in
-//! docs/model.md, "Warnings"; none fires on the paper's drive at 120 rpm.
+//! docs/model.md, "Warnings"; none fires on the paper's drive at 120 rpm
+//! but the power balance, which its frictionless form misses by about 2 % at
+//! the default step.
 //!
 //! They judge the summary and the statistics window's samples only: no
 //! warning stops a run (the blow-up detectors do, [`crate::sim`]).
