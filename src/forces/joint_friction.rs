@@ -192,7 +192,7 @@ impl ForceElement for JointFriction {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sim::Simulation;
+    use crate::forces::Links;
 
     fn params(mu: f64, damping: f64) -> Params {
         Params {
@@ -203,11 +203,12 @@ mod tests {
         }
     }
 
-    /// A settled paper's drive with its state disturbed by a deterministic
-    /// pseudo-random velocity field, and its forces at that state.
+    /// The paper's drive as laid out, its rollers given a deterministic
+    /// pseudo-random velocity field and its links tensions of 5–35 kN (one
+    /// in compression), and the links' forces at that state.
     fn disturbed() -> (DriveModel, DriveState, Forces) {
         let scene = crate::scene::Scene::l60mc();
-        let mut sim = Simulation::new(&scene).expect("paper's drive settles");
+        let (model, mut state, _) = DriveModel::build(&scene).expect("paper's drive lays out");
         let mut seed = 12345u64;
         let mut next = || {
             seed = seed
@@ -215,12 +216,20 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
         };
-        for i in 0..sim.state.rollers() {
-            sim.state.vx[i] += 2.0 * next();
-            sim.state.vy[i] += 2.0 * next();
+        for i in 0..state.rollers() {
+            state.vx[i] += 2.0 * next();
+            state.vy[i] += 2.0 * next();
         }
-        sim.forces.evaluate(&sim.model, &sim.state);
-        (sim.model, sim.state, sim.forces.output().clone())
+        let n = state.rollers();
+        let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
+        Links::new(n).evaluate(&model, &state, &mut out);
+        for (i, f) in out.link_force.iter_mut().enumerate() {
+            *f = 20e3 + 15e3 * next() * 2.0;
+            if i == 7 {
+                *f = -5e3;
+            }
+        }
+        (model, state, out)
     }
 
     #[test]
