@@ -28,7 +28,7 @@ use super::theory::moving_string_frequency_hz;
 use super::{SampleRow, Signals};
 use crate::model::DriveModel;
 use crate::scene::Scene;
-use crate::sim::{RunOutcome, Simulation};
+use crate::sim::{PowerMeans, RunOutcome, Simulation};
 
 /// Length of the statistics window unless chosen, s.
 pub const DEFAULT_WINDOW_S: f64 = 1.0;
@@ -153,6 +153,27 @@ pub struct RunSummary {
     pub driver_mean_power_w: f64,
     /// Largest roller penetration over the run, m.
     pub max_penetration_m: f64,
+    /// Mean power dissipated by the joint friction over the window, W
+    /// (integrated every step; absent where the run did not count powers).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_friction_power_w: Option<f64>,
+    /// Mean power dissipated by the links' dampers over the window, W.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub link_damping_power_w: Option<f64>,
+    /// Mean power dissipated by the contacts' damping over the window, W.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_damping_power_w: Option<f64>,
+    /// Mean power absorbed by the load torques over the window, W (positive
+    /// for braking loads).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub load_power_w: Option<f64>,
+    /// Load power over driver power (absent without a driver delivering power).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain_efficiency: Option<f64>,
+    /// Relative residual of driver power = losses + load power + dE/dt over
+    /// the window, against the power flowing through.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub energy_balance_error: Option<f64>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
@@ -238,7 +259,7 @@ impl RunSummary {
         setup_wall_s: f64,
         window_s: f64,
     ) -> Self {
-        Self::compute_over(
+        Self::compute_full(
             &SummaryInputs {
                 scene: &sim.scene,
                 model: &sim.model,
@@ -251,19 +272,32 @@ impl RunSummary {
             },
             signals,
             window_s,
+            sim.power.as_ref().and_then(|p| p.means()),
         )
     }
 
     /// Computes the summary of a run from its signals, statistics over the
     /// last [`DEFAULT_WINDOW_S`].
     pub fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
-        Self::compute_over(inputs, signals, DEFAULT_WINDOW_S)
+        Self::compute_full(inputs, signals, DEFAULT_WINDOW_S, None)
     }
 
     /// Computes the summary of a run from its signals, statistics over the
     /// last `window_s` (the whole run if it is shorter; a window that is not
     /// a positive number is the default).
     pub fn compute_over(inputs: &SummaryInputs<'_>, signals: &Signals, window_s: f64) -> Self {
+        Self::compute_full(inputs, signals, window_s, None)
+    }
+
+    /// Computes the summary of a run from its signals, statistics over the
+    /// last `window_s`, and, where it was counted, the window's power flow
+    /// ([`crate::sim::PowerLedger`]).
+    pub fn compute_full(
+        inputs: &SummaryInputs<'_>,
+        signals: &Signals,
+        window_s: f64,
+        flow: Option<PowerMeans>,
+    ) -> Self {
         let scene = inputs.scene;
         let model = inputs.model;
         let rows = &signals.rows;
@@ -411,6 +445,14 @@ impl RunSummary {
             sprockets,
             driver_mean_power_w: power,
             max_penetration_m: inputs.max_penetration_m,
+            joint_friction_power_w: flow.map(|p| p.mean.joint_friction_w),
+            link_damping_power_w: flow.map(|p| p.mean.link_damping_w),
+            contact_damping_power_w: flow.map(|p| p.mean.contact_damping_w),
+            load_power_w: flow.map(|p| p.mean.load_w),
+            chain_efficiency: flow
+                .filter(|p| p.mean.driver_w > 0.0)
+                .map(|p| p.mean.load_w / p.mean.driver_w),
+            energy_balance_error: flow.map(|p| p.balance_error()),
             warnings: Vec::new(),
         };
         summary.warnings = super::warnings::of_run(&Judged {

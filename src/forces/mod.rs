@@ -56,12 +56,14 @@
 mod buffer;
 mod contact;
 mod contact_law;
+mod joint_friction;
 mod links;
 mod output;
 mod rows;
 
 pub use contact::{Culling, ToothContact};
 pub use contact_law::ContactLawParams;
+pub use joint_friction::JointFriction;
 pub use links::Links;
 pub use output::Forces;
 pub use rows::DampingRows;

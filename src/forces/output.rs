@@ -37,6 +37,14 @@ pub struct Forces {
     pub max_roller_speed_m_s: f64,
     /// Elastic energy stored in the contacts, Σ K δⁿ⁺¹/(n + 1), J.
     pub contact_energy_j: f64,
+    /// Power of the contacts' damping forces (their part beyond the elastic
+    /// K δⁿ) on the rollers relative to the sprockets, W (≤ 0).
+    pub contact_damping_power_w: f64,
+    /// Each joint's friction moment (joint i at roller i: the moment of link
+    /// i−1 on link i), N·m; empty without joint friction.
+    pub joint_moment_n_m: Vec<f64>,
+    /// Power of the joint friction, Σ M_i ω_rel,i, W (≤ 0).
+    pub joint_friction_power_w: f64,
 }
 
 impl Forces {
@@ -56,6 +64,9 @@ impl Forces {
             max_stretch_m: 0.0,
             max_roller_speed_m_s: 0.0,
             contact_energy_j: 0.0,
+            contact_damping_power_w: 0.0,
+            joint_moment_n_m: Vec::new(),
+            joint_friction_power_w: 0.0,
         }
     }
 

@@ -18,6 +18,9 @@ pub struct ChainLinkForces {
     pub t_s: f64,
     /// F_link of link i (roller i to roller i + 1, the last closing the loop), N.
     pub force_n: Vec<f64>,
+    /// Joint friction moment at roller i (the moment of link i − 1 on link
+    /// i, CCW positive), N·m; empty without joint friction.
+    pub joint_friction_moment_n_m: Vec<f64>,
 }
 
 /// `/contacts`: the total contact force on every roller.

@@ -14,7 +14,7 @@
 //! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z |
 //! | `outlines` | `/outlines/sprocketN` | `foxglove.PointCloud` | once: sprocket N's tooth outline as points 0.5 mm apart, in its frame `sprocketN`, one colour per sprocket (what Rerun draws) |
 //! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world`, coloured (u8 red, green, blue, alpha) by the mean force of the roller's two links on the links' scale |
-//! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N |
+//! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N, and every joint's friction moment, N·m |
 //! | `contacts` | `/contacts` | [`ChainContactForces`] | every roller's contact force, N |
 //! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
 //! | `segments` | `/segments` | [`SegmentSignals`] | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
@@ -338,6 +338,7 @@ struct Frame {
     theta: Vec<f64>,
     omega: Vec<f64>,
     link_force: Vec<f64>,
+    joint_moment: Vec<f64>,
     contact_force: Vec<f64>,
     chain_torque: Vec<f64>,
     segments: Vec<SegmentSignal>,
@@ -424,6 +425,10 @@ impl<W: Write + Seek> Writer<W> {
         if id(Channel::Links).is_some() {
             self.links.t_s = f.t_s;
             std::mem::swap(&mut self.links.force_n, &mut f.link_force);
+            std::mem::swap(
+                &mut self.links.joint_friction_moment_n_m,
+                &mut f.joint_moment,
+            );
             sink.write(id(Channel::Links), "/links", t_ns, &self.links)?;
         }
         if id(Channel::Contacts).is_some() {
@@ -718,6 +723,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             &st.omega,
             &f.link_force,
             &f.contact_force,
+            &f.joint_moment_n_m,
         ]
         .iter()
         .flat_map(|v| v.iter())
@@ -764,6 +770,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                 wants(&[Channel::Scene, Channel::Rollers, Channel::Links]),
                 &f.link_force,
             ),
+            joint_moment: copy(wants(&[Channel::Links]), &f.joint_moment_n_m),
             contact_force: copy(wants(&[Channel::Contacts]), &f.contact_force),
             chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
             segments: Vec::new(),

@@ -60,6 +60,19 @@ pub struct ChainFile {
     /// length, positions stay) or `"tensioner"` (move the tensioner sprocket).
     #[serde(default = "default_pretension_by")]
     pub pretension_by: String,
+    /// Pin radius r_pin of the pin–bushing joints, m (needed by the joint
+    /// friction; docs/model.md, “Joint friction”).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pin_radius_m: Option<f64>,
+    /// Coulomb friction coefficient μ between pin and bushing, in [0, 1].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_friction: Option<f64>,
+    /// Regularisation speed ω_s of the joint friction, rad/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_friction_speed_rad_s: Option<f64>,
+    /// Viscous joint damping c_θ, N·m·s/rad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub joint_damping_n_m_s_rad: Option<f64>,
 }
 
 fn default_pretension_by() -> String {

@@ -33,7 +33,10 @@ pub use overrides::Overrides;
 pub use stability::{
     AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
 };
-pub use types::{Chain, Contact, Equilibrium, Limits, Role, Solver, SpeedLaw, Sprocket};
+pub use types::{
+    Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,
+    Solver, SpeedLaw, Sprocket,
+};
 
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit

@@ -35,6 +35,12 @@ pub struct StepLimits {
     /// c = χ F / δ̇⁻_min, F taken as the pretension (a roller carrying the
     /// chain's tension, its contact begun slower than the floor).
     pub contact_damping_s: f64,
+    /// Joint friction and damping (∞ without): 2 m_r ℓ² / (16 c_θ,eff) with
+    /// c_θ,eff = μ r_pin F / ω_s + c_θ, the regularised law's slope in ω_rel
+    /// at a pin load F taken as the pretension, and 16 / ℓ² the largest
+    /// eigenvalue of the joints' damping matrix on the rollers' transverse
+    /// speeds (the zig-zag mode, docs/model.md, “Joint friction”).
+    pub joint_friction_s: f64,
 }
 
 impl StepLimits {
@@ -43,7 +49,17 @@ impl StepLimits {
         let m = chain.roller_mass_kg;
         let chi = contact.law.chi(contact.restitution);
         let c = chi * chain.pretension_n / contact.min_approach_speed_m_s;
+        let joint_friction_s = chain.joint_friction.map_or(f64::INFINITY, |j| {
+            let slope = j.friction * j.pin_radius_m * chain.pretension_n / j.speed_rad_s
+                + j.damping_n_m_s_rad;
+            if slope > 0.0 && slope.is_finite() {
+                2.0 * m * chain.pitch_m * chain.pitch_m / (16.0 * slope)
+            } else {
+                f64::INFINITY
+            }
+        });
         Self {
+            joint_friction_s,
             links_s: (m / chain.stiffness_n_m).sqrt(),
             contact_damping_s: if c > 0.0 && c.is_finite() {
                 2.0 * m / c
@@ -53,9 +69,11 @@ impl StepLimits {
         }
     }
 
-    /// The smaller of the two.
+    /// The smallest of them.
     pub fn min_s(&self) -> f64 {
-        self.links_s.min(self.contact_damping_s)
+        self.links_s
+            .min(self.contact_damping_s)
+            .min(self.joint_friction_s)
     }
 
     /// The estimated largest stable step of `scheme`, s (∞ for the adaptive
@@ -65,11 +83,13 @@ impl StepLimits {
     pub fn for_integrator(&self, scheme: Integrator) -> f64 {
         match scheme {
             Integrator::SymplecticEuler | Integrator::VelocityVerlet => self.min_s(),
-            Integrator::Rk4 => {
-                (self.links_s * std::f64::consts::SQRT_2).min(self.contact_damping_s * 1.3925)
-            }
+            Integrator::Rk4 => (self.links_s * std::f64::consts::SQRT_2)
+                .min(self.contact_damping_s * 1.3925)
+                .min(self.joint_friction_s * 1.3925),
             Integrator::DormandPrince45 => f64::INFINITY,
-            Integrator::ImplicitDamping => self.links_s,
+            // The joint friction stays explicit there (its limit is far from
+            // binding at the default ω_s, docs/model.md, “Joint friction”).
+            Integrator::ImplicitDamping => self.links_s.min(self.joint_friction_s),
         }
     }
 

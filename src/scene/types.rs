@@ -123,7 +123,30 @@ pub struct Chain {
     pub pretension_n: f64,
     /// How the pretension is reached.
     pub pretension_by: PretensionRule,
+    /// Pin–bushing friction at every joint; `None`: off.
+    pub joint_friction: Option<JointFriction>,
 }
+
+/// Pin–bushing friction and damping at the chain's joints (docs/model.md,
+/// “Joint friction”): M = −μ r_pin F_pin tanh(ω_rel / ω_s) − c_θ ω_rel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointFriction {
+    /// Pin radius r_pin, m.
+    pub pin_radius_m: f64,
+    /// Coulomb coefficient μ.
+    pub friction: f64,
+    /// Regularisation speed ω_s, rad/s.
+    pub speed_rad_s: f64,
+    /// Viscous joint damping c_θ, N·m·s/rad.
+    pub damping_n_m_s_rad: f64,
+}
+
+/// Regularisation speed ω_s of the joint friction when the scene gives none,
+/// rad/s: far below the articulation speed at a sprocket (its angular speed,
+/// 12.6 rad/s on the paper's drive's crankshaft), and large enough that the
+/// law's slope μ r_pin F / ω_s keeps the paper's drive's explicit limit above
+/// 10 µs (docs/model.md, “Joint friction”).
+pub const DEFAULT_JOINT_FRICTION_SPEED_RAD_S: f64 = 1.0;
 
 /// Validated contact-law parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -4,7 +4,7 @@
 
 use super::file::{AUTO, LimitsFile};
 use super::kinds::Named;
-use super::types::Limits;
+use super::types::{DEFAULT_JOINT_FRICTION_SPEED_RAD_S, JointFriction, Limits};
 use super::{
     Chain, ChainFile, Contact, ContactFile, ContactLaw, Equilibrium, FieldError, Integrator,
     MAX_SPROCKETS, PITCH_RADIUS_TOLERANCE, PretensionRule, ProfileKind, Role, RoleKind, Scene,
@@ -155,7 +155,61 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
         pretension_by: c
             .one_of("chain.pretension_by", &f.pretension_by)
             .unwrap_or(PretensionRule::RestLength),
+        joint_friction: check_joint_friction(c, f, roller_radius_m),
     }
+}
+
+/// The joint friction's fields: absent (or μ = c_θ = 0) means off. A pin
+/// radius is needed by μ > 0 and must be smaller than the roller's.
+fn check_joint_friction(
+    c: &mut Checker,
+    f: &ChainFile,
+    roller_radius_m: f64,
+) -> Option<JointFriction> {
+    let friction = f
+        .joint_friction
+        .map(|mu| c.non_negative("chain.joint_friction", mu));
+    if let Some(mu) = friction
+        && mu > 1.0
+    {
+        c.fail(
+            "chain.joint_friction",
+            format!("must lie in [0, 1] (lubricated steel: 0.05 to 0.15), got {mu}"),
+        );
+    }
+    let speed = f
+        .joint_friction_speed_rad_s
+        .map(|w| c.positive("chain.joint_friction_speed_rad_s", w));
+    let damping = f
+        .joint_damping_n_m_s_rad
+        .map(|d| c.non_negative("chain.joint_damping_n_m_s_rad", d));
+    let pin = f.pin_radius_m.map(|r| c.positive("chain.pin_radius_m", r));
+    if let Some(r) = pin
+        && r.is_finite()
+        && roller_radius_m.is_finite()
+        && r >= roller_radius_m
+    {
+        c.fail(
+            "chain.pin_radius_m",
+            format!(
+                "must be smaller than chain.roller_radius_m = {roller_radius_m} m (the pin sits inside the bushing and roller), got {r}"
+            ),
+        );
+    }
+    let mu = friction.unwrap_or(0.0);
+    let damping = damping.unwrap_or(0.0);
+    if mu > 0.0 && pin.is_none() {
+        c.fail(
+            "chain.pin_radius_m",
+            "is needed by chain.joint_friction > 0 (the friction moment is μ r_pin F_pin); allowed: 0 < pin_radius_m < roller_radius_m",
+        );
+    }
+    (mu > 0.0 || damping > 0.0).then(|| JointFriction {
+        pin_radius_m: pin.unwrap_or(0.0),
+        friction: mu,
+        speed_rad_s: speed.unwrap_or(DEFAULT_JOINT_FRICTION_SPEED_RAD_S),
+        damping_n_m_s_rad: damping,
+    })
 }
 
 fn check_contact(c: &mut Checker, f: &ContactFile) -> Contact {

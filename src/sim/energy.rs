@@ -51,3 +51,176 @@ impl Energy {
         self.kinetic_j + self.links_j + self.contacts_j + self.gravity_j
     }
 }
+
+/// The power of each kind of force at one state, W. Losses are counted as
+/// the power they dissipate (≥ 0), the driver's as the power it delivers,
+/// the loads' as the power they absorb (positive for a braking load).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Powers {
+    /// Delivered by the speed-controlled sprockets: Σ −(chain moment) ω.
+    pub driver_w: f64,
+    /// Absorbed by the load torques: Σ −τ_load ω over the free sprockets.
+    pub load_w: f64,
+    /// Dissipated by the joint friction: −Σ M_i ω_rel,i.
+    pub joint_friction_w: f64,
+    /// Dissipated by the links' dampers: Σ (F − K s)² / D.
+    pub link_damping_w: f64,
+    /// Dissipated by the contacts' damping: Σ (f − K δⁿ) δ̇.
+    pub contact_damping_w: f64,
+}
+
+impl Powers {
+    /// At `state`, with `forces` evaluated at it.
+    pub fn of(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> Self {
+        let out = forces.output();
+        let (mut driver, mut load) = (0.0, 0.0);
+        for (s, sp) in model.sprockets.iter().enumerate() {
+            let omega = state.omega[s];
+            if sp.speed_law.is_some() {
+                driver -= out.chain_torque[s] * omega;
+            } else {
+                load -= sp.load_torque_at(state.t_s) * omega;
+            }
+        }
+        // The link force is K s + D u·Δv: its damping part from the force and
+        // the stretch, without another square root.
+        let link_damping = if model.damping_n_s_m > 0.0 {
+            let inv = 1.0 / model.damping_n_s_m;
+            out.link_force
+                .iter()
+                .zip(forces.links.stretch())
+                .map(|(f, s)| {
+                    let d = f - model.stiffness_n_m * s;
+                    d * d * inv
+                })
+                .sum()
+        } else {
+            0.0
+        };
+        Self {
+            driver_w: driver,
+            load_w: load,
+            joint_friction_w: -out.joint_friction_power_w,
+            link_damping_w: link_damping,
+            contact_damping_w: -out.contact_damping_power_w,
+        }
+    }
+
+    fn scaled_sum(&self, other: &Self, w: f64) -> Self {
+        Self {
+            driver_w: self.driver_w + w * other.driver_w,
+            load_w: self.load_w + w * other.load_w,
+            joint_friction_w: self.joint_friction_w + w * other.joint_friction_w,
+            link_damping_w: self.link_damping_w + w * other.link_damping_w,
+            contact_damping_w: self.contact_damping_w + w * other.contact_damping_w,
+        }
+    }
+
+    /// The losses: joint friction, link and contact damping, W.
+    pub fn losses_w(&self) -> f64 {
+        self.joint_friction_w + self.link_damping_w + self.contact_damping_w
+    }
+}
+
+/// The energy a balance counts: the drive's mechanical energy less the
+/// kinetic energy of the speed-controlled sprockets (their speed is imposed,
+/// so the driver's power is measured at the chain), J.
+pub fn balance_energy_j(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> f64 {
+    let driven: f64 = model
+        .sprockets
+        .iter()
+        .zip(&state.omega)
+        .filter(|(sp, _)| sp.speed_law.is_some() && sp.inv_inertia > 0.0)
+        .map(|(sp, w)| 0.5 * w * w / sp.inv_inertia)
+        .sum();
+    Energy::of(model, state, forces).total_j() - driven
+}
+
+/// Where the power goes over a window: every kind of force's power
+/// integrated step by step (trapezoids) from `from_s` on, and the energy at
+/// the window's ends (docs/model.md, “Where the power goes”).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PowerLedger {
+    from_s: f64,
+    start: Option<(f64, f64)>,
+    last: Option<(f64, Powers)>,
+    end: Option<(f64, f64)>,
+    work: Powers,
+}
+
+/// A [`PowerLedger`]'s window means.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct PowerMeans {
+    /// Window length, s.
+    pub duration_s: f64,
+    /// Mean powers over the window, W.
+    pub mean: Powers,
+    /// Change of [`balance_energy_j`] over the window, J.
+    pub energy_change_j: f64,
+}
+
+impl PowerMeans {
+    /// Relative residual of driver power = losses + load power + dE/dt,
+    /// against the mean |power| flowing through the drive (the driver's and
+    /// the loads' powers); 0 when nothing flows.
+    pub fn balance_error(&self) -> f64 {
+        let m = &self.mean;
+        let through = m.driver_w.abs().max(m.load_w.abs());
+        if !(through > 0.0) || !(self.duration_s > 0.0) {
+            return 0.0;
+        }
+        (m.driver_w - m.losses_w() - m.load_w - self.energy_change_j / self.duration_s) / through
+    }
+}
+
+impl PowerLedger {
+    /// A ledger that counts from `from_s` on.
+    pub fn new(from_s: f64) -> Self {
+        Self {
+            from_s,
+            start: None,
+            last: None,
+            end: None,
+            work: Powers::default(),
+        }
+    }
+
+    /// Counts the step that ended at `state` (forces evaluated at it).
+    pub fn step(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
+        let t = state.t_s;
+        if t < self.from_s {
+            return;
+        }
+        let now = Powers::of(model, state, forces);
+        if let Some((t_prev, prev)) = self.last {
+            let h = 0.5 * (t - t_prev);
+            self.work = self.work.scaled_sum(&prev, h).scaled_sum(&now, h);
+        } else {
+            self.start = Some((t, balance_energy_j(model, state, forces)));
+        }
+        self.last = Some((t, now));
+    }
+
+    /// Marks the end of the counted steps at `state`, the last one counted
+    /// (the energy is measured at the window's ends only).
+    pub fn close(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
+        if self.last.is_some_and(|(t, _)| t == state.t_s) {
+            self.end = Some((state.t_s, balance_energy_j(model, state, forces)));
+        }
+    }
+
+    /// The window's means; `None` before two steps were counted and closed.
+    pub fn means(&self) -> Option<PowerMeans> {
+        let ((t0, e0), (t1, _)) = (self.start?, self.last?);
+        let (t_end, e1) = self.end?;
+        if t_end != t1 {
+            return None;
+        }
+        let duration = t1 - t0;
+        (duration > 0.0).then(|| PowerMeans {
+            duration_s: duration,
+            mean: Powers::default().scaled_sum(&self.work, 1.0 / duration),
+            energy_change_j: e1 - e0,
+        })
+    }
+}

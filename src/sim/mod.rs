@@ -16,7 +16,7 @@ mod sample_rate;
 mod stepper;
 
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
-pub use energy::Energy;
+pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
 pub use equilibrium::{
     EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension, relax,
     settle_rest_length,
@@ -32,18 +32,24 @@ use rapier2d_f64::prelude::*;
 
 use blow_up::check_with;
 
-use crate::forces::{ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces};
+use crate::forces::{
+    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction,
+};
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
 use crate::scene::{PretensionRule, Role, Scene, Stepping};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
-    ForceGenerator::new(
+    let mut forces = ForceGenerator::new(
         ContactLawParams::new(&scene.contact),
         model,
         scene.chain.rollers,
-    )
+    );
+    if let Some(joints) = scene.chain.joint_friction {
+        forces.add(Box::new(JointFriction::new(joints, scene.chain.rollers)));
+    }
+    forces
 }
 
 type Settled = (
@@ -245,6 +251,9 @@ pub struct Simulation {
     /// Time every stage of [`Simulation::run`] (off by default: a few clock
     /// reads per step).
     pub timings: bool,
+    /// Where the power goes, counted every step from a chosen time
+    /// ([`Simulation::track_power`]; off by default).
+    pub power: Option<PowerLedger>,
 }
 
 impl Simulation {
@@ -347,6 +356,7 @@ impl Simulation {
             growth: GrowthWatch::new(limits.growth_steps),
             integration,
             timings: false,
+            power: None,
         }
     }
 
@@ -444,6 +454,11 @@ impl Simulation {
         self.forces.evaluate(&self.model, &self.state);
     }
 
+    /// Counts every step's powers from `from_s` on ([`PowerLedger`]).
+    pub fn track_power(&mut self, from_s: f64) {
+        self.power = Some(PowerLedger::new(from_s));
+    }
+
     /// Writes the drive's state into its rapier bodies.
     pub fn sync_world(&mut self) {
         self.bodies.write_state(&self.state, &mut self.world.bodies);
@@ -501,6 +516,9 @@ impl Simulation {
             self.check_blow_up()?;
             let checked = lap(t);
             max_pen = max_pen.max(self.forces.output().max_penetration_m);
+            if let Some(ledger) = &mut self.power {
+                ledger.step(&self.model, &self.state, &self.forces);
+            }
             let t = clock(timed);
             if self.state.t_s >= per_step_from {
                 observer.step(&self.sample());
@@ -522,6 +540,9 @@ impl Simulation {
         }
         if let Some(times) = &mut times {
             times.forces = self.forces.timing.take().unwrap_or_default();
+        }
+        if let Some(ledger) = &mut self.power {
+            ledger.close(&self.model, &self.state, &self.forces);
         }
         self.sync_world();
         Ok(RunOutcome {

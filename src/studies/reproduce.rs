@@ -3,14 +3,17 @@
 //! (docs/model.md, “The paper's values”), compared with the paper and with the
 //! analytical references, and written up as a report.
 //!
-//! Three runs, each of the same length and settings (e = 0 as in the paper):
+//! Five runs, each of the same length and settings (e = 0 as in the paper):
 //!
 //! - `circular`: the circular seating profile at the 21 kN pretension;
 //! - `real`: the ASA tooth form at the same pretension (rest length settled anew);
 //! - `real_same_rest_length`: the ASA tooth form with the circular run's rest
 //!   length, re-relaxed to static equilibrium. The real profile seats each
 //!   roller about ΔR deeper, so its static tension drops: most likely what
-//!   the paper did (docs/model.md, “The real profile and the rest length”).
+//!   the paper did (docs/model.md, “The real profile and the rest length”);
+//! - `circular_friction`, `real_friction`: both profiles at the 21 kN
+//!   pretension with pin–bushing friction at every joint
+//!   (`assets/l60mc-friction.toml`).
 //!
 //! [`run_paper_study`] runs them (in parallel threads), [`Findings::measure`]
 //! cuts the numbers, [`report_markdown`] writes the report. Figures are drawn
@@ -36,8 +39,17 @@ use crate::sim::{
     StaticEquilibrium, force_residual, free_strand_tension, relax,
 };
 
-/// Labels of the three runs, in order.
-pub const RUN_LABELS: [&str; 3] = ["circular", "real", "real_same_rest_length"];
+/// Labels of the runs, in order.
+pub const RUN_LABELS: [&str; 5] = [
+    "circular",
+    "real",
+    "real_same_rest_length",
+    "circular_friction",
+    "real_friction",
+];
+
+/// The paper's drive with pin–bushing friction (docs/model.md, “Joint friction”).
+pub const L60MC_FRICTION_TOML: &str = include_str!("../../assets/l60mc-friction.toml");
 
 /// Settings of the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -127,6 +139,7 @@ pub fn run_scene(
     let duration = scene.solver.duration_s;
     let mut signals = Signals::new(&sim.model, rate, (duration - 1.0).max(0.0));
     let mut probes = Probes::new(&sim.model);
+    sim.track_power((duration - 1.0).max(0.0));
     let outcome = sim
         .run(duration, every, &mut Both(&mut signals, &mut probes), None)
         .map_err(sim_err)?;
@@ -170,6 +183,19 @@ pub fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
     };
     let circular = run(None)?;
     let real = run(Some(ProfileKind::Real))?;
+    let with_friction = |profile| {
+        Scene::from_toml(L60MC_FRICTION_TOML)
+            .and_then(|s| {
+                s.with(&Overrides {
+                    duration_s: Some(settings.duration_s),
+                    profile,
+                    ..Overrides::default()
+                })
+            })
+            .map_err(|e| StudyError::Settings(e.to_string()))
+    };
+    let circular_friction = with_friction(None)?;
+    let real_friction = with_friction(Some(ProfileKind::Real))?;
     // The circular run's rest length, from its static equilibrium (cheap next to the runs).
     let rest = Simulation::new(&circular)
         .map_err(|source| StudyError::Sim {
@@ -178,10 +204,12 @@ pub fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
         })?
         .model
         .rest_length_m;
-    let jobs: [(&str, &Scene, Option<f64>); 3] = [
+    let jobs: [(&str, &Scene, Option<f64>); 5] = [
         (RUN_LABELS[0], &circular, None),
         (RUN_LABELS[1], &real, None),
         (RUN_LABELS[2], &real, Some(rest)),
+        (RUN_LABELS[3], &circular_friction, None),
+        (RUN_LABELS[4], &real_friction, None),
     ];
     let rate = settings.rate_hz;
     let results: Vec<Result<RunData, StudyError>> = if settings.parallel {
@@ -340,7 +368,7 @@ fn measure_run(data: &RunData) -> Result<RunFindings, StudyError> {
 /// The paper's value (docs/model.md, “The paper's values”) for a run: circular for `circular`, real
 /// otherwise.
 fn paper(label: &str, circular: f64, real: f64) -> f64 {
-    if label == RUN_LABELS[0] {
+    if label.starts_with("circular") {
         circular
     } else {
         real
@@ -363,6 +391,107 @@ fn hz(v: f64) -> String {
     format!("{v:.2} Hz")
 }
 
+/// What joint friction changes: each profile's segment statistics and power
+/// flow without and with it, and whether the real profile's smaller force
+/// amplitude (the paper's claim) holds.
+fn friction_section(md: &mut String, study: &Study, findings: &Findings) {
+    let find = |label: &str| {
+        findings
+            .runs
+            .iter()
+            .zip(&study.runs)
+            .find(|(r, _)| r.label == label)
+    };
+    let _ = writeln!(md, "## What joint friction changes\n");
+    let _ = writeln!(
+        md,
+        "Pin–bushing friction at every joint (docs/model.md, “Joint friction”), against the \
+         same profile without it, both at the 21 kN pretension. Amplitude: the largest \
+         deviation of segment 1's average link force from its mean over the window. Powers \
+         are window means counted every step (docs/model.md, “Where the power goes”).\n"
+    );
+    let _ = writeln!(
+        md,
+        "| run | seg 1 mean | seg 1 amplitude | seg 4 mean | driver power | joint friction | link damping | contact damping | balance error |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    let w = |v: Option<f64>| v.map_or("—".to_owned(), |v| format!("{v:.0} W"));
+    for label in [RUN_LABELS[0], RUN_LABELS[3], RUN_LABELS[1], RUN_LABELS[4]] {
+        let Some((r, data)) = find(label) else {
+            continue;
+        };
+        let seg = |k: usize| r.segments.iter().find(|s| s.segment == k);
+        let s = &data.summary;
+        let _ = writeln!(
+            md,
+            "| {label} | {} | {} | {} | {:.0} W | {} | {} | {} | {} |",
+            seg(1).map_or("—".to_owned(), |s| kn(s.mean_n)),
+            seg(1).map_or("—".to_owned(), |s| kn(s.amplitude_n)),
+            seg(4).map_or("—".to_owned(), |s| kn(s.mean_n)),
+            s.driver_mean_power_w,
+            w(s.joint_friction_power_w),
+            w(s.link_damping_power_w),
+            w(s.contact_damping_power_w),
+            s.energy_balance_error
+                .map_or("—".to_owned(), |e| format!("{:+.2} %", 100.0 * e)),
+        );
+    }
+    let amplitude = |label: &str| {
+        find(label)
+            .and_then(|(r, _)| r.segments.iter().find(|s| s.segment == 1))
+            .map(|s| s.amplitude_n)
+    };
+    md.push('\n');
+    for (without, with, words) in [
+        (RUN_LABELS[0], RUN_LABELS[3], "circular"),
+        (RUN_LABELS[1], RUN_LABELS[4], "real"),
+    ] {
+        let mean = |label: &str| {
+            find(label)
+                .and_then(|(r, _)| r.segments.iter().find(|s| s.segment == 1))
+                .map(|s| s.mean_n)
+        };
+        if let (Some(m0), Some(m1), Some(a0), Some(a1)) = (
+            mean(without),
+            mean(with),
+            amplitude(without),
+            amplitude(with),
+        ) {
+            let _ = writeln!(
+                md,
+                "- **{words} profile.** Friction moves segment 1's mean from {} to {} ({}) and \
+                 its amplitude from {} to {} ({}).",
+                kn(m0),
+                kn(m1),
+                pct(m1, m0),
+                kn(a0),
+                kn(a1),
+                pct(a1, a0)
+            );
+        }
+    }
+    if let (Some(c0), Some(r0), Some(c1), Some(r1)) = (
+        amplitude(RUN_LABELS[0]),
+        amplitude(RUN_LABELS[1]),
+        amplitude(RUN_LABELS[3]),
+        amplitude(RUN_LABELS[4]),
+    ) {
+        let verdict = |c: f64, r: f64| if r < c { "holds" } else { "does not hold" };
+        let _ = writeln!(
+            md,
+            "- **The paper's claim** that the real profile lowers the force amplitude {} \
+             without friction (real {} against circular {}) and {} with it (real {} against \
+             circular {}).\n",
+            verdict(c0, r0),
+            kn(r0),
+            kn(c0),
+            verdict(c1, r1),
+            kn(r1),
+            kn(c1)
+        );
+    }
+}
+
 /// The report (Markdown): the comparison table, the theory checks, the
 /// contact forces against (49), plain words on the differences, and the
 /// figures (`figures`: file stem and caption, drawn beside the report).
@@ -375,10 +504,12 @@ pub fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, S
     );
     let _ = writeln!(
         md,
-        "Three runs of {d} s each (dt = {} s, samples at {} Hz, e = 0, gravity on): \
+        "Five runs of {d} s each (dt = {} s, samples at {} Hz, e = 0, gravity on): \
          `circular` (circular seating profile, 21 kN pretension), `real` (ASA tooth form, \
-         21 kN pretension) and `real_same_rest_length` (ASA tooth form with the circular run's \
-         link rest length, re-relaxed: its static tension follows from the geometry). \
+         21 kN pretension), `real_same_rest_length` (ASA tooth form with the circular run's \
+         link rest length, re-relaxed: its static tension follows from the geometry), and \
+         `circular_friction`, `real_friction` (both profiles at 21 kN with pin–bushing \
+         friction at every joint, μ = 0.10, r_pin = 17.15 mm). \
          Statistics over the last second; spectra from the ramp's end + 0.5 s to the end. \
          Study wall time {:.1} s.\n",
         study.runs.first().map_or(0.0, |r| r.summary.dt_s),
@@ -680,6 +811,8 @@ pub fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, S
          tension twice; the table gives the RMS against both forms (docs/model.md, \
          “Binder's quasi-static contact forces”).\n"
     );
+
+    friction_section(&mut md, study, findings);
 
     let _ = writeln!(md, "## Runs\n");
     let _ = writeln!(

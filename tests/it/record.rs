@@ -372,7 +372,10 @@ fn derived_schemas_name_their_fields() {
     let named = |v: &[(&str, i32)]| -> Vec<(String, i32)> {
         v.iter().map(|(n, i)| ((*n).to_owned(), *i)).collect()
     };
-    assert_eq!(fields("/links"), named(&[("t_s", 1), ("force_n", 2)]));
+    assert_eq!(
+        fields("/links"),
+        named(&[("t_s", 1), ("force_n", 2), ("joint_friction_moment_n_m", 3)])
+    );
     assert_eq!(
         fields("/sprockets"),
         named(&[

@@ -34,7 +34,7 @@ enum Command {
     Check(check::CheckArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
-    /// Reproduce the paper's study: three runs, report, summaries, figures.
+    /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
     Reproduce(reproduce::ReproduceArgs),
     /// Analyse a recording (`run --record`) of any scene: report, JSON, figures.
     Analyze(analyze::AnalyzeArgs),

@@ -1,4 +1,4 @@
-//! `chaindrive reproduce`: the paper's study (three runs of the L60MC drive),
+//! `chaindrive reproduce`: the paper's study (five runs of the L60MC drive),
 //! its report, summaries and figures.
 
 use std::path::PathBuf;
@@ -28,7 +28,7 @@ pub struct ReproduceArgs {
     /// Roller whose contact force Fig. 22 shows (0-based).
     #[arg(long, default_value_t = 0)]
     roller: usize,
-    /// Run the three runs one after the other instead of in parallel threads.
+    /// Run the five runs one after the other instead of in parallel threads.
     #[arg(long)]
     sequential: bool,
 }
@@ -59,7 +59,7 @@ pub fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
     eprintln!(
-        "running the paper's drive three times ({} s each: circular, real, real with the circular rest length){}",
+        "running the paper's drive five times ({} s each: circular, real, real with the circular rest length, circular and real with joint friction){}",
         args.duration,
         if args.sequential { "" } else { " in parallel" }
     );

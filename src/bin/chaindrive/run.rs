@@ -301,6 +301,8 @@ fn simulate(
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
+    // Where the power goes, over the summary's window.
+    sim.track_power((duration - sampling.window_s).max(0.0));
     if let Some(csv) = csv.as_mut() {
         let segments = 1..=sim.model.segments.len();
         let header = std::iter::once("t_s".to_owned())

@@ -251,6 +251,7 @@ impl ToothContact {
                 None
             },
             energy_j: 0.0,
+            damping_power_w: 0.0,
             max_penetration_m: 0.0,
         };
         // Each sprocket's frame once, for the sprockets with rollers within reach.
@@ -286,6 +287,7 @@ impl ToothContact {
         }
         out.max_penetration_m = pass.max_penetration_m;
         out.contact_energy_j = pass.energy_j;
+        out.contact_damping_power_w = pass.damping_power_w;
         for range in shared_stretches(&self.reach.runs) {
             for i in range {
                 let [sx, sy] = self.contact_sum[i];

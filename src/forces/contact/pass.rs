@@ -56,6 +56,9 @@ pub(super) struct ContactPass<'a> {
     pub(super) used: &'a mut [u8],
     pub(super) rows: Option<&'a mut DampingRows>,
     pub(super) energy_j: f64,
+    /// Power of the contact forces' damping parts, −Σ (f − K δⁿ) δ̇, W (≤ 0
+    /// but for the ≥ 0 clamp, which only lowers it).
+    pub(super) damping_power_w: f64,
     pub(super) max_penetration_m: f64,
 }
 
@@ -88,6 +91,7 @@ impl ContactPass<'_> {
         let mut patches = [Patch::default(); MAX_PATCHES];
         let (mut force, mut torque) = ([0.0f64; 2], 0.0f64);
         let (mut energy, mut max_pen) = (0.0, self.max_penetration_m);
+        let mut damping_power = 0.0;
         for k in 0..b - a {
             let rx = xs[k] - frame.center[0];
             let ry = ys[k] - frame.center[1];
@@ -147,6 +151,7 @@ impl ContactPass<'_> {
                 let elastic = law.elastic(p.depth_m);
                 let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
                 energy += elastic * p.depth_m * energy_factor;
+                damping_power -= (f - elastic) * depth_rate;
                 if ROWS {
                     let c = elastic * damping;
                     // Surface velocity of the sprocket under the roller: v_c + ω × r.
@@ -209,6 +214,7 @@ impl ContactPass<'_> {
             }
         }
         self.energy_j += energy;
+        self.damping_power_w += damping_power;
         self.max_penetration_m = max_pen;
         (force, torque)
     }

@@ -1,0 +1,307 @@
+//! Pin–bushing friction at every joint of the chain (docs/model.md, “Joint
+//! friction”): a regularised Coulomb moment proportional to the pin load,
+//! plus an optional viscous moment, applied as equal and opposite couples on
+//! the two links that meet at the joint.
+//!
+//! It does not model stick (a regularised law has none: at rest the moment
+//! is zero, so the static equilibrium is the frictionless one), the rollers'
+//! own rotation, or friction between plates.
+
+use super::{ForceElement, Forces};
+use crate::model::{DriveModel, DriveState};
+use crate::scene::JointFriction as Params;
+
+/// Joint friction: at roller i, where link a = (i−1, i) meets link
+/// b = (i, i+1), the moment of link a on link b is
+/// `M_i = −μ r_pin F_pin tanh(ω_rel / ω_s) − c_θ ω_rel`, with
+/// ω_rel = ω_b − ω_a (each link's ω = (d × ḋ) / |d|²) and F_pin the mean of
+/// the two links' forces, zero in compression. On a link of length ℓ and
+/// unit normal n a moment m is the couple −(m/ℓ) n at its first roller and
+/// +(m/ℓ) n at its second: the forces sum to zero and their power is m ω.
+#[derive(Clone, Debug)]
+pub struct JointFriction {
+    params: Params,
+    /// Scratch: each link's angular velocity, rad/s (then the link's moment).
+    omega: Vec<f64>,
+    /// Scratch: each link's normal over its length, n / ℓ, 1/m (then its couple, N).
+    nx: Vec<f64>,
+    /// Scratch: its y component, 1/m.
+    ny: Vec<f64>,
+    /// Each joint's moment M_i at the last evaluation, N·m.
+    moment: Vec<f64>,
+}
+
+impl JointFriction {
+    /// The element for a chain of `rollers` rollers (as many joints).
+    pub fn new(params: Params, rollers: usize) -> Self {
+        Self {
+            params,
+            omega: vec![0.0; rollers],
+            nx: vec![0.0; rollers],
+            ny: vec![0.0; rollers],
+            moment: vec![0.0; rollers],
+        }
+    }
+
+    /// Each joint's moment at the last evaluation, N·m (joint i at roller i:
+    /// the moment of link i−1 on link i, counter-clockwise positive).
+    pub fn moments(&self) -> &[f64] {
+        &self.moment
+    }
+
+    /// The moment at one joint: relative speed `omega_rel`, rad/s, pin load
+    /// `pin_n`, N (≥ 0). The evaluation inlines the same formula.
+    #[cfg(test)]
+    fn law(&self, omega_rel: f64, pin_n: f64) -> f64 {
+        let p = &self.params;
+        -p.friction * p.pin_radius_m * pin_n * fast_tanh(omega_rel / p.speed_rad_s)
+            - p.damping_n_m_s_rad * omega_rel
+    }
+}
+
+/// tanh by Lambert's continued fraction cut after seven terms (a rational
+/// function, no `exp`), clamped to [−1, 1]: within 1.1·10⁻⁴ of `f64::tanh`
+/// everywhere (the clamp, near |x| = 5, is the largest error; below |x| = 3
+/// it is under 10⁻⁶), odd, and ±1 beyond |x| ≈ 5. The library's tanh cost as
+/// much as the rest of the element.
+#[inline(always)]
+fn fast_tanh(x: f64) -> f64 {
+    // Beyond |x| = 10 the fraction would overflow to ∞/∞; its value there is 1.
+    let x = if x > 10.0 { 10.0 } else { x };
+    let x = if x < -10.0 { -10.0 } else { x };
+    let x2 = x * x;
+    let num = x * (135_135.0 + x2 * (17_325.0 + x2 * (378.0 + x2)));
+    let den = 135_135.0 + x2 * (62_370.0 + x2 * (3_150.0 + 28.0 * x2));
+    // Plain comparisons (selects, which vectorise); a NaN passes through.
+    let r = num / den;
+    let r = if r > 1.0 { 1.0 } else { r };
+    if r < -1.0 { -1.0 } else { r }
+}
+
+impl ForceElement for JointFriction {
+    fn name(&self) -> &'static str {
+        "joint friction"
+    }
+
+    /// Three passes over zipped slices (no bounds checks; the first two
+    /// vectorise): each link's ω and n/ℓ, each joint's moment, each link's
+    /// couple on its two rollers.
+    fn evaluate(&mut self, _model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        let n = s.x.len();
+        if n < 2 {
+            return;
+        }
+        let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let (omega, nx, ny) = (&mut self.omega[..n], &mut self.nx[..n], &mut self.ny[..n]);
+        // Link j joins roller j to roller j + 1; the closing link after.
+        let link = |dx: f64, dy: f64, dvx: f64, dvy: f64| {
+            let l2 = dx * dx + dy * dy;
+            // Coincident rollers have no direction: no moment rather than
+            // NaN (the blow-up detector stops such a run).
+            let inv = if l2 > 0.0 { 1.0 / l2 } else { 0.0 };
+            ((dx * dvy - dy * dvx) * inv, -dy * inv, dx * inv)
+        };
+        let pairs = x[..n - 1]
+            .iter()
+            .zip(&x[1..])
+            .zip(y[..n - 1].iter().zip(&y[1..]))
+            .zip(vx[..n - 1].iter().zip(&vx[1..]))
+            .zip(vy[..n - 1].iter().zip(&vy[1..]));
+        let outs = omega[..n - 1]
+            .iter_mut()
+            .zip(nx[..n - 1].iter_mut())
+            .zip(ny[..n - 1].iter_mut());
+        for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), ((w, gx), gy)) in pairs.zip(outs) {
+            (*w, *gx, *gy) = link(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
+        }
+        (omega[n - 1], nx[n - 1], ny[n - 1]) = link(
+            x[0] - x[n - 1],
+            y[0] - y[n - 1],
+            vx[0] - vx[n - 1],
+            vy[0] - vy[n - 1],
+        );
+        // Joint i (i ≥ 1) between links i − 1 and i; joint 0 closes the loop.
+        let p = self.params;
+        let coulomb = p.friction * p.pin_radius_m;
+        let per_speed = 1.0 / p.speed_rad_s;
+        let law = |omega_rel: f64, f_a: f64, f_b: f64| {
+            let pin = (0.5 * (f_a + f_b)).max(0.0);
+            -coulomb * pin * fast_tanh(omega_rel * per_speed) - p.damping_n_m_s_rad * omega_rel
+        };
+        let forces = &out.link_force[..n];
+        let moment = &mut self.moment[..n];
+        // No sum in this loop, so it vectorises; the power is summed below.
+        let joints = omega[..n - 1]
+            .iter()
+            .zip(&omega[1..])
+            .zip(forces[..n - 1].iter().zip(&forces[1..]));
+        for (((w_a, w_b), (f_a, f_b)), m) in joints.zip(moment[1..].iter_mut()) {
+            *m = law(w_b - w_a, *f_a, *f_b);
+        }
+        moment[0] = law(omega[0] - omega[n - 1], forces[n - 1], forces[0]);
+        // Link j carries +M_j (joint j, where it is link b) and −M_{j+1}
+        // (joint j + 1, where it is link a): its couple is (m/ℓ) n with
+        // m = M_j − M_{j+1}, −(m/ℓ) n on roller j, +(m/ℓ) n on roller j + 1.
+        // The power Σ_i M_i ω_rel,i equals Σ_j m_j ω_j (summation by parts).
+        let mut power = 0.0;
+        let mut link_moment = |w: &mut f64, m: f64| {
+            power += m * *w;
+            // The link's ω is spent: its slot holds m.
+            *w = m;
+        };
+        for ((w, a), b) in omega[..n - 1]
+            .iter_mut()
+            .zip(&moment[..n - 1])
+            .zip(&moment[1..])
+        {
+            link_moment(w, a - b);
+        }
+        link_moment(&mut omega[n - 1], moment[n - 1] - moment[0]);
+        let m = omega;
+        for ((gx, gy), m) in nx.iter_mut().zip(ny.iter_mut()).zip(m.iter()) {
+            *gx *= m;
+            *gy *= m;
+        }
+        // Roller i gets couple(i − 1) − couple(i).
+        let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
+        fx[0] += nx[n - 1] - nx[0];
+        fy[0] += ny[n - 1] - ny[0];
+        for ((f, a), b) in fx[1..].iter_mut().zip(&nx[..n - 1]).zip(&nx[1..]) {
+            *f += a - b;
+        }
+        for ((f, a), b) in fy[1..].iter_mut().zip(&ny[..n - 1]).zip(&ny[1..]) {
+            *f += a - b;
+        }
+        if out.joint_moment_n_m.len() != n {
+            // Sized once, at the first evaluation.
+            out.joint_moment_n_m.resize(n, 0.0);
+        }
+        out.joint_moment_n_m.copy_from_slice(moment);
+        out.joint_friction_power_w = power;
+    }
+
+    fn clone_box(&self) -> Box<dyn ForceElement> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::forces::Links;
+
+    fn params(mu: f64, damping: f64) -> Params {
+        Params {
+            pin_radius_m: 0.017,
+            friction: mu,
+            speed_rad_s: 1.0,
+            damping_n_m_s_rad: damping,
+        }
+    }
+
+    /// The paper's drive as laid out, its rollers given a deterministic
+    /// pseudo-random velocity field and its links tensions of 5–35 kN (one
+    /// in compression), and the links' forces at that state.
+    fn disturbed() -> (DriveModel, DriveState, Forces) {
+        let scene = crate::scene::Scene::l60mc();
+        let (model, mut state, _) = DriveModel::build(&scene).expect("paper's drive lays out");
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
+        };
+        for i in 0..state.rollers() {
+            state.vx[i] += 2.0 * next();
+            state.vy[i] += 2.0 * next();
+        }
+        let n = state.rollers();
+        let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
+        Links::new(n).evaluate(&model, &state, &mut out);
+        for (i, f) in out.link_force.iter_mut().enumerate() {
+            *f = 20e3 + 15e3 * next() * 2.0;
+            if i == 7 {
+                *f = -5e3;
+            }
+        }
+        (model, state, out)
+    }
+
+    #[test]
+    fn joint_friction_forces_sum_to_zero_and_only_dissipate() {
+        // The couples are internal: their forces sum to zero (to rounding,
+        // 1e-9 of their largest), and their power Σ F·v equals Σ M ω_rel,
+        // which the law makes ≤ 0 at every joint.
+        let (model, state, base) = disturbed();
+        for (mu, c) in [(0.1, 0.0), (0.0, 5.0), (0.15, 2.0)] {
+            let mut e = JointFriction::new(params(mu, c), state.rollers());
+            let mut out = base.clone();
+            e.evaluate(&model, &state, &mut out);
+            let (mut sx, mut sy, mut largest, mut power) = (0.0, 0.0, 0.0f64, 0.0);
+            for i in 0..state.rollers() {
+                let (fx, fy) = (out.fx[i] - base.fx[i], out.fy[i] - base.fy[i]);
+                sx += fx;
+                sy += fy;
+                largest = largest.max(fx.hypot(fy));
+                power += fx * state.vx[i] + fy * state.vy[i];
+            }
+            assert!(largest > 0.0, "μ = {mu}, c = {c}: no force at all");
+            assert!(sx.abs() < 1e-9 * largest && sy.abs() < 1e-9 * largest);
+            // Every joint dissipates: M ω_rel ≤ 0 (checked per joint through
+            // the law's sign, and in total through the forces' power).
+            let n = state.rollers();
+            let omega = |j: usize| {
+                let k = (j + 1) % n;
+                let (dx, dy) = (state.x[k] - state.x[j], state.y[k] - state.y[j]);
+                let (dvx, dvy) = (state.vx[k] - state.vx[j], state.vy[k] - state.vy[j]);
+                (dx * dvy - dy * dvx) / (dx * dx + dy * dy)
+            };
+            for i in 0..n {
+                let rel = omega(i) - omega((i + n - 1) % n);
+                assert!(e.moment[i] * rel <= 0.0, "joint {i}");
+            }
+            assert!(out.joint_friction_power_w < 0.0);
+            let rel = (power - out.joint_friction_power_w).abs() / power.abs();
+            assert!(
+                rel < 1e-9,
+                "Σ F·v = {power} W against Σ M ω = {} W",
+                out.joint_friction_power_w
+            );
+        }
+    }
+
+    #[test]
+    fn fast_tanh_matches_the_library_tanh() {
+        // Oracle: f64::tanh on a fine grid over ±40 (and the clamp region);
+        // tolerance 1.1e-4 overall, 1e-6 below |x| = 3; odd to the bit.
+        for k in -40_000..=40_000 {
+            let x = k as f64 * 1e-3;
+            let (fast, exact) = (fast_tanh(x), x.tanh());
+            let tol = if x.abs() < 3.0 { 1e-6 } else { 1.1e-4 };
+            assert!(
+                (fast - exact).abs() < tol,
+                "x = {x}: {fast} against {exact}"
+            );
+            assert_eq!(fast_tanh(-x), -fast);
+        }
+        assert_eq!(fast_tanh(1e300), 1.0);
+        assert!(fast_tanh(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn joint_friction_moment_saturates_at_the_coulomb_value() {
+        // M = −μ r F tanh(ω/ω_s): at ω = 10 ω_s, within 1e-8 of μ r F; at
+        // ω = ω_s / 1000, the viscous slope μ r F / ω_s to 1e-6.
+        let e = JointFriction::new(params(0.1, 0.0), 4);
+        let coulomb = 0.1 * 0.017 * 30e3;
+        assert!((e.law(10.0, 30e3) + coulomb).abs() < 1e-8 * coulomb);
+        assert!((e.law(1e-3, 30e3) + coulomb * 1e-3).abs() < 1e-6 * coulomb * 1e-3);
+        // Compression carries no pin load here: the caller clamps it.
+        assert_eq!(e.law(0.0, 30e3), 0.0);
+    }
+}
