@@ -15,6 +15,7 @@ mod common;
 mod cosim;
 mod detectors;
 mod equilibrium;
+mod equilibrium_sweep;
 mod fuzz;
 mod integrators;
 mod layering;
