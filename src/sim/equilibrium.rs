@@ -454,7 +454,9 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
 /// Each relaxation stops once every force is below [`SEARCH_FORCE`] of the
 /// pretension (or at rest, or after `max_time_s`); when the static tension is
 /// within `tolerance`, the drive relaxes on at that rest length until its
-/// forces are below [`REST_FORCE`] of the pretension. The damping rate is
+/// forces are below [`REST_FORCE`] of the pretension (while each further
+/// relaxation at least halves the residual; the residual returned says how
+/// close it came). The damping rate is
 /// chosen from the drive's own frequencies (`damping_rate`), at most
 /// `settings.rate_per_s`. `sprocket_names` name the body that did not settle
 /// when there is no equilibrium.
@@ -482,6 +484,10 @@ pub fn settle_rest_length(
     let mut last = f64::NAN;
     let mut step_factor = 8.0;
     let mut found = false;
+    // Relaxations at the right tension beyond the first, and their limit.
+    const MAX_FURTHER: usize = 20;
+    let mut further = 0;
+    let mut further_residual = f64::INFINITY;
     for iteration in 1..=MAX_ITERATIONS {
         model.rest_length_m = rest;
         let stop = if found { REST_FORCE } else { SEARCH_FORCE };
@@ -490,11 +496,17 @@ pub fn settle_rest_length(
             free_strand_tension(model, state, forces).ok_or(EquilibriumError::NoFreeLinks)?;
         last = tension;
         if ((tension - target_n) / target_n).abs() <= tolerance {
-            let settled = force_residual(forces, target_n) <= REST_FORCE
+            let now = force_residual(forces, target_n);
+            let settled = now <= REST_FORCE
                 && worst_sprocket(model, forces).is_none_or(|(s, m)| {
                     m.abs() <= REST_FORCE * scale * model.sprockets[s].pitch_radius_m
                 });
-            if settled || residual < settings.rest_speed_m_s {
+            // A drive whose residual stops falling over further relaxations
+            // (a roller chattering on a tooth) ends here too: its residual
+            // says how far it is from equilibrium.
+            let stalled = further > 0 && !(now < 0.5 * further_residual);
+            if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER
+            {
                 return Ok(StaticEquilibrium {
                     tension_n: tension,
                     rest_length_m: rest,
@@ -505,9 +517,12 @@ pub fn settle_rest_length(
             }
             // Right tension, not yet at rest: relax on at this rest length.
             found = true;
+            further += 1;
+            further_residual = now;
             continue;
         }
         found = false;
+        further = 0;
         if tension > target_n {
             above = Some(rest);
         } else {
