@@ -103,23 +103,19 @@ pub enum EquilibriumError {
     },
     /// The loads on several sprockets leave a free strand in compression.
     #[error(
-        "at chain.pretension_n = {pretension_n:.1} N the load torques ({loads}) leave strand {strand} (from \"{from}\" to \"{to}\") carrying {tension_n:.1} N: a strand cannot carry compression; raise chain.pretension_n to at least {needed_n:.1} N or reduce the loads"
+        "at chain.pretension_n = {pretension_n:.1} N the load torques leave strand {strand} ({context}) carrying {tension_n:.1} N: a strand cannot carry compression; raise chain.pretension_n to at least {needed_n:.1} N or reduce the loads"
     )]
     StrandCompression {
         /// The strand, 1-based (strand k leaves sprocket k).
         strand: usize,
-        /// The sprocket it leaves.
-        from: String,
-        /// The sprocket it reaches.
-        to: String,
         /// Its static tension, N (negative).
         tension_n: f64,
         /// Pretension, N.
         pretension_n: f64,
         /// Least pretension that keeps every strand in tension, N.
         needed_n: f64,
-        /// The loads at rest, for the message.
-        loads: String,
+        /// The sprockets the strand runs between and the loads at rest, for the message.
+        context: String,
     },
     /// A load torque needs more pretension than the scene has.
     #[error(
@@ -268,11 +264,7 @@ fn worst_sprocket(model: &DriveModel, forces: &ForceGenerator) -> Option<(usize,
 /// The body furthest from equilibrium, for a message: a free sprocket's
 /// torque or a roller's force, whichever is larger against the pretension
 /// (a torque counted as torque / pitch radius).
-fn unsettled_body(
-    model: &DriveModel,
-    forces: &ForceGenerator,
-    names: &[&str],
-) -> (String, f64) {
+fn unsettled_body(model: &DriveModel, forces: &ForceGenerator, names: &[&str]) -> (String, f64) {
     let out = forces.output();
     let (roller, force) = out
         .fx
@@ -284,7 +276,9 @@ fn unsettled_body(
     let roller_text = format!("roller {roller} did not settle: residual force {force:.3e} N");
     match worst_sprocket(model, forces) {
         Some((s, m)) if m.abs() / model.sprockets[s].pitch_radius_m > force => {
-            let name = names.get(s).map_or_else(|| format!("{}", s + 1), |n| (*n).to_owned());
+            let name = names
+                .get(s)
+                .map_or_else(|| format!("{}", s + 1), |n| (*n).to_owned());
             (
                 format!("sprocket \"{name}\" did not settle: residual torque {m:.3e} N·m"),
                 m.abs() / model.sprockets[s].pitch_radius_m,
@@ -399,7 +393,7 @@ fn next_rest_length(
 const SEARCH_FORCE: f64 = 1e-5;
 /// Force residual, relative to the pretension, at which the final relaxation
 /// stops: the equilibrium's residual is below it.
-pub const REST_FORCE: f64 = 1e-7;
+const REST_FORCE: f64 = 1e-7;
 /// Least relaxation damping rate, 1/s.
 const MIN_RATE_PER_S: f64 = 2.0;
 
@@ -451,11 +445,11 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
 /// links' rest length (safeguarded secant iteration on T(rest length), see
 /// `next_rest_length`).
 ///
-/// Each relaxation stops once every force is below [`SEARCH_FORCE`] of the
+/// Each relaxation stops once every force is below `SEARCH_FORCE` (10⁻⁵) of the
 /// pretension (or at rest, or after `max_time_s`); when the static tension is
 /// within `tolerance`, the drive relaxes on at that rest length until its
-/// forces are below [`REST_FORCE`] of the pretension (while each further
-/// relaxation at least halves the residual; the residual returned says how
+/// forces are below `REST_FORCE` (10⁻⁷) of the pretension (while each further
+/// relaxation lowers the residual by a tenth at least; the residual returned says how
 /// close it came). The damping rate is
 /// chosen from the drive's own frequencies (`damping_rate`), at most
 /// `settings.rate_per_s`. `sprocket_names` name the body that did not settle
@@ -504,9 +498,8 @@ pub fn settle_rest_length(
             // A drive whose residual stops falling over further relaxations
             // (a roller chattering on a tooth) ends here too: its residual
             // says how far it is from equilibrium.
-            let stalled = further > 0 && !(now < 0.5 * further_residual);
-            if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER
-            {
+            let stalled = further > 0 && !(now < 0.9 * further_residual);
+            if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER {
                 return Ok(StaticEquilibrium {
                     tension_n: tension,
                     rest_length_m: rest,

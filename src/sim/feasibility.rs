@@ -14,16 +14,24 @@
 //!   a little too short settles with the wrap links slightly compressed
 //!   (l₀ a few micrometres above P). A chain a quarter pitch short is far
 //!   beyond: its free links would carry hundreds of kilonewtons.
-//! - **Load beyond the pretension** (two-sprocket drives). With the driver
-//!   held, a load torque M on the free sprocket (pitch radius R) makes the
-//!   strands' tensions differ by |M|/R. The chain's length is fixed, so the
-//!   strands' stretches change in opposite directions, and the pooled mean
-//!   over the free links stays T₀: n_t ΔT_t = n_s ΔT_s with
-//!   ΔT_t + ΔT_s = |M|/R, so the slack strand carries
-//!   T₀ − |M| n_t / (R (n_t + n_s)). It would need compression unless
-//!   T₀ ≥ |M| n_t / (R (n_t + n_s)); for equal strands T₀ ≥ |M| / (2R). The
-//!   check takes the shorter strand as n_t (the lower bound of the two), so
-//!   it never rejects a drive that could settle.
+//!   Under gravity each free strand also sags at T₀ and holds
+//!   q⊥² L³ / (24 T₀²) more chain than its straight span (shallow parabolic
+//!   cable, q⊥ the weight per length across it): that much is missing too.
+//! - **Chain too long** (rest-length rule). A chain longer than its seated
+//!   path must hold the excess in the strands' sag at T₀. Without gravity
+//!   nothing sags, and a too-long chain has no equilibrium at the
+//!   pretension: the wrap links would carry K·excess/n_free more than the
+//!   strands. The same margin applies.
+//! - **Load beyond the pretension** (any number of sprockets). With the
+//!   driver held, a free sprocket's torque balance (chain torque
+//!   w R (T_out − T_in), w = +1 for a counter-clockwise wrap, plus its load
+//!   M) fixes the tension jump across it, T_out − T_in = −w M / R. Strand k
+//!   leaves sprocket k; from the strand leaving the driver the jumps add up
+//!   to c_k. The rest-length rule holds the pooled mean over the free links
+//!   at T₀, so T_k = T₀ + c_k − Σ n_j c_j / Σ n_j. A strand with T_k < 0
+//!   would carry compression: one loaded sprocket is named with the largest
+//!   load T₀ holds (two equal strands: |M| ≤ 2 R T₀), several with the
+//!   strand. Exact for a weightless chain, a guide under gravity.
 
 use super::equilibrium::EquilibriumError;
 use crate::geometry::{ChainPath, Layout};
@@ -130,11 +138,15 @@ pub(crate) fn check_load(scene: &Scene, layout: &Layout) -> Result<(), Equilibri
         return Ok(());
     }
     let tensions = strand_tensions(scene.driver(), &jumps, links, t0);
-    let (weakest, lowest) = tensions
-        .iter()
-        .copied()
-        .enumerate()
-        .fold((0, f64::INFINITY), |a, (k, t)| if t < a.1 { (k, t) } else { a });
+    let (weakest, lowest) =
+        tensions
+            .iter()
+            .copied()
+            .enumerate()
+            .fold(
+                (0, f64::INFINITY),
+                |a, (k, t)| if t < a.1 { (k, t) } else { a },
+            );
     if lowest >= 0.0 {
         return Ok(());
     }
@@ -153,25 +165,24 @@ pub(crate) fn check_load(scene: &Scene, layout: &Layout) -> Result<(), Equilibri
             needed_n,
         });
     }
-    let strand = strand_ends(scene, weakest);
+    let (from, to) = strand_ends(scene, weakest);
+    let loads = loaded
+        .iter()
+        .map(|&s| {
+            format!(
+                "\"{}\" {} N·m",
+                scene.sprockets[s].name,
+                scene.sprockets[s].load_torque_n_m()
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
     Err(EquilibriumError::StrandCompression {
         strand: weakest + 1,
-        from: strand.0,
-        to: strand.1,
         tension_n: lowest,
         pretension_n: t0,
         needed_n,
-        loads: loaded
-            .iter()
-            .map(|&s| {
-                format!(
-                    "\"{}\" {} N·m",
-                    scene.sprockets[s].name,
-                    scene.sprockets[s].load_torque_n_m()
-                )
-            })
-            .collect::<Vec<_>>()
-            .join(", "),
+        context: format!("from \"{from}\" to \"{to}\"; loads {loads}"),
     })
 }
 
@@ -196,11 +207,6 @@ fn strand_tensions(driver: usize, jumps: &[f64], links: &[usize], t0: f64) -> Ve
         c[s] = c[(s + n - 1) % n] + jumps[s];
     }
     let total: usize = links.iter().sum();
-    let mean = c
-        .iter()
-        .zip(links)
-        .map(|(c, &l)| c * l as f64)
-        .sum::<f64>()
-        / total as f64;
+    let mean = c.iter().zip(links).map(|(c, &l)| c * l as f64).sum::<f64>() / total as f64;
     c.iter().map(|c| t0 + c - mean).collect()
 }

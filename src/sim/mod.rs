@@ -275,7 +275,11 @@ impl Simulation {
                     &settings,
                     scene.chain.pretension_n,
                     scene.equilibrium.tension_tolerance,
-                    &scene.sprockets.iter().map(|s| s.name.as_str()).collect::<Vec<_>>(),
+                    &scene
+                        .sprockets
+                        .iter()
+                        .map(|s| s.name.as_str())
+                        .collect::<Vec<_>>(),
                 )?;
                 (scene.clone(), model, state, forces, layout, eq)
             }
