@@ -47,13 +47,30 @@ pub enum EquilibriumError {
         /// Iterations used.
         iterations: usize,
     },
+    /// The pretension iteration ran out of iterations with a body not at rest.
+    #[error(
+        "static tension {tension_n:.1} N after {iterations} iterations, target {target_n:.1} N: {body}"
+    )]
+    Unsettled {
+        /// Reached tension, N.
+        tension_n: f64,
+        /// Target, N.
+        target_n: f64,
+        /// Iterations used.
+        iterations: usize,
+        /// The body furthest from equilibrium and its residual.
+        body: String,
+    },
     /// The chain is too short for the pretension (see the feasibility module).
     #[error(
-        "the chain is {short_m:.4} m ({short_pitches:.2} pitches) shorter than the path through the seated rollers, but at chain.pretension_n its {free_links} free links stretch {allowed_m:.2e} m in all; it would carry about {needed_tension_n:.0} N: add rollers or move the sprockets closer"
+        "the chain is {short_m:.4} m ({short_pitches:.2} pitches) shorter than the path through the seated rollers{}, but at chain.pretension_n its {free_links} free links stretch {allowed_m:.2e} m in all; it would carry about {needed_tension_n:.0} N: add rollers or move the sprockets closer",
+        if *sag_m > 0.0 { format!(" plus the {sag_m:.2e} m its strands' sag holds at chain.pretension_n") } else { String::new() }
     )]
     ChainTooShort {
-        /// Missing length, m.
+        /// Missing length (the seated path plus the sag at the pretension, less the chain), m.
         short_m: f64,
+        /// Length the strands' sag holds at the pretension (gravity), m.
+        sag_m: f64,
         /// Missing length, pitches.
         short_pitches: f64,
         /// Links of the free strands.
@@ -62,6 +79,43 @@ pub enum EquilibriumError {
         allowed_m: f64,
         /// Static tension the short chain would carry, N.
         needed_tension_n: f64,
+    },
+    /// The chain is longer than its path by more than the strands' sag at
+    /// the pretension takes up (see the feasibility module).
+    #[error(
+        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        match sag_tension_n {
+            Some(t) => format!(", or lower chain.pretension_n to about {t:.0} N, where the strands sag by that much"),
+            None => " (without gravity the strands cannot sag)".to_owned(),
+        }
+    )]
+    ChainTooLong {
+        /// Excess length, m.
+        long_m: f64,
+        /// Excess length, pitches.
+        long_pitches: f64,
+        /// Length the strands' sag takes up at the pretension, m.
+        sag_m: f64,
+        /// Pretension, N.
+        pretension_n: f64,
+        /// Pretension at which the sag takes up the excess, N (none without gravity).
+        sag_tension_n: Option<f64>,
+    },
+    /// The loads on several sprockets leave a free strand in compression.
+    #[error(
+        "at chain.pretension_n = {pretension_n:.1} N the load torques leave strand {strand} ({context}) carrying {tension_n:.1} N: a strand cannot carry compression; raise chain.pretension_n to at least {needed_n:.1} N or reduce the loads"
+    )]
+    StrandCompression {
+        /// The strand, 1-based (strand k leaves sprocket k).
+        strand: usize,
+        /// Its static tension, N (negative).
+        tension_n: f64,
+        /// Pretension, N.
+        pretension_n: f64,
+        /// Least pretension that keeps every strand in tension, N.
+        needed_n: f64,
+        /// The sprockets the strand runs between and the loads at rest, for the message.
+        context: String,
     },
     /// A load torque needs more pretension than the scene has.
     #[error(
@@ -115,6 +169,20 @@ pub fn relax(
     forces: &mut ForceGenerator,
     settings: &RelaxSettings,
 ) -> Result<f64, EquilibriumError> {
+    relax_until(model, state, forces, settings, None)
+}
+
+/// [`relax`], stopping as well once the drive is in equilibrium within
+/// `rest_force_n`: every roller's force and its damping force m·rate·|v|
+/// below it, and every free sprocket's torque (chain plus load at rest)
+/// below it times the pitch radius.
+pub(crate) fn relax_until(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+    rest_force_n: Option<f64>,
+) -> Result<f64, EquilibriumError> {
     let relax = Some(Relaxation {
         rate_per_s: settings.rate_per_s,
     });
@@ -136,7 +204,14 @@ pub fn relax(
         implicit_damping_step(model, state, forces, settings.dt_s, &mut torque, relax);
         if step % check_every == 0 {
             residual = max_speed(state);
-            if residual < settings.rest_speed_m_s {
+            // The forces are those before the step just taken: the final
+            // residual is evaluated anew below.
+            if residual < settings.rest_speed_m_s
+                || rest_force_n.is_some_and(|f| {
+                    model.roller_mass_kg * settings.rate_per_s * residual <= f
+                        && at_rest(model, forces, f)
+                })
+            {
                 break;
             }
         }
@@ -153,6 +228,64 @@ pub fn relax(
     forces.reset_memory();
     forces.evaluate(model, state);
     Ok(residual)
+}
+
+/// Every roller's force below `force_n` and every free sprocket's torque
+/// below `force_n` times its pitch radius. `forces` evaluated at the state.
+fn at_rest(model: &DriveModel, forces: &ForceGenerator, force_n: f64) -> bool {
+    let out = forces.output();
+    let rollers = out
+        .fx
+        .iter()
+        .zip(&out.fy)
+        .all(|(x, y)| x.hypot(*y) <= force_n);
+    rollers
+        && worst_sprocket(model, forces)
+            .is_none_or(|(s, m)| m.abs() <= force_n * model.sprockets[s].pitch_radius_m)
+}
+
+/// The free sprocket with the largest torque out of balance (chain plus load
+/// at rest) relative to its pitch radius, and that torque, N·m.
+fn worst_sprocket(model: &DriveModel, forces: &ForceGenerator) -> Option<(usize, f64)> {
+    let out = forces.output();
+    model
+        .sprockets
+        .iter()
+        .enumerate()
+        .filter(|(_, sp)| sp.speed_law.is_none())
+        .map(|(s, sp)| (s, out.chain_torque[s] + sp.load_at_rest_n_m()))
+        .max_by(|a, b| {
+            let ra = a.1.abs() / model.sprockets[a.0].pitch_radius_m;
+            let rb = b.1.abs() / model.sprockets[b.0].pitch_radius_m;
+            ra.total_cmp(&rb)
+        })
+}
+
+/// The body furthest from equilibrium, for a message: a free sprocket's
+/// torque or a roller's force, whichever is larger against the pretension
+/// (a torque counted as torque / pitch radius).
+fn unsettled_body(model: &DriveModel, forces: &ForceGenerator, names: &[&str]) -> (String, f64) {
+    let out = forces.output();
+    let (roller, force) = out
+        .fx
+        .iter()
+        .zip(&out.fy)
+        .map(|(x, y)| x.hypot(*y))
+        .enumerate()
+        .fold((0, 0.0), |a, (i, f)| if f > a.1 { (i, f) } else { a });
+    let roller_text = format!("roller {roller} did not settle: residual force {force:.3e} N");
+    match worst_sprocket(model, forces) {
+        Some((s, m)) if m.abs() / model.sprockets[s].pitch_radius_m > force => {
+            let name = names
+                .get(s)
+                .map_or_else(|| format!("{}", s + 1), |n| (*n).to_owned());
+            (
+                format!("sprocket \"{name}\" did not settle: residual torque {m:.3e} N·m"),
+                m.abs() / model.sprockets[s].pitch_radius_m,
+            )
+        }
+        _ => (roller_text, force),
+    }
 }
 
 fn max_speed(state: &DriveState) -> f64 {
@@ -254,9 +387,73 @@ fn next_rest_length(
     }
 }
 
+/// Force residual, relative to the pretension, at which a relaxation stops
+/// while the pretension iteration is still looking for the rest length: the
+/// static tension is then known well within the tolerance on it.
+const SEARCH_FORCE: f64 = 1e-5;
+/// Force residual, relative to the pretension, at which the final relaxation
+/// stops: the equilibrium's residual is below it.
+const REST_FORCE: f64 = 1e-7;
+/// Least relaxation damping rate, 1/s.
+const MIN_RATE_PER_S: f64 = 2.0;
+
+/// The relaxation's damping rate: twice the lowest natural frequency of the
+/// held drive, at most `cap_per_s`. Viscous damping c brings a mode of
+/// frequency ω ≥ c/2 to rest at the rate c/2 but an overdamped one (ω < c/2)
+/// only at ω²/c, so c = 2 ω_min is the fastest for the slowest mode. The
+/// modes estimated, for each free strand of length L (ρ = m_r/P):
+/// - the strand's longitudinal fundamental between its held ends, π P √(K/m_r) / L;
+/// - with gravity across it, its lateral (string) fundamental π √(T₀/ρ) / L;
+/// - each free sprocket turning against the strands on either side, √(R² K (1/n_in + 1/n_out) / J),
+///   n the strands' link counts.
+fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
+    let p = model.rest_length_m;
+    let m = model.roller_mass_kg;
+    let k = model.stiffness_n_m;
+    let rho = m / p;
+    let [gx, gy] = model.gravity_m_s2;
+    let g = gx.hypot(gy);
+    let strands = &model.path.strands;
+    let mut omega = f64::INFINITY;
+    for s in strands {
+        let l = s.length_m.max(p);
+        omega = omega.min(std::f64::consts::PI * p * (k / m).sqrt() / l);
+        let [dx, dy] = s.direction();
+        if g > 0.0 && (dx * gy - dy * gx).abs() > 0.1 * g {
+            omega = omega.min(std::f64::consts::PI * (target_n.abs() / rho).sqrt() / l);
+        }
+    }
+    let n = strands.len();
+    for (j, sp) in model.sprockets.iter().enumerate() {
+        if sp.speed_law.is_some() || !(sp.inv_inertia > 0.0) || n == 0 {
+            continue;
+        }
+        // Strand j leaves sprocket j, strand j − 1 reaches it.
+        let links = |s: &crate::geometry::Strand| (s.length_m / p).max(1.0);
+        let compliance = 1.0 / links(&strands[j % n]) + 1.0 / links(&strands[(j + n - 1) % n]);
+        let r = sp.pitch_radius_m;
+        omega = omega.min((r * r * k * compliance * sp.inv_inertia).sqrt());
+    }
+    if omega.is_finite() {
+        (2.0 * omega).clamp(MIN_RATE_PER_S.min(cap_per_s), cap_per_s)
+    } else {
+        cap_per_s
+    }
+}
+
 /// Brings the drive to static equilibrium at `target_n` by shortening the
 /// links' rest length (safeguarded secant iteration on T(rest length), see
 /// `next_rest_length`).
+///
+/// Each relaxation stops once every force is below `SEARCH_FORCE` (10⁻⁵) of the
+/// pretension (or at rest, or after `max_time_s`); when the static tension is
+/// within `tolerance`, the drive relaxes on at that rest length until its
+/// forces are below `REST_FORCE` (10⁻⁷) of the pretension (while each further
+/// relaxation lowers the residual by a tenth at least; the residual returned says how
+/// close it came). The damping rate is
+/// chosen from the drive's own frequencies (`damping_rate`), at most
+/// `settings.rate_per_s`. `sprocket_names` name the body that did not settle
+/// when there is no equilibrium.
 pub fn settle_rest_length(
     model: &mut DriveModel,
     state: &mut DriveState,
@@ -264,31 +461,61 @@ pub fn settle_rest_length(
     settings: &RelaxSettings,
     target_n: f64,
     tolerance: f64,
+    sprocket_names: &[&str],
 ) -> Result<StaticEquilibrium, EquilibriumError> {
     const MAX_ITERATIONS: usize = 30;
     let k = model.stiffness_n_m;
+    let settings = RelaxSettings {
+        rate_per_s: damping_rate(model, target_n, settings.rate_per_s),
+        ..*settings
+    };
+    let scale = target_n.abs();
     // First guess: links on the wraps are exactly one pitch long; stretch them to the target.
     let mut rest = model.rest_length_m - target_n / k;
     let mut previous: Option<(f64, f64)> = None;
     // Rest lengths known to give a tension above (low) and below (high) the target.
     let (mut above, mut below): (Option<f64>, Option<f64>) = (None, None);
-    let mut last = (f64::NAN, f64::INFINITY);
+    let mut last = f64::NAN;
     let mut step_factor = 8.0;
+    let mut found = false;
+    // Relaxations at the right tension beyond the first, and their limit.
+    const MAX_FURTHER: usize = 20;
+    let mut further = 0;
+    let mut further_residual = f64::INFINITY;
     for iteration in 1..=MAX_ITERATIONS {
         model.rest_length_m = rest;
-        let residual = relax(model, state, forces, settings)?;
+        let stop = if found { REST_FORCE } else { SEARCH_FORCE };
+        let residual = relax_until(model, state, forces, &settings, Some(stop * scale))?;
         let tension =
             free_strand_tension(model, state, forces).ok_or(EquilibriumError::NoFreeLinks)?;
-        last = (tension, residual);
+        last = tension;
         if ((tension - target_n) / target_n).abs() <= tolerance {
-            return Ok(StaticEquilibrium {
-                tension_n: tension,
-                rest_length_m: rest,
-                iterations: iteration,
-                residual_speed_m_s: residual,
-                force_residual: force_residual(forces, target_n),
-            });
+            let now = force_residual(forces, target_n);
+            let settled = now <= REST_FORCE
+                && worst_sprocket(model, forces).is_none_or(|(s, m)| {
+                    m.abs() <= REST_FORCE * scale * model.sprockets[s].pitch_radius_m
+                });
+            // A drive whose residual stops falling over further relaxations
+            // (a roller chattering on a tooth) ends here too: its residual
+            // says how far it is from equilibrium.
+            let stalled = further > 0 && !(now < 0.9 * further_residual);
+            if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER {
+                return Ok(StaticEquilibrium {
+                    tension_n: tension,
+                    rest_length_m: rest,
+                    iterations: iteration,
+                    residual_speed_m_s: residual,
+                    force_residual: force_residual(forces, target_n),
+                });
+            }
+            // Right tension, not yet at rest: relax on at this rest length.
+            found = true;
+            further += 1;
+            further_residual = now;
+            continue;
         }
+        found = false;
+        further = 0;
         if tension > target_n {
             above = Some(rest);
         } else {
@@ -305,9 +532,11 @@ pub fn settle_rest_length(
         previous = Some((rest, tension));
         rest = next;
     }
-    Err(EquilibriumError::NotConverged {
-        tension_n: last.0,
+    let (body, _) = unsettled_body(model, forces, sprocket_names);
+    Err(EquilibriumError::Unsettled {
+        tension_n: last,
         target_n,
         iterations: MAX_ITERATIONS,
+        body,
     })
 }

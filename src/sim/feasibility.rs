@@ -14,19 +14,27 @@
 //!   a little too short settles with the wrap links slightly compressed
 //!   (l₀ a few micrometres above P). A chain a quarter pitch short is far
 //!   beyond: its free links would carry hundreds of kilonewtons.
-//! - **Load beyond the pretension** (two-sprocket drives). With the driver
-//!   held, a load torque M on the free sprocket (pitch radius R) makes the
-//!   strands' tensions differ by |M|/R. The chain's length is fixed, so the
-//!   strands' stretches change in opposite directions, and the pooled mean
-//!   over the free links stays T₀: n_t ΔT_t = n_s ΔT_s with
-//!   ΔT_t + ΔT_s = |M|/R, so the slack strand carries
-//!   T₀ − |M| n_t / (R (n_t + n_s)). It would need compression unless
-//!   T₀ ≥ |M| n_t / (R (n_t + n_s)); for equal strands T₀ ≥ |M| / (2R). The
-//!   check takes the shorter strand as n_t (the lower bound of the two), so
-//!   it never rejects a drive that could settle.
+//!   Under gravity each free strand also sags at T₀ and holds
+//!   q⊥² L³ / (24 T₀²) more chain than its straight span (shallow parabolic
+//!   cable, q⊥ the weight per length across it): that much is missing too.
+//! - **Chain too long** (rest-length rule). A chain longer than its seated
+//!   path must hold the excess in the strands' sag at T₀. Without gravity
+//!   nothing sags, and a too-long chain has no equilibrium at the
+//!   pretension: the wrap links would carry K·excess/n_free more than the
+//!   strands. The same margin applies.
+//! - **Load beyond the pretension** (any number of sprockets). With the
+//!   driver held, a free sprocket's torque balance (chain torque
+//!   w R (T_out − T_in), w = +1 for a counter-clockwise wrap, plus its load
+//!   M) fixes the tension jump across it, T_out − T_in = −w M / R. Strand k
+//!   leaves sprocket k; from the strand leaving the driver the jumps add up
+//!   to c_k. The rest-length rule holds the pooled mean over the free links
+//!   at T₀, so T_k = T₀ + c_k − Σ n_j c_j / Σ n_j. A strand with T_k < 0
+//!   would carry compression: one loaded sprocket is named with the largest
+//!   load T₀ holds (two equal strands: |M| ≤ 2 R T₀), several with the
+//!   strand. Exact for a weightless chain, a guide under gravity.
 
 use super::equilibrium::EquilibriumError;
-use crate::geometry::Layout;
+use crate::geometry::{ChainPath, Layout};
 use crate::scene::{Role, Scene};
 
 /// Factor on the length the pretension can take up beyond which a chain is
@@ -35,52 +43,170 @@ const SHORT_MARGIN: f64 = 2.0;
 /// Further missing length tolerated, in pitches.
 const SHORT_MARGIN_PITCHES: f64 = 0.1;
 
-/// The chain is not too short for the pretension (rest-length rule).
-pub(crate) fn check_chain_length(scene: &Scene, layout: &Layout) -> Result<(), EquilibriumError> {
+/// The chain is neither too short nor too long for the pretension
+/// (rest-length rule; module docs).
+pub(crate) fn check_chain_length(
+    scene: &Scene,
+    layout: &Layout,
+    path: &ChainPath,
+) -> Result<(), EquilibriumError> {
     let chain = &scene.chain;
     let chain_m = chain.rollers as f64 * chain.pitch_m;
-    let short_m = layout.polygon_length_m - chain_m;
     let free_links: usize = layout.strand_links.iter().sum();
+    if free_links == 0 {
+        return Ok(());
+    }
+    // Under gravity the strands sag at the pretension and hold that much more chain.
+    let sag_m = sag_take_up_m(scene, path, chain.pretension_n);
+    let short_m = layout.polygon_length_m + sag_m - chain_m;
     let allowed_m = free_links as f64 * chain.pretension_n / chain.stiffness_n_m;
-    if free_links > 0 && short_m > SHORT_MARGIN * allowed_m + SHORT_MARGIN_PITCHES * chain.pitch_m {
+    let margin_m = SHORT_MARGIN * allowed_m + SHORT_MARGIN_PITCHES * chain.pitch_m;
+    if short_m > margin_m {
         return Err(EquilibriumError::ChainTooShort {
             short_m,
+            sag_m,
             short_pitches: short_m / chain.pitch_m,
             free_links,
             allowed_m,
             needed_tension_n: chain.stiffness_n_m * short_m / free_links as f64,
         });
     }
+    let long_m = chain_m - layout.polygon_length_m;
+    if long_m > sag_m + margin_m {
+        // The pretension at which the sag takes up the excess: Σ q⊥² L³ / (24 T²) = excess.
+        let sag_at_1n = sag_take_up_m(scene, path, 1.0);
+        return Err(EquilibriumError::ChainTooLong {
+            long_m,
+            long_pitches: long_m / chain.pitch_m,
+            sag_m,
+            pretension_n: chain.pretension_n,
+            sag_tension_n: (sag_at_1n > 0.0).then(|| (sag_at_1n / long_m).sqrt()),
+        });
+    }
     Ok(())
 }
 
-/// No load torque needs the slack strand in compression (two-sprocket drives).
+/// Length the free strands' sag takes up at tension `tension_n`: a shallow
+/// sag under the weight per length q⊥ across a strand of span L holds
+/// q⊥² L³ / (24 T²) more chain than the straight span (parabolic cable).
+fn sag_take_up_m(scene: &Scene, path: &ChainPath, tension_n: f64) -> f64 {
+    let chain = &scene.chain;
+    let [gx, gy] = scene.gravity_m_s2;
+    let q = chain.roller_mass_kg / chain.pitch_m;
+    path.strands
+        .iter()
+        .map(|s| {
+            let [dx, dy] = s.direction();
+            let q_perp = q * (dx * gy - dy * gx).abs();
+            q_perp * q_perp * s.length_m.powi(3) / (24.0 * tension_n * tension_n)
+        })
+        .sum()
+}
+
+/// No load torque leaves a free strand in compression (any number of sprockets).
+///
+/// With the driver held, each free sprocket's torque balance fixes the jump
+/// of tension across it (module docs); the pooled mean over the free links is
+/// the pretension, so every strand's tension follows. Gravity is left out:
+/// the check is exact for a weightless chain and only a guide under gravity.
 pub(crate) fn check_load(scene: &Scene, layout: &Layout) -> Result<(), EquilibriumError> {
-    let [n1, n2] = layout.strand_links[..] else {
-        return Ok(());
-    };
-    if scene.sprockets.len() != 2 || n1 + n2 == 0 {
+    let n = scene.sprockets.len();
+    let links = &layout.strand_links;
+    let total: usize = links.iter().sum();
+    if links.len() != n || total == 0 {
         return Ok(());
     }
     let t0 = scene.chain.pretension_n;
-    for sp in &scene.sprockets {
-        // A ramped load is not held at rest: the equilibrium carries none.
-        if matches!(sp.role, Role::Driver(_)) || sp.load_ramp_s() > 0.0 {
-            continue;
-        }
-        let m = sp.load_torque_n_m().abs();
-        // T₀ ≥ |M| n_t / (R (n_t + n_s)), n_t the shorter strand (module docs).
-        let share = n1.min(n2) as f64 / (n1 + n2) as f64;
-        let needed_n = m * share / sp.pitch_radius_m;
-        if needed_n > t0 {
-            return Err(EquilibriumError::LoadBeyondPretension {
-                sprocket: sp.name.clone(),
-                load_n_m: sp.load_torque_n_m(),
-                limit_n_m: t0 * sp.pitch_radius_m / share,
-                pretension_n: t0,
-                needed_n,
-            });
-        }
+    // The tension jump T_out − T_in across each sprocket at rest; the driver
+    // takes up whatever the others leave, so its jump is free and the
+    // strands are numbered from the one leaving it.
+    let jumps: Vec<f64> = scene
+        .sprockets
+        .iter()
+        .map(|sp| {
+            // A ramped load is not held at rest: the equilibrium carries none.
+            let load = if matches!(sp.role, Role::Driver(_)) || sp.load_ramp_s() > 0.0 {
+                0.0
+            } else {
+                sp.load_torque_n_m()
+            };
+            -sp.wrap.sign() * load / sp.pitch_radius_m
+        })
+        .collect();
+    let loaded: Vec<usize> = (0..n).filter(|&s| jumps[s] != 0.0).collect();
+    if loaded.is_empty() {
+        return Ok(());
     }
-    Ok(())
+    let tensions = strand_tensions(scene.driver(), &jumps, links, t0);
+    let (weakest, lowest) =
+        tensions
+            .iter()
+            .copied()
+            .enumerate()
+            .fold(
+                (0, f64::INFINITY),
+                |a, (k, t)| if t < a.1 { (k, t) } else { a },
+            );
+    if lowest >= 0.0 {
+        return Ok(());
+    }
+    // Tensions are T₀ plus terms linear in the loads: T₀ − lowest more
+    // pretension lifts the weakest strand to zero.
+    let needed_n = t0 - lowest;
+    if let [s] = loaded[..] {
+        let sp = &scene.sprockets[s];
+        let m = sp.load_torque_n_m();
+        return Err(EquilibriumError::LoadBeyondPretension {
+            sprocket: sp.name.clone(),
+            load_n_m: m,
+            // The weakest strand loses (needed_n / |M|) N per N·m.
+            limit_n_m: t0 * m.abs() / needed_n,
+            pretension_n: t0,
+            needed_n,
+        });
+    }
+    let (from, to) = strand_ends(scene, weakest);
+    let loads = loaded
+        .iter()
+        .map(|&s| {
+            format!(
+                "\"{}\" {} N·m",
+                scene.sprockets[s].name,
+                scene.sprockets[s].load_torque_n_m()
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ");
+    Err(EquilibriumError::StrandCompression {
+        strand: weakest + 1,
+        tension_n: lowest,
+        pretension_n: t0,
+        needed_n,
+        context: format!("from \"{from}\" to \"{to}\"; loads {loads}"),
+    })
+}
+
+/// Names of the sprockets strand k runs between (strand k leaves sprocket k).
+fn strand_ends(scene: &Scene, k: usize) -> (String, String) {
+    let n = scene.sprockets.len();
+    (
+        scene.sprockets[k].name.clone(),
+        scene.sprockets[(k + 1) % n].name.clone(),
+    )
+}
+
+/// Static tension of each free strand of a weightless chain with the driver
+/// (`driver`) held: strand k leaves sprocket k, so the tension steps by
+/// `jumps[s]` from strand s − 1 to strand s; the link-weighted mean is `t0`.
+fn strand_tensions(driver: usize, jumps: &[f64], links: &[usize], t0: f64) -> Vec<f64> {
+    let n = jumps.len();
+    let mut c = vec![0.0; n];
+    // Strand `driver` is the reference; walk on from it.
+    for step in 1..n {
+        let s = (driver + step) % n;
+        c[s] = c[(s + n - 1) % n] + jumps[s];
+    }
+    let total: usize = links.iter().sum();
+    let mean = c.iter().zip(links).map(|(c, &l)| c * l as f64).sum::<f64>() / total as f64;
+    c.iter().map(|c| t0 + c - mean).collect()
 }

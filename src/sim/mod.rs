@@ -274,7 +274,7 @@ impl Simulation {
         let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
                 let (mut model, mut state, layout) = DriveModel::build(scene)?;
-                feasibility::check_chain_length(scene, &layout)?;
+                feasibility::check_chain_length(scene, &layout, &model.path)?;
                 feasibility::check_load(scene, &layout)?;
                 let mut forces = new_forces(scene, &model);
                 let eq = settle_rest_length(
@@ -284,6 +284,11 @@ impl Simulation {
                     &settings,
                     scene.chain.pretension_n,
                     scene.equilibrium.tension_tolerance,
+                    &scene
+                        .sprockets
+                        .iter()
+                        .map(|s| s.name.as_str())
+                        .collect::<Vec<_>>(),
                 )?;
                 (scene.clone(), model, state, forces, layout, eq)
             }
