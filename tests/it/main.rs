@@ -17,6 +17,7 @@ mod common;
 mod cosim;
 mod detectors;
 mod equilibrium;
+mod equilibrium_errors;
 mod equilibrium_sweep;
 mod friction;
 mod fuzz;
