@@ -178,6 +178,9 @@ pub const STATISTICS: &[(&str, Per, Extract)] = &[
             Some(standard_error(&m.driver_power())),
         )
     }),
+    ("joint_friction_power_w", Per::Run, |m, _| {
+        (m.summary.joint_friction_power_w.unwrap_or(0.0), None)
+    }),
 ];
 
 /// Every statistic of [`STATISTICS`] of a measured run.
@@ -436,6 +439,8 @@ pub fn run_one(
     };
     let t0 = sim.state.t_s;
     let mut signals = Signals::new(&sim.model, sampling.rate_hz, t0);
+    // The power flow over the whole statistics window (`joint_friction_power_w`).
+    sim.track_power(t0);
     let started = Instant::now();
     let outcome = sim.run(t0 + settings.duration_s, sampling.every, &mut signals, None);
     let wall_s = started.elapsed().as_secs_f64();

@@ -248,3 +248,31 @@ mod cli {
         assert!(dir.path().join("convergence.png").exists());
     }
 }
+
+/// `bench soak` runs a scene file: its two-sprocket drive has two segments,
+/// and the report has one row per window and the verdict line.
+#[cfg(feature = "cli")]
+#[test]
+fn soak_runs_a_scene_file() {
+    let scene = format!(
+        "{}/tests/data/flat_30_30_real.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let out = crate::common::chaindrive_stdout(&[
+        "bench",
+        "soak",
+        &scene,
+        "--duration",
+        "0.4",
+        "--window",
+        "0.1",
+    ]);
+    assert!(out.contains("seg2_mean_n"), "{out}");
+    assert!(!out.contains("seg3_mean_n"), "{out}");
+    let rows = out.lines().filter(|l| l.contains('–')).count();
+    assert_eq!(rows, 4, "{out}");
+    assert!(
+        out.contains("steady from") || out.contains("not steady"),
+        "{out}"
+    );
+}

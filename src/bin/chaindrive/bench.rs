@@ -31,8 +31,10 @@ pub struct BenchArgs {
 
 #[derive(clap::Subcommand)]
 enum Study {
-    /// A long run of the paper's drive, reported window by window.
+    /// A long run of a drive (the paper's by default), reported window by window.
     Soak {
+        /// Scene file (default: the paper's drive).
+        scene: Option<std::path::PathBuf>,
         /// Simulated time, s.
         #[arg(long, default_value_t = 60.0)]
         duration: f64,
@@ -68,11 +70,12 @@ enum Study {
 pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
     match args.study {
         Study::Soak {
+            scene,
             duration,
             window,
             profile,
             dt,
-        } => soak(duration, window, profile, dt),
+        } => soak(scene.as_deref(), duration, window, profile, dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
         Study::Convergence(args) => crate::convergence::convergence(args),
         Study::WorkPrecision(args) => crate::work_precision::work_precision(args),
@@ -81,6 +84,7 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn soak(
+    path: Option<&std::path::Path>,
     duration: f64,
     window: f64,
     profile: Option<ProfileKind>,
@@ -99,7 +103,7 @@ fn soak(
         dt_auto,
         ..Overrides::default()
     };
-    let scene = match crate::load_scene(None, &overrides)? {
+    let scene = match crate::load_scene(path, &overrides)? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
