@@ -562,3 +562,60 @@ fn a_run_interrupted_with_sigint_leaves_a_readable_recording() {
     }
     assert_eq!(rec.metadata["chaindrive.end"]["frames"], frames.to_string());
 }
+
+#[derive(Clone, PartialEq, prost::Message)]
+struct LinksPb {
+    #[prost(double, tag = "1")]
+    t_s: f64,
+    #[prost(double, repeated, tag = "2")]
+    force_n: Vec<f64>,
+    #[prost(double, repeated, tag = "3")]
+    joint_friction_moment_n_m: Vec<f64>,
+}
+
+/// `/links` carries every joint's friction moment. Read back, each obeys the
+/// Coulomb bound of the scene's law against the recorded link forces:
+/// |M_i| ≤ μ r_pin F_pin with F_pin = max(0, (F_{i−1} + F_i) / 2), the mean
+/// of the two links at roller i (no viscous term in this scene); and, at
+/// full speed (after the 1 s ramp), the joints articulating where the chain
+/// enters and leaves a wrap reach that bound (tanh saturated).
+#[test]
+fn links_channel_carries_joint_friction_moments_within_the_coulomb_bound() {
+    let text = std::fs::read_to_string(format!(
+        "{}/assets/l60mc-friction.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("the friction scene");
+    let scene = Scene::from_toml(&text)
+        .expect("valid scene")
+        .with(&chaindrive::scene::Overrides {
+            duration_s: Some(1.1),
+            ..Default::default()
+        })
+        .expect("override");
+    let (mu, r_pin) = (0.10, 0.01715);
+    let (bytes, _) = record_in_memory(&scene, 1000.0, Channels::all());
+    let rec = Recording::read(&bytes);
+    let links = rec.decode::<LinksPb>("/links");
+    assert!(links.len() >= 1000, "{} samples", links.len());
+    let (mut saturated, mut joints) = (0usize, 0usize);
+    for (_, m) in &links {
+        let n = m.force_n.len();
+        let full_speed = m.t_s > 1.0;
+        assert_eq!(m.joint_friction_moment_n_m.len(), n);
+        for i in 0..n {
+            let pin = (0.5 * (m.force_n[(i + n - 1) % n] + m.force_n[i])).max(0.0);
+            let bound = mu * r_pin * pin;
+            let moment = m.joint_friction_moment_n_m[i].abs();
+            assert!(
+                moment <= bound * (1.0 + 1e-9) + 1e-12,
+                "joint {i}: |M| {moment} > {bound}"
+            );
+            joints += 1;
+            if full_speed && moment > 0.9 * bound && bound > 0.0 {
+                saturated += 1;
+            }
+        }
+    }
+    assert!(saturated > 0, "no joint slides: {saturated} of {joints}");
+}
