@@ -91,7 +91,7 @@
 //! let dt = world.integration_parameters.dt;
 //! drive.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
 //! world.step_with_events(&drive.hooks(&()), &());
-//! drive.after_step(&mut world.bodies, &world.narrow_phase, dt);
+//! drive.after_step(&mut world.bodies, &world.narrow_phase, dt)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!

@@ -13,6 +13,7 @@ mod analyze;
 mod cli;
 mod common;
 mod cosim;
+mod cosim_checks;
 mod detectors;
 mod equilibrium;
 mod fuzz;
