@@ -16,6 +16,10 @@
 //! drive.after_step(&mut bodies, &narrow_phase, dt)   // what rapier did to the chain
 //! ```
 //! ([`ChainDrive::step_world`] does the three for a [`PhysicsWorld`].)
+//! Misuse — a bad mount, a bad dt, a world stepped by another dt or without
+//! the drive's hooks — is a [`CosimError`], never a panic; a blow-up's
+//! possible causes name the coupling's limit. [`ChainDrive::remove`] takes
+//! the drive out of the world again.
 //!
 //! - **Chain → world.** Before the step every roller body is put at its
 //!   frame-start position with the frame's mean velocity, so rapier's own
@@ -45,17 +49,22 @@
 //!   fine for bodies up to a few roller masses; a box of 100 roller masses
 //!   blows it up (the box takes the rollers' speed every frame, and the
 //!   impulse hits 20 g rollers a frame later), which is why bodies are carried.
-//! - **Mounted sprockets.** A mounted sprocket's user torque (a motor) is
-//!   taken out of rapier's step and applied inside the chain's substeps,
+//! - **Mounted sprockets.** A sprocket may sit on the user's body (see
+//!   [`ChainDrive::insert`]). On a *dynamic* body, its user torque (a motor)
+//!   is taken out of rapier's step and applied inside the chain's substeps,
 //!   together with the angular-velocity change its joints caused, so the
 //!   chain and the motor are integrated together at the small dt (a motor
 //!   feels the load at once). Its centre starts each frame at its body's
 //!   position and moves on at the body's velocity through the substeps, as
 //!   rapier's step will move the body (a swinging tensioner arm does not
 //!   jump into the rollers at each frame); the contact damping sees the
-//!   centre's velocity. The chain's mean force on it is applied to the body
-//!   as a user force over rapier's step. A mounted body's own other colliders do not
-//!   touch the chain.
+//!   centre's velocity. Its user force is kept with rapier's semantics, and
+//!   the chain's mean force over the frame is added to it for rapier's step.
+//!   The body's translation is rapier's, once per frame: a light carriage
+//!   moving along the chain meets the chain's stiffness explicitly and can
+//!   blow up (docs/architecture.md, "Mounted sprockets", has the numbers).
+//!   A *kinematic* (or fixed) body turns its sprocket at its own angular
+//!   speed. A mounted body's own other colliders do not touch the chain.
 //! - Not coupled: other bodies hitting a sprocket the drive owns (its
 //!   kinematic body does not pass their impulses on; mount the sprocket on
 //!   your own body if that matters); roller rotation (rollers slide on a guide).
