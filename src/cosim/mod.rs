@@ -79,6 +79,7 @@
 
 mod bodies;
 mod error;
+mod motion;
 
 pub use bodies::Coupling;
 pub use error::CosimError;
@@ -224,8 +225,10 @@ impl ChainDrive {
     /// sprocket only, and sit at the sprocket's centre in the scene (within
     /// [`MOUNT_CENTRE_TOLERANCE_M`]). A dynamic mount turns with the chain
     /// (its rotational inertia as the chain sees it is the scene's
-    /// `inertia_kg_m2`) and must be at rest; a kinematic or fixed one turns
-    /// its sprocket at its own angular speed. A mount keeps its rotation: the
+    /// `inertia_kg_m2`); a kinematic or fixed one turns its sprocket at its
+    /// own angular speed. A mount already turning sets the chain moving with
+    /// it along its path (the free sprockets turning with the chain); mounts
+    /// or a driver at speeds the chain cannot share are an error. A mount keeps its rotation: the
     /// sprocket's collider is turned on it to the chain's angle.
     pub fn insert(
         scene: &Scene,
@@ -286,16 +289,60 @@ impl ChainDrive {
                     ),
                 ));
             }
-            if b.is_dynamic() && b.angvel() != 0.0 {
+        }
+        let (mut state, mut forces) = (state, forces);
+        // A mount that already turns sets the chain moving with it.
+        let turning: Vec<(usize, f64)> = mounts
+            .iter()
+            .enumerate()
+            .filter_map(|(k, m)| bodies.get((*m)?).map(|b| (k, b.angvel())))
+            .collect();
+        if let Some(&(k0, w0)) = turning.iter().find(|(_, w)| *w != 0.0) {
+            let Some(belt) = motion::belt_speed(&model, &state, k0, w0) else {
                 return Err(CosimError::input(
-                    field,
-                    format!(
-                        "the body turns at {} rad/s, the chain is at rest: insert the drive \
-                         with its dynamic mounts at rest, then spin them up",
-                        b.angvel()
-                    ),
+                    format!("mounts[{k0}]"),
+                    "the chain's path on the sprocket has coinciding rollers: insert the drive \
+                     with its mounts at rest",
                 ));
+            };
+            for &(k, w) in &turning {
+                let want = motion::sprocket_speed(&model, &state, k, belt);
+                if (w - want).abs() > 0.01 * w0.abs() {
+                    return Err(CosimError::input(
+                        format!("mounts[{k}]"),
+                        format!(
+                            "the body turns at {w} rad/s, but the chain moving with mounts[{k0}] \
+                             at {w0} rad/s turns its sprocket at {want} rad/s: give the mounts \
+                             speeds the chain can share"
+                        ),
+                    ));
+                }
             }
+            if let Some(d) = model
+                .driver()
+                .filter(|&d| mounts.get(d).copied().flatten().is_none())
+            {
+                let law = model.sprockets[d]
+                    .speed_law
+                    .map_or(0.0, |l| l.speed_at(0.0));
+                let want = motion::sprocket_speed(&model, &state, d, belt);
+                if (law - want).abs() > 0.01 * want.abs() {
+                    return Err(CosimError::input(
+                        format!("sprockets[{d}].speed_rpm"),
+                        format!(
+                            "the driver starts at {law} rad/s, but mounts[{k0}] turning at {w0} \
+                             rad/s moves the chain at {want} rad/s on it: start the driver at the \
+                             mounts' speed, or insert them at rest"
+                        ),
+                    ));
+                }
+            }
+            motion::set_belt_motion(&model, &mut state, belt);
+            for &(k, w) in &turning {
+                state.omega[k] = w;
+            }
+            forces.forget_reach();
+            forces.evaluate(&model, &state);
         }
         let hooks = ActiveHooks::FILTER_CONTACT_PAIRS;
         let mut handles = Vec::new();
