@@ -224,8 +224,8 @@ impl ChainDrive {
     /// drive owns the sprocket's body); more entries than sprockets is an error. A mount must be in `bodies`, carry one
     /// sprocket only, and sit at the sprocket's centre in the scene (within
     /// [`MOUNT_CENTRE_TOLERANCE_M`]). A dynamic mount turns with the chain
-    /// (its rotational inertia as the chain sees it is the scene's
-    /// `inertia_kg_m2`); a kinematic or fixed one turns its sprocket at its
+    /// (its rotational inertia as the chain sees it is the body's, not the
+    /// scene's `inertia_kg_m2`); a kinematic or fixed one turns its sprocket at its
     /// own angular speed. A mount already turning sets the chain moving with
     /// it along its path (the free sprockets turning with the chain); mounts
     /// or a driver at speeds the chain cannot share are an error. A mount keeps its rotation: the
@@ -290,7 +290,20 @@ impl ChainDrive {
                 ));
             }
         }
-        let (mut state, mut forces) = (state, forces);
+        let (mut model, mut state, mut forces) = (model, state, forces);
+        // A dynamic mount's rotational inertia is the body's (rapier's, with
+        // its colliders and locks: a body whose rotation is locked holds its
+        // sprocket).
+        // rapier computes a new body's mass properties at its next step: now.
+        for (k, mount) in mounts.iter().enumerate() {
+            if let Some(b) = mount
+                .and_then(|h| bodies.get_mut(h))
+                .filter(|b| b.is_dynamic())
+            {
+                b.recompute_mass_properties_from_colliders(colliders);
+                model.sprockets[k].inv_inertia = b.mass_properties().effective_world_inv_inertia;
+            }
+        }
         // A mount that already turns sets the chain moving with it.
         let turning: Vec<(usize, f64)> = mounts
             .iter()
