@@ -91,7 +91,7 @@
 //! let dt = world.integration_parameters.dt;
 //! drive.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
 //! world.step_with_events(&drive.hooks(&()), &());
-//! drive.after_step(&mut world.bodies, &world.narrow_phase, dt);
+//! drive.after_step(&mut world.bodies, &world.narrow_phase, dt)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
@@ -123,8 +123,22 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
+//! A sprocket on your dynamic body turns with the chain with the body's own
+//! inertia, and the forces and torques you set on the body stay as rapier
+//! keeps them (the chain's force is added for your step); the body may
+//! already turn when the drive is inserted (the chain joins it). A sprocket on
+//! your kinematic body turns at the body's speed. What does not compose yet:
+//! a light body carrying a sprocket along the chain (a sprung tensioner
+//! carriage of tens of kilograms at 60 Hz), whose translation rapier
+//! integrates once per frame against the chain's stiffness
+//! (`examples/tensioner_carriage.rs` measures where it holds). Misuse — a
+//! bad mount, a bad dt, a world stepped by another dt or without
+//! [`cosim::ChainDrive::hooks`] — is a [`cosim::CosimError`], never a panic;
+//! [`cosim::ChainDrive::remove`] takes the drive out of your world.
+//!
 //! Examples: `conveyor.rs` (motor torque, boxes on the upper strand, one of
 //! them 250 roller masses, a wear strip),
+//! `tensioner_carriage.rs` (a sprung carriage holding the tail, by mass),
 //! `bicycle.rs` (rider torque on the crank, drag on the wheel),
 //! `paper_in_scene.rs` (the paper's drive beside bouncing balls, with the
 //! wall time per frame).

@@ -16,6 +16,10 @@
 //! drive.after_step(&mut bodies, &narrow_phase, dt)   // what rapier did to the chain
 //! ```
 //! ([`ChainDrive::step_world`] does the three for a [`PhysicsWorld`].)
+//! Misuse — a bad mount, a bad dt, a world stepped by another dt or without
+//! the drive's hooks — is a [`CosimError`], never a panic; a blow-up's
+//! possible causes name the coupling's limit. [`ChainDrive::remove`] takes
+//! the drive out of the world again.
 //!
 //! - **Chain → world.** Before the step every roller body is put at its
 //!   frame-start position with the frame's mean velocity, so rapier's own
@@ -45,17 +49,22 @@
 //!   fine for bodies up to a few roller masses; a box of 100 roller masses
 //!   blows it up (the box takes the rollers' speed every frame, and the
 //!   impulse hits 20 g rollers a frame later), which is why bodies are carried.
-//! - **Mounted sprockets.** A mounted sprocket's user torque (a motor) is
-//!   taken out of rapier's step and applied inside the chain's substeps,
+//! - **Mounted sprockets.** A sprocket may sit on the user's body (see
+//!   [`ChainDrive::insert`]). On a *dynamic* body, its user torque (a motor)
+//!   is taken out of rapier's step and applied inside the chain's substeps,
 //!   together with the angular-velocity change its joints caused, so the
 //!   chain and the motor are integrated together at the small dt (a motor
 //!   feels the load at once). Its centre starts each frame at its body's
 //!   position and moves on at the body's velocity through the substeps, as
 //!   rapier's step will move the body (a swinging tensioner arm does not
 //!   jump into the rollers at each frame); the contact damping sees the
-//!   centre's velocity. The chain's mean force on it is applied to the body
-//!   as a user force over rapier's step. A mounted body's own other colliders do not
-//!   touch the chain.
+//!   centre's velocity. Its user force is kept with rapier's semantics, and
+//!   the chain's mean force over the frame is added to it for rapier's step.
+//!   The body's translation is rapier's, once per frame: a light carriage
+//!   moving along the chain meets the chain's stiffness explicitly and can
+//!   blow up (docs/architecture.md, "Mounted sprockets", has the numbers).
+//!   A *kinematic* (or fixed) body turns its sprocket at its own angular
+//!   speed. A mounted body's own other colliders do not touch the chain.
 //! - Not coupled: other bodies hitting a sprocket the drive owns (its
 //!   kinematic body does not pass their impulses on; mount the sprocket on
 //!   your own body if that matters); roller rotation (rollers slide on a guide).
@@ -69,10 +78,14 @@
 //! where a frame's wall time goes.
 
 mod bodies;
+mod error;
+mod motion;
 
 pub use bodies::Coupling;
+pub use error::CosimError;
 
 use std::collections::HashMap;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
@@ -81,19 +94,44 @@ use bodies::{BodyContacts, DriveView};
 
 use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
-use crate::scene::Scene;
+use crate::scene::{Scene, SpeedLaw};
 use crate::sim::{
     BlowUpLimits, SimError, Simulation, StaticEquilibrium, check_blow_up, symplectic_euler,
 };
+
+use error::at_coupling_limit;
+
+/// How far a mount's body may sit from its sprocket's centre in the scene, m.
+pub const MOUNT_CENTRE_TOLERANCE_M: f64 = 1e-6;
+
+/// How far rapier's step may leave a roller body from the chain's roller, m
+/// (more means the world stepped by another dt than the drive's frame).
+const ROLLER_SYNC_TOLERANCE_M: f64 = 1e-7;
+
+/// Whose body a sprocket sits on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Mount {
+    /// The drive's own kinematic body.
+    Own,
+    /// The user's dynamic body: the chain and the body turn together.
+    Dynamic,
+    /// The user's kinematic (or fixed) body: it turns the sprocket at its speed.
+    Kinematic,
+}
 
 /// Per-frame coupling of one sprocket to its rapier body.
 #[derive(Clone, Copy, Debug)]
 struct SprocketLink {
     body: RigidBodyHandle,
-    /// Whether the body is the user's (mounted) rather than the drive's own.
-    mounted: bool,
+    /// Whose body it is.
+    mount: Mount,
+    /// The body's angle less the sprocket's, rad (fixed at insertion: a
+    /// mounted body keeps its rotation).
+    angle_offset: f64,
     /// The user's torque, stashed during rapier's step, N·m.
     user_torque_n_m: f64,
+    /// The user's force, kept through rapier's step, N.
+    user_force: Vector,
     /// Mean angular speed given to rapier for this frame, rad/s.
     mean_omega: f64,
     /// The chain's mean force on the sprocket over the frame, N.
@@ -143,6 +181,16 @@ pub struct ChainDrive {
     contacts: BodyContacts,
     /// World time the chain has been advanced to, s.
     world_time_s: f64,
+    /// The frame's dt given to `before_step`, s (0 before the first frame).
+    frame_dt_s: f64,
+    /// Whether `before_step` set the bodies up and `after_step` has not run yet.
+    in_frame: bool,
+    /// Calls of the drive's pair filter (counts whether the world's step used [`ChainHooks`]).
+    hook_calls: AtomicU64,
+    /// `hook_calls` when the frame began.
+    hook_calls_at_frame: u64,
+    /// The scene's driver (the sprocket with a speed law), if any.
+    driver: Option<usize>,
 }
 
 /// Wall time of a drive's stages, summed over frames, s.
@@ -171,15 +219,23 @@ impl FrameTimes {
 
 impl ChainDrive {
     /// Builds `scene`'s drive, brings it to static equilibrium, and inserts it
-    /// into the user's sets. `mounts[k]`, where given, is the user's body that
-    /// carries sprocket k (its centre should be at the scene's centre; its
-    /// rotational inertia as the chain sees it is the scene's `inertia_kg_m2`).
+    /// into the user's sets. `mounts[k]`, where given, is `Some(body)` where
+    /// the user's body carries sprocket k (`None`, or no entry, where the
+    /// drive owns the sprocket's body); more entries than sprockets is an error. A mount must be in `bodies`, carry one
+    /// sprocket only, and sit at the sprocket's centre in the scene (within
+    /// [`MOUNT_CENTRE_TOLERANCE_M`]). A dynamic mount turns with the chain
+    /// (its rotational inertia as the chain sees it is the body's, not the
+    /// scene's `inertia_kg_m2`); a kinematic or fixed one turns its sprocket at its
+    /// own angular speed. A mount already turning sets the chain moving with
+    /// it along its path (the free sprockets turning with the chain); mounts
+    /// or a driver at speeds the chain cannot share are an error. A mount keeps its rotation: the
+    /// sprocket's collider is turned on it to the chain's angle.
     pub fn insert(
         scene: &Scene,
         mounts: &[Option<RigidBodyHandle>],
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
-    ) -> Result<Self, SimError> {
+    ) -> Result<Self, CosimError> {
         let sim = Simulation::new(scene)?;
         let Simulation {
             scene,
@@ -190,33 +246,153 @@ impl ChainDrive {
             limits,
             ..
         } = sim;
+        let count = model.sprocket_count();
+        if mounts.len() > count {
+            return Err(CosimError::input(
+                "mounts",
+                format!(
+                    "{} entries for {count} sprockets: give at most one per sprocket, in the \
+                     scene's order (None, or no entry, where the drive owns the sprocket's body)",
+                    mounts.len()
+                ),
+            ));
+        }
+        for (k, mount) in mounts.iter().enumerate() {
+            let Some(h) = *mount else { continue };
+            let field = format!("mounts[{k}]");
+            let Some(b) = bodies.get(h) else {
+                return Err(CosimError::input(
+                    field,
+                    "no such body in the RigidBodySet (removed, or from another set)",
+                ));
+            };
+            if let Some(j) = mounts[..k].iter().position(|m| *m == Some(h)) {
+                return Err(CosimError::input(
+                    field,
+                    format!(
+                        "the body already carries sprocket {j} (mounts[{j}]): one body carries one \
+                         sprocket"
+                    ),
+                ));
+            }
+            let c = b.translation();
+            let want = model.sprockets[k].center_m;
+            let off = (c.x - want[0]).hypot(c.y - want[1]);
+            if !(off <= MOUNT_CENTRE_TOLERANCE_M) {
+                return Err(CosimError::input(
+                    format!("sprockets[{k}].center_m"),
+                    format!(
+                        "[{}, {}] m, but its mount (mounts[{k}]) is at [{}, {}] m, {off:.3e} m \
+                         away: place the body at the sprocket's centre (within {:e} m) or the \
+                         sprocket at the body's",
+                        want[0], want[1], c.x, c.y, MOUNT_CENTRE_TOLERANCE_M
+                    ),
+                ));
+            }
+        }
+        let (mut model, mut state, mut forces) = (model, state, forces);
+        // A dynamic mount's rotational inertia is the body's (rapier's, with
+        // its colliders and locks: a body whose rotation is locked holds its
+        // sprocket).
+        // rapier computes a new body's mass properties at its next step: now.
+        for (k, mount) in mounts.iter().enumerate() {
+            if let Some(b) = mount
+                .and_then(|h| bodies.get_mut(h))
+                .filter(|b| b.is_dynamic())
+            {
+                b.recompute_mass_properties_from_colliders(colliders);
+                model.sprockets[k].inv_inertia = b.mass_properties().effective_world_inv_inertia;
+            }
+        }
+        // A mount that already turns sets the chain moving with it.
+        let turning: Vec<(usize, f64)> = mounts
+            .iter()
+            .enumerate()
+            .filter_map(|(k, m)| bodies.get((*m)?).map(|b| (k, b.angvel())))
+            .collect();
+        if let Some(&(k0, w0)) = turning.iter().find(|(_, w)| *w != 0.0) {
+            let Some(belt) = motion::belt_speed(&model, &state, k0, w0) else {
+                return Err(CosimError::input(
+                    format!("mounts[{k0}]"),
+                    "the chain's path on the sprocket has coinciding rollers: insert the drive \
+                     with its mounts at rest",
+                ));
+            };
+            for &(k, w) in &turning {
+                let want = motion::sprocket_speed(&model, &state, k, belt);
+                if (w - want).abs() > 0.01 * w0.abs() {
+                    return Err(CosimError::input(
+                        format!("mounts[{k}]"),
+                        format!(
+                            "the body turns at {w} rad/s, but the chain moving with mounts[{k0}] \
+                             at {w0} rad/s turns its sprocket at {want} rad/s: give the mounts \
+                             speeds the chain can share"
+                        ),
+                    ));
+                }
+            }
+            if let Some(d) = model
+                .driver()
+                .filter(|&d| mounts.get(d).copied().flatten().is_none())
+            {
+                let law = model.sprockets[d]
+                    .speed_law
+                    .map_or(0.0, |l| l.speed_at(0.0));
+                let want = motion::sprocket_speed(&model, &state, d, belt);
+                if (law - want).abs() > 0.01 * want.abs() {
+                    return Err(CosimError::input(
+                        format!("sprockets[{d}].speed_rpm"),
+                        format!(
+                            "the driver starts at {law} rad/s, but mounts[{k0}] turning at {w0} \
+                             rad/s moves the chain at {want} rad/s on it: start the driver at the \
+                             mounts' speed, or insert them at rest"
+                        ),
+                    ));
+                }
+            }
+            motion::set_belt_motion(&model, &mut state, belt);
+            for &(k, w) in &turning {
+                state.omega[k] = w;
+            }
+            forces.forget_reach();
+            forces.evaluate(&model, &state);
+        }
         let hooks = ActiveHooks::FILTER_CONTACT_PAIRS;
         let mut handles = Vec::new();
-        let mut links = Vec::with_capacity(model.sprocket_count());
+        let mut links = Vec::with_capacity(count);
         for (k, sp) in model.sprockets.iter().enumerate() {
-            let (body, mounted) = match mounts.get(k).copied().flatten() {
-                Some(h) => (h, true),
-                None => {
-                    let b = RigidBodyBuilder::kinematic_velocity_based()
-                        .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
-                        .rotation(state.theta[k])
-                        .can_sleep(false)
-                        .build();
-                    (bodies.insert(b), false)
-                }
-            };
-            if let Some(b) = bodies.get_mut(body) {
-                b.set_rotation(Rotation::new(state.theta[k]), true);
-            }
+            let mounted = mounts.get(k).copied().flatten();
+            let (body, mount, angle_offset) =
+                match mounted.and_then(|h| bodies.get(h).map(|b| (h, b))) {
+                    Some((h, b)) => {
+                        let mount = if b.is_dynamic() {
+                            Mount::Dynamic
+                        } else {
+                            Mount::Kinematic
+                        };
+                        (h, mount, b.rotation().angle() - state.theta[k])
+                    }
+                    None => {
+                        let b = RigidBodyBuilder::kinematic_velocity_based()
+                            .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
+                            .rotation(state.theta[k])
+                            .can_sleep(false)
+                            .build();
+                        (bodies.insert(b), Mount::Own, 0.0)
+                    }
+                };
             let collider = ColliderBuilder::new(sprocket_shape(&sp.profile))
+                .position(Pose::rotation(-angle_offset))
                 .density(0.0)
                 .active_hooks(hooks)
                 .build();
             handles.push(colliders.insert_with_parent(collider, body, bodies));
             links.push(SprocketLink {
                 body,
-                mounted,
+                mount,
+                angle_offset,
                 user_torque_n_m: 0.0,
+                user_force: Vector::ZERO,
                 mean_omega: 0.0,
                 mean_chain_force: [0.0; 2],
                 frame_start_m: sp.center_m,
@@ -235,22 +411,29 @@ impl ChainDrive {
                     .active_hooks(hooks)
                     .build();
                 let c = colliders.insert_with_parent(collider, h, bodies);
-                handles.push(c);
                 roller_colliders.push(c);
                 h
             })
             .collect();
         let n = state.rollers();
         let sprocket_count = links.len();
+        let mut owned: HashMap<ColliderHandle, bool> =
+            handles.into_iter().map(|h| (h, false)).collect();
+        owned.extend(roller_colliders.iter().map(|&h| (h, true)));
         Ok(Self {
             sprockets: links.iter().map(|l| l.body).collect(),
-            mounted: links.iter().filter(|l| l.mounted).map(|l| l.body).collect(),
+            mounted: links
+                .iter()
+                .filter(|l| l.mount != Mount::Own)
+                .map(|l| l.body)
+                .collect(),
             coupling: Coupling::new(&scene.contact),
             stage_times: FrameTimes::default(),
             contacts: BodyContacts::new(n, scene.chain.roller_mass_kg, scene.chain.roller_radius_m),
             theta0: vec![0.0; sprocket_count],
             force_sum: vec![[0.0; 2]; sprocket_count],
             any_external: false,
+            driver: model.driver(),
             scene,
             model,
             state,
@@ -258,16 +441,129 @@ impl ChainDrive {
             equilibrium,
             limits,
             rollers,
-            colliders: handles
-                .into_iter()
-                .map(|h| (h, roller_colliders.contains(&h)))
-                .collect(),
+            colliders: owned,
             roller_colliders,
             links,
             start: vec![[0.0; 2]; n],
             external: vec![[0.0; 2]; n],
             world_time_s: 0.0,
+            frame_dt_s: 0.0,
+            in_frame: false,
+            hook_calls: AtomicU64::new(0),
+            hook_calls_at_frame: 0,
         })
+    }
+
+    /// Removes every body and collider the drive added from the user's sets:
+    /// its own sprocket and roller bodies with their colliders, and the
+    /// sprocket colliders it put on mounted bodies (which stay, with their
+    /// user forces and torques). The drive adds no joints.
+    pub fn remove(self, world: &mut PhysicsWorld) {
+        let PhysicsWorld {
+            islands,
+            bodies,
+            colliders,
+            impulse_joints,
+            multibody_joints,
+            soft_bodies,
+            ..
+        } = world;
+        for link in &self.links {
+            if link.mount == Mount::Own {
+                continue;
+            }
+            let on_mount = bodies
+                .get(link.body)
+                .map(|b| b.colliders().to_vec())
+                .unwrap_or_default();
+            for c in on_mount {
+                if self.colliders.contains_key(&c) {
+                    colliders.remove(c, islands, bodies, soft_bodies, true);
+                }
+            }
+            if let Some(b) = bodies.get_mut(link.body) {
+                b.reset_forces(false);
+                b.reset_torques(false);
+                b.add_force(link.user_force, false);
+                b.add_torque(link.user_torque_n_m, true);
+            }
+        }
+        let own = self
+            .links
+            .iter()
+            .filter(|l| l.mount == Mount::Own)
+            .map(|l| l.body)
+            .chain(self.rollers.iter().copied());
+        for h in own {
+            bodies.remove(
+                h,
+                islands,
+                colliders,
+                impulse_joints,
+                multibody_joints,
+                soft_bodies,
+                true,
+            );
+        }
+    }
+
+    /// Sets sprocket `k`'s load torque, N·m, from now on (without the
+    /// scene's ramp). It adds to a mounted body's user torque.
+    pub fn set_load_torque(&mut self, k: usize, torque_n_m: f64) -> Result<(), CosimError> {
+        let count = self.model.sprocket_count();
+        let Some(sp) = self.model.sprockets.get_mut(k) else {
+            return Err(CosimError::input(
+                "sprocket",
+                format!(
+                    "{k}: the drive has sprockets 0 to {}",
+                    count.saturating_sub(1)
+                ),
+            ));
+        };
+        if !torque_n_m.is_finite() {
+            return Err(CosimError::input(
+                format!("sprockets[{k}].load_torque_n_m"),
+                format!("{torque_n_m}: a finite torque, N·m"),
+            ));
+        }
+        sp.load_torque_n_m = torque_n_m;
+        sp.load_ramp_s = 0.0;
+        Ok(())
+    }
+
+    /// Sets the driver's speed, rad/s (counter-clockwise positive), from now
+    /// on (without the scene's ramp). An error when the scene has no driver
+    /// or the driver sits on a kinematic mount (which sets its speed).
+    pub fn set_driver_speed(&mut self, speed_rad_s: f64) -> Result<(), CosimError> {
+        let Some(k) = self.driver else {
+            return Err(CosimError::input(
+                "sprockets[].role",
+                "the scene has no driver: turn a mounted body instead",
+            ));
+        };
+        if self
+            .links
+            .get(k)
+            .is_some_and(|l| l.mount == Mount::Kinematic)
+        {
+            return Err(CosimError::input(
+                format!("mounts[{k}]"),
+                "the driver sits on a kinematic body, whose angular speed turns it: set the body's",
+            ));
+        }
+        if !speed_rad_s.is_finite() {
+            return Err(CosimError::input(
+                format!("sprockets[{k}].speed_rpm"),
+                format!("{speed_rad_s} rad/s: a finite speed"),
+            ));
+        }
+        if let Some(sp) = self.model.sprockets.get_mut(k) {
+            sp.speed_law = Some(SpeedLaw {
+                speed_rad_s,
+                ramp_s: 0.0,
+            });
+        }
+        Ok(())
     }
 
     /// The drive as an observer sees it (a recorder, a signal sampler), at
@@ -322,35 +618,80 @@ impl ChainDrive {
 
     /// Advances the chain to the end of the coming frame of `dt_s` and sets
     /// its bodies for rapier's step. Call right before the user's step, with
-    /// the world's gravity (carried bodies feel it in the substeps). A
-    /// blow-up of the chain is an error (the bodies are then left as they were).
+    /// the world's gravity (carried bodies feel it in the substeps) and the
+    /// world's dt. A blow-up of the chain is an error (the bodies are then
+    /// left as they were), as are a dt that is not positive and finite and a
+    /// mount removed from `bodies`.
     pub fn before_step(
         &mut self,
         bodies: &mut RigidBodySet,
         colliders: &ColliderSet,
         gravity: Vector,
         dt_s: f64,
-    ) -> Result<(), SimError> {
+    ) -> Result<(), CosimError> {
+        if !(dt_s.is_finite() && dt_s > 0.0) {
+            return Err(CosimError::input(
+                "dt_s",
+                format!(
+                    "{dt_s} s: the frame's step must be positive and finite (the world's \
+                     integration_parameters.dt)"
+                ),
+            ));
+        }
+        for (k, link) in self.links.iter().enumerate() {
+            if bodies.get(link.body).is_none() {
+                let field = if link.mount == Mount::Own {
+                    format!("sprockets[{k}]")
+                } else {
+                    format!("mounts[{k}]")
+                };
+                return Err(CosimError::input(
+                    field,
+                    "the sprocket's body is no longer in the RigidBodySet: take the drive out \
+                     with ChainDrive::remove before removing its mounts",
+                ));
+            }
+        }
         let started = Instant::now();
         // Sprockets: centres, user torques (taken out of rapier's step). A
         // mounted body moves on through the frame at its velocity (rapier's
-        // step will take it there): its sprocket follows in the substeps.
+        // step will take it there): its sprocket follows in the substeps. A
+        // kinematic mount turns its sprocket at its own speed.
         let mut moving = false;
+        let span = dt_s;
         for (k, link) in self.links.iter_mut().enumerate() {
             let Some(b) = bodies.get_mut(link.body) else {
                 continue;
             };
             let sprocket = &mut self.model.sprockets[k];
-            if link.mounted {
-                let (c, v) = (b.translation(), b.linvel());
+            if link.mount != Mount::Own {
+                let c = b.translation();
+                let (v, w) = if b.body_type() == RigidBodyType::KinematicPositionBased {
+                    let next = b.next_position();
+                    let here = b.position();
+                    (
+                        (next.translation - here.translation) / span,
+                        (next.rotation * here.rotation.inverse()).angle() / span,
+                    )
+                } else {
+                    (b.linvel(), b.angvel())
+                };
                 moving |= sprocket.center_m != [c.x, c.y]
                     || sprocket.center_velocity_m_s != [0.0; 2]
                     || v != Vector::ZERO;
                 sprocket.center_m = [c.x, c.y];
                 sprocket.center_velocity_m_s = [v.x, v.y];
                 link.frame_start_m = [c.x, c.y];
-                link.user_torque_n_m = b.user_torque();
-                b.reset_torques(false);
+                if link.mount == Mount::Kinematic {
+                    sprocket.speed_law = Some(SpeedLaw {
+                        speed_rad_s: w,
+                        ramp_s: 0.0,
+                    });
+                } else {
+                    link.user_torque_n_m = b.user_torque();
+                    link.user_force = b.user_force();
+                    b.reset_torques(false);
+                }
             }
             // The scene's load keeps its ramp; the user's torque does not ramp.
             sprocket.user_torque_n_m = link.user_torque_n_m;
@@ -418,7 +759,7 @@ impl ChainDrive {
             if moving {
                 let tau = step as f64 * dt;
                 for (link, sprocket) in self.links.iter().zip(&mut self.model.sprockets) {
-                    if link.mounted {
+                    if link.mount != Mount::Own {
                         let [vx, vy] = sprocket.center_velocity_m_s;
                         sprocket.center_m = [
                             link.frame_start_m[0] + vx * tau,
@@ -428,7 +769,8 @@ impl ChainDrive {
                 }
             }
             self.forces.evaluate(&self.model, &self.state);
-            check_blow_up(&self.model, &self.state, &self.forces, &self.limits)?;
+            check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
+                .map_err(|e| at_coupling_limit(e, dt_s))?;
             for (sum, f) in self
                 .force_sum
                 .iter_mut()
@@ -439,27 +781,32 @@ impl ChainDrive {
             }
         }
         if self.contacts.max_depth_m > self.limits.max_penetration_m {
-            return Err(SimError::BlowUp {
-                t_s: self.state.t_s,
-                detector: crate::sim::Detector::Penetration.name(),
-                body: "a roller against a user's collider".to_owned(),
-                value: self.contacts.max_depth_m,
-                limit: self.limits.max_penetration_m,
-                detail: String::new(),
-            });
+            return Err(at_coupling_limit(
+                SimError::BlowUp {
+                    t_s: self.state.t_s,
+                    detector: crate::sim::Detector::Penetration.name(),
+                    body: "a roller against a user's collider".to_owned(),
+                    value: self.contacts.max_depth_m,
+                    limit: self.limits.max_penetration_m,
+                    detail: String::new(),
+                },
+                dt_s,
+            ));
         }
         if !self.contacts.finish_substeps(bodies, substeps, dt_s) {
-            return Err(SimError::BlowUp {
-                t_s: self.state.t_s,
-                detector: crate::sim::Detector::NonFinite.name(),
-                body: "a carried body".to_owned(),
-                value: f64::NAN,
-                limit: 0.0,
-                detail: String::new(),
-            });
+            return Err(at_coupling_limit(
+                SimError::BlowUp {
+                    t_s: self.state.t_s,
+                    detector: crate::sim::Detector::NonFinite.name(),
+                    body: "a carried body".to_owned(),
+                    value: f64::NAN,
+                    limit: 0.0,
+                    detail: String::new(),
+                },
+                dt_s,
+            ));
         }
         let stepped = Instant::now();
-        let span = dt_s.max(f64::MIN_POSITIVE);
         for i in 0..self.state.rollers() {
             let v = [
                 (self.state.x[i] - self.start[i][0]) / span,
@@ -474,18 +821,33 @@ impl ChainDrive {
         for (k, link) in self.links.iter_mut().enumerate() {
             link.mean_omega = (self.state.theta[k] - self.theta0[k]) / span;
             link.mean_chain_force = [self.force_sum[k][0] / n, self.force_sum[k][1] / n];
-            if let Some(b) = bodies.get_mut(link.body) {
-                b.set_rotation(Rotation::new(self.theta0[k]), true);
-                b.set_angvel(link.mean_omega, true);
-                if link.mounted {
+            let Some(b) = bodies.get_mut(link.body) else {
+                continue;
+            };
+            match link.mount {
+                // rapier turns a kinematic mount itself; the chain followed it.
+                Mount::Kinematic => {}
+                Mount::Own => {
+                    b.set_rotation(Rotation::new(self.theta0[k]), true);
+                    b.set_angvel(link.mean_omega, true);
+                }
+                Mount::Dynamic => {
+                    b.set_rotation(Rotation::new(self.theta0[k] + link.angle_offset), true);
+                    b.set_angvel(link.mean_omega, true);
+                    // The user's force (rapier's semantics: it stays until
+                    // the user resets it) and the chain's on top.
                     b.reset_forces(false);
                     b.add_force(
-                        Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
+                        link.user_force
+                            + Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
                         true,
                     );
                 }
             }
         }
+        self.frame_dt_s = dt_s;
+        self.in_frame = true;
+        self.hook_calls_at_frame = self.hook_calls.load(Ordering::Relaxed);
         let t = &mut self.stage_times;
         t.frames += 1;
         t.search_s += (searched - started).as_secs_f64();
@@ -500,10 +862,22 @@ impl ChainDrive {
     /// exchanged with the rollers, the speed change joints gave mounted
     /// sprockets, what other contacts and joints did to carried bodies — and
     /// restores the users' torques, forces and gravity scales. Call right
-    /// after the user's step.
-    pub fn after_step(&mut self, bodies: &mut RigidBodySet, narrow_phase: &NarrowPhase, dt_s: f64) {
+    /// after the user's step, with the same `dt_s` as [`Self::before_step`].
+    ///
+    /// An error, touching nothing, when the frame does not add up: no
+    /// `before_step` before it, another `dt_s`, a world stepped by another dt
+    /// (the roller bodies are not where the chain is), or a world stepped
+    /// without [`Self::hooks`] while a dynamic body carries a sprocket.
+    pub fn after_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        narrow_phase: &NarrowPhase,
+        dt_s: f64,
+    ) -> Result<(), CosimError> {
+        self.check_frame(bodies, dt_s)?;
+        self.in_frame = false;
         let started = Instant::now();
-        let span = dt_s.max(f64::MIN_POSITIVE);
+        let span = dt_s;
         self.any_external = false;
         for (i, &rc) in self.roller_colliders.iter().enumerate() {
             let mut impulse = [0.0f64; 2];
@@ -528,13 +902,14 @@ impl ChainDrive {
             self.any_external |= impulse != [0.0; 2];
         }
         for (k, link) in self.links.iter().enumerate() {
-            if !link.mounted {
+            if link.mount != Mount::Dynamic {
                 continue;
             }
             if let Some(b) = bodies.get_mut(link.body) {
                 // The body's joints changed its speed by this much during rapier's step.
                 self.state.omega[k] += b.angvel() - link.mean_omega;
                 b.reset_forces(false);
+                b.add_force(link.user_force, false);
                 b.add_torque(link.user_torque_n_m, false);
             }
         }
@@ -542,6 +917,56 @@ impl ChainDrive {
         let is_roller = |h: ColliderHandle| colliders.get(&h).copied().unwrap_or(false);
         self.contacts.after_step(bodies, narrow_phase, &is_roller);
         self.stage_times.sync_s += started.elapsed().as_secs_f64();
+        Ok(())
+    }
+
+    /// Whether the world's step was the one `before_step` prepared.
+    fn check_frame(&self, bodies: &RigidBodySet, dt_s: f64) -> Result<(), CosimError> {
+        if !self.in_frame {
+            return Err(CosimError::World(
+                "after_step without before_step: call before_step, the world's step, then \
+                 after_step, once each per frame"
+                    .to_owned(),
+            ));
+        }
+        if dt_s != self.frame_dt_s {
+            return Err(CosimError::input(
+                "dt_s",
+                format!(
+                    "{dt_s} s, but before_step had {} s: give both the world's dt",
+                    self.frame_dt_s
+                ),
+            ));
+        }
+        let dynamic_mount = self.links.iter().any(|l| l.mount == Mount::Dynamic);
+        if dynamic_mount && self.hook_calls.load(Ordering::Relaxed) == self.hook_calls_at_frame {
+            return Err(CosimError::World(
+                "the world was stepped without the drive's hooks, so rapier's solver pushed the \
+                 rollers' colliders against the mounted sprockets: pass drive.hooks(&your_hooks) \
+                 to the step (or use ChainDrive::step_world)"
+                    .to_owned(),
+            ));
+        }
+        let (mut worst, mut at) = (0.0f64, 0);
+        for (i, &h) in self.rollers.iter().enumerate() {
+            if let Some(b) = bodies.get(h) {
+                let p = b.translation();
+                let d = (p.x - self.state.x[i]).hypot(p.y - self.state.y[i]);
+                if !(d <= worst) {
+                    (worst, at) = (d, i);
+                }
+            }
+        }
+        if !(worst <= ROLLER_SYNC_TOLERANCE_M) {
+            return Err(CosimError::World(format!(
+                "roller {at}'s body is {worst:.3e} m from the chain's roller after the step \
+                 (more than {ROLLER_SYNC_TOLERANCE_M:e} m): the world stepped by another dt than \
+                 before_step's {} s (give before_step the world's integration_parameters.dt), \
+                 or was stepped other than once between before_step and after_step",
+                self.frame_dt_s
+            )));
+        }
+        Ok(())
     }
 
     /// One frame of a [`PhysicsWorld`] with the user's hooks and events.
@@ -550,7 +975,7 @@ impl ChainDrive {
         world: &mut PhysicsWorld,
         user_hooks: &dyn PhysicsHooks,
         events: &dyn EventHandler,
-    ) -> Result<(), SimError> {
+    ) -> Result<(), CosimError> {
         let dt = world.integration_parameters.dt;
         self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
         let hooks = ChainHooks {
@@ -560,8 +985,7 @@ impl ChainDrive {
         let started = Instant::now();
         world.step_with_events(&hooks, events);
         self.stage_times.world_s += started.elapsed().as_secs_f64();
-        self.after_step(&mut world.bodies, &world.narrow_phase, dt);
-        Ok(())
+        self.after_step(&mut world.bodies, &world.narrow_phase, dt)
     }
 }
 
@@ -588,6 +1012,7 @@ pub struct ChainHooks<'a, H: PhysicsHooks> {
 
 impl<H: PhysicsHooks> PhysicsHooks for ChainHooks<'_, H> {
     fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
+        self.drive.hook_calls.fetch_add(1, Ordering::Relaxed);
         if self.drive.owns_collider(c.collider1) && self.drive.owns_collider(c.collider2) {
             None
         } else if self.carried_pair(c) {

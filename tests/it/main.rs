@@ -15,6 +15,7 @@ mod auto_step;
 mod cli;
 mod common;
 mod cosim;
+mod cosim_checks;
 mod detectors;
 mod equilibrium;
 mod equilibrium_errors;
