@@ -210,9 +210,9 @@ mod cli {
         );
         let rows: Vec<csv::StringRecord> = reader.records().map(|r| r.expect("row")).collect();
         // The paper's drive: 4 segments × 3 statistics, the 3 sprockets
-        // besides the driver × 1, 2 for the run = 17 per run; the reference
-        // and 2 settings.
-        assert_eq!(rows.len(), 3 * 17, "{text}");
+        // besides the driver × 1, 3 for the run (penetration, driver and
+        // friction power) = 18 per run; the reference and 2 settings.
+        assert_eq!(rows.len(), 3 * 18, "{text}");
         assert!(
             !text.contains("sprocket1_"),
             "the driver's speed is prescribed"
