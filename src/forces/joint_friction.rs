@@ -123,11 +123,14 @@ impl ForceElement for JointFriction {
         let (gx, gy) = (&out.link_normal_x[..n], &out.link_normal_y[..n]);
         // Joint i (i ≥ 1) between links i − 1 and i; joint 0 closes the loop.
         let p = self.params;
-        let coulomb = p.friction * p.pin_radius_m;
+        // The pin load is the mean of the two links' forces: its ½ goes into
+        // the Coulomb factor (a product with ½ is exact: the same number).
+        let half_coulomb = 0.5 * p.friction * p.pin_radius_m;
         let per_speed = 1.0 / p.speed_rad_s;
         let law = |omega_rel: f64, f_a: f64, f_b: f64| {
-            let pin = (0.5 * (f_a + f_b)).max(0.0);
-            -coulomb * pin * fast_tanh(omega_rel * per_speed) - p.damping_n_m_s_rad * omega_rel
+            let twice_pin = (f_a + f_b).max(0.0);
+            -half_coulomb * twice_pin * fast_tanh(omega_rel * per_speed)
+                - p.damping_n_m_s_rad * omega_rel
         };
         let forces = &out.link_force[..n];
         let moment = &mut self.moment[..n];
