@@ -104,9 +104,7 @@ impl ForceElement for JointFriction {
         if n < 2 {
             return;
         }
-        if out.link_omega.len() != n
-            || out.link_normal_x.len() != n
-            || out.link_normal_y.len() != n
+        if out.link_omega.len() != n || out.link_normal_x.len() != n || out.link_normal_y.len() != n
         {
             // Sized once: from now on the links write them.
             out.link_omega.resize(n, 0.0);

@@ -232,6 +232,57 @@ fn largest(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::largest;
+    use crate::forces::{ForceElement, Forces, Links};
+    use crate::model::DriveModel;
+
+    #[test]
+    fn links_pass_writes_each_links_angular_velocity_and_normal() {
+        // Oracle: for link j from roller j to k = j + 1 (mod n), with d its
+        // vector and ḋ its velocity difference, ω = (d × ḋ)/|d|² and
+        // n/ℓ = (−d_y, d_x)/|d|²; relative tolerance 1e-12 of the largest.
+        // The paper's drive as laid out, every roller given its own velocity.
+        let scene = crate::scene::Scene::l60mc();
+        let (model, mut s, _) = DriveModel::build(&scene).expect("paper's drive lays out");
+        let n = s.rollers();
+        for i in 0..n {
+            s.vx[i] += ((i * 7 % 11) as f64 - 5.0) * 0.3;
+            s.vy[i] += ((i * 5 % 13) as f64 - 6.0) * 0.2;
+        }
+        let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
+        // Not sized: nothing written.
+        Links::new(n).evaluate(&model, &s, &mut out);
+        assert!(out.link_omega.is_empty());
+        out.link_omega = vec![f64::NAN; n];
+        out.link_normal_x = vec![f64::NAN; n];
+        out.link_normal_y = vec![f64::NAN; n];
+        Links::new(n).evaluate(&model, &s, &mut out);
+        let mut worst = [0.0f64; 3];
+        let mut largest_seen = [0.0f64; 3];
+        for j in 0..n {
+            let k = (j + 1) % n;
+            let (dx, dy) = (s.x[k] - s.x[j], s.y[k] - s.y[j]);
+            let (dvx, dvy) = (s.vx[k] - s.vx[j], s.vy[k] - s.vy[j]);
+            let l2 = dx * dx + dy * dy;
+            let expected = [(dx * dvy - dy * dvx) / l2, -dy / l2, dx / l2];
+            let got = [
+                out.link_omega[j],
+                out.link_normal_x[j],
+                out.link_normal_y[j],
+            ];
+            assert!(got.iter().all(|v| v.is_finite()), "link {j} not written");
+            for c in 0..3 {
+                worst[c] = worst[c].max((got[c] - expected[c]).abs());
+                largest_seen[c] = largest_seen[c].max(expected[c].abs());
+            }
+        }
+        for c in 0..3 {
+            assert!(largest_seen[c] > 0.0);
+            assert!(
+                worst[c] <= 1e-12 * largest_seen[c],
+                "component {c}: {worst:?}"
+            );
+        }
+    }
 
     #[test]
     fn largest_matches_the_plain_fold() {
