@@ -7,6 +7,7 @@
 //! is zero, so the static equilibrium is the frictionless one), the rollers'
 //! own rotation, or friction between plates.
 
+use super::links::link_rates;
 use super::{ForceElement, Forces};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::JointFriction as Params;
@@ -21,12 +22,8 @@ use crate::scene::JointFriction as Params;
 #[derive(Clone, Debug)]
 pub struct JointFriction {
     params: Params,
-    /// Scratch: each link's angular velocity, rad/s (then the link's moment).
-    omega: Vec<f64>,
-    /// Scratch: each link's normal over its length, n / ℓ, 1/m (then its couple, N).
-    nx: Vec<f64>,
-    /// Scratch: its y component, 1/m.
-    ny: Vec<f64>,
+    /// Scratch: each joint's relative angular velocity ω_rel, rad/s.
+    rel: Vec<f64>,
     /// Each joint's moment M_i at the last evaluation, N·m.
     moment: Vec<f64>,
 }
@@ -36,9 +33,7 @@ impl JointFriction {
     pub fn new(params: Params, rollers: usize) -> Self {
         Self {
             params,
-            omega: vec![0.0; rollers],
-            nx: vec![0.0; rollers],
-            ny: vec![0.0; rollers],
+            rel: vec![0.0; rollers],
             moment: vec![0.0; rollers],
         }
     }
@@ -78,100 +73,113 @@ fn fast_tanh(x: f64) -> f64 {
     if r < -1.0 { -1.0 } else { r }
 }
 
+/// Σ a_i b_i in four independent lanes (a plain running sum waits on each
+/// addition and stays scalar), the lanes then summed in order.
+#[inline(always)]
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len().min(b.len());
+    let (a, b) = (&a[..n], &b[..n]);
+    let mut lanes = [0.0f64; 4];
+    for (ca, cb) in a.chunks_exact(4).zip(b.chunks_exact(4)) {
+        for k in 0..4 {
+            lanes[k] += ca[k] * cb[k];
+        }
+    }
+    let tail = n - n % 4;
+    let rest: f64 = a[tail..].iter().zip(&b[tail..]).map(|(x, y)| x * y).sum();
+    lanes.into_iter().fold(rest, |s, l| s + l)
+}
+
 impl ForceElement for JointFriction {
     fn name(&self) -> &'static str {
         "joint friction"
     }
 
-    /// Three passes over zipped slices (no bounds checks; the first two
-    /// vectorise): each link's ω and n/ℓ, each joint's moment, each link's
-    /// couple on its two rollers.
+    /// Each link's ω and n/ℓ come from the links' pass (sized here at the
+    /// first evaluation, which computes them itself). Then two passes over
+    /// zipped slices, with no bounds checks and no branches, which the
+    /// compiler vectorises: each joint's moment, each roller's two couples.
     fn evaluate(&mut self, _model: &DriveModel, s: &DriveState, out: &mut Forces) {
         let n = s.x.len();
         if n < 2 {
             return;
         }
-        let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
-        let (omega, nx, ny) = (&mut self.omega[..n], &mut self.nx[..n], &mut self.ny[..n]);
-        // Link j joins roller j to roller j + 1; the closing link after.
-        let link = |dx: f64, dy: f64, dvx: f64, dvy: f64| {
-            let l2 = dx * dx + dy * dy;
-            // Coincident rollers have no direction: no moment rather than
-            // NaN (the blow-up detector stops such a run).
-            let inv = if l2 > 0.0 { 1.0 / l2 } else { 0.0 };
-            ((dx * dvy - dy * dvx) * inv, -dy * inv, dx * inv)
-        };
-        let pairs = x[..n - 1]
-            .iter()
-            .zip(&x[1..])
-            .zip(y[..n - 1].iter().zip(&y[1..]))
-            .zip(vx[..n - 1].iter().zip(&vx[1..]))
-            .zip(vy[..n - 1].iter().zip(&vy[1..]));
-        let outs = omega[..n - 1]
-            .iter_mut()
-            .zip(nx[..n - 1].iter_mut())
-            .zip(ny[..n - 1].iter_mut());
-        for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), ((w, gx), gy)) in pairs.zip(outs) {
-            (*w, *gx, *gy) = link(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
+        if out.link_omega.len() != n || out.link_normal_x.len() != n || out.link_normal_y.len() != n
+        {
+            // Sized once: from now on the links write them.
+            out.link_omega.resize(n, 0.0);
+            out.link_normal_x.resize(n, 0.0);
+            out.link_normal_y.resize(n, 0.0);
+            link_rates(
+                s,
+                &mut out.link_omega,
+                &mut out.link_normal_x,
+                &mut out.link_normal_y,
+            );
         }
-        (omega[n - 1], nx[n - 1], ny[n - 1]) = link(
-            x[0] - x[n - 1],
-            y[0] - y[n - 1],
-            vx[0] - vx[n - 1],
-            vy[0] - vy[n - 1],
-        );
+        let omega = &out.link_omega[..n];
+        let (gx, gy) = (&out.link_normal_x[..n], &out.link_normal_y[..n]);
         // Joint i (i ≥ 1) between links i − 1 and i; joint 0 closes the loop.
         let p = self.params;
-        let coulomb = p.friction * p.pin_radius_m;
+        // The pin load is the mean of the two links' forces: its ½ goes into
+        // the Coulomb factor (a product with ½ is exact: the same number).
+        let half_coulomb = 0.5 * p.friction * p.pin_radius_m;
         let per_speed = 1.0 / p.speed_rad_s;
         let law = |omega_rel: f64, f_a: f64, f_b: f64| {
-            let pin = (0.5 * (f_a + f_b)).max(0.0);
-            -coulomb * pin * fast_tanh(omega_rel * per_speed) - p.damping_n_m_s_rad * omega_rel
+            let twice_pin = (f_a + f_b).max(0.0);
+            -half_coulomb * twice_pin * fast_tanh(omega_rel * per_speed)
+                - p.damping_n_m_s_rad * omega_rel
         };
         let forces = &out.link_force[..n];
         let moment = &mut self.moment[..n];
-        // No sum in this loop, so it vectorises; the power is summed below.
+        let rel = &mut self.rel[..n];
         let joints = omega[..n - 1]
             .iter()
             .zip(&omega[1..])
             .zip(forces[..n - 1].iter().zip(&forces[1..]));
-        for (((w_a, w_b), (f_a, f_b)), m) in joints.zip(moment[1..].iter_mut()) {
-            *m = law(w_b - w_a, *f_a, *f_b);
-        }
-        moment[0] = law(omega[0] - omega[n - 1], forces[n - 1], forces[0]);
-        // Link j carries +M_j (joint j, where it is link b) and −M_{j+1}
-        // (joint j + 1, where it is link a): its couple is (m/ℓ) n with
-        // m = M_j − M_{j+1}, −(m/ℓ) n on roller j, +(m/ℓ) n on roller j + 1.
-        // The power Σ_i M_i ω_rel,i equals Σ_j m_j ω_j (summation by parts).
-        let mut power = 0.0;
-        let mut link_moment = |w: &mut f64, m: f64| {
-            power += m * *w;
-            // The link's ω is spent: its slot holds m.
-            *w = m;
-        };
-        for ((w, a), b) in omega[..n - 1]
-            .iter_mut()
-            .zip(&moment[..n - 1])
-            .zip(&moment[1..])
+        for (((w_a, w_b), (f_a, f_b)), (m, r)) in
+            joints.zip(moment[1..].iter_mut().zip(rel[1..].iter_mut()))
         {
-            link_moment(w, a - b);
+            *r = w_b - w_a;
+            *m = law(*r, *f_a, *f_b);
         }
-        link_moment(&mut omega[n - 1], moment[n - 1] - moment[0]);
-        let m = omega;
-        for ((gx, gy), m) in nx.iter_mut().zip(ny.iter_mut()).zip(m.iter()) {
-            *gx *= m;
-            *gy *= m;
-        }
-        // Roller i gets couple(i − 1) − couple(i).
+        rel[0] = omega[0] - omega[n - 1];
+        moment[0] = law(rel[0], forces[n - 1], forces[0]);
+        let power = dot(moment, rel);
+        // Link j carries +M_j (joint j, where it is link b) and −M_{j+1}
+        // (joint j + 1, where it is link a): its couple is (m_j/ℓ) n with
+        // m_j = M_j − M_{j+1}, −(m_j/ℓ) n on roller j, +(m_j/ℓ) n on roller
+        // j + 1. Roller i gets couple(i − 1) − couple(i).
         let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
-        fx[0] += nx[n - 1] - nx[0];
-        fy[0] += ny[n - 1] - ny[0];
-        for ((f, a), b) in fx[1..].iter_mut().zip(&nx[..n - 1]).zip(&nx[1..]) {
-            *f += a - b;
+        let roller = |h: usize, i: usize, k: usize| {
+            let (before, after) = (moment[h] - moment[i], moment[i] - moment[k]);
+            (
+                before * gx[h] - after * gx[i],
+                before * gy[h] - after * gy[i],
+            )
+        };
+        let (first, last) = (roller(n - 1, 0, 1 % n), roller(n - 2, n - 1, 0));
+        // Rollers 1..n−1: joints h = i − 1, i, k = i + 1; links i − 1 and i.
+        let three = moment[..n - 2]
+            .iter()
+            .zip(&moment[1..n - 1])
+            .zip(&moment[2..]);
+        let normals = gx[..n - 2]
+            .iter()
+            .zip(&gx[1..n - 1])
+            .zip(gy[..n - 2].iter().zip(&gy[1..n - 1]));
+        let targets = fx[1..n - 1].iter_mut().zip(fy[1..n - 1].iter_mut());
+        for ((((m_h, m_i), m_k), ((gx_h, gx_i), (gy_h, gy_i))), (f_x, f_y)) in
+            three.zip(normals).zip(targets)
+        {
+            let (before, after) = (m_h - m_i, m_i - m_k);
+            *f_x += before * gx_h - after * gx_i;
+            *f_y += before * gy_h - after * gy_i;
         }
-        for ((f, a), b) in fy[1..].iter_mut().zip(&ny[..n - 1]).zip(&ny[1..]) {
-            *f += a - b;
-        }
+        fx[0] += first.0;
+        fy[0] += first.1;
+        fx[n - 1] += last.0;
+        fy[n - 1] += last.1;
         if out.joint_moment_n_m.len() != n {
             // Sized once, at the first evaluation.
             out.joint_moment_n_m.resize(n, 0.0);

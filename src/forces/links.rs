@@ -14,9 +14,9 @@ struct LinkLaw {
 
 impl LinkLaw {
     /// From the link vector d = q_j − q_i and the velocity difference:
-    /// (F_link, u_x, u_y, l − rest).
+    /// (F_link, u_x, u_y, l − rest, 1/l).
     #[inline(always)]
-    fn eval(&self, dx: f64, dy: f64, dvx: f64, dvy: f64) -> (f64, f64, f64, f64) {
+    fn eval(&self, dx: f64, dy: f64, dvx: f64, dvy: f64) -> (f64, f64, f64, f64, f64) {
         let l = (dx * dx + dy * dy).sqrt();
         // Coincident rollers have no direction: no force rather than NaN (the
         // blow-up detector stops the run, the stretch being a whole pitch).
@@ -24,7 +24,44 @@ impl LinkLaw {
         let (ux, uy) = (dx * inv, dy * inv);
         let stretch = l - self.rest;
         let f = self.stiffness * stretch + self.damping * (dvx * ux + dvy * uy);
-        (f, ux, uy, stretch)
+        (f, ux, uy, stretch, inv)
+    }
+}
+
+/// A link's angular velocity ω = (u × Δv)/ℓ and its normal over its length
+/// n/ℓ = (−u_y, u_x)/ℓ, from its unit vector u, 1/ℓ and the velocity
+/// difference Δv (all zero for coincident rollers, whose 1/ℓ is 0).
+#[inline(always)]
+fn rates(ux: f64, uy: f64, inv: f64, dvx: f64, dvy: f64) -> (f64, f64, f64) {
+    ((ux * dvy - uy * dvx) * inv, -uy * inv, ux * inv)
+}
+
+/// Each link's ω and n/ℓ (see [`rates`]) at state `s`, into slices of one
+/// slot per link: what the links write into [`Forces::link_omega`] and its
+/// normals when those are sized, for the evaluation that sizes them.
+pub(crate) fn link_rates(
+    s: &DriveState,
+    omega: &mut [f64],
+    normal_x: &mut [f64],
+    normal_y: &mut [f64],
+) {
+    let n = s.x.len();
+    let law = LinkLaw {
+        stiffness: 0.0,
+        damping: 0.0,
+        rest: 0.0,
+    };
+    for (j, ((w, gx), gy)) in omega
+        .iter_mut()
+        .zip(normal_x.iter_mut())
+        .zip(normal_y.iter_mut())
+        .enumerate()
+        .take(n)
+    {
+        let k = if j + 1 == n { 0 } else { j + 1 };
+        let (dvx, dvy) = (s.vx[k] - s.vx[j], s.vy[k] - s.vy[j]);
+        let (_, ux, uy, _, inv) = law.eval(s.x[k] - s.x[j], s.y[k] - s.y[j], dvx, dvy);
+        (*w, *gx, *gy) = rates(ux, uy, inv, dvx, dvy);
     }
 }
 
@@ -91,25 +128,58 @@ impl ForceElement for Links {
             .zip(lfx[..n - 1].iter_mut())
             .zip(lfy[..n - 1].iter_mut())
             .zip(stretch[..n - 1].iter_mut());
-        for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), (((f, fx), fy), st)) in
-            pairs.zip(outs)
-        {
-            let (force_n, ux, uy, s) = law.eval(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
-            *f = force_n;
-            *fx = force_n * ux;
-            *fy = force_n * uy;
-            *st = s;
+        let with_rates = out.link_omega.len() == n
+            && out.link_normal_x.len() == n
+            && out.link_normal_y.len() == n;
+        if with_rates {
+            // The same loop, also writing each link's ω and n/ℓ (for the
+            // joint friction) from the u and 1/ℓ it has at hand.
+            let (omega, nx, ny) = (
+                &mut out.link_omega[..n],
+                &mut out.link_normal_x[..n],
+                &mut out.link_normal_y[..n],
+            );
+            let rate_outs = omega[..n - 1]
+                .iter_mut()
+                .zip(nx[..n - 1].iter_mut())
+                .zip(ny[..n - 1].iter_mut());
+            for (
+                ((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)),
+                ((((f, fx), fy), st), ((w, gx), gy)),
+            ) in pairs.zip(outs.zip(rate_outs))
+            {
+                let (dvx, dvy) = (vx1 - vx0, vy1 - vy0);
+                let (force_n, ux, uy, s, inv) = law.eval(x1 - x0, y1 - y0, dvx, dvy);
+                *f = force_n;
+                *fx = force_n * ux;
+                *fy = force_n * uy;
+                *st = s;
+                (*w, *gx, *gy) = rates(ux, uy, inv, dvx, dvy);
+            }
+        } else {
+            for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), (((f, fx), fy), st)) in
+                pairs.zip(outs)
+            {
+                let (force_n, ux, uy, s, _) = law.eval(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
+                *f = force_n;
+                *fx = force_n * ux;
+                *fy = force_n * uy;
+                *st = s;
+            }
         }
-        let (f, ux, uy, last) = law.eval(
-            x[0] - x[n - 1],
-            y[0] - y[n - 1],
-            vx[0] - vx[n - 1],
-            vy[0] - vy[n - 1],
-        );
+        let (dvx, dvy) = (vx[0] - vx[n - 1], vy[0] - vy[n - 1]);
+        let (f, ux, uy, last, inv) = law.eval(x[0] - x[n - 1], y[0] - y[n - 1], dvx, dvy);
         force[n - 1] = f;
         lfx[n - 1] = f * ux;
         lfy[n - 1] = f * uy;
         stretch[n - 1] = last;
+        if with_rates {
+            (
+                out.link_omega[n - 1],
+                out.link_normal_x[n - 1],
+                out.link_normal_y[n - 1],
+            ) = rates(ux, uy, inv, dvx, dvy);
+        }
         // `max` drops a NaN: keep it visible to the blow-up check.
         let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
         let max_stretch = largest(stretch, stretch, |s, _| s.abs());
@@ -162,6 +232,57 @@ fn largest(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::largest;
+    use crate::forces::{ForceElement, Forces, Links};
+    use crate::model::DriveModel;
+
+    #[test]
+    fn links_pass_writes_each_links_angular_velocity_and_normal() {
+        // Oracle: for link j from roller j to k = j + 1 (mod n), with d its
+        // vector and ḋ its velocity difference, ω = (d × ḋ)/|d|² and
+        // n/ℓ = (−d_y, d_x)/|d|²; relative tolerance 1e-12 of the largest.
+        // The paper's drive as laid out, every roller given its own velocity.
+        let scene = crate::scene::Scene::l60mc();
+        let (model, mut s, _) = DriveModel::build(&scene).expect("paper's drive lays out");
+        let n = s.rollers();
+        for i in 0..n {
+            s.vx[i] += ((i * 7 % 11) as f64 - 5.0) * 0.3;
+            s.vy[i] += ((i * 5 % 13) as f64 - 6.0) * 0.2;
+        }
+        let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
+        // Not sized: nothing written.
+        Links::new(n).evaluate(&model, &s, &mut out);
+        assert!(out.link_omega.is_empty());
+        out.link_omega = vec![f64::NAN; n];
+        out.link_normal_x = vec![f64::NAN; n];
+        out.link_normal_y = vec![f64::NAN; n];
+        Links::new(n).evaluate(&model, &s, &mut out);
+        let mut worst = [0.0f64; 3];
+        let mut largest_seen = [0.0f64; 3];
+        for j in 0..n {
+            let k = (j + 1) % n;
+            let (dx, dy) = (s.x[k] - s.x[j], s.y[k] - s.y[j]);
+            let (dvx, dvy) = (s.vx[k] - s.vx[j], s.vy[k] - s.vy[j]);
+            let l2 = dx * dx + dy * dy;
+            let expected = [(dx * dvy - dy * dvx) / l2, -dy / l2, dx / l2];
+            let got = [
+                out.link_omega[j],
+                out.link_normal_x[j],
+                out.link_normal_y[j],
+            ];
+            assert!(got.iter().all(|v| v.is_finite()), "link {j} not written");
+            for c in 0..3 {
+                worst[c] = worst[c].max((got[c] - expected[c]).abs());
+                largest_seen[c] = largest_seen[c].max(expected[c].abs());
+            }
+        }
+        for c in 0..3 {
+            assert!(largest_seen[c] > 0.0);
+            assert!(
+                worst[c] <= 1e-12 * largest_seen[c],
+                "component {c}: {worst:?}"
+            );
+        }
+    }
 
     #[test]
     fn largest_matches_the_plain_fold() {

@@ -45,6 +45,15 @@ pub struct Forces {
     pub joint_moment_n_m: Vec<f64>,
     /// Power of the joint friction, Σ M_i ω_rel,i, W (≤ 0).
     pub joint_friction_power_w: f64,
+    /// Each link's angular velocity ω = (u × Δv)/ℓ, rad/s: written by the
+    /// links when it holds one slot per link (the joint friction sizes it at
+    /// its first evaluation), left empty and not computed otherwise.
+    pub(crate) link_omega: Vec<f64>,
+    /// Each link's unit normal over its length, n/ℓ = (−u_y, u_x)/ℓ, x, 1/m
+    /// (written with [`Self::link_omega`]).
+    pub(crate) link_normal_x: Vec<f64>,
+    /// Its y component, 1/m.
+    pub(crate) link_normal_y: Vec<f64>,
 }
 
 impl Forces {
@@ -67,6 +76,9 @@ impl Forces {
             contact_damping_power_w: 0.0,
             joint_moment_n_m: Vec::new(),
             joint_friction_power_w: 0.0,
+            link_omega: Vec::new(),
+            link_normal_x: Vec::new(),
+            link_normal_y: Vec::new(),
         }
     }
 
