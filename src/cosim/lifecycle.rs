@@ -1,0 +1,298 @@
+//! Putting a drive into the user's rapier sets and taking it out again.
+
+use std::collections::HashMap;
+
+use rapier2d_f64::prelude::*;
+
+use super::*;
+
+impl ChainDrive {
+    /// Builds `scene`'s drive, brings it to static equilibrium, and inserts it
+    /// into the user's sets. `mounts[k]`, where given, is `Some(body)` where
+    /// the user's body carries sprocket k (`None`, or no entry, where the
+    /// drive owns the sprocket's body); more entries than sprockets is an error. A mount must be in `bodies`, carry one
+    /// sprocket only, and sit at the sprocket's centre in the scene (within
+    /// [`MOUNT_CENTRE_TOLERANCE_M`]). A dynamic mount turns with the chain
+    /// (its rotational inertia as the chain sees it is the body's, not the
+    /// scene's `inertia_kg_m2`); a kinematic or fixed one turns its sprocket at its
+    /// own angular speed. A mount already turning sets the chain moving with
+    /// it along its path (the free sprockets turning with the chain); mounts
+    /// or a driver at speeds the chain cannot share are an error. A mount keeps its rotation: the
+    /// sprocket's collider is turned on it to the chain's angle.
+    pub fn insert(
+        scene: &Scene,
+        mounts: &[Option<RigidBodyHandle>],
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+    ) -> Result<Self, CosimError> {
+        let sim = Simulation::new(scene)?;
+        let Simulation {
+            scene,
+            model,
+            state,
+            forces,
+            equilibrium,
+            limits,
+            ..
+        } = sim;
+        let count = model.sprocket_count();
+        if mounts.len() > count {
+            return Err(CosimError::input(
+                "mounts",
+                format!(
+                    "{} entries for {count} sprockets: give at most one per sprocket, in the \
+                     scene's order (None, or no entry, where the drive owns the sprocket's body)",
+                    mounts.len()
+                ),
+            ));
+        }
+        for (k, mount) in mounts.iter().enumerate() {
+            let Some(h) = *mount else { continue };
+            let field = format!("mounts[{k}]");
+            let Some(b) = bodies.get(h) else {
+                return Err(CosimError::input(
+                    field,
+                    "no such body in the RigidBodySet (removed, or from another set)",
+                ));
+            };
+            if let Some(j) = mounts[..k].iter().position(|m| *m == Some(h)) {
+                return Err(CosimError::input(
+                    field,
+                    format!(
+                        "the body already carries sprocket {j} (mounts[{j}]): one body carries one \
+                         sprocket"
+                    ),
+                ));
+            }
+            let c = b.translation();
+            let want = model.sprockets[k].center_m;
+            let off = (c.x - want[0]).hypot(c.y - want[1]);
+            if !(off <= MOUNT_CENTRE_TOLERANCE_M) {
+                return Err(CosimError::input(
+                    format!("sprockets[{k}].center_m"),
+                    format!(
+                        "[{}, {}] m, but its mount (mounts[{k}]) is at [{}, {}] m, {off:.3e} m \
+                         away: place the body at the sprocket's centre (within {:e} m) or the \
+                         sprocket at the body's",
+                        want[0], want[1], c.x, c.y, MOUNT_CENTRE_TOLERANCE_M
+                    ),
+                ));
+            }
+        }
+        let (mut model, mut state, mut forces) = (model, state, forces);
+        // A dynamic mount's rotational inertia is the body's (rapier's, with
+        // its colliders and locks: a body whose rotation is locked holds its
+        // sprocket).
+        // rapier computes a new body's mass properties at its next step: now.
+        for (k, mount) in mounts.iter().enumerate() {
+            if let Some(b) = mount
+                .and_then(|h| bodies.get_mut(h))
+                .filter(|b| b.is_dynamic())
+            {
+                b.recompute_mass_properties_from_colliders(colliders);
+                model.sprockets[k].inv_inertia = b.mass_properties().effective_world_inv_inertia;
+            }
+        }
+        // A mount that already turns sets the chain moving with it.
+        let turning: Vec<(usize, f64)> = mounts
+            .iter()
+            .enumerate()
+            .filter_map(|(k, m)| bodies.get((*m)?).map(|b| (k, b.angvel())))
+            .collect();
+        if let Some(&(k0, w0)) = turning.iter().find(|(_, w)| *w != 0.0) {
+            let Some(belt) = motion::belt_speed(&model, &state, k0, w0) else {
+                return Err(CosimError::input(
+                    format!("mounts[{k0}]"),
+                    "the chain's path on the sprocket has coinciding rollers: insert the drive \
+                     with its mounts at rest",
+                ));
+            };
+            for &(k, w) in &turning {
+                let want = motion::sprocket_speed(&model, &state, k, belt);
+                if (w - want).abs() > 0.01 * w0.abs() {
+                    return Err(CosimError::input(
+                        format!("mounts[{k}]"),
+                        format!(
+                            "the body turns at {w} rad/s, but the chain moving with mounts[{k0}] \
+                             at {w0} rad/s turns its sprocket at {want} rad/s: give the mounts \
+                             speeds the chain can share"
+                        ),
+                    ));
+                }
+            }
+            if let Some(d) = model
+                .driver()
+                .filter(|&d| mounts.get(d).copied().flatten().is_none())
+            {
+                let law = model.sprockets[d]
+                    .speed_law
+                    .map_or(0.0, |l| l.speed_at(0.0));
+                let want = motion::sprocket_speed(&model, &state, d, belt);
+                if (law - want).abs() > 0.01 * want.abs() {
+                    return Err(CosimError::input(
+                        format!("sprockets[{d}].speed_rpm"),
+                        format!(
+                            "the driver starts at {law} rad/s, but mounts[{k0}] turning at {w0} \
+                             rad/s moves the chain at {want} rad/s on it: start the driver at the \
+                             mounts' speed, or insert them at rest"
+                        ),
+                    ));
+                }
+            }
+            motion::set_belt_motion(&model, &mut state, belt);
+            for &(k, w) in &turning {
+                state.omega[k] = w;
+            }
+            forces.forget_reach();
+            forces.evaluate(&model, &state);
+        }
+        let hooks = ActiveHooks::FILTER_CONTACT_PAIRS;
+        let mut handles = Vec::new();
+        let mut links = Vec::with_capacity(count);
+        for (k, sp) in model.sprockets.iter().enumerate() {
+            let mounted = mounts.get(k).copied().flatten();
+            let (body, mount, angle_offset) =
+                match mounted.and_then(|h| bodies.get(h).map(|b| (h, b))) {
+                    Some((h, b)) => {
+                        let mount = if b.is_dynamic() {
+                            Mount::Dynamic
+                        } else {
+                            Mount::Kinematic
+                        };
+                        (h, mount, b.rotation().angle() - state.theta[k])
+                    }
+                    None => {
+                        let b = RigidBodyBuilder::kinematic_velocity_based()
+                            .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
+                            .rotation(state.theta[k])
+                            .can_sleep(false)
+                            .build();
+                        (bodies.insert(b), Mount::Own, 0.0)
+                    }
+                };
+            let collider = ColliderBuilder::new(sprocket_shape(&sp.profile))
+                .position(Pose::rotation(-angle_offset))
+                .density(0.0)
+                .active_hooks(hooks)
+                .build();
+            handles.push(colliders.insert_with_parent(collider, body, bodies));
+            links.push(SprocketLink {
+                body,
+                mount,
+                angle_offset,
+                user_torque_n_m: 0.0,
+                user_force: Vector::ZERO,
+                mean_omega: 0.0,
+                mean_chain_force: [0.0; 2],
+                frame_start_m: sp.center_m,
+            });
+        }
+        let mut roller_colliders = Vec::with_capacity(state.rollers());
+        let rollers = (0..state.rollers())
+            .map(|i| {
+                let body = RigidBodyBuilder::kinematic_velocity_based()
+                    .translation(Vector::new(state.x[i], state.y[i]))
+                    .can_sleep(false)
+                    .build();
+                let h = bodies.insert(body);
+                let collider = ColliderBuilder::ball(scene.chain.roller_radius_m)
+                    .density(0.0)
+                    .active_hooks(hooks)
+                    .build();
+                let c = colliders.insert_with_parent(collider, h, bodies);
+                roller_colliders.push(c);
+                h
+            })
+            .collect();
+        let n = state.rollers();
+        let sprocket_count = links.len();
+        let mut owned: HashMap<ColliderHandle, bool> =
+            handles.into_iter().map(|h| (h, false)).collect();
+        owned.extend(roller_colliders.iter().map(|&h| (h, true)));
+        Ok(Self {
+            sprockets: links.iter().map(|l| l.body).collect(),
+            mounted: links
+                .iter()
+                .filter(|l| l.mount != Mount::Own)
+                .map(|l| l.body)
+                .collect(),
+            coupling: Coupling::new(&scene.contact),
+            stage_times: FrameTimes::default(),
+            contacts: BodyContacts::new(n, scene.chain.roller_mass_kg, scene.chain.roller_radius_m),
+            theta0: vec![0.0; sprocket_count],
+            force_sum: vec![[0.0; 2]; sprocket_count],
+            any_external: false,
+            driver: model.driver(),
+            scene,
+            model,
+            state,
+            forces,
+            equilibrium,
+            limits,
+            rollers,
+            colliders: owned,
+            roller_colliders,
+            links,
+            start: vec![[0.0; 2]; n],
+            external: vec![[0.0; 2]; n],
+            world_time_s: 0.0,
+            frame_dt_s: 0.0,
+            in_frame: false,
+            hook_calls: AtomicU64::new(0),
+            hook_calls_at_frame: 0,
+        })
+    }
+
+    /// Removes every body and collider the drive added from the user's sets:
+    /// its own sprocket and roller bodies with their colliders, and the
+    /// sprocket colliders it put on mounted bodies (which stay, with their
+    /// user forces and torques). The drive adds no joints.
+    pub fn remove(self, world: &mut PhysicsWorld) {
+        let PhysicsWorld {
+            islands,
+            bodies,
+            colliders,
+            impulse_joints,
+            multibody_joints,
+            soft_bodies,
+            ..
+        } = world;
+        for link in &self.links {
+            if link.mount == Mount::Own {
+                continue;
+            }
+            let on_mount = bodies
+                .get(link.body)
+                .map(|b| b.colliders().to_vec())
+                .unwrap_or_default();
+            for c in on_mount {
+                if self.colliders.contains_key(&c) {
+                    colliders.remove(c, islands, bodies, soft_bodies, true);
+                }
+            }
+            if let Some(b) = bodies.get_mut(link.body) {
+                b.reset_forces(false);
+                b.reset_torques(false);
+                b.add_force(link.user_force, false);
+                b.add_torque(link.user_torque_n_m, true);
+            }
+        }
+        let own = self
+            .links
+            .iter()
+            .filter(|l| l.mount == Mount::Own)
+            .map(|l| l.body)
+            .chain(self.rollers.iter().copied());
+        for h in own {
+            bodies.remove(
+                h,
+                islands,
+                colliders,
+                impulse_joints,
+                multibody_joints,
+                soft_bodies,
+                true,
+            );
+        }
+    }
+}
