@@ -8,6 +8,8 @@ use std::path::Path;
 use std::process::{Command, Output};
 
 use chaindrive::analysis::{RunSummary, Signals};
+use chaindrive::forces::Forces;
+use chaindrive::model::{DriveModel, DriveState};
 use chaindrive::scene::{Overrides, Scene};
 use chaindrive::sim::{SampleRate, Simulation};
 
@@ -116,4 +118,14 @@ pub mod allocations {
     pub fn count() -> u64 {
         COUNT.with(Cell::get)
     }
+}
+
+/// Mean link force of every segment's free strand, found by chain order in
+/// `state` with `forces` evaluated at it (`None`: no free link).
+pub fn strand_means(model: &DriveModel, state: &DriveState, forces: &Forces) -> Vec<Option<f64>> {
+    let segments = &model.segments;
+    let runs = segments.runs(&model.sprockets, &state.x, &state.y, &forces.touching);
+    let mut mean = vec![None; segments.len()];
+    segments.mean_forces(&runs, &forces.link_force, &mut mean);
+    mean
 }

@@ -165,17 +165,9 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
             // Strand 1 runs along the bottom from sprocket 1 to 2, strand 2 back on top.
-            let mut seg = [None; 2];
-            let out = drive.forces.output();
-            let segments = &drive.model.segments;
-            let runs = segments.runs(
-                &drive.model.sprockets,
-                &drive.state.x,
-                &drive.state.y,
-                &out.touching,
-            );
-            segments.mean_forces(&runs, &out.link_force, &mut seg);
-            if let [Some(a), Some(b)] = seg {
+            let seg =
+                crate::common::strand_means(&drive.model, &drive.state, drive.forces.output());
+            if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
                 n += 1.0;

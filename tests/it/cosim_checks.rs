@@ -408,17 +408,9 @@ fn set_load_torque_and_driver_speed_hold_from_frame_to_frame() {
     for frame in 0..120 {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
-            let mut seg = [None; 2];
-            let out = drive.forces.output();
-            let segments = &drive.model.segments;
-            let runs = segments.runs(
-                &drive.model.sprockets,
-                &drive.state.x,
-                &drive.state.y,
-                &out.touching,
-            );
-            segments.mean_forces(&runs, &out.link_force, &mut seg);
-            if let [Some(a), Some(b)] = seg {
+            let seg =
+                crate::common::strand_means(&drive.model, &drive.state, drive.forces.output());
+            if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
                 n += 1.0;

@@ -228,17 +228,7 @@ fn back_side_idler_with_a_load_settles_and_balances_its_torque() {
         "{:?}",
         sim.equilibrium
     );
-    let out = sim.forces.output();
-    let segments = &sim.model.segments;
-    let runs = segments.runs(
-        &sim.model.sprockets,
-        &sim.state.x,
-        &sim.state.y,
-        &out.touching,
-    );
-    let mut mean = vec![None; segments.len()];
-    segments.mean_forces(&runs, &out.link_force, &mut mean);
-    let t: Vec<f64> = mean
+    let t: Vec<f64> = crate::common::strand_means(&sim.model, &sim.state, sim.forces.output())
         .into_iter()
         .map(|m| m.expect("a free strand"))
         .collect();

@@ -115,17 +115,8 @@ fn paper_loaded(pretension_n: f64, right_n_m: f64, left_n_m: f64) -> Scene {
 
 /// Static link force of every free strand, from the relaxed chain.
 fn strand_forces(sim: &Simulation) -> Vec<f64> {
-    let out = sim.forces.output();
-    let segments = &sim.model.segments;
-    let runs = segments.runs(
-        &sim.model.sprockets,
-        &sim.state.x,
-        &sim.state.y,
-        &out.touching,
-    );
-    let mut mean = vec![None; segments.len()];
-    segments.mean_forces(&runs, &out.link_force, &mut mean);
-    mean.into_iter()
+    crate::common::strand_means(&sim.model, &sim.state, sim.forces.output())
+        .into_iter()
         .map(|m| m.expect("a free strand"))
         .collect()
 }
