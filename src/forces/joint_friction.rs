@@ -14,7 +14,8 @@ use crate::scene::JointFriction as Params;
 
 /// Joint friction: at roller i, where link a = (i−1, i) meets link
 /// b = (i, i+1), the moment of link a on link b is
-/// `M_i = −μ r_pin F_pin tanh(ω_rel / ω_s) − c_θ ω_rel`, with
+/// `M_i = −μ r_pin F_pin s(ω_rel / ω_s) − c_θ ω_rel`, s a cubic step
+/// (docs/model.md, “Joint friction”), with
 /// ω_rel = ω_b − ω_a (each link's ω = (d × ḋ) / |d|²) and F_pin the mean of
 /// the two links' forces, zero in compression. On a link of length ℓ and
 /// unit normal n a moment m is the couple −(m/ℓ) n at its first roller and
@@ -24,8 +25,6 @@ pub struct JointFriction {
     params: Params,
     /// Scratch: each joint's relative angular velocity ω_rel, rad/s.
     rel: Vec<f64>,
-    /// Each joint's moment M_i at the last evaluation, N·m.
-    moment: Vec<f64>,
 }
 
 impl JointFriction {
@@ -34,14 +33,7 @@ impl JointFriction {
         Self {
             params,
             rel: vec![0.0; rollers],
-            moment: vec![0.0; rollers],
         }
-    }
-
-    /// Each joint's moment at the last evaluation, N·m (joint i at roller i:
-    /// the moment of link i−1 on link i, counter-clockwise positive).
-    pub fn moments(&self) -> &[f64] {
-        &self.moment
     }
 
     /// The moment at one joint: relative speed `omega_rel`, rad/s, pin load
@@ -49,28 +41,25 @@ impl JointFriction {
     #[cfg(test)]
     fn law(&self, omega_rel: f64, pin_n: f64) -> f64 {
         let p = &self.params;
-        -p.friction * p.pin_radius_m * pin_n * fast_tanh(omega_rel / p.speed_rad_s)
+        -p.friction * p.pin_radius_m * pin_n * cubic_step(omega_rel / p.speed_rad_s)
             - p.damping_n_m_s_rad * omega_rel
     }
 }
 
-/// tanh by Lambert's continued fraction cut after seven terms (a rational
-/// function, no `exp`), clamped to [−1, 1]: within 1.1·10⁻⁴ of `f64::tanh`
-/// everywhere (the clamp, near |x| = 5, is the largest error; below |x| = 3
-/// it is under 10⁻⁶), odd, and ±1 beyond |x| ≈ 5. The library's tanh cost as
-/// much as the rest of the element.
+/// The smooth sign of the law: a cubic step in x = ω_rel / ω_s,
+/// s(x) = x − x³/6.75 for |x| ≤ 1.5 and ±1 beyond. It is odd, bounded by 1,
+/// monotone, and C¹ (its slope 1 − x²/2.25 is 1 at rest, like tanh's, and 0
+/// where it meets ±1), so the law near rest is the same viscous slope
+/// μ r_pin F / ω_s as with tanh, and from 1.5 ω_s on it is Coulomb's exactly.
+/// Written as y (3 − y²)/2 with y = x/1.5 clamped to [−1, 1]: five
+/// arithmetic operations and two selects, no division; a NaN passes through.
 #[inline(always)]
-fn fast_tanh(x: f64) -> f64 {
-    // Beyond |x| = 10 the fraction would overflow to ∞/∞; its value there is 1.
-    let x = if x > 10.0 { 10.0 } else { x };
-    let x = if x < -10.0 { -10.0 } else { x };
-    let x2 = x * x;
-    let num = x * (135_135.0 + x2 * (17_325.0 + x2 * (378.0 + x2)));
-    let den = 135_135.0 + x2 * (62_370.0 + x2 * (3_150.0 + 28.0 * x2));
-    // Plain comparisons (selects, which vectorise); a NaN passes through.
-    let r = num / den;
-    let r = if r > 1.0 { 1.0 } else { r };
-    if r < -1.0 { -1.0 } else { r }
+fn cubic_step(x: f64) -> f64 {
+    let y = x * (1.0 / 1.5);
+    // Plain comparisons (selects, which vectorise).
+    let y = if y > 1.0 { 1.0 } else { y };
+    let y = if y < -1.0 { -1.0 } else { y };
+    y * (1.5 - 0.5 * (y * y))
 }
 
 /// Σ a_i b_i in four independent lanes (a plain running sum waits on each
@@ -88,6 +77,128 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     let tail = n - n % 4;
     let rest: f64 = a[tail..].iter().zip(&b[tail..]).map(|(x, y)| x * y).sum();
     lanes.into_iter().fold(rest, |s, l| s + l)
+}
+
+/// The law's constants, as the passes use them.
+#[derive(Clone, Copy)]
+struct Law {
+    /// ½ μ r_pin (the pin load is the mean of two links' forces), m.
+    half_coulomb: f64,
+    /// 1 / ω_s, s/rad.
+    per_speed: f64,
+    /// c_θ, N·m·s/rad.
+    damping: f64,
+}
+
+impl Law {
+    /// The moment at a joint of relative speed `omega_rel` between links
+    /// carrying `f_a` and `f_b`.
+    #[inline(always)]
+    fn moment(self, omega_rel: f64, f_a: f64, f_b: f64) -> f64 {
+        let twice_pin = (f_a + f_b).max(0.0);
+        -self.half_coulomb * twice_pin * cubic_step(omega_rel * self.per_speed)
+            - self.damping * omega_rel
+    }
+}
+
+/// What the links' pass wrote, one slot per link: ω, the force and n/ℓ.
+struct LinkRates<'a> {
+    omega: &'a [f64],
+    force: &'a [f64],
+    gx: &'a [f64],
+    gy: &'a [f64],
+}
+
+/// The joints' outputs, one slot per joint: ω_rel and the moment.
+struct Joints<'a> {
+    rel: &'a mut [f64],
+    moment: &'a mut [f64],
+}
+
+/// The element's two passes, compiled for the baseline target and, where
+/// the CPU has it, for AVX2 (chosen at run time, as RustFFT chooses its
+/// kernels): four lanes instead of two, the same operations in the same
+/// order, so the same bits (test `avx2_and_baseline_passes_agree_to_the_bit`).
+/// Returns the power Σ M ω_rel, W.
+fn passes(law: Law, links: LinkRates, joints: Joints, fx: &mut [f64], fy: &mut [f64]) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked on the line above.
+        return unsafe { passes_avx2(law, links, joints, fx, fy) };
+    }
+    passes_body(law, links, joints, fx, fy)
+}
+
+/// [`passes_body`] compiled with AVX2 (no FMA: products and sums stay
+/// separately rounded, as in the baseline build).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn passes_avx2(law: Law, links: LinkRates, joints: Joints, fx: &mut [f64], fy: &mut [f64]) -> f64 {
+    passes_body(law, links, joints, fx, fy)
+}
+
+/// Two passes over zipped slices, with no bounds checks and no branches,
+/// which the compiler vectorises: each joint's moment (joint i ≥ 1 between
+/// links i − 1 and i; joint 0 closes the loop), then each roller's two
+/// couples. Needs at least two links.
+#[inline(always)]
+fn passes_body(law: Law, links: LinkRates, joints: Joints, fx: &mut [f64], fy: &mut [f64]) -> f64 {
+    let LinkRates {
+        omega,
+        force: forces,
+        gx,
+        gy,
+    } = links;
+    let Joints { rel, moment } = joints;
+    let n = omega.len();
+    let pairs = omega[..n - 1]
+        .iter()
+        .zip(&omega[1..])
+        .zip(forces[..n - 1].iter().zip(&forces[1..]));
+    for (((w_a, w_b), (f_a, f_b)), (m, r)) in
+        pairs.zip(moment[1..].iter_mut().zip(rel[1..].iter_mut()))
+    {
+        *r = w_b - w_a;
+        *m = law.moment(*r, *f_a, *f_b);
+    }
+    rel[0] = omega[0] - omega[n - 1];
+    moment[0] = law.moment(rel[0], forces[n - 1], forces[0]);
+    let power = dot(moment, rel);
+    // Link j carries +M_j (joint j, where it is link b) and −M_{j+1}
+    // (joint j + 1, where it is link a): its couple is (m_j/ℓ) n with
+    // m_j = M_j − M_{j+1}, −(m_j/ℓ) n on roller j, +(m_j/ℓ) n on roller
+    // j + 1. Roller i gets couple(i − 1) − couple(i).
+    let moment = &*moment;
+    let roller = |h: usize, i: usize, k: usize| {
+        let (before, after) = (moment[h] - moment[i], moment[i] - moment[k]);
+        (
+            before * gx[h] - after * gx[i],
+            before * gy[h] - after * gy[i],
+        )
+    };
+    let (first, last) = (roller(n - 1, 0, 1 % n), roller(n - 2, n - 1, 0));
+    // Rollers 1..n−1: joints h = i − 1, i, k = i + 1; links i − 1 and i.
+    let three = moment[..n - 2]
+        .iter()
+        .zip(&moment[1..n - 1])
+        .zip(&moment[2..]);
+    let normals = gx[..n - 2]
+        .iter()
+        .zip(&gx[1..n - 1])
+        .zip(gy[..n - 2].iter().zip(&gy[1..n - 1]));
+    let targets = fx[1..n - 1].iter_mut().zip(fy[1..n - 1].iter_mut());
+    for ((((m_h, m_i), m_k), ((gx_h, gx_i), (gy_h, gy_i))), (f_x, f_y)) in
+        three.zip(normals).zip(targets)
+    {
+        let (before, after) = (m_h - m_i, m_i - m_k);
+        *f_x += before * gx_h - after * gx_i;
+        *f_y += before * gy_h - after * gy_i;
+    }
+    fx[0] += first.0;
+    fy[0] += first.1;
+    fx[n - 1] += last.0;
+    fy[n - 1] += last.1;
+    power
 }
 
 impl ForceElement for JointFriction {
@@ -117,75 +228,30 @@ impl ForceElement for JointFriction {
                 &mut out.link_normal_y,
             );
         }
-        let omega = &out.link_omega[..n];
-        let (gx, gy) = (&out.link_normal_x[..n], &out.link_normal_y[..n]);
-        // Joint i (i ≥ 1) between links i − 1 and i; joint 0 closes the loop.
         let p = self.params;
         // The pin load is the mean of the two links' forces: its ½ goes into
         // the Coulomb factor (a product with ½ is exact: the same number).
-        let half_coulomb = 0.5 * p.friction * p.pin_radius_m;
-        let per_speed = 1.0 / p.speed_rad_s;
-        let law = |omega_rel: f64, f_a: f64, f_b: f64| {
-            let twice_pin = (f_a + f_b).max(0.0);
-            -half_coulomb * twice_pin * fast_tanh(omega_rel * per_speed)
-                - p.damping_n_m_s_rad * omega_rel
+        let law = Law {
+            half_coulomb: 0.5 * p.friction * p.pin_radius_m,
+            per_speed: 1.0 / p.speed_rad_s,
+            damping: p.damping_n_m_s_rad,
         };
-        let forces = &out.link_force[..n];
-        let moment = &mut self.moment[..n];
-        let rel = &mut self.rel[..n];
-        let joints = omega[..n - 1]
-            .iter()
-            .zip(&omega[1..])
-            .zip(forces[..n - 1].iter().zip(&forces[1..]));
-        for (((w_a, w_b), (f_a, f_b)), (m, r)) in
-            joints.zip(moment[1..].iter_mut().zip(rel[1..].iter_mut()))
-        {
-            *r = w_b - w_a;
-            *m = law(*r, *f_a, *f_b);
-        }
-        rel[0] = omega[0] - omega[n - 1];
-        moment[0] = law(rel[0], forces[n - 1], forces[0]);
-        let power = dot(moment, rel);
-        // Link j carries +M_j (joint j, where it is link b) and −M_{j+1}
-        // (joint j + 1, where it is link a): its couple is (m_j/ℓ) n with
-        // m_j = M_j − M_{j+1}, −(m_j/ℓ) n on roller j, +(m_j/ℓ) n on roller
-        // j + 1. Roller i gets couple(i − 1) − couple(i).
-        let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
-        let roller = |h: usize, i: usize, k: usize| {
-            let (before, after) = (moment[h] - moment[i], moment[i] - moment[k]);
-            (
-                before * gx[h] - after * gx[i],
-                before * gy[h] - after * gy[i],
-            )
+        let links = LinkRates {
+            omega: &out.link_omega[..n],
+            force: &out.link_force[..n],
+            gx: &out.link_normal_x[..n],
+            gy: &out.link_normal_y[..n],
         };
-        let (first, last) = (roller(n - 1, 0, 1 % n), roller(n - 2, n - 1, 0));
-        // Rollers 1..n−1: joints h = i − 1, i, k = i + 1; links i − 1 and i.
-        let three = moment[..n - 2]
-            .iter()
-            .zip(&moment[1..n - 1])
-            .zip(&moment[2..]);
-        let normals = gx[..n - 2]
-            .iter()
-            .zip(&gx[1..n - 1])
-            .zip(gy[..n - 2].iter().zip(&gy[1..n - 1]));
-        let targets = fx[1..n - 1].iter_mut().zip(fy[1..n - 1].iter_mut());
-        for ((((m_h, m_i), m_k), ((gx_h, gx_i), (gy_h, gy_i))), (f_x, f_y)) in
-            three.zip(normals).zip(targets)
-        {
-            let (before, after) = (m_h - m_i, m_i - m_k);
-            *f_x += before * gx_h - after * gx_i;
-            *f_y += before * gy_h - after * gy_i;
-        }
-        fx[0] += first.0;
-        fy[0] += first.1;
-        fx[n - 1] += last.0;
-        fy[n - 1] += last.1;
         if out.joint_moment_n_m.len() != n {
             // Sized once, at the first evaluation.
             out.joint_moment_n_m.resize(n, 0.0);
         }
-        out.joint_moment_n_m.copy_from_slice(moment);
-        out.joint_friction_power_w = power;
+        // The moments are written where observers read them.
+        let joints = Joints {
+            rel: &mut self.rel[..n],
+            moment: &mut out.joint_moment_n_m[..n],
+        };
+        out.joint_friction_power_w = passes(law, links, joints, &mut out.fx[..n], &mut out.fy[..n]);
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {
@@ -271,7 +337,7 @@ mod tests {
             };
             for i in 0..n {
                 let rel = omega(i) - omega((i + n - 1) % n);
-                assert!(e.moment[i] * rel <= 0.0, "joint {i}");
+                assert!(out.joint_moment_n_m[i] * rel <= 0.0, "joint {i}");
             }
             assert!(out.joint_friction_power_w < 0.0);
             let rel = (power - out.joint_friction_power_w).abs() / power.abs();
@@ -284,26 +350,85 @@ mod tests {
     }
 
     #[test]
-    fn fast_tanh_matches_the_library_tanh() {
-        // Oracle: f64::tanh on a fine grid over ±40 (and the clamp region);
-        // tolerance 1.1e-4 overall, 1e-6 below |x| = 3; odd to the bit.
+    fn cubic_step_is_an_odd_bounded_c1_sign() {
+        // Closed form s(x) = x − x³/6.75 on |x| ≤ 1.5, sign(x) beyond:
+        // at 0.75 it is 0.75 − 0.421875/6.75 = 0.6875 exactly; its slope
+        // 1 − x²/2.25 is 1 at 0 and 0 at ±1.5 (one-sided difference
+        // quotients over 1e-7 within 1e-6), and it is monotone, odd to the
+        // bit and within [−1, 1] on a fine grid.
+        assert_eq!(cubic_step(0.75), 0.6875);
+        assert_eq!(cubic_step(0.0), 0.0);
+        assert_eq!(cubic_step(1.5), 1.0);
+        assert_eq!(cubic_step(7.0), 1.0);
+        assert_eq!(cubic_step(1e300), 1.0);
+        assert!(cubic_step(f64::NAN).is_nan());
+        let h = 1e-7;
+        assert!((cubic_step(h) / h - 1.0).abs() < 1e-6);
+        assert!(((1.0 - cubic_step(1.5 - h)) / h).abs() < 1e-6);
+        let mut last = -1.0;
         for k in -40_000..=40_000 {
-            let x = k as f64 * 1e-3;
-            let (fast, exact) = (fast_tanh(x), x.tanh());
-            let tol = if x.abs() < 3.0 { 1e-6 } else { 1.1e-4 };
-            assert!(
-                (fast - exact).abs() < tol,
-                "x = {x}: {fast} against {exact}"
-            );
-            assert_eq!(fast_tanh(-x), -fast);
+            let x = k as f64 * 1e-4;
+            let s = cubic_step(x);
+            assert_eq!(cubic_step(-x), -s);
+            assert!(s >= last && s.abs() <= 1.0, "x = {x}");
+            last = s;
         }
-        assert_eq!(fast_tanh(1e300), 1.0);
-        assert!(fast_tanh(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn avx2_and_baseline_passes_agree_to_the_bit() {
+        // The run-time choice of kernel changes no result: both builds of
+        // the passes, on the disturbed paper's drive, give the same bits.
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let (model, state, mut base) = disturbed();
+            let n = state.rollers();
+            let _ = model;
+            let (mut omega, mut gx, mut gy) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+            link_rates(&state, &mut omega, &mut gx, &mut gy);
+            base.link_omega = omega;
+            let law = Law {
+                half_coulomb: 0.5 * 0.12 * 0.017,
+                per_speed: 1.0,
+                damping: 3.0,
+            };
+            let run = |avx2: bool| {
+                let (mut rel, mut moment) = (vec![0.0; n], vec![0.0; n]);
+                let (mut fx, mut fy) = (base.fx.clone(), base.fy.clone());
+                let links = LinkRates {
+                    omega: &base.link_omega,
+                    force: &base.link_force,
+                    gx: &gx,
+                    gy: &gy,
+                };
+                let joints = Joints {
+                    rel: &mut rel,
+                    moment: &mut moment,
+                };
+                let power = if avx2 {
+                    // SAFETY: the CPU has AVX2, checked above.
+                    unsafe { passes_avx2(law, links, joints, &mut fx, &mut fy) }
+                } else {
+                    passes_body(law, links, joints, &mut fx, &mut fy)
+                };
+                (power.to_bits(), moment, fx, fy)
+            };
+            let (wide, base_run) = (run(true), run(false));
+            assert!(wide.1.iter().any(|m| *m != 0.0));
+            assert_eq!(wide.0, base_run.0);
+            for (a, b) in [
+                (&wide.1, &base_run.1),
+                (&wide.2, &base_run.2),
+                (&wide.3, &base_run.3),
+            ] {
+                assert!(a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits()));
+            }
+        }
     }
 
     #[test]
     fn joint_friction_moment_saturates_at_the_coulomb_value() {
-        // M = −μ r F tanh(ω/ω_s): at ω = 10 ω_s, within 1e-8 of μ r F; at
+        // M = −μ r F s(ω/ω_s): at ω = 10 ω_s, within 1e-8 of μ r F; at
         // ω = ω_s / 1000, the viscous slope μ r F / ω_s to 1e-6.
         let e = JointFriction::new(params(0.1, 0.0), 4);
         let coulomb = 0.1 * 0.017 * 30e3;

@@ -65,6 +65,100 @@ pub(crate) fn link_rates(
     }
 }
 
+/// The rollers' positions and speeds, as the links read them.
+struct Ends<'a> {
+    x: &'a [f64],
+    y: &'a [f64],
+    vx: &'a [f64],
+    vy: &'a [f64],
+}
+
+/// The links' outputs, one slot per link: force, its vector on the first
+/// roller, and stretch.
+struct Slots<'a> {
+    force: &'a mut [f64],
+    fx: &'a mut [f64],
+    fy: &'a mut [f64],
+    stretch: &'a mut [f64],
+}
+
+/// Each link's ω and n/ℓ, one slot per link (for the joint friction).
+struct Rates<'a> {
+    omega: &'a mut [f64],
+    normal_x: &'a mut [f64],
+    normal_y: &'a mut [f64],
+}
+
+/// The open links 0..n−1 (the closing link is the caller's), with their
+/// rates when asked. Compiled for the baseline target and, where the CPU
+/// has it, for AVX2, chosen at run time as RustFFT chooses its kernels: four
+/// lanes instead of two, the same operations in the same order, so the same
+/// bits (test `avx2_and_baseline_links_agree_to_the_bit`).
+fn open_links(law: LinkLaw, ends: Ends, slots: Slots, rates: Option<Rates>) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked on the line above.
+        return unsafe { open_links_avx2(law, ends, slots, rates) };
+    }
+    open_links_body(law, ends, slots, rates);
+}
+
+/// [`open_links_body`] compiled with AVX2 (no FMA: products and sums stay
+/// separately rounded, as in the baseline build).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn open_links_avx2(law: LinkLaw, ends: Ends, slots: Slots, rates: Option<Rates>) {
+    open_links_body(law, ends, slots, rates);
+}
+
+/// A branch-free loop over zipped slices, which the compiler vectorises
+/// (square roots and divisions two or four at a time).
+#[inline(always)]
+fn open_links_body(law: LinkLaw, ends: Ends, slots: Slots, with_rates: Option<Rates>) {
+    let Ends { x, y, vx, vy } = ends;
+    let n = x.len();
+    let pairs = x[..n - 1]
+        .iter()
+        .zip(&x[1..])
+        .zip(y[..n - 1].iter().zip(&y[1..]))
+        .zip(vx[..n - 1].iter().zip(&vx[1..]))
+        .zip(vy[..n - 1].iter().zip(&vy[1..]));
+    let outs = slots.force[..n - 1]
+        .iter_mut()
+        .zip(slots.fx[..n - 1].iter_mut())
+        .zip(slots.fy[..n - 1].iter_mut())
+        .zip(slots.stretch[..n - 1].iter_mut());
+    let Some(slots_rates) = with_rates else {
+        for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), (((f, fx), fy), st)) in
+            pairs.zip(outs)
+        {
+            let (force_n, ux, uy, s, _) = law.eval(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
+            *f = force_n;
+            *fx = force_n * ux;
+            *fy = force_n * uy;
+            *st = s;
+        }
+        return;
+    };
+    // The same loop, also writing each link's ω and n/ℓ from the u and 1/ℓ
+    // it has at hand.
+    let rate_outs = slots_rates.omega[..n - 1]
+        .iter_mut()
+        .zip(slots_rates.normal_x[..n - 1].iter_mut())
+        .zip(slots_rates.normal_y[..n - 1].iter_mut());
+    for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), ((((f, fx), fy), st), ((w, gx), gy))) in
+        pairs.zip(outs.zip(rate_outs))
+    {
+        let (dvx, dvy) = (vx1 - vx0, vy1 - vy0);
+        let (force_n, ux, uy, s, inv) = law.eval(x1 - x0, y1 - y0, dvx, dvy);
+        *f = force_n;
+        *fx = force_n * ux;
+        *fy = force_n * uy;
+        *st = s;
+        (*w, *gx, *gy) = rates(ux, uy, inv, dvx, dvy);
+    }
+}
+
 /// The chain's links and the rollers' weight: the first force element of
 /// every drive. It *sets* each roller's force to its weight plus its two
 /// links (every later element adds to it), the links' forces, the largest
@@ -114,59 +208,23 @@ impl ForceElement for Links {
         let force = &mut out.link_force[..n];
         let (lfx, lfy) = (&mut self.link_fx[..n], &mut self.link_fy[..n]);
         let stretch = &mut self.stretch[..n];
-        // Links 0..n−1 join consecutive rollers: a branch-free loop over
-        // zipped slices, which the compiler vectorises (square roots and
-        // divisions two or four at a time). The closing link n−1 → 0 after it.
-        let pairs = x[..n - 1]
-            .iter()
-            .zip(&x[1..])
-            .zip(y[..n - 1].iter().zip(&y[1..]))
-            .zip(vx[..n - 1].iter().zip(&vx[1..]))
-            .zip(vy[..n - 1].iter().zip(&vy[1..]));
-        let outs = force[..n - 1]
-            .iter_mut()
-            .zip(lfx[..n - 1].iter_mut())
-            .zip(lfy[..n - 1].iter_mut())
-            .zip(stretch[..n - 1].iter_mut());
+        // Links 0..n−1 join consecutive rollers; the closing link n−1 → 0
+        // after them.
         let with_rates = out.link_omega.len() == n
             && out.link_normal_x.len() == n
             && out.link_normal_y.len() == n;
-        if with_rates {
-            // The same loop, also writing each link's ω and n/ℓ (for the
-            // joint friction) from the u and 1/ℓ it has at hand.
-            let (omega, nx, ny) = (
-                &mut out.link_omega[..n],
-                &mut out.link_normal_x[..n],
-                &mut out.link_normal_y[..n],
-            );
-            let rate_outs = omega[..n - 1]
-                .iter_mut()
-                .zip(nx[..n - 1].iter_mut())
-                .zip(ny[..n - 1].iter_mut());
-            for (
-                ((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)),
-                ((((f, fx), fy), st), ((w, gx), gy)),
-            ) in pairs.zip(outs.zip(rate_outs))
-            {
-                let (dvx, dvy) = (vx1 - vx0, vy1 - vy0);
-                let (force_n, ux, uy, s, inv) = law.eval(x1 - x0, y1 - y0, dvx, dvy);
-                *f = force_n;
-                *fx = force_n * ux;
-                *fy = force_n * uy;
-                *st = s;
-                (*w, *gx, *gy) = rates(ux, uy, inv, dvx, dvy);
-            }
-        } else {
-            for (((((x0, x1), (y0, y1)), (vx0, vx1)), (vy0, vy1)), (((f, fx), fy), st)) in
-                pairs.zip(outs)
-            {
-                let (force_n, ux, uy, s, _) = law.eval(x1 - x0, y1 - y0, vx1 - vx0, vy1 - vy0);
-                *f = force_n;
-                *fx = force_n * ux;
-                *fy = force_n * uy;
-                *st = s;
-            }
-        }
+        let link_rates = with_rates.then(|| Rates {
+            omega: &mut out.link_omega[..n],
+            normal_x: &mut out.link_normal_x[..n],
+            normal_y: &mut out.link_normal_y[..n],
+        });
+        let slots = Slots {
+            force: &mut *force,
+            fx: &mut *lfx,
+            fy: &mut *lfy,
+            stretch: &mut *stretch,
+        };
+        open_links(law, Ends { x, y, vx, vy }, slots, link_rates);
         let (dvx, dvy) = (vx[0] - vx[n - 1], vy[0] - vy[n - 1]);
         let (f, ux, uy, last, inv) = law.eval(x[0] - x[n - 1], y[0] - y[n - 1], dvx, dvy);
         force[n - 1] = f;
@@ -231,9 +289,67 @@ fn largest(a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::largest;
+    use super::{Ends, LinkLaw, Rates, Slots, largest, open_links_body};
     use crate::forces::{ForceElement, Forces, Links};
     use crate::model::DriveModel;
+
+    #[test]
+    fn avx2_and_baseline_links_agree_to_the_bit() {
+        // The run-time choice of kernel changes no result: both builds of
+        // the open links' loop, with and without rates, on the paper's drive
+        // with a disturbed velocity field, give the same bits.
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            let scene = crate::scene::Scene::l60mc();
+            let (model, mut s, _) = DriveModel::build(&scene).expect("paper's drive lays out");
+            let n = s.rollers();
+            for i in 0..n {
+                s.x[i] += ((i * 3 % 7) as f64 - 3.0) * 1e-4;
+                s.vx[i] += ((i * 7 % 11) as f64 - 5.0) * 0.3;
+                s.vy[i] += ((i * 5 % 13) as f64 - 6.0) * 0.2;
+            }
+            let law = LinkLaw {
+                stiffness: model.stiffness_n_m,
+                damping: model.damping_n_s_m,
+                rest: model.rest_length_m,
+            };
+            let run = |avx2: bool, with_rates: bool| {
+                let mut v = vec![vec![0.0; n]; 7];
+                let [force, fx, fy, stretch, omega, gx, gy] = &mut v[..] else {
+                    unreachable!("seven buffers")
+                };
+                let ends = Ends {
+                    x: &s.x,
+                    y: &s.y,
+                    vx: &s.vx,
+                    vy: &s.vy,
+                };
+                let slots = Slots {
+                    force,
+                    fx,
+                    fy,
+                    stretch,
+                };
+                let rates = with_rates.then_some(Rates {
+                    omega,
+                    normal_x: gx,
+                    normal_y: gy,
+                });
+                if avx2 {
+                    // SAFETY: the CPU has AVX2, checked above.
+                    unsafe { super::open_links_avx2(law, ends, slots, rates) }
+                } else {
+                    open_links_body(law, ends, slots, rates)
+                }
+                v.concat().iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            };
+            for with_rates in [false, true] {
+                let wide = run(true, with_rates);
+                assert!(wide.iter().any(|b| *b != 0));
+                assert_eq!(wide, run(false, with_rates), "rates: {with_rates}");
+            }
+        }
+    }
 
     #[test]
     fn links_pass_writes_each_links_angular_velocity_and_normal() {

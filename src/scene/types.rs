@@ -128,7 +128,7 @@ pub struct Chain {
 }
 
 /// Pin–bushing friction and damping at the chain's joints (docs/model.md,
-/// “Joint friction”): M = −μ r_pin F_pin tanh(ω_rel / ω_s) − c_θ ω_rel.
+/// “Joint friction”): M = −μ r_pin F_pin s(ω_rel / ω_s) − c_θ ω_rel, s a cubic step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointFriction {
     /// Pin radius r_pin, m.

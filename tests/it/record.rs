@@ -578,7 +578,7 @@ struct LinksPb {
 /// |M_i| ≤ μ r_pin F_pin with F_pin = max(0, (F_{i−1} + F_i) / 2), the mean
 /// of the two links at roller i (no viscous term in this scene); and, at
 /// full speed (after the 1 s ramp), the joints articulating where the chain
-/// enters and leaves a wrap reach that bound (tanh saturated).
+/// enters and leaves a wrap reach that bound (the cubic step saturated).
 #[test]
 fn links_channel_carries_joint_friction_moments_within_the_coulomb_bound() {
     let text = std::fs::read_to_string(format!(
