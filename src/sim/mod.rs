@@ -312,12 +312,19 @@ impl Simulation {
     pub fn assemble(
         scene: Scene,
         model: DriveModel,
-        state: DriveState,
+        mut state: DriveState,
         mut forces: ForceGenerator,
         layout: Layout,
         equilibrium: StaticEquilibrium,
         limits: BlowUpLimits,
     ) -> Self {
+        // A driver with speed harmonics starts at its law's speed ω(t, θ), so
+        // that a Runge–Kutta scheme's first stage turns it at that speed.
+        for (s, sp) in model.sprockets.iter().enumerate() {
+            if !sp.speed_harmonics.is_empty() {
+                state.omega[s] = sp.driver_speed_at(state.t_s, state.theta[s]);
+            }
+        }
         let mut world = PhysicsWorld {
             gravity: Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]),
             ..PhysicsWorld::default()
@@ -392,12 +399,18 @@ impl Simulation {
         apply_forces(
             &self.bodies,
             &self.model,
-            self.state.t_s,
+            &self.state,
             self.forces.output(),
             &mut self.world.bodies,
         );
         if let Some(driver) = self.model.driver() {
-            let omega = driver_speed(&self.model, driver, self.state.t_s, dt_s);
+            let omega = driver_speed(
+                &self.model,
+                driver,
+                self.state.t_s,
+                self.state.theta[driver],
+                dt_s,
+            );
             if let Some(b) = self.world.bodies.get_mut(self.bodies.sprockets[driver]) {
                 b.set_angvel(omega, false);
             }
@@ -575,7 +588,7 @@ impl Simulation {
 fn apply_forces(
     handles: &ChainBodies,
     model: &DriveModel,
-    t_s: f64,
+    state: &DriveState,
     forces: &Forces,
     bodies: &mut RigidBodySet,
 ) {
@@ -595,7 +608,10 @@ fn apply_forces(
             b.reset_forces(false);
             b.reset_torques(false);
             if sp.speed_law.is_none() {
-                b.add_torque(forces.chain_torque[i] + sp.load_torque_at(t_s), false);
+                b.add_torque(
+                    forces.chain_torque[i] + sp.torque_at(state.t_s, state.theta[i]),
+                    false,
+                );
             }
         }
     }
