@@ -15,7 +15,41 @@ use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
     layout_rollers,
 };
-use crate::scene::{Scene, SpeedLaw};
+use crate::scene::{Scene, SpeedLaw, TensionerKind};
+
+/// The further bodies and scalar states of a scene's tensioner arms: arm k is
+/// body k (its angle from the scene's pose), and each hydraulic tensioner's
+/// chamber pressure a scalar state, in scene order. The arms start at the
+/// scene's pose, at rest; the chambers at their supply pressure.
+fn tensioner_states(scene: &Scene) -> (Vec<BodyModel>, Vec<ScalarModel>) {
+    // Error scales: the arm turning by the static link stretch T/K over its
+    // shoe's distance from the pivot; a kilopascal of pressure.
+    let stretch = scene.chain.pretension_n / scene.chain.stiffness_n_m;
+    let bodies = scene
+        .tensioners
+        .iter()
+        .map(|t| {
+            let reach = (t.shoe_center_m[0] - t.pivot_m[0])
+                .hypot(t.shoe_center_m[1] - t.pivot_m[1])
+                .max(t.shoe_radius_m);
+            BodyModel {
+                name: format!("{} arm", t.name),
+                inv_mass: 1.0 / t.inertia_kg_m2,
+                error_scale: stretch / reach,
+            }
+        })
+        .collect();
+    let scalars = scene
+        .tensioners
+        .iter()
+        .filter(|t| matches!(t.kind, TensionerKind::Hydraulic(_)))
+        .map(|t| ScalarModel {
+            name: format!("{} pressure", t.name),
+            error_scale: 1e3,
+        })
+        .collect();
+    (bodies, scalars)
+}
 
 /// Constant data of one sprocket.
 #[derive(Clone, Debug)]
@@ -293,6 +327,18 @@ impl DriveModel {
             z: Vec::new(),
         };
         let segments = Segments::new(&path);
+        let (bodies, scalars) = tensioner_states(scene);
+        let mut state = state;
+        state.q = vec![0.0; bodies.len()];
+        state.u = vec![0.0; bodies.len()];
+        state.z = scene
+            .tensioners
+            .iter()
+            .filter_map(|t| match &t.kind {
+                TensionerKind::Hydraulic(h) => Some(h.supply_pressure_pa),
+                TensionerKind::Spring(_) => None,
+            })
+            .collect();
         let model = DriveModel {
             roller_mass_kg: chain.roller_mass_kg,
             stiffness_n_m: chain.stiffness_n_m,
@@ -302,8 +348,8 @@ impl DriveModel {
             sprockets,
             path,
             segments,
-            bodies: Vec::new(),
-            scalars: Vec::new(),
+            bodies,
+            scalars,
         };
         Ok((model, state, layout))
     }

@@ -32,6 +32,9 @@ pub struct SceneFile {
     /// Static-equilibrium settings (before t = 0).
     #[serde(default)]
     pub equilibrium: EquilibriumFile,
+    /// Tensioner arms with their tensioners (`[[tensioners]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tensioners: Vec<super::TensionerFile>,
 }
 
 fn default_profile() -> String {

@@ -15,7 +15,7 @@ use crate::geometry::asa::IN_0_003_M;
 use crate::geometry::{pitch_radius, seating_radius};
 
 /// Collects field errors while a file is checked.
-struct Checker {
+pub(super) struct Checker {
     errors: Vec<FieldError>,
 }
 
@@ -24,7 +24,7 @@ impl Checker {
         Self { errors: Vec::new() }
     }
 
-    fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
+    pub(super) fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
         self.errors.push(FieldError {
             path: path.into(),
             message: message.into(),
@@ -33,7 +33,7 @@ impl Checker {
     }
 
     /// A finite, strictly positive quantity.
-    fn positive(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn positive(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         } else if value <= 0.0 {
@@ -43,7 +43,7 @@ impl Checker {
     }
 
     /// A finite quantity ≥ 0.
-    fn non_negative(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn non_negative(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         } else if value < 0.0 {
@@ -52,7 +52,7 @@ impl Checker {
         value
     }
 
-    fn finite(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn finite(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         }
@@ -99,6 +99,13 @@ impl TryFrom<SceneFile> for Scene {
             ),
             max_relax_s: c.positive("equilibrium.max_relax_s", file.equilibrium.max_relax_s),
         };
+        let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
+        if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
+            c.fail(
+                "chain.pretension_by",
+                "is \"tensioner_preload\" but the scene has no [[tensioners]]",
+            );
+        }
         if chain.pretension_by == PretensionRule::Tensioner
             && !sprockets
                 .iter()
@@ -120,6 +127,7 @@ impl TryFrom<SceneFile> for Scene {
             sprockets,
             solver,
             equilibrium,
+            tensioners,
             file,
             source_toml: None,
         })

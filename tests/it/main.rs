@@ -43,3 +43,4 @@ mod statistics;
 mod stepping;
 mod strands;
 mod stress;
+mod tensioners;
