@@ -4,6 +4,19 @@
 //! Pressures are gauge (relative to the ambient); the entrained air's
 //! stiffness uses the absolute pressure.
 //!
+//! **The state is the fluid's volume, not its pressure.** The chamber holds
+//! a fluid (oil with a fraction α of air, both measured at the ambient
+//! pressure) of volume V_ref at the ambient pressure; at gauge pressure p it
+//! fills V_ref φ(p), φ(p) = (1 − α)(1 − p/β) + α p_a/(p + p_a) (the oil
+//! linearly compressible, the air isothermal). The chamber's volume V(x)
+//! fixes the pressure: V_ref φ(p) = V(x), a quadratic in p. Only the flows
+//! change V_ref, dV_ref/dt = (Q_in − Q_leak)/φ(p). Differentiating the
+//! constraint gives the chamber equation dp/dt = β_eff/V (Q_in − Q_leak − A v)
+//! with 1/β_eff = −φ'(p)/φ(p). Written this way the oil's stiffness
+//! β_eff A²/V is a position-dependent force, which symplectic Euler keeps
+//! stable as it keeps a spring; integrating dp/dt itself explicitly beside
+//! the plunger's motion makes that stiff oscillator grow by e^(ω² h t/2).
+//!
 //! Nothing here knows the arm: [`super::TensionerArm`] gives the plunger's
 //! travel and speed and takes its force.
 
@@ -59,13 +72,57 @@ impl Chamber {
         (v0 + self.area_m2 * x_m).max(1e-3 * v0)
     }
 
+    /// φ(p): the volume that fluid of unit volume at the ambient pressure
+    /// fills at gauge pressure `p_pa`.
+    pub fn fill_ratio(&self, p_pa: f64) -> f64 {
+        let h = &self.params;
+        let pa = h.ambient_pressure_pa;
+        (1.0 - h.air_fraction) * (1.0 - p_pa / h.bulk_modulus_pa) + h.air_fraction * pa / (p_pa + pa)
+    }
+
+    /// The gauge pressure at which fluid of volume `reference_m3` (at the
+    /// ambient pressure) fills `volume_m3`, Pa: the root above −p_a of
+    /// V_ref φ(p) = V, i.e. with r = V / V_ref and a = 1 − α,
+    /// (a/β) p² − (a − a p_a/β − r) p − p_a (1 − r) = 0
+    /// (or, without air, p = β (1 − r)). Floored at the cavitation floor.
+    pub fn pressure_pa(&self, reference_m3: f64, volume_m3: f64) -> f64 {
+        let h = &self.params;
+        let pa = h.ambient_pressure_pa;
+        let r = volume_m3 / reference_m3;
+        let p = if h.air_fraction == 0.0 {
+            h.bulk_modulus_pa * (1.0 - r)
+        } else {
+            let a = 1.0 - h.air_fraction;
+            let qa = a / h.bulk_modulus_pa;
+            let qb = -(a - a * pa / h.bulk_modulus_pa - r);
+            let qc = -pa * (1.0 - r);
+            // qa > 0 and the product of the roots qc/qa: the larger root is
+            // the physical one (the other lies below −p_a).
+            let disc = (qb * qb - 4.0 * qa * qc).max(0.0);
+            (-qb + disc.sqrt()) / (2.0 * qa)
+        };
+        if p.is_finite() {
+            p.max(self.floor_pa())
+        } else {
+            self.floor_pa()
+        }
+    }
+
+    /// The fluid volume at the ambient pressure that is at gauge pressure
+    /// `p_pa` in the chamber at travel `x_m`, m³.
+    pub fn reference_volume_m3(&self, p_pa: f64, x_m: f64) -> f64 {
+        self.volume_m3(x_m) / self.fill_ratio(p_pa)
+    }
+
     /// Effective bulk modulus at gauge pressure `p_pa`, Pa:
-    /// 1/β_eff = (1 − α)/β + α/p_abs, the air (volume fraction α) compressed
-    /// isothermally at the absolute pressure p_abs = p + p_ambient.
+    /// 1/β_eff = −φ'(p)/φ(p), φ'(p) = −(1 − α)/β − α p_a/(p + p_a)².
     pub fn bulk_modulus_pa(&self, p_pa: f64) -> f64 {
         let h = &self.params;
-        let absolute = (p_pa + h.ambient_pressure_pa).max(1e-3 * h.ambient_pressure_pa);
-        1.0 / ((1.0 - h.air_fraction) / h.bulk_modulus_pa + h.air_fraction / absolute)
+        let pa = h.ambient_pressure_pa;
+        let absolute = (p_pa + pa).max(1e-3 * pa);
+        let slope =
+            (1.0 - h.air_fraction) / h.bulk_modulus_pa + h.air_fraction * pa / (absolute * absolute);
+        self.fill_ratio(p_pa) / slope
     }
 
     /// Leak out through the annular gap, Q = G p, m³/s.
@@ -93,18 +150,9 @@ impl Chamber {
         }
     }
 
-    /// dp/dt = β_eff / V(x) · (Q_in − Q_leak − A v), Pa/s, at gauge pressure
-    /// `p_pa`, travel `x_m` and plunger speed `v_m_s` (positive extending);
-    /// held at zero where it would take the pressure below the cavitation
-    /// floor.
-    pub fn pressure_rate(&self, p_pa: f64, x_m: f64, v_m_s: f64) -> f64 {
-        let q = self.valve_flow_m3_s(p_pa) - self.leak_flow_m3_s(p_pa) - self.area_m2 * v_m_s;
-        let rate = self.bulk_modulus_pa(p_pa) / self.volume_m3(x_m) * q;
-        if p_pa <= self.floor_pa() && rate < 0.0 {
-            0.0
-        } else {
-            rate
-        }
+    /// dV_ref/dt = (Q_in − Q_leak)/φ(p), m³/s, at gauge pressure `p_pa`.
+    pub fn reference_rate(&self, p_pa: f64) -> f64 {
+        (self.valve_flow_m3_s(p_pa) - self.leak_flow_m3_s(p_pa)) / self.fill_ratio(p_pa)
     }
 
     /// The plunger's push at gauge pressure `p_pa` and travel `x_m`, N:
@@ -186,8 +234,9 @@ mod tests {
 
     #[test]
     fn air_softens_the_oil() {
-        // α = 1 % at 1 bar absolute: 1/β_eff = 0.99/1.5e9 + 0.01/101325,
-        // β_eff ≈ 9.95 MPa, far below the oil's 1.5 GPa.
+        // α = 1 % at the ambient pressure (p = 0 gauge, φ = 1):
+        // 1/β_eff = 0.99/1.5e9 + 0.01/101325, β_eff ≈ 9.95 MPa, far below
+        // the oil's 1.5 GPa.
         let mut c = chamber();
         c.params.air_fraction = 0.01;
         let b = c.bulk_modulus_pa(0.0);
@@ -196,8 +245,21 @@ mod tests {
     }
 
     #[test]
+    fn the_pressure_of_a_reference_volume_round_trips() {
+        for air in [0.0, 0.02] {
+            let mut c = chamber();
+            c.params.air_fraction = air;
+            for p in [-5e4, 0.0, 3e5, 2e6] {
+                let v_ref = c.reference_volume_m3(p, 1e-3);
+                let back = c.pressure_pa(v_ref, c.volume_m3(1e-3));
+                assert!((back - p).abs() < 1e-3 * (1.0 + p.abs()), "{air} {p} {back}");
+            }
+        }
+    }
+
+    #[test]
     fn the_pressure_does_not_fall_below_the_cavitation_floor() {
         let c = chamber();
-        assert_eq!(c.pressure_rate(c.floor_pa() - 1.0, 0.0, 1.0), 0.0);
+        assert_eq!(c.pressure_pa(1e-6, 1.0), c.floor_pa());
     }
 }

@@ -67,6 +67,10 @@ pub struct TensionerArm {
     onset_next: Vec<f64>,
     /// The ratchet's furthest travel, committed (NaN: not yet known).
     peak_m: f64,
+    /// What the chamber's state z adds up to with: V_ref = z + offset, m³
+    /// (NaN: to be set at the next evaluation so that the chamber is at
+    /// its supply pressure there, as the static equilibrium leaves it).
+    offset_m3: f64,
     /// Travel at the last evaluation.
     travel_next_m: f64,
     relaxing: bool,
@@ -99,6 +103,7 @@ impl TensionerArm {
             onset: vec![0.0; rollers],
             onset_next: vec![0.0; rollers],
             peak_m: f64::NAN,
+            offset_m3: f64::NAN,
             travel_next_m: 0.0,
             relaxing: false,
             reading: TensionerReading::default(),
@@ -123,6 +128,14 @@ impl TensionerArm {
     /// What the last evaluation found.
     pub fn reading(&self) -> &TensionerReading {
         &self.reading
+    }
+
+    /// The chamber state z that holds gauge pressure `p_pa` at arm angle
+    /// `q` (hydraulic only; `None` for a spring tensioner).
+    pub fn chamber_state_for(&self, p_pa: f64, q: f64) -> Option<f64> {
+        let ch = self.chamber.as_ref()?;
+        let (_, x) = self.lever_and_travel(q);
+        Some(ch.reference_volume_m3(p_pa, x) - self.offset_m3)
     }
 
     /// The hydraulic chamber, if the tensioner is hydraulic.
@@ -239,10 +252,13 @@ impl ForceElement for TensionerArm {
             }
             (TensionerKind::Hydraulic(h), Some(ch)) => {
                 let k = self.scalar.unwrap_or(0);
+                if self.offset_m3.is_nan() {
+                    self.offset_m3 = ch.reference_volume_m3(h.supply_pressure_pa, x) - state.z[k];
+                }
                 pressure = if self.relaxing {
                     h.supply_pressure_pa
                 } else {
-                    state.z[k]
+                    ch.pressure_pa(state.z[k] + self.offset_m3, ch.volume_m3(x))
                 };
                 valve_flow = ch.valve_flow_m3_s(pressure);
                 leak_flow = ch.leak_flow_m3_s(pressure);
@@ -250,7 +266,7 @@ impl ForceElement for TensionerArm {
                 out.scalar_rate[k] += if self.relaxing {
                     0.0
                 } else {
-                    ch.pressure_rate(pressure, x, v)
+                    ch.reference_rate(pressure)
                 };
                 let ratchet = match h.ratchet_backlash_m {
                     Some(b) if !self.relaxing => Some(self.peak_m.max(x) - b),
@@ -292,6 +308,7 @@ impl ForceElement for TensionerArm {
         self.onset.fill(0.0);
         self.onset_next.fill(0.0);
         self.peak_m = f64::NAN;
+        self.offset_m3 = f64::NAN;
     }
 
     fn begin_equilibrium(&mut self) {

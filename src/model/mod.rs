@@ -23,7 +23,8 @@ use crate::scene::{Scene, SpeedLaw, TensionerKind};
 /// scene's pose, at rest; the chambers at their supply pressure.
 fn tensioner_states(scene: &Scene) -> (Vec<BodyModel>, Vec<ScalarModel>) {
     // Error scales: the arm turning by the static link stretch T/K over its
-    // shoe's distance from the pivot; a kilopascal of pressure.
+    // shoe's distance from the pivot; the chamber's fluid volume by what
+    // changes its pressure by a kilopascal, V₀ · 1 kPa / β.
     let stretch = scene.chain.pretension_n / scene.chain.stiffness_n_m;
     let bodies = scene
         .tensioners
@@ -42,10 +43,12 @@ fn tensioner_states(scene: &Scene) -> (Vec<BodyModel>, Vec<ScalarModel>) {
     let scalars = scene
         .tensioners
         .iter()
-        .filter(|t| matches!(t.kind, TensionerKind::Hydraulic(_)))
-        .map(|t| ScalarModel {
-            name: format!("{} pressure", t.name),
-            error_scale: 1e3,
+        .filter_map(|t| match &t.kind {
+            TensionerKind::Hydraulic(h) => Some(ScalarModel {
+                name: format!("{} chamber fluid volume", t.name),
+                error_scale: h.chamber_volume_m3 * 1e3 / h.bulk_modulus_pa,
+            }),
+            TensionerKind::Spring(_) => None,
         })
         .collect();
     (bodies, scalars)
@@ -335,7 +338,10 @@ impl DriveModel {
             .tensioners
             .iter()
             .filter_map(|t| match &t.kind {
-                TensionerKind::Hydraulic(h) => Some(h.supply_pressure_pa),
+                // The fluid's volume is measured from the chamber's at the
+                // scene's pose; the arm calibrates it to the supply pressure
+                // where the static equilibrium leaves it.
+                TensionerKind::Hydraulic(_) => Some(0.0),
                 TensionerKind::Spring(_) => None,
             })
             .collect();

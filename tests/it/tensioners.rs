@@ -104,7 +104,9 @@ fn travel(sim: &Simulation) -> f64 {
 fn start_at(sim: &mut Simulation, q: f64, p_pa: f64) {
     sim.state.q[0] = q;
     sim.state.u[0] = 0.0;
-    sim.state.z[0] = p_pa;
+    sim.state.z[0] = arm(sim)
+        .chamber_state_for(p_pa, q)
+        .expect("a hydraulic tensioner");
     sim.forces.evaluate(&sim.model, &sim.state);
 }
 
@@ -167,7 +169,7 @@ fn check_valve_refill_flow_matches_the_orifice_formula_as_the_plunger_extends() 
     start_at(&mut sim, -0.3, 3e5);
     run_for(&mut sim, 0.02);
     let reading = *arm(&sim).reading();
-    let p = sim.state.z[0];
+    let p = reading.pressure_pa;
     // v = d(ℓ sin q)/dt = ℓ cos q · u.
     let v = LEVER_M * sim.state.q[0].cos() * sim.state.u[0];
     let swept = AREA_M2 * v + PI * 0.014 * 15e-6_f64.powi(3) * p / (12.0 * 0.010 * 0.015);
