@@ -195,10 +195,10 @@ const SPRING_ARM: &str = r#"
 name = "upper arm"
 pivot_m = [0.05, 0.2]
 inertia_kg_m2 = 2e-3
-shoe_center_m = [0.160928, 0.264209]
+shoe_center_m = [0.215754, 0.264404]
 shoe_radius_m = 0.2
-shoe_start_deg = -98.88
-shoe_end_deg = -68.88
+shoe_start_deg = -111.12
+shoe_end_deg = -81.12
 point_m = [0.25, 0.2]
 direction = [0.0, -1.0]
 
@@ -236,8 +236,8 @@ fn spring_arm_static_angle_balances_moments_about_the_pivot() {
     let spring_moment = (10.0 - 500.0 * x) * lever;
     // Rollers on the shoe: within R + R_r (plus a micrometre) of its centre.
     let centre = [
-        pivot[0] + c * (0.160928 - pivot[0]) - s * (0.264209 - pivot[1]),
-        pivot[1] + s * (0.160928 - pivot[0]) + c * (0.264209 - pivot[1]),
+        pivot[0] + c * (0.215754 - pivot[0]) - s * (0.264404 - pivot[1]),
+        pivot[1] + s * (0.215754 - pivot[0]) + c * (0.264404 - pivot[1]),
     ];
     let out = sim.forces.output();
     let n = sim.state.rollers();
@@ -298,7 +298,7 @@ fn errors_of(text: &str) -> String {
 #[test]
 fn a_tensioner_line_that_misses_the_arm_is_rejected_with_its_path() {
     let text = TIMING.replace(
-        "point_m = [0.126140, 0.261747]",
+        "point_m = [0.180131, 0.227981]",
         "point_m = [0.9, 0.9]",
     );
     let e = errors_of(&text);
@@ -331,7 +331,7 @@ fn negative_and_nan_hydraulic_fields_are_rejected_with_their_paths() {
 
 #[test]
 fn a_shoe_arc_of_half_a_turn_or_more_is_rejected() {
-    let text = TIMING.replace("shoe_end_deg = 186.95", "shoe_end_deg = 340.0");
+    let text = TIMING.replace("shoe_end_deg = 174.37", "shoe_end_deg = 340.0");
     let e = errors_of(&text);
     assert!(e.contains("tensioners[0].shoe_end_deg"), "{e}");
 }
