@@ -277,9 +277,8 @@ fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
 /// Tensioner arm `k`'s statistics over `rows`.
 fn tensioner_summary(name: &str, k: usize, rows: &[&SampleRow]) -> TensionerSummary {
     let readings: Vec<_> = rows.iter().filter_map(|r| r.tensioners.get(k)).collect();
-    let range = |f: fn(&crate::forces::TensionerReading) -> f64| {
-        Range::of(readings.iter().map(|r| f(r)))
-    };
+    let range =
+        |f: fn(&crate::forces::TensionerReading) -> f64| Range::of(readings.iter().map(|r| f(r)));
     let open = readings.iter().filter(|r| r.valve_open).count();
     let openings = readings
         .windows(2)

@@ -77,7 +77,8 @@ impl Chamber {
     pub fn fill_ratio(&self, p_pa: f64) -> f64 {
         let h = &self.params;
         let pa = h.ambient_pressure_pa;
-        (1.0 - h.air_fraction) * (1.0 - p_pa / h.bulk_modulus_pa) + h.air_fraction * pa / (p_pa + pa)
+        (1.0 - h.air_fraction) * (1.0 - p_pa / h.bulk_modulus_pa)
+            + h.air_fraction * pa / (p_pa + pa)
     }
 
     /// The gauge pressure at which fluid of volume `reference_m3` (at the
@@ -120,8 +121,8 @@ impl Chamber {
         let h = &self.params;
         let pa = h.ambient_pressure_pa;
         let absolute = (p_pa + pa).max(1e-3 * pa);
-        let slope =
-            (1.0 - h.air_fraction) / h.bulk_modulus_pa + h.air_fraction * pa / (absolute * absolute);
+        let slope = (1.0 - h.air_fraction) / h.bulk_modulus_pa
+            + h.air_fraction * pa / (absolute * absolute);
         self.fill_ratio(p_pa) / slope
     }
 
@@ -252,7 +253,10 @@ mod tests {
             for p in [-5e4, 0.0, 3e5, 2e6] {
                 let v_ref = c.reference_volume_m3(p, 1e-3);
                 let back = c.pressure_pa(v_ref, c.volume_m3(1e-3));
-                assert!((back - p).abs() < 1e-3 * (1.0 + p.abs()), "{air} {p} {back}");
+                assert!(
+                    (back - p).abs() < 1e-3 * (1.0 + p.abs()),
+                    "{air} {p} {back}"
+                );
             }
         }
     }

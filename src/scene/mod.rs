@@ -35,9 +35,8 @@ pub use stability::{
     AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
 };
 pub use tensioners::{
-    DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile,
-    HydraulicTensioner, STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner,
-    TensionerFile, TensionerKind,
+    DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner,
+    STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner, TensionerFile, TensionerKind,
 };
 pub use types::{
     Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,

@@ -314,13 +314,16 @@ fn check_tensioner(c: &mut Checker, path: &str, f: &TensionerFile) -> Tensioner 
     if friction > 1.0 {
         c.fail(
             p("shoe_friction"),
-            format!("must lie in [0, 1] (lubricated polymer on steel: 0.05 to 0.15), got {friction}"),
+            format!(
+                "must lie in [0, 1] (lubricated polymer on steel: 0.05 to 0.15), got {friction}"
+            ),
         );
     }
-    let friction_speed = f.shoe_friction_speed_m_s.map_or(
-        DEFAULT_SHOE_FRICTION_SPEED_M_S,
-        |v| c.positive(&p("shoe_friction_speed_m_s"), v),
-    );
+    let friction_speed = f
+        .shoe_friction_speed_m_s
+        .map_or(DEFAULT_SHOE_FRICTION_SPEED_M_S, |v| {
+            c.positive(&p("shoe_friction_speed_m_s"), v)
+        });
     let point = finite_point(c, &p("point_m"), f.point_m);
     let dir = finite_point(c, &p("direction"), f.direction);
     let dir_len = norm(dir);
@@ -358,8 +361,7 @@ fn check_tensioner(c: &mut Checker, path: &str, f: &TensionerFile) -> Tensioner 
                     "misses the arm: it is {arm:.4} m from the pivot, but the arm (to its shoe) reaches {reach:.4} m"
                 ),
             );
-        } else if (r[0] * direction[1] - r[1] * direction[0]).abs() < 0.05 * arm.max(1e-3 * reach)
-        {
+        } else if (r[0] * direction[1] - r[1] * direction[0]).abs() < 0.05 * arm.max(1e-3 * reach) {
             c.fail(
                 p("direction"),
                 format!(
@@ -421,9 +423,11 @@ fn check_spring(c: &mut Checker, path: &str, f: &SpringFile) -> SpringTensioner 
         damping_n_s_m: c.non_negative(&p("damping_n_s_m"), f.damping_n_s_m),
         min_travel_m: min,
         max_travel_m: max,
-        stop_stiffness_n_m: f.stop_stiffness_n_m.map_or(DEFAULT_STOP_STIFFNESS_N_M, |k| {
-            c.positive(&p("stop_stiffness_n_m"), k)
-        }),
+        stop_stiffness_n_m: f
+            .stop_stiffness_n_m
+            .map_or(DEFAULT_STOP_STIFFNESS_N_M, |k| {
+                c.positive(&p("stop_stiffness_n_m"), k)
+            }),
     }
 }
 
@@ -483,11 +487,13 @@ fn check_hydraulic(c: &mut Checker, path: &str, f: &HydraulicFile) -> HydraulicT
         min_travel_m: min,
         max_travel_m: max,
         ratchet_backlash_m: ratchet,
-        stop_stiffness_n_m: f.stop_stiffness_n_m.map_or(DEFAULT_STOP_STIFFNESS_N_M, |k| {
-            c.positive(&p("stop_stiffness_n_m"), k)
+        stop_stiffness_n_m: f
+            .stop_stiffness_n_m
+            .map_or(DEFAULT_STOP_STIFFNESS_N_M, |k| {
+                c.positive(&p("stop_stiffness_n_m"), k)
+            }),
+        ambient_pressure_pa: f.ambient_pressure_pa.map_or(STANDARD_ATMOSPHERE_PA, |a| {
+            c.positive(&p("ambient_pressure_pa"), a)
         }),
-        ambient_pressure_pa: f
-            .ambient_pressure_pa
-            .map_or(STANDARD_ATMOSPHERE_PA, |a| c.positive(&p("ambient_pressure_pa"), a)),
     }
 }

@@ -472,7 +472,8 @@ pub(crate) fn settle_preload(
         previous = now;
     }
     Ok(StaticEquilibrium {
-        tension_n: free_strand_tension(model, state, forces).ok_or(EquilibriumError::NoFreeLinks)?,
+        tension_n: free_strand_tension(model, state, forces)
+            .ok_or(EquilibriumError::NoFreeLinks)?,
         rest_length_m: model.rest_length_m,
         iterations,
         residual_speed_m_s: residual,

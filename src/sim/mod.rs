@@ -33,8 +33,7 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction,
-    TensionerArm,
+    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction, TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
