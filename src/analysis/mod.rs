@@ -26,7 +26,8 @@ mod warnings;
 
 pub(crate) use summary::segment_series;
 pub use summary::{
-    DEFAULT_WINDOW_S, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
+    DEFAULT_WINDOW_S, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
+    SummaryInputs, TensionerSummary,
 };
 pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
 
@@ -50,6 +51,8 @@ pub struct SampleRow {
     pub transverse_m: Vec<f64>,
     /// Smallest and largest link force since the previous sample, N.
     pub link_range_n: (f64, f64),
+    /// Each tensioner arm's reading (empty without arms).
+    pub tensioners: Vec<crate::forces::TensionerReading>,
 }
 
 /// Samples a run's signals into memory (and optionally hands each row on).
@@ -107,6 +110,7 @@ impl Observer for Signals {
             segment_force_n: self.scratch.clone(),
             transverse_m: transverse,
             link_range_n: self.link_range,
+            tensioners: s.forces.tensioners.clone(),
         });
         self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
         self.bearing_max.fill(0.0);

@@ -97,6 +97,48 @@ pub struct SprocketSummary {
     pub max_bearing_force_n: f64,
 }
 
+/// Mean, smallest and largest value of a quantity over the window.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Range {
+    /// Mean.
+    pub mean: f64,
+    /// Smallest.
+    pub min: f64,
+    /// Largest.
+    pub max: f64,
+}
+
+impl Range {
+    fn of(values: impl Iterator<Item = f64>) -> Self {
+        let (mean, min, max) = stats(values);
+        Self { mean, min, max }
+    }
+}
+
+/// One tensioner arm over the statistics window (docs/model.md, “Tensioner
+/// arms”).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TensionerSummary {
+    /// The arm's name.
+    pub tensioner: String,
+    /// Arm angle from the scene's pose, rad.
+    pub arm_angle_rad: Range,
+    /// Plunger travel from the scene's pose, m.
+    pub travel_m: Range,
+    /// Plunger speed, m/s.
+    pub plunger_speed_m_s: Range,
+    /// The tensioner's push, N.
+    pub plunger_force_n: Range,
+    /// Chamber pressure (gauge), Pa (zeros for a spring tensioner).
+    pub pressure_pa: Range,
+    /// Fraction of the window's samples with the check valve open.
+    pub valve_open_fraction: f64,
+    /// Times the check valve opened within the window (samples).
+    pub valve_openings: u64,
+    /// The chain's resultant force on the shoe, N.
+    pub shoe_force_n: Range,
+}
+
 /// The run summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
@@ -174,6 +216,9 @@ pub struct RunSummary {
     /// the window, against the power flowing through.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub energy_balance_error: Option<f64>,
+    /// Tensioner arms (absent from scenes without them).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tensioners: Vec<TensionerSummary>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
@@ -226,6 +271,33 @@ fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
         (0.0, 0.0, 0.0)
     } else {
         (sum / n as f64, lo, hi)
+    }
+}
+
+/// Tensioner arm `k`'s statistics over `rows`.
+fn tensioner_summary(name: &str, k: usize, rows: &[&SampleRow]) -> TensionerSummary {
+    let readings: Vec<_> = rows.iter().filter_map(|r| r.tensioners.get(k)).collect();
+    let range =
+        |f: fn(&crate::forces::TensionerReading) -> f64| Range::of(readings.iter().map(|r| f(r)));
+    let open = readings.iter().filter(|r| r.valve_open).count();
+    let openings = readings
+        .windows(2)
+        .filter(|w| !w[0].valve_open && w[1].valve_open)
+        .count();
+    TensionerSummary {
+        tensioner: name.to_owned(),
+        arm_angle_rad: range(|r| r.angle_rad),
+        travel_m: range(|r| r.travel_m),
+        plunger_speed_m_s: range(|r| r.plunger_speed_m_s),
+        plunger_force_n: range(|r| r.plunger_force_n),
+        pressure_pa: range(|r| r.pressure_pa),
+        valve_open_fraction: if readings.is_empty() {
+            0.0
+        } else {
+            open as f64 / readings.len() as f64
+        },
+        valve_openings: openings as u64,
+        shoe_force_n: range(|r| r.shoe_force_n),
     }
 }
 
@@ -453,6 +525,12 @@ impl RunSummary {
                 .filter(|p| p.mean.driver_w > 0.0)
                 .map(|p| p.mean.load_w / p.mean.driver_w),
             energy_balance_error: flow.map(|p| p.balance_error()),
+            tensioners: scene
+                .tensioners
+                .iter()
+                .enumerate()
+                .map(|(k, t)| tensioner_summary(&t.name, k, &in_window))
+                .collect(),
             warnings: Vec::new(),
         };
         summary.warnings = super::warnings::of_run(&Judged {

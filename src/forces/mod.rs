@@ -56,10 +56,12 @@
 mod buffer;
 mod contact;
 mod contact_law;
+pub mod hydraulic;
 mod joint_friction;
 mod links;
 mod output;
 mod rows;
+mod tensioner;
 
 pub use contact::{Culling, ToothContact};
 pub use contact_law::ContactLawParams;
@@ -67,6 +69,7 @@ pub use joint_friction::JointFriction;
 pub use links::Links;
 pub use output::Forces;
 pub use rows::DampingRows;
+pub use tensioner::{TensionerArm, TensionerReading};
 
 use std::any::Any;
 use std::time::Instant;

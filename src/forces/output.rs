@@ -45,6 +45,9 @@ pub struct Forces {
     pub joint_moment_n_m: Vec<f64>,
     /// Power of the joint friction, Σ M_i ω_rel,i, W (≤ 0).
     pub joint_friction_power_w: f64,
+    /// Each tensioner arm's reading, in scene order (empty without arms;
+    /// an arm sizes it at its first evaluation).
+    pub tensioners: Vec<super::TensionerReading>,
     /// Each link's angular velocity ω = (u × Δv)/ℓ, rad/s: written by the
     /// links when it holds one slot per link (the joint friction sizes it at
     /// its first evaluation), left empty and not computed otherwise.
@@ -76,6 +79,7 @@ impl Forces {
             contact_damping_power_w: 0.0,
             joint_moment_n_m: Vec::new(),
             joint_friction_power_w: 0.0,
+            tensioners: Vec::new(),
             link_omega: Vec::new(),
             link_normal_x: Vec::new(),
             link_normal_y: Vec::new(),

@@ -17,7 +17,44 @@ use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
     layout_rollers,
 };
-use crate::scene::{Harmonic, Scene, SpeedLaw};
+use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
+
+/// The further bodies and scalar states of a scene's tensioner arms: arm k is
+/// body k (its angle from the scene's pose), and each hydraulic tensioner's
+/// chamber pressure a scalar state, in scene order. The arms start at the
+/// scene's pose, at rest; the chambers at their supply pressure.
+fn tensioner_states(scene: &Scene) -> (Vec<BodyModel>, Vec<ScalarModel>) {
+    // Error scales: the arm turning by the static link stretch T/K over its
+    // shoe's distance from the pivot; the chamber's fluid volume by what
+    // changes its pressure by a kilopascal, V₀ · 1 kPa / β.
+    let stretch = scene.chain.pretension_n / scene.chain.stiffness_n_m;
+    let bodies = scene
+        .tensioners
+        .iter()
+        .map(|t| {
+            let reach = (t.shoe_center_m[0] - t.pivot_m[0])
+                .hypot(t.shoe_center_m[1] - t.pivot_m[1])
+                .max(t.shoe_radius_m);
+            BodyModel {
+                name: format!("{} arm", t.name),
+                inv_mass: 1.0 / t.inertia_kg_m2,
+                error_scale: stretch / reach,
+            }
+        })
+        .collect();
+    let scalars = scene
+        .tensioners
+        .iter()
+        .filter_map(|t| match &t.kind {
+            TensionerKind::Hydraulic(h) => Some(ScalarModel {
+                name: format!("{} chamber fluid volume", t.name),
+                error_scale: h.chamber_volume_m3 * 1e3 / h.bulk_modulus_pa,
+            }),
+            TensionerKind::Spring(_) => None,
+        })
+        .collect();
+    (bodies, scalars)
+}
 
 /// Constant data of one sprocket.
 #[derive(Clone, Debug)]
@@ -357,6 +394,21 @@ impl DriveModel {
             z: Vec::new(),
         };
         let segments = Segments::new(&path);
+        let (bodies, scalars) = tensioner_states(scene);
+        let mut state = state;
+        state.q = vec![0.0; bodies.len()];
+        state.u = vec![0.0; bodies.len()];
+        state.z = scene
+            .tensioners
+            .iter()
+            .filter_map(|t| match &t.kind {
+                // The fluid's volume is measured from the chamber's at the
+                // scene's pose; the arm calibrates it to the supply pressure
+                // where the static equilibrium leaves it.
+                TensionerKind::Hydraulic(_) => Some(0.0),
+                TensionerKind::Spring(_) => None,
+            })
+            .collect();
         let model = DriveModel {
             roller_mass_kg: chain.roller_mass_kg,
             stiffness_n_m: chain.stiffness_n_m,
@@ -366,8 +418,8 @@ impl DriveModel {
             sprockets,
             path,
             segments,
-            bodies: Vec::new(),
-            scalars: Vec::new(),
+            bodies,
+            scalars,
         };
         Ok((model, state, layout))
     }

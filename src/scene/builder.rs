@@ -119,6 +119,7 @@ impl SceneBuilder {
                 solver: self.solver,
                 equilibrium: self.equilibrium,
                 base_dir: None,
+                tensioners: Vec::new(),
             }),
             (chain, contact) => Err(SceneError::Invalid(
                 [

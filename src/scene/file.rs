@@ -39,6 +39,9 @@ pub struct SceneFile {
     /// the working directory. Not part of the TOML.
     #[serde(skip)]
     pub base_dir: Option<std::path::PathBuf>,
+    /// Tensioner arms with their tensioners (`[[tensioners]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tensioners: Vec<super::TensionerFile>,
 }
 
 fn default_profile() -> String {

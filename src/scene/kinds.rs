@@ -113,6 +113,9 @@ scene_enum! {
         RestLength,
         /// Move the tensioner sprocket along its adjustment direction.
         Tensioner,
+        /// Keep the links' rest length at the pitch: the tensioners' preloads
+        /// set the tension.
+        TensionerPreload,
     }
 }
 

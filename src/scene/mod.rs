@@ -19,6 +19,7 @@ mod kinds;
 pub mod mutate;
 mod overrides;
 mod stability;
+mod tensioners;
 mod types;
 mod validate;
 
@@ -37,6 +38,10 @@ pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap
 pub use overrides::Overrides;
 pub use stability::{
     AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
+};
+pub use tensioners::{
+    DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner,
+    STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner, TensionerFile, TensionerKind,
 };
 pub use types::{
     Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,
@@ -64,6 +69,8 @@ pub struct Scene {
     pub(crate) sprockets: Vec<Sprocket>,
     pub(crate) solver: Solver,
     pub(crate) equilibrium: Equilibrium,
+    /// Tensioner arms with their tensioners.
+    pub(crate) tensioners: Vec<Tensioner>,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
     pub(crate) source_toml: Option<String>,
@@ -114,7 +121,12 @@ impl Scene {
         &self.contact
     }
 
-    /// Sprockets in the order the chain visits them.
+    /// Tensioner arms with their tensioners (`[[tensioners]]`).
+    pub fn tensioners(&self) -> &[Tensioner] {
+        &self.tensioners
+    }
+
+    /// The sprockets, in the order the chain visits them.
     pub fn sprockets(&self) -> &[Sprocket] {
         &self.sprockets
     }

@@ -101,6 +101,13 @@ impl TryFrom<SceneFile> for Scene {
             ),
             max_relax_s: c.positive("equilibrium.max_relax_s", file.equilibrium.max_relax_s),
         };
+        let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
+        if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
+            c.fail(
+                "chain.pretension_by",
+                "is \"tensioner_preload\" but the scene has no [[tensioners]]",
+            );
+        }
         if chain.pretension_by == PretensionRule::Tensioner
             && !sprockets
                 .iter()
@@ -122,6 +129,7 @@ impl TryFrom<SceneFile> for Scene {
             sprockets,
             solver,
             equilibrium,
+            tensioners,
             file,
             source_toml: None,
         })

@@ -441,6 +441,46 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
     }
 }
 
+/// The tensioner-preload rule (`pretension_by = "tensioner_preload"`): the
+/// links keep their rest length, the pitch; the drive relaxes with its
+/// tensioner arms free (a hydraulic chamber held at its supply pressure),
+/// and the static tension is what the tensioners' pushes hold. Relaxes
+/// until the force residual relative to `scale_n` (the scene's pretension,
+/// only a scale here) is below the final threshold, or stops falling.
+pub(crate) fn settle_preload(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+    scale_n: f64,
+) -> Result<StaticEquilibrium, EquilibriumError> {
+    const MAX_RELAXATIONS: usize = 20;
+    let settings = RelaxSettings {
+        rate_per_s: damping_rate(model, scale_n, settings.rate_per_s),
+        ..*settings
+    };
+    let mut previous = f64::INFINITY;
+    let mut iterations = 0;
+    let mut residual = f64::INFINITY;
+    while iterations < MAX_RELAXATIONS {
+        iterations += 1;
+        residual = relax_until(model, state, forces, &settings, Some(REST_FORCE * scale_n))?;
+        let now = force_residual(forces, scale_n);
+        if now <= REST_FORCE || residual < settings.rest_speed_m_s || !(now < 0.9 * previous) {
+            break;
+        }
+        previous = now;
+    }
+    Ok(StaticEquilibrium {
+        tension_n: free_strand_tension(model, state, forces)
+            .ok_or(EquilibriumError::NoFreeLinks)?,
+        rest_length_m: model.rest_length_m,
+        iterations,
+        residual_speed_m_s: residual,
+        force_residual: force_residual(forces, scale_n),
+    })
+}
+
 /// Brings the drive to static equilibrium at `target_n` by shortening the
 /// links' rest length (safeguarded secant iteration on T(rest length), see
 /// `next_rest_length`).

@@ -33,12 +33,12 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction,
+    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction, TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
-use crate::scene::{PretensionRule, Role, Scene, Stepping};
+use crate::scene::{PretensionRule, Role, Scene, Stepping, TensionerKind};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
@@ -48,6 +48,21 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     );
     if let Some(joints) = scene.chain.joint_friction {
         forces.add(Box::new(JointFriction::new(joints, scene.chain.rollers)));
+    }
+    let mut scalar = 0;
+    for (k, t) in scene.tensioners.iter().enumerate() {
+        let chamber = matches!(t.kind, TensionerKind::Hydraulic(_)).then(|| {
+            scalar += 1;
+            scalar - 1
+        });
+        forces.add(Box::new(TensionerArm::new(
+            t,
+            k,
+            chamber,
+            ContactLawParams::new(&scene.contact),
+            scene.chain.rollers,
+            scene.chain.roller_radius_m,
+        )));
     }
     forces
 }
@@ -293,6 +308,18 @@ impl Simulation {
                 (scene.clone(), model, state, forces, layout, eq)
             }
             PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
+            PretensionRule::TensionerPreload => {
+                let (model, mut state, layout) = DriveModel::build(scene)?;
+                let mut forces = new_forces(scene, &model);
+                let eq = equilibrium::settle_preload(
+                    &model,
+                    &mut state,
+                    &mut forces,
+                    &settings,
+                    scene.chain.pretension_n,
+                )?;
+                (scene.clone(), model, state, forces, layout, eq)
+            }
         };
         Ok(Self::assemble(
             scene,

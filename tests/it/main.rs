@@ -44,3 +44,4 @@ mod statistics;
 mod stepping;
 mod strands;
 mod stress;
+mod tensioners;

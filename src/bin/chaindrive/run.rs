@@ -95,6 +95,18 @@ impl CliObserver {
         for d in &row.transverse_m {
             csv.write_field(d.to_string())?;
         }
+        for t in &row.tensioners {
+            for v in [
+                t.angle_rad,
+                t.travel_m,
+                t.plunger_speed_m_s,
+                t.pressure_pa,
+                f64::from(u8::from(t.valve_open)),
+                t.shoe_force_n,
+            ] {
+                csv.write_field(v.to_string())?;
+            }
+        }
         csv.write_record(None::<&[u8]>)
     }
 }
@@ -308,7 +320,18 @@ fn simulate(
         let header = std::iter::once("t_s".to_owned())
             .chain((1..=scene.sprockets().len()).map(|i| format!("omega_{i}_rad_s")))
             .chain(segments.clone().map(|k| format!("seg{k}_link_force_n")))
-            .chain(segments.map(|k| format!("seg{k}_transverse_m")));
+            .chain(segments.map(|k| format!("seg{k}_transverse_m")))
+            .chain((1..=scene.tensioners().len()).flat_map(|k| {
+                [
+                    "arm_angle_rad",
+                    "travel_m",
+                    "plunger_speed_m_s",
+                    "pressure_pa",
+                    "valve_open",
+                    "shoe_force_n",
+                ]
+                .map(|q| format!("tensioner{k}_{q}"))
+            }));
         csv.write_record(header).map_err(io_error)?;
     }
     let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {

@@ -1,0 +1,329 @@
+//! [`TensionerArm`]: a rigid arm on a fixed pivot whose circular-arc shoe
+//! the rollers ride on, pushed by a spring-damper or a hydraulic tensioner
+//! (docs/model.md, “Tensioner arms”).
+//!
+//! The arm's angle q (from the scene's pose, counter-clockwise) and speed u
+//! are a further body's coordinate ([`crate::model::BodyModel`]); a hydraulic
+//! chamber's pressure is a scalar state ([`crate::model::ScalarModel`]). The
+//! tensioner acts at a point of the arm along a line fixed in the world:
+//! its travel x and speed v follow from the arm's angle (the plunger is tied
+//! to the arm kinematically, its mass is in the arm's inertia), so that
+//! x = (a(q) − a(0))·ê and v = u (r × ê), r = a − pivot.
+//!
+//! Roller–shoe contact: the scene's contact law with the approach speed
+//! remembered from onset to separation (as the roller–tooth contact does),
+//! and Coulomb friction μ f_n tanh(v_t / v_s) against the rollers' speed
+//! relative to the shoe.
+
+use std::any::Any;
+
+use super::contact_law::ContactLawParams;
+use super::hydraulic::{Chamber, stops_n};
+use super::{ForceElement, Forces};
+use crate::model::{DriveModel, DriveState};
+use crate::scene::{Tensioner, TensionerKind};
+
+/// What a tensioner arm reports at its last evaluation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TensionerReading {
+    /// Arm angle from the scene's pose, rad (counter-clockwise).
+    pub angle_rad: f64,
+    /// Arm angular speed, rad/s.
+    pub speed_rad_s: f64,
+    /// Tensioner travel x from the scene's pose, m (positive pushing out).
+    pub travel_m: f64,
+    /// Tensioner (plunger) speed v, m/s.
+    pub plunger_speed_m_s: f64,
+    /// The tensioner's push on the arm, N.
+    pub plunger_force_n: f64,
+    /// Chamber pressure (gauge), Pa; 0 for a spring tensioner.
+    pub pressure_pa: f64,
+    /// Whether the check valve is open (always false for a spring tensioner).
+    pub valve_open: bool,
+    /// Flow in through the check valve, m³/s.
+    pub valve_flow_m3_s: f64,
+    /// Leak flow out through the plunger's gap, m³/s.
+    pub leak_flow_m3_s: f64,
+    /// Magnitude of the chain's resultant force on the shoe, N.
+    pub shoe_force_n: f64,
+    /// Rollers touching the shoe.
+    pub shoe_rollers: usize,
+}
+
+/// A tensioner arm with its tensioner: one force element per arm.
+#[derive(Clone, Debug)]
+pub struct TensionerArm {
+    params: Tensioner,
+    /// The arm's body coordinate in [`DriveState::q`].
+    body: usize,
+    /// The chamber's pressure in [`DriveState::z`] (hydraulic only).
+    scalar: Option<usize>,
+    chamber: Option<Chamber>,
+    law: ContactLawParams,
+    roller_radius_m: f64,
+    /// Remembered approach speed per roller (0: not touching), committed.
+    onset: Vec<f64>,
+    /// The same, as the last evaluation left it.
+    onset_next: Vec<f64>,
+    /// The ratchet's furthest travel, committed (NaN: not yet known).
+    peak_m: f64,
+    /// What the chamber's state z adds up to with: V_ref = z + offset, m³
+    /// (NaN: to be set at the next evaluation so that the chamber is at
+    /// its supply pressure there, as the static equilibrium leaves it).
+    offset_m3: f64,
+    /// Travel at the last evaluation.
+    travel_next_m: f64,
+    relaxing: bool,
+    reading: TensionerReading,
+}
+
+impl TensionerArm {
+    /// The arm of `params` on body coordinate `body` (and the chamber's
+    /// pressure on scalar `scalar`, hydraulic only) in a drive of `rollers`
+    /// rollers of radius `roller_radius_m`, meeting the shoe with `law`.
+    pub fn new(
+        params: &Tensioner,
+        body: usize,
+        scalar: Option<usize>,
+        law: ContactLawParams,
+        rollers: usize,
+        roller_radius_m: f64,
+    ) -> Self {
+        let chamber = match &params.kind {
+            TensionerKind::Hydraulic(h) => Some(Chamber::new(h)),
+            TensionerKind::Spring(_) => None,
+        };
+        Self {
+            params: params.clone(),
+            body,
+            scalar,
+            chamber,
+            law,
+            roller_radius_m,
+            onset: vec![0.0; rollers],
+            onset_next: vec![0.0; rollers],
+            peak_m: f64::NAN,
+            offset_m3: f64::NAN,
+            travel_next_m: 0.0,
+            relaxing: false,
+            reading: TensionerReading::default(),
+        }
+    }
+
+    /// The arm's name.
+    pub fn name_of_arm(&self) -> &str {
+        &self.params.name
+    }
+
+    /// The tensioner's parameters.
+    pub fn params(&self) -> &Tensioner {
+        &self.params
+    }
+
+    /// The arm's body coordinate index.
+    pub fn body(&self) -> usize {
+        self.body
+    }
+
+    /// What the last evaluation found.
+    pub fn reading(&self) -> &TensionerReading {
+        &self.reading
+    }
+
+    /// The chamber state z that holds gauge pressure `p_pa` at arm angle
+    /// `q` (hydraulic only; `None` for a spring tensioner).
+    pub fn chamber_state_for(&self, p_pa: f64, q: f64) -> Option<f64> {
+        let ch = self.chamber.as_ref()?;
+        let (_, x) = self.lever_and_travel(q);
+        Some(ch.reference_volume_m3(p_pa, x) - self.offset_m3)
+    }
+
+    /// The hydraulic chamber, if the tensioner is hydraulic.
+    pub fn chamber(&self) -> Option<&Chamber> {
+        self.chamber.as_ref()
+    }
+
+    /// The lever of the tensioner's line about the pivot at arm angle `q`,
+    /// ℓ = r × ê, m, and the travel x = (a(q) − a(0))·ê, m.
+    pub fn lever_and_travel(&self, q: f64) -> (f64, f64) {
+        let p = &self.params;
+        let (s, c) = q.sin_cos();
+        let r0 = [p.point_m[0] - p.pivot_m[0], p.point_m[1] - p.pivot_m[1]];
+        let r = [c * r0[0] - s * r0[1], s * r0[0] + c * r0[1]];
+        let e = p.direction;
+        let lever = r[0] * e[1] - r[1] * e[0];
+        let travel = (r[0] - r0[0]) * e[0] + (r[1] - r0[1]) * e[1];
+        (lever, travel)
+    }
+}
+
+#[inline]
+fn rotate(s: f64, c: f64, v: [f64; 2]) -> [f64; 2] {
+    [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+}
+
+impl ForceElement for TensionerArm {
+    fn name(&self) -> &'static str {
+        "tensioners"
+    }
+
+    fn evaluate(&mut self, model: &DriveModel, state: &DriveState, out: &mut Forces) {
+        let p = &self.params;
+        let (q, u) = (state.q[self.body], state.u[self.body]);
+        let (s, c) = q.sin_cos();
+        let pivot = p.pivot_m;
+        let rel = |a: [f64; 2]| [a[0] - pivot[0], a[1] - pivot[1]];
+        // Shoe centre and its arc's end directions, turned with the arm.
+        let rc = rotate(s, c, rel(p.shoe_center_m));
+        let centre = [pivot[0] + rc[0], pivot[1] + rc[1]];
+        let a0 = p.shoe_start_rad;
+        let e_start = rotate(s, c, [a0.cos(), a0.sin()]);
+        let a1 = a0 + p.shoe_span_rad;
+        let e_end = rotate(s, c, [a1.cos(), a1.sin()]);
+        let outer = p.shoe_radius_m + self.roller_radius_m;
+        let outer_sq = outer * outer;
+        let (mu, vs) = (p.shoe_friction, p.shoe_friction_speed_m_s);
+        let mut moment = 0.0;
+        let (mut shoe_fx, mut shoe_fy) = (0.0, 0.0);
+        let mut touching = 0;
+        for i in 0..state.rollers() {
+            let dx = state.x[i] - centre[0];
+            let dy = state.y[i] - centre[1];
+            let d_sq = dx * dx + dy * dy;
+            // Outside the outer circle, or off the arc's sector, or (never in
+            // practice) on its centre: no contact.
+            if d_sq >= outer_sq
+                || e_start[0] * dy - e_start[1] * dx < 0.0
+                || dx * e_end[1] - dy * e_end[0] < 0.0
+                || d_sq <= 0.0
+            {
+                self.onset_next[i] = 0.0;
+                continue;
+            }
+            let d = d_sq.sqrt();
+            let (nx, ny) = (dx / d, dy / d);
+            let depth = outer - d;
+            // The shoe's surface point under the roller and its velocity u × r.
+            let px = centre[0] + p.shoe_radius_m * nx;
+            let py = centre[1] + p.shoe_radius_m * ny;
+            let (rx, ry) = (px - pivot[0], py - pivot[1]);
+            let (vrx, vry) = (state.vx[i] + u * ry, state.vy[i] - u * rx);
+            let depth_rate = -(vrx * nx + vry * ny);
+            let onset = if self.onset[i] > 0.0 {
+                self.onset[i]
+            } else {
+                self.law.onset_speed(depth_rate)
+            };
+            self.onset_next[i] = onset;
+            let f_n = self.law.force(depth, depth_rate, onset);
+            let (tx, ty) = (-ny, nx);
+            let f_t = if mu > 0.0 {
+                -mu * f_n * ((vrx * tx + vry * ty) / vs).tanh()
+            } else {
+                0.0
+            };
+            let fx = f_n * nx + f_t * tx;
+            let fy = f_n * ny + f_t * ty;
+            out.fx[i] += fx;
+            out.fy[i] += fy;
+            // The reaction −f acts on the shoe at (px, py).
+            moment -= rx * fy - ry * fx;
+            shoe_fx -= fx;
+            shoe_fy -= fy;
+            touching += 1;
+            out.max_penetration_m = out.max_penetration_m.max(depth);
+        }
+        // The arm's weight.
+        if p.mass_kg > 0.0 {
+            let g = rotate(s, c, rel(p.center_of_mass_m));
+            let [gx, gy] = model.gravity_m_s2;
+            moment += p.mass_kg * (g[0] * gy - g[1] * gx);
+        }
+        // The tensioner.
+        let (lever, x) = self.lever_and_travel(q);
+        let v = u * lever;
+        self.travel_next_m = x;
+        let (mut pressure, mut valve_flow, mut leak_flow) = (0.0, 0.0, 0.0);
+        let mut valve_open = false;
+        let force = match (&p.kind, &self.chamber) {
+            (TensionerKind::Spring(sp), _) => {
+                sp.preload_n - sp.stiffness_n_m * x - sp.damping_n_s_m * v
+                    + stops_n(x, sp.min_travel_m, sp.max_travel_m, sp.stop_stiffness_n_m)
+            }
+            (TensionerKind::Hydraulic(h), Some(ch)) => {
+                let k = self.scalar.unwrap_or(0);
+                if self.offset_m3.is_nan() {
+                    self.offset_m3 = ch.reference_volume_m3(h.supply_pressure_pa, x) - state.z[k];
+                }
+                pressure = if self.relaxing {
+                    h.supply_pressure_pa
+                } else {
+                    ch.pressure_pa(state.z[k] + self.offset_m3, ch.volume_m3(x))
+                };
+                valve_flow = ch.valve_flow_m3_s(pressure);
+                leak_flow = ch.leak_flow_m3_s(pressure);
+                valve_open = valve_flow > 0.0;
+                out.scalar_rate[k] += if self.relaxing {
+                    0.0
+                } else {
+                    ch.reference_rate(pressure)
+                };
+                let ratchet = match h.ratchet_backlash_m {
+                    Some(b) if !self.relaxing => Some(self.peak_m.max(x) - b),
+                    _ => None,
+                };
+                ch.force_n(pressure, x, ratchet)
+            }
+            (TensionerKind::Hydraulic(_), None) => 0.0,
+        };
+        moment += force * lever;
+        out.body_force[self.body] += moment;
+        if out.tensioners.len() <= self.body {
+            out.tensioners
+                .resize(self.body + 1, TensionerReading::default());
+        }
+        self.reading = TensionerReading {
+            angle_rad: q,
+            speed_rad_s: u,
+            travel_m: x,
+            plunger_speed_m_s: v,
+            plunger_force_n: force,
+            pressure_pa: pressure,
+            valve_open,
+            valve_flow_m3_s: valve_flow,
+            leak_flow_m3_s: leak_flow,
+            shoe_force_n: shoe_fx.hypot(shoe_fy),
+            shoe_rollers: touching,
+        };
+        out.tensioners[self.body] = self.reading;
+    }
+
+    fn commit(&mut self) {
+        self.onset.copy_from_slice(&self.onset_next);
+        // f64::max drops the NaN of a ratchet not yet set.
+        self.peak_m = self.peak_m.max(self.travel_next_m);
+    }
+
+    fn reset(&mut self) {
+        self.onset.fill(0.0);
+        self.onset_next.fill(0.0);
+        self.peak_m = f64::NAN;
+        self.offset_m3 = f64::NAN;
+    }
+
+    fn begin_equilibrium(&mut self) {
+        self.relaxing = true;
+    }
+
+    fn end_equilibrium(&mut self) {
+        self.relaxing = false;
+    }
+
+    fn clone_box(&self) -> Box<dyn ForceElement> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
