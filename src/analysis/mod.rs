@@ -26,7 +26,8 @@ mod warnings;
 
 pub(crate) use summary::segment_series;
 pub use summary::{
-    DEFAULT_WINDOW_S, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
+    DEFAULT_WINDOW_S, GuideSummary, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
+    SummaryInputs,
 };
 pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
 
@@ -50,6 +51,21 @@ pub struct SampleRow {
     pub transverse_m: Vec<f64>,
     /// Smallest and largest link force since the previous sample, N.
     pub link_range_n: (f64, f64),
+    /// Each shoe's forces (the guides', in scene order); empty without.
+    pub shoes: Vec<ShoeSample>,
+}
+
+/// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShoeSample {
+    /// Σ f_n over its contacts at the sample, N.
+    pub normal_n: f64,
+    /// Σ |f_t| at the sample, N.
+    pub friction_n: f64,
+    /// Largest Σ f_n since the previous sample, N.
+    pub normal_max_n: f64,
+    /// Largest Σ |f_t| since the previous sample, N.
+    pub friction_max_n: f64,
 }
 
 /// Samples a run's signals into memory (and optionally hands each row on).
@@ -62,6 +78,7 @@ pub struct Signals {
     link_range: (f64, f64),
     bearing_max: Vec<f64>,
     scratch: Vec<Option<f64>>,
+    shoes: Vec<ShoeSample>,
 }
 
 impl Signals {
@@ -75,6 +92,7 @@ impl Signals {
             link_range: (f64::INFINITY, f64::NEG_INFINITY),
             bearing_max: vec![0.0; model.sprocket_count()],
             scratch: vec![None; model.segments.len()],
+            shoes: Vec::new(),
         }
     }
 
@@ -85,6 +103,12 @@ impl Signals {
         }
         for (m, f) in self.bearing_max.iter_mut().zip(&s.forces.chain_force) {
             *m = m.max(f[0].hypot(f[1]));
+        }
+        self.shoes
+            .resize(s.forces.shoes.len(), ShoeSample::default());
+        for (m, f) in self.shoes.iter_mut().zip(&s.forces.shoes) {
+            m.normal_max_n = m.normal_max_n.max(f.normal_n);
+            m.friction_max_n = m.friction_max_n.max(f.friction_n);
         }
     }
 }
@@ -107,9 +131,20 @@ impl Observer for Signals {
             segment_force_n: self.scratch.clone(),
             transverse_m: transverse,
             link_range_n: self.link_range,
+            shoes: self
+                .shoes
+                .iter()
+                .zip(&s.forces.shoes)
+                .map(|(m, f)| ShoeSample {
+                    normal_n: f.normal_n,
+                    friction_n: f.friction_n,
+                    ..*m
+                })
+                .collect(),
         });
         self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
         self.bearing_max.fill(0.0);
+        self.shoes.fill(ShoeSample::default());
     }
 
     fn step(&mut self, s: &Sample<'_>) {

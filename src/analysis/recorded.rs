@@ -160,6 +160,7 @@ impl RecordedRun {
                 segment_force_n,
                 transverse_m,
                 link_range_n,
+                shoes: Vec::new(),
             });
             probe_rows.push((t_s, links, contacts, on));
         }

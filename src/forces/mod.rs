@@ -56,6 +56,7 @@
 mod buffer;
 mod contact;
 mod contact_law;
+mod guide;
 mod joint_friction;
 mod links;
 mod output;
@@ -63,6 +64,7 @@ mod rows;
 
 pub use contact::{Culling, ToothContact};
 pub use contact_law::ContactLawParams;
+pub use guide::{Carrier, Guide, GuideParams, ShoeForces};
 pub use joint_friction::JointFriction;
 pub use links::Links;
 pub use output::Forces;

@@ -45,6 +45,10 @@ pub struct Forces {
     pub joint_moment_n_m: Vec<f64>,
     /// Power of the joint friction, Σ M_i ω_rel,i, W (≤ 0).
     pub joint_friction_power_w: f64,
+    /// The forces on each shoe ([`super::Guide`]), one entry per shoe in the
+    /// order the elements are evaluated (the scene's guides in scene order);
+    /// empty without shoes.
+    pub shoes: Vec<super::ShoeForces>,
     /// Each link's angular velocity ω = (u × Δv)/ℓ, rad/s: written by the
     /// links when it holds one slot per link (the joint friction sizes it at
     /// its first evaluation), left empty and not computed otherwise.
@@ -76,6 +80,7 @@ impl Forces {
             contact_damping_power_w: 0.0,
             joint_moment_n_m: Vec::new(),
             joint_friction_power_w: 0.0,
+            shoes: Vec::new(),
             link_omega: Vec::new(),
             link_normal_x: Vec::new(),
             link_normal_y: Vec::new(),
@@ -89,5 +94,7 @@ impl Forces {
         self.chain_force.fill([0.0; 2]);
         self.body_force.fill(0.0);
         self.scalar_rate.fill(0.0);
+        // Cleared, its capacity kept: the shoes push again without allocating.
+        self.shoes.clear();
     }
 }

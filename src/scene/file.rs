@@ -32,6 +32,9 @@ pub struct SceneFile {
     /// Static-equilibrium settings (before t = 0).
     #[serde(default)]
     pub equilibrium: EquilibriumFile,
+    /// Fixed guides on the strands (`[[guides]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub guides: Vec<super::GuideFile>,
 }
 
 fn default_profile() -> String {

@@ -14,6 +14,7 @@ mod builder;
 mod error;
 mod file;
 pub mod generate;
+mod guides;
 mod kinds;
 pub mod mutate;
 mod overrides;
@@ -28,6 +29,7 @@ pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,
 };
+pub use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, GuideFile, RampFile};
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
 pub use stability::{
@@ -59,6 +61,7 @@ pub struct Scene {
     pub(crate) sprockets: Vec<Sprocket>,
     pub(crate) solver: Solver,
     pub(crate) equilibrium: Equilibrium,
+    pub(crate) guides: Vec<Guide>,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
     pub(crate) source_toml: Option<String>,
@@ -117,6 +120,17 @@ impl Scene {
     /// Solver settings.
     pub fn solver(&self) -> &Solver {
         &self.solver
+    }
+
+    /// Fixed guides on the strands.
+    pub fn guides(&self) -> &[Guide] {
+        &self.guides
+    }
+
+    /// What is valid but likely unintended, one sentence each: guides the
+    /// chain's nominal path does not reach.
+    pub fn warnings(&self) -> Vec<String> {
+        guides::warnings(&self.guides)
     }
 
     /// Static-equilibrium settings.

@@ -15,8 +15,8 @@ use crate::geometry::asa::IN_0_003_M;
 use crate::geometry::{pitch_radius, seating_radius};
 
 /// Collects field errors while a file is checked.
-struct Checker {
-    errors: Vec<FieldError>,
+pub(super) struct Checker {
+    pub(super) errors: Vec<FieldError>,
 }
 
 impl Checker {
@@ -24,7 +24,7 @@ impl Checker {
         Self { errors: Vec::new() }
     }
 
-    fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
+    pub(super) fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
         self.errors.push(FieldError {
             path: path.into(),
             message: message.into(),
@@ -33,7 +33,7 @@ impl Checker {
     }
 
     /// A finite, strictly positive quantity.
-    fn positive(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn positive(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         } else if value <= 0.0 {
@@ -43,7 +43,7 @@ impl Checker {
     }
 
     /// A finite quantity ≥ 0.
-    fn non_negative(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn non_negative(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         } else if value < 0.0 {
@@ -52,7 +52,7 @@ impl Checker {
         value
     }
 
-    fn finite(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn finite(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         }
@@ -109,10 +109,16 @@ impl TryFrom<SceneFile> for Scene {
                 "is \"tensioner\" but no sprocket has role = \"tensioner\"",
             );
         }
+        let guides = if c.errors.is_empty() {
+            super::guides::check_guides(&mut c, &file.guides, &chain, &contact, &sprockets)
+        } else {
+            Vec::new()
+        };
         if !c.errors.is_empty() {
             return Err(SceneError::Invalid(c.errors));
         }
         Ok(Scene {
+            guides,
             name: file.name.clone(),
             gravity_m_s2: file.gravity_m_s2,
             chain,

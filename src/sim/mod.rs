@@ -33,7 +33,7 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction,
+    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, Guide, JointFriction,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
@@ -48,6 +48,9 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     );
     if let Some(joints) = scene.chain.joint_friction {
         forces.add(Box::new(JointFriction::new(joints, scene.chain.rollers)));
+    }
+    for guide in &scene.guides {
+        forces.add(Box::new(Guide::fixed(guide, &scene.chain)));
     }
     forces
 }

@@ -206,6 +206,7 @@ fn steady(
         segment_force_n: vec![Some(strand_n); model.segments.len()],
         transverse_m: vec![0.0; model.segments.len()],
         link_range_n: link_range,
+        shoes: Vec::new(),
     }
 }
 

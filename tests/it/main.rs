@@ -22,6 +22,7 @@ mod equilibrium_errors;
 mod equilibrium_sweep;
 mod friction;
 mod fuzz;
+mod guides;
 mod integrators;
 mod layering;
 #[cfg(feature = "cli")]

@@ -30,6 +30,7 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
                 segment_force_n: vec![Some(force(t)); segments],
                 transverse_m: vec![0.0; segments],
                 link_range_n: (100.0, 3000.0),
+                shoes: Vec::new(),
             }
         })
         .collect();
