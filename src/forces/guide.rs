@@ -158,11 +158,24 @@ impl ForceElement for Guide {
         let r = self.roller_radius_m;
         let [x0, y0, x1, y1] = face.bounds_m;
         let mut sums = ShoeForces::default();
-        let n = s.x.len().min(self.onset.len());
+        let (mut energy, mut damping_power) = (0.0, 0.0);
+        let n = [
+            s.y.len(),
+            s.vx.len(),
+            s.vy.len(),
+            out.fx.len(),
+            out.fy.len(),
+        ]
+        .into_iter()
+        .fold(s.x.len().min(self.onset.len()), usize::min);
+        // Slices of one length: no bounds checks in the loop.
+        let (xs, ys, vxs, vys) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let (onset, pending) = (&self.onset[..n], &mut self.pending[..n]);
+        let (fxs, fys) = (&mut out.fx[..n], &mut out.fy[..n]);
         for i in 0..n {
-            self.pending[i] = -1.0;
+            pending[i] = -1.0;
             // Into the shoe's frame: p_l = pivot + R(−q)(p − pivot).
-            let (dx, dy) = (s.x[i] - pivot[0], s.y[i] - pivot[1]);
+            let (dx, dy) = (xs[i] - pivot[0], ys[i] - pivot[1]);
             let px = pivot[0] + cos_q * dx + sin_q * dy;
             let py = pivot[1] - sin_q * dx + cos_q * dy;
             if px < x0 - r || px > x1 + r || py < y0 - r || py > y1 + r {
@@ -177,17 +190,17 @@ impl ForceElement for Guide {
             }
             // The roller's velocity relative to the shoe, in the shoe's frame:
             // R(−q)(v − ω × (p − pivot)).
-            let (vwx, vwy) = (s.vx[i] + omega * dy, s.vy[i] - omega * dx);
+            let (vwx, vwy) = (vxs[i] + omega * dy, vys[i] - omega * dx);
             let vx = cos_q * vwx + sin_q * vwy;
             let vy = -sin_q * vwx + cos_q * vwy;
             let [nx, ny] = hit.normal;
             let rate = -(vx * nx + vy * ny);
-            let damping = if self.onset[i] >= 0.0 {
-                self.onset[i]
+            let damping = if onset[i] >= 0.0 {
+                onset[i]
             } else {
                 law.damping_per_speed(rate)
             };
-            self.pending[i] = damping;
+            pending[i] = damping;
             let f_n = law.force_with(depth, rate, damping);
             let v_t = -vx * ny + vy * nx;
             let f_t = -mu * f_n * v_t / (v_t * v_t + v_s * v_s).sqrt();
@@ -195,8 +208,8 @@ impl ForceElement for Guide {
             let (flx, fly) = (f_n * nx - f_t * ny, f_n * ny + f_t * nx);
             let fx = cos_q * flx - sin_q * fly;
             let fy = sin_q * flx + cos_q * fly;
-            out.fx[i] += fx;
-            out.fy[i] += fy;
+            fxs[i] += fx;
+            fys[i] += fy;
             // Its reaction on the shoe at the contact point (world).
             let (cx, cy) = (hit.point_m[0] - pivot[0], hit.point_m[1] - pivot[1]);
             let (cwx, cwy) = (cos_q * cx - sin_q * cy, sin_q * cx + cos_q * cy);
@@ -208,9 +221,11 @@ impl ForceElement for Guide {
             sums.contacts += 1;
             sums.max_penetration_m = sums.max_penetration_m.max(depth);
             let elastic = law.elastic(depth);
-            out.contact_energy_j += elastic * depth / (law.exponent + 1.0);
-            out.contact_damping_power_w += (f_n - elastic) * -rate + f_t * v_t;
+            energy += elastic * depth / (law.exponent + 1.0);
+            damping_power += (f_n - elastic) * -rate + f_t * v_t;
         }
+        out.contact_energy_j += energy;
+        out.contact_damping_power_w += damping_power;
         match self.params.carrier {
             Some(c) => {
                 if let Some(q) = out.body_force.get_mut(c.body) {

@@ -84,8 +84,10 @@ fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
 fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
     a[0] * b[0] + a[1] * b[1]
 }
+/// |a|. A plain square root: `hypot`'s guard against overflow is not needed
+/// at a drive's lengths and costs a library call per query.
 fn norm(a: [f64; 2]) -> f64 {
-    a[0].hypot(a[1])
+    (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 
 /// The body of a shoe from its end points.

@@ -273,3 +273,52 @@ fn a_guide_clear_of_the_chain_gets_a_warning() {
         "{w:?}"
     );
 }
+
+/// A recording of a drive with a guide holds a `/guides` message at every
+/// sample and the guide's face in the static scene; a drive without guides
+/// gets no `/guides` channel.
+#[cfg(feature = "record")]
+#[test]
+fn guides_are_recorded_and_drawn() {
+    use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
+    use chaindrive::sim::SampleRate;
+    use std::io::Cursor;
+    let record = |scene: &Scene| {
+        let mut sim = Simulation::new(scene).expect("a static equilibrium");
+        let sampling = SampleRate::new(1000.0, scene.solver().dt_s).expect("a sample step");
+        let options = RecordOptions {
+            channels: Channels::all(),
+            scene_file: None,
+            rate_hz: sampling.rate_hz,
+        };
+        let mut recorder =
+            Recorder::new(Cursor::new(Vec::new()), scene, &options).expect("a recorder");
+        sim.run(0.01, sampling.every, &mut recorder, None)
+            .expect("no blow-up");
+        let bytes = recorder
+            .finish(RunEnd::Completed)
+            .expect("finished")
+            .into_inner();
+        let mut guides = 0;
+        let mut drawn = false;
+        for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+            let m = m.expect("a message");
+            match m.channel.topic.as_str() {
+                "/guides" => guides += 1,
+                // The entity id and the label are plain strings in the message.
+                "/scene/static" => {
+                    drawn |= m.data.windows(6).any(|w| w == b"guide1");
+                }
+                _ => {}
+            }
+        }
+        (guides, drawn)
+    };
+    let scene = Scene::from_toml(&text("guide_30_30.toml")).expect("a valid scene");
+    // t = 0 and every 1 ms to 10 ms: 11 samples.
+    assert_eq!(record(&scene), (11, true));
+    let plain = text("guide_30_30.toml");
+    let plain = &plain[..plain.find("[[guides]]").expect("a guide")];
+    let plain = Scene::from_toml(&format!("{plain}[solver]\ndt_s = 1e-5\n")).expect("a scene");
+    assert_eq!(record(&plain), (0, false));
+}
