@@ -26,8 +26,8 @@ mod warnings;
 
 pub(crate) use summary::segment_series;
 pub use summary::{
-    DEFAULT_WINDOW_S, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
-    SummaryInputs, TensionerSummary,
+    DEFAULT_WINDOW_S, GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary,
+    StrandSummary, SummaryInputs, TensionerSummary,
 };
 pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
 
@@ -53,6 +53,21 @@ pub struct SampleRow {
     pub link_range_n: (f64, f64),
     /// Each tensioner arm's reading (empty without arms).
     pub tensioners: Vec<crate::forces::TensionerReading>,
+    /// Each shoe's forces (the guides', in scene order); empty without.
+    pub shoes: Vec<ShoeSample>,
+}
+
+/// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShoeSample {
+    /// Σ f_n over its contacts at the sample, N.
+    pub normal_n: f64,
+    /// Σ |f_t| at the sample, N.
+    pub friction_n: f64,
+    /// Largest Σ f_n since the previous sample, N.
+    pub normal_max_n: f64,
+    /// Largest Σ |f_t| since the previous sample, N.
+    pub friction_max_n: f64,
 }
 
 /// Samples a run's signals into memory (and optionally hands each row on).
@@ -65,6 +80,7 @@ pub struct Signals {
     link_range: (f64, f64),
     bearing_max: Vec<f64>,
     scratch: Vec<Option<f64>>,
+    shoes: Vec<ShoeSample>,
 }
 
 impl Signals {
@@ -78,6 +94,7 @@ impl Signals {
             link_range: (f64::INFINITY, f64::NEG_INFINITY),
             bearing_max: vec![0.0; model.sprocket_count()],
             scratch: vec![None; model.segments.len()],
+            shoes: Vec::new(),
         }
     }
 
@@ -88,6 +105,12 @@ impl Signals {
         }
         for (m, f) in self.bearing_max.iter_mut().zip(&s.forces.chain_force) {
             *m = m.max(f[0].hypot(f[1]));
+        }
+        self.shoes
+            .resize(s.forces.shoes.len(), ShoeSample::default());
+        for (m, f) in self.shoes.iter_mut().zip(&s.forces.shoes) {
+            m.normal_max_n = m.normal_max_n.max(f.normal_n);
+            m.friction_max_n = m.friction_max_n.max(f.friction_n);
         }
     }
 }
@@ -111,9 +134,20 @@ impl Observer for Signals {
             transverse_m: transverse,
             link_range_n: self.link_range,
             tensioners: s.forces.tensioners.clone(),
+            shoes: self
+                .shoes
+                .iter()
+                .zip(&s.forces.shoes)
+                .map(|(m, f)| ShoeSample {
+                    normal_n: f.normal_n,
+                    friction_n: f.friction_n,
+                    ..*m
+                })
+                .collect(),
         });
         self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
         self.bearing_max.fill(0.0);
+        self.shoes.fill(ShoeSample::default());
     }
 
     fn step(&mut self, s: &Sample<'_>) {

@@ -161,6 +161,7 @@ impl RecordedRun {
                 transverse_m,
                 link_range_n,
                 tensioners: Vec::new(),
+                shoes: Vec::new(),
             });
             probe_rows.push((t_s, links, contacts, on));
         }

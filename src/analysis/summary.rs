@@ -15,6 +15,9 @@
 //! - `max_bearing_force_n`: largest resultant of the chain's contact forces
 //!   on the sprocket over the window (every step), i.e. the bearing reaction
 //!   without the sprocket's own weight.
+//! - `guides[]`: per guide, the mean over the window's samples and the
+//!   largest value (every step) of the sum of the rollers' normal forces on
+//!   the shoe and of the magnitudes of their friction forces.
 //! - `driver_mean_power_w`: mean of −(chain moment on the driver) × ω_driver.
 //! - `string_f1_hz`: the moving-string estimate from the segment's own mean
 //!   link force, its nominal length, μ = m_r / P and the mean chain speed
@@ -139,6 +142,23 @@ pub struct TensionerSummary {
     pub shoe_force_n: Range,
 }
 
+/// Forces on one guide over the window (docs/model.md, “Guides”).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GuideSummary {
+    /// 1-based guide number (`guides[k]` is guide k + 1).
+    pub guide: usize,
+    /// Its name.
+    pub name: String,
+    /// Mean of Σ f_n, the rollers' normal forces on the shoe, N.
+    pub normal_mean_n: f64,
+    /// Largest Σ f_n (every step), N.
+    pub normal_max_n: f64,
+    /// Mean of Σ |f_t|, the rollers' friction forces on the shoe, N.
+    pub friction_mean_n: f64,
+    /// Largest Σ |f_t| (every step), N.
+    pub friction_max_n: f64,
+}
+
 /// The run summary.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RunSummary {
@@ -191,6 +211,9 @@ pub struct RunSummary {
     pub segments: Vec<SegmentSummary>,
     /// Sprocket statistics.
     pub sprockets: Vec<SprocketSummary>,
+    /// Guide statistics (absent from the JSON without guides).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub guides: Vec<GuideSummary>,
     /// Mean power the driver delivers, W.
     pub driver_mean_power_w: f64,
     /// Largest roller penetration over the run, m.
@@ -477,6 +500,28 @@ impl RunSummary {
                 }
             })
             .collect();
+        let guides = scene
+            .guides
+            .iter()
+            .enumerate()
+            .map(|(k, g)| {
+                let at = |r: &&SampleRow| r.shoes.get(k).copied();
+                let (normal, _, _) = stats(in_window.iter().filter_map(at).map(|s| s.normal_n));
+                let (_, _, normal_max) =
+                    stats(in_window.iter().filter_map(at).map(|s| s.normal_max_n));
+                let (friction, _, _) = stats(in_window.iter().filter_map(at).map(|s| s.friction_n));
+                let (_, _, friction_max) =
+                    stats(in_window.iter().filter_map(at).map(|s| s.friction_max_n));
+                GuideSummary {
+                    guide: k + 1,
+                    name: g.name.clone(),
+                    normal_mean_n: normal,
+                    normal_max_n: normal_max,
+                    friction_mean_n: friction,
+                    friction_max_n: friction_max,
+                }
+            })
+            .collect();
         // No driver, no driver power (the drive is moved by load torques only).
         let power = model.driver().map_or(0.0, |driver| {
             stats(
@@ -515,6 +560,7 @@ impl RunSummary {
             strands,
             segments,
             sprockets,
+            guides,
             driver_mean_power_w: power,
             max_penetration_m: inputs.max_penetration_m,
             joint_friction_power_w: flow.map(|p| p.mean.joint_friction_w),

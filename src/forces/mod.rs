@@ -57,6 +57,7 @@ mod buffer;
 mod contact;
 mod contact_law;
 pub mod hydraulic;
+mod guide;
 mod joint_friction;
 mod links;
 mod output;
@@ -65,6 +66,7 @@ mod tensioner;
 
 pub use contact::{Culling, ToothContact};
 pub use contact_law::ContactLawParams;
+pub use guide::{Carrier, Guide, GuideParams, ShoeForces};
 pub use joint_friction::JointFriction;
 pub use links::Links;
 pub use output::Forces;

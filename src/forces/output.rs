@@ -48,6 +48,10 @@ pub struct Forces {
     /// Each tensioner arm's reading, in scene order (empty without arms;
     /// an arm sizes it at its first evaluation).
     pub tensioners: Vec<super::TensionerReading>,
+    /// The forces on each shoe ([`super::Guide`]), one entry per shoe in the
+    /// order the elements are evaluated (the scene's guides in scene order);
+    /// empty without shoes.
+    pub shoes: Vec<super::ShoeForces>,
     /// Each link's angular velocity ω = (u × Δv)/ℓ, rad/s: written by the
     /// links when it holds one slot per link (the joint friction sizes it at
     /// its first evaluation), left empty and not computed otherwise.
@@ -80,6 +84,7 @@ impl Forces {
             joint_moment_n_m: Vec::new(),
             joint_friction_power_w: 0.0,
             tensioners: Vec::new(),
+            shoes: Vec::new(),
             link_omega: Vec::new(),
             link_normal_x: Vec::new(),
             link_normal_y: Vec::new(),
@@ -93,5 +98,7 @@ impl Forces {
         self.chain_force.fill([0.0; 2]);
         self.body_force.fill(0.0);
         self.scalar_rate.fill(0.0);
+        // Cleared, its capacity kept: the shoes push again without allocating.
+        self.shoes.clear();
     }
 }

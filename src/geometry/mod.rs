@@ -16,6 +16,7 @@ pub mod asa;
 mod circular;
 mod layout;
 mod path;
+pub mod shoe;
 #[cfg(test)]
 mod testing;
 

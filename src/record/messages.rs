@@ -67,3 +67,29 @@ pub struct SegmentSignals {
     /// Segments in order (index 0 = segment 1).
     pub segments: Vec<SegmentSignal>,
 }
+
+/// One guide at one sample (docs/model.md, “Guides”).
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct GuideSignal {
+    /// 1-based guide number (`guides[k]` of the scene is guide k + 1).
+    pub guide: u32,
+    /// Σ f_n, the rollers' normal forces on the shoe, N.
+    pub normal_n: f64,
+    /// Σ |f_t|, the magnitudes of their friction forces, N.
+    pub friction_n: f64,
+    /// Resultant of the rollers' forces on the shoe, x, N.
+    pub force_x_n: f64,
+    /// Its y component, N.
+    pub force_y_n: f64,
+    /// Rollers in contact.
+    pub contacts: u32,
+}
+
+/// `/guides`: every guide's forces, in scene order.
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct GuideSignals {
+    /// Simulated time, s.
+    pub t_s: f64,
+    /// Guides in order (index 0 = guide 1).
+    pub guides: Vec<GuideSignal>,
+}

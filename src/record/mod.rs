@@ -18,6 +18,7 @@
 //! | `contacts` | `/contacts` | [`ChainContactForces`] | every roller's contact force, N |
 //! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
 //! | `segments` | `/segments` | [`SegmentSignals`] | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
+//! | `guides` | `/guides` | [`GuideSignals`] | each guide's summed normal and friction forces, resultant and contacts (none without guides); the guides' faces are drawn in `/scene/static`, frame `world` |
 //!
 //! Every file also holds a metadata record `chaindrive` (scene name, profile,
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
@@ -54,7 +55,8 @@ pub mod recover;
 mod visual;
 
 pub use messages::{
-    ChainContactForces, ChainLinkForces, SegmentSignal, SegmentSignals, SprocketSignals,
+    ChainContactForces, ChainLinkForces, GuideSignal, GuideSignals, SegmentSignal, SegmentSignals,
+    SprocketSignals,
 };
 pub use visual::{
     FORCE_BINS, OUTLINE_SPACING_M, OUTLINES_TOPIC, POINT_STRIDE, WORLD_FRAME, bin_color,
@@ -92,11 +94,13 @@ pub enum Channel {
     Sprockets,
     /// `/segments` ([`SegmentSignals`]).
     Segments,
+    /// `/guides` ([`GuideSignals`]).
+    Guides,
 }
 
 impl Channel {
     /// Every channel, in the order they are registered in a file.
-    pub const ALL: [Self; 8] = [
+    pub const ALL: [Self; 9] = [
         Self::Scene,
         Self::Transforms,
         Self::Rollers,
@@ -105,6 +109,7 @@ impl Channel {
         Self::Contacts,
         Self::Sprockets,
         Self::Segments,
+        Self::Guides,
     ];
 
     /// Name in `--record-channels`.
@@ -118,6 +123,7 @@ impl Channel {
             Self::Contacts => "contacts",
             Self::Sprockets => "sprockets",
             Self::Segments => "segments",
+            Self::Guides => "guides",
         }
     }
 
@@ -133,6 +139,7 @@ impl Channel {
             Self::Contacts => "/contacts",
             Self::Sprockets => "/sprockets",
             Self::Segments => "/segments",
+            Self::Guides => "/guides",
         }
     }
 }
@@ -143,7 +150,7 @@ pub const STATIC_SCENE_TOPIC: &str = "/scene/static";
 bitflags::bitflags! {
     /// A set of channels, one flag per [`Channel`] (`Channels::from(c)`).
     #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-    pub struct Channels: u8 {
+    pub struct Channels: u16 {
         /// [`Channel::Scene`].
         const SCENE = 1 << 0;
         /// [`Channel::Transforms`].
@@ -160,6 +167,8 @@ bitflags::bitflags! {
         const SEGMENTS = 1 << 6;
         /// [`Channel::Outlines`].
         const OUTLINES = 1 << 7;
+        /// [`Channel::Guides`].
+        const GUIDES = 1 << 8;
     }
 }
 
@@ -174,6 +183,7 @@ impl From<Channel> for Channels {
             Channel::Contacts => Self::CONTACTS,
             Channel::Sprockets => Self::SPROCKETS,
             Channel::Segments => Self::SEGMENTS,
+            Channel::Guides => Self::GUIDES,
         }
     }
 }
@@ -235,7 +245,7 @@ pub enum RunEnd<'a> {
 pub enum RecordError {
     /// A name in the channel list is not a channel.
     #[error(
-        "unknown recording channel {0:?}; channels: scene, transforms, rollers, outlines, links, contacts, sprockets, segments, all"
+        "unknown recording channel {0:?}; channels: scene, transforms, rollers, outlines, links, contacts, sprockets, segments, guides, all"
     )]
     UnknownChannel(String),
     /// The file could not be created.
@@ -342,6 +352,7 @@ struct Frame {
     contact_force: Vec<f64>,
     chain_torque: Vec<f64>,
     segments: Vec<SegmentSignal>,
+    shoes: Vec<crate::forces::ShoeForces>,
 }
 
 /// Samples queued for the writer thread before the stepping loop waits for it.
@@ -368,6 +379,7 @@ struct Writer<W: Write + Seek> {
     contacts: ChainContactForces,
     sprockets: SprocketSignals,
     segments: SegmentSignals,
+    guides: GuideSignals,
     /// Simulated time of the last chunk closed by [`FLUSH_INTERVAL_NS`], ns.
     flushed_ns: u64,
 }
@@ -448,6 +460,21 @@ impl<W: Write + Seek> Writer<W> {
             self.segments.t_s = f.t_s;
             std::mem::swap(&mut self.segments.segments, &mut f.segments);
             sink.write(id(Channel::Segments), "/segments", t_ns, &self.segments)?;
+        }
+        if id(Channel::Guides).is_some() {
+            let m = &mut self.guides;
+            m.t_s = f.t_s;
+            m.guides.clear();
+            m.guides
+                .extend(f.shoes.iter().enumerate().map(|(k, s)| GuideSignal {
+                    guide: (k + 1) as u32,
+                    normal_n: s.normal_n,
+                    friction_n: s.friction_n,
+                    force_x_n: s.force_n[0],
+                    force_y_n: s.force_n[1],
+                    contacts: s.contacts as u32,
+                }));
+            sink.write(id(Channel::Guides), "/guides", t_ns, m)?;
         }
         Ok(())
     }
@@ -553,7 +580,8 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         let channels = options.channels;
         let mut ids = ChannelIds::default();
         for (slot, &c) in ids.per_sample.iter_mut().zip(&Channel::ALL) {
-            if !channels.contains(c.into()) {
+            // No guides, no guide channel: a recording is as it was without.
+            if !channels.contains(c.into()) || (c == Channel::Guides && scene.guides.is_empty()) {
                 continue;
             }
             let topic = c.topic();
@@ -577,6 +605,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 Channel::Contacts => add_channel::<_, ChainContactForces>(&mut w, topic)?,
                 Channel::Sprockets => add_channel::<_, SprocketSignals>(&mut w, topic)?,
                 Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, topic)?,
+                Channel::Guides => add_channel::<_, GuideSignals>(&mut w, topic)?,
             });
         }
         // Top of the force colour scale, shared by the links and the rollers.
@@ -600,6 +629,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             contacts: ChainContactForces::default(),
             sprockets: SprocketSignals::default(),
             segments: SegmentSignals::default(),
+            guides: GuideSignals::default(),
             flushed_ns: 0,
         };
         let (tx, rx) = std::sync::mpsc::sync_channel::<Job>(QUEUE_FRAMES);
@@ -774,6 +804,17 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             contact_force: copy(wants(&[Channel::Contacts]), &f.contact_force),
             chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
             segments: Vec::new(),
+            // The scene's guides are the first shoes; no NaN is written.
+            shoes: if ch.contains(Channels::GUIDES) {
+                f.shoes
+                    .iter()
+                    .take(self.scene.guides.len())
+                    .copied()
+                    .filter(|s| s.normal_n.is_finite() && s.friction_n.is_finite())
+                    .collect()
+            } else {
+                Vec::new()
+            },
         };
         if ch.contains(Channels::SEGMENTS) {
             let segments = &s.model.segments;

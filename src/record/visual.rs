@@ -172,10 +172,68 @@ pub fn static_scene(scene: &Scene, model: &DriveModel, t_ns: u64) -> SceneUpdate
                 ..SceneEntity::default()
             }
         })
-        .collect();
+        .collect::<Vec<_>>();
+    let guides = scene.guides.iter().enumerate().map(|(k, g)| {
+        let face = &g.face;
+        let piece = |p: &crate::geometry::shoe::Piece| -> Vec<Point3> {
+            let n = match p {
+                crate::geometry::shoe::Piece::Segment { .. } => 1,
+                crate::geometry::shoe::Piece::Arc { sweep_rad, .. } => {
+                    ((sweep_rad / OUTLINE_STEP_RAD).ceil() as usize).clamp(1, 720)
+                }
+            };
+            (0..=n)
+                .map(|i| {
+                    let q = p.point_at(i as f64 / n as f64);
+                    Point3 {
+                        x: q[0],
+                        y: q[1],
+                        z: 0.0,
+                    }
+                })
+                .collect()
+        };
+        let mut points = face.start_ramp.as_ref().map(piece).unwrap_or_default();
+        points.extend(piece(&face.body));
+        if let Some(r) = &face.end_ramp {
+            points.extend(piece(r));
+        }
+        let label = face.middle_m();
+        SceneEntity {
+            timestamp: Some(timestamp(t_ns)),
+            frame_id: WORLD_FRAME.to_owned(),
+            id: format!("guide{}", k + 1),
+            frame_locked: true,
+            lines: vec![LinePrimitive {
+                r#type: line_primitive::Type::LineStrip as i32,
+                pose: Some(identity_pose()),
+                thickness: 3.0,
+                scale_invariant: true,
+                points,
+                color: Some(grey(0.85)),
+                ..LinePrimitive::default()
+            }],
+            texts: vec![TextPrimitive {
+                pose: Some(Pose {
+                    position: Some(Vector3 {
+                        x: label[0],
+                        y: label[1],
+                        z: 0.0,
+                    }),
+                    ..identity_pose()
+                }),
+                billboard: true,
+                font_size: 14.0,
+                scale_invariant: true,
+                color: Some(grey(1.0)),
+                text: format!("guide {} {}", k + 1, g.name),
+            }],
+            ..SceneEntity::default()
+        }
+    });
     SceneUpdate {
         deletions: Vec::new(),
-        entities,
+        entities: entities.into_iter().chain(guides).collect(),
     }
 }
 

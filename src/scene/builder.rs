@@ -3,8 +3,8 @@
 //! file is validated. No TOML is written or read on the way.
 
 use super::{
-    ChainFile, ContactFile, EquilibriumFile, FieldError, ProfileKind, Scene, SceneError, SceneFile,
-    SolverFile, SprocketFile,
+    ChainFile, ContactFile, EquilibriumFile, FieldError, GuideFile, ProfileKind, Scene, SceneError,
+    SceneFile, SolverFile, SprocketFile,
 };
 
 /// Builds a [`Scene`] from its parts; see [`Scene::builder`].
@@ -32,6 +32,7 @@ pub struct SceneBuilder {
     sprockets: Vec<SprocketFile>,
     solver: SolverFile,
     equilibrium: EquilibriumFile,
+    guides: Vec<GuideFile>,
 }
 
 impl Scene {
@@ -48,6 +49,7 @@ impl Scene {
             sprockets: Vec::new(),
             solver: SolverFile::default(),
             equilibrium: EquilibriumFile::default(),
+            guides: Vec::new(),
         }
     }
 }
@@ -95,6 +97,12 @@ impl SceneBuilder {
         self
     }
 
+    /// Adds a guide (`[[guides]]`).
+    pub fn guide(mut self, guide: GuideFile) -> Self {
+        self.guides.push(guide);
+        self
+    }
+
     /// Static-equilibrium settings.
     pub fn equilibrium(mut self, equilibrium: EquilibriumFile) -> Self {
         self.equilibrium = equilibrium;
@@ -120,6 +128,7 @@ impl SceneBuilder {
                 equilibrium: self.equilibrium,
                 base_dir: None,
                 tensioners: Vec::new(),
+                guides: self.guides,
             }),
             (chain, contact) => Err(SceneError::Invalid(
                 [

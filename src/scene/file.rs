@@ -42,6 +42,9 @@ pub struct SceneFile {
     /// Tensioner arms with their tensioners (`[[tensioners]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tensioners: Vec<super::TensionerFile>,
+    /// Fixed guides on the strands (`[[guides]]`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub guides: Vec<super::GuideFile>,
 }
 
 fn default_profile() -> String {

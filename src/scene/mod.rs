@@ -15,6 +15,7 @@ mod error;
 mod excitation;
 mod file;
 pub mod generate;
+mod guides;
 mod kinds;
 pub mod mutate;
 mod overrides;
@@ -34,6 +35,7 @@ pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,
 };
+pub use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, GuideFile, RampFile};
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
 pub use stability::{
@@ -71,6 +73,7 @@ pub struct Scene {
     pub(crate) equilibrium: Equilibrium,
     /// Tensioner arms with their tensioners.
     pub(crate) tensioners: Vec<Tensioner>,
+    pub(crate) guides: Vec<Guide>,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
     pub(crate) source_toml: Option<String>,
@@ -134,6 +137,17 @@ impl Scene {
     /// Solver settings.
     pub fn solver(&self) -> &Solver {
         &self.solver
+    }
+
+    /// Fixed guides on the strands.
+    pub fn guides(&self) -> &[Guide] {
+        &self.guides
+    }
+
+    /// What is valid but likely unintended, one sentence each: guides the
+    /// chain's nominal path does not reach.
+    pub fn warnings(&self) -> Vec<String> {
+        guides::warnings(&self.guides)
     }
 
     /// Static-equilibrium settings.

@@ -17,7 +17,7 @@ use crate::geometry::{pitch_radius, seating_radius};
 
 /// Collects field errors while a file is checked.
 pub(super) struct Checker {
-    errors: Vec<FieldError>,
+    pub(super) errors: Vec<FieldError>,
 }
 
 impl Checker {
@@ -118,10 +118,16 @@ impl TryFrom<SceneFile> for Scene {
                 "is \"tensioner\" but no sprocket has role = \"tensioner\"",
             );
         }
+        let guides = if c.errors.is_empty() {
+            super::guides::check_guides(&mut c, &file.guides, &chain, &contact, &sprockets)
+        } else {
+            Vec::new()
+        };
         if !c.errors.is_empty() {
             return Err(SceneError::Invalid(c.errors));
         }
         Ok(Scene {
+            guides,
             name: file.name.clone(),
             gravity_m_s2: file.gravity_m_s2,
             chain,

@@ -33,7 +33,8 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, JointFriction, TensionerArm,
+    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, Guide, JointFriction,
+    TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
@@ -63,6 +64,9 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
             scene.chain.rollers,
             scene.chain.roller_radius_m,
         )));
+    }
+    for guide in &scene.guides {
+        forces.add(Box::new(Guide::fixed(guide, &scene.chain)));
     }
     forces
 }

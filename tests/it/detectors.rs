@@ -207,6 +207,7 @@ fn steady(
         transverse_m: vec![0.0; model.segments.len()],
         link_range_n: link_range,
         tensioners: Vec::new(),
+        shoes: Vec::new(),
     }
 }
 

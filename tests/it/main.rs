@@ -23,6 +23,7 @@ mod equilibrium_sweep;
 mod excitation;
 mod friction;
 mod fuzz;
+mod guides;
 mod integrators;
 mod layering;
 #[cfg(feature = "cli")]

@@ -31,6 +31,7 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
                 transverse_m: vec![0.0; segments],
                 link_range_n: (100.0, 3000.0),
                 tensioners: Vec::new(),
+                shoes: Vec::new(),
             }
         })
         .collect();

@@ -99,6 +99,9 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             limits.min_s()
         );
     }
+    for w in scene.warnings() {
+        eprintln!("{name}: warning: {w}");
+    }
     let started = std::time::Instant::now();
     match Simulation::new(&scene) {
         Ok(sim) => println!(

@@ -76,6 +76,8 @@ struct CliObserver {
     csv_error: Option<std::io::Error>,
     progress: Option<indicatif::ProgressBar>,
     recorder: Option<Recorder<BufWriter<File>>>,
+    /// The scene's guides: the first shoes of every row.
+    guides: usize,
 }
 
 impl CliObserver {
@@ -106,6 +108,10 @@ impl CliObserver {
             ] {
                 csv.write_field(v.to_string())?;
             }
+        }
+        for g in row.shoes.iter().take(self.guides) {
+            csv.write_field(g.normal_n.to_string())?;
+            csv.write_field(g.friction_n.to_string())?;
         }
         csv.write_record(None::<&[u8]>)
     }
@@ -309,6 +315,9 @@ fn simulate(
             limits.contact_damping_s
         );
     }
+    for w in scene.warnings() {
+        eprintln!("warning: {w}");
+    }
     let setup = Instant::now();
     let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
@@ -331,7 +340,11 @@ fn simulate(
                     "shoe_force_n",
                 ]
                 .map(|q| format!("tensioner{k}_{q}"))
-            }));
+            }))
+            .chain(
+                (1..=scene.guides().len())
+                    .flat_map(|k| [format!("guide{k}_normal_n"), format!("guide{k}_friction_n")]),
+            );
         csv.write_record(header).map_err(io_error)?;
     }
     let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
@@ -352,6 +365,7 @@ fn simulate(
         csv_error: None,
         progress,
         recorder,
+        guides: scene.guides().len(),
     };
     sim.timings = args.timings;
     let outcome = sim.run(duration, sampling.rate.every, &mut observer, Some(&stop));

@@ -1,0 +1,422 @@
+//! Guides: roller contact with a shoe's working face — a fixed guide bar,
+//! or a shoe carried by a further body (a tensioner arm) — with the scene's
+//! contact law at the guide's own stiffness and restitution and regularised
+//! Coulomb friction (docs/model.md, “Guides”).
+//!
+//! It does not model the rollers' rotation (a roller slides on the shoe: a
+//! low μ stands for rolling), wear, or contact between the shoe and the
+//! link plates.
+
+use std::any::Any;
+
+use super::{ContactLawParams, ForceElement, Forces};
+use crate::geometry::shoe::Face;
+use crate::model::{DriveModel, DriveState};
+
+/// χ of the guide contact during the static equilibrium's relaxation (the
+/// roller–tooth contact's value: a well damped settling).
+const RELAXATION_CHI: f64 = 0.75;
+
+/// A further body that carries a shoe: the shoe's pose is its scene pose
+/// turned by the body's coordinate `q[body]` about `pivot_m`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Carrier {
+    /// Index of the carrying body's coordinate in [`DriveState::q`].
+    pub body: usize,
+    /// The pivot, m (world).
+    pub pivot_m: [f64; 2],
+}
+
+/// What a [`Guide`] is built from.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GuideParams {
+    /// Name, for outputs.
+    pub name: String,
+    /// The working face in its scene pose (at q = 0 for a carried shoe).
+    pub face: Face,
+    /// The normal law: the scene's law with the guide's stiffness and χ.
+    pub law: ContactLawParams,
+    /// Coulomb coefficient μ (≥ 0).
+    pub friction: f64,
+    /// Regularisation speed v_s of the friction, m/s (> 0).
+    pub slip_speed_m_s: f64,
+    /// The carrying body, or `None` for a fixed guide.
+    pub carrier: Option<Carrier>,
+}
+
+/// The forces of one evaluation on one shoe.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShoeForces {
+    /// Σ f_n over the rollers in contact, N.
+    pub normal_n: f64,
+    /// Σ |f_t| over the rollers in contact, N.
+    pub friction_n: f64,
+    /// Resultant of the rollers' forces on the shoe, N (world).
+    pub force_n: [f64; 2],
+    /// Their moment on the shoe about its carrier's pivot, N·m (zero for a
+    /// fixed guide).
+    pub moment_n_m: f64,
+    /// Rollers in contact.
+    pub contacts: usize,
+    /// Deepest penetration, m.
+    pub max_penetration_m: f64,
+}
+
+/// Roller–shoe contact.
+///
+/// A roller of radius R_r centred at c meets the face at signed distance s
+/// (positive on the working side; [`Face::query`]) with penetration
+/// δ = R_r − s > 0, as long as the centre is less than R_r behind the face
+/// (deeper, the roller is taken to be on the face's back and ignored). With
+/// n̂ the face normal at the closest point and v the roller's velocity
+/// relative to the shoe there:
+///
+/// ```text
+/// f_n = K δⁿ (1 + χ δ̇ / δ̇⁻),   δ̇ = −v·n̂,   δ̇⁻ remembered at onset
+/// f_t = −μ f_n v_t / √(v_t² + v_s²),   v_t = v·t̂,  t̂ = (−n̂_y, n̂_x)
+/// ```
+///
+/// The friction reaches ±μ f_n smoothly over a few v_s and vanishes at zero
+/// slip (no stick: a roller at rest on a sloping shoe creeps).
+#[derive(Clone, Debug)]
+pub struct Guide {
+    params: GuideParams,
+    /// The law of the run, kept while the relaxation uses its own.
+    run_law: Option<ContactLawParams>,
+    roller_radius_m: f64,
+    /// Per roller: the remembered χ/δ̇⁻ of a contact, or < 0 for none.
+    onset: Vec<f64>,
+    /// The same, advanced by the last evaluation (adopted at commit).
+    pending: Vec<f64>,
+    last: ShoeForces,
+}
+
+impl Guide {
+    /// The element for a chain of `rollers` rollers of radius `roller_radius_m`.
+    pub fn new(params: GuideParams, rollers: usize, roller_radius_m: f64) -> Self {
+        Self {
+            params,
+            run_law: None,
+            roller_radius_m,
+            onset: vec![-1.0; rollers],
+            pending: vec![-1.0; rollers],
+            last: ShoeForces::default(),
+        }
+    }
+
+    /// A fixed guide of the scene, on `chain`'s rollers.
+    pub fn fixed(guide: &crate::scene::Guide, chain: &crate::scene::Chain) -> Self {
+        Self::new(
+            GuideParams {
+                name: guide.name.clone(),
+                face: guide.face,
+                law: ContactLawParams::new(&guide.contact),
+                friction: guide.friction,
+                slip_speed_m_s: guide.slip_speed_m_s,
+                carrier: None,
+            },
+            chain.rollers,
+            chain.roller_radius_m,
+        )
+    }
+
+    /// Its parameters.
+    pub fn params(&self) -> &GuideParams {
+        &self.params
+    }
+
+    /// The forces of the last evaluation.
+    pub fn forces(&self) -> &ShoeForces {
+        &self.last
+    }
+
+    /// The shoe's pose at `state`: its rotation (cos, sin) about the pivot,
+    /// and the pivot (the origin for a fixed guide, with no rotation).
+    fn pose(&self, state: &DriveState) -> (f64, f64, [f64; 2], f64) {
+        match self.params.carrier {
+            Some(c) => {
+                let q = state.q.get(c.body).copied().unwrap_or(0.0);
+                let u = state.u.get(c.body).copied().unwrap_or(0.0);
+                let (s, co) = q.sin_cos();
+                (co, s, c.pivot_m, u)
+            }
+            None => (1.0, 0.0, [0.0, 0.0], 0.0),
+        }
+    }
+}
+
+impl ForceElement for Guide {
+    fn name(&self) -> &'static str {
+        "guides"
+    }
+
+    fn evaluate(&mut self, _model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        let (cos_q, sin_q, pivot, omega) = self.pose(s);
+        let face = &self.params.face;
+        let law = self.params.law;
+        let (mu, v_s) = (self.params.friction, self.params.slip_speed_m_s);
+        let r = self.roller_radius_m;
+        let [x0, y0, x1, y1] = face.bounds_m;
+        let mut sums = ShoeForces::default();
+        let (mut energy, mut damping_power) = (0.0, 0.0);
+        let n = [
+            s.y.len(),
+            s.vx.len(),
+            s.vy.len(),
+            out.fx.len(),
+            out.fy.len(),
+        ]
+        .into_iter()
+        .fold(s.x.len().min(self.onset.len()), usize::min);
+        // Slices of one length: no bounds checks in the loop.
+        let (xs, ys, vxs, vys) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let (onset, pending) = (&self.onset[..n], &mut self.pending[..n]);
+        let (fxs, fys) = (&mut out.fx[..n], &mut out.fy[..n]);
+        for i in 0..n {
+            pending[i] = -1.0;
+            // Into the shoe's frame: p_l = pivot + R(−q)(p − pivot).
+            let (dx, dy) = (xs[i] - pivot[0], ys[i] - pivot[1]);
+            let px = pivot[0] + cos_q * dx + sin_q * dy;
+            let py = pivot[1] - sin_q * dx + cos_q * dy;
+            if px < x0 - r || px > x1 + r || py < y0 - r || py > y1 + r {
+                continue;
+            }
+            let Some(hit) = face.query([px, py]) else {
+                continue;
+            };
+            let depth = r - hit.distance_m;
+            if !(depth > 0.0) || depth >= 2.0 * r {
+                continue;
+            }
+            // The roller's velocity relative to the shoe, in the shoe's frame:
+            // R(−q)(v − ω × (p − pivot)).
+            let (vwx, vwy) = (vxs[i] + omega * dy, vys[i] - omega * dx);
+            let vx = cos_q * vwx + sin_q * vwy;
+            let vy = -sin_q * vwx + cos_q * vwy;
+            let [nx, ny] = hit.normal;
+            let rate = -(vx * nx + vy * ny);
+            let damping = if onset[i] >= 0.0 {
+                onset[i]
+            } else {
+                law.damping_per_speed(rate)
+            };
+            pending[i] = damping;
+            let f_n = law.force_with(depth, rate, damping);
+            let v_t = -vx * ny + vy * nx;
+            let f_t = -mu * f_n * v_t / (v_t * v_t + v_s * v_s).sqrt();
+            // Force on the roller in the shoe's frame, then in the world.
+            let (flx, fly) = (f_n * nx - f_t * ny, f_n * ny + f_t * nx);
+            let fx = cos_q * flx - sin_q * fly;
+            let fy = sin_q * flx + cos_q * fly;
+            fxs[i] += fx;
+            fys[i] += fy;
+            // Its reaction on the shoe at the contact point (world).
+            let (cx, cy) = (hit.point_m[0] - pivot[0], hit.point_m[1] - pivot[1]);
+            let (cwx, cwy) = (cos_q * cx - sin_q * cy, sin_q * cx + cos_q * cy);
+            sums.moment_n_m -= cwx * fy - cwy * fx;
+            sums.force_n[0] -= fx;
+            sums.force_n[1] -= fy;
+            sums.normal_n += f_n;
+            sums.friction_n += f_t.abs();
+            sums.contacts += 1;
+            sums.max_penetration_m = sums.max_penetration_m.max(depth);
+            let elastic = law.elastic(depth);
+            energy += elastic * depth / (law.exponent + 1.0);
+            damping_power += (f_n - elastic) * -rate + f_t * v_t;
+        }
+        out.contact_energy_j += energy;
+        out.contact_damping_power_w += damping_power;
+        match self.params.carrier {
+            Some(c) => {
+                if let Some(q) = out.body_force.get_mut(c.body) {
+                    *q += sums.moment_n_m;
+                }
+            }
+            None => sums.moment_n_m = 0.0,
+        }
+        out.max_penetration_m = out.max_penetration_m.max(sums.max_penetration_m);
+        self.last = sums;
+        out.shoes.push(sums);
+    }
+
+    fn commit(&mut self) {
+        self.onset.copy_from_slice(&self.pending);
+    }
+
+    fn reset(&mut self) {
+        self.onset.fill(-1.0);
+        self.pending.fill(-1.0);
+    }
+
+    fn begin_equilibrium(&mut self) {
+        let run = *self.run_law.get_or_insert(self.params.law);
+        self.params.law = run.with_chi(RELAXATION_CHI);
+    }
+
+    fn end_equilibrium(&mut self) {
+        if let Some(law) = self.run_law.take() {
+            self.params.law = law;
+        }
+    }
+
+    fn clone_box(&self) -> Box<dyn ForceElement> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::shoe::{Ramp, body_from_radius};
+    use crate::model::DriveModel;
+    use crate::scene::{Contact, ContactLaw, Scene};
+
+    fn law(k: f64, e: f64) -> ContactLawParams {
+        ContactLawParams::new(&Contact {
+            law: ContactLaw::HuntCrossley,
+            stiffness: k,
+            exponent: 1.5,
+            restitution: e,
+            min_approach_speed_m_s: 0.05,
+        })
+    }
+
+    /// A model and a state of `n` rollers, all at the origin at rest, except
+    /// those the test places.
+    fn drive(n: usize) -> (DriveModel, DriveState) {
+        let scene = Scene::l60mc();
+        let (model, mut state, _) = DriveModel::build(&scene).unwrap();
+        state.x.truncate(n);
+        state.y.truncate(n);
+        state.vx.truncate(n);
+        state.vy.truncate(n);
+        state.x.fill(10.0);
+        state.y.fill(10.0);
+        state.vx.fill(0.0);
+        state.vy.fill(0.0);
+        (model, state)
+    }
+
+    fn flat(carrier: Option<Carrier>, mu: f64) -> Guide {
+        // Face y = 0, x ∈ [0, 1], working side above, ramps of 5 cm at 0.1 rad.
+        let body = body_from_radius([0.0, 0.0], [1.0, 0.0], None).unwrap();
+        let ramp = Ramp {
+            length_m: 0.05,
+            angle_rad: 0.1,
+        };
+        let face = Face::new(body, 1.0, Some(ramp), Some(ramp));
+        Guide::new(
+            GuideParams {
+                name: "g".into(),
+                face,
+                law: law(1e9, 1.0),
+                friction: mu,
+                slip_speed_m_s: 0.01,
+                carrier,
+            },
+            3,
+            0.01,
+        )
+    }
+
+    #[test]
+    fn a_resting_roller_gets_the_elastic_force_along_the_normal() {
+        // Roller of R_r = 10 mm, centre 9 mm above the face: δ = 1 mm,
+        // f = K δ^1.5 = 1e9 · (1e-3)^1.5 = 31 622.8 N, straight up, e = 1.
+        let (model, mut state) = drive(3);
+        state.x[1] = 0.5;
+        state.y[1] = 0.009;
+        let mut out = Forces::new(3, 0, 0, 0);
+        let mut g = flat(None, 0.3);
+        g.evaluate(&model, &state, &mut out);
+        let f = 1e9 * 1e-3f64.powf(1.5);
+        assert!((out.fy[1] - f).abs() < 1e-6 * f, "{}", out.fy[1]);
+        assert!(out.fx[1].abs() < 1e-9, "no slip, no friction");
+        assert_eq!(g.forces().contacts, 1);
+        assert!((g.forces().force_n[1] + f).abs() < 1e-6 * f);
+        assert_eq!(out.fy[0], 0.0);
+    }
+
+    #[test]
+    fn friction_saturates_at_mu_times_the_normal_force() {
+        // Sliding at 1 m/s ≫ v_s = 0.01: |f_t| = μ f_n / √(1 + 1e-4) ≈ μ f_n
+        // (within 5e-5), against the sliding direction.
+        let (model, mut state) = drive(3);
+        state.x[1] = 0.5;
+        state.y[1] = 0.009;
+        state.vx[1] = 1.0;
+        let mut out = Forces::new(3, 0, 0, 0);
+        let mut g = flat(None, 0.3);
+        g.evaluate(&model, &state, &mut out);
+        let f = 1e9 * 1e-3f64.powf(1.5);
+        assert!(
+            (out.fx[1] + 0.3 * f).abs() < 5e-5 * 0.3 * f,
+            "{}",
+            out.fx[1]
+        );
+        assert!((g.forces().friction_n - 0.3 * f).abs() < 5e-5 * 0.3 * f);
+    }
+
+    #[test]
+    fn a_carried_shoe_turns_with_its_body_and_feels_the_moment() {
+        // The flat shoe on a body turned by +90° about the origin: its face
+        // is then x = 0 for y ∈ [0, 1] with the working side at x < 0. A
+        // roller at (−9 mm, 0.5) presses it with f = K δ^1.5 in −x; the
+        // moment of the reaction (+f in x at (0, 0.5)) about the origin is
+        // −0.5 f.
+        let (model, mut state) = drive(3);
+        state.q = vec![std::f64::consts::FRAC_PI_2];
+        state.u = vec![0.0];
+        state.x[1] = -0.009;
+        state.y[1] = 0.5;
+        let mut out = Forces::new(3, 0, 1, 0);
+        let mut g = flat(
+            Some(Carrier {
+                body: 0,
+                pivot_m: [0.0, 0.0],
+            }),
+            0.0,
+        );
+        g.evaluate(&model, &state, &mut out);
+        let f = 1e9 * 1e-3f64.powf(1.5);
+        assert!((out.fx[1] + f).abs() < 1e-6 * f, "{}", out.fx[1]);
+        assert!(out.fy[1].abs() < 1e-6 * f);
+        assert!(
+            (out.body_force[0] + 0.5 * f).abs() < 1e-6 * f,
+            "{}",
+            out.body_force[0]
+        );
+    }
+
+    #[test]
+    fn the_onset_speed_is_remembered_until_separation() {
+        // Approach at 0.5 m/s at δ = 1 mm: f = K δ^1.5 (1 + χ) with
+        // Hunt–Crossley χ = 1.5 (1 − e) = 0.75 at e = 0.5. Committed, a later
+        // evaluation at 0.25 m/s damps with the remembered 0.5 m/s:
+        // f = K δ^1.5 (1 + 0.75 · 0.5).
+        let (model, mut state) = drive(3);
+        state.x[1] = 0.5;
+        state.y[1] = 0.009;
+        state.vy[1] = -0.5;
+        let mut out = Forces::new(3, 0, 0, 0);
+        let mut g = flat(None, 0.0);
+        g.params.law = law(1e9, 0.5);
+        g.evaluate(&model, &state, &mut out);
+        let k = 1e9 * 1e-3f64.powf(1.5);
+        assert!((out.fy[1] - k * 1.75).abs() < 1e-6 * k);
+        g.commit();
+        state.vy[1] = -0.25;
+        let mut out = Forces::new(3, 0, 0, 0);
+        g.evaluate(&model, &state, &mut out);
+        assert!((out.fy[1] - k * 1.375).abs() < 1e-6 * k, "{}", out.fy[1]);
+        // Apart: forgotten.
+        state.y[1] = 0.02;
+        g.evaluate(&model, &state, &mut out);
+        g.commit();
+        assert!(g.onset[1] < 0.0);
+    }
+}
