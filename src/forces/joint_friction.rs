@@ -8,7 +8,7 @@
 //! own rotation, or friction between plates.
 
 use super::links::link_rates;
-use super::{ForceElement, Forces};
+use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::JointFriction as Params;
 
@@ -186,6 +186,17 @@ impl ForceElement for JointFriction {
         }
         out.joint_moment_n_m.copy_from_slice(moment);
         out.joint_friction_power_w = power;
+    }
+
+    /// No history; the last evaluation's moments ([`JointFriction::moments`]).
+    fn save_history(&self, history: &mut History) {
+        history.push_floats(self.moment.iter().copied());
+    }
+
+    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        let moment = history.floats(self.moment.len())?;
+        self.moment.copy_from_slice(moment);
+        Ok(())
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {

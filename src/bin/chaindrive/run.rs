@@ -319,12 +319,16 @@ fn simulate(
         );
         p
     });
+    let mut signals = Signals::new(
+        &sim.model,
+        sampling.rate.rate_hz,
+        (duration - sampling.window_s).max(0.0),
+    );
+    // Memory flat whatever the duration: the series goes to disk as it is
+    // taken, the summary needs the window's rows and the running spectra.
+    signals.keep_window(sampling.window_s);
     let mut observer = CliObserver {
-        signals: Signals::new(
-            &sim.model,
-            sampling.rate.rate_hz,
-            (duration - sampling.window_s).max(0.0),
-        ),
+        signals,
         csv,
         csv_error: None,
         progress,
