@@ -266,13 +266,19 @@ pub fn write_checkpoint<T: Serialize>(
         path,
     )?;
     let body = cbor(checkpoint, path)?;
+    write_parts(path, &header, &body)
+}
+
+/// Writes the marker, the header and the body to a file beside `path`,
+/// syncs it and renames it over `path`.
+fn write_parts(path: &Path, header: &[u8], body: &[u8]) -> Result<(), CheckpointError> {
     let mut aside = path.as_os_str().to_owned();
     aside.push(".partial");
     let aside = PathBuf::from(aside);
     let write = || -> std::io::Result<()> {
         let mut f = std::fs::File::create(&aside)?;
         f.write_all(MAGIC)?;
-        for part in [&header, &body] {
+        for part in [header, body] {
             f.write_all(&(part.len() as u64).to_le_bytes())?;
             f.write_all(part)?;
         }
@@ -328,4 +334,62 @@ fn split_part(bytes: &[u8]) -> Option<(&[u8], &[u8])> {
     let (len, rest) = bytes.split_first_chunk::<8>()?;
     let len = usize::try_from(u64::from_le_bytes(*len)).ok()?;
     (len <= rest.len()).then(|| rest.split_at(len))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn file_with(dir: &Path, format: u32, version: &str, scene: &Scene) -> PathBuf {
+        let path = dir.join(format!("{format}-{version}.ckpt"));
+        let header = Header {
+            format,
+            version: version.to_owned(),
+            scene_hash: scene_hash(scene),
+        };
+        let (header, body) = (
+            cbor(&header, &path).expect("header"),
+            cbor(&(), &path).expect("body"),
+        );
+        write_parts(&path, &header, &body).expect("written");
+        path
+    }
+
+    #[test]
+    fn another_version_or_format_is_refused() {
+        let dir = tempfile::tempdir().expect("tmp");
+        let scene = Scene::l60mc();
+        let version = env!("CARGO_PKG_VERSION");
+        for (format, v) in [(FORMAT, "0.0.1-other"), (FORMAT + 1, version)] {
+            let path = file_with(dir.path(), format, v, &scene);
+            let err = read_checkpoint::<()>(&path, &scene).expect_err("refused");
+            assert!(matches!(err, CheckpointError::OtherVersion { .. }), "{err}");
+            assert!(
+                err.to_string()
+                    .contains("only taken up by the version that wrote it"),
+                "{err}"
+            );
+        }
+        // The same version and format get past the header (and fail on the
+        // body here, which is not a checkpoint's).
+        let path = file_with(dir.path(), FORMAT, version, &scene);
+        let err = read_checkpoint::<()>(&path, &scene).expect_err("no body");
+        assert!(matches!(err, CheckpointError::NotACheckpoint { .. }), "{err}");
+    }
+
+    #[test]
+    fn a_truncated_file_is_refused_and_the_write_leaves_nothing_aside() {
+        let dir = tempfile::tempdir().expect("tmp");
+        let scene = Scene::l60mc();
+        let path = file_with(dir.path(), FORMAT, env!("CARGO_PKG_VERSION"), &scene);
+        let names: Vec<_> = std::fs::read_dir(dir.path())
+            .expect("dir")
+            .map(|e| e.expect("entry").file_name())
+            .collect();
+        assert_eq!(names.len(), 1, "{names:?}");
+        let bytes = std::fs::read(&path).expect("read");
+        std::fs::write(&path, &bytes[..bytes.len() - 1]).expect("write");
+        let err = read_checkpoint::<()>(&path, &scene).expect_err("truncated");
+        assert!(err.to_string().contains("truncated body"), "{err}");
+    }
 }
