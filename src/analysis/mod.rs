@@ -121,7 +121,11 @@ impl Signals {
         let welch = || vec![Welch::new(self.rate_hz, WELCH_SEGMENT); segments];
         let rows = (window_s.max(0.0) * self.rate_hz).ceil();
         self.bounded = Some(Bounded {
-            rows: if rows.is_finite() { rows as usize + 8 } else { 8 },
+            rows: if rows.is_finite() {
+                rows as usize + 8
+            } else {
+                8
+            },
             trimmed: false,
             transverse: welch(),
             early: Some(welch()),

@@ -201,9 +201,7 @@ mod tests {
         let signal: Vec<f64> = noise(11, n, sigma)
             .iter()
             .enumerate()
-            .map(|(i, e)| {
-                0.2 + a * (std::f64::consts::TAU * 6.1 * i as f64 / rate).sin() + e
-            })
+            .map(|(i, e)| 0.2 + a * (std::f64::consts::TAU * 6.1 * i as f64 / rate).sin() + e)
             .collect();
         let (freqs, amps) = welch_spectrum(&signal, rate, WELCH_SEGMENT);
         let df = rate / WELCH_SEGMENT as f64;
@@ -230,8 +228,7 @@ mod tests {
         // spread 1); the mean of K = 6 half-overlapping Hann segments has
         // relative spread √((1 + 2 · 0.167²)/K) ≈ 0.42 (Welch 1967, the
         // overlap correlation of a Hann window at 50 %). Between 0.3 and 0.55.
-        let spread = (band.iter().map(|p| (p - mean).powi(2)).sum::<f64>()
-            / band.len() as f64)
+        let spread = (band.iter().map(|p| (p - mean).powi(2)).sum::<f64>() / band.len() as f64)
             .sqrt()
             / mean;
         assert!((0.3..0.55).contains(&spread), "{spread}");

@@ -213,8 +213,7 @@ impl Simulation {
         self.forces.restore_output(snapshot.forces.clone());
         self.state.clone_from(&snapshot.state);
         self.clock = snapshot.clock;
-        self.integration
-            .carry(snapshot.next_step_s, snapshot.stats);
+        self.integration.carry(snapshot.next_step_s, snapshot.stats);
         self.growth = snapshot.growth.clone();
         self.power.clone_from(&snapshot.power);
         self.sync_world();
@@ -374,7 +373,10 @@ mod tests {
         // body here, which is not a checkpoint's).
         let path = file_with(dir.path(), FORMAT, version, &scene);
         let err = read_checkpoint::<()>(&path, &scene).expect_err("no body");
-        assert!(matches!(err, CheckpointError::NotACheckpoint { .. }), "{err}");
+        assert!(
+            matches!(err, CheckpointError::NotACheckpoint { .. }),
+            "{err}"
+        );
     }
 
     #[test]

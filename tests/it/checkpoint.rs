@@ -67,7 +67,9 @@ fn at_once_and_resumed(
     tamper: impl FnOnce(&mut Simulation),
 ) -> (Simulation, RunSummary, Simulation, RunSummary) {
     let (mut whole, mut signals, every) = start(scene);
-    let out = whole.run(DURATION_S, every, &mut signals, None).expect("run");
+    let out = whole
+        .run(DURATION_S, every, &mut signals, None)
+        .expect("run");
     let whole_summary = summary(&whole, &out, &signals);
 
     let path = dir.join("run.ckpt");
@@ -182,7 +184,10 @@ fn a_checkpoint_of_another_scene_is_refused() {
     // Not a checkpoint at all.
     std::fs::write(&path, "t_s,omega_1\n").expect("write");
     let err = read_checkpoint::<()>(&path, &scene).expect_err("garbage");
-    assert!(err.to_string().contains("is not a chaindrive checkpoint"), "{err}");
+    assert!(
+        err.to_string().contains("is not a chaindrive checkpoint"),
+        "{err}"
+    );
 }
 
 #[test]
@@ -218,16 +223,37 @@ mod cli {
         let dir = tempfile::tempdir().expect("tmp");
         let p = |n: &str| dir.path().join(n).display().to_string();
         let out = chaindrive(&[
-            "run", "--quiet", "--duration", "0.2", "--window", "0.05", "--checkpoint",
-            &p("run.ckpt"), "--checkpoint-every", "0.07", "--summary", &p("a.json"),
-            "--series", &p("a.csv"),
+            "run",
+            "--quiet",
+            "--duration",
+            "0.2",
+            "--window",
+            "0.05",
+            "--checkpoint",
+            &p("run.ckpt"),
+            "--checkpoint-every",
+            "0.07",
+            "--summary",
+            &p("a.json"),
+            "--series",
+            &p("a.csv"),
         ]);
         assert!(out.status.success(), "{}", stderr(&out));
         // The last checkpoint is at 0.14 s: a run killed after it resumes there.
         std::fs::copy(p("a.csv"), p("b.csv")).expect("copy");
         let out = chaindrive(&[
-            "run", "--quiet", "--duration", "0.2", "--window", "0.05", "--resume",
-            &p("run.ckpt"), "--summary", &p("b.json"), "--series", &p("b.csv"),
+            "run",
+            "--quiet",
+            "--duration",
+            "0.2",
+            "--window",
+            "0.05",
+            "--resume",
+            &p("run.ckpt"),
+            "--summary",
+            &p("b.json"),
+            "--series",
+            &p("b.csv"),
         ]);
         assert!(out.status.success(), "{}", stderr(&out));
         assert_eq!(
@@ -239,28 +265,92 @@ mod cli {
             std::fs::read(p("b.csv")).expect("b"),
         );
         assert!(a == b, "series differ: {} vs {} bytes", a.len(), b.len());
+        // And a run in pieces is the run at once.
+        let out = chaindrive(&[
+            "run",
+            "--quiet",
+            "--duration",
+            "0.2",
+            "--window",
+            "0.05",
+            "--summary",
+            &p("c.json"),
+            "--series",
+            &p("c.csv"),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
+        assert_eq!(
+            without_wall_times(&dir.path().join("a.json")),
+            without_wall_times(&dir.path().join("c.json"))
+        );
+        assert!(
+            a == std::fs::read(p("c.csv")).expect("c"),
+            "series in pieces"
+        );
 
         // Refusals: another scene (profile), other options, another file.
         let refused = |args: &[&str], expected: &str| {
             let out = chaindrive(args);
             assert!(!out.status.success(), "{args:?} was accepted");
-            assert!(stderr(&out).contains(expected), "{args:?}: {}", stderr(&out));
+            assert!(
+                stderr(&out).contains(expected),
+                "{args:?}: {}",
+                stderr(&out)
+            );
         };
         let ck = p("run.ckpt");
         refused(
-            &["run", "--quiet", "--duration", "0.2", "--window", "0.05", "--profile", "real", "--resume", &ck],
+            &[
+                "run",
+                "--quiet",
+                "--duration",
+                "0.2",
+                "--window",
+                "0.05",
+                "--profile",
+                "real",
+                "--resume",
+                &ck,
+            ],
             "another scene",
         );
         refused(
-            &["run", "--quiet", "--duration", "0.2", "--window", "0.05", "--rate", "500", "--resume", &ck],
+            &[
+                "run",
+                "--quiet",
+                "--duration",
+                "0.2",
+                "--window",
+                "0.05",
+                "--rate",
+                "500",
+                "--resume",
+                &ck,
+            ],
             "resume with the same options",
         );
         refused(
-            &["run", "--quiet", "--duration", "0.2", "--resume", &p("a.csv")],
+            &[
+                "run",
+                "--quiet",
+                "--duration",
+                "0.2",
+                "--resume",
+                &p("a.csv"),
+            ],
             "is not a chaindrive checkpoint",
         );
         refused(
-            &["run", "--quiet", "--duration", "0.2", "--checkpoint", &ck, "--checkpoint-every", "0"],
+            &[
+                "run",
+                "--quiet",
+                "--duration",
+                "0.2",
+                "--checkpoint",
+                &ck,
+                "--checkpoint-every",
+                "0",
+            ],
             "--checkpoint-every 0",
         );
     }

@@ -344,12 +344,17 @@ impl ForceElement for ToothContact {
         if let Some(rows) = &self.damping_rows {
             history.push_words(rows.sprocket.iter().map(|&s| u64::from(s)));
             history.push_floats(
-                [&rows.c_v_sprocket, &rows.elastic, &rows.explicit, &rows.lever]
-                    .into_iter()
-                    .flatten()
-                    .flatten()
-                    .copied()
-                    .chain(rows.c.iter().flatten().copied()),
+                [
+                    &rows.c_v_sprocket,
+                    &rows.elastic,
+                    &rows.explicit,
+                    &rows.lever,
+                ]
+                .into_iter()
+                .flatten()
+                .flatten()
+                .copied()
+                .chain(rows.c.iter().flatten().copied()),
             );
         }
     }
