@@ -31,11 +31,14 @@ pub use summary::{
 };
 pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
 
+use serde::{Deserialize, Serialize};
+
 use crate::model::DriveModel;
 use crate::sim::{Observer, Sample};
+use spectrum::{WELCH_SEGMENT, Welch};
 
 /// One sample of a run's signals.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SampleRow {
     /// Time, s.
     pub t_s: f64,
@@ -58,7 +61,7 @@ pub struct SampleRow {
 }
 
 /// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct ShoeSample {
     /// Σ f_n over its contacts at the sample, N.
     pub normal_n: f64,
@@ -71,8 +74,14 @@ pub struct ShoeSample {
 }
 
 /// Samples a run's signals into memory (and optionally hands each row on).
+///
+/// By default every row is kept. [`Signals::keep_window`] bounds the memory
+/// whatever the run's length: only the rows of the statistics window are
+/// kept, and the transverse spectra are averaged as the samples arrive
+/// ([`spectrum::Welch`]); the summary is the same either way.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Signals {
-    /// Rows in time order.
+    /// Rows in time order (the last ones only, with [`Signals::keep_window`]).
     pub rows: Vec<SampleRow>,
     /// Samples per second.
     pub rate_hz: f64,
@@ -81,6 +90,24 @@ pub struct Signals {
     bearing_max: Vec<f64>,
     scratch: Vec<Option<f64>>,
     shoes: Vec<ShoeSample>,
+    /// The spectra's start unless the run ends before it: the driver's ramp
+    /// end + 0.5 s (see [`RunSummary`]).
+    spectrum_from_s: f64,
+    bounded: Option<Bounded>,
+}
+
+/// What [`Signals`] keeps instead of every row.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct Bounded {
+    /// Rows kept (the statistics window's and a few more).
+    rows: usize,
+    /// Whether rows were dropped.
+    trimmed: bool,
+    /// Each segment's transverse spectrum from `spectrum_from_s` on.
+    transverse: Vec<Welch>,
+    /// Each segment's transverse spectrum from the start, while the run has
+    /// not passed `spectrum_from_s` (the spectrum of a shorter run).
+    early: Option<Vec<Welch>>,
 }
 
 impl Signals {
@@ -95,6 +122,85 @@ impl Signals {
             bearing_max: vec![0.0; model.sprocket_count()],
             scratch: vec![None; model.segments.len()],
             shoes: Vec::new(),
+            spectrum_from_s: model
+                .sprockets
+                .iter()
+                .filter_map(|s| s.speed_law)
+                .map(|l| l.ramp_s)
+                .fold(0.0, f64::max)
+                + 0.5,
+            bounded: None,
+        }
+    }
+
+    /// Keeps only the rows of the last `window_s` (and a few more), and
+    /// averages the transverse spectra as the samples arrive: the memory no
+    /// longer grows with the run. Call before the first sample.
+    pub fn keep_window(&mut self, window_s: f64) {
+        let segments = self.scratch.len();
+        let welch = || vec![Welch::new(self.rate_hz, WELCH_SEGMENT); segments];
+        let rows = (window_s.max(0.0) * self.rate_hz).ceil();
+        self.bounded = Some(Bounded {
+            rows: if rows.is_finite() {
+                rows as usize + 8
+            } else {
+                8
+            },
+            trimmed: false,
+            transverse: welch(),
+            early: Some(welch()),
+        });
+    }
+
+    /// The amplitude spectrum of segment `k`'s transverse displacement over
+    /// the spectrum window `window_s` ([`RunSummary::spectrum_window_s`]):
+    /// averaged segments ([`spectrum::welch_spectrum`]) of the rows, or of the
+    /// samples as they arrived where rows were dropped.
+    pub(crate) fn transverse_spectrum(&self, k: usize, window_s: [f64; 2]) -> (Vec<f64>, Vec<f64>) {
+        if let Some(b) = self.bounded.as_ref().filter(|b| b.trimmed) {
+            let streams = if window_s[0] > 0.0 {
+                Some(&b.transverse)
+            } else {
+                b.early.as_ref()
+            };
+            return streams
+                .and_then(|s| s.get(k))
+                .map_or((Vec::new(), Vec::new()), Welch::spectrum);
+        }
+        let x: Vec<f64> = self
+            .rows
+            .iter()
+            .filter(|r| r.t_s >= window_s[0] && r.t_s <= window_s[1])
+            .map(|r| r.transverse_m[k])
+            .collect();
+        spectrum::welch_spectrum(&x, self.rate_hz, WELCH_SEGMENT)
+    }
+
+    /// With [`Signals::keep_window`]: feeds the spectra, drops old rows.
+    fn bound(&mut self) {
+        let Some(b) = &mut self.bounded else {
+            return;
+        };
+        let Some(row) = self.rows.last() else {
+            return;
+        };
+        if row.t_s >= self.spectrum_from_s {
+            for (w, x) in b.transverse.iter_mut().zip(&row.transverse_m) {
+                w.push(*x);
+            }
+        }
+        if row.t_s > self.spectrum_from_s {
+            b.early = None;
+        }
+        if let Some(early) = &mut b.early {
+            for (w, x) in early.iter_mut().zip(&row.transverse_m) {
+                w.push(*x);
+            }
+        }
+        // Drop the oldest rows in bulk, when twice as many are held.
+        if self.rows.len() >= 2 * b.rows {
+            self.rows.drain(..self.rows.len() - b.rows);
+            b.trimmed = true;
         }
     }
 
@@ -145,6 +251,7 @@ impl Observer for Signals {
                 })
                 .collect(),
         });
+        self.bound();
         self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
         self.bearing_max.fill(0.0);
         self.shoes.fill(ShoeSample::default());

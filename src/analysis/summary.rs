@@ -8,7 +8,10 @@
 //!   the estimators of [`super::stats`] over the window's samples (batch
 //!   means with 20 batches; first against last third at 3 standard errors).
 //! - `spectrum_window_s`: from the driver's ramp end + 0.5 s to the end (spectra);
-//!   the whole run if that is empty.
+//!   the whole run if that is empty. `transverse_peak_hz` is the main peak in
+//!   1–50 Hz of the spectrum averaged over segments of
+//!   [`super::spectrum::WELCH_SEGMENT`] samples (one spectrum over the whole
+//!   window when it is no longer).
 //! - `mean_torque_n_m`: mean moment of the chain's contact forces on the
 //!   sprocket about its centre (CCW positive). The driver's motor supplies
 //!   the opposite.
@@ -25,7 +28,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::spectrum::main_peak;
+use super::spectrum::peak_in;
 use super::stats as estimators;
 use super::theory::moving_string_frequency_hz;
 use super::{SampleRow, Signals};
@@ -434,10 +437,6 @@ impl RunSummary {
                 (0..count).map(chain_speed_at).sum::<f64>() / count as f64
             }
         };
-        let spectrum_rows: Vec<&SampleRow> = rows
-            .iter()
-            .filter(|r| r.t_s >= spectrum_window[0] && r.t_s <= spectrum_window[1])
-            .collect();
         let mass_per_length = scene.chain.roller_mass_kg / scene.chain.pitch_m;
         let strands: Vec<StrandSummary> = model
             .path
@@ -459,9 +458,8 @@ impl RunSummary {
             .map(|(k, strand)| {
                 let (mean, lo, hi) = stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
                 let series = segment_series(&in_window, k);
-                let transverse: Vec<f64> =
-                    spectrum_rows.iter().map(|r| r.transverse_m[k]).collect();
-                let peak = main_peak(&transverse, signals.rate_hz, 1.0, 50.0).map_or(0.0, |p| p.0);
+                let (freqs, amps) = signals.transverse_spectrum(k, spectrum_window);
+                let peak = peak_in(&freqs, &amps, 1.0, 50.0).map_or(0.0, |p| p.0);
                 SegmentSummary {
                     segment: k + 1,
                     mean_link_force_n: mean,

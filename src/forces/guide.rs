@@ -9,7 +9,7 @@
 
 use std::any::Any;
 
-use super::{ContactLawParams, ForceElement, Forces};
+use super::{ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::geometry::shoe::Face;
 use crate::model::{DriveModel, DriveState};
 
@@ -45,7 +45,7 @@ pub struct GuideParams {
 }
 
 /// The forces of one evaluation on one shoe.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct ShoeForces {
     /// Σ f_n over the rollers in contact, N.
     pub normal_n: f64,
@@ -241,6 +241,19 @@ impl ForceElement for Guide {
 
     fn commit(&mut self) {
         self.onset.copy_from_slice(&self.pending);
+    }
+
+    fn save_history(&self, history: &mut History) {
+        history.push_floats(self.onset.iter().copied());
+        history.push_floats(self.pending.iter().copied());
+    }
+
+    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        let onset = history.floats(self.onset.len())?;
+        self.onset.copy_from_slice(onset);
+        let pending = history.floats(self.pending.len())?;
+        self.pending.copy_from_slice(pending);
+        Ok(())
     }
 
     fn reset(&mut self) {

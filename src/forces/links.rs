@@ -1,7 +1,7 @@
 //! The links: linear spring-dampers between consecutive rollers
 //! (docs/model.md, “Links”), and the rollers' weight.
 
-use super::{ForceElement, Forces};
+use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::model::{DriveModel, DriveState};
 
 /// The link law for one link.
@@ -253,6 +253,17 @@ impl ForceElement for Links {
         }
         out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
         out.max_roller_speed_m_s = max_speed_sq.sqrt();
+    }
+
+    /// No history; the last evaluation's stretches ([`Links::stretch`]).
+    fn save_history(&self, history: &mut History) {
+        history.push_floats(self.stretch.iter().copied());
+    }
+
+    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        let stretch = history.floats(self.stretch.len())?;
+        self.stretch.copy_from_slice(stretch);
+        Ok(())
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {

@@ -26,6 +26,10 @@
 //! law there). With timing on, each element's evaluation is timed under its
 //! [`ForceElement::name`].
 //!
+//! A checkpoint keeps each element's history through
+//! [`ForceElement::save_history`] and [`ForceElement::restore_history`]
+//! (no-ops by default: an element without history needs neither).
+//!
 //! Adding an element touches its own file, the scene schema and the docs:
 //! integrators and observers see only [`Forces`]. See docs/architecture.md,
 //! “Adding a force element or a body”.
@@ -56,8 +60,8 @@
 mod buffer;
 mod contact;
 mod contact_law;
-pub mod hydraulic;
 mod guide;
+pub mod hydraulic;
 mod joint_friction;
 mod links;
 mod output;
@@ -70,11 +74,14 @@ pub use guide::{Carrier, Guide, GuideParams, ShoeForces};
 pub use joint_friction::JointFriction;
 pub use links::Links;
 pub use output::Forces;
+
 pub use rows::DampingRows;
 pub use tensioner::{TensionerArm, TensionerReading};
 
 use std::any::Any;
 use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
 
 use crate::model::{DriveModel, DriveState};
 
@@ -104,11 +111,112 @@ pub trait ForceElement: std::fmt::Debug + Send + Sync {
     /// The relaxation has ended: switch back to the run's settings.
     fn end_equilibrium(&mut self) {}
 
+    /// Writes what a checkpoint must keep of the element: the history
+    /// [`Self::commit`] adopted, and whatever of the last evaluation the next
+    /// one reads. The default writes nothing (an element without history).
+    fn save_history(&self, _history: &mut History) {}
+
+    /// Takes back, in the same order, what [`Self::save_history`] wrote, so
+    /// that the element evaluates as if the run had never stopped (the
+    /// [`Forces`] of the last evaluation are restored beside it).
+    fn restore_history(&mut self, _history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        Ok(())
+    }
+
     /// A boxed copy (a generator is cloned to fork a settled drive).
     fn clone_box(&self) -> Box<dyn ForceElement>;
 
     /// The element as [`Any`], to reach its own outputs.
     fn as_any(&self) -> &dyn Any;
+}
+
+/// A force element's history as a checkpoint keeps it: arrays of numbers,
+/// read back in the order they were written ([`ForceElement::save_history`]).
+/// Floats are kept bit for bit.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct History {
+    floats: Vec<Vec<f64>>,
+    words: Vec<Vec<u64>>,
+}
+
+impl History {
+    /// Appends an array of floats.
+    pub fn push_floats(&mut self, values: impl IntoIterator<Item = f64>) {
+        self.floats.push(values.into_iter().collect());
+    }
+
+    /// Appends an array of integers.
+    pub fn push_words(&mut self, values: impl IntoIterator<Item = u64>) {
+        self.words.push(values.into_iter().collect());
+    }
+
+    /// Reads the arrays back from the first.
+    pub fn reader(&self) -> HistoryReader<'_> {
+        HistoryReader {
+            history: self,
+            floats: 0,
+            words: 0,
+        }
+    }
+}
+
+/// Reads a [`History`]'s arrays in the order they were written.
+#[derive(Debug)]
+pub struct HistoryReader<'a> {
+    history: &'a History,
+    floats: usize,
+    words: usize,
+}
+
+impl<'a> HistoryReader<'a> {
+    /// The next array of floats, which must hold `len` values.
+    pub fn floats(&mut self, len: usize) -> Result<&'a [f64], HistoryError> {
+        let found = self
+            .history
+            .floats
+            .get(self.floats)
+            .ok_or(HistoryError::Missing("float"))?;
+        self.floats += 1;
+        check_length(found, len)
+    }
+
+    /// The next array of integers, which must hold `len` values.
+    pub fn words(&mut self, len: usize) -> Result<&'a [u64], HistoryError> {
+        let found = self
+            .history
+            .words
+            .get(self.words)
+            .ok_or(HistoryError::Missing("integer"))?;
+        self.words += 1;
+        check_length(found, len)
+    }
+}
+
+fn check_length<T>(found: &[T], expected: usize) -> Result<&[T], HistoryError> {
+    if found.len() == expected {
+        Ok(found)
+    } else {
+        Err(HistoryError::Length {
+            found: found.len(),
+            expected,
+        })
+    }
+}
+
+/// Why a saved history does not fit an element.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HistoryError {
+    /// Fewer arrays than the element reads.
+    #[error("it holds fewer {0} arrays than the element reads")]
+    Missing(&'static str),
+    /// An array of another length (another drive).
+    #[error("an array of {found} values where the drive has {expected}")]
+    Length {
+        /// Values held.
+        found: usize,
+        /// Values the element needs.
+        expected: usize,
+    },
 }
 
 /// Wall time spent in each force element, when timing is on
@@ -296,6 +404,58 @@ impl ForceGenerator {
         for (k, e) in self.elements.iter_mut().enumerate() {
             timed(k + 2, e.as_mut());
         }
+    }
+
+    /// Every element's history (links, contact, then the further elements),
+    /// named, for a checkpoint.
+    pub(crate) fn save_histories(&self) -> Vec<(String, History)> {
+        let elements = [&self.links as &dyn ForceElement, &self.contact]
+            .into_iter()
+            .chain(self.elements.iter().map(|e| e.as_ref()));
+        elements
+            .map(|e| {
+                let mut h = History::default();
+                e.save_history(&mut h);
+                (e.name().to_owned(), h)
+            })
+            .collect()
+    }
+
+    /// Takes back [`Self::save_histories`]' output: the elements must be the
+    /// same, in the same order. On error, names the element.
+    pub(crate) fn restore_histories(
+        &mut self,
+        saved: &[(String, History)],
+    ) -> Result<(), (String, HistoryError)> {
+        let count = 2 + self.elements.len();
+        if saved.len() != count {
+            return Err((
+                "force elements".to_owned(),
+                HistoryError::Length {
+                    found: saved.len(),
+                    expected: count,
+                },
+            ));
+        }
+        let elements = [&mut self.links as &mut dyn ForceElement, &mut self.contact]
+            .into_iter()
+            .chain(self.elements.iter_mut().map(|e| e.as_mut()));
+        for (e, (name, h)) in elements.zip(saved) {
+            if e.name() != name {
+                return Err((
+                    format!("{name} (the drive has {} there)", e.name()),
+                    HistoryError::Missing("element"),
+                ));
+            }
+            e.restore_history(&mut h.reader())
+                .map_err(|err| (name.clone(), err))?;
+        }
+        Ok(())
+    }
+
+    /// The outputs, to restore them from a checkpoint.
+    pub(crate) fn restore_output(&mut self, output: Forces) {
+        self.output = output;
     }
 
     /// Whether a roller centred at (`x`, `y`) touches any sprocket, the

@@ -6,7 +6,7 @@
 ///
 /// Roller forces include gravity. Per-sprocket sums hold the chain's action
 /// on each sprocket (its load torque is the model's, not added here).
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct Forces {
     /// Force on each roller (links, contacts, gravity, further elements), N.
     pub fx: Vec<f64>,

@@ -8,7 +8,7 @@
 /// `Σ E_k κ_k n_k n_kᵀ (v_sp − v)` (v_sp the sprocket's surface velocity under
 /// the roller): `C v_sp − C v` with `C = Σ E_k κ_k n_k n_kᵀ`. Patches on a
 /// second sprocket (only where reach circles overlap) stay explicit.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub struct DampingRows {
     /// The sprocket of roller i's implicit contacts; `u32::MAX` for none.
     pub sprocket: Vec<u32>,

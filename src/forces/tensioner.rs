@@ -19,12 +19,12 @@ use std::any::Any;
 
 use super::contact_law::ContactLawParams;
 use super::hydraulic::{Chamber, stops_n};
-use super::{ForceElement, Forces};
+use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Tensioner, TensionerKind};
 
 /// What a tensioner arm reports at its last evaluation.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct TensionerReading {
     /// Arm angle from the scene's pose, rad (counter-clockwise).
     pub angle_rad: f64,
@@ -302,6 +302,24 @@ impl ForceElement for TensionerArm {
         self.onset.copy_from_slice(&self.onset_next);
         // f64::max drops the NaN of a ratchet not yet set.
         self.peak_m = self.peak_m.max(self.travel_next_m);
+    }
+
+    fn save_history(&self, history: &mut History) {
+        history.push_floats(self.onset.iter().copied());
+        history.push_floats(self.onset_next.iter().copied());
+        history.push_floats([self.peak_m, self.offset_m3, self.travel_next_m]);
+    }
+
+    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        let onset = history.floats(self.onset.len())?;
+        self.onset.copy_from_slice(onset);
+        let next = history.floats(self.onset_next.len())?;
+        self.onset_next.copy_from_slice(next);
+        let [peak, offset, travel] = history.floats(3)? else {
+            return Err(HistoryError::Missing("float"));
+        };
+        (self.peak_m, self.offset_m3, self.travel_next_m) = (*peak, *offset, *travel);
+        Ok(())
     }
 
     fn reset(&mut self) {

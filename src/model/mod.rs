@@ -224,7 +224,7 @@ pub struct ScalarModel {
 /// The state that is integrated: rollers as structure of arrays, sprockets.
 ///
 /// `clone_from` reuses the buffers (integrators copy states every step).
-#[derive(Debug, Default, PartialEq)]
+#[derive(Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct DriveState {
     /// Time, s.
     pub t_s: f64,

@@ -42,7 +42,7 @@ impl BlowUpLimits {
 
 /// The growth detector's memory: the largest link stretch of the last
 /// steps, in a ring allocated once.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct GrowthWatch {
     ring: Vec<f64>,
     next: usize,

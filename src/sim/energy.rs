@@ -55,7 +55,7 @@ impl Energy {
 /// The power of each kind of force at one state, W. Losses are counted as
 /// the power they dissipate (≥ 0), the driver's as the power it delivers,
 /// the loads' as the power they absorb (positive for a braking load).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Powers {
     /// Delivered by the speed-controlled sprockets: Σ −(chain moment) ω.
     pub driver_w: f64,
@@ -139,7 +139,7 @@ pub fn balance_energy_j(model: &DriveModel, state: &DriveState, forces: &ForceGe
 /// Where the power goes over a window: every kind of force's power
 /// integrated step by step (trapezoids) from `from_s` on, and the energy at
 /// the window's ends (docs/model.md, “Where the power goes”).
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct PowerLedger {
     from_s: f64,
     start: Option<(f64, f64)>,

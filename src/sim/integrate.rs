@@ -73,7 +73,7 @@ use crate::model::{DriveModel, DriveState};
 use crate::scene::Integrator;
 
 /// Counters of the integration work done.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct IntegrationStats {
     /// Accepted integration steps (internal steps of the adaptive scheme).
     pub steps: u64,
@@ -222,6 +222,20 @@ impl Integration {
             next_step_s: f64::INFINITY,
             stats: IntegrationStats::default(),
         }
+    }
+
+    /// What the scheme carries from one step to the next: the adaptive
+    /// step's proposal (∞ before its first step) and the counters. Every
+    /// other buffer is set at a step's start (the first stage of the
+    /// adaptive scheme, FSAL, is the committed forces' rates).
+    pub(crate) fn carried(&self) -> (f64, IntegrationStats) {
+        (self.next_step_s, self.stats)
+    }
+
+    /// Takes back [`Self::carried`]' output (a checkpoint).
+    pub(crate) fn carry(&mut self, next_step_s: f64, stats: IntegrationStats) {
+        self.next_step_s = next_step_s;
+        self.stats = stats;
     }
 
     /// The scheme.

@@ -8,6 +8,7 @@
 //! What observers compute is their business ([`crate::analysis`]).
 
 mod blow_up;
+pub mod checkpoint;
 mod energy;
 mod equilibrium;
 mod feasibility;
@@ -273,6 +274,25 @@ pub struct Simulation {
     /// Where the power goes, counted every step from a chosen time
     /// ([`Simulation::track_power`]; off by default).
     pub power: Option<PowerLedger>,
+    /// The run's clock (see [`Clock`]).
+    clock: Clock,
+}
+
+/// The stepping loop's clock: time = origin + steps × dt, counted from the
+/// run's start, so that a run done in pieces (between checkpoints) steps at
+/// the same times, bit for bit, as a run done at once, and long runs do not
+/// accumulate rounding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub(crate) struct Clock {
+    origin_s: f64,
+    dt_s: f64,
+    steps: u64,
+}
+
+impl Clock {
+    fn now_s(&self) -> f64 {
+        self.origin_s + self.steps as f64 * self.dt_s
+    }
 }
 
 impl Simulation {
@@ -400,6 +420,7 @@ impl Simulation {
             integration,
             timings: false,
             power: None,
+            clock: Clock::default(),
         }
     }
 
@@ -536,7 +557,17 @@ impl Simulation {
         stop: Option<&AtomicBool>,
     ) -> Result<RunOutcome, SimError> {
         let dt = self.scene.solver.dt_s;
-        let total = ((until_s - self.state.t_s) / dt).round().max(0.0) as u64;
+        // The clock goes on where the last run left it; a state moved from
+        // outside (or another step) starts it anew.
+        if self.clock.dt_s != dt || self.clock.now_s() != self.state.t_s {
+            self.clock = Clock {
+                origin_s: self.state.t_s,
+                dt_s: dt,
+                steps: 0,
+            };
+        }
+        let target = ((until_s - self.clock.origin_s) / dt).round().max(0.0) as u64;
+        let total = target.saturating_sub(self.clock.steps);
         let sample_every = sample_every.max(1);
         let per_step_from = observer.per_step_from_s();
         let mut max_pen = 0.0f64;
@@ -545,7 +576,6 @@ impl Simulation {
         if self.state.t_s == 0.0 {
             observer.sample(&self.sample());
         }
-        let t0 = self.state.t_s;
         let mut steps = 0;
         let mut times = self.timings.then(StageTimes::default);
         if times.is_some() {
@@ -559,8 +589,8 @@ impl Simulation {
             self.step(dt)?;
             let stepped = lap(t);
             steps += 1;
-            // Rebase the clock on the step count so that long runs do not accumulate rounding.
-            self.state.t_s = t0 + steps as f64 * dt;
+            self.clock.steps += 1;
+            self.state.t_s = self.clock.now_s();
             let t = clock(timed);
             self.check_blow_up()?;
             let checked = lap(t);
@@ -572,7 +602,7 @@ impl Simulation {
             if self.state.t_s >= per_step_from {
                 observer.step(&self.sample());
             }
-            let sampled = steps % sample_every == 0;
+            let sampled = self.clock.steps % sample_every == 0;
             if sampled {
                 observer.sample(&self.sample());
             }

@@ -11,6 +11,7 @@ mod analysis;
 mod analyze;
 #[cfg(feature = "cli")]
 mod auto_step;
+mod checkpoint;
 #[cfg(feature = "cli")]
 mod cli;
 mod common;

@@ -2,7 +2,7 @@
 
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -12,7 +12,11 @@ use anyhow::Context;
 use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
-use chaindrive::sim::{Observer, Sample, SampleRate, Simulation, StageTimes, StepLimits};
+use chaindrive::sim::checkpoint::{Checkpoint, read_checkpoint, write_checkpoint};
+use chaindrive::sim::{
+    Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
+};
+use serde::{Deserialize, Serialize};
 
 /// Arguments of `chaindrive run`.
 #[derive(clap::Args)]
@@ -66,6 +70,33 @@ pub struct RunArgs {
     /// Time every stage of the stepping loop and print where the time went.
     #[arg(long)]
     timings: bool,
+    /// Write the run's complete state here every --checkpoint-every
+    /// simulated seconds, and when it is interrupted (written aside and
+    /// renamed: the file is always a whole checkpoint).
+    #[arg(long, value_name = "PATH", requires = "checkpoint_every")]
+    checkpoint: Option<PathBuf>,
+    /// Simulated seconds between checkpoints (rounded to whole steps).
+    #[arg(long, value_name = "S", requires = "checkpoint")]
+    checkpoint_every: Option<f64>,
+    /// Continue the run from this checkpoint. Give the scene and the options
+    /// the run was started with; --series continues that file (cut back to
+    /// the checkpoint's last row), --summary is of the whole run.
+    #[arg(long, value_name = "PATH")]
+    resume: Option<PathBuf>,
+}
+
+/// What a checkpoint keeps of `chaindrive run` besides the simulation.
+#[derive(Clone, Serialize, Deserialize)]
+struct CliRun {
+    rate_hz: f64,
+    window_s: f64,
+    signals: Signals,
+    /// Steps, wall time and largest penetration so far.
+    steps: u64,
+    wall_s: f64,
+    max_penetration_m: f64,
+    /// Bytes of the series file written up to the checkpoint (`None`: no series).
+    series_bytes: Option<u64>,
 }
 
 /// Streams each sample to the CSV as it is taken, so an interrupted or failed
@@ -163,8 +194,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             ("--summary", args.summary.as_deref()),
             ("--series", args.series.as_deref()),
             ("--record", args.record.as_deref()),
+            ("--checkpoint", args.checkpoint.as_deref()),
         ],
     )?;
+    if let Some(every) = args.checkpoint_every {
+        anyhow::ensure!(
+            every.is_finite() && every > 0.0,
+            "--checkpoint-every {every}: the time between checkpoints must be a number of simulated seconds > 0"
+        );
+    }
+    anyhow::ensure!(
+        args.resume.is_none() || args.record.is_none(),
+        "--record with --resume: a recording is not continued from a checkpoint; resume without --record"
+    );
     let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
@@ -187,6 +229,26 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let window_s = statistics_window(args.window, scene.solver().duration_s)?;
     let sampling = SampleRate::new(args.rate, scene.solver().dt_s)
         .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
+    // A checkpoint of another scene, version or set of options fails now,
+    // before the static equilibrium.
+    let resume = args
+        .resume
+        .as_ref()
+        .map(|p| -> anyhow::Result<Checkpoint<CliRun>> {
+            let ck: Checkpoint<CliRun> = read_checkpoint(p, &scene)?;
+            anyhow::ensure!(
+                ck.run.rate_hz.to_bits() == sampling.rate_hz.to_bits()
+                    && ck.run.window_s.to_bits() == window_s.to_bits(),
+                "checkpoint {}: the run was started with --rate {} and a statistics window of {} s, not {} and {} s: resume with the same options",
+                p.display(),
+                ck.run.rate_hz,
+                ck.run.window_s,
+                sampling.rate_hz,
+                window_s
+            );
+            Ok(ck)
+        })
+        .transpose()?;
     // Outputs are opened before anything is simulated: an unwritable path fails now.
     let summary_file = args
         .summary
@@ -195,11 +257,12 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         .transpose()?;
     // Numbers are written as text: csv's own float formatting (ryu) would
     // print `1.0` and `1e-5` where the series has always had `1` and `0.00001`.
-    let csv = args
-        .series
-        .as_ref()
-        .map(|p| create_file(p, "series").map(csv::Writer::from_writer))
-        .transpose()?;
+    let csv = match (&args.series, &resume) {
+        (None, _) => None,
+        (Some(p), None) => Some(create_file(p, "series")?),
+        (Some(p), Some(ck)) => Some(continue_series(p, ck.run.series_bytes)?),
+    }
+    .map(csv::Writer::from_writer);
     let recorder = args
         .record
         .as_ref()
@@ -215,6 +278,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         summary_file,
         csv,
         recorder,
+        resume,
     );
     if result.is_err()
         && let Some(p) = &args.summary
@@ -223,6 +287,29 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         let _ = std::fs::remove_file(p);
     }
     result
+}
+
+/// Opens the series of a run being resumed, cut back to its length at the
+/// checkpoint, for the rows after it.
+fn continue_series(path: &Path, bytes: Option<u64>) -> anyhow::Result<File> {
+    let Some(bytes) = bytes else {
+        anyhow::bail!(
+            "--series {}: the run being resumed wrote no series, so it cannot be continued; resume without --series",
+            path.display()
+        );
+    };
+    let file = std::fs::OpenOptions::new()
+        .append(true)
+        .open(path)
+        .with_context(|| format!("cannot continue the series {}", path.display()))?;
+    let len = file.metadata()?.len();
+    anyhow::ensure!(
+        len >= bytes,
+        "--series {}: the file holds {len} bytes, fewer than the {bytes} written up to the checkpoint: give the series file the run was writing",
+        path.display()
+    );
+    file.set_len(bytes)?;
+    Ok(file)
 }
 
 /// Opens the recording before anything is simulated (an unwritable path fails
@@ -285,6 +372,7 @@ fn simulate(
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<csv::Writer<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
+    resume: Option<Checkpoint<CliRun>>,
 ) -> anyhow::Result<ExitCode> {
     // Ctrl-C/SIGTERM from here on end the run cleanly (also during the static
     // equilibrium: the run then stops at t = 0 with everything written).
@@ -324,7 +412,7 @@ fn simulate(
     let duration = scene.solver().duration_s;
     // Where the power goes, over the summary's window.
     sim.track_power((duration - sampling.window_s).max(0.0));
-    if let Some(csv) = csv.as_mut() {
+    if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
         let segments = 1..=sim.model.segments.len();
         let header = std::iter::once("t_s".to_owned())
             .chain((1..=scene.sprockets().len()).map(|i| format!("omega_{i}_rad_s")))
@@ -355,12 +443,31 @@ fn simulate(
         );
         p
     });
+    let mut signals = Signals::new(
+        &sim.model,
+        sampling.rate.rate_hz,
+        (duration - sampling.window_s).max(0.0),
+    );
+    // Memory flat whatever the duration: the series goes to disk as it is
+    // taken, the summary needs the window's rows and the running spectra.
+    signals.keep_window(sampling.window_s);
+    let mut so_far = RunOutcome {
+        steps: 0,
+        wall_s: 0.0,
+        interrupted: false,
+        max_penetration_m: 0.0,
+        stage_times: None,
+    };
+    if let Some(ck) = resume {
+        sim.restore(&ck.sim)
+            .context("cannot resume from the checkpoint")?;
+        signals = ck.run.signals;
+        so_far.steps = ck.run.steps;
+        so_far.wall_s = ck.run.wall_s;
+        so_far.max_penetration_m = ck.run.max_penetration_m;
+    }
     let mut observer = CliObserver {
-        signals: Signals::new(
-            &sim.model,
-            sampling.rate.rate_hz,
-            (duration - sampling.window_s).max(0.0),
-        ),
+        signals,
         csv,
         csv_error: None,
         progress,
@@ -368,7 +475,16 @@ fn simulate(
         guides: scene.guides().len(),
     };
     sim.timings = args.timings;
-    let outcome = sim.run(duration, sampling.rate.every, &mut observer, Some(&stop));
+    let checkpoints = args.checkpoint.as_deref().zip(args.checkpoint_every);
+    let outcome = run_with_checkpoints(
+        &mut sim,
+        &scene,
+        &mut observer,
+        so_far,
+        checkpoints,
+        &sampling,
+        &stop,
+    );
     if let Some(p) = &observer.progress {
         p.finish_and_clear();
     }
@@ -412,6 +528,91 @@ fn simulate(
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// Runs to the scene's end, in pieces between checkpoints when asked: every
+/// `S` simulated seconds (a whole number of steps, at least one) and when
+/// interrupted. The pieces step as one run would ([`Simulation::run`]'s
+/// clock counts the steps from the start).
+fn run_with_checkpoints(
+    sim: &mut Simulation,
+    scene: &chaindrive::scene::Scene,
+    observer: &mut CliObserver,
+    mut so_far: RunOutcome,
+    checkpoints: Option<(&Path, f64)>,
+    sampling: &Sampling,
+    stop: &AtomicBool,
+) -> anyhow::Result<RunOutcome> {
+    let dt = scene.solver().dt_s;
+    let duration = scene.solver().duration_s;
+    let last_step = (duration / dt).round();
+    loop {
+        let until = match checkpoints {
+            Some((_, every)) => {
+                let per = (every / dt).round().max(1.0);
+                let next = ((sim.state.t_s / dt).round() / per).floor() * per + per;
+                next.min(last_step) * dt
+            }
+            None => duration,
+        };
+        let piece = sim.run(until, sampling.rate.every, observer, Some(stop))?;
+        so_far.steps += piece.steps;
+        so_far.wall_s += piece.wall_s;
+        so_far.max_penetration_m = so_far.max_penetration_m.max(piece.max_penetration_m);
+        so_far.interrupted = piece.interrupted;
+        merge_stage_times(&mut so_far.stage_times, piece.stage_times);
+        let done = piece.interrupted || (sim.state.t_s / dt).round() >= last_step;
+        if let Some((path, _)) = checkpoints
+            && (piece.interrupted || !done)
+        {
+            let series_bytes = match observer.csv.as_mut() {
+                Some(csv) => {
+                    csv.flush().context("writing the series failed")?;
+                    Some(csv.get_ref().metadata()?.len())
+                }
+                None => None,
+            };
+            let run = CliRun {
+                rate_hz: sampling.rate.rate_hz,
+                window_s: sampling.window_s,
+                signals: observer.signals.clone(),
+                steps: so_far.steps,
+                wall_s: so_far.wall_s,
+                max_penetration_m: so_far.max_penetration_m,
+                series_bytes,
+            };
+            let ck = Checkpoint {
+                sim: sim.snapshot()?,
+                run,
+            };
+            write_checkpoint(path, scene, &ck)?;
+        }
+        if done {
+            return Ok(so_far);
+        }
+    }
+}
+
+/// Adds a piece's stage times to the run's.
+fn merge_stage_times(total: &mut Option<StageTimes>, piece: Option<StageTimes>) {
+    let Some(piece) = piece else {
+        return;
+    };
+    let Some(t) = total else {
+        *total = Some(piece);
+        return;
+    };
+    t.steps += piece.steps;
+    t.stepping_s += piece.stepping_s;
+    t.blow_up_checks_s += piece.blow_up_checks_s;
+    t.observers_s += piece.observers_s;
+    t.forces.evaluations += piece.forces.evaluations;
+    for (k, (name, s)) in piece.forces.elements.into_iter().enumerate() {
+        match t.forces.elements.get_mut(k) {
+            Some(e) => e.1 += s,
+            None => t.forces.elements.push((name, s)),
+        }
+    }
 }
 
 fn print_stage_times(t: &StageTimes, evaluations: u64) {

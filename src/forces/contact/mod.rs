@@ -27,7 +27,7 @@ use pass::{ContactPass, Frame};
 use reach::{Reach, shared_stretches};
 
 use super::rows::DampingRows;
-use super::{ContactLawParams, ForceElement, Forces};
+use super::{ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::geometry::{MAX_PATCHES, Patch, ToothProfile};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::MAX_SPROCKETS;
@@ -327,6 +327,75 @@ impl ForceElement for ToothContact {
     fn commit(&mut self) {
         std::mem::swap(&mut self.memory, &mut self.pending_memory);
         self.reach.commit();
+    }
+
+    /// The remembered onsets (per roller and patch: key, χ/δ̇⁻), the gap
+    /// hints, each roller's kept set of sprocket within reach with its
+    /// expiry, and the damping rows where they are recorded. The runs are a
+    /// function of the kept sets and are rebuilt from them.
+    fn save_history(&self, history: &mut History) {
+        let onsets = || self.memory.iter().flatten();
+        history.push_words(onsets().map(|m| m.key));
+        history.push_floats(onsets().map(|m| m.damping_per_speed));
+        history.push_words(self.gap_hint.iter().map(|&h| u64::from(h)));
+        let (mask, until_s) = self.reach.kept();
+        history.push_words(mask.iter().copied());
+        history.push_floats(until_s.iter().copied());
+        if let Some(rows) = &self.damping_rows {
+            history.push_words(rows.sprocket.iter().map(|&s| u64::from(s)));
+            history.push_floats(
+                [
+                    &rows.c_v_sprocket,
+                    &rows.elastic,
+                    &rows.explicit,
+                    &rows.lever,
+                ]
+                .into_iter()
+                .flatten()
+                .flatten()
+                .copied()
+                .chain(rows.c.iter().flatten().copied()),
+            );
+        }
+    }
+
+    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        let n = self.gap_hint.len();
+        let keys = history.words(n * MAX_PATCHES)?;
+        let damping = history.floats(n * MAX_PATCHES)?;
+        for (k, (key, d)) in keys.iter().zip(damping).enumerate() {
+            self.memory[k / MAX_PATCHES][k % MAX_PATCHES] = Memory {
+                key: *key,
+                damping_per_speed: *d,
+            };
+        }
+        self.pending_memory.clone_from(&self.memory);
+        for (h, w) in self.gap_hint.iter_mut().zip(history.words(n)?) {
+            *h = u32::try_from(*w).unwrap_or(0);
+        }
+        let mask = history.words(n)?;
+        let until_s = history.floats(n)?;
+        self.reach.restore(mask, until_s);
+        if let Some(rows) = &mut self.damping_rows {
+            for (s, w) in rows.sprocket.iter_mut().zip(history.words(n)?) {
+                *s = u32::try_from(*w).unwrap_or(u32::MAX);
+            }
+            let mut values = history.floats(11 * n)?.iter().copied();
+            for pairs in [
+                &mut rows.c_v_sprocket,
+                &mut rows.elastic,
+                &mut rows.explicit,
+                &mut rows.lever,
+            ] {
+                for v in pairs.iter_mut().flatten() {
+                    *v = values.next().unwrap_or(0.0);
+                }
+            }
+            for v in rows.c.iter_mut().flatten() {
+                *v = values.next().unwrap_or(0.0);
+            }
+        }
+        Ok(())
     }
 
     fn reset(&mut self) {

@@ -102,6 +102,33 @@ impl Reach {
         self.committed_runs.clear();
     }
 
+    /// Each roller's kept set and the time it expires (for a checkpoint).
+    pub(super) fn kept(&self) -> (&[u64], &[f64]) {
+        (&self.mask, &self.until_s)
+    }
+
+    /// Takes back the kept sets and their expiry at a committed evaluation
+    /// ([`Self::kept`]). The runs, a function of the sets alone, are rebuilt:
+    /// after a commit the last evaluation's runs are the committed ones, and
+    /// those are the sets' runs (every pass builds them from the sets in
+    /// effect, which the commit makes the kept ones).
+    pub(super) fn restore(&mut self, mask: &[u64], until_s: &[f64]) {
+        self.mask.copy_from_slice(mask);
+        self.until_s.copy_from_slice(until_s);
+        self.remeasured.clear();
+        self.runs.clear();
+        let n = self.mask.len();
+        let mut stretch = Stretch::default();
+        for (i, &m) in self.mask.iter().enumerate() {
+            if m != stretch.mask {
+                stretch.close(i, &mut self.runs);
+                stretch = Stretch { mask: m, start: i };
+            }
+        }
+        stretch.close(n, &mut self.runs);
+        self.committed_runs.clone_from(&self.runs);
+    }
+
     /// Expires every kept set: the next pass measures every roller again.
     pub(super) fn expire(&mut self) {
         self.until_s.fill(f64::NEG_INFINITY);
