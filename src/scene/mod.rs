@@ -11,6 +11,7 @@
 //! This module knows nothing of rapier or of stepping.
 
 mod builder;
+mod by_path;
 mod error;
 mod file;
 pub mod generate;
@@ -23,6 +24,7 @@ mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
+pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
 pub use error::{FieldError, SceneError, locate};
 pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
