@@ -43,3 +43,5 @@ mod statistics;
 mod stepping;
 mod strands;
 mod stress;
+#[cfg(feature = "cli")]
+mod study;
