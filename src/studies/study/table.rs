@@ -8,7 +8,6 @@
 //! has not finished has no responses (null); its status says why.
 
 use std::fmt::Write as _;
-use std::path::Path;
 
 use super::{Responses, StudyDir, StudyError};
 
@@ -254,7 +253,7 @@ impl Table {
     /// a rename): `case` INT64, numbers DOUBLE, text BYTE_ARRAY (UTF-8),
     /// every column but `case` optional; one row group, uncompressed.
     #[cfg(feature = "parquet")]
-    pub fn write_parquet(&self, path: &Path) -> Result<(), StudyError> {
+    pub fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
         let tmp = path.with_extension(format!("parquet.tmp.{}", std::process::id()));
         let file = std::fs::File::create(&tmp).map_err(|e| StudyError::io(&tmp, e))?;
         parquet_writer::write(self, file).map_err(|e| StudyError::io(path, e))?;
@@ -329,7 +328,7 @@ impl Table {
     /// (`<response>.png` and `.svg`); returns how many were drawn. A
     /// response with no finished case is skipped.
     #[cfg(feature = "figures")]
-    pub fn main_effects_figures(&self, dir: &Path) -> Result<usize, StudyError> {
+    pub fn main_effects_figures(&self, dir: &std::path::Path) -> Result<usize, StudyError> {
         use crate::analysis::figures::{Mark, Plot, Trace, save};
         std::fs::create_dir_all(dir).map_err(|e| StudyError::io(dir, e))?;
         let mut drawn = 0;
