@@ -8,7 +8,9 @@
 //! - [`convergence`]: the summary statistics of every integrator over a
 //!   ladder of steps against a fine reference;
 //! - [`soak`]: a long run reported window by window, to show there is no drift;
-//! - [`fuzz`]: one mutated scene file through parsing, layout and a short run.
+//! - [`fuzz`]: one mutated scene file through parsing, layout and a short run;
+//! - [`study`]: a design study (factors × levels of a scene) run here or as
+//!   a Slurm job array, its results merged into one table.
 //!
 //! What a single run's signals mean and how they are measured is
 //! [`crate::analysis`]'s business; writing files and printing tables is the
@@ -19,4 +21,5 @@ pub mod fuzz;
 pub mod reproduce;
 pub mod soak;
 pub mod stress;
+pub mod study;
 pub mod work_precision;

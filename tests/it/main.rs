@@ -46,4 +46,6 @@ mod statistics;
 mod stepping;
 mod strands;
 mod stress;
+#[cfg(feature = "cli")]
+mod study;
 mod tensioners;

@@ -10,6 +10,7 @@ mod recover;
 mod reproduce;
 mod run;
 mod stress;
+mod study;
 mod work_precision;
 
 use clap::{Parser, Subcommand};
@@ -41,6 +42,8 @@ enum Command {
     /// Rewrite a recording cut short (a killed run) as a complete, indexed
     /// MCAP file that every viewer opens.
     Recover(recover::RecoverArgs),
+    /// A design study from a plan: run here (resumable), as a Slurm job array, collect.
+    Study(study::StudyArgs),
 }
 
 fn main() -> std::process::ExitCode {
@@ -53,6 +56,7 @@ fn main() -> std::process::ExitCode {
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
         Command::Recover(args) => recover::recover(args),
+        Command::Study(args) => study::study(args),
     };
     match result {
         Ok(code) => code,

@@ -1,0 +1,293 @@
+//! Running a study's cases: each case is one run of its scene, written to
+//! `DIR/cases/<k>/` in a directory beside it and renamed into place, so a
+//! case directory is either complete or absent. Finished cases are skipped
+//! (resume); failed ones are kept with their error and skipped unless
+//! retried.
+
+use std::panic::AssertUnwindSafe;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+
+use super::{Study, StudyError};
+use crate::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
+use crate::scene::Scene;
+use crate::sim::{SampleRate, Simulation};
+
+/// Sampling rate of a case's signals, Hz (as `chaindrive run`'s default).
+pub const RATE_HZ: f64 = 1000.0;
+
+/// How a finished case ended.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CaseStatus {
+    /// The case.
+    pub case: usize,
+    /// Whether it ran to its end.
+    pub ok: bool,
+    /// Why not.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+    /// Wall time of the case (layout, equilibrium and run), s.
+    pub wall_s: f64,
+    /// Factor values, `path = value`.
+    pub factors: String,
+}
+
+/// What [`StudyDir::run_case`] did.
+#[derive(Clone, Debug, PartialEq)]
+pub enum CaseOutcome {
+    /// It was finished already (ok or failed): not run.
+    Skipped(CaseStatus),
+    /// It ran now.
+    Ran(CaseStatus),
+    /// It was stopped (Ctrl-C, SIGTERM): nothing written, it runs again next time.
+    Interrupted,
+}
+
+/// A study in its directory.
+#[derive(Clone, Debug)]
+pub struct StudyDir {
+    /// The directory.
+    pub dir: PathBuf,
+    /// The study.
+    pub study: Study,
+}
+
+/// Writes `bytes` to `path` through a file beside it and a rename.
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), StudyError> {
+    let tmp = path.with_extension(format!("tmp.{}", std::process::id()));
+    std::fs::write(&tmp, bytes).map_err(|e| StudyError::io(&tmp, e))?;
+    std::fs::rename(&tmp, path).map_err(|e| StudyError::io(path, e))
+}
+
+fn read(path: &Path) -> Result<String, StudyError> {
+    std::fs::read_to_string(path).map_err(|e| StudyError::io(path, e))
+}
+
+impl StudyDir {
+    /// Puts `study` into `dir` (its plan and base scene), or checks that
+    /// `dir` already holds this same study.
+    pub fn prepare(dir: &Path, study: Study) -> Result<Self, StudyError> {
+        let cases = dir.join("cases");
+        std::fs::create_dir_all(&cases).map_err(|e| StudyError::io(&cases, e))?;
+        for (name, text) in [
+            ("plan.toml", &study.plan_toml),
+            ("scene.toml", &study.scene_toml),
+        ] {
+            let path = dir.join(name);
+            if path.exists() {
+                if &read(&path)? != text {
+                    return Err(StudyError::Another {
+                        dir: dir.display().to_string(),
+                        what: name.to_owned(),
+                    });
+                }
+            } else {
+                write_atomic(&path, text.as_bytes())?;
+            }
+        }
+        Ok(Self {
+            dir: dir.to_owned(),
+            study,
+        })
+    }
+
+    /// Opens the study prepared in `dir`.
+    pub fn open(dir: &Path) -> Result<Self, StudyError> {
+        let plan = read(&dir.join("plan.toml"))?;
+        let scene = read(&dir.join("scene.toml"))?;
+        Ok(Self {
+            dir: dir.to_owned(),
+            study: Study::from_texts(&plan, &scene)?,
+        })
+    }
+
+    /// `DIR/cases/<k>`.
+    pub fn case_dir(&self, k: usize) -> PathBuf {
+        self.dir.join("cases").join(k.to_string())
+    }
+
+    /// The status of case `k`, if it finished.
+    pub fn status(&self, k: usize) -> Result<Option<CaseStatus>, StudyError> {
+        let path = self.case_dir(k).join("status.json");
+        if !path.exists() {
+            return Ok(None);
+        }
+        serde_json::from_str(&read(&path)?)
+            .map(Some)
+            .map_err(|e| StudyError::io(&path, e))
+    }
+
+    /// The summary of case `k`, if it finished ok.
+    pub fn summary(&self, k: usize) -> Result<Option<serde_json::Value>, StudyError> {
+        let path = self.case_dir(k).join("summary.json");
+        if !path.exists() {
+            return Ok(None);
+        }
+        serde_json::from_str(&read(&path)?)
+            .map(Some)
+            .map_err(|e| StudyError::io(&path, e))
+    }
+
+    /// The cases not finished, and with `retry_failed` the failed ones.
+    pub fn pending(&self, retry_failed: bool) -> Result<Vec<usize>, StudyError> {
+        let mut left = Vec::new();
+        for k in 0..self.study.cases.len() {
+            match self.status(k)? {
+                None => left.push(k),
+                Some(s) if retry_failed && !s.ok => left.push(k),
+                Some(_) => {}
+            }
+        }
+        Ok(left)
+    }
+
+    /// Runs case `k` unless it is finished (a failed one runs again with
+    /// `retry_failed`). `stop` ends the run early without writing the case.
+    pub fn run_case(
+        &self,
+        k: usize,
+        retry_failed: bool,
+        stop: Option<&AtomicBool>,
+    ) -> Result<CaseOutcome, StudyError> {
+        let case = self.study.cases.get(k).ok_or(StudyError::NoCase {
+            k,
+            count: self.study.cases.len(),
+        })?;
+        let final_dir = self.case_dir(k);
+        if let Some(s) = self.status(k)? {
+            if s.ok || !retry_failed {
+                return Ok(CaseOutcome::Skipped(s));
+            }
+        }
+        let started = Instant::now();
+        let factors = case.describe(&self.study.factors);
+        let scene = self.study.scene(k)?;
+        // A panic in a run is this case's failure, not the study's.
+        let result = std::panic::catch_unwind(AssertUnwindSafe(|| simulate(&scene, stop)))
+            .unwrap_or_else(|panic| {
+                let what = panic
+                    .downcast_ref::<String>()
+                    .cloned()
+                    .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+                    .unwrap_or_else(|| "unknown".to_owned());
+                Err(format!("the run panicked: {what}"))
+            });
+        let (summary, error) = match result {
+            Ok(None) => return Ok(CaseOutcome::Interrupted),
+            Ok(Some(summary)) => (Some(summary), None),
+            Err(e) => (None, Some(e)),
+        };
+        let status = CaseStatus {
+            case: k,
+            ok: summary.is_some(),
+            error,
+            wall_s: started.elapsed().as_secs_f64(),
+            factors,
+        };
+        // Written aside, then renamed into place.
+        let cases = self.dir.join("cases");
+        let tmp = cases.join(format!(".{k}.tmp.{}", std::process::id()));
+        if tmp.exists() {
+            std::fs::remove_dir_all(&tmp).map_err(|e| StudyError::io(&tmp, e))?;
+        }
+        std::fs::create_dir_all(&tmp).map_err(|e| StudyError::io(&tmp, e))?;
+        let scene_text = toml::to_string(scene.file()).map_err(|e| StudyError::io(&tmp, e))?;
+        let write = |name: &str, text: String| {
+            let p = tmp.join(name);
+            std::fs::write(&p, text).map_err(|e| StudyError::io(&p, e))
+        };
+        write("scene.toml", scene_text)?;
+        if let Some(s) = &summary {
+            write(
+                "summary.json",
+                serde_json::to_string_pretty(s).map_err(|e| StudyError::io(&tmp, e))?,
+            )?;
+        }
+        write(
+            "status.json",
+            serde_json::to_string_pretty(&status).map_err(|e| StudyError::io(&tmp, e))?,
+        )?;
+        if final_dir.exists() {
+            // A failed case run again.
+            std::fs::remove_dir_all(&final_dir).map_err(|e| StudyError::io(&final_dir, e))?;
+        }
+        if let Err(e) = std::fs::rename(&tmp, &final_dir) {
+            // Another task finished the same case meanwhile: keep its result.
+            let _ = std::fs::remove_dir_all(&tmp);
+            if !final_dir.exists() {
+                return Err(StudyError::io(&final_dir, e));
+            }
+        }
+        Ok(CaseOutcome::Ran(status))
+    }
+
+    /// Runs every pending case on `jobs` threads; `on_done` is called after
+    /// each case. Stops taking cases when `stop` is set.
+    pub fn run_all(
+        &self,
+        jobs: usize,
+        retry_failed: bool,
+        stop: Option<&AtomicBool>,
+        on_done: &(dyn Fn(&CaseOutcome) + Sync),
+    ) -> Result<(), StudyError> {
+        let pending = self.pending(retry_failed)?;
+        let next = AtomicUsize::new(0);
+        let first_error: Mutex<Option<StudyError>> = Mutex::new(None);
+        std::thread::scope(|scope| {
+            for _ in 0..jobs.max(1).min(pending.len().max(1)) {
+                scope.spawn(|| {
+                    loop {
+                        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
+                            return;
+                        }
+                        let i = next.fetch_add(1, Ordering::Relaxed);
+                        let Some(&k) = pending.get(i) else { return };
+                        match self.run_case(k, retry_failed, stop) {
+                            Ok(outcome) => on_done(&outcome),
+                            Err(e) => {
+                                if let Ok(mut slot) = first_error.lock() {
+                                    slot.get_or_insert(e);
+                                }
+                                return;
+                            }
+                        }
+                    }
+                });
+            }
+        });
+        match first_error.into_inner() {
+            Ok(Some(e)) => Err(e),
+            _ => Ok(()),
+        }
+    }
+}
+
+/// Runs `scene` to its end; `Ok(None)` when stopped.
+fn simulate(scene: &Scene, stop: Option<&AtomicBool>) -> Result<Option<RunSummary>, String> {
+    let setup = Instant::now();
+    let mut sim = Simulation::new(scene).map_err(|e| e.to_string())?;
+    let setup_wall_s = setup.elapsed().as_secs_f64();
+    let sampling = SampleRate::new(RATE_HZ, scene.solver().dt_s).map_err(|e| e.to_string())?;
+    let duration = scene.solver().duration_s;
+    let window_s = DEFAULT_WINDOW_S.min(duration);
+    let from_s = (duration - window_s).max(0.0);
+    sim.track_power(from_s);
+    let mut signals = Signals::new(&sim.model, sampling.rate_hz, from_s);
+    let outcome = sim
+        .run(duration, sampling.every, &mut signals, stop)
+        .map_err(|e| e.to_string())?;
+    if outcome.interrupted {
+        return Ok(None);
+    }
+    Ok(Some(RunSummary::of_run_over(
+        &sim,
+        &outcome,
+        &signals,
+        setup_wall_s,
+        window_s,
+    )))
+}

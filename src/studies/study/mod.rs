@@ -1,0 +1,85 @@
+//! Design studies: many runs of one scene with some of its values changed,
+//! laid out by a plan ([`plan`]), run here or as a Slurm job array
+//! ([`cases`]), and merged into one table ([`table`]).
+//!
+//! The files in the study's directory are the only coordination between
+//! the runs, so a study runs the same on one machine and on a cluster with
+//! a shared file system:
+//!
+//! ```text
+//! DIR/plan.toml         the plan, as given
+//! DIR/scene.toml        the base scene, as read
+//! DIR/cases/<k>/        one per finished case (k from 0), written aside and
+//!                       renamed into place: scene.toml, summary.json
+//!                       (when the run finished), status.json
+//! DIR/results.parquet   `collect`: one row per case
+//! DIR/results.csv
+//! DIR/main_effects/     `collect`: a main-effects figure per response
+//! ```
+//!
+//! A case whose directory exists is finished (ok or failed) and is not run
+//! again, except a failed one when asked; an interrupted case leaves no
+//! directory and runs again. This module does not schedule anything across
+//! machines: that is Slurm's job (`chaindrive study slurm`).
+
+pub mod cases;
+pub mod plan;
+pub mod table;
+
+pub use cases::{CaseOutcome, CaseStatus, StudyDir};
+pub use plan::{Case, PlanFile, Responses, Study};
+pub use table::{Column, ColumnData, Table};
+
+/// Why a study could not be prepared, run or collected.
+#[derive(Debug, thiserror::Error)]
+pub enum StudyError {
+    /// The plan is invalid: one `path: message` line per problem.
+    #[error("invalid plan:\n{}", .0.join("\n"))]
+    Plan(Vec<String>),
+    /// Cases whose scene is invalid, each with its factor values.
+    #[error("cases that cannot be built (nothing was run):\n{}", .0.join("\n"))]
+    Cases(Vec<String>),
+    /// No such case.
+    #[error("no case {k}: the study has {count} cases (0 to {})", .count.saturating_sub(1))]
+    NoCase {
+        /// The case asked for.
+        k: usize,
+        /// Cases in the study.
+        count: usize,
+    },
+    /// The directory holds another study.
+    #[error("{dir} holds another study ({what} differs); use another directory or remove it")]
+    Another {
+        /// The directory.
+        dir: String,
+        /// Which file differs.
+        what: String,
+    },
+    /// A response no finished case has.
+    #[error("responses[{index}]: no finished case has `{name}`; allowed: {allowed}")]
+    UnknownResponse {
+        /// Position in the plan's list.
+        index: usize,
+        /// The field.
+        name: String,
+        /// The summary's numeric fields.
+        allowed: String,
+    },
+    /// Reading or writing a file failed.
+    #[error("{path}: {message}")]
+    Io {
+        /// The file.
+        path: String,
+        /// Why.
+        message: String,
+    },
+}
+
+impl StudyError {
+    pub(crate) fn io(path: &std::path::Path, e: impl std::fmt::Display) -> Self {
+        Self::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        }
+    }
+}

@@ -1,0 +1,659 @@
+//! The study plan (TOML) and its cases.
+//!
+//! ```toml
+//! scene = "../assets/l60mc.toml"        # relative to the plan
+//! set = { "solver.duration_s" = 2.0 }   # the same in every case (optional)
+//! responses = ["max_penetration_m", "segments.0.mean_link_force_n"]   # or "all"
+//!
+//! [[factors]]
+//! path = "chain.pretension_n"
+//! levels = [15000, 21000]
+//!
+//! [[factors]]
+//! path = "sprockets.0.speed_rpm"
+//! range = { from = 60, to = 120, steps = 4 }
+//!
+//! [design]
+//! kind = "full_factorial"               # or "latin_hypercube" (seed, count), "explicit" (cases)
+//! ```
+//!
+//! A factor's levels are TOML values of its field's type; a range is
+//! `from`, `to` and (for a full factorial) `steps` evenly spaced levels.
+//! A Latin hypercube of `count` cases cuts each factor's range (or its list
+//! of levels) into `count` strata and visits each once, in an order and at a
+//! point within the stratum drawn from `seed`. An explicit design lists its
+//! cases as rows of values, one per factor (`cases = [[15000, 60], …]`).
+//! (`scene`, `set` and `responses` come before the first `[[factors]]`
+//! table: in TOML, a key after a table header belongs to that table.)
+
+use std::collections::BTreeSet;
+use std::path::Path;
+
+use serde::Deserialize;
+
+use super::StudyError;
+use crate::scene::{Assignment, Scene, ScenePath, set_in_table};
+
+/// A plan file as written (nothing checked beyond its TOML shape).
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanFile {
+    /// The base scene, relative to the plan file.
+    pub scene: String,
+    /// Values set in every case, by path (nested tables or quoted dotted keys).
+    #[serde(default)]
+    pub set: toml::Table,
+    /// The factors.
+    #[serde(default)]
+    pub factors: Vec<FactorFile>,
+    /// The design.
+    pub design: DesignFile,
+    /// `"all"` or a list of summary fields (`segments.0.mean_link_force_n`).
+    #[serde(default)]
+    pub responses: Option<toml::Value>,
+}
+
+/// One factor as written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FactorFile {
+    /// Dotted path into the scene file.
+    pub path: String,
+    /// Its levels.
+    #[serde(default)]
+    pub levels: Option<Vec<toml::Value>>,
+    /// Or a range of numbers.
+    #[serde(default)]
+    pub range: Option<RangeFile>,
+}
+
+/// A range of a numeric factor.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RangeFile {
+    /// First level.
+    pub from: f64,
+    /// Last level.
+    pub to: f64,
+    /// Number of evenly spaced levels (full factorial only).
+    #[serde(default)]
+    pub steps: Option<i64>,
+}
+
+/// The design as written.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DesignFile {
+    /// `full_factorial`, `latin_hypercube` or `explicit`.
+    pub kind: String,
+    /// Latin hypercube: seed of the draw.
+    #[serde(default)]
+    pub seed: Option<u64>,
+    /// Latin hypercube: number of cases.
+    #[serde(default)]
+    pub count: Option<i64>,
+    /// Explicit: one row of values per case, one value per factor.
+    #[serde(default)]
+    pub cases: Option<Vec<Vec<toml::Value>>>,
+}
+
+/// Which summary fields a study reports.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Responses {
+    /// Every numeric field of the summary.
+    All,
+    /// These fields, as dotted paths into the summary (`max_penetration_m`,
+    /// `segments.0.mean_link_force_n`; indices from 0).
+    Fields(Vec<String>),
+}
+
+/// One case: its factor values and everything written into the base scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Case {
+    /// 0-based case number (the job array's task id).
+    pub k: usize,
+    /// One value per factor, in the plan's order.
+    pub values: Vec<toml::Value>,
+    /// The plan's `set` values followed by the factor values.
+    pub assignments: Vec<Assignment>,
+}
+
+impl Case {
+    /// `path = value, …` of the factors, for messages.
+    pub fn describe(&self, factors: &[ScenePath]) -> String {
+        factors
+            .iter()
+            .zip(&self.values)
+            .map(|(p, v)| format!("{p} = {v}"))
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+}
+
+/// A checked plan: the base scene's text, the factors and every case, each
+/// case's scene already validated.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// The plan's text.
+    pub plan_toml: String,
+    /// The base scene's text.
+    pub scene_toml: String,
+    /// Factor paths, in the plan's order.
+    pub factors: Vec<ScenePath>,
+    /// The cases, case k at index k.
+    pub cases: Vec<Case>,
+    /// The responses.
+    pub responses: Responses,
+}
+
+/// Collects `path: message` lines.
+struct Problems(Vec<String>);
+
+impl Problems {
+    fn add(&mut self, path: impl std::fmt::Display, message: impl std::fmt::Display) {
+        self.0.push(format!("{path}: {message}"));
+    }
+}
+
+impl Study {
+    /// Reads the plan at `path` and the scene it names, and checks both.
+    pub fn from_plan_path(path: &Path) -> Result<Self, StudyError> {
+        let plan_toml = std::fs::read_to_string(path).map_err(|e| StudyError::Io {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        })?;
+        let file: PlanFile = toml::from_str(&plan_toml)
+            .map_err(|e| StudyError::Plan(vec![e.to_string().trim_end().replace('\n', " ")]))?;
+        let scene_path = path
+            .parent()
+            .unwrap_or_else(|| Path::new("."))
+            .join(&file.scene);
+        let scene_toml = std::fs::read_to_string(&scene_path).map_err(|e| {
+            StudyError::Plan(vec![format!(
+                "scene: cannot read {}: {e}",
+                scene_path.display()
+            )])
+        })?;
+        Self::from_texts(&plan_toml, &scene_toml)
+    }
+
+    /// Checks a plan against the base scene's text (the plan's `scene` path
+    /// is not read). Every problem is reported, each with its path in the
+    /// plan; then every case's scene is validated, and the cases that fail
+    /// are reported with their factor values. Nothing is run.
+    pub fn from_texts(plan_toml: &str, scene_toml: &str) -> Result<Self, StudyError> {
+        let file: PlanFile = toml::from_str(plan_toml)
+            .map_err(|e| StudyError::Plan(vec![e.to_string().trim_end().replace('\n', " ")]))?;
+        if let Err(e) = Scene::from_toml(scene_toml) {
+            return Err(StudyError::Plan(
+                e.lines().iter().map(|l| format!("scene: {l}")).collect(),
+            ));
+        }
+        let mut base: toml::Table = scene_toml
+            .parse()
+            .map_err(|e: toml::de::Error| StudyError::Plan(vec![format!("scene: {e}")]))?;
+        let mut p = Problems(Vec::new());
+
+        // Values fixed in every case.
+        let mut fixed = Vec::new();
+        flatten_set(&file.set, "", &mut fixed);
+        let mut set = Vec::new();
+        for (path, value) in fixed {
+            match path.parse::<ScenePath>() {
+                Ok(path) => {
+                    let a = Assignment { path, value };
+                    match set_in_table(&mut base, &a) {
+                        Ok(()) => set.push(a),
+                        Err(e) => p.add(format!("set.\"{}\"", a.path), e),
+                    }
+                }
+                Err(e) => p.add(format!("set.\"{path}\""), e),
+            }
+        }
+
+        // Factors: paths, and each level tried on the base scene.
+        let mut factors = Vec::new();
+        let mut seen = BTreeSet::new();
+        let kind = file.design.kind.as_str();
+        let mut levels: Vec<Vec<toml::Value>> = Vec::new();
+        for (i, f) in file.factors.iter().enumerate() {
+            let at = format!("factors[{i}]");
+            let path = match f.path.parse::<ScenePath>() {
+                Ok(path) => path,
+                Err(e) => {
+                    p.add(format!("{at}.path"), e);
+                    continue;
+                }
+            };
+            if !seen.insert(path.to_string()) {
+                p.add(format!("{at}.path"), format!("{path} is already a factor"));
+            }
+            let mut values = Vec::new();
+            match (kind, &f.levels, &f.range) {
+                ("explicit", None, None) => {}
+                ("explicit", _, _) => p.add(
+                    &at,
+                    "an explicit design takes its values from design.cases; allowed: path only",
+                ),
+                (_, Some(_), Some(_)) => p.add(&at, "has both levels and range; allowed: one"),
+                (_, None, None) => p.add(&at, "has no levels; allowed: levels = [...] or range"),
+                (_, Some(l), None) if l.is_empty() => p.add(
+                    format!("{at}.levels"),
+                    "is empty; allowed: at least one level",
+                ),
+                (_, Some(l), None) => values.clone_from(l),
+                (_, None, Some(r)) => match range_levels(kind, r) {
+                    Ok(v) => values = v,
+                    Err(m) => p.add(format!("{at}.range"), m),
+                },
+            }
+            for (j, v) in values.iter().enumerate() {
+                let a = Assignment {
+                    path: path.clone(),
+                    value: v.clone(),
+                };
+                if let Err(e) = set_in_table(&mut base.clone(), &a) {
+                    let place = match &f.levels {
+                        Some(_) => format!("{at}.levels[{j}]"),
+                        None => format!("{at}.range"),
+                    };
+                    p.add(place, e);
+                    break;
+                }
+            }
+            factors.push(path);
+            levels.push(values);
+        }
+
+        // The design.
+        let design = &file.design;
+        let rows: Vec<Vec<toml::Value>> = match kind {
+            "full_factorial" => {
+                if file.factors.is_empty() {
+                    p.add("factors", "a full factorial needs at least one factor");
+                }
+                no_field(&mut p, "design.seed", design.seed.is_some(), kind);
+                no_field(&mut p, "design.count", design.count.is_some(), kind);
+                no_field(&mut p, "design.cases", design.cases.is_some(), kind);
+                full_factorial(&levels)
+            }
+            "latin_hypercube" => {
+                if file.factors.is_empty() {
+                    p.add("factors", "a Latin hypercube needs at least one factor");
+                }
+                no_field(&mut p, "design.cases", design.cases.is_some(), kind);
+                if design.seed.is_none() {
+                    p.add("design.seed", "missing; a Latin hypercube needs a seed");
+                }
+                let count = match design.count {
+                    Some(n) if n >= 1 => n as usize,
+                    Some(n) => {
+                        p.add("design.count", format!("must be >= 1, got {n}"));
+                        0
+                    }
+                    None => {
+                        p.add("design.count", "missing; allowed: a number of cases >= 1");
+                        0
+                    }
+                };
+                latin_hypercube(&file.factors, &levels, count, design.seed.unwrap_or(0))
+            }
+            "explicit" => {
+                no_field(&mut p, "design.seed", design.seed.is_some(), kind);
+                no_field(&mut p, "design.count", design.count.is_some(), kind);
+                let rows = design.cases.clone().unwrap_or_default();
+                if rows.is_empty() {
+                    p.add(
+                        "design.cases",
+                        "is empty; allowed: at least one row of values",
+                    );
+                }
+                for (k, row) in rows.iter().enumerate() {
+                    if row.len() != file.factors.len() {
+                        p.add(
+                            format!("design.cases[{k}]"),
+                            format!(
+                                "has {} values; allowed: one per factor ({})",
+                                row.len(),
+                                file.factors.len()
+                            ),
+                        );
+                    }
+                }
+                rows
+            }
+            other => {
+                p.add(
+                    "design.kind",
+                    format!(
+                        "unknown design `{other}`; allowed: full_factorial, latin_hypercube, explicit"
+                    ),
+                );
+                Vec::new()
+            }
+        };
+
+        let responses = match &file.responses {
+            None => Responses::All,
+            Some(toml::Value::String(s)) if s == "all" => Responses::All,
+            Some(toml::Value::Array(items)) if !items.is_empty() => {
+                let mut fields = Vec::new();
+                for (i, item) in items.iter().enumerate() {
+                    match item.as_str() {
+                        Some(s) if is_summary_path(s) => fields.push(s.to_owned()),
+                        _ => p.add(
+                            format!("responses[{i}]"),
+                            format!(
+                                "{item} is not a summary field; allowed: a dotted path such as max_penetration_m or segments.0.mean_link_force_n"
+                            ),
+                        ),
+                    }
+                }
+                Responses::Fields(fields)
+            }
+            Some(other) => {
+                p.add(
+                    "responses",
+                    format!("{other}: allowed: \"all\" or a non-empty list of summary fields"),
+                );
+                Responses::All
+            }
+        };
+        if !p.0.is_empty() {
+            return Err(StudyError::Plan(p.0));
+        }
+
+        // Every case's scene, validated before anything runs.
+        let mut cases = Vec::with_capacity(rows.len());
+        let mut failed = Vec::new();
+        for (k, values) in rows.into_iter().enumerate() {
+            let mut assignments = set.clone();
+            assignments.extend(factors.iter().zip(&values).map(|(path, value)| Assignment {
+                path: path.clone(),
+                value: value.clone(),
+            }));
+            let case = Case {
+                k,
+                values,
+                assignments,
+            };
+            if let Err(e) = Scene::from_toml_set(scene_toml, &case.assignments) {
+                failed.push(format!(
+                    "case {k} ({}): {}",
+                    case.describe(&factors),
+                    e.lines().join("; ")
+                ));
+            }
+            cases.push(case);
+        }
+        if !failed.is_empty() {
+            return Err(StudyError::Cases(failed));
+        }
+        Ok(Self {
+            plan_toml: plan_toml.to_owned(),
+            scene_toml: scene_toml.to_owned(),
+            factors,
+            cases,
+            responses,
+        })
+    }
+
+    /// The validated scene of case `k`.
+    pub fn scene(&self, k: usize) -> Result<Scene, StudyError> {
+        let case = self.cases.get(k).ok_or(StudyError::NoCase {
+            k,
+            count: self.cases.len(),
+        })?;
+        Scene::from_toml_set(&self.scene_toml, &case.assignments).map_err(|e| {
+            StudyError::Cases(vec![format!(
+                "case {k} ({}): {}",
+                case.describe(&self.factors),
+                e.lines().join("; ")
+            )])
+        })
+    }
+}
+
+fn no_field(p: &mut Problems, path: &str, given: bool, kind: &str) {
+    if given {
+        p.add(path, format!("is not used by design `{kind}`"));
+    }
+}
+
+/// `a.b.c`: keys of letters, digits and `_`, or 0-based indices.
+fn is_summary_path(s: &str) -> bool {
+    !s.is_empty()
+        && s.split('.').all(|part| {
+            !part.is_empty() && part.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        })
+}
+
+/// The plan's `set` table as (dotted path, value) pairs; nested tables are
+/// joined by dots (`[set.chain] pretension_n = 1` is `chain.pretension_n`).
+fn flatten_set(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value)>) {
+    for (key, value) in table {
+        let path = if prefix.is_empty() {
+            key.clone()
+        } else {
+            format!("{prefix}.{key}")
+        };
+        match value {
+            toml::Value::Table(t) => flatten_set(t, &path, out),
+            v => out.push((path, v.clone())),
+        }
+    }
+}
+
+/// Levels of a range: `steps` evenly spaced for a full factorial, the two
+/// ends for a Latin hypercube (which draws within them).
+fn range_levels(kind: &str, r: &RangeFile) -> Result<Vec<toml::Value>, String> {
+    if !(r.from.is_finite() && r.to.is_finite()) {
+        return Err(format!(
+            "from = {} and to = {} must be finite numbers",
+            r.from, r.to
+        ));
+    }
+    match (kind, r.steps) {
+        ("latin_hypercube", Some(_)) => {
+            Err("steps is not used by a Latin hypercube (it draws within from..to)".to_owned())
+        }
+        ("latin_hypercube", None) => Ok(vec![toml::Value::Float(r.from), toml::Value::Float(r.to)]),
+        (_, None) => Err("missing steps; allowed: an integer >= 1".to_owned()),
+        (_, Some(n)) if n < 1 => Err(format!("steps must be >= 1, got {n}")),
+        (_, Some(1)) => Ok(vec![toml::Value::Float(r.from)]),
+        (_, Some(n)) => Ok((0..n)
+            .map(|i| toml::Value::Float(r.from + (r.to - r.from) * i as f64 / (n - 1) as f64))
+            .collect()),
+    }
+}
+
+/// Every combination; the last factor varies fastest.
+fn full_factorial(levels: &[Vec<toml::Value>]) -> Vec<Vec<toml::Value>> {
+    if levels.is_empty() || levels.iter().any(Vec::is_empty) {
+        return Vec::new();
+    }
+    let mut rows = vec![Vec::new()];
+    for factor in levels {
+        rows = rows
+            .into_iter()
+            .flat_map(|row| {
+                factor.iter().map(move |v| {
+                    let mut r = row.clone();
+                    r.push(v.clone());
+                    r
+                })
+            })
+            .collect();
+    }
+    rows
+}
+
+/// SplitMix64 (Steele, Lea, Flood 2014): a small, fixed, seeded generator,
+/// so a plan's Latin hypercube is the same on every machine and version.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    /// Uniform in [0, 1).
+    fn unit(&mut self) -> f64 {
+        (self.next() >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    /// Uniform in 0..n (n ≥ 1).
+    fn below(&mut self, n: usize) -> usize {
+        ((self.unit() * n as f64) as usize).min(n - 1)
+    }
+}
+
+/// `count` cases: for each factor a random permutation of the strata
+/// 0..count; case i takes stratum s = perm[i] and the point (s + u)/count
+/// of the unit interval, u uniform in [0, 1), mapped onto the range
+/// (from + x (to − from)) or onto the list of levels (level ⌊x · len⌋).
+fn latin_hypercube(
+    factors: &[FactorFile],
+    levels: &[Vec<toml::Value>],
+    count: usize,
+    seed: u64,
+) -> Vec<Vec<toml::Value>> {
+    if count == 0 || levels.iter().any(Vec::is_empty) {
+        return Vec::new();
+    }
+    let mut rng = SplitMix64(seed);
+    let mut rows = vec![Vec::with_capacity(factors.len()); count];
+    for (f, values) in factors.iter().zip(levels) {
+        let mut perm: Vec<usize> = (0..count).collect();
+        // Fisher–Yates.
+        for i in (1..count).rev() {
+            perm.swap(i, rng.below(i + 1));
+        }
+        for (row, s) in rows.iter_mut().zip(perm) {
+            let x = (s as f64 + rng.unit()) / count as f64;
+            let v = match (&f.range, values.len()) {
+                (Some(r), _) => toml::Value::Float(r.from + x * (r.to - r.from)),
+                (None, n) => values[((x * n as f64) as usize).min(n - 1)].clone(),
+            };
+            row.push(v);
+        }
+    }
+    rows
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::L60MC_TOML;
+
+    const PLAN: &str = r#"
+scene = "l60mc.toml"
+set = { "solver.duration_s" = 0.5 }
+[[factors]]
+path = "chain.pretension_n"
+levels = [15000, 21000]
+[[factors]]
+path = "sprockets.0.speed_rpm"
+range = { from = 60, to = 120, steps = 3 }
+[design]
+kind = "full_factorial"
+"#;
+
+    fn lines(plan: &str) -> Vec<String> {
+        match Study::from_texts(plan, L60MC_TOML) {
+            Err(StudyError::Plan(l) | StudyError::Cases(l)) => l,
+            other => panic!("expected errors, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn a_full_factorial_has_every_combination() {
+        let s = Study::from_texts(PLAN, L60MC_TOML).expect("valid");
+        assert_eq!(s.cases.len(), 6);
+        // The last factor varies fastest.
+        assert_eq!(s.cases[1].values[1], toml::Value::Float(90.0));
+        assert_eq!(s.cases[3].values[0], toml::Value::Integer(21000));
+        let scene = s.scene(5).expect("valid");
+        assert_eq!(scene.chain().pretension_n, 21000.0);
+        assert_eq!(scene.file().sprockets[0].speed_rpm, Some(120.0));
+        assert_eq!(scene.solver().duration_s, 0.5);
+    }
+
+    #[test]
+    fn a_latin_hypercube_visits_every_stratum_once() {
+        let plan = r#"
+scene = "x"
+[[factors]]
+path = "chain.pretension_n"
+range = { from = 10000, to = 20000 }
+[[factors]]
+path = "sprockets.0.speed_rpm"
+levels = [60, 80, 100, 120]
+[design]
+kind = "latin_hypercube"
+seed = 7
+count = 8
+"#;
+        let s = Study::from_texts(plan, L60MC_TOML).expect("valid");
+        assert_eq!(s.cases.len(), 8);
+        // Each of the 8 strata of [10000, 20000) holds exactly one case.
+        let mut strata: Vec<usize> = s
+            .cases
+            .iter()
+            .map(|c| ((c.values[0].as_float().expect("float") - 10000.0) / 1250.0) as usize)
+            .collect();
+        strata.sort_unstable();
+        assert_eq!(strata, (0..8).collect::<Vec<_>>());
+        // 8 strata over 4 levels: each level twice.
+        for level in [60, 80, 100, 120] {
+            let n = s
+                .cases
+                .iter()
+                .filter(|c| c.values[1] == toml::Value::Integer(level))
+                .count();
+            assert_eq!(n, 2, "level {level}");
+        }
+        // The same seed gives the same cases.
+        let again = Study::from_texts(plan, L60MC_TOML).expect("valid");
+        assert_eq!(again.cases, s.cases);
+    }
+
+    #[test]
+    fn bad_plans_name_their_paths() {
+        let l = lines(&PLAN.replace("chain.pretension_n", "chain.colour"));
+        assert!(
+            l[0].starts_with("factors[0].levels[0]: chain.colour: no such field"),
+            "{l:?}"
+        );
+        let l = lines(&PLAN.replace("[15000, 21000]", "[15000, \"high\"]"));
+        assert!(
+            l[0].starts_with("factors[0].levels[1]: chain.pretension_n: a string does not fit"),
+            "{l:?}"
+        );
+        let l = lines("scene = \"x\"\n[design]\nkind = \"explicit\"\ncases = []\n");
+        assert_eq!(
+            l,
+            ["design.cases: is empty; allowed: at least one row of values"]
+        );
+        let l = lines("scene = \"x\"\n[design]\nkind = \"full_factorial\"\n");
+        assert_eq!(l, ["factors: a full factorial needs at least one factor"]);
+        let l = lines(&PLAN.replace("full_factorial", "latin_hypercube"));
+        assert!(l.iter().any(|m| m.starts_with("design.seed")), "{l:?}");
+        assert!(l.iter().any(|m| m.starts_with("factors[1].range")), "{l:?}");
+    }
+
+    #[test]
+    fn a_case_that_cannot_be_built_is_reported_with_its_values() {
+        let l = lines(&PLAN.replace("[15000, 21000]", "[15000, -5]"));
+        assert_eq!(l.len(), 3, "{l:?}");
+        assert!(
+            l[0].starts_with("case 3 (chain.pretension_n = -5, sprockets[0].speed_rpm = 60.0): "),
+            "{l:?}"
+        );
+        assert!(l[0].contains("chain.pretension_n"), "{l:?}");
+    }
+}

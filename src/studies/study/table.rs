@@ -1,0 +1,437 @@
+//! A study's results as one table: a row per case with its number, the
+//! factors, the responses, its status and wall time. Written as CSV and
+//! (feature `parquet`) as Parquet, and drawn (feature `figures`) as a
+//! main-effects figure per response.
+//!
+//! Responses are the summary's numeric fields as dotted paths, arrays
+//! indexed from 0 (`segments.0.mean_link_force_n`). A case that failed or
+//! has not finished has no responses (null); its status says why.
+
+use std::fmt::Write as _;
+
+use super::{Responses, StudyDir, StudyError};
+
+/// A column's values; `None` is null.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ColumnData {
+    /// 64-bit integers.
+    Int(Vec<i64>),
+    /// Numbers.
+    Float(Vec<Option<f64>>),
+    /// Text.
+    Text(Vec<Option<String>>),
+}
+
+/// A named column.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Column {
+    /// Its name: `case`, a factor's path, a response's path, `status`,
+    /// `wall_s`, `error`.
+    pub name: String,
+    /// Its values, one per case.
+    pub data: ColumnData,
+}
+
+/// The merged results.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Table {
+    /// Columns, all of the same length.
+    pub columns: Vec<Column>,
+    /// How many of the columns (after `case`) are factors.
+    pub factors: usize,
+    /// How many (after the factors) are responses.
+    pub responses: usize,
+}
+
+/// The numeric leaves of a summary as (dotted path, value); booleans and
+/// text are left out.
+pub fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
+    fn walk(v: &serde_json::Value, prefix: &str, out: &mut Vec<(String, f64)>) {
+        let join = |key: &str| {
+            if prefix.is_empty() {
+                key.to_owned()
+            } else {
+                format!("{prefix}.{key}")
+            }
+        };
+        match v {
+            serde_json::Value::Number(n) => {
+                if let Some(x) = n.as_f64() {
+                    out.push((prefix.to_owned(), x));
+                }
+            }
+            serde_json::Value::Object(map) => {
+                for (k, v) in map {
+                    walk(v, &join(k), out);
+                }
+            }
+            serde_json::Value::Array(items) => {
+                for (i, v) in items.iter().enumerate() {
+                    walk(v, &join(&i.to_string()), out);
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    walk(value, "", &mut out);
+    out
+}
+
+impl Table {
+    /// Merges the cases in `dir`: finished ones with their responses,
+    /// failed ones with their error, the rest as `missing`.
+    pub fn collect(dir: &StudyDir) -> Result<Self, StudyError> {
+        let study = &dir.study;
+        let n = study.cases.len();
+        let mut statuses = Vec::with_capacity(n);
+        let mut fields: Vec<Option<Vec<(String, f64)>>> = Vec::with_capacity(n);
+        for k in 0..n {
+            let status = dir.status(k)?;
+            let summary = match &status {
+                Some(s) if s.ok => dir.summary(k)?,
+                _ => None,
+            };
+            fields.push(summary.as_ref().map(numeric_fields));
+            statuses.push(status);
+        }
+        // Every numeric field of the finished cases, in first-seen order.
+        let mut available: Vec<String> = Vec::new();
+        for f in fields.iter().flatten() {
+            for (name, _) in f {
+                if !available.contains(name) {
+                    available.push(name.clone());
+                }
+            }
+        }
+        let names = match &study.responses {
+            Responses::All => available.clone(),
+            Responses::Fields(list) => {
+                let any_ok = fields.iter().any(Option::is_some);
+                for (index, name) in list.iter().enumerate() {
+                    if any_ok && !available.contains(name) {
+                        return Err(StudyError::UnknownResponse {
+                            index,
+                            name: name.clone(),
+                            allowed: available.join(", "),
+                        });
+                    }
+                }
+                list.clone()
+            }
+        };
+
+        let mut columns = vec![Column {
+            name: "case".to_owned(),
+            data: ColumnData::Int((0..n as i64).collect()),
+        }];
+        for (i, path) in study.factors.iter().enumerate() {
+            let values: Vec<&toml::Value> = study.cases.iter().map(|c| &c.values[i]).collect();
+            let numbers: Option<Vec<Option<f64>>> = values
+                .iter()
+                .map(|v| match v {
+                    toml::Value::Float(x) => Some(Some(*x)),
+                    toml::Value::Integer(x) => Some(Some(*x as f64)),
+                    _ => None,
+                })
+                .collect();
+            let data = match numbers {
+                Some(x) => ColumnData::Float(x),
+                None => ColumnData::Text(
+                    values
+                        .iter()
+                        .map(|v| Some(v.as_str().map_or_else(|| v.to_string(), str::to_owned)))
+                        .collect(),
+                ),
+            };
+            columns.push(Column {
+                name: path.to_string(),
+                data,
+            });
+        }
+        for name in &names {
+            columns.push(Column {
+                name: name.clone(),
+                data: ColumnData::Float(
+                    fields
+                        .iter()
+                        .map(|f| {
+                            f.as_ref()
+                                .and_then(|f| f.iter().find(|(n, _)| n == name).map(|(_, x)| *x))
+                        })
+                        .collect(),
+                ),
+            });
+        }
+        columns.push(Column {
+            name: "status".to_owned(),
+            data: ColumnData::Text(
+                statuses
+                    .iter()
+                    .map(|s| {
+                        Some(
+                            match s {
+                                Some(s) if s.ok => "ok",
+                                Some(_) => "failed",
+                                None => "missing",
+                            }
+                            .to_owned(),
+                        )
+                    })
+                    .collect(),
+            ),
+        });
+        columns.push(Column {
+            name: "wall_s".to_owned(),
+            data: ColumnData::Float(
+                statuses
+                    .iter()
+                    .map(|s| s.as_ref().map(|s| s.wall_s))
+                    .collect(),
+            ),
+        });
+        columns.push(Column {
+            name: "error".to_owned(),
+            data: ColumnData::Text(
+                statuses
+                    .iter()
+                    .map(|s| s.as_ref().and_then(|s| s.error.clone()))
+                    .collect(),
+            ),
+        });
+        Ok(Self {
+            columns,
+            factors: study.factors.len(),
+            responses: names.len(),
+        })
+    }
+
+    /// Number of rows.
+    pub fn rows(&self) -> usize {
+        self.columns.first().map_or(0, |c| match &c.data {
+            ColumnData::Int(v) => v.len(),
+            ColumnData::Float(v) => v.len(),
+            ColumnData::Text(v) => v.len(),
+        })
+    }
+
+    /// The table as CSV: a header of column names, empty cells for nulls,
+    /// numbers in Rust's shortest round-trip form.
+    pub fn to_csv(&self) -> String {
+        fn quote(s: &str) -> String {
+            if s.contains([',', '"', '\n', '\r']) {
+                format!("\"{}\"", s.replace('"', "\"\""))
+            } else {
+                s.to_owned()
+            }
+        }
+        let mut out = String::new();
+        let header: Vec<String> = self.columns.iter().map(|c| quote(&c.name)).collect();
+        out.push_str(&header.join(","));
+        out.push('\n');
+        for r in 0..self.rows() {
+            let cells: Vec<String> = self
+                .columns
+                .iter()
+                .map(|c| match &c.data {
+                    ColumnData::Int(v) => v[r].to_string(),
+                    ColumnData::Float(v) => v[r].map_or_else(String::new, |x| {
+                        let mut s = String::new();
+                        let _ = write!(s, "{x:?}");
+                        s
+                    }),
+                    ColumnData::Text(v) => v[r].as_deref().map_or_else(String::new, quote),
+                })
+                .collect();
+            out.push_str(&cells.join(","));
+            out.push('\n');
+        }
+        out
+    }
+
+    /// Writes the table as Parquet to `path` (through a file beside it and
+    /// a rename): `case` INT64, numbers DOUBLE, text BYTE_ARRAY (UTF-8),
+    /// every column but `case` optional; one row group, uncompressed.
+    #[cfg(feature = "parquet")]
+    pub fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
+        let tmp = path.with_extension(format!("parquet.tmp.{}", std::process::id()));
+        let file = std::fs::File::create(&tmp).map_err(|e| StudyError::io(&tmp, e))?;
+        parquet_writer::write(self, file).map_err(|e| StudyError::io(path, e))?;
+        std::fs::rename(&tmp, path).map_err(|e| StudyError::io(path, e))
+    }
+
+    /// The main effects of the numeric factors on `response` (a column
+    /// index): for each factor, the mean response over the finished cases
+    /// at each of its levels (levels grouped into 5 equal bins when there
+    /// are more than 8, as in a Latin hypercube), the level scaled to 0
+    /// (lowest) … 1 (highest). One trace per factor: (scaled level, mean).
+    pub fn main_effects(&self, response: usize) -> Vec<(String, Vec<(f64, f64)>)> {
+        let ColumnData::Float(y) = &self.columns[response].data else {
+            return Vec::new();
+        };
+        let mut traces = Vec::new();
+        for f in &self.columns[1..=self.factors] {
+            let ColumnData::Float(x) = &f.data else {
+                continue;
+            };
+            let pairs: Vec<(f64, f64)> = x
+                .iter()
+                .zip(y)
+                .filter_map(|(x, y)| Some(((*x)?, (*y)?)))
+                .filter(|(x, y)| x.is_finite() && y.is_finite())
+                .collect();
+            let (lo, hi) = pairs
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (x, _)| {
+                    (lo.min(*x), hi.max(*x))
+                });
+            if pairs.is_empty() {
+                continue;
+            }
+            let span = if hi > lo { hi - lo } else { 1.0 };
+            let mut levels: Vec<f64> = pairs.iter().map(|p| p.0).collect();
+            levels.sort_by(f64::total_cmp);
+            levels.dedup();
+            let key = |x: f64| -> f64 {
+                if levels.len() <= 8 {
+                    (x - lo) / span
+                } else {
+                    // Bin centres of 5 equal bins.
+                    let b = (((x - lo) / span) * 5.0).floor().min(4.0);
+                    (b + 0.5) / 5.0
+                }
+            };
+            let mut groups: Vec<(f64, f64, usize)> = Vec::new();
+            for (x, y) in &pairs {
+                let k = key(*x);
+                match groups.iter_mut().find(|g| g.0 == k) {
+                    Some(g) => {
+                        g.1 += y;
+                        g.2 += 1;
+                    }
+                    None => groups.push((k, *y, 1)),
+                }
+            }
+            groups.sort_by(|a, b| a.0.total_cmp(&b.0));
+            traces.push((
+                format!("{} ({lo} … {hi})", f.name),
+                groups
+                    .into_iter()
+                    .map(|(k, sum, n)| (k, sum / n as f64))
+                    .collect(),
+            ));
+        }
+        traces
+    }
+
+    /// Draws a main-effects figure per response into `dir`
+    /// (`<response>.png` and `.svg`); returns how many were drawn. A
+    /// response with no finished case is skipped.
+    #[cfg(feature = "figures")]
+    pub fn main_effects_figures(&self, dir: &std::path::Path) -> Result<usize, StudyError> {
+        use crate::analysis::figures::{Mark, Plot, Trace, save};
+        std::fs::create_dir_all(dir).map_err(|e| StudyError::io(dir, e))?;
+        let mut drawn = 0;
+        let first = 1 + self.factors;
+        for r in first..first + self.responses {
+            let name = &self.columns[r].name;
+            let effects = self.main_effects(r);
+            let plot = Plot {
+                title: format!("Main effects on {name}"),
+                x_label: "factor level, scaled: 0 = lowest, 1 = highest".to_owned(),
+                y_label: format!("mean {name}"),
+                traces: effects
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, (label, points))| Trace {
+                        label,
+                        points,
+                        mark: Mark::Line,
+                        color: i,
+                    })
+                    .collect(),
+                notes: Vec::new(),
+            };
+            if plot.traces.iter().all(|t| t.points.is_empty()) {
+                continue;
+            }
+            match save(&plot, dir, name) {
+                Ok(_) => drawn += 1,
+                Err(crate::analysis::figures::FigureError::Empty(_)) => {}
+                Err(e) => return Err(StudyError::io(dir, e)),
+            }
+        }
+        Ok(drawn)
+    }
+}
+
+#[cfg(feature = "parquet")]
+mod parquet_writer {
+    use std::sync::Arc;
+
+    use parquet::basic::{ConvertedType, LogicalType, Repetition, Type as Physical};
+    use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
+    use parquet::errors::ParquetError;
+    use parquet::file::properties::WriterProperties;
+    use parquet::file::writer::SerializedFileWriter;
+    use parquet::schema::types::Type;
+
+    use super::{ColumnData, Table};
+
+    pub(super) fn write(table: &Table, file: std::fs::File) -> Result<(), ParquetError> {
+        let mut fields = Vec::new();
+        for c in &table.columns {
+            let (physical, repetition) = match c.data {
+                ColumnData::Int(_) => (Physical::INT64, Repetition::REQUIRED),
+                ColumnData::Float(_) => (Physical::DOUBLE, Repetition::OPTIONAL),
+                ColumnData::Text(_) => (Physical::BYTE_ARRAY, Repetition::OPTIONAL),
+            };
+            let mut b = Type::primitive_type_builder(&c.name, physical).with_repetition(repetition);
+            if let ColumnData::Text(_) = c.data {
+                b = b
+                    .with_logical_type(Some(LogicalType::String))
+                    .with_converted_type(ConvertedType::UTF8);
+            }
+            fields.push(Arc::new(b.build()?));
+        }
+        let schema = Arc::new(
+            Type::group_type_builder("results")
+                .with_fields(fields)
+                .build()?,
+        );
+        let props = Arc::new(WriterProperties::builder().build());
+        let mut writer = SerializedFileWriter::new(file, schema, props)?;
+        let mut group = writer.next_row_group()?;
+        let mut columns = table.columns.iter();
+        while let Some(mut out) = group.next_column()? {
+            let Some(c) = columns.next() else {
+                return Err(ParquetError::General("more columns than data".to_owned()));
+            };
+            match &c.data {
+                ColumnData::Int(v) => {
+                    out.typed::<Int64Type>().write_batch(v, None, None)?;
+                }
+                ColumnData::Float(v) => {
+                    let def: Vec<i16> = v.iter().map(|x| i16::from(x.is_some())).collect();
+                    let values: Vec<f64> = v.iter().flatten().copied().collect();
+                    out.typed::<DoubleType>()
+                        .write_batch(&values, Some(&def), None)?;
+                }
+                ColumnData::Text(v) => {
+                    let def: Vec<i16> = v.iter().map(|x| i16::from(x.is_some())).collect();
+                    let values: Vec<ByteArray> = v
+                        .iter()
+                        .flatten()
+                        .map(|s| ByteArray::from(s.as_str()))
+                        .collect();
+                    out.typed::<ByteArrayType>()
+                        .write_batch(&values, Some(&def), None)?;
+                }
+            }
+            out.close()?;
+        }
+        group.close()?;
+        writer.close()?;
+        Ok(())
+    }
+}
