@@ -70,8 +70,12 @@ pub(crate) struct NewtonEnd {
 const ROTATION_REGULARISATION: f64 = 1e-9;
 /// Difference step for the contact's stiffness, times the rest length.
 const DIFFERENCE_STEP: f64 = 1e-7;
-/// Largest roller (or pitch-circle) displacement of one step, times the rest length.
-const MAX_STEP: f64 = 0.05;
+/// First bound on a step's largest roller (or pitch-circle) displacement,
+/// times the rest length: the trust radius, which grows fourfold after each
+/// full step that it cut and shrinks to what the line search accepted.
+const FIRST_RADIUS: f64 = 0.25;
+/// Largest trust radius, times the rest length.
+const MAX_RADIUS: f64 = 1e4;
 /// Line search halvings before the shift μ grows.
 const HALVINGS: usize = 10;
 
@@ -294,6 +298,13 @@ impl Banded {
                 let u = t.upper[i - 1];
                 pivot -= u.transpose() * g * u;
             }
+            // Positive definite pivots only: the shifted tangent must be, for
+            // the step to descend the energy (the Schur complement's Cholesky
+            // checks the rest).
+            let det = pivot[(0, 0)] * pivot[(1, 1)] - pivot[(0, 1)] * pivot[(1, 0)];
+            if !(pivot[(0, 0)] > 0.0 && det > 0.0) {
+                return None;
+            }
             let g = pivot.try_inverse()?;
             if !g.iter().all(|v| v.is_finite()) {
                 return None;
@@ -399,7 +410,8 @@ fn step(t: &Tangent, free: &Free, model: &DriveModel, mu: f64, r: &[f64]) -> Opt
         }
         rhs[a] -= dot(&columns[a], &x_r);
     }
-    let y = s.lu().solve(&rhs)?;
+    let s = 0.5 * (&s + s.transpose());
+    let y = s.cholesky()?.solve(&rhs);
     if !y.iter().all(|v| v.is_finite()) {
         return None;
     }
@@ -460,7 +472,7 @@ pub(crate) fn solve(
     let k = model.stiffness_n_m;
     let mu_min = 1e-8 * k;
     let mut mu = 0.0;
-    let max_step = MAX_STEP * model.rest_length_m;
+    let mut radius = FIRST_RADIUS * model.rest_length_m;
     let mut iterations = 0;
     while now > tolerance_n && iterations < max_iterations {
         iterations += 1;
@@ -492,8 +504,9 @@ pub(crate) fn solve(
                 mu = (10.0 * mu).max(mu_min);
                 continue;
             }
-            if largest > max_step {
-                let scale = max_step / largest;
+            let cut = largest > radius;
+            if cut {
+                let scale = radius / largest;
                 delta.iter_mut().for_each(|d| *d *= scale);
             }
             // The energy's slope along Δ is −Δ·r: a descent direction has Δ·r > 0.
@@ -519,6 +532,14 @@ pub(crate) fn solve(
                 if accepted {
                     if alpha == 1.0 {
                         mu = if mu <= mu_min { 0.0 } else { 0.1 * mu };
+                        if cut {
+                            radius = (4.0 * radius).min(MAX_RADIUS * model.rest_length_m);
+                        }
+                    } else {
+                        // A cut step: the quadratic model was poor this far
+                        // out; shift towards steepest descent as well.
+                        radius = alpha * largest.min(radius);
+                        mu = (10.0 * mu).max(mu_min);
                     }
                     break;
                 }
