@@ -629,6 +629,7 @@ mod tests {
     /// link's block against moving one free-strand roller. Tolerance 1 % of
     /// the entry (difference steps 10⁻⁷ P on a contact of exponent 1.5).
     #[test]
+    #[allow(clippy::needless_range_loop)]
     fn tangent_is_symmetric_and_matches_differences() {
         let (model, mut state, mut forces) = paper();
         let end = solve(&model, &mut state, &mut forces, 21_000.0 * 1e-6, 40);
