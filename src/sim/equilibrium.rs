@@ -525,7 +525,15 @@ pub fn settle_rest_length(
     for iteration in 1..=MAX_ITERATIONS {
         model.rest_length_m = rest;
         let stop = if found { REST_FORCE } else { SEARCH_FORCE };
-        let residual = relax_until(model, state, forces, &settings, Some(stop * scale))?;
+        // Newton first, the relaxation where it stalls (see the newton module).
+        let residual = super::newton::settle(
+            model,
+            state,
+            forces,
+            &settings,
+            stop * scale,
+            0.5 * REST_FORCE * scale,
+        )?;
         let tension =
             free_strand_tension(model, state, forces).ok_or(EquilibriumError::NoFreeLinks)?;
         last = tension;

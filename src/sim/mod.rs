@@ -13,6 +13,7 @@ mod energy;
 mod equilibrium;
 mod feasibility;
 pub mod integrate;
+mod newton;
 mod sample_rate;
 mod stepper;
 

@@ -162,10 +162,16 @@ fn conveyors_without_gravity_carry_the_tail_torque() {
         // Straight strands between seated rollers: a strand's ends sit on the
         // pitch polygons, at most R (1 − cos(π/N)) (the chordal rise, 1.0 mm)
         // inside the pitch circles' tangent line.
+        // The strand's end roller is pressed into its seat by the strand's
+        // tension T, inside the pitch circle by up to its penetration
+        // δ = (T/K)^(1/n) (contact stiffness K = 2e8, n = 1.5), T at most
+        // the largest mean strand force.
         let chordal = pitch_radius() * (1.0 - (PI / TEETH).cos());
+        let tension = r.mean_n[0].max(r.mean_n[1]);
+        let penetration = (tension / 2e8).powf(1.0 / 1.5);
         for t in r.transverse_m {
             assert!(
-                t.abs() <= chordal + 1e-5,
+                t.abs() <= chordal + penetration,
                 "{name}: transverse {t} m without gravity; the chordal rise is {chordal} m"
             );
         }

@@ -1,0 +1,727 @@
+//! Newton's method on the static equilibrium equations at a fixed rest
+//! length (docs/model.md, “Pretension and static equilibrium”).
+//!
+//! The unknowns are the rollers' positions and the free sprockets' angles
+//! (the driver and any sprocket without inertia are held); the equations are
+//! the rollers' force balances (links, contact, gravity) and the free
+//! sprockets' torque balances (chain plus load at rest). The drive is
+//! conservative at rest, so the tangent stiffness is symmetric and each step
+//! is taken along the Newton direction with a line search on the potential
+//! energy (and on the residual where the energy's rounding hides the
+//! decrease), a Levenberg–Marquardt shift μ where the tangent is not positive
+//! definite. What this module does not do: choose the rest length (the
+//! pretension iteration does), nor anything when Newton stalls (the caller
+//! relaxes dynamically and tries again).
+//!
+//! # The tangent stiffness K = −∂r/∂q
+//!
+//! - **Links**, exact: a link of length ℓ along u with force f = k(ℓ − ℓ₀)
+//!   adds to its two rollers' blocks ±(k u uᵀ + (f/ℓ)(I − u uᵀ)): the axial
+//!   stiffness k along u, and the geometric stiffness f/ℓ across it (turning
+//!   the link by a small angle φ = δ⊥/ℓ turns its force f u by φ, a force
+//!   f δ⊥/ℓ across it).
+//! - **Contact**, by differences: a roller's contact force depends on its own
+//!   position and its sprockets' angles only, and the links' forces do not
+//!   change when every roller moves alike. Moving all rollers by h along x,
+//!   then along y, gives every roller's 2×2 contact block (n K δⁿ⁻¹ along the
+//!   normal and whatever the tooth's curvature adds) from two evaluations.
+//!   Turning one free sprocket by h/R gives its column (the forces on the
+//!   rollers it touches and its own torque's change); its row is the column's
+//!   transpose (the contact is elastic at rest: K is symmetric).
+//! - **Gravity and the loads at rest** are constant: no stiffness.
+//!
+//! # The linear solve, O(N)
+//!
+//! The chain is a closed loop: K is block tridiagonal in the rollers (2×2
+//! blocks) with two corner blocks from the closing link, bordered by a row and
+//! a column per free sprocket. Roller 0 joins the border, which leaves rollers
+//! 1 … N−1 block tridiagonal: a block LU (Thomas) sweep solves them for the
+//! right-hand side and each border column, and the border's Schur complement
+//! (2 + free sprockets unknowns) is solved dense with `nalgebra`.
+//!
+//! # The free sprockets' rotation
+//!
+//! An unloaded free sprocket whose teeth barely touch the chain (the real
+//! profile's seating clearance) turns at almost no stiffness. Its diagonal
+//! gets a regularising stiffness 10⁻⁹ k R² (k the link stiffness, R its pitch
+//! radius) at all times: it changes nothing where the chain holds the sprocket
+//! (the contact's stiffness times R² is orders above) and keeps a sprocket
+//! that nothing holds where it is instead of sending it anywhere.
+
+use rapier2d_f64::na::{DMatrix, DVector, Matrix2, Vector2};
+
+use super::equilibrium::{EquilibriumError, RelaxSettings, relax_until};
+use crate::forces::ForceGenerator;
+use crate::model::{DriveModel, DriveState};
+
+/// How a Newton solve ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct NewtonEnd {
+    /// Largest force out of balance at the end (a sprocket's torque counted
+    /// as torque / pitch radius), N.
+    pub(crate) residual_n: f64,
+    /// Newton iterations taken.
+    pub(crate) iterations: usize,
+    /// Whether the residual reached the tolerance.
+    pub(crate) converged: bool,
+}
+
+/// Regularising stiffness on a free sprocket's rotation, times k R².
+const ROTATION_REGULARISATION: f64 = 1e-9;
+/// Difference step for the contact's stiffness, times the rest length.
+const DIFFERENCE_STEP: f64 = 1e-7;
+/// First bound on a step's largest roller (or pitch-circle) displacement,
+/// times the rest length: the trust radius, which grows fourfold after each
+/// full step that it cut and shrinks to what the line search accepted.
+const FIRST_RADIUS: f64 = 0.25;
+/// Largest trust radius, times the rest length.
+const MAX_RADIUS: f64 = 1e4;
+/// Line search halvings before the shift μ grows.
+const HALVINGS: usize = 10;
+
+/// The unknowns beyond the rollers: the free sprockets.
+struct Free {
+    /// Index of each free sprocket in the model.
+    sprockets: Vec<usize>,
+}
+
+impl Free {
+    fn of(model: &DriveModel) -> Self {
+        Self {
+            sprockets: model
+                .sprockets
+                .iter()
+                .enumerate()
+                .filter(|(_, s)| s.speed_law.is_none() && s.inv_inertia > 0.0)
+                .map(|(j, _)| j)
+                .collect(),
+        }
+    }
+}
+
+/// Whether the Newton solve handles this drive: rollers and sprockets only
+/// (further bodies and scalar states are left to the relaxation).
+pub(crate) fn applies(model: &DriveModel, state: &DriveState) -> bool {
+    model.bodies.is_empty() && model.scalars.is_empty() && state.x.len() >= 3
+}
+
+/// Residual r = (roller forces, free sprockets' torques) at `state`, into
+/// `r`; returns its largest entry (torques over the pitch radius), N.
+fn residual(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &mut ForceGenerator,
+    free: &Free,
+    r: &mut [f64],
+) -> f64 {
+    forces.forget_reach();
+    forces.evaluate(model, state);
+    let out = forces.output();
+    let n = state.x.len();
+    let mut largest: f64 = 0.0;
+    for i in 0..n {
+        r[2 * i] = out.fx[i];
+        r[2 * i + 1] = out.fy[i];
+        largest = largest.max(out.fx[i].hypot(out.fy[i]));
+    }
+    for (k, &s) in free.sprockets.iter().enumerate() {
+        let sp = &model.sprockets[s];
+        let torque = out.chain_torque[s] + sp.load_at_rest_n_m();
+        r[2 * n + k] = torque;
+        largest = largest.max(torque.abs() / sp.pitch_radius_m);
+    }
+    if largest.is_finite() {
+        largest
+    } else {
+        f64::INFINITY
+    }
+}
+
+/// Potential energy at `state` relative to `reference` (links, contact,
+/// gravity, loads at rest), J, and a bound on its rounding error. `forces`
+/// evaluated at `state`.
+fn energy(
+    model: &DriveModel,
+    state: &DriveState,
+    reference: &DriveState,
+    forces: &ForceGenerator,
+    free: &Free,
+) -> (f64, f64) {
+    let n = state.x.len();
+    let k = model.stiffness_n_m;
+    let mut links = 0.0;
+    for i in 0..n {
+        let j = if i + 1 == n { 0 } else { i + 1 };
+        let s = (state.x[j] - state.x[i]).hypot(state.y[j] - state.y[i]) - model.rest_length_m;
+        links += 0.5 * k * s * s;
+    }
+    let m = model.roller_mass_kg;
+    let [gx, gy] = model.gravity_m_s2;
+    let mut weight = 0.0;
+    let mut weight_size = 0.0;
+    for i in 0..n {
+        let w = m * (gx * (state.x[i] - reference.x[i]) + gy * (state.y[i] - reference.y[i]));
+        weight -= w;
+        weight_size += w.abs();
+    }
+    let mut loads = 0.0;
+    for &s in &free.sprockets {
+        loads -= model.sprockets[s].load_at_rest_n_m() * (state.theta[s] - reference.theta[s]);
+    }
+    let contact = forces.output().contact_energy_j;
+    let total = links + contact + weight + loads;
+    let size = links + contact.abs() + weight_size + loads.abs();
+    (total, 1e-12 * size)
+}
+
+/// The tangent stiffness: the block tridiagonal part, the free sprockets'
+/// columns and their own block.
+struct Tangent {
+    /// Diagonal block of each roller.
+    diag: Vec<Matrix2<f64>>,
+    /// K between roller i and i + 1 (mod N): the block of link i.
+    upper: Vec<Matrix2<f64>>,
+    /// Column of each free sprocket: its entries on the rollers (2 N).
+    columns: Vec<Vec<f64>>,
+    /// The free sprockets' own block.
+    sprockets: DMatrix<f64>,
+}
+
+impl Tangent {
+    fn new(n: usize, free: usize) -> Self {
+        Self {
+            diag: vec![Matrix2::zeros(); n],
+            upper: vec![Matrix2::zeros(); n],
+            columns: vec![vec![0.0; 2 * n]; free],
+            sprockets: DMatrix::zeros(free, free),
+        }
+    }
+}
+
+/// Assembles the tangent at `state`, whose residual is `r0`. Uses
+/// `trial` and `r` as scratch.
+#[allow(clippy::too_many_arguments)]
+fn assemble(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &mut ForceGenerator,
+    free: &Free,
+    r0: &[f64],
+    trial: &mut DriveState,
+    r: &mut [f64],
+    t: &mut Tangent,
+) {
+    let n = state.x.len();
+    let k = model.stiffness_n_m;
+    for d in &mut t.diag {
+        *d = Matrix2::zeros();
+    }
+    // Links: exact.
+    for i in 0..n {
+        let j = if i + 1 == n { 0 } else { i + 1 };
+        let (dx, dy) = (state.x[j] - state.x[i], state.y[j] - state.y[i]);
+        let l = dx.hypot(dy);
+        let block = if l > 0.0 {
+            let (ux, uy) = (dx / l, dy / l);
+            let f = k * (l - model.rest_length_m);
+            let g = f / l;
+            Matrix2::new(
+                k * ux * ux + g * (1.0 - ux * ux),
+                (k - g) * ux * uy,
+                (k - g) * ux * uy,
+                k * uy * uy + g * (1.0 - uy * uy),
+            )
+        } else {
+            Matrix2::identity() * k
+        };
+        t.diag[i] += block;
+        t.diag[j] += block;
+        t.upper[i] = -block;
+    }
+    // Contact: every roller moved alike along x, then y.
+    let h = DIFFERENCE_STEP * model.rest_length_m;
+    for axis in 0..2 {
+        trial.clone_from(state);
+        let coordinate = if axis == 0 {
+            &mut trial.x
+        } else {
+            &mut trial.y
+        };
+        for c in coordinate.iter_mut() {
+            *c += h;
+        }
+        residual(model, trial, forces, free, r);
+        for i in 0..n {
+            t.diag[i][(0, axis)] -= (r[2 * i] - r0[2 * i]) / h;
+            t.diag[i][(1, axis)] -= (r[2 * i + 1] - r0[2 * i + 1]) / h;
+        }
+    }
+    // Each free sprocket turned.
+    let m = free.sprockets.len();
+    for (c, &s) in free.sprockets.iter().enumerate() {
+        let radius = model.sprockets[s].pitch_radius_m;
+        let h_theta = h / radius;
+        trial.clone_from(state);
+        trial.theta[s] += h_theta;
+        residual(model, trial, forces, free, r);
+        for (e, (a, b)) in t.columns[c].iter_mut().zip(r.iter().zip(r0)).take(2 * n) {
+            *e = -(a - b) / h_theta;
+        }
+        for row in 0..m {
+            t.sprockets[(row, c)] = -(r[2 * n + row] - r0[2 * n + row]) / h_theta;
+        }
+        t.sprockets[(c, c)] += ROTATION_REGULARISATION * k * radius * radius;
+    }
+    // Symmetric: the sprockets' own block is averaged with its transpose.
+    let sym = 0.5 * (&t.sprockets + t.sprockets.transpose());
+    t.sprockets = sym;
+}
+
+/// Block LU of the tridiagonal part (rollers 1 … N−1) with the shift μ,
+/// applied to right-hand sides.
+struct Banded {
+    /// Inverse of each pivot block (index 0 is roller 1).
+    inv: Vec<Matrix2<f64>>,
+}
+
+impl Banded {
+    /// Factors; `None` when a pivot block is singular.
+    fn factor(t: &Tangent, mu: f64) -> Option<Self> {
+        let n = t.diag.len();
+        let mut inv = Vec::with_capacity(n - 1);
+        let shift = Matrix2::identity() * mu;
+        let mut previous: Option<Matrix2<f64>> = None;
+        for i in 1..n {
+            let mut pivot = t.diag[i] + shift;
+            if let Some(g) = previous {
+                // L_i G_{i-1} U_{i-1}, L_i = U_{i-1}ᵀ.
+                let u = t.upper[i - 1];
+                pivot -= u.transpose() * g * u;
+            }
+            // Positive definite pivots only: the shifted tangent must be, for
+            // the step to descend the energy (the Schur complement's Cholesky
+            // checks the rest).
+            let det = pivot[(0, 0)] * pivot[(1, 1)] - pivot[(0, 1)] * pivot[(1, 0)];
+            if !(pivot[(0, 0)] > 0.0 && det > 0.0) {
+                return None;
+            }
+            let g = pivot.try_inverse()?;
+            if !g.iter().all(|v| v.is_finite()) {
+                return None;
+            }
+            inv.push(g);
+            previous = Some(g);
+        }
+        Some(Self { inv })
+    }
+
+    /// Solves in place: `b` holds rollers 1 … N−1 (2 entries each).
+    fn solve(&self, t: &Tangent, b: &mut [f64]) {
+        let n = self.inv.len();
+        // Forward: y_i = b_i − L_i G_{i−1} y_{i−1}.
+        for i in 1..n {
+            let prev = Vector2::new(b[2 * (i - 1)], b[2 * (i - 1) + 1]);
+            let l = t.upper[i].transpose(); // K(roller i+1, roller i)
+            let y = l * (self.inv[i - 1] * prev);
+            b[2 * i] -= y[0];
+            b[2 * i + 1] -= y[1];
+        }
+        // Back: x_i = G_i (y_i − U_i x_{i+1}).
+        let mut next: Option<Vector2<f64>> = None;
+        for i in (0..n).rev() {
+            let mut y = Vector2::new(b[2 * i], b[2 * i + 1]);
+            if let Some(x) = next {
+                y -= t.upper[i + 1] * x;
+            }
+            let x = self.inv[i] * y;
+            b[2 * i] = x[0];
+            b[2 * i + 1] = x[1];
+            next = Some(x);
+        }
+    }
+}
+
+/// Solves (K + μ M) Δ = r for the step Δ (M: I on the rollers, R² on the
+/// sprockets); `None` when the shifted tangent is singular.
+fn step(t: &Tangent, free: &Free, model: &DriveModel, mu: f64, r: &[f64]) -> Option<Vec<f64>> {
+    let n = t.diag.len();
+    let m = free.sprockets.len();
+    let banded = Banded::factor(t, mu)?;
+    let inner = 2 * (n - 1);
+    // Border columns over rollers 1 … N−1: roller 0's two, then the sprockets'.
+    let border = 2 + m;
+    let mut columns: Vec<Vec<f64>> = Vec::with_capacity(border + 1);
+    for c in 0..2 {
+        let mut col = vec![0.0; inner];
+        // K(roller 1, roller 0) = upper[0]ᵀ; K(roller N−1, roller 0) = upper[N−1].
+        let a = t.upper[0].transpose();
+        col[0] += a[(0, c)];
+        col[1] += a[(1, c)];
+        let b = t.upper[n - 1];
+        col[inner - 2] += b[(0, c)];
+        col[inner - 1] += b[(1, c)];
+        columns.push(col);
+    }
+    for col in &t.columns {
+        columns.push(col[2..].to_vec());
+    }
+    let solved: Vec<Vec<f64>> = columns
+        .iter()
+        .map(|c| {
+            let mut x = c.clone();
+            banded.solve(t, &mut x);
+            x
+        })
+        .collect();
+    let mut x_r = r[2..2 * n].to_vec();
+    banded.solve(t, &mut x_r);
+    // Border block E and its Schur complement S = E − Bᵀ A⁻¹ B.
+    let mut e = DMatrix::zeros(border, border);
+    let d0 = t.diag[0] + Matrix2::identity() * mu;
+    for a in 0..2 {
+        for b in 0..2 {
+            e[(a, b)] = d0[(a, b)];
+        }
+    }
+    for (c, col) in t.columns.iter().enumerate() {
+        for a in 0..2 {
+            e[(a, 2 + c)] = col[a];
+            e[(2 + c, a)] = col[a];
+        }
+    }
+    for a in 0..m {
+        for b in 0..m {
+            e[(2 + a, 2 + b)] = t.sprockets[(a, b)];
+        }
+        let radius = model.sprockets[free.sprockets[a]].pitch_radius_m;
+        e[(2 + a, 2 + a)] += mu * radius * radius;
+    }
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mut s = e;
+    let mut rhs = DVector::zeros(border);
+    rhs[0] = r[0];
+    rhs[1] = r[1];
+    for a in 0..m {
+        rhs[2 + a] = r[2 * n + a];
+    }
+    for a in 0..border {
+        for b in 0..border {
+            s[(a, b)] -= dot(&columns[a], &solved[b]);
+        }
+        rhs[a] -= dot(&columns[a], &x_r);
+    }
+    let s = 0.5 * (&s + s.transpose());
+    let y = s.cholesky()?.solve(&rhs);
+    if !y.iter().all(|v| v.is_finite()) {
+        return None;
+    }
+    let mut delta = vec![0.0; 2 * n + m];
+    delta[0] = y[0];
+    delta[1] = y[1];
+    for (i, v) in x_r.iter().enumerate() {
+        let mut d = *v;
+        for b in 0..border {
+            d -= solved[b][i] * y[b];
+        }
+        delta[2 + i] = d;
+    }
+    for a in 0..m {
+        delta[2 * n + a] = y[2 + a];
+    }
+    Some(delta)
+}
+
+/// `base` moved by α Δ into `trial`.
+fn moved(base: &DriveState, free: &Free, delta: &[f64], alpha: f64, trial: &mut DriveState) {
+    trial.clone_from(base);
+    let n = base.x.len();
+    for i in 0..n {
+        trial.x[i] += alpha * delta[2 * i];
+        trial.y[i] += alpha * delta[2 * i + 1];
+    }
+    for (k, &s) in free.sprockets.iter().enumerate() {
+        trial.theta[s] += alpha * delta[2 * n + k];
+    }
+}
+
+/// Newton's method with a line search on the equilibrium at the model's rest
+/// length, from `state`, until every force is within `tolerance_n` or
+/// `max_iterations` Newton steps. The state keeps the best point reached
+/// (its velocities zeroed); `forces` are left evaluated at it.
+pub(crate) fn solve(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    tolerance_n: f64,
+    max_iterations: usize,
+) -> NewtonEnd {
+    let free = Free::of(model);
+    let n = state.x.len();
+    let m = free.sprockets.len();
+    state.vx.fill(0.0);
+    state.vy.fill(0.0);
+    state.omega.fill(0.0);
+    forces.reset_memory();
+    let reference = state.clone();
+    let mut trial = state.clone();
+    let mut r0 = vec![0.0; 2 * n + m];
+    let mut r = vec![0.0; 2 * n + m];
+    let mut tangent = Tangent::new(n, m);
+    let mut now = residual(model, state, forces, &free, &mut r0);
+    let (mut u0, _) = energy(model, state, &reference, forces, &free);
+    let k = model.stiffness_n_m;
+    let mu_min = 1e-8 * k;
+    let mut mu = 0.0;
+    let mut radius = FIRST_RADIUS * model.rest_length_m;
+    let mut iterations = 0;
+    while now > tolerance_n && iterations < max_iterations {
+        iterations += 1;
+        assemble(
+            model,
+            state,
+            forces,
+            &free,
+            &r0,
+            &mut trial,
+            &mut r,
+            &mut tangent,
+        );
+        let mut accepted = false;
+        while !accepted && mu <= 1e3 * k {
+            let Some(mut delta) = step(&tangent, &free, model, mu, &r0) else {
+                mu = (10.0 * mu).max(mu_min);
+                continue;
+            };
+            // Bound the step (a trust region on displacement).
+            let mut largest: f64 = 0.0;
+            for i in 0..n {
+                largest = largest.max(delta[2 * i].hypot(delta[2 * i + 1]));
+            }
+            for (a, &s) in free.sprockets.iter().enumerate() {
+                largest = largest.max(delta[2 * n + a].abs() * model.sprockets[s].pitch_radius_m);
+            }
+            if !largest.is_finite() {
+                mu = (10.0 * mu).max(mu_min);
+                continue;
+            }
+            let cut = largest > radius;
+            if cut {
+                let scale = radius / largest;
+                delta.iter_mut().for_each(|d| *d *= scale);
+            }
+            // The energy's slope along Δ is −Δ·r: a descent direction has Δ·r > 0.
+            let slope: f64 = delta.iter().zip(&r0).map(|(d, f)| d * f).sum();
+            if slope > 0.0 {
+                let mut alpha = 1.0;
+                for _ in 0..HALVINGS {
+                    moved(state, &free, &delta, alpha, &mut trial);
+                    let trial_residual = residual(model, &trial, forces, &free, &mut r);
+                    let (u, rounding) = energy(model, &trial, &reference, forces, &free);
+                    let descends = u <= u0 - 1e-4 * alpha * slope;
+                    let flat = u <= u0 + rounding && trial_residual < now;
+                    if trial_residual.is_finite() && (descends || flat) {
+                        std::mem::swap(state, &mut trial);
+                        std::mem::swap(&mut r0, &mut r);
+                        now = trial_residual;
+                        u0 = u;
+                        accepted = true;
+                        break;
+                    }
+                    alpha *= 0.5;
+                }
+                if accepted {
+                    if alpha == 1.0 {
+                        mu = if mu <= mu_min { 0.0 } else { 0.1 * mu };
+                        if cut {
+                            radius = (4.0 * radius).min(MAX_RADIUS * model.rest_length_m);
+                        }
+                    } else {
+                        // A cut step: the quadratic model was poor this far
+                        // out; shift towards steepest descent as well.
+                        radius = alpha * largest.min(radius);
+                        mu = (10.0 * mu).max(mu_min);
+                    }
+                    break;
+                }
+            }
+            mu = (10.0 * mu).max(mu_min);
+        }
+        if !accepted {
+            break;
+        }
+    }
+    // Leave the forces evaluated at the state reached.
+    forces.reset_memory();
+    forces.evaluate(model, state);
+    NewtonEnd {
+        residual_n: now,
+        iterations,
+        converged: now <= tolerance_n,
+    }
+}
+
+/// Newton steps per solve.
+const MAX_ITERATIONS: usize = 40;
+
+/// Brings the drive at its current rest length to equilibrium within
+/// `rest_force_n`: Newton from `state` (aiming at `newton_force_n`, at most
+/// `rest_force_n`); where Newton stalls, the dynamic relaxation
+/// ([`relax_until`]) from the point it reached, then Newton again from the
+/// relaxed state. Returns the residual roller speed of the relaxation (0
+/// when Newton alone converged).
+pub(crate) fn settle(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+    rest_force_n: f64,
+    newton_force_n: f64,
+) -> Result<f64, EquilibriumError> {
+    let aim = newton_force_n.min(rest_force_n);
+    if !applies(model, state) {
+        return relax_until(model, state, forces, settings, Some(rest_force_n));
+    }
+    let first = solve(model, state, forces, aim, MAX_ITERATIONS);
+    if first.residual_n <= rest_force_n {
+        return Ok(0.0);
+    }
+    let speed = relax_until(model, state, forces, settings, Some(rest_force_n))?;
+    let again = solve(model, state, forces, aim, MAX_ITERATIONS);
+    if again.residual_n <= rest_force_n {
+        return Ok(0.0);
+    }
+    Ok(speed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::forces::ContactLawParams;
+    use crate::scene::Scene;
+
+    fn paper() -> (DriveModel, DriveState, ForceGenerator) {
+        let scene = Scene::l60mc();
+        let (mut model, state, _) = DriveModel::build(&scene).expect("lays out");
+        let forces = ForceGenerator::new(
+            ContactLawParams::new(&scene.contact),
+            &model,
+            scene.chain.rollers,
+        );
+        // Links stretched to the pretension, as the pretension iteration's first guess.
+        model.rest_length_m -= scene.chain.pretension_n / model.stiffness_n_m;
+        (model, state, forces)
+    }
+
+    /// Newton brings the paper's drive to rest within 10⁻⁸ of its 21 kN
+    /// pretension in a few steps, from the laid-out chain.
+    #[test]
+    fn newton_settles_the_paper_drive() {
+        let (model, mut state, mut forces) = paper();
+        let end = solve(&model, &mut state, &mut forces, 21_000.0 * 1e-8, 40);
+        assert!(end.converged, "{end:?}");
+        assert!(end.iterations <= 25, "{end:?}");
+    }
+
+    /// The tangent against central differences of the residual at a settled
+    /// state: the free sprocket's column (∂F/∂θ, assembled from a turned
+    /// sprocket) equals its row (−∂τ/∂q, differences of the torque when one
+    /// roller it touches moves), the symmetry the border solve assumes; and a
+    /// link's block against moving one free-strand roller. Tolerance 1 % of
+    /// the entry (difference steps 10⁻⁷ P on a contact of exponent 1.5).
+    #[test]
+    #[allow(clippy::needless_range_loop)]
+    fn tangent_is_symmetric_and_matches_differences() {
+        let (model, mut state, mut forces) = paper();
+        let end = solve(&model, &mut state, &mut forces, 21_000.0 * 1e-6, 40);
+        assert!(end.converged, "{end:?}");
+        let free = Free::of(&model);
+        assert!(!free.sprockets.is_empty());
+        let n = state.x.len();
+        let m = free.sprockets.len();
+        let mut r0 = vec![0.0; 2 * n + m];
+        let mut r = vec![0.0; 2 * n + m];
+        let mut trial = state.clone();
+        let mut t = Tangent::new(n, m);
+        residual(&model, &state, &mut forces, &free, &mut r0);
+        assemble(
+            &model,
+            &state,
+            &mut forces,
+            &free,
+            &r0,
+            &mut trial,
+            &mut r,
+            &mut t,
+        );
+        let h = 1e-7 * model.rest_length_m;
+        // Rows: −∂τ/∂x_i by central differences for the rollers the sprocket pushes hardest.
+        let column = &t.columns[0];
+        let mut checked = 0;
+        for i in 0..n {
+            for axis in 0..2 {
+                let entry = column[2 * i + axis];
+                if entry.abs()
+                    < 1e-3 * model.stiffness_n_m * model.sprockets[free.sprockets[0]].pitch_radius_m
+                {
+                    continue;
+                }
+                let mut torque = [0.0; 2];
+                for (side, sign) in [(0, 1.0), (1, -1.0)] {
+                    trial.clone_from(&state);
+                    let c = if axis == 0 {
+                        &mut trial.x
+                    } else {
+                        &mut trial.y
+                    };
+                    c[i] += sign * h;
+                    residual(&model, &trial, &mut forces, &free, &mut r);
+                    torque[side] = r[2 * n];
+                }
+                let row = -(torque[0] - torque[1]) / (2.0 * h);
+                assert!(
+                    (row - entry).abs() <= 0.01 * entry.abs(),
+                    "roller {i} axis {axis}: row {row:e}, column {entry:e}"
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked >= 4, "only {checked} entries checked");
+        // A roller in the middle of strand 1 (free): its diagonal block
+        // against central differences of its own force.
+        let strand = &model.path.strands[0];
+        let [ax, ay] = strand.start_m;
+        let [bx, by] = strand.end_m;
+        let (mx, my) = (0.5 * (ax + bx), 0.5 * (ay + by));
+        let i = (0..n)
+            .min_by(|&a, &b| {
+                let da = (state.x[a] - mx).hypot(state.y[a] - my);
+                let db = (state.x[b] - mx).hypot(state.y[b] - my);
+                da.total_cmp(&db)
+            })
+            .expect("rollers");
+        for axis in 0..2 {
+            let mut f = [[0.0; 2]; 2];
+            for (side, sign) in [(0, 1.0), (1, -1.0)] {
+                trial.clone_from(&state);
+                let c = if axis == 0 {
+                    &mut trial.x
+                } else {
+                    &mut trial.y
+                };
+                c[i] += sign * h;
+                residual(&model, &trial, &mut forces, &free, &mut r);
+                f[side] = [r[2 * i], r[2 * i + 1]];
+            }
+            for row in 0..2 {
+                let expected = -(f[0][row] - f[1][row]) / (2.0 * h);
+                let got = t.diag[i][(row, axis)];
+                // The transverse entry is the geometric stiffness 2 T/ℓ, some
+                // 10⁻³ of the axial one: a relative tolerance on each entry.
+                assert!(
+                    (got - expected).abs() <= 1e-3 * expected.abs() + 1e-7 * model.stiffness_n_m,
+                    "roller {i} block ({row}, {axis}): {got:e} against {expected:e}"
+                );
+            }
+        }
+    }
+}
