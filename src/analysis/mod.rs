@@ -29,7 +29,10 @@ pub use summary::{
     DEFAULT_WINDOW_S, GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary,
     StrandSummary, SummaryInputs, TensionerSummary,
 };
-pub use warnings::{ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO};
+pub use warnings::{
+    ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO,
+    STATIC_RESIDUAL_TOLERANCE,
+};
 
 use serde::{Deserialize, Serialize};
 

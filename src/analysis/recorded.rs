@@ -181,6 +181,7 @@ impl RecordedRun {
                 scene: &sim.scene,
                 model,
                 static_tension_n: sim.equilibrium.tension_n,
+                static_force_residual: None,
                 steps: 0,
                 wall_s: 0.0,
                 setup_wall_s: 0.0,

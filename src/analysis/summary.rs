@@ -202,6 +202,13 @@ pub struct RunSummary {
     pub ns_per_step: f64,
     /// Mean free-strand link force at static equilibrium, N.
     pub static_tension_n: f64,
+    /// Largest roller force imbalance left at the static equilibrium, as a
+    /// fraction of the pretension (absent where unknown: a summary of a
+    /// recording). Above [`super::STATIC_RESIDUAL_TOLERANCE`] the
+    /// run starts from a state that is not at rest, and says so in
+    /// `warnings`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_force_residual: Option<f64>,
     /// Links' rest length after the pretension rule, m.
     pub rest_length_m: f64,
     /// Smallest link force over the window, N.
@@ -258,6 +265,9 @@ pub struct SummaryInputs<'a> {
     pub model: &'a DriveModel,
     /// Static tension, N.
     pub static_tension_n: f64,
+    /// The static equilibrium's force residual (relative to the pretension),
+    /// where known.
+    pub static_force_residual: Option<f64>,
     /// Steps taken.
     pub steps: u64,
     /// Wall time of the loop, s.
@@ -362,6 +372,7 @@ impl RunSummary {
                 scene: &sim.scene,
                 model: &sim.model,
                 static_tension_n: sim.equilibrium.tension_n,
+                static_force_residual: Some(sim.equilibrium.force_residual),
                 steps: outcome.steps,
                 wall_s: outcome.wall_s,
                 setup_wall_s,
@@ -552,6 +563,7 @@ impl RunSummary {
                 0.0
             },
             static_tension_n: inputs.static_tension_n,
+            static_force_residual: inputs.static_force_residual,
             rest_length_m: model.rest_length_m,
             link_force_min_n: link_min,
             link_force_max_n: link_max,

@@ -26,9 +26,16 @@ pub const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
 /// tension".
 pub const RUNNING_TENSION_RATIO: f64 = 1.15;
 
+/// Largest roller force imbalance at the static equilibrium, as a fraction
+/// of the pretension, above which a run is flagged: the relaxation stops at
+/// 10⁻⁶ when it settles; a thousand times that is a start that is not at
+/// rest, whose release the window may still hold.
+pub const STATIC_RESIDUAL_TOLERANCE: f64 = 1e-3;
+
 /// The warnings of a run, one sentence each.
 pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {
     [
+        unsettled_start(j),
         penetration(j),
         energy_balance(j),
         power_balance(j),
@@ -39,6 +46,18 @@ pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {
     .into_iter()
     .flatten()
     .collect()
+}
+
+fn unsettled_start(j: &Judged<'_>) -> Option<String> {
+    let residual = j.summary.static_force_residual?;
+    (residual > STATIC_RESIDUAL_TOLERANCE || residual.is_nan()).then(|| {
+        format!(
+            "unsettled start: the static equilibrium left a roller force imbalance of {:.1e} of the pretension ({:.0} N; warning above {:.0e}), so the run starts from a state that is not at rest and its first transients are partly the release of that imbalance: run `chaindrive check` to see it, raise equilibrium.max_relax_s, or choose a later window (--window)",
+            residual,
+            residual * j.scene.chain.pretension_n,
+            STATIC_RESIDUAL_TOLERANCE
+        )
+    })
 }
 
 fn penetration(j: &Judged<'_>) -> Option<String> {

@@ -177,6 +177,7 @@ fn judged(
             scene: &scene,
             model: &model,
             static_tension_n: scene.chain().pretension_n,
+            static_force_residual: None,
             steps: 1,
             wall_s: 0.0,
             setup_wall_s: 0.0,

@@ -40,6 +40,7 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
             scene: &scene,
             model: &model,
             static_tension_n: scene.chain().pretension_n,
+            static_force_residual: None,
             steps: 1,
             wall_s: 0.0,
             setup_wall_s: 0.0,
