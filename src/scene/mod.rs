@@ -11,6 +11,7 @@
 //! This module knows nothing of rapier or of stepping.
 
 mod builder;
+pub mod designations;
 mod error;
 mod file;
 pub mod generate;
