@@ -2,9 +2,9 @@
 //! [`TryFrom`], which checks every field, converts units (rpm → rad/s) and
 //! reports *every* problem with its field's path.
 
+use super::designations;
 use super::file::{AUTO, LimitsFile};
 use super::kinds::Named;
-use super::designations;
 use super::types::{DEFAULT_JOINT_FRICTION_SPEED_RAD_S, JointFriction, Limits};
 use super::{
     Chain, ChainFile, Contact, ContactFile, ContactLaw, Equilibrium, FieldError, Integrator,

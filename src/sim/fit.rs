@@ -75,7 +75,10 @@ pub enum FitError {
     },
     /// The drive changes shape before the chain fits.
     #[error(
-        "sprocket \"{sprocket}\" cannot move far enough along [{dx:.4}, {dy:.4}]: {reason} {offset_m:.4} m from where it stands; there the path needs {reached:.3} pitches, still {gap_pitches:.3} pitches ({gap_m:.4} m) from the chain's {rollers}"
+        "sprocket \"{sprocket}\" cannot move far enough along [{dx:.4}, {dy:.4}]: {reason} {offset_m:+.4} m from where it stands; there the path needs {reached:.3} pitches, and the chain's {rollers} are {} pitches ({:.4} m) too {}",
+        gap_pitches.abs(),
+        gap_m.abs(),
+        if *gap_pitches > 0.0 { "many" } else { "few" }
     )]
     Unreachable {
         /// The moved sprocket's name.
@@ -209,9 +212,9 @@ impl<'a> Fitter<'a> {
         let u = [direction[0] / norm, direction[1] / norm];
         let pitch = self.scene.chain.pitch_m;
         let target = rollers as f64;
-        let mut evaluations = 0;
-        let mut eval = |s: f64| {
-            evaluations += 1;
+        let evaluations = std::cell::Cell::new(0usize);
+        let eval = |s: f64| {
+            evaluations.set(evaluations.get() + 1);
             self.probe(k, u, s)
         };
         let start = eval(0.0).map_err(FitError::NoPath)?;
@@ -239,7 +242,7 @@ impl<'a> Fitter<'a> {
             (Err(e), Err(_)) => return Err(FitError::NoPath(e)),
         };
         if (start.needed - target).abs() <= tol {
-            return Ok(fitted(0.0, start.needed, slope, evaluations));
+            return Ok(fitted(0.0, start.needed, slope, evaluations.get()));
         }
         // Moving by a pitch changes the need by less than a millionth of a pitch.
         if !(slope.abs() * pitch > 1e-6) {
@@ -262,8 +265,12 @@ impl<'a> Fitter<'a> {
             let s = lo + sign * step;
             match eval(s) {
                 Ok(p) if changed_shape(&lo_probe, &p) => {
-                    let (at, reason) = self.edge(k, u, lo, s, &lo_probe, &mut evaluations);
-                    return Err(self.unreachable(k, u, at, reason, rollers));
+                    let (at, reason) = self.edge(k, u, lo, s, &lo_probe, &evaluations);
+                    // The need may have passed N before the shape changed.
+                    match self.probe(k, u, at) {
+                        Ok(q) if want(q.needed) <= 0.0 => break (at, q),
+                        _ => return Err(self.unreachable(k, u, at, reason, rollers)),
+                    }
                 }
                 Ok(p) if want(p.needed) <= 0.0 => break (s, p),
                 Ok(p) => {
@@ -280,9 +287,11 @@ impl<'a> Fitter<'a> {
                     }
                 }
                 Err(reason) => {
-                    let (at, reason) =
-                        self.edge_failing(k, u, lo, s, reason, &mut evaluations);
-                    return Err(self.unreachable(k, u, at, reason, rollers));
+                    let (at, reason) = self.edge_failing(k, u, lo, s, reason, &evaluations);
+                    match self.probe(k, u, at) {
+                        Ok(q) if want(q.needed) <= 0.0 => break (at, q),
+                        _ => return Err(self.unreachable(k, u, at, reason, rollers)),
+                    }
                 }
             }
         };
@@ -308,10 +317,10 @@ impl<'a> Fitter<'a> {
             }
         }
         if (fb - target).abs() <= tol {
-            return Ok(fitted(b, fb, slope, evaluations));
+            return Ok(fitted(b, fb, slope, evaluations.get()));
         }
         if (fa - target).abs() <= tol {
-            return Ok(fitted(a, fa, slope, evaluations));
+            return Ok(fitted(a, fa, slope, evaluations.get()));
         }
         Err(FitError::Jump {
             sprocket: sp.name.clone(),
@@ -331,13 +340,13 @@ impl<'a> Fitter<'a> {
         mut a: f64,
         mut b: f64,
         good: &Probe,
-        evaluations: &mut usize,
+        evaluations: &std::cell::Cell<usize>,
     ) -> (f64, String) {
         let mut good = good.clone();
         let mut bad_reason = String::new();
         while (b - a).abs() > 1e-6 {
             let m = 0.5 * (a + b);
-            *evaluations += 1;
+            evaluations.set(evaluations.get() + 1);
             match self.probe(k, u, m) {
                 Ok(p) if !changed_shape(&good, &p) => (a, good) = (m, p),
                 Ok(p) => {
@@ -364,7 +373,7 @@ impl<'a> Fitter<'a> {
         a: f64,
         b: f64,
         reason: String,
-        evaluations: &mut usize,
+        evaluations: &std::cell::Cell<usize>,
     ) -> (f64, String) {
         match self.probe(k, u, a) {
             Ok(good) => {
@@ -481,9 +490,16 @@ pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
     let Ok(needed) = needed_pitches_of(scene) else {
         return Vec::new();
     };
-    let mut candidates = vec![needed.floor().max(4.0) as usize, needed.ceil().max(4.0) as usize];
+    let mut candidates = vec![
+        needed.floor().max(4.0) as usize,
+        needed.ceil().max(4.0) as usize,
+    ];
     candidates.dedup();
-    candidates.sort_by(|a, b| (*a as f64 - needed).abs().total_cmp(&(*b as f64 - needed).abs()));
+    candidates.sort_by(|a, b| {
+        (*a as f64 - needed)
+            .abs()
+            .total_cmp(&(*b as f64 - needed).abs())
+    });
     candidates
         .into_iter()
         .filter(|&n| {
@@ -491,14 +507,12 @@ pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
             s.chain.rollers = n;
             match s.chain.pretension_by {
                 crate::scene::PretensionRule::Tensioner => s.tensioner().is_some_and(|t| {
-                    default_direction(&s, t)
-                        .is_some_and(|d| fit_sprocket(&s, t, d, n).is_ok())
+                    default_direction(&s, t).is_some_and(|d| fit_sprocket(&s, t, d, n).is_ok())
                 }),
-                crate::scene::PretensionRule::RestLength => {
-                    crate::model::DriveModel::build(&s).is_ok_and(|(model, _, layout)| {
+                crate::scene::PretensionRule::RestLength => crate::model::DriveModel::build(&s)
+                    .is_ok_and(|(model, _, layout)| {
                         super::feasibility::check_chain_length(&s, &layout, &model.path).is_ok()
-                    })
-                }
+                    }),
             }
         })
         .collect()

@@ -113,12 +113,10 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     })?;
     let first_step_m = (target / scene.chain.stiffness_n_m) * scene.chain.rollers as f64
         / (fit.slope_per_m * scene.chain.pitch_m);
-    let (mut s0, mut t0) = (fit.offset_m, tension_at(fit.offset_m)?.1);
-    let mut s1 = if t0 < target {
-        s0 + first_step_m
-    } else {
-        s0 - first_step_m
-    };
+    // At the fit the unstretched chain carries no tension (nothing to relax:
+    // no roller presses on a tooth, so no strand could be told from a wrap).
+    let (mut s0, mut t0) = (fit.offset_m, 0.0);
+    let mut s1 = s0 + first_step_m;
     for iteration in 1..=MAX_ITERATIONS {
         let (mut settled, t1) = tension_at(s1)?;
         if ((t1 - target) / target).abs() <= scene.equilibrium.tension_tolerance {

@@ -74,7 +74,11 @@ fn the_table_covers_both_families() {
         assert!(d.pin_diameter_m < d.roller_diameter_m, "{}", d.name);
         assert!(d.roller_diameter_m < d.pitch_m, "{}", d.name);
         assert!(d.pin_diameter_m < d.plate_depth_m, "{}", d.name);
-        assert!(d.mass_per_m_kg > 0.0 && d.stiffness_n_m() > 0.0, "{}", d.name);
+        assert!(
+            d.mass_per_m_kg > 0.0 && d.stiffness_n_m() > 0.0,
+            "{}",
+            d.name
+        );
         assert!(!d.dimension_source.is_empty() && !d.mass_source.is_empty());
     }
 }
@@ -103,15 +107,25 @@ fn a_designation_fills_the_chain_and_written_fields_override() {
     assert_eq!(chain.designation, Some("ISO 606 16B-1"));
     approx::assert_relative_eq!(chain.pitch_m, 0.0254, max_relative = 1e-12);
     approx::assert_relative_eq!(chain.roller_radius_m, 0.5 * 15.88e-3, max_relative = 1e-12);
-    approx::assert_relative_eq!(chain.roller_mass_kg, d.mass_per_m_kg * 0.0254, max_relative = 1e-12);
+    approx::assert_relative_eq!(
+        chain.roller_mass_kg,
+        d.mass_per_m_kg * 0.0254,
+        max_relative = 1e-12
+    );
     assert_eq!(chain.stiffness_n_m, 2e8);
     // Without the written stiffness, the table's estimate.
     let text = scene_text("designation_16b.toml").replace("stiffness_n_m = 2e8\n", "");
     let scene = Scene::from_toml(&text).expect("a valid scene");
-    approx::assert_relative_eq!(scene.chain().stiffness_n_m, d.stiffness_n_m(), max_relative = 1e-12);
+    approx::assert_relative_eq!(
+        scene.chain().stiffness_n_m,
+        d.stiffness_n_m(),
+        max_relative = 1e-12
+    );
     // The pin radius reaches the joint friction.
-    let text = scene_text("designation_16b.toml")
-        .replace("pretension_n = 1000.0", "pretension_n = 1000.0\njoint_friction = 0.1");
+    let text = scene_text("designation_16b.toml").replace(
+        "pretension_n = 1000.0",
+        "pretension_n = 1000.0\njoint_friction = 0.1",
+    );
     let scene = Scene::from_toml(&text).expect("a valid scene");
     let joints = scene.chain().joint_friction.expect("joint friction on");
     approx::assert_relative_eq!(joints.pin_radius_m, 0.5 * 8.28e-3, max_relative = 1e-12);
@@ -122,12 +136,17 @@ fn a_designation_fills_the_chain_and_written_fields_override() {
 #[test]
 fn a_typo_in_the_designation_suggests_the_nearest_names() {
     let text = scene_text("designation_16b.toml").replace("ISO 606 16B-1", "ISO 606 16V-1");
-    let err = Scene::from_toml(&text).expect_err("unknown designation").to_string();
+    let err = Scene::from_toml(&text)
+        .expect_err("unknown designation")
+        .to_string();
     assert!(err.contains("chain.designation"), "{err}");
     assert!(err.contains("\"ISO 606 16B-1\""), "{err}");
     let text = scene_text("designation_16b.toml").replace("designation = \"ISO 606 16B-1\"\n", "");
     let err = Scene::from_toml(&text).expect_err("no pitch").to_string();
-    assert!(err.contains("chain.pitch_m") && err.contains("chain.designation"), "{err}");
+    assert!(
+        err.contains("chain.pitch_m") && err.contains("chain.designation"),
+        "{err}"
+    );
     assert!(!err.contains("NaN"), "{err}");
 }
 

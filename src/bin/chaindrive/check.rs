@@ -91,7 +91,10 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     match Simulation::new(&scene) {
         Ok(sim) => {
             if let Some(t) = scene.tensioner().filter(|_| tensioner_rule) {
-                let (from, to) = (scene.sprockets()[t].center_m, sim.scene.sprockets()[t].center_m);
+                let (from, to) = (
+                    scene.sprockets()[t].center_m,
+                    sim.scene.sprockets()[t].center_m,
+                );
                 println!("at the tensioner's final position:");
                 print_layout(&sim.scene, &sim.model, &sim.layout);
                 println!(
@@ -212,7 +215,10 @@ fn suggest_fit(scene: &Scene, name: &str) {
         ([], None) => {}
         (c, _) => eprintln!(
             "{name}: a chain of {} rollers fits as the sprockets stand (chain.rollers); or move a sprocket:",
-            c.iter().map(ToString::to_string).collect::<Vec<_>>().join(" or ")
+            c.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" or ")
         ),
     }
     let Some(k) = mover(scene) else {
@@ -225,11 +231,10 @@ fn suggest_fit(scene: &Scene, name: &str) {
     for rollers in [scene.chain().rollers, target] {
         match fit_sprocket(scene, k, dir, rollers) {
             Ok(fit) => eprintln!(
-                "{name}:   with {rollers} rollers, sprocket \"{}\" moved {:+.6} m along [{:.4}, {:.4}] to [{:.6}, {:.6}] fits: chaindrive fit {name} --move \"{}\"{}",
+                "{name}:   with {rollers} rollers, sprocket \"{}\" moved by [{:+.6}, {:+.6}] m to [{:.6}, {:.6}] fits: chaindrive fit {name} --move \"{}\"{}",
                 scene.sprockets()[k].name,
-                fit.offset_m,
-                dir[0],
-                dir[1],
+                fit.offset_m * fit.direction[0],
+                fit.offset_m * fit.direction[1],
                 fit.center_m[0],
                 fit.center_m[1],
                 scene.sprockets()[k].name,

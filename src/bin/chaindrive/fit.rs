@@ -73,15 +73,14 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
         }
     };
     println!(
-        "sprocket \"{}\": centre [{}, {}] m -> [{}, {}] m, moved {:+.6} m along [{:.4}, {:.4}]",
+        "sprocket \"{}\": centre [{:?}, {:?}] m -> [{:?}, {:?}] m, moved by [{:+.6}, {:+.6}] m",
         sp.name,
         sp.center_m[0],
         sp.center_m[1],
         fit.center_m[0],
         fit.center_m[1],
-        fit.offset_m,
-        fit.direction[0],
-        fit.direction[1]
+        fit.offset_m * fit.direction[0],
+        fit.offset_m * fit.direction[1],
     );
     println!(
         "the path through the seated rollers needed {:.4} pitches; now {:.9} for {rollers} rollers (misfit {:.1e} m, tolerance {FIT_TOLERANCE_M:.0e} m; {} layouts)",
@@ -89,7 +88,7 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
     );
     let mut edits = vec![(
         format!("sprockets[{k}].center_m"),
-        format!("[{}, {}]", fit.center_m[0], fit.center_m[1]),
+        format!("[{:?}, {:?}]", fit.center_m[0], fit.center_m[1]),
     )];
     if args.rollers.is_some() {
         edits.push(("chain.rollers".to_owned(), rollers.to_string()));
@@ -218,7 +217,10 @@ mod tests {
         let out = edit_values(
             text,
             &[
-                ("sprockets[1].center_m".to_owned(), "[0.5, -0.25]".to_owned()),
+                (
+                    "sprockets[1].center_m".to_owned(),
+                    "[0.5, -0.25]".to_owned(),
+                ),
                 ("chain.rollers".to_owned(), "88".to_owned()),
             ],
         )

@@ -300,8 +300,8 @@ fn simulate(
     let setup = Instant::now();
     // The error's own message holds its causes: printed once, not again as
     // a chain of sources.
-    let mut sim = Simulation::new(&scene)
-        .map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
+    let mut sim =
+        Simulation::new(&scene).map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
     // Where the power goes, over the summary's window.
