@@ -9,8 +9,9 @@
 //! tolerance is [`FIT_TOLERANCE_M`] of chain length). The bracket grows from
 //! the sprocket's position in the direction that brings f towards N and stops
 //! where the drive changes shape: a wrap that vanishes or jumps (the chain
-//! would leave a sprocket or cross itself), a strand that cannot be laid, or
-//! two sprockets that would overlap. There the fit is refused with the
+//! would leave a sprocket or cross itself), a strand that cannot be laid or
+//! that would run through a sprocket it does not wrap, or two sprockets that
+//! would overlap. There the fit is refused with the
 //! length still missing.
 //!
 //! The tensioner rule starts from this fit: its sprocket first moves along
@@ -75,7 +76,7 @@ pub enum FitError {
     },
     /// The drive changes shape before the chain fits.
     #[error(
-        "sprocket \"{sprocket}\" cannot move far enough along [{dx:.4}, {dy:.4}]: {reason} {offset_m:+.4} m from where it stands; there the path needs {reached:.3} pitches, and the chain's {rollers} are {} pitches ({:.4} m) too {}",
+        "sprocket \"{sprocket}\" cannot move far enough along [{dx:.4}, {dy:.4}]: {reason} {offset_m:+.4} m from where it stands; there the path needs {reached:.3} pitches, and the chain's {rollers} are {:.3} pitches ({:.4} m) too {}",
         gap_pitches.abs(),
         gap_m.abs(),
         if *gap_pitches > 0.0 { "many" } else { "few" }
@@ -178,6 +179,21 @@ impl<'a> Fitter<'a> {
             }
         }
         let path = chain_path(&circles).map_err(|e| e.to_string())?;
+        // A strand that runs through a sprocket it does not wrap: the chain
+        // would cross that sprocket (or itself).
+        for s in &path.strands {
+            for (j, c) in circles.iter().enumerate() {
+                if j == s.from || j == s.to {
+                    continue;
+                }
+                if segment_distance(c.center_m, s.start_m, s.end_m) < c.radius_m + roller {
+                    return Err(format!(
+                        "the strand from \"{}\" to \"{}\" would run through sprocket \"{}\"",
+                        sp[s.from].name, sp[s.to].name, sp[j].name
+                    ));
+                }
+            }
+        }
         let needed = needed_pitches(&path, &circles, &self.teeth, self.scene.chain.pitch_m)
             .map_err(|e| e.to_string())?;
         if !needed.is_finite() {
@@ -406,6 +422,18 @@ impl<'a> Fitter<'a> {
             rollers,
         }
     }
+}
+
+/// Distance from `p` to the segment from `a` to `b`.
+fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let ab = [b[0] - a[0], b[1] - a[1]];
+    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+    let t = if len2 > 0.0 {
+        (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - t * ab[0]).hypot(p[1] - a[1] - t * ab[1])
 }
 
 /// Whether the wraps changed shape between two probes: a wrap that jumps by

@@ -50,12 +50,14 @@ fn the_nearest_count_always_lays_out() {
     let (_, _, layout) =
         DriveModel::build(&with_rollers("flat_20_40_0508.toml", 110)).expect("110 lays out");
     approx::assert_relative_eq!(layout.misfit_pitches, needed - 110.0, epsilon = 1e-9);
-    // The misfit sits in the free links: Σ strand links · (λ − P) = misfit · P.
+    // The misfit sits in the free links: Σ strand links · (λ − P) = misfit · P
+    // to first order (the strands' landing points on the next sprocket
+    // shift a little with λ).
     let free: usize = layout.strand_links.iter().sum();
     approx::assert_relative_eq!(
         free as f64 * (layout.strand_link_m - 0.0127),
         layout.misfit_pitches * 0.0127,
-        max_relative = 1e-6
+        max_relative = 1e-3
     );
     match DriveModel::build(&with_rollers("flat_20_40_0508.toml", 111)) {
         Err(BuildError::Layout(LayoutError::ChainLength { suggest, .. })) => {
@@ -157,8 +159,9 @@ fn a_tensioner_takes_up_the_chain_by_itself() {
 }
 
 /// A tensioner whose travel cannot close the gap is refused with how much
-/// is missing: 160 rollers are far more than the idler can take up before
-/// it meets the lower strand's sprockets.
+/// is missing: 160 rollers are more than the idler can take up before
+/// its strands would run through the lower strand's sprockets (or it through
+/// the lower strand).
 #[test]
 fn a_tensioner_that_cannot_close_the_gap_says_by_how_much() {
     let scene = with_rollers("idler_tensioner_3.toml", 160);
