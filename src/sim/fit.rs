@@ -179,6 +179,21 @@ impl<'a> Fitter<'a> {
             }
         }
         let path = chain_path(&circles).map_err(|e| e.to_string())?;
+        // Two strands that cross: the chain would run through itself.
+        let strands = &path.strands;
+        for (a, sa) in strands.iter().enumerate() {
+            for sb in &strands[a + 1..] {
+                let shared = [sa.from, sa.to]
+                    .iter()
+                    .any(|j| *j == sb.from || *j == sb.to);
+                if !shared && segments_cross(sa.start_m, sa.end_m, sb.start_m, sb.end_m) {
+                    return Err(format!(
+                        "the strand from \"{}\" to \"{}\" would cross the one from \"{}\" to \"{}\"",
+                        sp[sa.from].name, sp[sa.to].name, sp[sb.from].name, sp[sb.to].name
+                    ));
+                }
+            }
+        }
         // A strand that runs through a sprocket it does not wrap: the chain
         // would cross that sprocket (or itself).
         for s in &path.strands {
@@ -422,6 +437,16 @@ impl<'a> Fitter<'a> {
             rollers,
         }
     }
+}
+
+/// Whether the segments a–b and c–d cross (a proper intersection).
+fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
+    let orient = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    };
+    let (d1, d2) = (orient(a, b, c), orient(a, b, d));
+    let (d3, d4) = (orient(c, d, a), orient(c, d, b));
+    d1 * d2 < 0.0 && d3 * d4 < 0.0
 }
 
 /// Distance from `p` to the segment from `a` to `b`.
