@@ -41,8 +41,8 @@ pub enum EquilibriumError {
     TensionerFit {
         /// The tensioner's name.
         sprocket: String,
-        /// Why no position along its direction fits.
-        reason: super::fit::FitError,
+        /// Why no position along its direction fits (boxed: it is large).
+        reason: Box<super::fit::FitError>,
     },
     /// The pretension iteration did not converge.
     #[error(

@@ -108,7 +108,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     let fit = fit_sprocket(scene, t, direction, scene.chain.rollers).map_err(|reason| {
         EquilibriumError::TensionerFit {
             sprocket: scene.sprockets[t].name.clone(),
-            reason,
+            reason: Box::new(reason),
         }
     })?;
     let first_step_m = (target / scene.chain.stiffness_n_m) * scene.chain.rollers as f64

@@ -165,10 +165,14 @@ fn a_tensioner_takes_up_the_chain_by_itself() {
 fn a_tensioner_that_cannot_close_the_gap_says_by_how_much() {
     let scene = with_rollers("idler_tensioner_3.toml", 300);
     match Simulation::new(&scene) {
-        Err(SimError::Equilibrium(EquilibriumError::TensionerFit {
-            reason: FitError::Unreachable { gap_pitches, .. },
-            ..
-        })) => assert!(gap_pitches > 0.0, "{gap_pitches}"),
+        Err(SimError::Equilibrium(EquilibriumError::TensionerFit { reason, .. })) => {
+            match *reason {
+                FitError::Unreachable { gap_pitches, .. } => {
+                    assert!(gap_pitches > 0.0, "{gap_pitches}");
+                }
+                other => panic!("expected Unreachable, got {other}"),
+            }
+        }
         Err(e) => panic!("expected TensionerFit, got {e}"),
         Ok(_) => panic!("300 rollers cannot fit"),
     }
