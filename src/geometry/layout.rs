@@ -9,6 +9,13 @@
 //! strand) is found by a secant iteration so that the loop closes exactly on
 //! the first roller. The chain's extra length over the path (or its lack)
 //! thus sits evenly in the strands; the pretension rule takes it from there.
+//!
+//! The nearest roller count always lays out: a chain at most half a pitch
+//! shorter or longer than the path is laid with its strand links lengthened
+//! or shortened by the misfit shared among them ([`Layout::misfit_pitches`],
+//! [`Layout::strand_stretch`]); whether the pretension can then be reached is
+//! the equilibrium's question, not the layout's. A chain further off gets
+//! [`LayoutError::ChainLength`], which names the nearest count.
 
 use std::f64::consts::{PI, TAU};
 
@@ -29,14 +36,26 @@ pub struct Layout {
     pub strand_link_m: f64,
     /// Length of the closed polygon through the rollers, m.
     pub polygon_length_m: f64,
+    /// Pitches of chain the path through the seated rollers needs, less the
+    /// chain's links: positive when the chain is short (its strand links are
+    /// laid longer than the pitch), negative when it is long. At most 0.5.
+    pub misfit_pitches: f64,
+}
+
+impl Layout {
+    /// Relative stretch of the strand links as laid out, λ/P − 1: the
+    /// misfit shared among the free links.
+    pub fn strand_stretch(&self, pitch_m: f64) -> f64 {
+        self.strand_link_m / pitch_m - 1.0
+    }
 }
 
 /// Why the rollers do not fit the path.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum LayoutError {
-    /// The chain's length and the path's differ by more than a quarter pitch.
+    /// The chain's length and the path's differ by more than half a pitch.
     #[error(
-        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which}); a chain of {suggest} rollers would fit"
+        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which}); the nearest count is {suggest} rollers"
     )]
     ChainLength {
         /// Pitches the path needs.
@@ -45,7 +64,8 @@ pub enum LayoutError {
         rollers: usize,
         /// "too short" or "too long".
         which: &'static str,
-        /// Nearest roller count that fits.
+        /// Nearest roller count: the layout accepts it (the equilibrium may
+        /// still find its misfit too large for the pretension).
         suggest: usize,
     },
     /// A wrap holds no roller.
@@ -68,8 +88,9 @@ pub enum LayoutError {
     },
 }
 
-/// Largest mismatch, in pitches, between the chain and the path.
-pub const MAX_LENGTH_MISMATCH_PITCHES: f64 = 0.25;
+/// Largest mismatch, in pitches, between the chain and the path: half a
+/// pitch, so that the nearest roller count always lays out.
+pub const MAX_LENGTH_MISMATCH_PITCHES: f64 = 0.5;
 
 /// Lays `rollers` rollers of pitch `pitch_m` on `path` around `circles`
 /// (radius = the radius at which seated roller centres lie), circle k with
@@ -121,7 +142,32 @@ pub fn layout_rollers(
     if walk.rollers_m.len() != rollers {
         return Err(length_error(needed, rollers));
     }
-    Ok(walk.into_layout(pitch_m))
+    Ok(walk.into_layout(pitch_m, needed - rollers as f64))
+}
+
+/// Pitches of chain the path through the seated rollers of `circles` needs
+/// (the layout's count at strand links of one pitch): the quantity a chain of
+/// N rollers must match within half a pitch.
+pub fn needed_pitches(
+    path: &ChainPath,
+    circles: &[PathCircle],
+    teeth: &[u32],
+    pitch_m: f64,
+) -> Result<f64, LayoutError> {
+    for (k, w) in path.wraps.iter().enumerate() {
+        if w.wrap_rad < 1e-9 {
+            return Err(LayoutError::NoEngagement {
+                sprocket: k + 1,
+                wrap_deg: w.wrap_rad.to_degrees(),
+            });
+        }
+    }
+    let walker = Walker {
+        path,
+        circles,
+        teeth,
+    };
+    Ok(walker.walk(pitch_m, None)?.needed_links(pitch_m))
 }
 
 fn length_error(needed: f64, rollers: usize) -> LayoutError {
@@ -174,7 +220,7 @@ impl Walk {
         links as f64 + self.residual_m / pitch_m
     }
 
-    fn into_layout(self, pitch_m: f64) -> Layout {
+    fn into_layout(self, pitch_m: f64, misfit_pitches: f64) -> Layout {
         let wrap_links: usize = self.seated.iter().map(|m| m - 1).sum();
         let strand: usize = self.strand_links.iter().sum();
         Layout {
@@ -186,6 +232,7 @@ impl Walk {
             seats: self.seats,
             strand_links: self.strand_links,
             strand_link_m: self.lambda_m,
+            misfit_pitches,
         }
     }
 }

@@ -57,14 +57,23 @@ fn default_profile() -> String {
 pub struct ChainFile {
     /// Number of rollers (= number of links, the chain is closed).
     pub rollers: i64,
+    /// A standard chain (`"ISO 606 16B-1"`, `"ANSI 80"`; `chaindrive chains`
+    /// lists them): fills the pitch, roller radius, roller mass, stiffness and
+    /// pin radius that the file does not give.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub designation: Option<String>,
     /// Pitch P: roller-to-roller distance of the unloaded chain, m.
-    pub pitch_m: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pitch_m: Option<f64>,
     /// Roller radius R_r, m.
-    pub roller_radius_m: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roller_radius_m: Option<f64>,
     /// Lumped mass of one roller with its share of the plates and pins, kg.
-    pub roller_mass_kg: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub roller_mass_kg: Option<f64>,
     /// Link stiffness K, N/m.
-    pub stiffness_n_m: f64,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stiffness_n_m: Option<f64>,
     /// Link damping D, N·s/m.
     pub damping_n_s_m: f64,
     /// Static pretension, N (mean link force of the free strands at static equilibrium).

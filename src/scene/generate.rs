@@ -179,7 +179,7 @@ impl DriveSpec {
                 TEETH_RANGE.end()
             )));
         }
-        let pitch = self.chain.pitch_m;
+        let pitch = self.chain.pitch_m.unwrap_or(f64::NAN);
         if !(pitch > 0.0 && pitch.is_finite()) {
             return Err(GenerateError::NoFit {
                 rollers: self.rollers,
@@ -190,7 +190,7 @@ impl DriveSpec {
             radii_m: self.teeth.iter().map(|&t| pitch_radius(pitch, t)).collect(),
             teeth: self.teeth.clone(),
             pitch_m: pitch,
-            clearance_m: 2.0 * self.chain.roller_radius_m,
+            clearance_m: 2.0 * self.chain.roller_radius_m.unwrap_or(0.0),
         };
         let centres = placement.solve(self.rollers)?;
         let sprockets = centres
@@ -259,9 +259,9 @@ impl DriveSpec {
 /// `pitch_m` (see [`DriveSpec::new`] for the rest), as a validated scene.
 pub fn drive(rollers: usize, sprockets: usize, pitch_m: f64) -> Result<Scene, GenerateError> {
     let mut spec = DriveSpec::new(rollers, sprockets)?;
-    spec.chain.pitch_m = pitch_m;
+    spec.chain.pitch_m = Some(pitch_m);
     // Keep the paper's roller-to-pitch proportion so the rollers still fit.
-    spec.chain.roller_radius_m *= pitch_m / 0.0889;
+    spec.chain.roller_radius_m = spec.chain.roller_radius_m.map(|r| r * pitch_m / 0.0889);
     spec.scene()
 }
 

@@ -12,6 +12,7 @@
 
 mod builder;
 mod by_path;
+pub mod designations;
 mod error;
 mod excitation;
 mod file;

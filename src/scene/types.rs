@@ -128,6 +128,8 @@ pub struct Chain {
     pub pretension_by: PretensionRule,
     /// Pin–bushing friction at every joint; `None`: off.
     pub joint_friction: Option<JointFriction>,
+    /// The standard chain the scene named (`chain.designation`), if any.
+    pub designation: Option<&'static str>,
 }
 
 /// Pin–bushing friction and damping at the chain's joints (docs/model.md,

@@ -2,6 +2,7 @@
 //! [`TryFrom`], which checks every field, converts units (rpm → rad/s) and
 //! reports *every* problem with its field's path.
 
+use super::designations;
 use super::excitation::check_excitation;
 use super::file::{AUTO, LimitsFile};
 use super::kinds::Named;
@@ -149,8 +150,56 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             format!("must be at least 4, got {}", f.rollers),
         );
     }
-    let pitch_m = c.positive("chain.pitch_m", f.pitch_m);
-    let roller_radius_m = c.positive("chain.roller_radius_m", f.roller_radius_m);
+    let designation = f.designation.as_deref().and_then(|name| {
+        let found = designations::find(name);
+        if found.is_none() {
+            c.fail(
+                "chain.designation",
+                format!(
+                    "unknown designation \"{name}\"; nearest: {} (`chaindrive chains` lists all)",
+                    designations::nearest(name, 3)
+                        .iter()
+                        .map(|n| format!("\"{n}\""))
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            );
+        }
+        found
+    });
+    // A field written in the file overrides the designation's value.
+    let field = |c: &mut Checker, name: &str, value: Option<f64>, from: Option<f64>| {
+        let path = format!("chain.{name}");
+        match value.or(from) {
+            Some(v) => c.positive(&path, v),
+            None => {
+                c.fail(
+                    path,
+                    "is required (or give chain.designation, e.g. \"ISO 606 16B-1\" or \"ANSI 80\")",
+                );
+                f64::NAN
+            }
+        }
+    };
+    let pitch_m = field(c, "pitch_m", f.pitch_m, designation.map(|d| d.pitch_m));
+    let roller_radius_m = field(
+        c,
+        "roller_radius_m",
+        f.roller_radius_m,
+        designation.map(|d| d.roller_radius_m()),
+    );
+    let roller_mass_kg = field(
+        c,
+        "roller_mass_kg",
+        f.roller_mass_kg,
+        designation.map(|d| d.roller_mass_kg()),
+    );
+    let stiffness_n_m = field(
+        c,
+        "stiffness_n_m",
+        f.stiffness_n_m,
+        designation.map(|d| d.stiffness_n_m()),
+    );
     if pitch_m.is_finite() && roller_radius_m.is_finite() && 2.0 * roller_radius_m >= pitch_m {
         c.fail(
             "chain.roller_radius_m",
@@ -160,18 +209,20 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             ),
         );
     }
+    let pin_radius_m = f.pin_radius_m.or(designation.map(|d| d.pin_radius_m()));
     Chain {
         rollers: f.rollers.max(0) as usize,
         pitch_m,
         roller_radius_m,
-        roller_mass_kg: c.positive("chain.roller_mass_kg", f.roller_mass_kg),
-        stiffness_n_m: c.positive("chain.stiffness_n_m", f.stiffness_n_m),
+        roller_mass_kg,
+        stiffness_n_m,
         damping_n_s_m: c.non_negative("chain.damping_n_s_m", f.damping_n_s_m),
         pretension_n: c.positive("chain.pretension_n", f.pretension_n),
         pretension_by: c
             .one_of("chain.pretension_by", &f.pretension_by)
             .unwrap_or(PretensionRule::RestLength),
-        joint_friction: check_joint_friction(c, f, roller_radius_m),
+        joint_friction: check_joint_friction(c, f, pin_radius_m, roller_radius_m),
+        designation: designation.map(|d| d.name),
     }
 }
 
@@ -180,6 +231,7 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
 fn check_joint_friction(
     c: &mut Checker,
     f: &ChainFile,
+    pin_radius_m: Option<f64>,
     roller_radius_m: f64,
 ) -> Option<JointFriction> {
     let friction = f
@@ -199,7 +251,7 @@ fn check_joint_friction(
     let damping = f
         .joint_damping_n_m_s_rad
         .map(|d| c.non_negative("chain.joint_damping_n_m_s_rad", d));
-    let pin = f.pin_radius_m.map(|r| c.positive("chain.pin_radius_m", r));
+    let pin = pin_radius_m.map(|r| c.positive("chain.pin_radius_m", r));
     if let Some(r) = pin
         && r.is_finite()
         && roller_radius_m.is_finite()

@@ -35,6 +35,15 @@ pub enum EquilibriumError {
     /// The tensioner rule needs a sprocket with role = "tensioner".
     #[error("pretension_by = \"tensioner\" but no sprocket is a tensioner")]
     NoTensioner,
+    /// The tensioner's travel along its adjustment direction cannot make
+    /// the chain fit (the sprocket's move is in the message).
+    #[error("the tensioner \"{sprocket}\" cannot take up the chain: {reason}")]
+    TensionerFit {
+        /// The tensioner's name.
+        sprocket: String,
+        /// Why no position along its direction fits (boxed: it is large).
+        reason: Box<super::fit::FitError>,
+    },
     /// The pretension iteration did not converge.
     #[error(
         "static tension {tension_n:.1} N after {iterations} iterations, target {target_n:.1} N"

@@ -12,6 +12,7 @@ pub mod checkpoint;
 mod energy;
 mod equilibrium;
 mod feasibility;
+mod fit;
 pub mod integrate;
 mod newton;
 mod sample_rate;
@@ -22,6 +23,10 @@ pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
 pub use equilibrium::{
     EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension, relax,
     settle_rest_length,
+};
+pub use fit::{
+    FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
+    needed_pitches_of,
 };
 pub use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
@@ -82,15 +87,16 @@ type Settled = (
     StaticEquilibrium,
 );
 
-/// The tensioner rule: links keep their rest length P; the
-/// tensioner's centre moves along its adjustment direction, by a secant
-/// iteration on the static tension, until the pretension is reached. Each
-/// iterate lays the chain out anew and relaxes it. The returned scene holds
+/// The tensioner rule: links keep their rest length P; the tensioner's
+/// centre first moves along its adjustment direction until the unstretched
+/// chain fits the path through the seated rollers ([`fit_sprocket`]; refused
+/// only when its travel cannot close the gap), then on from there, by a
+/// secant iteration on the static tension, until the pretension is reached.
+/// Each iterate lays the chain out anew and relaxes it. The returned scene holds
 /// the tensioner's final centre, so every output describes the drive simulated
 /// (docs/model.md, “Pretension and static equilibrium”).
 fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, SimError> {
     const MAX_ITERATIONS: usize = 20;
-    const FIRST_STEP_M: f64 = 1e-4;
     let Some(t) = scene.tensioner() else {
         return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
     };
@@ -117,12 +123,21 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };
-    let (mut s0, mut t0) = (0.0, tension_at(0.0)?.1);
-    let mut s1 = if t0 < target {
-        FIRST_STEP_M
-    } else {
-        -FIRST_STEP_M
-    };
+    // Where the unstretched chain fits; from there, the first step is the
+    // move that stretches every link by T₀/K (the path grows by
+    // slope · P per metre of move).
+    let fit = fit_sprocket(scene, t, direction, scene.chain.rollers).map_err(|reason| {
+        EquilibriumError::TensionerFit {
+            sprocket: scene.sprockets[t].name.clone(),
+            reason: Box::new(reason),
+        }
+    })?;
+    let first_step_m = (target / scene.chain.stiffness_n_m) * scene.chain.rollers as f64
+        / (fit.slope_per_m * scene.chain.pitch_m);
+    // At the fit the unstretched chain carries no tension (nothing to relax:
+    // no roller presses on a tooth, so no strand could be told from a wrap).
+    let (mut s0, mut t0) = (fit.offset_m, 0.0);
+    let mut s1 = s0 + first_step_m;
     for iteration in 1..=MAX_ITERATIONS {
         let (mut settled, t1) = tension_at(s1)?;
         if ((t1 - target) / target).abs() <= scene.equilibrium.tension_tolerance {

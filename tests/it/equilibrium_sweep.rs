@@ -72,7 +72,10 @@ fn scene_of(case: &Case, seed: u64) -> Scene {
     };
     let mut file = spec.scene_file().expect("placed");
     let t0 = file.chain.pretension_n;
-    let pitch = file.chain.pitch_m;
+    let pitch = file
+        .chain
+        .pitch_m
+        .expect("the paper's chain gives its pitch");
     let free = file.sprockets.len() - 1;
     let mut rng = Rng(seed.max(1));
     if case.load > 1.0 {

@@ -3,8 +3,13 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use chaindrive::model::DriveModel;
-use chaindrive::sim::{Simulation, StepLimits};
+use chaindrive::geometry::{Layout, LayoutError};
+use chaindrive::model::{BuildError, DriveModel};
+use chaindrive::scene::{PretensionRule, Role, Scene};
+use chaindrive::sim::{
+    EquilibriumError, SimError, Simulation, StepLimits, default_direction, fit_sprocket,
+    fitting_counts, needed_pitches_of,
+};
 
 /// Arguments of `chaindrive check`.
 #[derive(clap::Args)]
@@ -34,48 +39,31 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         || "<embedded l60mc.toml>".to_owned(),
         |p| p.display().to_string(),
     );
-    let (model, _, layout) = match DriveModel::build(&scene) {
-        Ok(x) => x,
-        Err(e) => {
-            eprintln!("{name}: {e}");
-            return Ok(ExitCode::FAILURE);
-        }
-    };
+    let tensioner_rule = scene.chain().pretension_by == PretensionRule::Tensioner;
     println!(
         "scene: {} ({} rollers, {} sprockets)",
         scene.name(),
         scene.chain().rollers,
         scene.sprockets().len()
     );
-    println!("segment  from  to   length_m   angle_on_from_rad  angle_on_to_rad  links");
-    for (k, s) in model.path.strands.iter().enumerate() {
-        println!(
-            "{:>7}  {:>4}  {:>2}  {:>9.4}  {:>17.4}  {:>15.4}  {:>5}",
-            k + 1,
-            s.from + 1,
-            s.to + 1,
-            s.length_m,
-            s.angle_on_from_rad,
-            s.angle_on_to_rad,
-            layout.strand_links[k]
-        );
+    // Under the tensioner rule the chain need not fit where the tensioner is
+    // written: the tensioner takes it up, and the layout is printed where it ends.
+    match DriveModel::build(&scene) {
+        Ok((model, _, layout)) => print_layout(&scene, &model, &layout),
+        Err(BuildError::Layout(LayoutError::ChainLength { needed, .. })) if tensioner_rule => {
+            println!(
+                "as written, the path through the seated rollers needs {needed:.3} pitches of chain for {} links: the tensioner moves to take it up",
+                scene.chain().rollers
+            );
+        }
+        Err(e) => {
+            eprintln!("{name}: {e}");
+            if let BuildError::Layout(LayoutError::ChainLength { .. }) = e {
+                suggest_fit(&scene, &name);
+            }
+            return Ok(ExitCode::FAILURE);
+        }
     }
-    println!("sprocket  teeth  pitch_radius_m  wrap_rad  wrap_pitches");
-    for (k, (sp, w)) in scene.sprockets().iter().zip(&model.path.wraps).enumerate() {
-        println!(
-            "{:>8}  {:>5}  {:>14.6}  {:>8.4}  {:>12.2}",
-            k + 1,
-            sp.teeth,
-            sp.pitch_radius_m,
-            w.wrap_rad,
-            w.wrap_rad * f64::from(sp.teeth) / std::f64::consts::TAU
-        );
-    }
-    println!(
-        "polygon through the seated rollers: {:.4} m; unstretched chain: {:.4} m",
-        layout.polygon_length_m,
-        scene.chain().rollers as f64 * scene.chain().pitch_m
-    );
     let limits = StepLimits::of(&scene);
     println!(
         "explicit step limits: links {:.1} µs, contact damping {:.1} µs; dt = {:.2} µs{}",
@@ -105,6 +93,32 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     let started = std::time::Instant::now();
     match Simulation::new(&scene) {
         Ok(sim) => {
+            if let Some(t) = scene.tensioner().filter(|_| tensioner_rule) {
+                let (from, to) = (
+                    scene.sprockets()[t].center_m,
+                    sim.scene.sprockets()[t].center_m,
+                );
+                println!("at the tensioner's final position:");
+                print_layout(&sim.scene, &sim.model, &sim.layout);
+                println!(
+                    "tensioner \"{}\": centre [{:.6}, {:.6}] m, moved {:.6} m from [{}, {}] along its adjust_direction",
+                    scene.sprockets()[t].name,
+                    to[0],
+                    to[1],
+                    (to[0] - from[0]).hypot(to[1] - from[1])
+                        * if (to[0] - from[0]) * direction(&scene, t)[0]
+                            + (to[1] - from[1]) * direction(&scene, t)[1]
+                            < 0.0
+                        {
+                            -1.0
+                        } else {
+                            1.0
+                        },
+                    from[0],
+                    from[1]
+                );
+            }
+            misfit_notice(&name, &sim.scene, &sim.layout);
             println!(
                 "static equilibrium: tension {:.1} N (target {:.1} N), link rest length {:.7} m, {} iteration(s), residual {:.1e} of the pretension, {:.2} s",
                 sim.equilibrium.tension_n,
@@ -124,8 +138,136 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         }
         Err(e) => {
             eprintln!("{name}: {e}");
+            if matches!(
+                e,
+                SimError::Equilibrium(
+                    EquilibriumError::ChainTooShort { .. } | EquilibriumError::ChainTooLong { .. }
+                )
+            ) {
+                suggest_fit(&scene, &name);
+            }
             return Ok(ExitCode::FAILURE);
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// The tensioner's unit adjustment direction.
+fn direction(scene: &Scene, t: usize) -> [f64; 2] {
+    match scene.sprockets()[t].role {
+        Role::Tensioner { direction, .. } => direction,
+        _ => [0.0, 0.0],
+    }
+}
+
+/// The strands and wraps of a laid-out drive.
+fn print_layout(scene: &Scene, model: &DriveModel, layout: &Layout) {
+    println!("segment  from  to   length_m   angle_on_from_rad  angle_on_to_rad  links");
+    for (k, s) in model.path.strands.iter().enumerate() {
+        println!(
+            "{:>7}  {:>4}  {:>2}  {:>9.4}  {:>17.4}  {:>15.4}  {:>5}",
+            k + 1,
+            s.from + 1,
+            s.to + 1,
+            s.length_m,
+            s.angle_on_from_rad,
+            s.angle_on_to_rad,
+            layout.strand_links[k]
+        );
+    }
+    println!("sprocket  teeth  pitch_radius_m  wrap_rad  wrap_pitches");
+    for (k, (sp, w)) in scene.sprockets().iter().zip(&model.path.wraps).enumerate() {
+        println!(
+            "{:>8}  {:>5}  {:>14.6}  {:>8.4}  {:>12.2}",
+            k + 1,
+            sp.teeth,
+            sp.pitch_radius_m,
+            w.wrap_rad,
+            w.wrap_rad * f64::from(sp.teeth) / std::f64::consts::TAU
+        );
+    }
+    println!(
+        "polygon through the seated rollers: {:.4} m; unstretched chain: {:.4} m",
+        layout.polygon_length_m,
+        scene.chain().rollers as f64 * scene.chain().pitch_m
+    );
+}
+
+/// A notice when the layout took up a misfit by laying the strand links
+/// longer (a short chain) or shorter (a long one) than the pitch.
+fn misfit_notice(name: &str, scene: &Scene, layout: &Layout) {
+    let pitch = scene.chain().pitch_m;
+    let misfit_m = layout.misfit_pitches * pitch;
+    if misfit_m.abs() <= 1e-6 {
+        return;
+    }
+    let free: usize = layout.strand_links.iter().sum();
+    eprintln!(
+        "{name}: notice: the chain is {:.3} pitches ({:.3} mm) {} than the path through the seated rollers; its {free} free links are laid {:.4} % {} than the pitch to take this up (`chaindrive fit` moves a sprocket so that it fits exactly)",
+        layout.misfit_pitches.abs(),
+        misfit_m.abs() * 1e3,
+        if misfit_m > 0.0 { "shorter" } else { "longer" },
+        layout.strand_stretch(pitch).abs() * 100.0,
+        if misfit_m > 0.0 { "longer" } else { "shorter" },
+    );
+}
+
+/// After a chain that does not fit: the roller counts `check` accepts as
+/// the drive stands, and the move of one sprocket (`chaindrive fit`) that
+/// makes the nearest count fit exactly.
+fn suggest_fit(scene: &Scene, name: &str) {
+    let counts = fitting_counts(scene);
+    let needed = needed_pitches_of(scene).ok();
+    match (&counts[..], needed) {
+        ([], Some(n)) => eprintln!(
+            "{name}: no roller count fits as the sprockets stand (the path needs {n:.3} pitches); move a sprocket instead:"
+        ),
+        ([], None) => {}
+        (c, _) => eprintln!(
+            "{name}: a chain of {} rollers fits as the sprockets stand (chain.rollers); or move a sprocket:",
+            c.iter()
+                .map(ToString::to_string)
+                .collect::<Vec<_>>()
+                .join(" or ")
+        ),
+    }
+    let Some(k) = mover(scene) else {
+        return;
+    };
+    let Some(dir) = default_direction(scene, k) else {
+        return;
+    };
+    let target = needed.map_or(scene.chain().rollers, |n| n.round().max(4.0) as usize);
+    for rollers in [scene.chain().rollers, target] {
+        match fit_sprocket(scene, k, dir, rollers) {
+            Ok(fit) => eprintln!(
+                "{name}:   with {rollers} rollers, sprocket \"{}\" moved by [{:+.6}, {:+.6}] m to [{:.6}, {:.6}] fits: chaindrive fit {name} --move \"{}\"{}",
+                scene.sprockets()[k].name,
+                fit.offset_m * fit.direction[0],
+                fit.offset_m * fit.direction[1],
+                fit.center_m[0],
+                fit.center_m[1],
+                scene.sprockets()[k].name,
+                if rollers == scene.chain().rollers {
+                    String::new()
+                } else {
+                    format!(" --rollers {rollers}")
+                }
+            ),
+            Err(e) => eprintln!("{name}:   with {rollers} rollers: {e}"),
+        }
+        if target == scene.chain().rollers {
+            break;
+        }
+    }
+}
+
+/// The sprocket a suggested fit moves: the tensioner, else the last
+/// sprocket that is not the driver.
+fn mover(scene: &Scene) -> Option<usize> {
+    scene.tensioner().or_else(|| {
+        (0..scene.sprockets().len())
+            .rev()
+            .find(|&k| k != scene.driver())
+    })
 }

@@ -2,8 +2,10 @@
 
 mod analyze;
 mod bench;
+mod chains;
 mod check;
 mod convergence;
+mod fit;
 mod outputs;
 mod profile;
 mod recover;
@@ -33,6 +35,12 @@ enum Command {
     Bench(bench::BenchArgs),
     /// Validate a scene without running it and print the derived layout.
     Check(check::CheckArgs),
+    /// Move one sprocket until the chain fits its path exactly; print the
+    /// position and write the fitted scene.
+    Fit(fit::FitArgs),
+    /// List the chains known by designation (ISO 606 B series, ANSI) with
+    /// each value's source.
+    Chains(chains::ChainsArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
@@ -52,6 +60,8 @@ fn main() -> std::process::ExitCode {
         Command::Run(args) => run::run(args),
         Command::Bench(args) => bench::bench(args),
         Command::Check(args) => check::check(args),
+        Command::Fit(args) => fit::fit(args),
+        Command::Chains(args) => chains::chains(args),
         Command::Profile(args) => profile::profile(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),

@@ -407,7 +407,10 @@ fn simulate(
         eprintln!("warning: {w}");
     }
     let setup = Instant::now();
-    let mut sim = Simulation::new(&scene).context("cannot start the simulation")?;
+    // The error's own message holds its causes: printed once, not again as
+    // a chain of sources.
+    let mut sim =
+        Simulation::new(&scene).map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
     // Where the power goes, over the summary's window.

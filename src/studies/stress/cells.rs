@@ -163,7 +163,9 @@ fn set_profile(file: &mut SceneFile, profile: ProfileKind) {
 /// Link damping at `ratio` of the single-link critical damping 2√(m_r K).
 fn set_damping_ratio(file: &mut SceneFile, ratio: f64) {
     let c = &mut file.chain;
-    c.damping_n_s_m = ratio * 2.0 * (c.roller_mass_kg * c.stiffness_n_m).sqrt();
+    if let (Some(m), Some(k)) = (c.roller_mass_kg, c.stiffness_n_m) {
+        c.damping_n_s_m = ratio * 2.0 * (m * k).sqrt();
+    }
 }
 
 /// The full matrix (see the module docs).
