@@ -24,6 +24,7 @@ mod friction;
 mod fuzz;
 mod integrators;
 mod layering;
+mod orders;
 #[cfg(feature = "cli")]
 mod outputs;
 mod paper;
@@ -43,3 +44,4 @@ mod statistics;
 mod stepping;
 mod strands;
 mod stress;
+mod sweep;
