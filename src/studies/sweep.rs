@@ -620,13 +620,13 @@ pub struct Crossing {
     /// Its amplitude.
     pub peak_amplitude: f64,
     /// Whether the response peaks there: the largest of those four is a
-    /// local maximum of the swept response and at least [`PEAK_OVER_MEDIAN`]
-    /// times its median over the sweep.
+    /// local maximum of the swept response, inside the sweep, and at least
+    /// [`PEAK_PROMINENCE`] times the smallest response on either side of it.
     pub response_peaks: bool,
 }
 
-/// How far above the sweep's median a response must rise to count as a peak.
-pub const PEAK_OVER_MEDIAN: f64 = 1.5;
+/// How far a peak must rise above the lowest response on each side of it.
+pub const PEAK_PROMINENCE: f64 = 1.5;
 
 /// The completed cases, in speed order.
 pub fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
@@ -690,11 +690,14 @@ pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossin
                     let j = (lo..=hi)
                         .max_by(|&x, &y| cut[x].total_cmp(&cut[y]))
                         .unwrap_or(i);
-                    let local_max = (j == 0 || cut[j] >= cut[j - 1])
-                        && (j + 1 >= cut.len() || cut[j] >= cut[j + 1]);
-                    let mut sorted = cut.clone();
-                    sorted.sort_by(f64::total_cmp);
-                    let median = sorted[sorted.len() / 2];
+                    let inside = j > 0 && j + 1 < cut.len();
+                    let peaks = inside && {
+                        let left = cut[..j].iter().copied().fold(f64::INFINITY, f64::min);
+                        let right = cut[j + 1..].iter().copied().fold(f64::INFINITY, f64::min);
+                        cut[j] >= cut[j - 1]
+                            && cut[j] >= cut[j + 1]
+                            && cut[j] >= PEAK_PROMINENCE * left.max(right)
+                    };
                     found.push(Crossing {
                         segment,
                         mode: *mode,
@@ -704,7 +707,7 @@ pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossin
                         signal,
                         peak_rpm: done[j].rpm,
                         peak_amplitude: cut[j],
-                        response_peaks: local_max && cut[j] >= PEAK_OVER_MEDIAN * median,
+                        response_peaks: peaks,
                     });
                 }
             }

@@ -434,13 +434,13 @@ fn report_text(
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,
-        "Where an excitation order ({}) meets a span's predicted natural frequency (moving string from the run's own mean tension and chain speed; axial rod K·P/μ), and whether that order's amplitude in the span's response peaks there (a local maximum among the four speeds around the crossing, at least {} × its median over the sweep).\n",
+        "Where an excitation order ({}) meets a span's predicted natural frequency (moving string from the run's own mean tension and chain speed; axial rod K·P/μ), and whether that order's amplitude in the span's response peaks there (the largest of the four speeds around the crossing is a local maximum inside the sweep, at least {} × the lowest response on either side).\n",
         excitation
             .iter()
             .map(|k| k.to_string())
             .collect::<Vec<_>>()
             .join(", "),
-        chaindrive::studies::sweep::PEAK_OVER_MEDIAN
+        chaindrive::studies::sweep::PEAK_PROMINENCE
     );
     let crossings = resonance_crossings(cases, excitation);
     if crossings.is_empty() {
