@@ -6,16 +6,18 @@
 //! This module lays the chain out; it does not bring it to equilibrium (that
 //! is stepping, [`crate::sim`]).
 
+mod excitation;
 pub mod rapier;
 mod segments;
 
+pub use excitation::{AngleLoad, PeriodicSpline, speed_factor};
 pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
     layout_rollers,
 };
-use crate::scene::{Scene, SpeedLaw};
+use crate::scene::{Harmonic, Scene, SpeedLaw};
 
 /// Constant data of one sprocket.
 #[derive(Clone, Debug)]
@@ -30,9 +32,18 @@ pub struct SprocketModel {
     pub inv_inertia: f64,
     /// The driver's speed law; `None` for a free sprocket.
     pub speed_law: Option<SpeedLaw>,
+    /// The driver's speed harmonics in its angle (relative amplitudes):
+    /// ω = ω̄(t) (1 + Σ a_k sin(k (θ − θ₀) + φ_k)); empty: ω = ω̄(t).
+    pub speed_harmonics: Vec<Harmonic>,
     /// External load torque at full value, N·m (read through
-    /// [`SprocketModel::load_torque_at`]).
+    /// [`SprocketModel::torque_at`]).
     pub load_torque_n_m: f64,
+    /// The part of the load that depends on the angle θ − θ₀, ramped in with
+    /// the constant load; `None`: none.
+    pub angle_load: Option<AngleLoad>,
+    /// The angle origin θ₀ of the speed harmonics and the angle-dependent
+    /// load, rad: the sprocket's angle as laid out (the driver's at t = 0).
+    pub angle_origin_rad: f64,
     /// Time over which the load rises linearly from zero to its full value, s
     /// (0: the load acts from rest on).
     pub load_ramp_s: f64,
@@ -52,25 +63,70 @@ pub struct SprocketModel {
 }
 
 impl SprocketModel {
-    /// The external torque at time `t_s`, N·m: the load `M·t/t_r` while
-    /// `t < t_r = load_ramp_s`, the full `M` after (and always when no ramp is
-    /// set, so the load at rest is `M` exactly), plus the user's torque, which
-    /// does not ramp.
+    /// The external torque at time `t_s` and angle `theta_rad`, N·m: the
+    /// load M(θ) = M + M_θ(θ − θ₀) times `t/t_r` while `t < t_r = load_ramp_s`,
+    /// the full M(θ) after (and always when no ramp is set, so the load at
+    /// rest is M(θ) exactly), plus the user's torque, which does not ramp.
     #[inline]
-    pub fn load_torque_at(&self, t_s: f64) -> f64 {
+    pub fn torque_at(&self, t_s: f64, theta_rad: f64) -> f64 {
+        let mut load = self.load_torque_n_m;
+        if let Some(angle_load) = &self.angle_load {
+            load += angle_load.at(theta_rad - self.angle_origin_rad);
+        }
         let load = if t_s < self.load_ramp_s {
-            self.load_torque_n_m * (t_s / self.load_ramp_s)
+            load * (t_s / self.load_ramp_s)
         } else {
-            self.load_torque_n_m
+            load
         };
         load + self.user_torque_n_m
     }
 
+    /// The external torque at time `t_s` with the sprocket at its angle
+    /// origin ([`Self::torque_at`]; the same at every angle for a constant
+    /// load), N·m.
+    #[inline]
+    pub fn load_torque_at(&self, t_s: f64) -> f64 {
+        self.torque_at(t_s, self.angle_origin_rad)
+    }
+
     /// The load held while the drive relaxes to static equilibrium, N·m: the
-    /// load at rest (t = 0), zero where the load ramps in.
+    /// load at rest (t = 0) at the angle origin, zero where the load ramps in.
     #[inline]
     pub fn load_at_rest_n_m(&self) -> f64 {
         self.load_torque_at(0.0)
+    }
+
+    /// The driver's prescribed speed at time `t_s` and angle `theta_rad`,
+    /// rad/s: ω̄(t) (1 + Σ a_k sin(k (θ − θ₀) + φ_k)); 0 without a speed law.
+    #[inline]
+    pub fn driver_speed_at(&self, t_s: f64, theta_rad: f64) -> f64 {
+        let Some(law) = self.speed_law else {
+            return 0.0;
+        };
+        if self.speed_harmonics.is_empty() {
+            law.speed_at(t_s)
+        } else {
+            law.speed_at(t_s)
+                * speed_factor(&self.speed_harmonics, theta_rad - self.angle_origin_rad)
+        }
+    }
+
+    /// The driver's mean speed over a step of `dt_s` from time `t_s` and
+    /// angle `theta_rad`, rad/s: the explicit midpoint rule on
+    /// dθ/dt = ω(t, θ) (second order); without harmonics ω̄(t + dt/2), which
+    /// integrates a ramp exactly.
+    #[inline]
+    pub fn driver_step_speed(&self, t_s: f64, theta_rad: f64, dt_s: f64) -> f64 {
+        let Some(law) = self.speed_law else {
+            return 0.0;
+        };
+        let t_mid = t_s + 0.5 * dt_s;
+        if self.speed_harmonics.is_empty() {
+            law.speed_at(t_mid)
+        } else {
+            let theta_mid = theta_rad + 0.5 * dt_s * self.driver_speed_at(t_s, theta_rad);
+            self.driver_speed_at(t_mid, theta_mid)
+        }
     }
 }
 
@@ -261,14 +317,22 @@ impl DriveModel {
             .sprockets
             .iter()
             .zip(profiles)
-            .map(|(s, profile)| {
+            .zip(&layout.sprocket_angles_rad)
+            .map(|((s, profile), &angle_origin_rad)| {
                 let reach = profile.reach_m();
+                let excitation = &s.excitation;
                 SprocketModel {
                     center_m: s.center_m,
                     center_velocity_m_s: [0.0; 2],
                     inv_inertia: 1.0 / s.inertia_kg_m2,
                     speed_law: s.speed_law(),
+                    speed_harmonics: excitation.speed_harmonics.clone(),
                     load_torque_n_m: s.load_torque_n_m(),
+                    angle_load: AngleLoad::new(
+                        &excitation.load_harmonics,
+                        excitation.load_table.as_ref(),
+                    ),
+                    angle_origin_rad,
                     load_ramp_s: s.load_ramp_s(),
                     user_torque_n_m: 0.0,
                     reach_m: reach,

@@ -118,6 +118,7 @@ impl SceneBuilder {
                 sprockets: self.sprockets,
                 solver: self.solver,
                 equilibrium: self.equilibrium,
+                base_dir: None,
             }),
             (chain, contact) => Err(SceneError::Invalid(
                 [

@@ -8,6 +8,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::excitation::{LoadHarmonicFile, LoadTableFile, SpeedHarmonicFile};
+
 /// A whole scene file (TOML).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
@@ -32,6 +34,11 @@ pub struct SceneFile {
     /// Static-equilibrium settings (before t = 0).
     #[serde(default)]
     pub equilibrium: EquilibriumFile,
+    /// The directory relative file names in the scene (a load table's) are
+    /// read from: the scene file's ([`super::Scene::from_path_with`]); `None`:
+    /// the working directory. Not part of the TOML.
+    #[serde(skip)]
+    pub base_dir: Option<std::path::PathBuf>,
 }
 
 fn default_profile() -> String {
@@ -150,6 +157,20 @@ pub struct SprocketFile {
     /// Tooth profile of this sprocket, overriding the scene's default.
     #[serde(default)]
     pub profile: Option<String>,
+    /// Driver only: harmonics of the speed in the driver's angle
+    /// (`[[sprockets.speed_harmonics]]`, docs/model.md, “Excitation”).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub speed_harmonics: Vec<SpeedHarmonicFile>,
+    /// Free or tensioner: a load torque in the sprocket's angle, as a
+    /// harmonic series (`[[sprockets.load_harmonics]]`), added to the
+    /// constant load.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub load_harmonics: Vec<LoadHarmonicFile>,
+    /// Free or tensioner: a load torque in the sprocket's angle, tabled over
+    /// one revolution in a CSV file (`sprockets.load_table`), added to the
+    /// constant load.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub load_table: Option<LoadTableFile>,
 }
 
 /// Integration settings.

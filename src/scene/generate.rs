@@ -226,6 +226,9 @@ impl DriveSpec {
                     load_ramp_s: None,
                     adjust_direction: None,
                     profile: None,
+                    speed_harmonics: Vec::new(),
+                    load_harmonics: Vec::new(),
+                    load_table: None,
                 }
             })
             .collect::<Vec<_>>();

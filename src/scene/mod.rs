@@ -12,6 +12,7 @@
 
 mod builder;
 mod error;
+mod excitation;
 mod file;
 pub mod generate;
 mod kinds;
@@ -24,6 +25,10 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use error::{FieldError, SceneError, locate};
+pub use excitation::{
+    Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
+    SpeedHarmonicFile,
+};
 pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,

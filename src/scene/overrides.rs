@@ -120,15 +120,38 @@ impl Scene {
         Self::try_from(file)
     }
 
-    /// Parses a TOML scene, applies `overrides` and validates the result.
-    /// Errors in the file carry their line and column; errors in an
-    /// overridden field do not (their value is not in the text).
-    pub fn from_toml_with(text: &str, overrides: &Overrides) -> Result<Self, SceneError> {
+    /// Reads the scene file at `path`, applies `overrides` and validates the
+    /// result, reading the files it names (a load table) relative to the
+    /// scene file's directory. Errors as [`Self::from_toml_with`]'s; a file
+    /// that cannot be read is an I/O error.
+    pub fn from_path_with(
+        path: &std::path::Path,
+        overrides: &Overrides,
+    ) -> Result<Result<Self, SceneError>, std::io::Error> {
+        let text = std::fs::read_to_string(path)?;
+        Ok(Self::from_toml_in(&text, path.parent(), overrides))
+    }
+
+    /// Parses a TOML scene whose relative file names are read from `base_dir`
+    /// (`None`: the working directory), applies `overrides` and validates it.
+    pub fn from_toml_in(
+        text: &str,
+        base_dir: Option<&std::path::Path>,
+        overrides: &Overrides,
+    ) -> Result<Self, SceneError> {
         let mut file: SceneFile = toml::from_str(text).map_err(SceneError::from_toml)?;
+        file.base_dir = base_dir.map(std::path::Path::to_path_buf);
         file.apply(overrides);
         let mut scene = Self::try_from(file).map_err(|e| e.located(text, &overrides.paths()))?;
         scene.source_toml = Some(text.to_owned());
         Ok(scene)
+    }
+
+    /// Parses a TOML scene, applies `overrides` and validates the result.
+    /// Errors in the file carry their line and column; errors in an
+    /// overridden field do not (their value is not in the text).
+    pub fn from_toml_with(text: &str, overrides: &Overrides) -> Result<Self, SceneError> {
+        Self::from_toml_in(text, None, overrides)
     }
 }
 

@@ -130,7 +130,8 @@ impl StepLimits {
 /// sprocket is driven at a speed).
 ///
 /// A roller of mass m_r meets a tooth at v_i = v sin(2π/z) (the chain's
-/// speed v = ω R of the fastest driver turned through one tooth angle;
+/// speed v = ω R of the fastest driver, at the peak of its speed harmonics,
+/// turned through one tooth angle;
 /// the smallest sprocket gives the fastest); against the contact law's
 /// elastic part F = K δⁿ it penetrates δ_max = ((n+1) m_r v_i² / (2K))^(1/(n+1))
 /// and leaves after t_c = 2 (δ_max / v_i) ∫₀¹ (1 − xⁿ⁺¹)^(−½) dx (Hertz's
@@ -139,7 +140,16 @@ pub fn impact_duration_s(chain: &Chain, contact: &Contact, sprockets: &[Sprocket
     let v = sprockets
         .iter()
         .filter_map(|s| match s.role {
-            Role::Driver(law) => Some(law.speed_rad_s.abs() * s.pitch_radius_m),
+            Role::Driver(law) => {
+                // The speed harmonics' peak: ω̄ (1 + Σ |a_k|).
+                let peak: f64 = 1.0
+                    + s.excitation
+                        .speed_harmonics
+                        .iter()
+                        .map(|h| h.amplitude.abs())
+                        .sum::<f64>();
+                Some(law.speed_rad_s.abs() * peak * s.pitch_radius_m)
+            }
             _ => None,
         })
         .fold(0.0, f64::max);

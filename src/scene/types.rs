@@ -2,6 +2,7 @@
 //! static-equilibrium settings, in SI units. Built only by the validator
 //! ([`super::Scene`]); read, never written, by the rest of the crate.
 
+use super::excitation::Excitation;
 use super::{ContactLaw, Integrator, PretensionRule, ProfileKind, Stepping, Wrap};
 
 /// A driver's prescribed speed: a linear ramp from rest, then constant.
@@ -70,6 +71,8 @@ pub struct Sprocket {
     pub role: Role,
     /// Tooth profile.
     pub profile: ProfileKind,
+    /// Speed harmonics (a driver) or a load in the sprocket's angle.
+    pub excitation: Excitation,
 }
 
 impl Sprocket {

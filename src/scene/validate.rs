@@ -2,6 +2,7 @@
 //! [`TryFrom`], which checks every field, converts units (rpm → rad/s) and
 //! reports *every* problem with its field's path.
 
+use super::excitation::check_excitation;
 use super::file::{AUTO, LimitsFile};
 use super::kinds::Named;
 use super::types::{DEFAULT_JOINT_FRICTION_SPEED_RAD_S, JointFriction, Limits};
@@ -15,7 +16,7 @@ use crate::geometry::asa::IN_0_003_M;
 use crate::geometry::{pitch_radius, seating_radius};
 
 /// Collects field errors while a file is checked.
-struct Checker {
+pub(super) struct Checker {
     errors: Vec<FieldError>,
 }
 
@@ -24,7 +25,7 @@ impl Checker {
         Self { errors: Vec::new() }
     }
 
-    fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
+    pub(super) fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
         self.errors.push(FieldError {
             path: path.into(),
             message: message.into(),
@@ -33,7 +34,7 @@ impl Checker {
     }
 
     /// A finite, strictly positive quantity.
-    fn positive(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn positive(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         } else if value <= 0.0 {
@@ -43,7 +44,7 @@ impl Checker {
     }
 
     /// A finite quantity ≥ 0.
-    fn non_negative(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn non_negative(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         } else if value < 0.0 {
@@ -52,7 +53,7 @@ impl Checker {
         value
     }
 
-    fn finite(&mut self, path: &str, value: f64) -> f64 {
+    pub(super) fn finite(&mut self, path: &str, value: f64) -> f64 {
         if !value.is_finite() {
             self.fail(path, format!("must be a finite number, got {value}"));
         }
@@ -89,6 +90,7 @@ impl TryFrom<SceneFile> for Scene {
             &file.sprockets,
             &chain,
             default_profile.unwrap_or(ProfileKind::Circular),
+            file.base_dir.as_deref(),
         );
         check_seating(&mut c, &chain, &sprockets);
         let solver = check_solver(&mut c, &file.solver, &chain, &contact, &sprockets);
@@ -282,6 +284,7 @@ fn check_sprockets(
     files: &[SprocketFile],
     chain: &Chain,
     default_profile: ProfileKind,
+    base_dir: Option<&std::path::Path>,
 ) -> Vec<Sprocket> {
     if files.len() < 2 {
         c.fail(
@@ -345,6 +348,8 @@ fn check_sprockets(
         if matches!(role, Role::Driver(_)) {
             drivers += 1;
         }
+        let kind = RoleKind::from_name(&f.role);
+        let excitation = check_excitation(c, f, i, kind, base_dir);
         out.push(Sprocket {
             name: f.name.clone(),
             center_m,
@@ -355,6 +360,7 @@ fn check_sprockets(
             wrap,
             role,
             profile,
+            excitation,
         });
     }
     // No driver is allowed: a drive turned by torques on mounted bodies (crate::cosim).

@@ -79,7 +79,7 @@ impl Powers {
             if sp.speed_law.is_some() {
                 driver -= out.chain_torque[s] * omega;
             } else {
-                load -= sp.load_torque_at(state.t_s) * omega;
+                load -= sp.torque_at(state.t_s, state.theta[s]) * omega;
             }
         }
         // The link force is K s + D u·Δv: its damping part from the force and

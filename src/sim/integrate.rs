@@ -21,9 +21,13 @@
 //!
 //! # The driver
 //!
-//! The driver's angle integrates its speed law; its speed is set to the law's
-//! value at every stage time. Symplectic Euler and velocity Verlet sample the
-//! law at the step's midpoint, so a linear ramp is integrated exactly.
+//! The driver's angle integrates its speed law dθ/dt = ω(t, θ) (θ enters
+//! through the speed harmonics); its speed is set to the law's value at
+//! every stage's time and angle, so the Runge–Kutta schemes integrate it at
+//! their own order. Symplectic Euler, implicit damping and velocity Verlet
+//! take the explicit midpoint rule (second order); without harmonics it
+//! samples the law at the step's midpoint, so a linear ramp is integrated
+//! exactly.
 //!
 //! # Implicit damping
 //!
@@ -301,11 +305,11 @@ impl Integration {
         let omega_half = &mut self.torque_scratch;
         for (s, sp) in model.sprockets.iter().enumerate() {
             if sp.speed_law.is_some() {
-                state.theta[s] += h * driver_speed(model, s, state.t_s, h);
+                state.theta[s] += h * driver_speed(model, s, state.t_s, state.theta[s], h);
             } else {
                 let kick = 0.5
                     * h
-                    * (forces.output().chain_torque[s] + sp.load_torque_at(state.t_s))
+                    * (forces.output().chain_torque[s] + sp.torque_at(state.t_s, state.theta[s]))
                     * sp.inv_inertia;
                 omega_half[s] = state.omega[s] + kick;
                 state.theta[s] += h * omega_half[s];
@@ -338,7 +342,8 @@ impl Integration {
                 state.omega[s] = self.torque_scratch[s]
                     + 0.5
                         * h
-                        * (forces.output().chain_torque[s] + sp.load_torque_at(state.t_s))
+                        * (forces.output().chain_torque[s]
+                            + sp.torque_at(state.t_s, state.theta[s]))
                         * sp.inv_inertia;
             }
         }
@@ -642,13 +647,13 @@ pub(crate) fn implicit_damping_step(
             if relax.is_some() {
                 0.0
             } else {
-                driver_speed(model, s, state.t_s, h)
+                driver_speed(model, s, state.t_s, state.theta[s], h)
             }
         } else {
             let load = if relax.is_some() {
                 sp.load_at_rest_n_m()
             } else {
-                sp.load_torque_at(state.t_s)
+                sp.torque_at(state.t_s, state.theta[s])
             };
             (state.omega[s] + h * (torque[s] + load) * sp.inv_inertia) * scale
         };
@@ -671,11 +676,13 @@ fn hermite(p0: f64, p1: f64, d0: f64, d1: f64, h: f64, s: f64) -> f64 {
         + (s3 - s2) * h * d1
 }
 
-/// Sets the driver's speed to its law at the state's time.
+/// Sets the driver's speed to its law at the state's time and angle: within
+/// a Runge–Kutta scheme the stage's θ rate is this speed, so the scheme
+/// integrates dθ/dt = ω(t, θ) at its own order.
 fn set_driver_speed(model: &DriveModel, state: &mut DriveState) {
     for (s, sp) in model.sprockets.iter().enumerate() {
-        if let Some(law) = sp.speed_law {
-            state.omega[s] = law.speed_at(state.t_s);
+        if sp.speed_law.is_some() {
+            state.omega[s] = sp.driver_speed_at(state.t_s, state.theta[s]);
         }
     }
 }
@@ -697,7 +704,8 @@ fn rate(model: &DriveModel, state: &DriveState, forces: &ForceGenerator, out: &m
         out.omega[s] = if sp.speed_law.is_some() {
             0.0
         } else {
-            (forces.output().chain_torque[s] + sp.load_torque_at(state.t_s)) * sp.inv_inertia
+            (forces.output().chain_torque[s] + sp.torque_at(state.t_s, state.theta[s]))
+                * sp.inv_inertia
         };
     }
     let f = forces.output();

@@ -392,12 +392,18 @@ impl Simulation {
         apply_forces(
             &self.bodies,
             &self.model,
-            self.state.t_s,
+            &self.state,
             self.forces.output(),
             &mut self.world.bodies,
         );
         if let Some(driver) = self.model.driver() {
-            let omega = driver_speed(&self.model, driver, self.state.t_s, dt_s);
+            let omega = driver_speed(
+                &self.model,
+                driver,
+                self.state.t_s,
+                self.state.theta[driver],
+                dt_s,
+            );
             if let Some(b) = self.world.bodies.get_mut(self.bodies.sprockets[driver]) {
                 b.set_angvel(omega, false);
             }
@@ -575,7 +581,7 @@ impl Simulation {
 fn apply_forces(
     handles: &ChainBodies,
     model: &DriveModel,
-    t_s: f64,
+    state: &DriveState,
     forces: &Forces,
     bodies: &mut RigidBodySet,
 ) {
@@ -595,7 +601,10 @@ fn apply_forces(
             b.reset_forces(false);
             b.reset_torques(false);
             if sp.speed_law.is_none() {
-                b.add_torque(forces.chain_torque[i] + sp.load_torque_at(t_s), false);
+                b.add_torque(
+                    forces.chain_torque[i] + sp.torque_at(state.t_s, state.theta[i]),
+                    false,
+                );
             }
         }
     }

@@ -16,12 +16,18 @@ pub struct Relaxation {
     pub rate_per_s: f64,
 }
 
-/// The driver's angular speed over the step starting at `t_s` (midpoint rule).
+/// The driver's angular speed over the step starting at `t_s` with the
+/// driver at `theta_rad` (midpoint rule,
+/// [`crate::model::SprocketModel::driver_step_speed`]).
 #[inline]
-pub fn driver_speed(model: &DriveModel, sprocket: usize, t_s: f64, dt_s: f64) -> f64 {
-    model.sprockets[sprocket]
-        .speed_law
-        .map_or(0.0, |law| law.speed_at(t_s + 0.5 * dt_s))
+pub fn driver_speed(
+    model: &DriveModel,
+    sprocket: usize,
+    t_s: f64,
+    theta_rad: f64,
+    dt_s: f64,
+) -> f64 {
+    model.sprockets[sprocket].driver_step_speed(t_s, theta_rad, dt_s)
 }
 
 /// Advances `state` by `dt_s`. `forces` must hold the forces at `state`
@@ -57,13 +63,13 @@ pub fn symplectic_euler(
             if relax.is_some() {
                 0.0
             } else {
-                driver_speed(model, s, state.t_s, dt_s)
+                driver_speed(model, s, state.t_s, state.theta[s], dt_s)
             }
         } else {
             let load = if relax.is_some() {
                 sp.load_at_rest_n_m()
             } else {
-                sp.load_torque_at(state.t_s)
+                sp.torque_at(state.t_s, state.theta[s])
             };
             let torque = forces.output().chain_torque[s] + load;
             (state.omega[s] + dt_s * torque * sp.inv_inertia) * scale

@@ -20,6 +20,7 @@ mod detectors;
 mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
+mod excitation;
 mod friction;
 mod fuzz;
 mod integrators;
