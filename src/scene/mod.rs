@@ -11,6 +11,7 @@
 //! This module knows nothing of rapier or of stepping.
 
 mod builder;
+mod by_path;
 mod error;
 mod excitation;
 mod file;
@@ -24,6 +25,7 @@ mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
+pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
 pub use error::{FieldError, SceneError, locate};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
