@@ -466,7 +466,10 @@ fn heat(relative: f64) -> RGBColor {
     RGBColor(mix(60, 220), mix(90, 30), mix(200, 40))
 }
 
-fn draw_campbell<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, c: &Campbell) -> Result<(), String>
+fn draw_campbell<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    c: &Campbell,
+) -> Result<(), String>
 where
     DB::ErrorType: 'static,
 {

@@ -283,8 +283,7 @@ impl AngleWindow {
     pub fn spectrum(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
         let resampled = self.resample(x)?;
         let n = resampled.len();
-        let mut buf: Vec<Complex<f64>> =
-            resampled.iter().map(|&v| Complex::new(v, 0.0)).collect();
+        let mut buf: Vec<Complex<f64>> = resampled.iter().map(|&v| Complex::new(v, 0.0)).collect();
         FftPlanner::new().plan_fft_forward(n).process(&mut buf);
         let scale = 2.0 / n as f64;
         let per = self.revolutions / self.orders.denominator as usize;

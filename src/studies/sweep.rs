@@ -84,7 +84,9 @@ pub fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, Sweep
     let bad = |why: &str| SweepError::BadRange {
         what,
         text: text.to_owned(),
-        why: format!("{why}; write FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100"),
+        why: format!(
+            "{why}; write FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100"
+        ),
     };
     let parts: Vec<&str> = text.split(':').collect();
     if parts.len() != 3 {
@@ -387,7 +389,11 @@ fn prepare(scene: &Scene, settings: &SweepSettings) -> Result<Vec<Case>, SweepEr
 }
 
 /// Runs one case to its end (`None` if `stop` ended it early).
-fn run_case(case: &Case, settings: &SweepSettings, stop: Option<&AtomicBool>) -> Option<CaseOutcome> {
+fn run_case(
+    case: &Case,
+    settings: &SweepSettings,
+    stop: Option<&AtomicBool>,
+) -> Option<CaseOutcome> {
     let failed = |message: String| {
         Some(CaseOutcome::Failed {
             rpm: case.rpm,
@@ -758,8 +764,16 @@ pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
             })
     };
     let mut out = vec![
-        pick("largest link force, N", &|c| c.summary.link_force_max_n, true),
-        pick("smallest link force, N", &|c| c.summary.link_force_min_n, false),
+        pick(
+            "largest link force, N",
+            &|c| c.summary.link_force_max_n,
+            true,
+        ),
+        pick(
+            "smallest link force, N",
+            &|c| c.summary.link_force_min_n,
+            false,
+        ),
         pick("largest contact force, N", &|c| c.max_contact_force_n, true),
         pick(
             "largest penetration, m",

@@ -105,3 +105,61 @@ fn a_driver_standing_still_is_an_error() {
     let e = AngleWindow::new(&t, &theta, orders).expect_err("no turn");
     assert!(e.to_string().contains("advance"), "{e}");
 }
+
+/// The sweep's order analysis of a run whose driver follows
+/// ω(θ) = ω̄ (1 + a sin(2θ + φ)), a = 1 %, φ = 30°
+/// (`tests/data/harmonic_order2_1pct.toml`, 300 rpm, stiff and slow): the
+/// driver's speed has order 2 of amplitude a ω̄ exactly, and phase φ − π/2 in
+/// the cosine form (a sin u = a cos(u − π/2)); the driven sprocket follows
+/// at the kinematic ratio z₁/z₂ = 20/40, so its order 2 is a ω̄ z₁/z₂.
+/// Tolerances: 1 % on the driver's amplitude, 2 % on the driven one's.
+#[test]
+fn an_order_2_speed_harmonic_is_recovered_at_the_driver_and_at_the_kinematic_ratio() {
+    use chaindrive::scene::Scene;
+    use chaindrive::studies::sweep::{CaseOutcome, SweepSettings, run_sweep};
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/harmonic_order2_1pct.toml"
+    ))
+    .expect("scene file");
+    let scene = Scene::from_toml(&text).expect("valid scene");
+    let settings = SweepSettings {
+        rpm: vec![300.0],
+        settle_s: 0.3,
+        window_s: 1.0,
+        jobs: 1,
+        orders: OrderSet::new(40.0, 1.0).expect("valid set"),
+    };
+    let cases = run_sweep(&scene, &settings, None, &|_| {}).expect("sweep");
+    let CaseOutcome::Done(case) = &cases[0] else {
+        panic!("{:?}", cases[0]);
+    };
+    let mean = 300.0 * TAU / 60.0;
+    let expected = 0.01 * mean;
+    let driver = case
+        .signal("omega_1_rad_s")
+        .and_then(|s| s.at(2.0))
+        .expect("order 2");
+    assert!(
+        (driver.amplitude - expected).abs() < 0.01 * expected,
+        "driver: {} against {expected}",
+        driver.amplitude
+    );
+    let phase = 30f64.to_radians() - 0.5 * std::f64::consts::PI;
+    assert!(
+        (driver.phase_rad - phase).abs() < 0.01,
+        "driver phase {}",
+        driver.phase_rad
+    );
+    let driven = case
+        .signal("omega_2_rad_s")
+        .and_then(|s| s.at(2.0))
+        .expect("order 2");
+    let ratio = 20.0 / 40.0;
+    assert!(
+        (driven.amplitude - ratio * expected).abs() < 0.02 * ratio * expected,
+        "driven: {} against {}",
+        driven.amplitude,
+        ratio * expected
+    );
+}

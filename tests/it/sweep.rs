@@ -59,16 +59,35 @@ fn settings(rpm: Vec<f64>, window_s: f64) -> SweepSettings {
 #[test]
 fn a_window_too_short_for_a_revolution_is_an_error_before_anything_runs() {
     // At 30 rpm a 1 s window turns the driver half a revolution.
-    let e = run_sweep(&resonance_scene(), &settings(vec![30.0, 300.0], 1.0), None, &|_| {})
-        .expect_err("too short");
-    assert!(matches!(e, SweepError::BadTime { what: "--window", .. }), "{e}");
+    let e = run_sweep(
+        &resonance_scene(),
+        &settings(vec![30.0, 300.0], 1.0),
+        None,
+        &|_| {},
+    )
+    .expect_err("too short");
+    assert!(
+        matches!(
+            e,
+            SweepError::BadTime {
+                what: "--window",
+                ..
+            }
+        ),
+        "{e}"
+    );
     assert!(e.to_string().contains("0.50 revolutions"), "{e}");
 }
 
 #[test]
 fn a_negative_window_is_an_error() {
-    let e = run_sweep(&resonance_scene(), &settings(vec![300.0], -1.0), None, &|_| {})
-        .expect_err("negative");
+    let e = run_sweep(
+        &resonance_scene(),
+        &settings(vec![300.0], -1.0),
+        None,
+        &|_| {},
+    )
+    .expect_err("negative");
     assert!(e.to_string().starts_with("--window -1"), "{e}");
 }
 

@@ -15,11 +15,11 @@ use std::time::Instant;
 use anyhow::Context;
 use chaindrive::analysis::figures::{self, Campbell, Mark, Plot, Trace};
 use chaindrive::analysis::orders::OrderSet;
-use chaindrive::scene::{Overrides, Scene};
+use chaindrive::scene::{Assignment, Overrides, Scene};
 use chaindrive::studies::sweep::{
     CaseOutcome, CaseResult, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
-    excitation_orders, order_cut, parse_rpm_range, resonance_crossings, run_sweep,
-    summary_scalars, worst_cases,
+    excitation_orders, order_cut, parse_rpm_range, resonance_crossings, run_sweep, summary_scalars,
+    worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -31,10 +31,20 @@ pub struct SweepArgs {
     #[arg(long, value_name = "FROM:TO:STEP")]
     rpm: String,
     /// Time after the driver's ramp before the window, s.
-    #[arg(long, value_name = "S", default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
     settle: f64,
     /// Statistics and order window at the end of each run, s.
-    #[arg(long, value_name = "S", default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
     window: f64,
     /// Runs at once (default: the machine's cores).
     #[arg(long, value_name = "N")]
@@ -47,12 +57,21 @@ pub struct SweepArgs {
     #[arg(long, value_name = "K", allow_negative_numbers = true)]
     max_order: Option<f64>,
     /// Step between orders, 1/D (1, 0.5, 0.25, …).
-    #[arg(long, value_name = "STEP", default_value_t = 1.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "STEP",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
     order_step: f64,
     /// Signal of the Campbell diagram and the order cuts: segK_link_force_n,
     /// segK_transverse_m, omega_I_rad_s or max_contact_force_n.
     #[arg(long, default_value = "seg1_transverse_m")]
     signal: String,
+    /// Any other scene value, the same in every case: PATH=VALUE by the
+    /// scene file's path (repeatable), e.g. `--set chain.pretension_n=25000`.
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    set: Vec<String>,
     /// The chain's integration step, s, or `auto` (overrides the scene).
     #[arg(long, value_name = "SECONDS|auto")]
     dt: Option<crate::DtArg>,
@@ -75,10 +94,29 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
+    let assignments = args
+        .set
+        .iter()
+        .map(|a| {
+            let (path, value) = a.split_once('=').ok_or_else(|| {
+                anyhow::anyhow!("--set {a}: write PATH=VALUE, e.g. chain.pretension_n=25000")
+            })?;
+            Assignment::parse(path.trim(), value.trim())
+                .map_err(|e| anyhow::anyhow!("--set {a}: {e}"))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let scene = if assignments.is_empty() {
+        scene
+    } else {
+        scene
+            .with_set(&assignments)
+            .map_err(|e| anyhow::anyhow!("--set: {e}"))?
+    };
     let rpm = parse_rpm_range("--rpm", &args.rpm)?;
     let orders = match args.max_order {
-        Some(k) => OrderSet::new(k, args.order_step)
-            .map_err(|e| anyhow::anyhow!("--max-order {k} --order-step {}: {e}", args.order_step))?,
+        Some(k) => OrderSet::new(k, args.order_step).map_err(|e| {
+            anyhow::anyhow!("--max-order {k} --order-step {}: {e}", args.order_step)
+        })?,
         None => {
             let d = default_orders(&scene)?;
             OrderSet::new(d.max_order(), args.order_step)
@@ -159,7 +197,12 @@ fn check_signal(signal: &str, scene: &Scene) -> anyhow::Result<()> {
     let segments = scene.sprockets().len();
     let sprockets = scene.sprockets().len();
     let mut known: Vec<String> = (1..=segments)
-        .flat_map(|k| [format!("seg{k}_link_force_n"), format!("seg{k}_transverse_m")])
+        .flat_map(|k| {
+            [
+                format!("seg{k}_link_force_n"),
+                format!("seg{k}_transverse_m"),
+            ]
+        })
         .collect();
     known.extend((1..=sprockets).map(|i| format!("omega_{i}_rad_s")));
     known.push("max_contact_force_n".to_owned());
@@ -201,7 +244,10 @@ fn write_outputs(
     sweep_csv.flush()?;
     let done = completed(cases);
     let mut orders_csv = create(dir, "orders.csv")?;
-    writeln!(orders_csv, "rpm,signal,order,frequency_hz,amplitude,phase_rad")?;
+    writeln!(
+        orders_csv,
+        "rpm,signal,order,frequency_hz,amplitude,phase_rad"
+    )?;
     for r in &done {
         for s in &r.orders {
             for c in &s.spectrum.components {
@@ -222,7 +268,11 @@ fn write_outputs(
     for r in &done {
         for s in &r.spans {
             let f: String = s.transverse_hz.iter().map(|f| format!(",{f}")).collect();
-            writeln!(spans_csv, "{},{},{}{f},{}", r.rpm, s.segment, s.tension_n, s.axial_hz)?;
+            writeln!(
+                spans_csv,
+                "{},{},{}{f},{}",
+                r.rpm, s.segment, s.tension_n, s.axial_hz
+            )?;
         }
     }
     spans_csv.flush()?;
@@ -296,7 +346,10 @@ fn draw_figures(
         lines,
         max_hz: top,
     };
-    keep("campbell", figures::save_campbell(&campbell, dir, "campbell"));
+    keep(
+        "campbell",
+        figures::save_campbell(&campbell, dir, "campbell"),
+    );
     // Order cuts of the chosen signal at the excitation orders.
     let cuts = Plot {
         title: format!("Order cuts: {}", args.signal),
@@ -364,7 +417,10 @@ fn draw_figures(
         y_label: "contact force, N".to_owned(),
         traces: vec![Trace {
             label: "max contact force".to_owned(),
-            points: done.iter().map(|c| (c.rpm, c.max_contact_force_n)).collect(),
+            points: done
+                .iter()
+                .map(|c| (c.rpm, c.max_contact_force_n))
+                .collect(),
             mark: Mark::Line,
             color: 1,
         }],
@@ -444,7 +500,10 @@ fn report_text(
     );
     let crossings = resonance_crossings(cases, excitation);
     if crossings.is_empty() {
-        let _ = writeln!(s, "No order line crosses a predicted natural frequency in this range.\n");
+        let _ = writeln!(
+            s,
+            "No order line crosses a predicted natural frequency in this range.\n"
+        );
     } else {
         let _ = writeln!(
             s,
@@ -481,7 +540,10 @@ fn report_text(
         s,
         "- `orders.csv`: `rpm,signal,order,frequency_hz,amplitude,phase_rad` (phase of A cos(k θ + ψ) against the driver's angle)"
     );
-    let _ = writeln!(s, "- `spans.csv`: each span's tension and predicted frequencies per speed");
+    let _ = writeln!(
+        s,
+        "- `spans.csv`: each span's tension and predicted frequencies per speed"
+    );
     for f in figures {
         match f {
             Ok(stem) => {
