@@ -7,8 +7,8 @@
 //! 1. **Rotation angle.** φ = s (θ − θ₀) with θ the driver's angle as
 //!    sampled and s the sign of its net turn, so φ grows whichever way the
 //!    driver turns; an order is a number of cycles per revolution in that
-//!    sense. Phases are measured from the driver's own angle θ = 0 (as the
-//!    scene lays it out), not from the window's start.
+//!    sense. Phases are measured from θ = 0 of the angles given, not from
+//!    the window's start (the sweep gives the angle turned since t = 0).
 //! 2. **Whole revolutions.** The window is the last N whole revolutions
 //!    turned by the samples (N a multiple of the order step's denominator
 //!    D, so every order asked for falls on a bin), ending at the last

@@ -453,7 +453,12 @@ fn analyse(
     let first = rows.partition_point(|r| r.t_s < window_start);
     let rows = &rows[first..];
     let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-    let window = AngleWindow::new(&t, &obs.theta[first..], settings.orders)?;
+    // Angles turned since t = 0 (the first sample), so that phases are
+    // measured from the driver's position at the start, as the scene's
+    // speed harmonics are.
+    let theta0 = obs.theta.first().copied().unwrap_or(0.0);
+    let theta: Vec<f64> = obs.theta[first..].iter().map(|th| th - theta0).collect();
+    let window = AngleWindow::new(&t, &theta, settings.orders)?;
     let mut orders = Vec::new();
     let mut push = |signal: String, x: &[f64]| -> Result<(), OrderError> {
         orders.push(SignalOrders {

@@ -538,7 +538,7 @@ fn report_text(
     );
     let _ = writeln!(
         s,
-        "- `orders.csv`: `rpm,signal,order,frequency_hz,amplitude,phase_rad` (phase of A cos(k θ + ψ) against the driver's angle)"
+        "- `orders.csv`: `rpm,signal,order,frequency_hz,amplitude,phase_rad` (phase ψ of A cos(k θ + ψ), θ the driver's angle turned since t = 0)"
     );
     let _ = writeln!(
         s,
