@@ -312,12 +312,19 @@ impl Simulation {
     pub fn assemble(
         scene: Scene,
         model: DriveModel,
-        state: DriveState,
+        mut state: DriveState,
         mut forces: ForceGenerator,
         layout: Layout,
         equilibrium: StaticEquilibrium,
         limits: BlowUpLimits,
     ) -> Self {
+        // A driver with speed harmonics starts at its law's speed ω(t, θ), so
+        // that a Runge–Kutta scheme's first stage turns it at that speed.
+        for (s, sp) in model.sprockets.iter().enumerate() {
+            if !sp.speed_harmonics.is_empty() {
+                state.omega[s] = sp.driver_speed_at(state.t_s, state.theta[s]);
+            }
+        }
         let mut world = PhysicsWorld {
             gravity: Vector::new(scene.gravity_m_s2[0], scene.gravity_m_s2[1]),
             ..PhysicsWorld::default()

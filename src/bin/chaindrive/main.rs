@@ -92,21 +92,27 @@ pub(crate) fn load_scene(
         None => ("<embedded l60mc.toml>".to_owned(), L60MC_TOML.to_owned()),
     };
     let overridden = overrides.paths();
-    Ok(Scene::from_toml_with(&text, overrides).map_err(|e| {
-        let lines = match &e {
-            SceneError::Invalid(errors) => errors
-                .iter()
-                .map(|f| match option_for(&f.path) {
-                    Some(option) if overridden.contains(&f.path.as_str()) => {
-                        format!("{option} ({}): {}", f.path, f.message)
-                    }
-                    _ => with_file_name(&name, &f.to_string()),
-                })
-                .collect::<Vec<_>>(),
-            SceneError::Syntax(_) => e.lines().iter().map(|l| with_file_name(&name, l)).collect(),
-        };
-        lines.join("\n")
-    }))
+    // A load table's file is read beside the scene file.
+    let base_dir = path.and_then(std::path::Path::parent);
+    Ok(
+        Scene::from_toml_in(&text, base_dir, overrides).map_err(|e| {
+            let lines = match &e {
+                SceneError::Invalid(errors) => errors
+                    .iter()
+                    .map(|f| match option_for(&f.path) {
+                        Some(option) if overridden.contains(&f.path.as_str()) => {
+                            format!("{option} ({}): {}", f.path, f.message)
+                        }
+                        _ => with_file_name(&name, &f.to_string()),
+                    })
+                    .collect::<Vec<_>>(),
+                SceneError::Syntax(_) => {
+                    e.lines().iter().map(|l| with_file_name(&name, l)).collect()
+                }
+            };
+            lines.join("\n")
+        }),
+    )
 }
 
 /// `file:line:col: path: reason` when the field was located, else `file: path: reason`.
