@@ -85,10 +85,11 @@ impl OrderSet {
     /// Orders `1/D, 2/D, …, max_order` for `step` = 1/D; an error names what is wrong.
     pub fn new(max_order: f64, step: f64) -> Result<Self, OrderError> {
         let d = (1.0 / step).round();
-        if !(step.is_finite() && step > 0.0)
-            || !(1.0..=f64::from(MAX_ORDER_DENOMINATOR)).contains(&d)
-            || (1.0 / step - d).abs() > 1e-9 * d
-        {
+        let whole = step.is_finite()
+            && step > 0.0
+            && (1.0..=f64::from(MAX_ORDER_DENOMINATOR)).contains(&d)
+            && (1.0 / step - d).abs() <= 1e-9 * d;
+        if !whole {
             return Err(OrderError::BadStep(step));
         }
         if !(max_order.is_finite() && max_order >= step * (1.0 - 1e-12)) {

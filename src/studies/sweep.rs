@@ -680,7 +680,7 @@ pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossin
             for &order in orders {
                 let gap = |c: &CaseResult| {
                     let f = c.spans.get(k).map_or(0.0, |s| mode.of(s));
-                    (f > 0.0).then(|| order * c.rev_per_s - f)
+                    (f > 0.0).then_some(order * c.rev_per_s - f)
                 };
                 for i in 1..done.len() {
                     let (a, b) = (done[i - 1], done[i]);
