@@ -442,3 +442,149 @@ pub fn paper_figures(
     }
     Ok(out)
 }
+
+/// A Campbell diagram: order amplitudes of one signal at each swept speed as
+/// markers (frequency against rpm; size and colour grow with the amplitude),
+/// over lines (excitation orders, predicted natural frequencies).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Campbell {
+    /// Title.
+    pub title: String,
+    /// Markers (rpm, frequency in Hz, amplitude); amplitudes below 1 % of
+    /// the largest are not drawn.
+    pub points: Vec<(f64, f64, f64)>,
+    /// Lines (rpm, frequency in Hz), drawn first, with their legend.
+    pub lines: Vec<Trace>,
+    /// Upper end of the frequency axis, Hz.
+    pub max_hz: f64,
+}
+
+/// Marker colour for an amplitude relative to the largest, from blue (small) to red.
+fn heat(relative: f64) -> RGBColor {
+    let r = relative.clamp(0.0, 1.0);
+    let mix = |a: u8, b: u8| (f64::from(a) + r * (f64::from(b) - f64::from(a))).round() as u8;
+    RGBColor(mix(60, 220), mix(90, 30), mix(200, 40))
+}
+
+fn draw_campbell<DB: DrawingBackend>(
+    root: DrawingArea<DB, Shift>,
+    c: &Campbell,
+) -> Result<(), String>
+where
+    DB::ErrorType: 'static,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (mut x0, mut x1) = (f64::INFINITY, f64::NEG_INFINITY);
+    for x in c
+        .points
+        .iter()
+        .map(|p| p.0)
+        .chain(c.lines.iter().flat_map(|t| t.points.iter().map(|p| p.0)))
+        .filter(|x| x.is_finite())
+    {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+    }
+    if !(x1 >= x0) {
+        return Err("no finite data".to_owned());
+    }
+    if !(x1 > x0) {
+        (x0, x1) = (x0 - 1.0, x1 + 1.0);
+    }
+    let pad = 0.03 * (x1 - x0);
+    let top = if c.max_hz > 0.0 { c.max_hz } else { 1.0 };
+    root.fill(&WHITE).map_err(e)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(&c.title, ("sans-serif", 22))
+        .margin(14)
+        .x_label_area_size(48)
+        .y_label_area_size(80)
+        .build_cartesian_2d((x0 - pad)..(x1 + pad), 0.0..top)
+        .map_err(e)?;
+    chart
+        .configure_mesh()
+        .x_desc("driver speed, rpm")
+        .y_desc("frequency, Hz")
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()
+        .map_err(e)?;
+    for t in &c.lines {
+        let col = color(t.color);
+        let pts: Vec<(f64, f64)> = t
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite() && p.1 <= top)
+            .collect();
+        let style = match t.mark {
+            Mark::Line => col.stroke_width(1),
+            Mark::Dots | Mark::Crosses => col.stroke_width(2),
+        };
+        chart
+            .draw_series(LineSeries::new(pts, style))
+            .map_err(e)?
+            .label(t.label.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], col));
+    }
+    let largest = c
+        .points
+        .iter()
+        .map(|p| p.2)
+        .filter(|a| a.is_finite())
+        .fold(0.0f64, f64::max);
+    if largest > 0.0 {
+        let mut pts: Vec<(f64, f64, f64)> = c
+            .points
+            .iter()
+            .copied()
+            .filter(|p| p.0.is_finite() && p.1.is_finite() && p.1 <= top)
+            .filter(|p| p.2.is_finite() && p.2 >= 0.01 * largest)
+            .collect();
+        // The largest last, on top.
+        pts.sort_by(|a, b| a.2.total_cmp(&b.2));
+        chart
+            .draw_series(pts.into_iter().map(|(x, y, a)| {
+                let r = a / largest;
+                let size = (2.0 + 9.0 * r.sqrt()).round() as i32;
+                Circle::new((x, y), size, heat(r).filled())
+            }))
+            .map_err(e)?;
+    }
+    chart
+        .configure_series_labels()
+        .label_font(("sans-serif", 13))
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .position(SeriesLabelPosition::UpperLeft)
+        .draw()
+        .map_err(e)?;
+    root.present().map_err(e)?;
+    Ok(())
+}
+
+/// Writes `campbell` as `dir/stem.png` and `dir/stem.svg`; returns the
+/// paths. A diagram with no finite point is an error.
+pub fn save_campbell(
+    campbell: &Campbell,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, FigureError> {
+    if !campbell
+        .points
+        .iter()
+        .any(|p| p.0.is_finite() && p.1.is_finite() && p.2.is_finite())
+    {
+        return Err(FigureError::Empty(stem.to_owned()));
+    }
+    register_font();
+    let png = dir.join(format!("{stem}.png"));
+    let svg = dir.join(format!("{stem}.svg"));
+    let fail = |message: String| FigureError::Draw {
+        stem: stem.to_owned(),
+        message,
+    };
+    draw_campbell(BitMapBackend::new(&png, SIZE).into_drawing_area(), campbell).map_err(fail)?;
+    draw_campbell(SVGBackend::new(&svg, SIZE).into_drawing_area(), campbell).map_err(fail)?;
+    Ok(vec![png, svg])
+}

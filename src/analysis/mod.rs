@@ -15,6 +15,7 @@
 pub mod binder;
 #[cfg(feature = "figures")]
 pub mod figures;
+pub mod orders;
 #[cfg(feature = "record")]
 pub mod recorded;
 pub mod spectrum;

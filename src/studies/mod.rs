@@ -7,6 +7,8 @@
 //! - [`work_precision`]: wall time against error for every integrator;
 //! - [`convergence`]: the summary statistics of every integrator over a
 //!   ladder of steps against a fine reference;
+//! - [`sweep`]: one steady run per driver speed, in parallel, with order
+//!   spectra and each span's natural frequencies (Campbell diagrams);
 //! - [`soak`]: a long run reported window by window, to show there is no drift;
 //! - [`fuzz`]: one mutated scene file through parsing, layout and a short run;
 //! - [`study`]: a design study (factors × levels of a scene) run here or as
@@ -22,4 +24,5 @@ pub mod reproduce;
 pub mod soak;
 pub mod stress;
 pub mod study;
+pub mod sweep;
 pub mod work_precision;

@@ -29,6 +29,7 @@ mod fuzz;
 mod guides;
 mod integrators;
 mod layering;
+mod orders;
 #[cfg(feature = "cli")]
 mod outputs;
 mod paper;
@@ -50,4 +51,5 @@ mod strands;
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
+mod sweep;
 mod tensioners;

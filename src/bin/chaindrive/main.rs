@@ -13,6 +13,7 @@ mod reproduce;
 mod run;
 mod stress;
 mod study;
+mod sweep;
 mod work_precision;
 
 use clap::{Parser, Subcommand};
@@ -45,6 +46,9 @@ enum Command {
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
     Reproduce(reproduce::ReproduceArgs),
+    /// Sweep the driver's speed: one steady run per rpm in parallel; order
+    /// spectra, Campbell diagram, envelopes, resonance crossings.
+    Sweep(sweep::SweepArgs),
     /// Analyse a recording (`run --record`) of any scene: report, JSON, figures.
     Analyze(analyze::AnalyzeArgs),
     /// Rewrite a recording cut short (a killed run) as a complete, indexed
@@ -65,6 +69,7 @@ fn main() -> std::process::ExitCode {
         Command::Profile(args) => profile::profile(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
+        Command::Sweep(args) => sweep::sweep(args),
         Command::Recover(args) => recover::recover(args),
         Command::Study(args) => study::study(args),
     };

@@ -1,0 +1,558 @@
+//! `chaindrive sweep`: one steady run per driver speed, in parallel, and
+//! what a speed range is judged by: `sweep.csv` (every summary scalar per
+//! speed), `orders.csv` (order spectra), `spans.csv` (each span's predicted
+//! natural frequencies), a Campbell diagram, order cuts, envelopes and
+//! `report.md` (resonance crossings, worst-case speeds).
+
+use std::fmt::Write as _;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Instant;
+
+use anyhow::Context;
+use chaindrive::analysis::figures::{self, Campbell, Mark, Plot, Trace};
+use chaindrive::analysis::orders::OrderSet;
+use chaindrive::scene::{Assignment, Overrides, Scene};
+use chaindrive::studies::sweep::{
+    CaseOutcome, CaseResult, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
+    excitation_orders, order_cut, parse_rpm_range, resonance_crossings, run_sweep, summary_scalars,
+    worst_cases,
+};
+
+/// Arguments of `chaindrive sweep`.
+#[derive(clap::Args)]
+pub struct SweepArgs {
+    /// Scene file (TOML). Default: the paper's drive (embedded `assets/l60mc.toml`).
+    scene: Option<PathBuf>,
+    /// Driver speeds FROM:TO:STEP, rpm (e.g. 300:3000:100).
+    #[arg(long, value_name = "FROM:TO:STEP")]
+    rpm: String,
+    /// Time after the driver's ramp before the window, s.
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    settle: f64,
+    /// Statistics and order window at the end of each run, s.
+    #[arg(
+        long,
+        value_name = "S",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    window: f64,
+    /// Runs at once (default: the machine's cores).
+    #[arg(long, value_name = "N")]
+    jobs: Option<usize>,
+    /// Folder of the outputs (created if missing).
+    #[arg(long, value_name = "DIR", default_value = "sweep")]
+    out: PathBuf,
+    /// Largest order analysed, cycles per driver revolution (default: twice
+    /// the largest tooth count).
+    #[arg(long, value_name = "K", allow_negative_numbers = true)]
+    max_order: Option<f64>,
+    /// Step between orders, 1/D (1, 0.5, 0.25, …).
+    #[arg(
+        long,
+        value_name = "STEP",
+        default_value_t = 1.0,
+        allow_negative_numbers = true
+    )]
+    order_step: f64,
+    /// Signal of the Campbell diagram and the order cuts: segK_link_force_n,
+    /// segK_transverse_m, omega_I_rad_s or max_contact_force_n.
+    #[arg(long, default_value = "seg1_transverse_m")]
+    signal: String,
+    /// Any other scene value, the same in every case: PATH=VALUE by the
+    /// scene file's path (repeatable), e.g. `--set chain.pretension_n=25000`.
+    #[arg(long = "set", value_name = "PATH=VALUE")]
+    set: Vec<String>,
+    /// The chain's integration step, s, or `auto` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto")]
+    dt: Option<crate::DtArg>,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
+    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
+    let overrides = Overrides {
+        dt_s,
+        dt_auto,
+        ..Overrides::default()
+    };
+    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
+        Ok(s) => s,
+        Err(lines) => {
+            eprintln!("{lines}");
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let assignments = args
+        .set
+        .iter()
+        .map(|a| {
+            let (path, value) = a.split_once('=').ok_or_else(|| {
+                anyhow::anyhow!("--set {a}: write PATH=VALUE, e.g. chain.pretension_n=25000")
+            })?;
+            Assignment::parse(path.trim(), value.trim())
+                .map_err(|e| anyhow::anyhow!("--set {a}: {e}"))
+        })
+        .collect::<anyhow::Result<Vec<_>>>()?;
+    let scene = if assignments.is_empty() {
+        scene
+    } else {
+        scene
+            .with_set(&assignments)
+            .map_err(|e| anyhow::anyhow!("--set: {e}"))?
+    };
+    let rpm = parse_rpm_range("--rpm", &args.rpm)?;
+    let orders = match args.max_order {
+        Some(k) => OrderSet::new(k, args.order_step).map_err(|e| {
+            anyhow::anyhow!("--max-order {k} --order-step {}: {e}", args.order_step)
+        })?,
+        None => {
+            let d = default_orders(&scene)?;
+            OrderSet::new(d.max_order(), args.order_step)
+                .map_err(|e| anyhow::anyhow!("--order-step {}: {e}", args.order_step))?
+        }
+    };
+    check_signal(&args.signal, &scene)?;
+    let jobs = args
+        .jobs
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    anyhow::ensure!(jobs >= 1, "--jobs {jobs}: at least one run at a time");
+    let settings = SweepSettings {
+        rpm,
+        settle_s: args.settle,
+        window_s: args.window,
+        jobs,
+        orders,
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let p = indicatif::ProgressBar::new(settings.rpm.len() as u64);
+        p.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} speeds, eta {eta} {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        p
+    });
+    let started = Instant::now();
+    let on_case = |c: &CaseOutcome| {
+        if let Some(p) = &progress {
+            p.inc(1);
+            if let CaseOutcome::Failed { rpm, .. } = c {
+                p.set_message(format!("(failed at {rpm} rpm)"));
+            }
+        }
+    };
+    let cases = run_sweep(&scene, &settings, Some(&stop), &on_case)?;
+    let wall_s = started.elapsed().as_secs_f64();
+    if let Some(p) = &progress {
+        p.finish_and_clear();
+    }
+    let interrupted = stop.load(Ordering::Relaxed) && cases.len() < settings.rpm.len();
+    write_outputs(&args, &scene, &settings, &cases)?;
+    let failed = cases
+        .iter()
+        .filter(|c| matches!(c, CaseOutcome::Failed { .. }))
+        .count();
+    println!(
+        "{} of {} speeds run in {:.1} s wall on {} thread(s) ({:.2} s per case){}{}; outputs in {}",
+        cases.len(),
+        settings.rpm.len(),
+        wall_s,
+        settings.jobs,
+        wall_s / cases.len().max(1) as f64,
+        if failed > 0 {
+            format!(", {failed} failed (see report.md)")
+        } else {
+            String::new()
+        },
+        if interrupted { " (interrupted)" } else { "" },
+        args.out.display()
+    );
+    Ok(if interrupted {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// The Campbell signal must be one the sweep analyses.
+fn check_signal(signal: &str, scene: &Scene) -> anyhow::Result<()> {
+    let segments = scene.sprockets().len();
+    let sprockets = scene.sprockets().len();
+    let mut known: Vec<String> = (1..=segments)
+        .flat_map(|k| {
+            [
+                format!("seg{k}_link_force_n"),
+                format!("seg{k}_transverse_m"),
+            ]
+        })
+        .collect();
+    known.extend((1..=sprockets).map(|i| format!("omega_{i}_rad_s")));
+    known.push("max_contact_force_n".to_owned());
+    anyhow::ensure!(
+        known.iter().any(|k| k == signal),
+        "--signal {signal}: not a signal of this drive; one of {}",
+        known.join(", ")
+    );
+    Ok(())
+}
+
+fn create(dir: &Path, name: &str) -> anyhow::Result<std::io::BufWriter<std::fs::File>> {
+    let path = dir.join(name);
+    std::fs::File::create(&path)
+        .map(std::io::BufWriter::new)
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+fn write_outputs(
+    args: &SweepArgs,
+    scene: &Scene,
+    settings: &SweepSettings,
+    cases: &[CaseOutcome],
+) -> anyhow::Result<()> {
+    let dir = &args.out;
+    let mut sweep_csv = create(dir, "sweep.csv")?;
+    writeln!(sweep_csv, "rpm,statistic,value")?;
+    for case in cases {
+        match case {
+            CaseOutcome::Done(r) => {
+                writeln!(sweep_csv, "{},failed,0", r.rpm)?;
+                for (name, value) in summary_scalars(r) {
+                    writeln!(sweep_csv, "{},{name},{value}", r.rpm)?;
+                }
+            }
+            CaseOutcome::Failed { rpm, .. } => writeln!(sweep_csv, "{rpm},failed,1")?,
+        }
+    }
+    sweep_csv.flush()?;
+    let done = completed(cases);
+    let mut orders_csv = create(dir, "orders.csv")?;
+    writeln!(
+        orders_csv,
+        "rpm,signal,order,frequency_hz,amplitude,phase_rad"
+    )?;
+    for r in &done {
+        for s in &r.orders {
+            for c in &s.spectrum.components {
+                writeln!(
+                    orders_csv,
+                    "{},{},{},{},{},{}",
+                    r.rpm, s.signal, c.order, c.frequency_hz, c.amplitude, c.phase_rad
+                )?;
+            }
+        }
+    }
+    orders_csv.flush()?;
+    let mut spans_csv = create(dir, "spans.csv")?;
+    let modes: String = (1..=TRANSVERSE_MODES)
+        .map(|n| format!(",transverse_{n}_hz"))
+        .collect();
+    writeln!(spans_csv, "rpm,segment,tension_n{modes},axial_hz")?;
+    for r in &done {
+        for s in &r.spans {
+            let f: String = s.transverse_hz.iter().map(|f| format!(",{f}")).collect();
+            writeln!(
+                spans_csv,
+                "{},{},{}{f},{}",
+                r.rpm, s.segment, s.tension_n, s.axial_hz
+            )?;
+        }
+    }
+    spans_csv.flush()?;
+    let excitation = excitation_orders(scene);
+    let figures = draw_figures(args, &done, &excitation, settings);
+    let mut report = create(dir, "report.md")?;
+    report.write_all(report_text(scene, settings, cases, &excitation, &figures).as_bytes())?;
+    report.flush()?;
+    Ok(())
+}
+
+/// Draws the figures; returns the stems written and the errors met (a figure
+/// that cannot be drawn is reported, the others are still drawn).
+fn draw_figures(
+    args: &SweepArgs,
+    done: &[&CaseResult],
+    excitation: &[f64],
+    settings: &SweepSettings,
+) -> Vec<Result<String, String>> {
+    let dir = &args.out;
+    let mut out = Vec::new();
+    let mut keep = |stem: &str, r: Result<Vec<PathBuf>, figures::FigureError>| {
+        out.push(r.map(|_| stem.to_owned()).map_err(|e| e.to_string()));
+    };
+    let rpm: Vec<f64> = done.iter().map(|c| c.rpm).collect();
+    // Campbell: the chosen signal's orders over order lines and the spans' frequencies.
+    let top = done
+        .iter()
+        .map(|c| settings.orders.max_order() * c.rev_per_s)
+        .fold(0.0f64, f64::max);
+    let mut lines: Vec<Trace> = excitation
+        .iter()
+        .map(|&k| Trace {
+            label: format!("order {k}"),
+            points: done.iter().map(|c| (c.rpm, k * c.rev_per_s)).collect(),
+            mark: Mark::Line,
+            color: 5,
+        })
+        .collect();
+    let spans = done.first().map_or(0, |c| c.spans.len());
+    for k in 0..spans {
+        for n in 0..TRANSVERSE_MODES as usize {
+            lines.push(Trace {
+                label: format!("span {} transverse {}", k + 1, n + 1),
+                points: done
+                    .iter()
+                    .map(|c| (c.rpm, c.spans[k].transverse_hz[n]))
+                    .collect(),
+                mark: Mark::Dots,
+                color: k,
+            });
+        }
+        lines.push(Trace {
+            label: format!("span {} axial", k + 1),
+            points: done.iter().map(|c| (c.rpm, c.spans[k].axial_hz)).collect(),
+            mark: Mark::Crosses,
+            color: k,
+        });
+    }
+    let campbell = Campbell {
+        title: format!("Campbell diagram: {}", args.signal),
+        points: done
+            .iter()
+            .filter_map(|c| c.signal(&args.signal).map(|s| (c.rpm, s)))
+            .flat_map(|(rpm, s)| {
+                s.components
+                    .iter()
+                    .map(move |o| (rpm, o.frequency_hz, o.amplitude))
+            })
+            .collect(),
+        lines,
+        max_hz: top,
+    };
+    keep(
+        "campbell",
+        figures::save_campbell(&campbell, dir, "campbell"),
+    );
+    // Order cuts of the chosen signal at the excitation orders.
+    let cuts = Plot {
+        title: format!("Order cuts: {}", args.signal),
+        x_label: "driver speed, rpm".to_owned(),
+        y_label: format!("amplitude ({})", args.signal),
+        traces: excitation
+            .iter()
+            .enumerate()
+            .map(|(i, &k)| Trace {
+                label: format!("order {k}"),
+                points: rpm
+                    .iter()
+                    .copied()
+                    .zip(order_cut(done, &args.signal, k))
+                    .collect(),
+                mark: Mark::Line,
+                color: i,
+            })
+            .collect(),
+        notes: Vec::new(),
+    };
+    keep("order_cuts", figures::save(&cuts, dir, "order_cuts"));
+    // Envelopes: each segment's link force (smallest, mean, largest over the window's samples).
+    let mut traces = Vec::new();
+    for k in 0..spans {
+        let seg = |f: &dyn Fn(&CaseResult) -> f64| -> Vec<(f64, f64)> {
+            done.iter().map(|c| (c.rpm, f(c))).collect()
+        };
+        let mean = seg(&|c| c.summary.segments[k].mean_link_force_n);
+        let lo = seg(&|c| c.segment_range_n.get(k).map_or(f64::NAN, |r| r.0));
+        let hi = seg(&|c| c.segment_range_n.get(k).map_or(f64::NAN, |r| r.1));
+        traces.push(Trace {
+            label: format!("segment {} mean", k + 1),
+            points: mean,
+            mark: Mark::Line,
+            color: k,
+        });
+        traces.push(Trace {
+            label: format!("segment {} min", k + 1),
+            points: lo,
+            mark: Mark::Dots,
+            color: k,
+        });
+        traces.push(Trace {
+            label: format!("segment {} max", k + 1),
+            points: hi,
+            mark: Mark::Crosses,
+            color: k,
+        });
+    }
+    let envelope = Plot {
+        title: "Link force envelope per segment".to_owned(),
+        x_label: "driver speed, rpm".to_owned(),
+        y_label: "segment link force, N".to_owned(),
+        traces,
+        notes: Vec::new(),
+    };
+    keep(
+        "envelope_link_force",
+        figures::save(&envelope, dir, "envelope_link_force"),
+    );
+    let contact = Plot {
+        title: "Largest contact force".to_owned(),
+        x_label: "driver speed, rpm".to_owned(),
+        y_label: "contact force, N".to_owned(),
+        traces: vec![Trace {
+            label: "max contact force".to_owned(),
+            points: done
+                .iter()
+                .map(|c| (c.rpm, c.max_contact_force_n))
+                .collect(),
+            mark: Mark::Line,
+            color: 1,
+        }],
+        notes: Vec::new(),
+    };
+    keep(
+        "envelope_contact_force",
+        figures::save(&contact, dir, "envelope_contact_force"),
+    );
+    let penetration = Plot {
+        title: "Largest penetration".to_owned(),
+        x_label: "driver speed, rpm".to_owned(),
+        y_label: "penetration, µm".to_owned(),
+        traces: vec![Trace {
+            label: "max penetration".to_owned(),
+            points: done
+                .iter()
+                .map(|c| (c.rpm, c.summary.max_penetration_m * 1e6))
+                .collect(),
+            mark: Mark::Line,
+            color: 2,
+        }],
+        notes: Vec::new(),
+    };
+    keep(
+        "envelope_penetration",
+        figures::save(&penetration, dir, "envelope_penetration"),
+    );
+    out
+}
+
+fn report_text(
+    scene: &Scene,
+    settings: &SweepSettings,
+    cases: &[CaseOutcome],
+    excitation: &[f64],
+    figures: &[Result<String, String>],
+) -> String {
+    let mut s = String::new();
+    let _ = writeln!(s, "# Speed sweep: {}\n", scene.name());
+    let _ = writeln!(
+        s,
+        "{} of {} speeds ({} … {} rpm), settle {} s after the ramp, window {} s; orders up to {} in steps of {}.\n",
+        cases.len(),
+        settings.rpm.len(),
+        settings.rpm.first().copied().unwrap_or(0.0),
+        settings.rpm.last().copied().unwrap_or(0.0),
+        settings.settle_s,
+        settings.window_s,
+        settings.orders.max_order(),
+        settings.orders.step()
+    );
+    let failed: Vec<(f64, &str)> = cases
+        .iter()
+        .filter_map(|c| match c {
+            CaseOutcome::Failed { rpm, message } => Some((*rpm, message.as_str())),
+            CaseOutcome::Done(_) => None,
+        })
+        .collect();
+    if !failed.is_empty() {
+        let _ = writeln!(s, "## Failed cases\n");
+        for (rpm, m) in &failed {
+            let _ = writeln!(s, "- {rpm} rpm: {m}");
+        }
+        let _ = writeln!(s);
+    }
+    let _ = writeln!(s, "## Resonance crossings\n");
+    let _ = writeln!(
+        s,
+        "Where an excitation order ({}) meets a span's predicted natural frequency (moving string from the run's own mean tension and chain speed; axial rod K·P/μ), and whether that order's amplitude in the span's response peaks there (the largest of the four speeds around the crossing is a local maximum inside the sweep, at least {} × the lowest response on either side).\n",
+        excitation
+            .iter()
+            .map(|k| k.to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        chaindrive::studies::sweep::PEAK_PROMINENCE
+    );
+    let crossings = resonance_crossings(cases, excitation);
+    if crossings.is_empty() {
+        let _ = writeln!(
+            s,
+            "No order line crosses a predicted natural frequency in this range.\n"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "| span | mode | order | crossing rpm | frequency Hz | response | peak at rpm | peak amplitude | peaks there |\n|---|---|---|---|---|---|---|---|---|"
+        );
+        for c in &crossings {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.1} | {:.2} | {} | {} | {:.4e} | {} |",
+                c.segment,
+                c.mode.name(),
+                c.order,
+                c.rpm,
+                c.frequency_hz,
+                c.signal,
+                c.peak_rpm,
+                c.peak_amplitude,
+                if c.response_peaks { "yes" } else { "no" }
+            );
+        }
+        let _ = writeln!(s);
+    }
+    let _ = writeln!(s, "## Worst-case speeds\n");
+    let _ = writeln!(s, "| statistic | rpm | value |\n|---|---|---|");
+    for w in worst_cases(cases) {
+        let _ = writeln!(s, "| {} | {} | {:.6e} |", w.statistic, w.rpm, w.value);
+    }
+    let _ = writeln!(s, "\n## Files\n");
+    let _ = writeln!(
+        s,
+        "- `sweep.csv`: `rpm,statistic,value`, every scalar of each run's summary (`failed` = 1 for a case that blew up)"
+    );
+    let _ = writeln!(
+        s,
+        "- `orders.csv`: `rpm,signal,order,frequency_hz,amplitude,phase_rad` (phase ψ of A cos(k θ + ψ), θ the driver's angle turned since t = 0)"
+    );
+    let _ = writeln!(
+        s,
+        "- `spans.csv`: each span's tension and predicted frequencies per speed"
+    );
+    for f in figures {
+        match f {
+            Ok(stem) => {
+                let _ = writeln!(s, "- `{stem}.png`, `{stem}.svg`");
+            }
+            Err(e) => {
+                let _ = writeln!(s, "- not drawn: {e}");
+            }
+        }
+    }
+    s
+}
