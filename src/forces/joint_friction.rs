@@ -254,7 +254,6 @@ impl ForceElement for JointFriction {
         out.joint_friction_power_w = passes(law, links, joints, &mut out.fx[..n], &mut out.fy[..n]);
     }
 
-    /// No history; the last evaluation's moments ([`JointFriction::moments`]).
     fn clone_box(&self) -> Box<dyn ForceElement> {
         Box::new(self.clone())
     }
