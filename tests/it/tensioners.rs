@@ -416,7 +416,7 @@ struct TensionersPb {
 ///
 /// Read back, every sample's travel agrees with its arm angle by the
 /// kinematics of the scene's arm (pivot P, pushed point a₀, line ê):
-/// x = (R(q)(a₀ − P) − (a₀ − P))·ê, to 1e-12 m; the pressure is finite
+/// x = (R(q)(a₀ − P) − (a₀ − P))·ê (ê made unit), to 1e-12 m; the pressure is finite
 /// and above the cavitation floor, the shoe carries the strand.
 #[cfg(feature = "record")]
 #[test]
@@ -467,6 +467,9 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         [0.180131, 0.227981],
         [-0.921718, 0.387861],
     );
+    // The scene's line direction, made unit as the scene does.
+    let norm = e[0] * e[0] + e[1] * e[1];
+    let e = [e[0] / norm.sqrt(), e[1] / norm.sqrt()];
     let r0 = [a0[0] - pivot[0], a0[1] - pivot[1]];
     let mut on_shoe = 0;
     for s in &samples {
@@ -495,4 +498,24 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         .expect("the drive without its arm");
     let (samples, drawn, framed) = record(&plain);
     assert!(samples.is_empty() && !drawn && !framed);
+}
+
+/// A shoe the chain path does not reach gets a warning naming the arm, as a
+/// guide does; the timing drive's shoe and guide both touch the strands at
+/// rest, so it has no warnings. The far arm's shoe (centre (1.05, 1.2),
+/// radius 0.05 m) lies about a metre from the flat drive's strands.
+#[test]
+fn a_shoe_the_chain_never_touches_is_warned_about() {
+    let far = Scene::from_toml(&format!("{FLAT}\n{FAR_ARM}\n{HYDRAULIC}")).expect("a valid scene");
+    let w = far.warnings();
+    assert_eq!(w.len(), 1, "{w:?}");
+    assert!(
+        w[0].contains("tensioners[0]") && w[0].contains("\"test arm\""),
+        "{w:?}"
+    );
+    assert!(
+        timing_scene().warnings().is_empty(),
+        "{:?}",
+        timing_scene().warnings()
+    );
 }
