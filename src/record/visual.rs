@@ -263,15 +263,8 @@ fn tensioner_arms(scene: &Scene, t_ns: u64) -> impl Iterator<Item = SceneEntity>
             })
             .collect();
         let pivot = Point3::default();
-        let (first, last) = (arc[0].clone(), arc[arc.len() - 1].clone());
-        let arm = vec![
-            pivot.clone(),
-            first,
-            pivot.clone(),
-            last,
-            pivot,
-            local(t.point_m),
-        ];
+        let (first, last) = (arc[0], arc[arc.len() - 1]);
+        let arm = vec![pivot, first, pivot, last, pivot, local(t.point_m)];
         let line =
             |kind: line_primitive::Type, points: Vec<Point3>, thickness: f64| LinePrimitive {
                 r#type: kind as i32,

@@ -468,7 +468,7 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         [-0.921718, 0.387861],
     );
     // The scene's line direction, made unit as the scene does.
-    let norm = e[0] * e[0] + e[1] * e[1];
+    let norm: f64 = e[0] * e[0] + e[1] * e[1];
     let e = [e[0] / norm.sqrt(), e[1] / norm.sqrt()];
     let r0 = [a0[0] - pivot[0], a0[1] - pivot[1]];
     let mut on_shoe = 0;
