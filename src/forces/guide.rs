@@ -151,6 +151,59 @@ impl ForceElement for Guide {
     }
 
     fn evaluate(&mut self, _model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        let sums = self.contact(s, out);
+        out.shoes.push(sums);
+    }
+
+    fn commit(&mut self) {
+        self.onset.copy_from_slice(&self.pending);
+    }
+
+    fn save_history(&self, history: &mut History) {
+        history.push_floats(self.onset.iter().copied());
+        history.push_floats(self.pending.iter().copied());
+    }
+
+    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
+        let onset = history.floats(self.onset.len())?;
+        self.onset.copy_from_slice(onset);
+        let pending = history.floats(self.pending.len())?;
+        self.pending.copy_from_slice(pending);
+        Ok(())
+    }
+
+    fn reset(&mut self) {
+        self.onset.fill(-1.0);
+        self.pending.fill(-1.0);
+    }
+
+    fn begin_equilibrium(&mut self) {
+        let run = *self.run_law.get_or_insert(self.params.law);
+        self.params.law = run.with_chi(RELAXATION_CHI);
+    }
+
+    fn end_equilibrium(&mut self) {
+        if let Some(law) = self.run_law.take() {
+            self.params.law = law;
+        }
+    }
+
+    fn clone_box(&self) -> Box<dyn ForceElement> {
+        Box::new(self.clone())
+    }
+
+    fn as_any(&self) -> &dyn Any {
+        self
+    }
+}
+
+impl Guide {
+    /// The contact kernel: adds each touching roller's force to `out`, the
+    /// contacts' energy and damping power, the moment on a carrier's body
+    /// coordinate and the deepest penetration, and returns the shoe's sums
+    /// (without listing them in [`Forces::shoes`]: a [`Guide`] element does
+    /// that, a tensioner arm reports its shoe itself).
+    pub(crate) fn contact(&mut self, s: &DriveState, out: &mut Forces) -> ShoeForces {
         let (cos_q, sin_q, pivot, omega) = self.pose(s);
         let face = &self.params.face;
         let law = self.params.law;
@@ -236,48 +289,7 @@ impl ForceElement for Guide {
         }
         out.max_penetration_m = out.max_penetration_m.max(sums.max_penetration_m);
         self.last = sums;
-        out.shoes.push(sums);
-    }
-
-    fn commit(&mut self) {
-        self.onset.copy_from_slice(&self.pending);
-    }
-
-    fn save_history(&self, history: &mut History) {
-        history.push_floats(self.onset.iter().copied());
-        history.push_floats(self.pending.iter().copied());
-    }
-
-    fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
-        let onset = history.floats(self.onset.len())?;
-        self.onset.copy_from_slice(onset);
-        let pending = history.floats(self.pending.len())?;
-        self.pending.copy_from_slice(pending);
-        Ok(())
-    }
-
-    fn reset(&mut self) {
-        self.onset.fill(-1.0);
-        self.pending.fill(-1.0);
-    }
-
-    fn begin_equilibrium(&mut self) {
-        let run = *self.run_law.get_or_insert(self.params.law);
-        self.params.law = run.with_chi(RELAXATION_CHI);
-    }
-
-    fn end_equilibrium(&mut self) {
-        if let Some(law) = self.run_law.take() {
-            self.params.law = law;
-        }
-    }
-
-    fn clone_box(&self) -> Box<dyn ForceElement> {
-        Box::new(self.clone())
-    }
-
-    fn as_any(&self) -> &dyn Any {
-        self
+        sums
     }
 }
 

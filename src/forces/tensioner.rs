@@ -10,16 +10,18 @@
 //! to the arm kinematically, its mass is in the arm's inertia), so that
 //! x = (a(q) − a(0))·ê and v = u (r × ê), r = a − pivot.
 //!
-//! Roller–shoe contact: the scene's contact law with the approach speed
-//! remembered from onset to separation (as the roller–tooth contact does),
-//! and Coulomb friction μ f_n tanh(v_t / v_s) against the rollers' speed
-//! relative to the shoe.
+//! Roller–shoe contact is a guide's ([`Guide`]): the shoe is a carried
+//! guide face (a circular arc working on its outside) turned with the arm,
+//! meeting the rollers with the scene's contact law and regularised Coulomb
+//! friction; its moment about the pivot goes into the arm's body force.
 
 use std::any::Any;
 
 use super::contact_law::ContactLawParams;
+use super::guide::{Carrier, Guide, GuideParams};
 use super::hydraulic::{Chamber, stops_n};
 use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
+use crate::geometry::shoe::{Face, Piece};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Tensioner, TensionerKind};
 
@@ -59,12 +61,8 @@ pub struct TensionerArm {
     /// The chamber's pressure in [`DriveState::z`] (hydraulic only).
     scalar: Option<usize>,
     chamber: Option<Chamber>,
-    law: ContactLawParams,
-    roller_radius_m: f64,
-    /// Remembered approach speed per roller (0: not touching), committed.
-    onset: Vec<f64>,
-    /// The same, as the last evaluation left it.
-    onset_next: Vec<f64>,
+    /// The shoe: a guide carried by the arm's body coordinate.
+    shoe: Guide,
     /// The ratchet's furthest travel, committed (NaN: not yet known).
     peak_m: f64,
     /// What the chamber's state z adds up to with: V_ref = z + offset, m³
@@ -93,15 +91,40 @@ impl TensionerArm {
             TensionerKind::Hydraulic(h) => Some(Chamber::new(h)),
             TensionerKind::Spring(_) => None,
         };
+        // The arc from its counter-clockwise start: its left is the centre's
+        // side, so the rollers ride on the right (side −1).
+        let face = Face::new(
+            Piece::Arc {
+                center_m: params.shoe_center_m,
+                radius_m: params.shoe_radius_m,
+                start_rad: params.shoe_start_rad,
+                sweep_rad: params.shoe_span_rad,
+            },
+            -1.0,
+            None,
+            None,
+        );
+        let shoe = Guide::new(
+            GuideParams {
+                name: params.name.clone(),
+                face,
+                law,
+                friction: params.shoe_friction,
+                slip_speed_m_s: params.shoe_friction_speed_m_s,
+                carrier: Some(Carrier {
+                    body,
+                    pivot_m: params.pivot_m,
+                }),
+            },
+            rollers,
+            roller_radius_m,
+        );
         Self {
             params: params.clone(),
             body,
             scalar,
             chamber,
-            law,
-            roller_radius_m,
-            onset: vec![0.0; rollers],
-            onset_next: vec![0.0; rollers],
+            shoe,
             peak_m: f64::NAN,
             offset_m3: f64::NAN,
             travel_next_m: 0.0,
@@ -173,66 +196,9 @@ impl ForceElement for TensionerArm {
         let (s, c) = q.sin_cos();
         let pivot = p.pivot_m;
         let rel = |a: [f64; 2]| [a[0] - pivot[0], a[1] - pivot[1]];
-        // Shoe centre and its arc's end directions, turned with the arm.
-        let rc = rotate(s, c, rel(p.shoe_center_m));
-        let centre = [pivot[0] + rc[0], pivot[1] + rc[1]];
-        let a0 = p.shoe_start_rad;
-        let e_start = rotate(s, c, [a0.cos(), a0.sin()]);
-        let a1 = a0 + p.shoe_span_rad;
-        let e_end = rotate(s, c, [a1.cos(), a1.sin()]);
-        let outer = p.shoe_radius_m + self.roller_radius_m;
-        let outer_sq = outer * outer;
-        let (mu, vs) = (p.shoe_friction, p.shoe_friction_speed_m_s);
+        // The shoe's contact (its moment is in the body force already).
+        let shoe = self.shoe.contact(state, out);
         let mut moment = 0.0;
-        let (mut shoe_fx, mut shoe_fy) = (0.0, 0.0);
-        let mut touching = 0;
-        for i in 0..state.rollers() {
-            let dx = state.x[i] - centre[0];
-            let dy = state.y[i] - centre[1];
-            let d_sq = dx * dx + dy * dy;
-            // Outside the outer circle, or off the arc's sector, or (never in
-            // practice) on its centre: no contact.
-            if d_sq >= outer_sq
-                || e_start[0] * dy - e_start[1] * dx < 0.0
-                || dx * e_end[1] - dy * e_end[0] < 0.0
-                || d_sq <= 0.0
-            {
-                self.onset_next[i] = 0.0;
-                continue;
-            }
-            let d = d_sq.sqrt();
-            let (nx, ny) = (dx / d, dy / d);
-            let depth = outer - d;
-            // The shoe's surface point under the roller and its velocity u × r.
-            let px = centre[0] + p.shoe_radius_m * nx;
-            let py = centre[1] + p.shoe_radius_m * ny;
-            let (rx, ry) = (px - pivot[0], py - pivot[1]);
-            let (vrx, vry) = (state.vx[i] + u * ry, state.vy[i] - u * rx);
-            let depth_rate = -(vrx * nx + vry * ny);
-            let onset = if self.onset[i] > 0.0 {
-                self.onset[i]
-            } else {
-                self.law.onset_speed(depth_rate)
-            };
-            self.onset_next[i] = onset;
-            let f_n = self.law.force(depth, depth_rate, onset);
-            let (tx, ty) = (-ny, nx);
-            let f_t = if mu > 0.0 {
-                -mu * f_n * ((vrx * tx + vry * ty) / vs).tanh()
-            } else {
-                0.0
-            };
-            let fx = f_n * nx + f_t * tx;
-            let fy = f_n * ny + f_t * ty;
-            out.fx[i] += fx;
-            out.fy[i] += fy;
-            // The reaction −f acts on the shoe at (px, py).
-            moment -= rx * fy - ry * fx;
-            shoe_fx -= fx;
-            shoe_fy -= fy;
-            touching += 1;
-            out.max_penetration_m = out.max_penetration_m.max(depth);
-        }
         // The arm's weight.
         if p.mass_kg > 0.0 {
             let g = rotate(s, c, rel(p.center_of_mass_m));
@@ -292,29 +258,25 @@ impl ForceElement for TensionerArm {
             valve_open,
             valve_flow_m3_s: valve_flow,
             leak_flow_m3_s: leak_flow,
-            shoe_force_n: shoe_fx.hypot(shoe_fy),
-            shoe_rollers: touching,
+            shoe_force_n: shoe.force_n[0].hypot(shoe.force_n[1]),
+            shoe_rollers: shoe.contacts,
         };
         out.tensioners[self.body] = self.reading;
     }
 
     fn commit(&mut self) {
-        self.onset.copy_from_slice(&self.onset_next);
+        self.shoe.commit();
         // f64::max drops the NaN of a ratchet not yet set.
         self.peak_m = self.peak_m.max(self.travel_next_m);
     }
 
     fn save_history(&self, history: &mut History) {
-        history.push_floats(self.onset.iter().copied());
-        history.push_floats(self.onset_next.iter().copied());
+        self.shoe.save_history(history);
         history.push_floats([self.peak_m, self.offset_m3, self.travel_next_m]);
     }
 
     fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
-        let onset = history.floats(self.onset.len())?;
-        self.onset.copy_from_slice(onset);
-        let next = history.floats(self.onset_next.len())?;
-        self.onset_next.copy_from_slice(next);
+        self.shoe.restore_history(history)?;
         let [peak, offset, travel] = history.floats(3)? else {
             return Err(HistoryError::Missing("float"));
         };
@@ -323,18 +285,19 @@ impl ForceElement for TensionerArm {
     }
 
     fn reset(&mut self) {
-        self.onset.fill(0.0);
-        self.onset_next.fill(0.0);
+        self.shoe.reset();
         self.peak_m = f64::NAN;
         self.offset_m3 = f64::NAN;
     }
 
     fn begin_equilibrium(&mut self) {
         self.relaxing = true;
+        self.shoe.begin_equilibrium();
     }
 
     fn end_equilibrium(&mut self) {
         self.relaxing = false;
+        self.shoe.end_equilibrium();
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {

@@ -93,3 +93,33 @@ pub struct GuideSignals {
     /// Guides in order (index 0 = guide 1).
     pub guides: Vec<GuideSignal>,
 }
+
+/// One tensioner arm at one sample (docs/model.md, “Tensioner arms”).
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct TensionerSignal {
+    /// 1-based arm number (`tensioners[k]` of the scene is arm k + 1).
+    pub tensioner: u32,
+    /// Tensioner (plunger) travel x from the scene's pose, m.
+    pub travel_m: f64,
+    /// Plunger speed v, m/s.
+    pub speed_m_s: f64,
+    /// Chamber pressure (gauge), Pa; 0 for a spring tensioner.
+    pub pressure_pa: f64,
+    /// Whether the check valve is open (false for a spring tensioner).
+    pub valve_open: bool,
+    /// Arm angle from the scene's pose, rad (counter-clockwise).
+    pub arm_angle_rad: f64,
+    /// Magnitude of the chain's resultant force on the shoe, N.
+    pub shoe_force_n: f64,
+    /// The tensioner's push on the arm, N.
+    pub plunger_force_n: f64,
+}
+
+/// `/tensioners`: every tensioner arm's state, in scene order.
+#[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
+pub struct TensionerSignals {
+    /// Simulated time, s.
+    pub t_s: f64,
+    /// Arms in order (index 0 = arm 1).
+    pub tensioners: Vec<TensionerSignal>,
+}

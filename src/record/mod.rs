@@ -11,7 +11,7 @@
 //! |---|---|---|---|
 //! | `scene` | `/scene/static` | `foxglove.SceneUpdate` | once: each sprocket's tooth outline (circular or real profile), pitch circle, a spoke and its name, in its own frame `sprocketN`, frame-locked |
 //! | `scene` | `/scene` | `foxglove.SceneUpdate` | rollers (spheres) and links (lines coloured by force, blue = slack … red ≥ 2 × pretension, 16 bins) in frame `world` |
-//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z |
+//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z; `world` → `tensionerN`: the arm's pivot and angle |
 //! | `outlines` | `/outlines/sprocketN` | `foxglove.PointCloud` | once: sprocket N's tooth outline as points 0.5 mm apart, in its frame `sprocketN`, one colour per sprocket (what Rerun draws) |
 //! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world`, coloured (u8 red, green, blue, alpha) by the mean force of the roller's two links on the links' scale |
 //! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N, and every joint's friction moment, N·m |
@@ -19,6 +19,7 @@
 //! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
 //! | `segments` | `/segments` | [`SegmentSignals`] | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
 //! | `guides` | `/guides` | [`GuideSignals`] | each guide's summed normal and friction forces, resultant and contacts (none without guides); the guides' faces are drawn in `/scene/static`, frame `world` |
+//! | `tensioners` | `/tensioners` | [`TensionerSignals`] | each tensioner arm's plunger travel, speed, chamber pressure, check-valve state, arm angle, shoe force and push (none without tensioner arms); the arms are drawn in `/scene/static`, each in its frame `tensionerN` (pivot, turned by the arm's angle), which `/tf` moves |
 //!
 //! Every file also holds a metadata record `chaindrive` (scene name, profile,
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
@@ -56,7 +57,7 @@ mod visual;
 
 pub use messages::{
     ChainContactForces, ChainLinkForces, GuideSignal, GuideSignals, SegmentSignal, SegmentSignals,
-    SprocketSignals,
+    SprocketSignals, TensionerSignal, TensionerSignals,
 };
 pub use visual::{
     FORCE_BINS, OUTLINE_SPACING_M, OUTLINES_TOPIC, POINT_STRIDE, WORLD_FRAME, bin_color,
@@ -96,11 +97,13 @@ pub enum Channel {
     Segments,
     /// `/guides` ([`GuideSignals`]).
     Guides,
+    /// `/tensioners` ([`TensionerSignals`]).
+    Tensioners,
 }
 
 impl Channel {
     /// Every channel, in the order they are registered in a file.
-    pub const ALL: [Self; 9] = [
+    pub const ALL: [Self; 10] = [
         Self::Scene,
         Self::Transforms,
         Self::Rollers,
@@ -110,6 +113,7 @@ impl Channel {
         Self::Sprockets,
         Self::Segments,
         Self::Guides,
+        Self::Tensioners,
     ];
 
     /// Name in `--record-channels`.
@@ -124,6 +128,7 @@ impl Channel {
             Self::Sprockets => "sprockets",
             Self::Segments => "segments",
             Self::Guides => "guides",
+            Self::Tensioners => "tensioners",
         }
     }
 
@@ -140,6 +145,7 @@ impl Channel {
             Self::Sprockets => "/sprockets",
             Self::Segments => "/segments",
             Self::Guides => "/guides",
+            Self::Tensioners => "/tensioners",
         }
     }
 }
@@ -169,6 +175,8 @@ bitflags::bitflags! {
         const OUTLINES = 1 << 7;
         /// [`Channel::Guides`].
         const GUIDES = 1 << 8;
+        /// [`Channel::Tensioners`].
+        const TENSIONERS = 1 << 9;
     }
 }
 
@@ -184,6 +192,7 @@ impl From<Channel> for Channels {
             Channel::Sprockets => Self::SPROCKETS,
             Channel::Segments => Self::SEGMENTS,
             Channel::Guides => Self::GUIDES,
+            Channel::Tensioners => Self::TENSIONERS,
         }
     }
 }
@@ -245,7 +254,7 @@ pub enum RunEnd<'a> {
 pub enum RecordError {
     /// A name in the channel list is not a channel.
     #[error(
-        "unknown recording channel {0:?}; channels: scene, transforms, rollers, outlines, links, contacts, sprockets, segments, guides, all"
+        "unknown recording channel {0:?}; channels: scene, transforms, rollers, outlines, links, contacts, sprockets, segments, guides, tensioners, all"
     )]
     UnknownChannel(String),
     /// The file could not be created.
@@ -333,6 +342,7 @@ enum Job {
         static_scene: Option<Box<SceneUpdate>>,
         outlines: Vec<PointCloud>,
         centers_m: Vec<[f64; 2]>,
+        pivots_m: Vec<[f64; 2]>,
     },
     /// One sample, with only the arrays the requested channels need.
     Frame(Box<Frame>),
@@ -353,6 +363,7 @@ struct Frame {
     chain_torque: Vec<f64>,
     segments: Vec<SegmentSignal>,
     shoes: Vec<crate::forces::ShoeForces>,
+    tensioners: Vec<crate::forces::TensionerReading>,
 }
 
 /// Samples queued for the writer thread before the stepping loop waits for it.
@@ -380,6 +391,9 @@ struct Writer<W: Write + Seek> {
     sprockets: SprocketSignals,
     segments: SegmentSignals,
     guides: GuideSignals,
+    tensioners: TensionerSignals,
+    /// Each tensioner arm's pivot, m.
+    pivots_m: Vec<[f64; 2]>,
     /// Simulated time of the last chunk closed by [`FLUSH_INTERVAL_NS`], ns.
     flushed_ns: u64,
 }
@@ -392,8 +406,10 @@ impl<W: Write + Seek> Writer<W> {
                 static_scene,
                 outlines,
                 centers_m,
+                pivots_m,
             } => {
                 self.centers_m = centers_m;
+                self.pivots_m = pivots_m;
                 if let Some(update) = static_scene {
                     self.sink
                         .write(self.ids.static_scene, STATIC_SCENE_TOPIC, t_ns, &*update)?;
@@ -427,7 +443,15 @@ impl<W: Write + Seek> Writer<W> {
             sink.write(id(Channel::Scene), "/scene", t_ns, update)?;
         }
         if id(Channel::Transforms).is_some() {
-            visual::transforms(&self.centers_m, &f.theta, t_ns, &mut self.tf);
+            let arms: Vec<f64> = f.tensioners.iter().map(|r| r.angle_rad).collect();
+            visual::transforms(
+                &self.centers_m,
+                &f.theta,
+                &self.pivots_m,
+                &arms,
+                t_ns,
+                &mut self.tf,
+            );
             sink.write(id(Channel::Transforms), "/tf", t_ns, &self.tf)?;
         }
         if id(Channel::Rollers).is_some() {
@@ -475,6 +499,27 @@ impl<W: Write + Seek> Writer<W> {
                     contacts: s.contacts as u32,
                 }));
             sink.write(id(Channel::Guides), "/guides", t_ns, m)?;
+        }
+        if id(Channel::Tensioners).is_some() {
+            let m = &mut self.tensioners;
+            m.t_s = f.t_s;
+            m.tensioners.clear();
+            m.tensioners.extend(
+                f.tensioners
+                    .iter()
+                    .enumerate()
+                    .map(|(k, r)| TensionerSignal {
+                        tensioner: (k + 1) as u32,
+                        travel_m: r.travel_m,
+                        speed_m_s: r.plunger_speed_m_s,
+                        pressure_pa: r.pressure_pa,
+                        valve_open: r.valve_open,
+                        arm_angle_rad: r.angle_rad,
+                        shoe_force_n: r.shoe_force_n,
+                        plunger_force_n: r.plunger_force_n,
+                    }),
+            );
+            sink.write(id(Channel::Tensioners), "/tensioners", t_ns, m)?;
         }
         Ok(())
     }
@@ -580,8 +625,12 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         let channels = options.channels;
         let mut ids = ChannelIds::default();
         for (slot, &c) in ids.per_sample.iter_mut().zip(&Channel::ALL) {
-            // No guides, no guide channel: a recording is as it was without.
-            if !channels.contains(c.into()) || (c == Channel::Guides && scene.guides.is_empty()) {
+            // No guides (arms), no guide (tensioner) channel: a recording is
+            // as it was without.
+            if !channels.contains(c.into())
+                || (c == Channel::Guides && scene.guides.is_empty())
+                || (c == Channel::Tensioners && scene.tensioners.is_empty())
+            {
                 continue;
             }
             let topic = c.topic();
@@ -606,6 +655,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 Channel::Sprockets => add_channel::<_, SprocketSignals>(&mut w, topic)?,
                 Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, topic)?,
                 Channel::Guides => add_channel::<_, GuideSignals>(&mut w, topic)?,
+                Channel::Tensioners => add_channel::<_, TensionerSignals>(&mut w, topic)?,
             });
         }
         // Top of the force colour scale, shared by the links and the rollers.
@@ -630,6 +680,8 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             sprockets: SprocketSignals::default(),
             segments: SegmentSignals::default(),
             guides: GuideSignals::default(),
+            tensioners: TensionerSignals::default(),
+            pivots_m: Vec::new(),
             flushed_ns: 0,
         };
         let (tx, rx) = std::sync::mpsc::sync_channel::<Job>(QUEUE_FRAMES);
@@ -779,11 +831,13 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                 Vec::new()
             };
             let centers_m = s.model.sprockets.iter().map(|s| s.center_m).collect();
+            let pivots_m = self.scene.tensioners.iter().map(|t| t.pivot_m).collect();
             self.send(Job::Start {
                 t_ns,
                 static_scene,
                 outlines,
                 centers_m,
+                pivots_m,
             });
         }
         let wants = |c: &[Channel]| c.iter().any(|&c| ch.contains(c.into()));
@@ -812,6 +866,24 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                     .copied()
                     .filter(|s| s.normal_n.is_finite() && s.friction_n.is_finite())
                     .collect()
+            } else {
+                Vec::new()
+            },
+            // Every arm's reading, or none if one is not finite.
+            tensioners: if wants(&[Channel::Transforms, Channel::Tensioners])
+                && f.tensioners.iter().all(|r| {
+                    [
+                        r.angle_rad,
+                        r.travel_m,
+                        r.plunger_speed_m_s,
+                        r.pressure_pa,
+                        r.shoe_force_n,
+                        r.plunger_force_n,
+                    ]
+                    .iter()
+                    .all(|v| v.is_finite())
+                }) {
+                f.tensioners.clone()
             } else {
                 Vec::new()
             },

@@ -233,8 +233,68 @@ pub fn static_scene(scene: &Scene, model: &DriveModel, t_ns: u64) -> SceneUpdate
     });
     SceneUpdate {
         deletions: Vec::new(),
-        entities: entities.into_iter().chain(guides).collect(),
+        entities: entities
+            .into_iter()
+            .chain(guides)
+            .chain(tensioner_arms(scene, t_ns))
+            .collect(),
     }
+}
+
+/// Each tensioner arm in its frame `tensionerN` (origin at the pivot, at
+/// the scene's pose for angle 0), frame-locked: the shoe's arc, the arm from
+/// the pivot to the shoe's ends and to the point the tensioner pushes, and
+/// its name.
+fn tensioner_arms(scene: &Scene, t_ns: u64) -> impl Iterator<Item = SceneEntity> + '_ {
+    scene.tensioners.iter().enumerate().map(move |(k, t)| {
+        let local = |p: [f64; 2]| Point3 {
+            x: p[0] - t.pivot_m[0],
+            y: p[1] - t.pivot_m[1],
+            z: 0.0,
+        };
+        let n = ((t.shoe_span_rad / OUTLINE_STEP_RAD).ceil() as usize).clamp(1, 720);
+        let arc: Vec<Point3> = (0..=n)
+            .map(|i| {
+                let a = t.shoe_start_rad + t.shoe_span_rad * i as f64 / n as f64;
+                local([
+                    t.shoe_center_m[0] + t.shoe_radius_m * a.cos(),
+                    t.shoe_center_m[1] + t.shoe_radius_m * a.sin(),
+                ])
+            })
+            .collect();
+        let pivot = Point3::default();
+        let (first, last) = (arc[0], arc[arc.len() - 1]);
+        let arm = vec![pivot, first, pivot, last, pivot, local(t.point_m)];
+        let line =
+            |kind: line_primitive::Type, points: Vec<Point3>, thickness: f64| LinePrimitive {
+                r#type: kind as i32,
+                pose: Some(identity_pose()),
+                thickness,
+                scale_invariant: true,
+                points,
+                color: Some(grey(0.85)),
+                ..LinePrimitive::default()
+            };
+        SceneEntity {
+            timestamp: Some(timestamp(t_ns)),
+            frame_id: tensioner_frame(k),
+            id: tensioner_frame(k),
+            frame_locked: true,
+            lines: vec![
+                line(line_primitive::Type::LineStrip, arc, 3.0),
+                line(line_primitive::Type::LineList, arm, 1.5),
+            ],
+            texts: vec![TextPrimitive {
+                pose: Some(identity_pose()),
+                billboard: true,
+                font_size: 14.0,
+                scale_invariant: true,
+                color: Some(grey(1.0)),
+                text: format!("tensioner {} {}", k + 1, t.name),
+            }],
+            ..SceneEntity::default()
+        }
+    })
 }
 
 /// The chain entity of `/scene`, updated in place at every sample.
@@ -342,31 +402,65 @@ fn force_bin(force_n: f64, full_scale_n: f64) -> usize {
     }
 }
 
-/// `/tf`: world → sprocket frames (translation to the centre, rotation by θ about z).
-pub fn transforms(centers_m: &[[f64; 2]], theta: &[f64], t_ns: u64, out: &mut FrameTransforms) {
-    if out.transforms.len() != centers_m.len() {
-        out.transforms = (0..centers_m.len())
-            .map(|i| FrameTransform {
+/// The frame of tensioner arm `k` (0-based): `tensioner{k+1}`.
+pub fn tensioner_frame(k: usize) -> String {
+    format!("tensioner{}", k + 1)
+}
+
+/// `world` → `sprocketN` (centre, rotation θ) for every sprocket, then
+/// `world` → `tensionerN` (pivot, the arm's angle) for every arm. An arm
+/// without an angle in `arm_angles_rad` (a sample whose readings were not
+/// finite) keeps its last pose.
+pub fn transforms(
+    centers_m: &[[f64; 2]],
+    theta: &[f64],
+    pivots_m: &[[f64; 2]],
+    arm_angles_rad: &[f64],
+    t_ns: u64,
+    out: &mut FrameTransforms,
+) {
+    let n = centers_m.len();
+    if out.transforms.len() != n + pivots_m.len() {
+        out.transforms = (0..n)
+            .map(sprocket_frame)
+            .chain((0..pivots_m.len()).map(tensioner_frame))
+            .map(|child| FrameTransform {
                 parent_frame_id: WORLD_FRAME.to_owned(),
-                child_frame_id: sprocket_frame(i),
+                child_frame_id: child,
                 ..FrameTransform::default()
             })
             .collect();
     }
-    for ((tf, c), &th) in out.transforms.iter_mut().zip(centers_m).zip(theta) {
+    let place = |tf: &mut FrameTransform, c: [f64; 2], th: Option<f64>| {
         tf.timestamp = Some(timestamp(t_ns));
         tf.translation = Some(Vector3 {
             x: c[0],
             y: c[1],
             z: 0.0,
         });
-        let half = 0.5 * if th.is_finite() { th } else { 0.0 };
-        tf.rotation = Some(Quaternion {
-            x: 0.0,
-            y: 0.0,
-            z: half.sin(),
-            w: half.cos(),
-        });
+        if let Some(th) = th {
+            let half = 0.5 * if th.is_finite() { th } else { 0.0 };
+            tf.rotation = Some(Quaternion {
+                x: 0.0,
+                y: 0.0,
+                z: half.sin(),
+                w: half.cos(),
+            });
+        } else if tf.rotation.is_none() {
+            tf.rotation = Some(Quaternion {
+                x: 0.0,
+                y: 0.0,
+                z: 0.0,
+                w: 1.0,
+            });
+        }
+    };
+    let (sprockets, arms) = out.transforms.split_at_mut(n);
+    for ((tf, c), &th) in sprockets.iter_mut().zip(centers_m).zip(theta) {
+        place(tf, *c, Some(th));
+    }
+    for (k, (tf, c)) in arms.iter_mut().zip(pivots_m).enumerate() {
+        place(tf, *c, arm_angles_rad.get(k).copied());
     }
 }
 

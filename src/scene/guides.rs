@@ -94,7 +94,7 @@ fn sprocket_reach_m(s: &Sprocket, chain: &Chain) -> f64 {
 }
 
 /// Smallest distance from `p` to the segment a–b.
-fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+pub(super) fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     let ab = [b[0] - a[0], b[1] - a[1]];
     let len2 = ab[0] * ab[0] + ab[1] * ab[1];
     let t = if len2 > 0.0 {

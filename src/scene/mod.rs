@@ -147,10 +147,16 @@ impl Scene {
         &self.guides
     }
 
-    /// What is valid but likely unintended, one sentence each: guides the
-    /// chain's nominal path does not reach.
+    /// What is valid but likely unintended, one sentence each: guides and
+    /// tensioner arms' shoes the chain's nominal path does not reach.
     pub fn warnings(&self) -> Vec<String> {
-        guides::warnings(&self.guides)
+        let mut w = guides::warnings(&self.guides);
+        w.extend(tensioners::warnings(
+            &self.tensioners,
+            &self.sprockets,
+            &self.chain,
+        ));
+        w
     }
 
     /// Static-equilibrium settings.

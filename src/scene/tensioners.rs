@@ -497,3 +497,56 @@ fn check_hydraulic(c: &mut Checker, path: &str, f: &HydraulicFile) -> HydraulicT
         }),
     }
 }
+
+/// The warnings of a scene's tensioner arms: each arm whose shoe, at the
+/// scene's pose, the chain's nominal path (through the seated rollers)
+/// passes clear of by more than the roller radius (as for guides).
+pub(super) fn warnings(
+    tensioners: &[Tensioner],
+    sprockets: &[super::Sprocket],
+    chain: &super::Chain,
+) -> Vec<String> {
+    use crate::geometry::{PathCircle, chain_path};
+    if tensioners.is_empty() {
+        return Vec::new();
+    }
+    let circles: Vec<PathCircle> = sprockets
+        .iter()
+        .map(|s| PathCircle {
+            center_m: s.center_m,
+            radius_m: s.pitch_radius_m,
+            sense: s.wrap.sign(),
+        })
+        .collect();
+    let Ok(path) = chain_path(&circles) else {
+        return Vec::new();
+    };
+    const SAMPLES: usize = 64;
+    tensioners
+        .iter()
+        .enumerate()
+        .filter_map(|(k, t)| {
+            let clearance_m = (0..=SAMPLES)
+                .map(|i| {
+                    let a = t.shoe_start_rad + t.shoe_span_rad * i as f64 / SAMPLES as f64;
+                    let p = [
+                        t.shoe_center_m[0] + t.shoe_radius_m * a.cos(),
+                        t.shoe_center_m[1] + t.shoe_radius_m * a.sin(),
+                    ];
+                    path.strands
+                        .iter()
+                        .map(|s| super::guides::to_segment(p, s.start_m, s.end_m))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(f64::INFINITY, f64::min)
+                - chain.roller_radius_m;
+            (clearance_m > 0.0).then(|| {
+                format!(
+                    "tensioners[{k}] (\"{}\"): at the scene's pose the chain path passes {:.2} mm clear of the shoe, so the rollers do not touch it at rest unless the tensioner swings the arm onto the strand",
+                    t.name,
+                    clearance_m * 1e3
+                )
+            })
+        })
+        .collect()
+}

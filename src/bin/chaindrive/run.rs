@@ -54,7 +54,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "PATH.mcap")]
     record: Option<PathBuf>,
     /// Channels to record, comma-separated: scene, transforms, rollers,
-    /// outlines, links, contacts, sprockets, segments, or all.
+    /// outlines, links, contacts, sprockets, segments, guides, tensioners,
+    /// or all.
     #[arg(long, value_name = "LIST", default_value = "all")]
     record_channels: String,
     /// Statistics window: the last S seconds of the run (default 1 s, or the
