@@ -28,7 +28,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
     // Twice the pretension: the two strands' pull on the tail at rest.
     let preload_n = 2.0 * scene.chain().pretension_n;
-    for mass_kg in [2.0, 5.0, 20.0, 50.0, 200.0] {
+    for mass_kg in [1.0, 2.0, 5.0, 20.0, 50.0, 200.0] {
         let mut world = PhysicsWorld::default(); // 60 Hz, gravity −9.81 m/s²
         let motor = world
             .bodies

@@ -16,6 +16,7 @@ mod cli;
 mod common;
 mod cosim;
 mod cosim_checks;
+mod cosim_mounts;
 mod detectors;
 mod equilibrium;
 mod equilibrium_errors;
