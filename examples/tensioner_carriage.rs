@@ -7,9 +7,10 @@
 //! `add_force`), and the drive keeps it through its step.
 //!
 //! For carriages of several masses it prints how far each moved over 2 s at
-//! 60 Hz, or where the coupling gave out: the carriage's translation is
-//! rapier's, once per frame, against the chain's stiffness, so a light
-//! carriage goes past the explicit coupling's limit.
+//! 60 Hz, or where the coupling gave out. The carriage's translation is
+//! integrated with the chain in the substeps; the spring force, set once per
+//! frame, is what still acts explicitly (docs/architecture.md, "What holds,
+//! what does not").
 //!
 //! ```text
 //! cargo run --release --example tensioner_carriage

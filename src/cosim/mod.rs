@@ -55,14 +55,18 @@
 //!   together with the angular-velocity change its joints caused, so the
 //!   chain and the motor are integrated together at the small dt (a motor
 //!   feels the load at once). Its centre starts each frame at its body's
-//!   position and moves on at the body's velocity through the substeps, as
-//!   rapier's step will move the body (a swinging tensioner arm does not
-//!   jump into the rollers at each frame); the contact damping sees the
-//!   centre's velocity. Its user force is kept with rapier's semantics, and
-//!   the chain's mean force over the frame is added to it for rapier's step.
-//!   The body's translation is rapier's, once per frame: a light carriage
-//!   moving along the chain meets the chain's stiffness explicitly and can
-//!   blow up (docs/architecture.md, "Mounted sprockets", has the numbers).
+//!   position and moves with it through the substeps (a swinging tensioner
+//!   arm does not jump into the rollers at each frame); the contact damping
+//!   sees the centre's velocity. Its user force is kept with rapier's
+//!   semantics, and its translation is integrated in the substeps too, under the chain's
+//!   force, the user's force and gravity (along its free axes, or a
+//!   prismatic joint's axis read by [`ChainDrive::read_joints`]); rapier's
+//!   step moves it at the frame's mean velocity with its gravity and user
+//!   force taken out, and the velocity change its joints and contacts cause
+//!   is kept. A body whose position a joint fixes (a hub on a revolute joint
+//!   to a carriage) is moved by rapier once per frame: a light one meets the
+//!   chain's stiffness explicitly and can blow up (docs/architecture.md,
+//!   "Mounted sprockets", has the numbers).
 //!   A *kinematic* (or fixed) body turns its sprocket at its own angular
 //!   speed. A mounted body's own other colliders do not touch the chain.
 //! - Not coupled: other bodies hitting a sprocket the drive owns (its
