@@ -41,10 +41,11 @@ impl CosimError {
 pub(super) fn coupling_causes(frame_dt_s: f64) -> String {
     format!(
         "the coupling's limit, which a smaller solver.dt_s does not lift: a mounted body's \
-         translation, its joints and its user force, and carried bodies' contacts with each \
-         other act once per world frame (here {frame_dt_s:.3e} s) against the chain's stiffness, \
-         so a light translating mount (a sprung carriage), a joint pulling a mount into the \
-         rollers or a stack of carried bodies can blow up; make that body heavier, step the world \
+         joints, the user's force on it (held over the frame) and carried bodies' contacts with \
+         each other act once per world frame (here {frame_dt_s:.3e} s) against the chain's \
+         stiffness, so a mount tied by a joint to a light body (a hub on a carriage), a stiff \
+         spring force set each frame or a stack of carried bodies can blow up; make that body \
+         heavier, step the world \
          at a smaller dt, or let one body touch the chain; if the scene blows up on its own too \
          (`chaindrive run`), its own step or contact is the cause"
     )

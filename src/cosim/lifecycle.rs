@@ -185,6 +185,8 @@ impl ChainDrive {
                 mean_omega: 0.0,
                 mean_chain_force: [0.0; 2],
                 frame_start_m: sp.center_m,
+                translation: None,
+                joint_axis: None,
             });
         }
         let mut roller_colliders = Vec::with_capacity(state.rollers());

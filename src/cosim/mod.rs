@@ -55,14 +55,18 @@
 //!   together with the angular-velocity change its joints caused, so the
 //!   chain and the motor are integrated together at the small dt (a motor
 //!   feels the load at once). Its centre starts each frame at its body's
-//!   position and moves on at the body's velocity through the substeps, as
-//!   rapier's step will move the body (a swinging tensioner arm does not
-//!   jump into the rollers at each frame); the contact damping sees the
-//!   centre's velocity. Its user force is kept with rapier's semantics, and
-//!   the chain's mean force over the frame is added to it for rapier's step.
-//!   The body's translation is rapier's, once per frame: a light carriage
-//!   moving along the chain meets the chain's stiffness explicitly and can
-//!   blow up (docs/architecture.md, "Mounted sprockets", has the numbers).
+//!   position and moves with it through the substeps (a swinging tensioner
+//!   arm does not jump into the rollers at each frame); the contact damping
+//!   sees the centre's velocity. Its user force is kept with rapier's
+//!   semantics, and its translation is integrated in the substeps too, under the chain's
+//!   force, the user's force and gravity (along its free axes, or a
+//!   prismatic joint's axis read by [`ChainDrive::read_joints`]); rapier's
+//!   step moves it at the frame's mean velocity with its gravity and user
+//!   force taken out, and the velocity change its joints and contacts cause
+//!   is kept. A body whose position a joint fixes (a hub on a revolute joint
+//!   to a carriage) is moved by rapier once per frame: a light one meets the
+//!   chain's stiffness explicitly and can blow up (docs/architecture.md,
+//!   "Mounted sprockets", has the numbers).
 //!   A *kinematic* (or fixed) body turns its sprocket at its own angular
 //!   speed. A mounted body's own other colliders do not touch the chain.
 //! - Not coupled: other bodies hitting a sprocket the drive owns (its
@@ -139,6 +143,34 @@ struct SprocketLink {
     mean_chain_force: [f64; 2],
     /// A mounted body's position at the frame's start, m.
     frame_start_m: [f64; 2],
+    /// A dynamic mount's translation, integrated in the substeps (`None`
+    /// where rapier moves the body: locked, or tied by a joint that fixes
+    /// its position).
+    translation: Option<MountTranslation>,
+    /// The free axis a prismatic joint leaves the body (world frame, unit),
+    /// read by [`ChainDrive::read_joints`]; `Some(ZERO)` where a joint ties
+    /// its position.
+    joint_axis: Option<Vector>,
+}
+
+/// A dynamic mount's translation over a frame, integrated with the chain.
+#[derive(Clone, Copy, Debug)]
+struct MountTranslation {
+    /// Inverse mass per axis (zero on a locked axis), 1/kg.
+    inv_mass: Vector,
+    /// The free axis of a prismatic joint, if any.
+    axis: Option<Vector>,
+    /// Gravity and the user's force, N.
+    force_ext: Vector,
+    /// Velocity in the substeps, m/s.
+    v: Vector,
+    /// Displacement since the frame's start, m.
+    dx: Vector,
+    /// Mean velocity over the frame, given to rapier, m/s.
+    mean_v: Vector,
+    /// The body's gravity scale and linear damping, restored after rapier's step.
+    gravity_scale: f64,
+    damping: f64,
 }
 
 /// A chain drive living in a user's rapier world.
@@ -403,6 +435,11 @@ impl ChainDrive {
                     link.user_torque_n_m = b.user_torque();
                     link.user_force = b.user_force();
                     b.reset_torques(false);
+                    link.translation = mount_translation(b, link, gravity, self.in_frame);
+                    if let Some(tr) = &link.translation {
+                        moving = true;
+                        sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
+                    }
                 }
             }
             // The scene's load keeps its ramp; the user's torque does not ramp.
@@ -470,8 +507,29 @@ impl ChainDrive {
             self.state.t_s = t0 + step as f64 * dt;
             if moving {
                 let tau = step as f64 * dt;
-                for (link, sprocket) in self.links.iter().zip(&mut self.model.sprockets) {
-                    if link.mount != Mount::Own {
+                let chain_force = &self.forces.output().chain_force;
+                for (k, (link, sprocket)) in self
+                    .links
+                    .iter_mut()
+                    .zip(&mut self.model.sprockets)
+                    .enumerate()
+                {
+                    if let Some(tr) = &mut link.translation {
+                        // Symplectic Euler with the chain's force at the
+                        // substep's start, as the rollers were advanced.
+                        let f = Vector::new(chain_force[k][0], chain_force[k][1]);
+                        let mut dv = (f + tr.force_ext) * tr.inv_mass * dt;
+                        if let Some(a) = tr.axis {
+                            dv = a * a.dot(dv);
+                        }
+                        tr.v = (tr.v + dv) / (1.0 + dt * tr.damping);
+                        tr.dx += tr.v * dt;
+                        sprocket.center_m = [
+                            link.frame_start_m[0] + tr.dx.x,
+                            link.frame_start_m[1] + tr.dx.y,
+                        ];
+                        sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
+                    } else if link.mount != Mount::Own {
                         let [vx, vy] = sprocket.center_velocity_m_s;
                         sprocket.center_m = [
                             link.frame_start_m[0] + vx * tau,
@@ -518,6 +576,24 @@ impl ChainDrive {
                 dt_s,
             ));
         }
+        for link in &mut self.links {
+            if let Some(tr) = &mut link.translation {
+                tr.mean_v = tr.dx / span;
+                if !(tr.mean_v.is_finite() && tr.v.is_finite()) {
+                    return Err(at_coupling_limit(
+                        SimError::BlowUp {
+                            t_s: self.state.t_s,
+                            detector: crate::sim::Detector::NonFinite.name(),
+                            body: "a mounted body".to_owned(),
+                            value: f64::NAN,
+                            limit: 0.0,
+                            detail: String::new(),
+                        },
+                        dt_s,
+                    ));
+                }
+            }
+        }
         let stepped = Instant::now();
         for i in 0..self.state.rollers() {
             let v = [
@@ -546,14 +622,24 @@ impl ChainDrive {
                 Mount::Dynamic => {
                     b.set_rotation(Rotation::new(self.theta0[k] + link.angle_offset), true);
                     b.set_angvel(link.mean_omega, true);
-                    // The user's force (rapier's semantics: it stays until
-                    // the user resets it) and the chain's on top.
                     b.reset_forces(false);
-                    b.add_force(
-                        link.user_force
-                            + Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
-                        true,
-                    );
+                    if let Some(tr) = &link.translation {
+                        // The substeps moved it under the chain's force, the
+                        // user's and gravity: rapier's step takes it from the
+                        // frame's start to the substeps' end at the mean
+                        // velocity, with only its joints and contacts acting.
+                        b.set_linvel(tr.mean_v, true);
+                        b.set_gravity_scale(0.0, true);
+                        b.set_linear_damping(0.0);
+                    } else {
+                        // The user's force (rapier's semantics: it stays
+                        // until the user resets it) and the chain's on top.
+                        b.add_force(
+                            link.user_force
+                                + Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
+                            true,
+                        );
+                    }
                 }
             }
         }
@@ -620,6 +706,13 @@ impl ChainDrive {
             if let Some(b) = bodies.get_mut(link.body) {
                 // The body's joints changed its speed by this much during rapier's step.
                 self.state.omega[k] += b.angvel() - link.mean_omega;
+                if let Some(tr) = &link.translation {
+                    // The substeps' end velocity and what the joints and
+                    // contacts changed in rapier's step.
+                    b.set_linvel(tr.v + (b.linvel() - tr.mean_v), false);
+                    b.set_gravity_scale(tr.gravity_scale, false);
+                    b.set_linear_damping(tr.damping);
+                }
                 b.reset_forces(false);
                 b.add_force(link.user_force, false);
                 b.add_torque(link.user_torque_n_m, false);
@@ -681,6 +774,54 @@ impl ChainDrive {
         Ok(())
     }
 
+    /// Reads the joints on dynamic mounts, for the coming frames until the
+    /// next call: a prismatic joint's free axis is the only one along which
+    /// the substeps move its body; a joint that fixes the body's position
+    /// (revolute, fixed) leaves its translation to rapier's step. Call it
+    /// before [`Self::before_step`] when mounts have joints and their set
+    /// changed ([`Self::step_world`] calls it every frame).
+    pub fn read_joints(&mut self, bodies: &RigidBodySet, joints: &ImpulseJointSet) {
+        for link in &mut self.links {
+            if link.mount != Mount::Dynamic {
+                continue;
+            }
+            let Some(b) = bodies.get(link.body) else {
+                continue;
+            };
+            let mut axis: Option<Vector> = None;
+            for (b1, _, _, joint) in joints.attached_joints(link.body) {
+                let data = &joint.data;
+                if !data.is_enabled() {
+                    continue;
+                }
+                let (lx, ly) = (
+                    data.locked_axes.contains(JointAxesMask::LIN_X),
+                    data.locked_axes.contains(JointAxesMask::LIN_Y),
+                );
+                let local = if b1 == link.body {
+                    data.local_axis1()
+                } else {
+                    data.local_axis2()
+                };
+                let free = match (lx, ly) {
+                    (false, false) => continue,
+                    (true, true) => Vector::ZERO,
+                    (false, true) => *b.rotation() * local,
+                    (true, false) => {
+                        let a = *b.rotation() * local;
+                        Vector::new(-a.y, a.x)
+                    }
+                };
+                axis = match axis {
+                    None => Some(free),
+                    Some(a) if a.perp_dot(free).abs() < 1e-9 => Some(a),
+                    Some(_) => Some(Vector::ZERO),
+                };
+            }
+            link.joint_axis = axis.map(|a| a.normalize_or_zero());
+        }
+    }
+
     /// One frame of a [`PhysicsWorld`] with the user's hooks and events.
     pub fn step_world(
         &mut self,
@@ -689,6 +830,7 @@ impl ChainDrive {
         events: &dyn EventHandler,
     ) -> Result<(), CosimError> {
         let dt = world.integration_parameters.dt;
+        self.read_joints(&world.bodies, &world.impulse_joints);
         self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
         let hooks = ChainHooks {
             drive: &*self,
@@ -699,6 +841,40 @@ impl ChainDrive {
         self.stage_times.world_s += started.elapsed().as_secs_f64();
         self.after_step(&mut world.bodies, &world.narrow_phase, dt)
     }
+}
+
+/// A dynamic mount's translation for the coming frame, if the substeps
+/// move it: not when its translations are locked or a joint fixes its
+/// position. `in_frame`: a frame was set up and not finished, so the body's
+/// gravity scale and damping are the drive's, not the user's.
+fn mount_translation(
+    b: &RigidBody,
+    link: &SprocketLink,
+    gravity: Vector,
+    in_frame: bool,
+) -> Option<MountTranslation> {
+    let inv_mass = b.mass_properties().effective_inv_mass;
+    if inv_mass == Vector::ZERO || link.joint_axis == Some(Vector::ZERO) {
+        return None;
+    }
+    let (gravity_scale, damping) = match (&link.translation, in_frame) {
+        (Some(tr), true) => (tr.gravity_scale, tr.damping),
+        _ => (b.gravity_scale(), b.linear_damping()),
+    };
+    let mut v = b.linvel();
+    if let Some(a) = link.joint_axis {
+        v = a * a.dot(v);
+    }
+    Some(MountTranslation {
+        inv_mass,
+        axis: link.joint_axis,
+        force_ext: gravity * (gravity_scale * b.mass()) + link.user_force,
+        v,
+        dx: Vector::ZERO,
+        mean_v: Vector::ZERO,
+        gravity_scale,
+        damping,
+    })
 }
 
 struct DynHooks<'a>(&'a dyn PhysicsHooks);

@@ -17,6 +17,7 @@ mod cli;
 mod common;
 mod cosim;
 mod cosim_checks;
+mod cosim_mounts;
 mod designations;
 mod detectors;
 mod equilibrium;
