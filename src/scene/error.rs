@@ -27,12 +27,26 @@ impl fmt::Display for FieldError {
 /// or has no such field. A path that stops at an array element or table
 /// points at that element or table.
 pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
+    let span = value_span(text, path)?;
+    let before = text.get(..span.start)?;
+    let line = before.matches('\n').count() + 1;
+    let column = before
+        .rfind('\n')
+        .map_or(span.start, |n| span.start - n - 1)
+        + 1;
+    Some((line, column))
+}
+
+/// The byte range of the value at `path` (`sprockets[1].center_m`) in the
+/// TOML `text`, as [`locate`] finds it (an empty path: the whole document);
+/// `None` if the text does not parse or has no such field.
+pub fn value_span(text: &str, path: &str) -> Option<std::ops::Range<usize>> {
     use toml::de::{DeTable, DeValue};
     let root = DeTable::parse(text).ok()?;
     let mut span = root.span();
     let mut table: Option<&DeTable<'_>> = Some(root.get_ref());
     let mut value: Option<&DeValue<'_>> = None;
-    for part in path.split('.') {
+    for part in path.split('.').filter(|p| !p.is_empty()) {
         let (key, indices) = match part.find('[') {
             Some(i) => (&part[..i], &part[i..]),
             None => (part, ""),
@@ -51,13 +65,7 @@ pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
         table = None;
         value = Some(current.get_ref());
     }
-    let before = text.get(..span.start)?;
-    let line = before.matches('\n').count() + 1;
-    let column = before
-        .rfind('\n')
-        .map_or(span.start, |n| span.start - n - 1)
-        + 1;
-    Some((line, column))
+    Some(span)
 }
 
 /// Why a scene was rejected.

@@ -29,7 +29,7 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
-pub use error::{FieldError, SceneError, locate};
+pub use error::{FieldError, SceneError, locate, value_span};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
     SpeedHarmonicFile,

@@ -11,7 +11,7 @@ use std::process::ExitCode;
 
 use anyhow::Context;
 use chaindrive::model::DriveModel;
-use chaindrive::scene::{Overrides, Scene};
+use chaindrive::scene::{Overrides, Scene, value_span};
 use chaindrive::sim::{FIT_TOLERANCE_M, default_direction, fit_sprocket};
 
 /// Arguments of `chaindrive fit`.
@@ -176,35 +176,6 @@ fn edit_values(text: &str, edits: &[(String, String)]) -> anyhow::Result<String>
         out.replace_range(range, value);
     }
     Ok(out)
-}
-
-/// Byte range of the value at `path` (`sprockets[1].center_m`) in `text`.
-fn value_span(text: &str, path: &str) -> Option<Range<usize>> {
-    use toml::de::{DeTable, DeValue};
-    let root = DeTable::parse(text).ok()?;
-    let mut table: Option<&DeTable<'_>> = Some(root.get_ref());
-    let mut value: Option<&DeValue<'_>> = None;
-    let mut span = None;
-    for part in path.split('.') {
-        let (key, indices) = match part.find('[') {
-            Some(i) => (&part[..i], &part[i..]),
-            None => (part, ""),
-        };
-        let t = match (table, value) {
-            (Some(t), _) => t,
-            (None, Some(v)) => v.as_table()?,
-            (None, None) => return None,
-        };
-        let mut current = t.get(key)?;
-        for index in indices.split(['[', ']']).filter(|s| !s.is_empty()) {
-            let i: usize = index.parse().ok()?;
-            current = current.get_ref().as_array()?.get(i)?;
-        }
-        span = Some(current.span());
-        table = None;
-        value = Some(current.get_ref());
-    }
-    span
 }
 
 #[cfg(test)]
