@@ -102,19 +102,7 @@ pub fn layout_rollers(
     rollers: usize,
     pitch_m: f64,
 ) -> Result<Layout, LayoutError> {
-    for (k, w) in path.wraps.iter().enumerate() {
-        if w.wrap_rad < 1e-9 {
-            return Err(LayoutError::NoEngagement {
-                sprocket: k + 1,
-                wrap_deg: w.wrap_rad.to_degrees(),
-            });
-        }
-    }
-    let walker = Walker {
-        path,
-        circles,
-        teeth,
-    };
+    let walker = Walker::engaged(path, circles, teeth)?;
     // The first walk, at λ = P, decides the roller counts.
     let first = walker.walk(pitch_m, None)?;
     let used = first.rollers_m.len() - first.strand_links[first.strand_links.len() - 1] + 1;
@@ -154,19 +142,7 @@ pub fn needed_pitches(
     teeth: &[u32],
     pitch_m: f64,
 ) -> Result<f64, LayoutError> {
-    for (k, w) in path.wraps.iter().enumerate() {
-        if w.wrap_rad < 1e-9 {
-            return Err(LayoutError::NoEngagement {
-                sprocket: k + 1,
-                wrap_deg: w.wrap_rad.to_degrees(),
-            });
-        }
-    }
-    let walker = Walker {
-        path,
-        circles,
-        teeth,
-    };
+    let walker = Walker::engaged(path, circles, teeth)?;
     Ok(walker.walk(pitch_m, None)?.needed_links(pitch_m))
 }
 
@@ -247,6 +223,30 @@ struct Walker<'a> {
     path: &'a ChainPath,
     circles: &'a [PathCircle],
     teeth: &'a [u32],
+}
+
+impl<'a> Walker<'a> {
+    /// A walker over `path`, once every sprocket is wrapped: a sprocket the
+    /// path only touches engages no roller.
+    fn engaged(
+        path: &'a ChainPath,
+        circles: &'a [PathCircle],
+        teeth: &'a [u32],
+    ) -> Result<Self, LayoutError> {
+        for (k, w) in path.wraps.iter().enumerate() {
+            if w.wrap_rad < 1e-9 {
+                return Err(LayoutError::NoEngagement {
+                    sprocket: k + 1,
+                    wrap_deg: w.wrap_rad.to_degrees(),
+                });
+            }
+        }
+        Ok(Self {
+            path,
+            circles,
+            teeth,
+        })
+    }
 }
 
 impl Walker<'_> {
