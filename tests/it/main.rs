@@ -24,6 +24,7 @@ mod equilibrium_sweep;
 mod excitation;
 mod friction;
 mod fuzz;
+mod governor;
 mod guides;
 mod integrators;
 mod layering;
