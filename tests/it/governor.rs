@@ -140,13 +140,14 @@ fn every_integrator_turns_the_governed_driver_at_its_target() {
     // speed is the target and the mean torque carries the load referred to
     // the driver, 10 N·m, plus the losses (≈ 2 %): within 5 %.
     let schemes = [
-        (Stepping::Custom, Integrator::SymplecticEuler),
-        (Stepping::Custom, Integrator::VelocityVerlet),
-        (Stepping::Custom, Integrator::ImplicitDamping),
-        (Stepping::Custom, Integrator::Rk4),
-        (Stepping::Custom, Integrator::DormandPrince45),
+        (Stepping::Substepped, Integrator::SymplecticEuler),
+        (Stepping::Substepped, Integrator::VelocityVerlet),
+        (Stepping::Substepped, Integrator::ImplicitDamping),
+        (Stepping::Substepped, Integrator::Rk4),
+        (Stepping::Substepped, Integrator::DormandPrince45),
         (Stepping::Rapier, Integrator::SymplecticEuler),
     ];
+    let mut first: Option<Means> = None;
     for (stepping, integrator) in schemes {
         let m = run(
             &Overrides {
@@ -159,6 +160,7 @@ fn every_integrator_turns_the_governed_driver_at_its_target() {
             0.55,
         );
         let speed_error = (m.driver_speed - TARGET_RAD_S) / TARGET_RAD_S;
+        let run_speed = m.driver_speed;
         let referred = LOAD_N_M * Z_DRIVER / Z_DRIVEN;
         let torque_error = (m.governor_torque - referred) / referred;
         eprintln!(
@@ -166,11 +168,16 @@ fn every_integrator_turns_the_governed_driver_at_its_target() {
             stepping.name(),
             integrator.name()
         );
-        assert!(speed_error.abs() < 2e-3, "{integrator:?}: {speed_error:e}");
+        assert!(speed_error.abs() < 3e-3, "{integrator:?}: {speed_error:e}");
         assert!(
             (0.0..0.05).contains(&torque_error),
             "{integrator:?}: {torque_error:e}"
         );
+        // The schemes integrate one system: their means agree far closer
+        // than the transient's remainder (measured: to 1e-6).
+        let reference = first.get_or_insert(m);
+        let (a, b) = (reference.driver_speed, run_speed);
+        assert!((a - b).abs() < 1e-4 * TARGET_RAD_S, "{integrator:?}: {a} vs {b}");
     }
 }
 
@@ -187,4 +194,96 @@ fn the_static_equilibrium_holds_the_governed_driver() {
     assert!(sim.model.sprockets[0].governor.is_some());
     assert!(sim.model.sprockets[0].speed_law.is_none());
     assert_eq!(sim.model.driving(), Some(0));
+}
+
+/// The validation error of the governed scene with `from` replaced by `to`.
+fn error_with(from: &str, to: &str) -> String {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(SCENE);
+    let text = std::fs::read_to_string(path).expect("readable");
+    assert!(text.contains(from), "{from}");
+    match Scene::from_toml(&text.replacen(from, to, 1)) {
+        Err(e) => e.to_string(),
+        Ok(_) => panic!("accepted with {to}"),
+    }
+}
+
+#[test]
+fn bad_governor_input_names_its_field() {
+    let gov = "[sprockets.governor]\ndrive_torque_n_m = 0.0\nbandwidth_hz = 5.0\n";
+    let cases: [(&str, &str, &[&str]); 8] = [
+        (
+            "bandwidth_hz = 5.0",
+            "bandwidth_hz = -1.0",
+            &["sprockets[0].governor.bandwidth_hz", "> 0"],
+        ),
+        (
+            "bandwidth_hz = 5.0",
+            "bandwidth_hz = nan",
+            &["sprockets[0].governor.bandwidth_hz", "finite"],
+        ),
+        (
+            "drive_torque_n_m = 0.0",
+            "drive_torque_n_m = inf",
+            &["sprockets[0].governor.drive_torque_n_m", "finite"],
+        ),
+        (
+            "bandwidth_hz = 5.0",
+            "kp_n_m_s_rad = 0.1",
+            &["sprockets[0].governor.ki_n_m_rad", "required"],
+        ),
+        (
+            "bandwidth_hz = 5.0",
+            "bandwidth_hz = 5.0\nki_n_m_rad = 1.0",
+            &["sprockets[0].governor.ki_n_m_rad", "bandwidth_hz"],
+        ),
+        (
+            "bandwidth_hz = 5.0",
+            "kp_n_m_s_rad = 0.0\nki_n_m_rad = 1.0",
+            &["sprockets[0].governor.kp_n_m_s_rad", "> 0"],
+        ),
+        (
+            "bandwidth_hz = 5.0",
+            "kp_n_m_s_rad = 0.1\nki_n_m_rad = -1.0",
+            &["sprockets[0].governor.ki_n_m_rad", ">= 0"],
+        ),
+        (
+            "bandwidth_hz = 5.0",
+            "bandwidth_hz = 5.0\n[[sprockets.governor.drive_harmonics]]\norder = 0\namplitude_n_m = 1.0",
+            &["sprockets[0].governor.drive_harmonics[0].order", "1..="],
+        ),
+    ];
+    for (from, to, wants) in cases {
+        let err = error_with(from, to);
+        for want in wants {
+            assert!(err.contains(want), "{to}: {err}");
+        }
+    }
+    // A governor on a free sprocket; speed harmonics beside a governor; a
+    // drive table that cannot be read.
+    let err = error_with("load_ramp_s = 0.2\n", &format!("load_ramp_s = 0.2\n{gov}"));
+    assert!(
+        err.contains("sprockets[1].governor") && err.contains("role = \"driver\""),
+        "{err}"
+    );
+    let err = error_with(
+        "bandwidth_hz = 5.0\n",
+        "bandwidth_hz = 5.0\n[[sprockets.speed_harmonics]]\norder = 2\namplitude = 0.05\n",
+    );
+    assert!(
+        err.contains("sprockets[0].speed_harmonics") && err.contains("governor"),
+        "{err}"
+    );
+    let err = error_with(
+        "bandwidth_hz = 5.0\n",
+        "bandwidth_hz = 5.0\n[sprockets.governor.drive_table]\nfile = \"no-such-table.csv\"\n",
+    );
+    assert!(
+        err.contains("sprockets[0].governor.drive_table.file") && err.contains("cannot read"),
+        "{err}"
+    );
+    // An unknown field is refused by name.
+    let err = error_with("bandwidth_hz = 5.0", "bandwidth = 5.0");
+    assert!(err.contains("bandwidth"), "{err}");
 }
