@@ -91,7 +91,10 @@ pub fn target_angle_rad(law: &SpeedLaw, t_s: f64) -> f64 {
 /// natural frequency `bandwidth_hz`: (2 ω_n J, ω_n² J), ω_n = 2π f_n.
 pub fn critical_gains(inertia_kg_m2: f64, bandwidth_hz: f64) -> (f64, f64) {
     let omega_n = std::f64::consts::TAU * bandwidth_hz;
-    (2.0 * omega_n * inertia_kg_m2, omega_n * omega_n * inertia_kg_m2)
+    (
+        2.0 * omega_n * inertia_kg_m2,
+        omega_n * omega_n * inertia_kg_m2,
+    )
 }
 
 /// The drive's inertia referred to the driver, kg·m²: Σ J_i (z_d / z_i)²
@@ -214,11 +217,7 @@ mod tests {
         for k in 0..n {
             let t = f64::from(k) * dt;
             theta += 0.5 * dt * (law.speed_at(t) + law.speed_at(t + dt));
-            approx::assert_abs_diff_eq!(
-                target_angle_rad(&law, t + dt),
-                theta,
-                epsilon = 1e-9
-            );
+            approx::assert_abs_diff_eq!(target_angle_rad(&law, t + dt), theta, epsilon = 1e-9);
         }
     }
 }

@@ -118,9 +118,7 @@ impl SprocketModel {
     pub fn torque_at(&self, t_s: f64, theta_rad: f64, omega_rad_s: f64) -> f64 {
         let external = self.external_torque_at(t_s, theta_rad);
         match &self.governor {
-            Some(g) => {
-                external + g.torque_at(t_s, theta_rad - self.angle_origin_rad, omega_rad_s)
-            }
+            Some(g) => external + g.torque_at(t_s, theta_rad - self.angle_origin_rad, omega_rad_s),
             None => external,
         }
     }

@@ -18,9 +18,9 @@ use super::file::SprocketFile;
 use super::validate::Checker;
 
 /// The governor's natural frequency when the scene gives neither gains nor
-/// a bandwidth, Hz: slow beside a chain span's lowest frequencies (tens of
-/// hertz and more on the drives this crate models), so that the governor
-/// holds the mean speed and leaves the tooth-passing dynamics alone.
+/// a bandwidth, Hz: a choice, not derived from the drive. It should stay
+/// well below the drive's lowest span frequency, so that the governor holds
+/// the mean speed and leaves the tooth-passing dynamics alone.
 pub const DEFAULT_GOVERNOR_BANDWIDTH_HZ: f64 = 2.0;
 
 /// A driver turned by a torque under a PI speed governor, as written

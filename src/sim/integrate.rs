@@ -323,7 +323,8 @@ impl Integration {
             } else {
                 let kick = 0.5
                     * h
-                    * (forces.output().chain_torque[s] + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
+                    * (forces.output().chain_torque[s]
+                        + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
                     * sp.inv_inertia;
                 omega_half[s] = state.omega[s] + kick;
                 state.theta[s] += h * omega_half[s];
@@ -720,7 +721,8 @@ fn rate(model: &DriveModel, state: &DriveState, forces: &ForceGenerator, out: &m
         out.omega[s] = if sp.speed_law.is_some() {
             0.0
         } else {
-            (forces.output().chain_torque[s] + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
+            (forces.output().chain_torque[s]
+                + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
                 * sp.inv_inertia
         };
     }

@@ -107,9 +107,15 @@ fn the_governor_holds_the_mean_speed_and_carries_the_load_and_the_losses() {
     let speed_error = (m.driver_speed - TARGET_RAD_S) / TARGET_RAD_S;
     // Measured: 1e-7 (1.6e-4 without the joint friction, which damps the
     // start).
-    assert!(speed_error.abs() < 1e-3, "mean speed off by {speed_error:e}");
+    assert!(
+        speed_error.abs() < 1e-3,
+        "mean speed off by {speed_error:e}"
+    );
     let ratio_error = m.driven_speed / m.driver_speed - Z_DRIVER / Z_DRIVEN;
-    assert!(ratio_error.abs() < 1e-3, "speed ratio off by {ratio_error:e}");
+    assert!(
+        ratio_error.abs() < 1e-3,
+        "speed ratio off by {ratio_error:e}"
+    );
     // The power balance itself, to the balance energy's change (measured:
     // 0.04 W of 320 W, the rectangle rule on the powers).
     let balance = m.governor_power - LOAD_N_M * m.driven_speed - m.losses;
@@ -129,7 +135,11 @@ fn the_governor_holds_the_mean_speed_and_carries_the_load_and_the_losses() {
         m.governor_torque
     );
     // The losses are part of it: leaving them out must be visible.
-    assert!(m.losses / TARGET_RAD_S > 1e-2 * expected, "losses {} W", m.losses);
+    assert!(
+        m.losses / TARGET_RAD_S > 1e-2 * expected,
+        "losses {} W",
+        m.losses
+    );
 }
 
 #[test]
@@ -177,7 +187,10 @@ fn every_integrator_turns_the_governed_driver_at_its_target() {
         // than the transient's remainder (measured: to 1e-6).
         let reference = first.get_or_insert(m);
         let (a, b) = (reference.driver_speed, run_speed);
-        assert!((a - b).abs() < 1e-4 * TARGET_RAD_S, "{integrator:?}: {a} vs {b}");
+        assert!(
+            (a - b).abs() < 1e-4 * TARGET_RAD_S,
+            "{integrator:?}: {a} vs {b}"
+        );
     }
 }
 
