@@ -441,7 +441,7 @@ impl RunSummary {
             let (omega, _, _) = stats(in_window.iter().map(|r| r.omega_rad_s[j]));
             omega.abs() * model.sprockets[j].pitch_radius_m
         };
-        let chain_speed = match model.driver() {
+        let chain_speed = match model.driving() {
             Some(driver) => chain_speed_at(driver),
             None => {
                 let count = model.sprocket_count();
@@ -532,7 +532,7 @@ impl RunSummary {
             })
             .collect();
         // No driver, no driver power (the drive is moved by load torques only).
-        let power = model.driver().map_or(0.0, |driver| {
+        let power = model.driving().map_or(0.0, |driver| {
             stats(
                 in_window
                     .iter()

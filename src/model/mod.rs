@@ -7,10 +7,12 @@
 //! is stepping, [`crate::sim`]).
 
 mod excitation;
+mod governor;
 pub mod rapier;
 mod segments;
 
 pub use excitation::{AngleLoad, PeriodicSpline, speed_factor};
+pub use governor::{Governor, critical_gains, referred_inertia_kg_m2, target_angle_rad};
 pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
@@ -67,8 +69,14 @@ pub struct SprocketModel {
     pub center_velocity_m_s: [f64; 2],
     /// 1 / J, 1/(kg·m²).
     pub inv_inertia: f64,
-    /// The driver's speed law; `None` for a free sprocket.
+    /// The driver's speed law; `None` for a free sprocket and a
+    /// torque-driven driver.
     pub speed_law: Option<SpeedLaw>,
+    /// A torque-driven driver's drive torque and speed governor: the
+    /// sprocket turns freely under it (read through
+    /// [`SprocketModel::torque_at`]) and is held while the drive relaxes to
+    /// static equilibrium; `None`: none.
+    pub governor: Option<Governor>,
     /// The driver's speed harmonics in its angle (relative amplitudes):
     /// ω = ω̄(t) (1 + Σ a_k sin(k (θ − θ₀) + φ_k)); empty: ω = ω̄(t).
     pub speed_harmonics: Vec<Harmonic>,
@@ -100,12 +108,32 @@ pub struct SprocketModel {
 }
 
 impl SprocketModel {
-    /// The external torque at time `t_s` and angle `theta_rad`, N·m: the
-    /// load M(θ) = M + M_θ(θ − θ₀) times `t/t_r` while `t < t_r = load_ramp_s`,
-    /// the full M(θ) after (and always when no ramp is set, so the load at
-    /// rest is M(θ) exactly), plus the user's torque, which does not ramp.
+    /// The external torque at time `t_s`, angle `theta_rad` and speed
+    /// `omega_rad_s`, N·m: the load M(θ) = M + M_θ(θ − θ₀) times `t/t_r`
+    /// while `t < t_r = load_ramp_s`, the full M(θ) after (and always when no
+    /// ramp is set, so the load at rest is M(θ) exactly), plus the user's
+    /// torque, which does not ramp, plus a torque-driven driver's torque
+    /// ([`Governor::torque_at`]; the only part that depends on the speed).
     #[inline]
-    pub fn torque_at(&self, t_s: f64, theta_rad: f64) -> f64 {
+    pub fn torque_at(&self, t_s: f64, theta_rad: f64, omega_rad_s: f64) -> f64 {
+        let external = self.external_torque_at(t_s, theta_rad);
+        match &self.governor {
+            Some(g) => external + g.torque_at(t_s, theta_rad - self.angle_origin_rad, omega_rad_s),
+            None => external,
+        }
+    }
+
+    /// Whether the sprocket is held still while the drive relaxes to static
+    /// equilibrium: a driver, kinematic or torque-driven.
+    #[inline]
+    pub fn held_at_rest(&self) -> bool {
+        self.speed_law.is_some() || self.governor.is_some()
+    }
+
+    /// The load and the user's torque of [`Self::torque_at`], without a
+    /// governor's torque, N·m.
+    #[inline]
+    fn external_torque_at(&self, t_s: f64, theta_rad: f64) -> f64 {
         let mut load = self.load_torque_n_m;
         if let Some(angle_load) = &self.angle_load {
             load += angle_load.at(theta_rad - self.angle_origin_rad);
@@ -123,7 +151,7 @@ impl SprocketModel {
     /// load), N·m.
     #[inline]
     pub fn load_torque_at(&self, t_s: f64) -> f64 {
-        self.torque_at(t_s, self.angle_origin_rad)
+        self.external_torque_at(t_s, self.angle_origin_rad)
     }
 
     /// The load held while the drive relaxes to static equilibrium, N·m: the
@@ -355,14 +383,24 @@ impl DriveModel {
             .iter()
             .zip(profiles)
             .zip(&layout.sprocket_angles_rad)
-            .map(|((s, profile), &angle_origin_rad)| {
+            .enumerate()
+            .map(|(i, ((s, profile), &angle_origin_rad))| {
                 let reach = profile.reach_m();
                 let excitation = &s.excitation;
+                let governor = excitation.governor.as_ref().and_then(|spec| {
+                    s.speed_law()
+                        .map(|target| Governor::new(scene, i, spec, target))
+                });
                 SprocketModel {
                     center_m: s.center_m,
                     center_velocity_m_s: [0.0; 2],
                     inv_inertia: 1.0 / s.inertia_kg_m2,
-                    speed_law: s.speed_law(),
+                    speed_law: if governor.is_some() {
+                        None
+                    } else {
+                        s.speed_law()
+                    },
+                    governor,
                     speed_harmonics: excitation.speed_harmonics.clone(),
                     load_torque_n_m: s.load_torque_n_m(),
                     angle_load: AngleLoad::new(
@@ -449,5 +487,11 @@ impl DriveModel {
     /// drives a mounted sprocket).
     pub fn driver(&self) -> Option<usize> {
         self.sprockets.iter().position(|s| s.speed_law.is_some())
+    }
+
+    /// Index of the sprocket that drives the chain: the kinematic driver or
+    /// a torque-driven one ([`SprocketModel::governor`]).
+    pub fn driving(&self) -> Option<usize> {
+        self.sprockets.iter().position(SprocketModel::held_at_rest)
     }
 }

@@ -14,6 +14,7 @@ use serde::{Deserialize, Serialize};
 
 use super::RoleKind;
 use super::file::SprocketFile;
+use super::governor::{GovernorSpec, check_governor};
 use super::validate::Checker;
 
 /// One term of a driver's speed profile, as written
@@ -108,6 +109,9 @@ pub struct Excitation {
     pub load_harmonics: Vec<Harmonic>,
     /// A tabled load torque in the sprocket's angle.
     pub load_table: Option<LoadTable>,
+    /// A driver turned by a torque under a speed governor; `None`: a
+    /// driver's speed is prescribed.
+    pub governor: Option<GovernorSpec>,
 }
 
 /// Largest harmonic order accepted (a tooth count's multiple is far below).
@@ -194,10 +198,11 @@ pub(super) fn check_excitation(
         speed_harmonics,
         load_harmonics,
         load_table,
+        governor: check_governor(c, f, i, kind, base_dir),
     }
 }
 
-fn check_order(c: &mut Checker, path: &str, order: i64) -> u32 {
+pub(super) fn check_order(c: &mut Checker, path: &str, order: i64) -> u32 {
     if !(1..=MAX_ORDER).contains(&order) {
         c.fail(
             path,
@@ -209,7 +214,7 @@ fn check_order(c: &mut Checker, path: &str, order: i64) -> u32 {
 }
 
 /// Reads and checks a load table; every problem is a failure at `path`.
-fn read_table(
+pub(super) fn read_table(
     c: &mut Checker,
     path: &str,
     file: &str,

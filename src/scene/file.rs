@@ -9,6 +9,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::excitation::{LoadHarmonicFile, LoadTableFile, SpeedHarmonicFile};
+use super::governor::GovernorFile;
 
 /// A whole scene file (TOML).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -186,6 +187,11 @@ pub struct SprocketFile {
     /// constant load.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub load_table: Option<LoadTableFile>,
+    /// Driver only: turn the driver by a drive torque under a PI speed
+    /// governor to its `speed_rpm` (`[sprockets.governor]`, docs/model.md,
+    /// “A torque-driven driver”) instead of prescribing its speed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub governor: Option<GovernorFile>,
 }
 
 /// Integration settings.

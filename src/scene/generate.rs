@@ -229,6 +229,7 @@ impl DriveSpec {
                     speed_harmonics: Vec::new(),
                     load_harmonics: Vec::new(),
                     load_table: None,
+                    governor: None,
                 }
             })
             .collect::<Vec<_>>();

@@ -17,6 +17,7 @@ mod error;
 mod excitation;
 mod file;
 pub mod generate;
+mod governor;
 mod guides;
 mod kinds;
 pub mod mutate;
@@ -38,6 +39,7 @@ pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,
 };
+pub use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorFile, GovernorGains, GovernorSpec};
 pub use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, GuideFile, RampFile};
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;

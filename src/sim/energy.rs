@@ -57,7 +57,8 @@ impl Energy {
 /// the loads' as the power they absorb (positive for a braking load).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Powers {
-    /// Delivered by the speed-controlled sprockets: Σ −(chain moment) ω.
+    /// Delivered by the speed-controlled sprockets, Σ −(chain moment) ω,
+    /// and by a torque-driven driver's torque, T ω.
     pub driver_w: f64,
     /// Absorbed by the load torques: Σ −τ_load ω over the free sprockets.
     pub load_w: f64,
@@ -78,8 +79,12 @@ impl Powers {
             let omega = state.omega[s];
             if sp.speed_law.is_some() {
                 driver -= out.chain_torque[s] * omega;
+            } else if sp.governor.is_some() {
+                // A torque-driven driver's torque (its inertia's kinetic
+                // energy stays in the balance).
+                driver += sp.torque_at(state.t_s, state.theta[s], omega) * omega;
             } else {
-                load -= sp.torque_at(state.t_s, state.theta[s]) * omega;
+                load -= sp.torque_at(state.t_s, state.theta[s], state.omega[s]) * omega;
             }
         }
         // The link force is K s + D u·Δv: its damping part from the force and

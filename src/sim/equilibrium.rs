@@ -261,7 +261,7 @@ fn worst_sprocket(model: &DriveModel, forces: &ForceGenerator) -> Option<(usize,
         .sprockets
         .iter()
         .enumerate()
-        .filter(|(_, sp)| sp.speed_law.is_none())
+        .filter(|(_, sp)| !sp.held_at_rest())
         .map(|(s, sp)| (s, out.chain_torque[s] + sp.load_at_rest_n_m()))
         .max_by(|a, b| {
             let ra = a.1.abs() / model.sprockets[a.0].pitch_radius_m;
@@ -434,7 +434,7 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
     }
     let n = strands.len();
     for (j, sp) in model.sprockets.iter().enumerate() {
-        if sp.speed_law.is_some() || !(sp.inv_inertia > 0.0) || n == 0 {
+        if sp.held_at_rest() || !(sp.inv_inertia > 0.0) || n == 0 {
             continue;
         }
         // Strand j leaves sprocket j, strand j − 1 reaches it.

@@ -323,7 +323,8 @@ impl Integration {
             } else {
                 let kick = 0.5
                     * h
-                    * (forces.output().chain_torque[s] + sp.torque_at(state.t_s, state.theta[s]))
+                    * (forces.output().chain_torque[s]
+                        + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
                     * sp.inv_inertia;
                 omega_half[s] = state.omega[s] + kick;
                 state.theta[s] += h * omega_half[s];
@@ -357,7 +358,7 @@ impl Integration {
                     + 0.5
                         * h
                         * (forces.output().chain_torque[s]
-                            + sp.torque_at(state.t_s, state.theta[s]))
+                            + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
                         * sp.inv_inertia;
             }
         }
@@ -657,7 +658,9 @@ pub(crate) fn implicit_damping_step(
         state.y[i] += h * state.vy[i];
     }
     for (s, sp) in model.sprockets.iter().enumerate() {
-        let omega = if sp.speed_law.is_some() {
+        // A torque-driven driver is held as the kinematic one while the
+        // drive relaxes.
+        let omega = if sp.speed_law.is_some() || (relax.is_some() && sp.governor.is_some()) {
             if relax.is_some() {
                 0.0
             } else {
@@ -667,7 +670,7 @@ pub(crate) fn implicit_damping_step(
             let load = if relax.is_some() {
                 sp.load_at_rest_n_m()
             } else {
-                sp.torque_at(state.t_s, state.theta[s])
+                sp.torque_at(state.t_s, state.theta[s], state.omega[s])
             };
             (state.omega[s] + h * (torque[s] + load) * sp.inv_inertia) * scale
         };
@@ -718,7 +721,8 @@ fn rate(model: &DriveModel, state: &DriveState, forces: &ForceGenerator, out: &m
         out.omega[s] = if sp.speed_law.is_some() {
             0.0
         } else {
-            (forces.output().chain_torque[s] + sp.torque_at(state.t_s, state.theta[s]))
+            (forces.output().chain_torque[s]
+                + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
                 * sp.inv_inertia
         };
     }

@@ -686,7 +686,8 @@ fn apply_forces(
             b.reset_torques(false);
             if sp.speed_law.is_none() {
                 b.add_torque(
-                    forces.chain_torque[i] + sp.torque_at(state.t_s, state.theta[i]),
+                    forces.chain_torque[i]
+                        + sp.torque_at(state.t_s, state.theta[i], state.omega[i]),
                     false,
                 );
             }

@@ -59,7 +59,9 @@ pub fn symplectic_euler(
         scale,
     );
     for (s, sp) in model.sprockets.iter().enumerate() {
-        let omega = if sp.speed_law.is_some() {
+        // A torque-driven driver is held as the kinematic one while the
+        // drive relaxes.
+        let omega = if sp.speed_law.is_some() || (relax.is_some() && sp.governor.is_some()) {
             if relax.is_some() {
                 0.0
             } else {
@@ -69,7 +71,7 @@ pub fn symplectic_euler(
             let load = if relax.is_some() {
                 sp.load_at_rest_n_m()
             } else {
-                sp.torque_at(state.t_s, state.theta[s])
+                sp.torque_at(state.t_s, state.theta[s], state.omega[s])
             };
             let torque = forces.output().chain_torque[s] + load;
             (state.omega[s] + dt_s * torque * sp.inv_inertia) * scale

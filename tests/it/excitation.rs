@@ -187,12 +187,12 @@ fn the_cam_table_load_is_exact_at_the_nodes() {
         let sp = &model.sprockets[cam];
         let origin = layout.sprocket_angles_rad[cam];
         for &(deg, torque) in &rows {
-            let got = sp.torque_at(1.0, origin + deg.to_radians());
+            let got = sp.torque_at(1.0, origin + deg.to_radians(), 0.0);
             approx::assert_abs_diff_eq!(got, -1.5 - torque, epsilon = 1e-9);
         }
         for w in rows.windows(2) {
             let mid = 0.5 * (w[0].0 + w[1].0);
-            let got = -1.5 - sp.torque_at(1.0, origin + mid.to_radians());
+            let got = -1.5 - sp.torque_at(1.0, origin + mid.to_radians(), 0.0);
             let (lo, hi) = (w[0].1.min(w[1].1), w[0].1.max(w[1].1));
             let spread = 0.05 * (hi - lo) + 1e-3;
             assert!(

@@ -27,6 +27,7 @@ mod excitation;
 mod fit;
 mod friction;
 mod fuzz;
+mod governor;
 mod guides;
 mod integrators;
 mod layering;

@@ -1,0 +1,172 @@
+//! A torque-driven driver read from a scene: a drive torque (constant plus
+//! a series or table in the driver's angle) and a PI speed governor to the
+//! driver's speed law (`[sprockets.governor]`, docs/model.md, “A
+//! torque-driven driver”).
+//!
+//! The validated form is data only; the gains from a bandwidth and the
+//! governor's torque are the model's ([`crate::model::Governor`]).
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::RoleKind;
+use super::excitation::{
+    Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, check_order, read_table,
+};
+use super::file::SprocketFile;
+use super::validate::Checker;
+
+/// The governor's natural frequency when the scene gives neither gains nor
+/// a bandwidth, Hz: a choice, not derived from the drive. It should stay
+/// well below the drive's lowest span frequency, so that the governor holds
+/// the mean speed and leaves the tooth-passing dynamics alone.
+pub const DEFAULT_GOVERNOR_BANDWIDTH_HZ: f64 = 2.0;
+
+/// A driver turned by a torque under a PI speed governor, as written
+/// (`[sprockets.governor]` under a `role = "driver"` sprocket, whose
+/// `speed_rpm` and `ramp_s` become the governor's target).
+#[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
+#[serde(deny_unknown_fields)]
+pub struct GovernorFile {
+    /// Constant drive torque, N·m, counter-clockwise positive (default 0).
+    #[serde(default)]
+    pub drive_torque_n_m: f64,
+    /// A drive torque in the driver's angle, as a harmonic series
+    /// (`[[sprockets.governor.drive_harmonics]]`), added to the constant one.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub drive_harmonics: Vec<LoadHarmonicFile>,
+    /// A drive torque in the driver's angle, tabled over one revolution in a
+    /// CSV file (`sprockets.governor.drive_table`, the format of a
+    /// `load_table`), added to the constant one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub drive_table: Option<LoadTableFile>,
+    /// Proportional gain K_p, N·m per rad/s (with `ki_n_m_rad`, instead of
+    /// `bandwidth_hz`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub kp_n_m_s_rad: Option<f64>,
+    /// Integral gain K_i, N·m per rad (with `kp_n_m_s_rad`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ki_n_m_rad: Option<f64>,
+    /// The closed loop's natural frequency f_n, Hz, critically damped: K_p =
+    /// 2 ω_n J, K_i = ω_n² J with ω_n = 2π f_n and J the drive's inertia
+    /// referred to the driver (default [`DEFAULT_GOVERNOR_BANDWIDTH_HZ`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bandwidth_hz: Option<f64>,
+}
+
+/// How a governor's gains are set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum GovernorGains {
+    /// Given: K_p, N·m·s/rad, and K_i, N·m/rad.
+    Given {
+        /// K_p, N·m per rad/s.
+        kp_n_m_s_rad: f64,
+        /// K_i, N·m per rad.
+        ki_n_m_rad: f64,
+    },
+    /// From the closed loop's natural frequency, Hz (critical damping).
+    Bandwidth {
+        /// f_n, Hz.
+        hz: f64,
+    },
+}
+
+/// A validated governor: the drive torque and the gains.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GovernorSpec {
+    /// Constant drive torque, N·m.
+    pub drive_torque_n_m: f64,
+    /// Drive torque in the driver's angle: a harmonic series, N·m.
+    pub drive_harmonics: Vec<Harmonic>,
+    /// Drive torque in the driver's angle: a table.
+    pub drive_table: Option<LoadTable>,
+    /// The gains.
+    pub gains: GovernorGains,
+}
+
+/// Validates sprocket `i`'s governor, if any (role `kind`); a table's file
+/// is read relative to `base_dir`.
+pub(super) fn check_governor(
+    c: &mut Checker,
+    f: &SprocketFile,
+    i: usize,
+    kind: Option<RoleKind>,
+    base_dir: Option<&Path>,
+) -> Option<GovernorSpec> {
+    let g = f.governor.as_ref()?;
+    let p = |field: &str| format!("sprockets[{i}].governor.{field}");
+    if kind != Some(RoleKind::Driver) {
+        c.fail(
+            format!("sprockets[{i}].governor"),
+            "is allowed only for role = \"driver\" (it turns the driver by a torque)",
+        );
+    }
+    if !f.speed_harmonics.is_empty() {
+        c.fail(
+            format!("sprockets[{i}].speed_harmonics"),
+            "is not allowed on a driver with a governor (its speed is not prescribed; give a drive torque in its angle with governor.drive_harmonics)",
+        );
+    }
+    let drive_torque_n_m = c.finite(&p("drive_torque_n_m"), g.drive_torque_n_m);
+    let drive_harmonics = g
+        .drive_harmonics
+        .iter()
+        .enumerate()
+        .map(|(k, h)| {
+            let at = |field: &str| p(&format!("drive_harmonics[{k}].{field}"));
+            Harmonic {
+                order: check_order(c, &at("order"), h.order),
+                amplitude: c.finite(&at("amplitude_n_m"), h.amplitude_n_m),
+                phase_rad: c.finite(&at("phase_deg"), h.phase_deg).to_radians(),
+            }
+        })
+        .collect();
+    let drive_table = g.drive_table.as_ref().and_then(|t| {
+        let scale = c.finite(&p("drive_table.scale"), t.scale);
+        read_table(c, &p("drive_table.file"), &t.file, base_dir).map(|mut table| {
+            for m in &mut table.torques_n_m {
+                *m *= scale;
+            }
+            table
+        })
+    });
+    let gains = match (g.kp_n_m_s_rad, g.ki_n_m_rad, g.bandwidth_hz) {
+        (None, None, hz) => GovernorGains::Bandwidth {
+            hz: c.positive(
+                &p("bandwidth_hz"),
+                hz.unwrap_or(DEFAULT_GOVERNOR_BANDWIDTH_HZ),
+            ),
+        },
+        (Some(kp), Some(ki), None) => GovernorGains::Given {
+            kp_n_m_s_rad: c.positive(&p("kp_n_m_s_rad"), kp),
+            ki_n_m_rad: c.non_negative(&p("ki_n_m_rad"), ki),
+        },
+        (kp, _, hz) => {
+            let (field, why) = if hz.is_some() {
+                (
+                    if kp.is_some() {
+                        "kp_n_m_s_rad"
+                    } else {
+                        "ki_n_m_rad"
+                    },
+                    "cannot be given with bandwidth_hz: give either both gains (kp_n_m_s_rad, ki_n_m_rad) or a bandwidth",
+                )
+            } else if kp.is_some() {
+                ("ki_n_m_rad", "is required with kp_n_m_s_rad")
+            } else {
+                ("kp_n_m_s_rad", "is required with ki_n_m_rad")
+            };
+            c.fail(p(field), why);
+            GovernorGains::Bandwidth {
+                hz: DEFAULT_GOVERNOR_BANDWIDTH_HZ,
+            }
+        }
+    };
+    Some(GovernorSpec {
+        drive_torque_n_m,
+        drive_harmonics,
+        drive_table,
+        gains,
+    })
+}
