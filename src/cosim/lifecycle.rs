@@ -238,6 +238,7 @@ impl ChainDrive {
             start: vec![[0.0; 2]; n],
             external: vec![[0.0; 2]; n],
             world_time_s: 0.0,
+            clock_steps: 0,
             frame_dt_s: 0.0,
             in_frame: false,
             hook_calls: AtomicU64::new(0),

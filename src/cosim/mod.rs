@@ -214,6 +214,9 @@ pub struct ChainDrive {
     contacts: BodyContacts,
     /// World time the chain has been advanced to, s.
     world_time_s: f64,
+    /// Chain steps taken since the drive was inserted: its clock is
+    /// `t = steps × dt` from the start, as `Simulation::run` counts it.
+    clock_steps: u64,
     /// The frame's dt given to `before_step`, s (0 before the first frame).
     frame_dt_s: f64,
     /// Whether `before_step` set the bodies up and `after_step` has not run yet.
@@ -475,8 +478,8 @@ impl ChainDrive {
         let searched = Instant::now();
         // Substeps at the scene's dt until the world's frame end; the chain's
         // clock lags the world's by less than one substep and is counted from
-        // the frame's start as `Simulation::run` counts it, so a drive with no
-        // outside contact evolves exactly as it does standalone.
+        // the start (steps × dt) as `Simulation::run` counts it, so a drive
+        // with no outside contact evolves exactly as it does standalone.
         self.world_time_s += dt_s;
         let dt = self.scene.solver.dt_s;
         let t0 = self.state.t_s;
@@ -504,7 +507,8 @@ impl ChainDrive {
             if with_bodies {
                 self.contacts.integrate(dt);
             }
-            self.state.t_s = t0 + step as f64 * dt;
+            self.clock_steps += 1;
+            self.state.t_s = self.clock_steps as f64 * dt;
             if moving {
                 let tau = step as f64 * dt;
                 let chain_force = &self.forces.output().chain_force;

@@ -92,7 +92,7 @@ impl Free {
                 .sprockets
                 .iter()
                 .enumerate()
-                .filter(|(_, s)| s.speed_law.is_none() && s.inv_inertia > 0.0)
+                .filter(|(_, s)| !s.held_at_rest() && s.inv_inertia > 0.0)
                 .map(|(j, _)| j)
                 .collect(),
         }
@@ -100,9 +100,16 @@ impl Free {
 }
 
 /// Whether the Newton solve handles this drive: rollers and sprockets only
-/// (further bodies and scalar states are left to the relaxation).
+/// (further bodies and scalar states are left to the relaxation), at least
+/// one of them held (a driver or a governed driver).
 pub(crate) fn applies(model: &DriveModel, state: &DriveState) -> bool {
-    model.bodies.is_empty() && model.scalars.is_empty() && state.x.len() >= 3
+    // Without a held sprocket (a co-simulation whose motor is a body, its
+    // torque not yet known) every sprocket turns freely and a load has no
+    // reaction: no rest state to solve for; the relaxation handles it.
+    model.bodies.is_empty()
+        && model.scalars.is_empty()
+        && state.x.len() >= 3
+        && model.sprockets.iter().any(|s| s.held_at_rest())
 }
 
 /// Residual r = (roller forces, free sprockets' torques) at `state`, into

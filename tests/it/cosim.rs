@@ -554,11 +554,20 @@ fn a_box_held_by_a_stop_drags_on_the_sliding_chain_with_mu_m_g() {
     ));
     // A long window: the force scatters frame to frame as rollers pass under
     // the box (measured: 30-frame means of f_x between +0.1 % and +6.2 % of
-    // μ m g; 4 s mean +2.5 %).
-    let (frames, window) = (300, 240);
+    // μ m g; a 4 s mean moved from +2.1 % to +3.4 % with a last-bit change
+    // of the chain's clock, so the mean is taken over 9 s).
+    let (frames, window) = (600, 540);
     let mut force = [0.0f64; 2];
+    let (mut farthest, mut mean_speed) = (0.0f64, 0.0);
     for frame in 0..frames {
         drive.step_world(&mut w, &(), &()).expect("frame");
+        if frame >= frames - window {
+            // Held: at the stop in every frame, at rest on average (a roller
+            // passing under it kicks it by up to 0.03 m/s for a frame).
+            let b = &w.bodies[bx];
+            farthest = farthest.max((b.translation().x - 0.6).abs());
+            mean_speed += b.linvel().x / window as f64;
+        }
         if frame >= frames - window {
             // What the box does to the rollers (the strip's own pushes aside).
             let f = drive.chain_force_on(bx).expect("carried");
@@ -566,13 +575,8 @@ fn a_box_held_by_a_stop_drags_on_the_sliding_chain_with_mu_m_g() {
             force[1] -= f[1] / window as f64;
         }
     }
-    let b = &w.bodies[bx];
-    assert!(b.linvel().x.abs() < 0.01, "box not held: {}", b.linvel().x);
-    assert!(
-        abs_diff_eq!(b.translation().x, 0.6, epsilon = 2e-3),
-        "box at {}",
-        b.translation().x
-    );
+    assert!(mean_speed.abs() < 0.01, "box not held: {mean_speed} m/s");
+    assert!(farthest < 2e-3, "box {farthest} m from the stop");
     let weight = HEAVY_BOX_KG * 9.81;
     let mu = 0.5 * (0.5 + 0.8);
     // The normal force is the weight (measured: 0.35 % over it: the stop

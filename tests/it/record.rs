@@ -504,12 +504,13 @@ fn a_run_that_blows_up_leaves_a_readable_recording() {
     );
 
     // A run that fails before t = 0 (the static equilibrium cannot meet a
-    // tolerance below rounding) still leaves a finished file: metadata and
-    // channels, no messages.
+    // tolerance below rounding: 1e-17 of the pretension is under half an
+    // ulp, so only an exact hit would pass) still leaves a finished file:
+    // metadata and channels, no messages.
     let unreachable = dir.path().join("unreachable.toml");
     std::fs::write(
         &unreachable,
-        format!("{L60MC_TOML}\n[equilibrium]\ntension_tolerance = 1e-12\n"),
+        format!("{L60MC_TOML}\n[equilibrium]\ntension_tolerance = 1e-17\n"),
     )
     .expect("write scene");
     let path = dir.path().join("setup.mcap");
