@@ -49,6 +49,19 @@ pub struct FacePoint {
     pub piece: usize,
 }
 
+impl FacePoint {
+    /// The point `c` of the body piece with working normal `n`, as seen from
+    /// `p`: the signed distance is the projection of `p − c` on `n`.
+    fn at(p: [f64; 2], c: [f64; 2], n: [f64; 2]) -> Self {
+        Self {
+            distance_m: dot(sub(p, c), n),
+            point_m: c,
+            normal: n,
+            piece: 0,
+        }
+    }
+}
+
 /// Why a face cannot be built.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
 pub enum ShoeError {
@@ -233,15 +246,7 @@ impl Piece {
                 let c = [a[0] + t * ab[0], a[1] + t * ab[1]];
                 let len = len2.sqrt();
                 let n = [-side * ab[1] / len, side * ab[0] / len];
-                (
-                    FacePoint {
-                        distance_m: dot(sub(p, c), n),
-                        point_m: c,
-                        normal: n,
-                        piece: 0,
-                    },
-                    inside,
-                )
+                (FacePoint::at(p, c, n), inside)
             }
             Self::Arc {
                 center_m,
@@ -267,15 +272,7 @@ impl Piece {
                 ];
                 // Going counter-clockwise the left is towards the centre.
                 let n = [-side * radial[0], -side * radial[1]];
-                (
-                    FacePoint {
-                        distance_m: dot(sub(p, c), n),
-                        point_m: c,
-                        normal: n,
-                        piece: 0,
-                    },
-                    inside,
-                )
+                (FacePoint::at(p, c, n), inside)
             }
         }
     }

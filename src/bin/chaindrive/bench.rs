@@ -90,11 +90,8 @@ fn soak(
     profile: Option<ProfileKind>,
     dt: Option<crate::DtArg>,
 ) -> anyhow::Result<ExitCode> {
-    anyhow::ensure!(
-        duration.is_finite() && duration > 0.0,
-        "--duration must be > 0"
-    );
-    anyhow::ensure!(window.is_finite() && window > 0.0, "--window must be > 0");
+    crate::ensure_positive("--duration", duration)?;
+    crate::ensure_positive("--window", window)?;
     let (dt_s, dt_auto) = crate::DtArg::overrides(dt);
     let overrides = Overrides {
         profile,
@@ -103,12 +100,8 @@ fn soak(
         dt_auto,
         ..Overrides::default()
     };
-    let scene = match crate::load_scene(path, &overrides)? {
-        Ok(s) => s,
-        Err(lines) => {
-            eprintln!("{lines}");
-            return Ok(ExitCode::FAILURE);
-        }
+    let Some(scene) = crate::load_scene_or_report(path, &overrides)? else {
+        return Ok(ExitCode::FAILURE);
     };
     let mut sim = Simulation::new(&scene)?;
     let mut obs = Soak::new(window, sim.model.segments.len());

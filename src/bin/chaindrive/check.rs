@@ -28,12 +28,8 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         dt_auto,
         ..Default::default()
     };
-    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
-        Ok(s) => s,
-        Err(lines) => {
-            eprintln!("{lines}");
-            return Ok(ExitCode::FAILURE);
-        }
+    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+        return Ok(ExitCode::FAILURE);
     };
     let name = args.scene.as_ref().map_or_else(
         || "<embedded l60mc.toml>".to_owned(),

@@ -43,23 +43,11 @@ pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
         profile: args.profile,
         ..Default::default()
     };
-    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
-        Ok(s) => s,
-        Err(lines) => {
-            eprintln!("{lines}");
-            return Ok(ExitCode::FAILURE);
-        }
+    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+        return Ok(ExitCode::FAILURE);
     };
-    anyhow::ensure!(
-        args.duration.is_finite() && args.duration > 0.0,
-        "--duration must be a finite number > 0, got {}",
-        args.duration
-    );
-    anyhow::ensure!(
-        args.warmup.is_finite() && args.warmup >= 0.0,
-        "--warmup must be a finite number >= 0, got {}",
-        args.warmup
-    );
+    crate::ensure_positive("--duration", args.duration)?;
+    crate::ensure_non_negative("--warmup", args.warmup)?;
     anyhow::ensure!(args.jobs >= 1, "--jobs must be at least 1");
     let mut settings = Settings::default_for(args.duration);
     settings.warmup_s = args.warmup;

@@ -129,6 +129,35 @@ pub(crate) fn load_scene(
     )
 }
 
+/// [`load_scene`], with an invalid scene's field errors printed on stderr
+/// and `None` returned, for the command to exit with failure.
+pub(crate) fn load_scene_or_report(
+    path: Option<&std::path::Path>,
+    overrides: &chaindrive::scene::Overrides,
+) -> anyhow::Result<Option<chaindrive::scene::Scene>> {
+    Ok(load_scene(path, overrides)?
+        .map_err(|lines| eprintln!("{lines}"))
+        .ok())
+}
+
+/// An error unless the option `flag`'s value is a finite number > 0.
+pub(crate) fn ensure_positive(flag: &str, value: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        value.is_finite() && value > 0.0,
+        "{flag} must be a finite number > 0, got {value}"
+    );
+    Ok(())
+}
+
+/// An error unless the option `flag`'s value is a finite number >= 0.
+pub(crate) fn ensure_non_negative(flag: &str, value: f64) -> anyhow::Result<()> {
+    anyhow::ensure!(
+        value.is_finite() && value >= 0.0,
+        "{flag} must be a finite number >= 0, got {value}"
+    );
+    Ok(())
+}
+
 /// `file:line:col: path: reason` when the field was located, else `file: path: reason`.
 fn with_file_name(name: &str, line: &str) -> String {
     if line.starts_with(|c: char| c.is_ascii_digit()) {

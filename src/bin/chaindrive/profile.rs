@@ -36,16 +36,8 @@ pub struct ProfileArgs {
 const STEP_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
-    anyhow::ensure!(
-        args.pitch.is_finite() && args.pitch > 0.0,
-        "--pitch must be a finite number > 0, got {}",
-        args.pitch
-    );
-    anyhow::ensure!(
-        args.roller_diameter.is_finite() && args.roller_diameter > 0.0,
-        "--roller-diameter must be a finite number > 0, got {}",
-        args.roller_diameter
-    );
+    crate::ensure_positive("--pitch", args.pitch)?;
+    crate::ensure_positive("--roller-diameter", args.roller_diameter)?;
     anyhow::ensure!(
         (3..=10_000).contains(&args.teeth),
         "--teeth must lie in 3..=10000, got {}",

@@ -37,23 +37,11 @@ pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
         profile: args.profile,
         ..Default::default()
     };
-    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
-        Ok(s) => s,
-        Err(lines) => {
-            eprintln!("{lines}");
-            return Ok(ExitCode::FAILURE);
-        }
+    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+        return Ok(ExitCode::FAILURE);
     };
-    anyhow::ensure!(
-        args.horizon.is_finite() && args.horizon > 0.0,
-        "--horizon must be a finite number > 0, got {}",
-        args.horizon
-    );
-    anyhow::ensure!(
-        args.warmup.is_finite() && args.warmup >= 0.0,
-        "--warmup must be a finite number >= 0, got {}",
-        args.warmup
-    );
+    crate::ensure_positive("--horizon", args.horizon)?;
+    crate::ensure_non_negative("--warmup", args.warmup)?;
     let mut settings = Settings::default_for(args.horizon);
     settings.warmup_s = args.warmup;
     anyhow::ensure!(
