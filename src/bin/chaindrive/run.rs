@@ -12,7 +12,9 @@ use anyhow::Context;
 use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
-use chaindrive::sim::checkpoint::{Checkpoint, read_checkpoint, write_checkpoint};
+use chaindrive::sim::checkpoint::{
+    Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
+};
 use chaindrive::sim::{
     Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
 };
@@ -549,14 +551,9 @@ fn run_with_checkpoints(
 ) -> anyhow::Result<RunOutcome> {
     let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
-    let last_step = (duration / dt).round();
     loop {
         let until = match checkpoints {
-            Some((_, every)) => {
-                let per = (every / dt).round().max(1.0);
-                let next = ((sim.state.t_s / dt).round() / per).floor() * per + per;
-                next.min(last_step) * dt
-            }
+            Some((_, every)) => next_checkpoint_s(sim.state.t_s, dt, every, duration),
             None => duration,
         };
         let piece = sim.run(until, sampling.rate.every, observer, Some(stop))?;
@@ -565,7 +562,7 @@ fn run_with_checkpoints(
         so_far.max_penetration_m = so_far.max_penetration_m.max(piece.max_penetration_m);
         so_far.interrupted = piece.interrupted;
         merge_stage_times(&mut so_far.stage_times, piece.stage_times);
-        let done = piece.interrupted || (sim.state.t_s / dt).round() >= last_step;
+        let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
         if let Some((path, _)) = checkpoints
             && (piece.interrupted || !done)
         {
