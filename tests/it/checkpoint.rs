@@ -385,9 +385,10 @@ mod cli {
     /// Every message of an MCAP file by topic: log time → payload (a file
     /// cut short read up to its damage).
     #[cfg(feature = "record")]
-    fn messages(
-        path: &std::path::Path,
-    ) -> std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>> {
+    type Topics = std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>;
+
+    #[cfg(feature = "record")]
+    fn messages(path: &std::path::Path) -> Topics {
         let bytes = std::fs::read(path).expect("recording");
         let mut topics: std::collections::BTreeMap<_, std::collections::BTreeMap<_, _>> =
             std::collections::BTreeMap::new();
@@ -407,102 +408,130 @@ mod cli {
         topics
     }
 
-    /// A recorded run killed outright (SIGKILL, no handler runs) after a
-    /// checkpoint and resumed with the same `--record`: the recording holds
-    /// the same messages, per channel and bit for bit, as the run that never
-    /// stopped; the series and summary too.
+    /// A recorded run stopped after a checkpoint, outright (SIGKILL: no
+    /// handler runs, the checkpoint is the last periodic one) or cleanly
+    /// (SIGTERM: the run writes a checkpoint where it stopped and finishes
+    /// its outputs), then resumed with the same `--record` and `--series`:
+    /// the recording holds the same messages, per channel and bit for bit,
+    /// as the run that never stopped; the series and summary too.
     #[cfg(feature = "record")]
     #[test]
-    fn a_killed_recorded_run_resumes_its_recording() {
-        let dir = tempfile::tempdir().expect("tmp");
-        let p = |n: &str| dir.path().join(n).display().to_string();
-        let base = ["run", "--quiet", "--duration", "0.3", "--window", "0.05"];
-        let with = |extra: &[&str]| -> Vec<String> {
-            base.iter().chain(extra).map(|s| (*s).to_owned()).collect()
-        };
+    fn a_stopped_recorded_run_resumes_its_recording() {
         fn args(v: &[String]) -> Vec<&str> {
             v.iter().map(String::as_str).collect()
         }
-        let whole = with(&["--record", &p("a.mcap"), "--summary", &p("a.json")]);
+        let dir = tempfile::tempdir().expect("tmp");
+        let p = |n: &str| dir.path().join(n).display().to_string();
+        let base = ["run", "--quiet", "--duration", "0.5", "--window", "0.05"];
+        let with = |extra: &[&str]| -> Vec<String> {
+            base.iter().chain(extra).map(|s| (*s).to_owned()).collect()
+        };
+        let whole = with(&[
+            "--record",
+            &p("a.mcap"),
+            "--series",
+            &p("a.csv"),
+            "--summary",
+            &p("a.json"),
+        ]);
         let out = chaindrive(&args(&whole));
         assert!(out.status.success(), "{}", stderr(&out));
+        let a = messages(&dir.path().join("a.mcap"));
+        // 501 samples (t = 0 … 0.5 s at 1 kHz) on a per-sample channel.
+        assert_eq!(a.get("/sprockets").map(|m| m.len()), Some(501));
+        let counts = |m: &Topics| {
+            m.iter()
+                .map(|(t, v)| (t.clone(), v.len()))
+                .collect::<Vec<_>>()
+        };
 
-        let ck = p("run.ckpt");
-        let killed = with(&[
-            "--record",
-            &p("b.mcap"),
-            "--series",
-            &p("b.csv"),
-            "--checkpoint",
-            &ck,
-            "--checkpoint-every",
-            "0.05",
-        ]);
-        let mut child = crate::common::command()
-            .args(args(&killed))
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .expect("run starts");
-        let started = std::time::Instant::now();
-        while !std::path::Path::new(&ck).exists() {
+        for signal in ["-KILL", "-TERM"] {
+            let n = |name: &str| p(&format!("{}{name}", &signal[1..]));
+            let ck = n(".ckpt");
+            let (mcap, csv, json) = (n(".mcap"), n(".csv"), n(".json"));
+            let first = with(&[
+                "--record",
+                &mcap,
+                "--series",
+                &csv,
+                "--summary",
+                &json,
+                "--checkpoint",
+                &ck,
+                "--checkpoint-every",
+                "0.05",
+            ]);
+            let mut child = crate::common::command()
+                .args(args(&first))
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .expect("run starts");
+            let started = std::time::Instant::now();
+            while !std::path::Path::new(&ck).exists() {
+                assert!(
+                    child.try_wait().expect("wait").is_none(),
+                    "{signal}: the run ended before its first checkpoint"
+                );
+                assert!(started.elapsed().as_secs() < 300, "no checkpoint written");
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            let kill = std::process::Command::new("kill")
+                .args([signal, &child.id().to_string()])
+                .status()
+                .expect("kill");
+            assert!(kill.success());
+            let status = child.wait().expect("reaped");
+            if signal == "-TERM" {
+                // Stopped cleanly: its outputs are whole and readable.
+                assert_eq!(status.code(), Some(130));
+                let summary = crate::common::read_json(std::path::Path::new(&json));
+                assert_eq!(summary["interrupted"], true);
+                let path = std::path::Path::new(&mcap);
+                assert!(chaindrive::record::read::is_complete_mcap_file(path).expect("read"));
+                let rec = chaindrive::record::read::read_recording(path).expect("readable");
+                assert_eq!(rec.end_status, "interrupted");
+            }
+
+            let resumed = with(&[
+                "--record",
+                &mcap,
+                "--series",
+                &csv,
+                "--summary",
+                &json,
+                "--resume",
+                &ck,
+            ]);
+            let out = chaindrive(&args(&resumed));
+            assert!(out.status.success(), "{signal}: {}", stderr(&out));
             assert!(
-                child.try_wait().expect("wait").is_none(),
-                "the run ended before its first checkpoint"
+                !std::path::Path::new(&format!("{mcap}.before-resume")).exists(),
+                "the earlier file set aside is removed"
             );
-            assert!(started.elapsed().as_secs() < 300, "no checkpoint written");
-            std::thread::sleep(std::time::Duration::from_millis(5));
+            assert_eq!(
+                without_wall_times(&dir.path().join("a.json")),
+                without_wall_times(std::path::Path::new(&json)),
+                "{signal}"
+            );
+            let b = messages(std::path::Path::new(&mcap));
+            assert_eq!(counts(&a), counts(&b), "{signal}");
+            assert!(a == b, "{signal}: the messages differ");
+            assert!(
+                chaindrive::record::read::is_complete_mcap_file(std::path::Path::new(&mcap))
+                    .expect("read")
+            );
+            assert!(
+                std::fs::read(p("a.csv")).expect("a") == std::fs::read(&csv).expect("b"),
+                "{signal}: the series differ"
+            );
         }
-        child.kill().expect("SIGKILL");
-        child.wait().expect("reaped");
 
-        let resumed = with(&[
-            "--record",
-            &p("b.mcap"),
-            "--series",
-            &p("b.csv"),
-            "--summary",
-            &p("b.json"),
-            "--resume",
-            &ck,
-        ]);
-        let out = chaindrive(&args(&resumed));
-        assert!(out.status.success(), "{}", stderr(&out));
-        assert!(
-            !dir.path().join("b.mcap.before-resume").exists(),
-            "the earlier file set aside is removed"
-        );
-        assert_eq!(
-            without_wall_times(&dir.path().join("a.json")),
-            without_wall_times(&dir.path().join("b.json"))
-        );
-        let (a, b) = (
-            messages(&dir.path().join("a.mcap")),
-            messages(&dir.path().join("b.mcap")),
-        );
-        let counts =
-            |m: &std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>| {
-                m.iter()
-                    .map(|(t, v)| (t.clone(), v.len()))
-                    .collect::<Vec<_>>()
-            };
-        assert_eq!(counts(&a), counts(&b));
-        // 301 samples (t = 0 … 0.3 s at 1 kHz) on a per-sample channel.
-        assert_eq!(a.get("/sprockets").map(|m| m.len()), Some(301));
-        assert!(a == b, "the messages differ");
-        // The continued file is complete (summary and footer).
-        assert!(
-            chaindrive::record::read::is_complete_mcap_file(&dir.path().join("b.mcap"))
-                .expect("read")
-        );
-        // The series continued through the kill too (its header row and 301 rows).
-        let series = std::fs::read_to_string(p("b.csv")).expect("series");
-        assert_eq!(series.lines().count(), 302);
-
-        // Resumed with other channels: refused, and the file is left alone.
+        // Resumed with other channels: refused, the recording left alone.
+        let ck = p("KILL.ckpt");
         let out = chaindrive(&args(&with(&[
             "--record",
-            &p("b.mcap"),
+            &p("other.mcap"),
             "--record-channels",
             "sprockets",
             "--resume",
