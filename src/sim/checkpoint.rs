@@ -374,6 +374,22 @@ mod tests {
     }
 
     #[test]
+    fn pieces_end_at_whole_multiples_of_the_period() {
+        // dt = 1e-5 s, S = 0.05 s = 5000 steps, a 0.12 s run (12 000 steps).
+        let next = |t: f64| next_checkpoint_s(t, 1e-5, 0.05, 0.12);
+        let steps = |t: f64| (t / 1e-5).round() as u64;
+        assert_eq!(steps(next(0.0)), 5000);
+        assert_eq!(steps(next(0.05)), 10_000);
+        // Resumed from a checkpoint taken when interrupted (step 7 345): the
+        // next one is still at 2S.
+        assert_eq!(steps(next(0.073_45)), 10_000);
+        assert_eq!(steps(next(0.1)), 12_000, "not past the run's end");
+        // A period shorter than a step is one step.
+        assert_eq!(steps(next_checkpoint_s(0.0, 1e-5, 1e-7, 1.0)), 1);
+        assert!(run_is_done(0.12, 1e-5, 0.12) && !run_is_done(0.119_99, 1e-5, 0.12));
+    }
+
+    #[test]
     fn another_version_or_format_is_refused() {
         let dir = tempfile::tempdir().expect("tmp");
         let scene = Scene::l60mc();

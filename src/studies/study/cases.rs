@@ -389,7 +389,7 @@ fn simulate(
         so_far.interrupted = piece.interrupted;
         let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
         if let Some((path, _)) = checkpoint
-            && !(done && !piece.interrupted)
+            && (piece.interrupted || !done)
         {
             let ck = Checkpoint {
                 sim: sim.snapshot().map_err(|e| e.to_string())?,
