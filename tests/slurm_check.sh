@@ -11,9 +11,9 @@
 # Installs `slurm-wlm` and `munge` from the machine's Debian packages where
 # they are missing (needs root and a package index); where it cannot, it
 # says so and exits non-zero. Every daemon it starts is stopped by its
-# process id when it ends. pyarrow comes from a virtual environment under
-# ${XDG_CACHE_HOME:-~/.cache}/chaindrive/pyarrow-venv (network access for
-# `pip` the first time). About a minute once everything is installed.
+# process id when it ends. pyarrow comes from tests/pyarrow_check.sh's
+# virtual environment (network access for `pip` the first time). About a
+# minute once everything is installed.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bin=$(realpath "${1:-target/release/chaindrive}")
@@ -42,11 +42,7 @@ if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null \
 fi
 
 # --- pyarrow ------------------------------------------------------------------
-venv=${XDG_CACHE_HOME:-$HOME/.cache}/chaindrive/pyarrow-venv
-if ! "$venv/bin/python" -c 'import pyarrow.parquet' 2>/dev/null; then
-  python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet pyarrow
-fi
+source tests/pyarrow_check.sh
 
 # --- a single-node cluster on localhost --------------------------------------
 dir=$(mktemp -d /tmp/chaindrive-slurm.XXXXXX)
@@ -145,26 +141,5 @@ done
 [[ -z $(squeue -h -j "$job" 2>/dev/null) ]] || { echo "slurm_check: FAILED: the array did not finish in 3 minutes" >&2; exit 1; }
 "$bin" study collect "$dir/study"
 
-"$venv/bin/python" - "$dir/study" <<'PY'
-import csv, sys
-import pyarrow.parquet as pq
-
-d = sys.argv[1]
-t = pq.read_table(f"{d}/results.parquet")
-rows = list(csv.reader(open(f"{d}/results.csv")))
-header, body = rows[0], rows[1:]
-assert t.column_names == header, (t.column_names, header)
-assert t.num_rows == len(body) == 4, (t.num_rows, len(body))
-assert t.column("status").to_pylist() == ["ok"] * 4, t.column("status").to_pylist()
-assert t.column("case").to_pylist() == [0, 1, 2, 3]
-for name in header:
-    for value, cell in zip(t.column(name).to_pylist(), (r[header.index(name)] for r in body)):
-        if value is None:
-            assert cell == "", (name, value, cell)
-        elif isinstance(value, float):
-            assert value == float(cell), (name, value, cell)  # shortest round-trip text
-        else:
-            assert str(value) == cell, (name, value, cell)
-print(f"slurm_check: results.parquet: {t.num_rows} rows x {t.num_columns} columns, every case ok, equal to results.csv")
-PY
+check_results "$dir/study" 4 slurm_check
 echo "slurm_check: ok"

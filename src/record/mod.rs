@@ -45,6 +45,15 @@
 //! readers (Foxglove, Rerun) need the index: [`recover`] rewrites it whole
 //! (`chaindrive recover`).
 //!
+//! A run resumed from a checkpoint continues its recording
+//! ([`Recorder::continued`]): an MCAP file cannot be appended to once it
+//! has its footer, so the resumed run writes a new file that starts with
+//! every message the earlier file holds up to the checkpoint
+//! ([`RecordMark`], taken by [`Recorder::mark`], which also writes the open
+//! chunk out so that a process killed after the checkpoint still leaves
+//! those messages in the file) and goes on from there. The result holds the
+//! same messages as a recording of the run that never stopped.
+//!
 //! Reading a recording back is [`read`]'s job.
 //!
 //! What it does not do: decimate on its own (it records every sample the run
@@ -249,6 +258,21 @@ pub enum RunEnd<'a> {
     Failed(&'a str),
 }
 
+/// Where a recording stood when a checkpoint was taken
+/// ([`Recorder::mark`]): what [`Recorder::continued`] copies from the
+/// earlier file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct RecordMark {
+    /// Samples recorded.
+    pub frames: u64,
+    /// Log time of the last one, ns.
+    pub last_t_ns: u64,
+    /// Messages written (the last message's sequence number).
+    pub messages: u32,
+    /// The channels recorded ([`Channels::bits`]).
+    pub channels: u16,
+}
+
 /// Why a recording could not be written.
 #[derive(Debug, thiserror::Error)]
 pub enum RecordError {
@@ -277,6 +301,9 @@ pub enum RecordError {
     /// The writer thread stopped before the run ended.
     #[error("the recording's writer thread stopped unexpectedly")]
     WriterStopped,
+    /// The earlier recording of a resumed run cannot be continued.
+    #[error("cannot continue the recording: {0}")]
+    Continue(String),
     /// A message could not be encoded.
     #[error("encoding a {topic} message: {message}")]
     Encode {
@@ -346,6 +373,8 @@ enum Job {
     },
     /// One sample, with only the arrays the requested channels need.
     Frame(Box<Frame>),
+    /// Write the open chunk out and answer with the messages written so far.
+    Flush(std::sync::mpsc::SyncSender<u32>),
 }
 
 /// A copy of one sample.
@@ -428,6 +457,12 @@ impl<W: Write + Seek> Writer<W> {
                     self.flushed_ns = t_ns;
                     self.sink.writer.flush()?;
                 }
+                Ok(())
+            }
+            Job::Flush(done) => {
+                self.sink.writer.flush()?;
+                // The caller waits for this answer; gone, it wants none.
+                let _ = done.send(self.sink.sequence);
                 Ok(())
             }
         }
@@ -544,10 +579,14 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     segment_force: Vec<Option<f64>>,
     /// A failure to hand a job over (the writer thread stopped).
     lost: bool,
+    /// It continues an earlier file, whose static scene and outlines it
+    /// copied: the first sample writes none.
+    continued: bool,
 }
 
 fn add_channel<W: Write + Seek, T: Encode>(
     w: &mut mcap::Writer<W>,
+    topics: &mut BTreeMap<String, u16>,
     topic: &str,
 ) -> Result<u16, RecordError> {
     let (name, encoding, data) = match T::get_schema() {
@@ -559,7 +598,65 @@ fn add_channel<W: Write + Seek, T: Encode>(
     } else {
         w.add_schema(&name, &encoding, &data)?
     };
-    Ok(w.add_channel(schema, topic, &T::get_message_encoding(), &BTreeMap::new())?)
+    let id = w.add_channel(schema, topic, &T::get_message_encoding(), &BTreeMap::new())?;
+    topics.insert(topic.to_owned(), id);
+    Ok(id)
+}
+
+/// Copies the messages of the MCAP file `earlier` up to `mark` into `w`,
+/// each on the channel of the same topic, with its times and sequence
+/// number. A file cut short is read up to its damage.
+fn copy_messages<W: Write + Seek>(
+    w: &mut mcap::Writer<W>,
+    topics: &BTreeMap<String, u16>,
+    earlier: &[u8],
+    mark: &RecordMark,
+) -> Result<(), RecordError> {
+    use mcap::records::Record;
+    let options = mcap::read::Options::IgnoreEndMagic | mcap::read::Options::ValidateChunkCrcs;
+    let reader = mcap::read::ChunkFlattener::new_with_options(earlier, options)?;
+    let mut ids = BTreeMap::new();
+    let mut copied: u32 = 0;
+    for record in reader {
+        // A file cut short: what precedes the damage.
+        let Ok(record) = record else { break };
+        match record {
+            Record::Channel(c) => {
+                let Some(&id) = topics.get(&c.topic) else {
+                    return Err(RecordError::Continue(format!(
+                        "the earlier recording has channel {}, this run does not record it: resume with the same --record-channels",
+                        c.topic
+                    )));
+                };
+                ids.insert(c.id, id);
+            }
+            Record::Message { header, data }
+                if header.log_time <= mark.last_t_ns && copied < mark.messages =>
+            {
+                let Some(&channel_id) = ids.get(&header.channel_id) else {
+                    continue;
+                };
+                w.write_to_known_channel(
+                    &mcap::records::MessageHeader {
+                        channel_id,
+                        ..header
+                    },
+                    &data,
+                )?;
+                copied += 1;
+            }
+            Record::DataEnd(_) => break,
+            _ => {}
+        }
+    }
+    if copied != mark.messages {
+        return Err(RecordError::Continue(format!(
+            "the earlier recording holds {copied} messages up to t = {} s, the checkpoint counted {}: give the recording the run was writing",
+            mark.last_t_ns as f64 * 1e-9,
+            mark.messages
+        )));
+    }
+    Ok(())
 }
 
 /// Simulated time in integer nanoseconds (negative and NaN clamp to 0).
@@ -586,6 +683,40 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
     /// Starts a recording into `writer`: header, metadata, the scene file as
     /// an attachment, schemas and channels. Messages follow at every sample.
     pub fn new(writer: W, scene: &Scene, options: &RecordOptions) -> Result<Self, RecordError> {
+        Self::start(writer, scene, options, None)
+    }
+
+    /// Starts a recording into `writer` that continues `earlier`, the MCAP
+    /// file (complete, or cut short by a killed process) of the same run up
+    /// to a checkpoint taken at `mark`: header, metadata, attachment and
+    /// channels as [`Recorder::new`] writes them, then every message of
+    /// `earlier` up to the mark, then the resumed run's samples. Fails if
+    /// `earlier` lacks messages up to the mark or was recorded with other
+    /// channels.
+    pub fn continued(
+        writer: W,
+        scene: &Scene,
+        options: &RecordOptions,
+        earlier: &[u8],
+        mark: &RecordMark,
+    ) -> Result<Self, RecordError> {
+        if mark.channels != options.channels.bits() {
+            return Err(RecordError::Continue(format!(
+                "the run was recorded with other channels ({:?}, now {:?}): resume with the same --record-channels",
+                Channels::from_bits_truncate(mark.channels),
+                options.channels
+            )));
+        }
+        Self::start(writer, scene, options, Some((earlier, mark)))
+    }
+
+    fn start(
+        writer: W,
+        scene: &Scene,
+        options: &RecordOptions,
+        earlier: Option<(&[u8], &RecordMark)>,
+    ) -> Result<Self, RecordError> {
+        let mut topics = BTreeMap::new();
         let mut w = mcap::WriteOptions::new()
             .compression(Some(mcap::Compression::Zstd))
             .compression_level(3)
@@ -636,27 +767,49 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             let topic = c.topic();
             *slot = Some(match c {
                 Channel::Scene => {
-                    ids.static_scene =
-                        Some(add_channel::<_, SceneUpdate>(&mut w, STATIC_SCENE_TOPIC)?);
-                    add_channel::<_, SceneUpdate>(&mut w, topic)?
+                    ids.static_scene = Some(add_channel::<_, SceneUpdate>(
+                        &mut w,
+                        &mut topics,
+                        STATIC_SCENE_TOPIC,
+                    )?);
+                    add_channel::<_, SceneUpdate>(&mut w, &mut topics, topic)?
                 }
-                Channel::Transforms => add_channel::<_, FrameTransforms>(&mut w, topic)?,
-                Channel::Rollers => add_channel::<_, PointCloud>(&mut w, topic)?,
+                Channel::Transforms => {
+                    add_channel::<_, FrameTransforms>(&mut w, &mut topics, topic)?
+                }
+                Channel::Rollers => add_channel::<_, PointCloud>(&mut w, &mut topics, topic)?,
                 Channel::Outlines => {
                     for i in 0..scene.sprockets.len() {
-                        let id = add_channel::<_, PointCloud>(&mut w, &visual::outline_topic(i))?;
+                        let id = add_channel::<_, PointCloud>(
+                            &mut w,
+                            &mut topics,
+                            &visual::outline_topic(i),
+                        )?;
                         ids.outlines.push(id);
                     }
                     // Nothing at every sample: the per-sprocket channels above.
                     continue;
                 }
-                Channel::Links => add_channel::<_, ChainLinkForces>(&mut w, topic)?,
-                Channel::Contacts => add_channel::<_, ChainContactForces>(&mut w, topic)?,
-                Channel::Sprockets => add_channel::<_, SprocketSignals>(&mut w, topic)?,
-                Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, topic)?,
-                Channel::Guides => add_channel::<_, GuideSignals>(&mut w, topic)?,
-                Channel::Tensioners => add_channel::<_, TensionerSignals>(&mut w, topic)?,
+                Channel::Links => add_channel::<_, ChainLinkForces>(&mut w, &mut topics, topic)?,
+                Channel::Contacts => {
+                    add_channel::<_, ChainContactForces>(&mut w, &mut topics, topic)?
+                }
+                Channel::Sprockets => {
+                    add_channel::<_, SprocketSignals>(&mut w, &mut topics, topic)?
+                }
+                Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, &mut topics, topic)?,
+                Channel::Guides => add_channel::<_, GuideSignals>(&mut w, &mut topics, topic)?,
+                Channel::Tensioners => {
+                    add_channel::<_, TensionerSignals>(&mut w, &mut topics, topic)?
+                }
             });
+        }
+        let mut sequence = 0;
+        if let Some((bytes, mark)) = earlier {
+            copy_messages(&mut w, &topics, bytes, mark)?;
+            sequence = mark.messages;
+            // The copy is on disk before the earlier file may go.
+            w.flush()?;
         }
         // Top of the force colour scale, shared by the links and the rollers.
         let full_scale_n = visual::full_scale(2.0 * scene.chain.pretension_n);
@@ -664,7 +817,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             sink: Sink {
                 writer: w,
                 buf: Vec::with_capacity(64 << 10),
-                sequence: 0,
+                sequence,
             },
             ids,
             chain: visual::ChainScene::new(
@@ -705,12 +858,13 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             channels,
             tx: Some(tx),
             thread: Some(thread),
-            frames: 0,
-            last_t_ns: 0,
+            frames: earlier.map_or(0, |(_, m)| m.frames),
+            last_t_ns: earlier.map_or(0, |(_, m)| m.last_t_ns),
             started: false,
             scene: scene.clone(),
             segment_force: Vec::new(),
             lost: false,
+            continued: earlier.is_some_and(|(_, m)| m.frames > 0),
         })
     }
 
@@ -722,6 +876,20 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
     /// The channels being recorded.
     pub fn channels(&self) -> Channels {
         self.channels
+    }
+
+    /// Writes everything recorded so far to the file (the open chunk
+    /// included) and says where the recording stands, for a checkpoint.
+    pub fn mark(&mut self) -> Result<RecordMark, RecordError> {
+        let (done, answer) = std::sync::mpsc::sync_channel(1);
+        self.send(Job::Flush(done));
+        let messages = answer.recv().map_err(|_| RecordError::WriterStopped)?;
+        Ok(RecordMark {
+            frames: self.frames,
+            last_t_ns: self.last_t_ns,
+            messages,
+            channels: self.channels.bits(),
+        })
     }
 
     fn send(&mut self, job: Job) {
@@ -817,10 +985,11 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
         let ch = self.channels;
         if !self.started {
             self.started = true;
-            let static_scene = ch
-                .contains(Channels::SCENE)
+            // A continued recording has them from the earlier file.
+            let once = !self.continued;
+            let static_scene = (once && ch.contains(Channels::SCENE))
                 .then(|| Box::new(visual::static_scene(&self.scene, s.model, t_ns)));
-            let outlines = if ch.contains(Channels::OUTLINES) {
+            let outlines = if once && ch.contains(Channels::OUTLINES) {
                 s.model
                     .sprockets
                     .iter()

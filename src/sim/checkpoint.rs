@@ -221,6 +221,23 @@ impl Simulation {
     }
 }
 
+/// Where the next piece of a run checkpointed every `every_s` simulated
+/// seconds ends: the next whole multiple of the period (rounded to whole
+/// steps of `dt_s`, at least one) after `t_s`, but not after the run's end
+/// `duration_s`. A run stepped in these pieces checkpoints at t = k·S
+/// whether it started at 0 or was resumed.
+pub fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f64) -> f64 {
+    let last_step = (duration_s / dt_s).round();
+    let per = (every_s / dt_s).round().max(1.0);
+    let next = ((t_s / dt_s).round() / per).floor() * per + per;
+    next.min(last_step) * dt_s
+}
+
+/// Whether a run at `t_s` has reached its end `duration_s` (in whole steps).
+pub fn run_is_done(t_s: f64, dt_s: f64, duration_s: f64) -> bool {
+    (t_s / dt_s).round() >= (duration_s / dt_s).round()
+}
+
 /// A hash of the validated scene (its every field, numbers bit for bit):
 /// 16 hex digits of FNV-1a (64 bit) over its debug form. Stable for one
 /// version of the crate, which is all a checkpoint needs.
@@ -271,8 +288,10 @@ pub fn write_checkpoint<T: Serialize>(
 /// Writes the marker, the header and the body to a file beside `path`,
 /// syncs it and renames it over `path`.
 fn write_parts(path: &Path, header: &[u8], body: &[u8]) -> Result<(), CheckpointError> {
+    // The process id in the name: two processes writing the same
+    // checkpoint (a task and its requeued copy) never share the aside file.
     let mut aside = path.as_os_str().to_owned();
-    aside.push(".partial");
+    aside.push(format!(".partial.{}", std::process::id()));
     let aside = PathBuf::from(aside);
     let write = || -> std::io::Result<()> {
         let mut f = std::fs::File::create(&aside)?;
@@ -352,6 +371,22 @@ mod tests {
         );
         write_parts(&path, &header, &body).expect("written");
         path
+    }
+
+    #[test]
+    fn pieces_end_at_whole_multiples_of_the_period() {
+        // dt = 1e-5 s, S = 0.05 s = 5000 steps, a 0.12 s run (12 000 steps).
+        let next = |t: f64| next_checkpoint_s(t, 1e-5, 0.05, 0.12);
+        let steps = |t: f64| (t / 1e-5).round() as u64;
+        assert_eq!(steps(next(0.0)), 5000);
+        assert_eq!(steps(next(0.05)), 10_000);
+        // Resumed from a checkpoint taken when interrupted (step 7 345): the
+        // next one is still at 2S.
+        assert_eq!(steps(next(0.073_45)), 10_000);
+        assert_eq!(steps(next(0.1)), 12_000, "not past the run's end");
+        // A period shorter than a step is one step.
+        assert_eq!(steps(next_checkpoint_s(0.0, 1e-5, 1e-7, 1.0)), 1);
+        assert!(run_is_done(0.12, 1e-5, 0.12) && !run_is_done(0.119_99, 1e-5, 0.12));
     }
 
     #[test]

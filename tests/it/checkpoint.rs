@@ -381,4 +381,167 @@ mod cli {
             "--checkpoint-every 0",
         );
     }
+
+    /// Every message of an MCAP file by topic: log time → payload (a file
+    /// cut short read up to its damage).
+    #[cfg(feature = "record")]
+    type Topics = std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>;
+
+    #[cfg(feature = "record")]
+    fn messages(path: &std::path::Path) -> Topics {
+        let bytes = std::fs::read(path).expect("recording");
+        let mut topics: std::collections::BTreeMap<_, std::collections::BTreeMap<_, _>> =
+            std::collections::BTreeMap::new();
+        for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+            let m = m.expect("a message");
+            let old = topics
+                .entry(m.channel.topic.clone())
+                .or_default()
+                .insert(m.log_time, m.data.into_owned());
+            assert!(
+                old.is_none(),
+                "{} twice at {} ns",
+                m.channel.topic,
+                m.log_time
+            );
+        }
+        topics
+    }
+
+    /// A recorded run stopped after a checkpoint, outright (SIGKILL: no
+    /// handler runs, the checkpoint is the last periodic one) or cleanly
+    /// (SIGTERM: the run writes a checkpoint where it stopped and finishes
+    /// its outputs), then resumed with the same `--record` and `--series`:
+    /// the recording holds the same messages, per channel and bit for bit,
+    /// as the run that never stopped; the series and summary too.
+    #[cfg(feature = "record")]
+    #[test]
+    fn a_stopped_recorded_run_resumes_its_recording() {
+        fn args(v: &[String]) -> Vec<&str> {
+            v.iter().map(String::as_str).collect()
+        }
+        let dir = tempfile::tempdir().expect("tmp");
+        let p = |n: &str| dir.path().join(n).display().to_string();
+        let base = ["run", "--quiet", "--duration", "0.5", "--window", "0.05"];
+        let with = |extra: &[&str]| -> Vec<String> {
+            base.iter().chain(extra).map(|s| (*s).to_owned()).collect()
+        };
+        let whole = with(&[
+            "--record",
+            &p("a.mcap"),
+            "--series",
+            &p("a.csv"),
+            "--summary",
+            &p("a.json"),
+        ]);
+        let out = chaindrive(&args(&whole));
+        assert!(out.status.success(), "{}", stderr(&out));
+        let a = messages(&dir.path().join("a.mcap"));
+        // 501 samples (t = 0 … 0.5 s at 1 kHz) on a per-sample channel.
+        assert_eq!(a.get("/sprockets").map(|m| m.len()), Some(501));
+        let counts = |m: &Topics| {
+            m.iter()
+                .map(|(t, v)| (t.clone(), v.len()))
+                .collect::<Vec<_>>()
+        };
+
+        for signal in ["-KILL", "-TERM"] {
+            let n = |name: &str| p(&format!("{}{name}", &signal[1..]));
+            let ck = n(".ckpt");
+            let (mcap, csv, json) = (n(".mcap"), n(".csv"), n(".json"));
+            let first = with(&[
+                "--record",
+                &mcap,
+                "--series",
+                &csv,
+                "--summary",
+                &json,
+                "--checkpoint",
+                &ck,
+                "--checkpoint-every",
+                "0.05",
+            ]);
+            let mut child = crate::common::command()
+                .args(args(&first))
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .expect("run starts");
+            let started = std::time::Instant::now();
+            while !std::path::Path::new(&ck).exists() {
+                assert!(
+                    child.try_wait().expect("wait").is_none(),
+                    "{signal}: the run ended before its first checkpoint"
+                );
+                assert!(started.elapsed().as_secs() < 300, "no checkpoint written");
+                std::thread::sleep(std::time::Duration::from_millis(5));
+            }
+            let kill = std::process::Command::new("kill")
+                .args([signal, &child.id().to_string()])
+                .status()
+                .expect("kill");
+            assert!(kill.success());
+            let status = child.wait().expect("reaped");
+            if signal == "-TERM" {
+                // Stopped cleanly: its outputs are whole and readable.
+                assert_eq!(status.code(), Some(130));
+                let summary = crate::common::read_json(std::path::Path::new(&json));
+                assert_eq!(summary["interrupted"], true);
+                let path = std::path::Path::new(&mcap);
+                assert!(chaindrive::record::read::is_complete_mcap_file(path).expect("read"));
+                let rec = chaindrive::record::read::read_recording(path).expect("readable");
+                assert_eq!(rec.end_status, "interrupted");
+            }
+
+            let resumed = with(&[
+                "--record",
+                &mcap,
+                "--series",
+                &csv,
+                "--summary",
+                &json,
+                "--resume",
+                &ck,
+            ]);
+            let out = chaindrive(&args(&resumed));
+            assert!(out.status.success(), "{signal}: {}", stderr(&out));
+            assert!(
+                !std::path::Path::new(&format!("{mcap}.before-resume")).exists(),
+                "the earlier file set aside is removed"
+            );
+            assert_eq!(
+                without_wall_times(&dir.path().join("a.json")),
+                without_wall_times(std::path::Path::new(&json)),
+                "{signal}"
+            );
+            let b = messages(std::path::Path::new(&mcap));
+            assert_eq!(counts(&a), counts(&b), "{signal}");
+            assert!(a == b, "{signal}: the messages differ");
+            assert!(
+                chaindrive::record::read::is_complete_mcap_file(std::path::Path::new(&mcap))
+                    .expect("read")
+            );
+            assert!(
+                std::fs::read(p("a.csv")).expect("a") == std::fs::read(&csv).expect("b"),
+                "{signal}: the series differ"
+            );
+        }
+
+        // Resumed with other channels: refused, the recording left alone.
+        let ck = p("KILL.ckpt");
+        let out = chaindrive(&args(&with(&[
+            "--record",
+            &p("other.mcap"),
+            "--record-channels",
+            "sprockets",
+            "--resume",
+            &ck,
+        ])));
+        assert!(!out.status.success());
+        assert!(
+            stderr(&out).contains("--record-channels"),
+            "{}",
+            stderr(&out)
+        );
+    }
 }

@@ -9,7 +9,7 @@ use chaindrive::studies::study::{CaseOutcome, ColumnData, Study, StudyDir, Table
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
 
-use crate::common::{chaindrive, stderr};
+use crate::common::{chaindrive, command, read_json, stderr};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -202,6 +202,11 @@ fn bad_plans_are_refused_before_anything_runs() {
             "factors[1].levels[1]: sprockets[0].speed_rpm: a string does not fit this field",
         ),
         (
+            "bad_checkpoint_period",
+            good.replace("set = {", "checkpoint_every_s = -1\nset = {"),
+            "checkpoint_every_s: -1: allowed: a number of simulated seconds > 0",
+        ),
+        (
             "empty_design",
             good.replace("levels = [60, 120]", "levels = []"),
             "factors[1].levels: is empty",
@@ -220,4 +225,98 @@ fn bad_plans_are_refused_before_anything_runs() {
         assert!(stderr(&o).contains(expected), "{name}: {}", stderr(&o));
         assert!(!out.exists(), "{name}: the study's directory was created");
     }
+}
+
+/// The summary without its wall times (they differ from run to run).
+fn without_wall_times(mut v: serde_json::Value) -> serde_json::Value {
+    fn strip(v: &mut serde_json::Value) {
+        match v {
+            serde_json::Value::Object(m) => {
+                for key in ["wall_s", "setup_wall_s", "ns_per_step"] {
+                    m.remove(key);
+                }
+                m.values_mut().for_each(strip);
+            }
+            serde_json::Value::Array(a) => a.iter_mut().for_each(strip),
+            _ => {}
+        }
+    }
+    strip(&mut v);
+    v
+}
+
+#[test]
+fn a_killed_case_resumes_from_its_checkpoint_bit_for_bit() {
+    // One case of the paper's drive, 0.3 s, checkpointed every 0.05 s.
+    let plan = |every: &str| {
+        format!(
+            r#"
+scene = "x"
+set = {{ "solver.duration_s" = 0.3 }}
+{every}
+[[factors]]
+path = "chain.pretension_n"
+[design]
+kind = "explicit"
+cases = [[21000]]
+"#
+        )
+    };
+    let dir = tempfile::tempdir().expect("temp dir");
+    // The reference: the same case run at once, without checkpoints.
+    let whole = Study::from_texts(&plan(""), L60MC_TOML).expect("valid plan");
+    let whole = StudyDir::prepare(&dir.path().join("whole"), whole).expect("prepared");
+    assert!(matches!(
+        whole.run_case(0, false, None).expect("run"),
+        CaseOutcome::Ran(ref s) if s.ok
+    ));
+
+    let every_s = 0.05;
+    let study = Study::from_texts(&plan("checkpoint_every_s = 0.05"), L60MC_TOML).expect("plan");
+    assert_eq!(study.checkpoint_every_s, Some(every_s));
+    let out = dir.path().join("killed");
+    let sd = StudyDir::prepare(&out, study).expect("prepared");
+    let out_s = out.to_str().expect("utf-8");
+    // An array task killed outright (SIGKILL: no handler runs) after its
+    // first checkpoint.
+    let ckpt = sd.case_dir(0).join("checkpoint.ckpt");
+    let mut task = command()
+        .args(["study", "run-case", out_s, "0"])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .expect("run-case starts");
+    let started = std::time::Instant::now();
+    while !ckpt.exists() {
+        assert!(
+            task.try_wait().expect("wait").is_none(),
+            "the task ended before its first checkpoint"
+        );
+        assert!(started.elapsed().as_secs() < 300, "no checkpoint written");
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    }
+    task.kill().expect("SIGKILL");
+    task.wait().expect("reaped");
+    assert_eq!(
+        sd.status(0).expect("read"),
+        None,
+        "the case is not finished"
+    );
+
+    // The task run again (a requeued array task) resumes.
+    let again = chaindrive(&["study", "run-case", out_s, "0"]);
+    let text = stderr(&again);
+    assert!(again.status.success(), "{text}");
+    assert!(text.contains("case 0: resuming from"), "{text}");
+    let status = sd.status(0).expect("read").expect("finished");
+    let t = status.resumed_from_s.expect("resumed");
+    // At a checkpoint: t = k·S with 0 < k < 6 (dt = 1e-5 s divides S).
+    let k = (t / every_s).round();
+    assert!(
+        (1.0..6.0).contains(&k) && (t - k * every_s).abs() < 1e-9,
+        "resumed at t = {t} s"
+    );
+    assert!(text.contains(&format!("resumed at t = {t} s")), "{text}");
+    assert!(!ckpt.exists(), "the finished case keeps no checkpoint");
+    let summary = |d: &StudyDir| without_wall_times(read_json(&d.case_dir(0).join("summary.json")));
+    assert_eq!(summary(&sd), summary(&whole));
 }

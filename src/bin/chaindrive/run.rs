@@ -10,9 +10,11 @@ use std::time::Instant;
 
 use anyhow::Context;
 use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
-use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
+use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
-use chaindrive::sim::checkpoint::{Checkpoint, read_checkpoint, write_checkpoint};
+use chaindrive::sim::checkpoint::{
+    Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
+};
 use chaindrive::sim::{
     Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
 };
@@ -81,7 +83,9 @@ pub struct RunArgs {
     checkpoint_every: Option<f64>,
     /// Continue the run from this checkpoint. Give the scene and the options
     /// the run was started with; --series continues that file (cut back to
-    /// the checkpoint's last row), --summary is of the whole run.
+    /// the checkpoint's last row), --record continues that recording (a new
+    /// file with its messages up to the checkpoint), --summary is of the
+    /// whole run.
     #[arg(long, value_name = "PATH")]
     resume: Option<PathBuf>,
 }
@@ -98,6 +102,9 @@ struct CliRun {
     max_penetration_m: f64,
     /// Bytes of the series file written up to the checkpoint (`None`: no series).
     series_bytes: Option<u64>,
+    /// Where the recording stood at the checkpoint (`None`: no recording).
+    #[serde(default)]
+    record: Option<RecordMark>,
 }
 
 /// Streams each sample to the CSV as it is taken, so an interrupted or failed
@@ -204,10 +211,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             "--checkpoint-every {every}: the time between checkpoints must be a number of simulated seconds > 0"
         );
     }
-    anyhow::ensure!(
-        args.resume.is_none() || args.record.is_none(),
-        "--record with --resume: a recording is not continued from a checkpoint; resume without --record"
-    );
     let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
@@ -267,7 +270,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let recorder = args
         .record
         .as_ref()
-        .map(|p| start_recording(p, &args, &scene, sampling))
+        .map(|p| start_recording(p, &args, &scene, sampling, resume.as_ref()))
         .transpose()?;
     let result = simulate(
         &args,
@@ -320,6 +323,7 @@ fn start_recording(
     args: &RunArgs,
     scene: &chaindrive::scene::Scene,
     sampling: SampleRate,
+    resume: Option<&Checkpoint<CliRun>>,
 ) -> anyhow::Result<Recorder<BufWriter<File>>> {
     let channels = Channels::parse(&args.record_channels)?;
     let scene_file = match &args.scene {
@@ -338,9 +342,44 @@ fn start_recording(
         scene_file: Some(scene_file),
         rate_hz: sampling.rate_hz,
     };
+    let Some(ck) = resume else {
+        let file = create(path, "recording")?;
+        return Recorder::new(file, scene, &options)
+            .with_context(|| format!("cannot write the recording to {}", path.display()));
+    };
+    let Some(mark) = ck.run.record else {
+        anyhow::bail!(
+            "--record {}: the run being resumed was not recorded, so its recording cannot be continued; resume without --record",
+            path.display()
+        );
+    };
+    anyhow::ensure!(
+        mark.channels == options.channels.bits(),
+        "--record {}: the run was recorded with other channels; resume with the same --record-channels",
+        path.display()
+    );
+    // An MCAP file is not appended to: the earlier file is set aside, the
+    // new one starts with its messages up to the checkpoint, and the earlier
+    // file goes once they are written. If this run dies before that, the
+    // file set aside is still there for the next resume.
+    let mut aside = path.as_os_str().to_owned();
+    aside.push(".before-resume");
+    let aside = PathBuf::from(aside);
+    if !aside.exists() {
+        std::fs::rename(path, &aside).with_context(|| {
+            format!(
+                "--record {}: cannot continue the recording the run was writing",
+                path.display()
+            )
+        })?;
+    }
+    let earlier = std::fs::read(&aside)
+        .with_context(|| format!("cannot read the earlier recording {}", aside.display()))?;
     let file = create(path, "recording")?;
-    Recorder::new(file, scene, &options)
-        .with_context(|| format!("cannot write the recording to {}", path.display()))
+    let recorder = Recorder::continued(file, scene, &options, &earlier, &mark)
+        .with_context(|| format!("--record {}", path.display()))?;
+    std::fs::remove_file(&aside).with_context(|| format!("cannot remove {}", aside.display()))?;
+    Ok(recorder)
 }
 
 /// The statistics window's length: `--window`, checked against the run's
@@ -549,14 +588,9 @@ fn run_with_checkpoints(
 ) -> anyhow::Result<RunOutcome> {
     let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
-    let last_step = (duration / dt).round();
     loop {
         let until = match checkpoints {
-            Some((_, every)) => {
-                let per = (every / dt).round().max(1.0);
-                let next = ((sim.state.t_s / dt).round() / per).floor() * per + per;
-                next.min(last_step) * dt
-            }
+            Some((_, every)) => next_checkpoint_s(sim.state.t_s, dt, every, duration),
             None => duration,
         };
         let piece = sim.run(until, sampling.rate.every, observer, Some(stop))?;
@@ -565,7 +599,7 @@ fn run_with_checkpoints(
         so_far.max_penetration_m = so_far.max_penetration_m.max(piece.max_penetration_m);
         so_far.interrupted = piece.interrupted;
         merge_stage_times(&mut so_far.stage_times, piece.stage_times);
-        let done = piece.interrupted || (sim.state.t_s / dt).round() >= last_step;
+        let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
         if let Some((path, _)) = checkpoints
             && (piece.interrupted || !done)
         {
@@ -584,6 +618,7 @@ fn run_with_checkpoints(
                 wall_s: so_far.wall_s,
                 max_penetration_m: so_far.max_penetration_m,
                 series_bytes,
+                record: observer.recorder.as_mut().map(Recorder::mark).transpose()?,
             };
             let ck = Checkpoint {
                 sim: sim.snapshot()?,

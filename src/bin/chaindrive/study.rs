@@ -19,6 +19,7 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use anyhow::Context;
+use chaindrive::studies::study::cases::CHECKPOINT_FILE;
 use chaindrive::studies::study::{CaseOutcome, Study, StudyDir, Table};
 
 /// Arguments of `chaindrive study`.
@@ -168,7 +169,11 @@ fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode>
             failed.fetch_add(1, Ordering::Relaxed);
         }
         let f = failed.load(Ordering::Relaxed);
-        let line = format!("done {done}, failed {f}, left {}", left - done);
+        let resumed = status
+            .resumed_from_s
+            .map(|t| format!(", resumed at t = {t} s"))
+            .unwrap_or_default();
+        let line = format!("done {done}, failed {f}, left {}{resumed}", left - done);
         match &bar {
             Some(b) => {
                 b.set_message(line);
@@ -194,7 +199,14 @@ fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode>
         total - still
     );
     if stop.load(Ordering::Relaxed) {
-        eprintln!("study: interrupted; the same command resumes");
+        eprintln!(
+            "study: interrupted; the same command resumes{}",
+            if dir.study.checkpoint_every_s.is_some() {
+                " (the cases stopped resume from their checkpoints)"
+            } else {
+                ""
+            }
+        );
         return Ok(ExitCode::from(130));
     }
     eprintln!("next: chaindrive study collect {}", out.display());
@@ -208,7 +220,20 @@ fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode>
 fn run_case(dir: &Path, k: usize, retry_failed: bool) -> anyhow::Result<ExitCode> {
     let study = StudyDir::open(dir)?;
     let stop = stop_flag();
-    match study.run_case(k, retry_failed, Some(&stop))? {
+    let checkpoint = study.case_dir(k).join(CHECKPOINT_FILE);
+    if study.status(k)?.is_none() && checkpoint.exists() {
+        eprintln!("case {k}: resuming from {}", checkpoint.display());
+    }
+    let outcome = study.run_case(k, retry_failed, Some(&stop))?;
+    if let CaseOutcome::Ran(s) = &outcome {
+        if let Some(t) = s.resumed_from_s {
+            eprintln!("case {k}: resumed at t = {t} s");
+        }
+        if let Some(why) = &s.checkpoint_discarded {
+            eprintln!("case {k}: its checkpoint was not taken up, it started over: {why}");
+        }
+    }
+    match outcome {
         CaseOutcome::Skipped(s) => {
             eprintln!(
                 "case {k}: finished before ({})",
@@ -227,6 +252,13 @@ fn run_case(dir: &Path, k: usize, retry_failed: bool) -> anyhow::Result<ExitCode
                 s.error.as_deref().unwrap_or("")
             );
             Ok(ExitCode::FAILURE)
+        }
+        CaseOutcome::Interrupted if study.study.checkpoint_every_s.is_some() => {
+            eprintln!(
+                "case {k}: interrupted; it resumes from {} when resubmitted",
+                checkpoint.display()
+            );
+            Ok(ExitCode::from(130))
         }
         CaseOutcome::Interrupted => {
             eprintln!("case {k}: interrupted, nothing written; it runs again when resubmitted");
@@ -273,7 +305,7 @@ fn sbatch_script(exe: &Path, dir: &Path, pending: &[usize], a: &SlurmArgs) -> St
     let _ = writeln!(s, "#SBATCH --output={}/slurm/%A_%a.out", dir.display());
     let _ = writeln!(
         s,
-        "# Each task runs one case; finished cases are skipped, so resubmitting\n# this script after a failure finishes the rest."
+        "# Each task runs one case; finished cases are skipped, so resubmitting\n# this script after a failure finishes the rest. With the plan's\n# checkpoint_every_s, a case that was stopped (preempted, requeued, killed)\n# resumes from DIR/cases/<k>/checkpoint.ckpt."
     );
     let _ = writeln!(
         s,

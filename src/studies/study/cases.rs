@@ -1,8 +1,19 @@
 //! Running a study's cases: each case is one run of its scene, written to
 //! `DIR/cases/<k>/` in a directory beside it and renamed into place, so a
-//! case directory is either complete or absent. Finished cases are skipped
-//! (resume); failed ones are kept with their error and skipped unless
-//! retried.
+//! case is finished exactly when its `status.json` exists. Finished cases
+//! are skipped (resume); failed ones are kept with their error and skipped
+//! unless retried.
+//!
+//! With the plan's `checkpoint_every_s = S`, a running case keeps its
+//! complete state in `DIR/cases/<k>/checkpoint.ckpt` (written aside and
+//! renamed, [`crate::sim::checkpoint`]) at t = S, 2S, …, and when it is
+//! stopped (Ctrl-C, SIGTERM). A case that is not finished and has a
+//! checkpoint resumes from it, so a killed or preempted task loses at most S
+//! simulated seconds; its summary is bit for bit the uninterrupted run's
+//! (wall times aside). The finished case's directory replaces the one that
+//! held the checkpoint. A checkpoint that cannot be taken up (written by
+//! another version of chaindrive, damaged) is set aside: the case starts
+//! over, and its status says why.
 
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
@@ -15,10 +26,16 @@ use serde::{Deserialize, Serialize};
 use super::{Study, StudyError};
 use crate::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
 use crate::scene::Scene;
-use crate::sim::{SampleRate, Simulation};
+use crate::sim::checkpoint::{
+    Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
+};
+use crate::sim::{RunOutcome, SampleRate, Simulation};
 
 /// Sampling rate of a case's signals, Hz (as `chaindrive run`'s default).
 pub const RATE_HZ: f64 = 1000.0;
+
+/// A running case's checkpoint, in its directory `DIR/cases/<k>/`.
+pub const CHECKPOINT_FILE: &str = "checkpoint.ckpt";
 
 /// How a finished case ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -34,6 +51,13 @@ pub struct CaseStatus {
     pub wall_s: f64,
     /// Factor values, `path = value`.
     pub factors: String,
+    /// Simulated time at which the case was resumed from its checkpoint, s
+    /// (the last resume, if it was stopped more than once).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resumed_from_s: Option<f64>,
+    /// Why a checkpoint found for the case was not taken up (it started over).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub checkpoint_discarded: Option<String>,
 }
 
 /// What [`StudyDir::run_case`] did.
@@ -166,16 +190,27 @@ impl StudyDir {
         let started = Instant::now();
         let factors = case.describe(&self.study.factors);
         let scene = self.study.scene(k)?;
+        let checkpoint = self
+            .study
+            .checkpoint_every_s
+            .map(|every| (final_dir.join(CHECKPOINT_FILE), every));
+        if checkpoint.is_some() {
+            std::fs::create_dir_all(&final_dir).map_err(|e| StudyError::io(&final_dir, e))?;
+        }
+        let mut resume = Resume::default();
         // A panic in a run is this case's failure, not the study's.
-        let result = std::panic::catch_unwind(AssertUnwindSafe(|| simulate(&scene, stop)))
-            .unwrap_or_else(|panic| {
-                let what = panic
-                    .downcast_ref::<String>()
-                    .cloned()
-                    .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
-                    .unwrap_or_else(|| "unknown".to_owned());
-                Err(format!("the run panicked: {what}"))
-            });
+        let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
+            let checkpoint = checkpoint.as_ref().map(|(p, s)| (p.as_path(), *s));
+            simulate(&scene, stop, checkpoint, &mut resume)
+        }))
+        .unwrap_or_else(|panic| {
+            let what = panic
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| panic.downcast_ref::<&str>().map(|s| (*s).to_owned()))
+                .unwrap_or_else(|| "unknown".to_owned());
+            Err(format!("the run panicked: {what}"))
+        });
         let (summary, error) = match result {
             Ok(None) => return Ok(CaseOutcome::Interrupted),
             Ok(Some(summary)) => (Some(summary), None),
@@ -185,8 +220,10 @@ impl StudyDir {
             case: k,
             ok: summary.is_some(),
             error,
-            wall_s: started.elapsed().as_secs_f64(),
+            wall_s: resume.earlier_wall_s + started.elapsed().as_secs_f64(),
             factors,
+            resumed_from_s: resume.from_s,
+            checkpoint_discarded: resume.discarded,
         };
         // Written aside, then renamed into place.
         let cases = self.dir.join("cases");
@@ -212,7 +249,8 @@ impl StudyDir {
             serde_json::to_string_pretty(&status).map_err(|e| StudyError::io(&tmp, e))?,
         )?;
         if final_dir.exists() {
-            // A failed case run again.
+            // A failed case run again, or the directory holding the case's
+            // checkpoint: the finished case replaces it.
             std::fs::remove_dir_all(&final_dir).map_err(|e| StudyError::io(&final_dir, e))?;
         }
         if let Err(e) = std::fs::rename(&tmp, &final_dir) {
@@ -266,26 +304,116 @@ impl StudyDir {
     }
 }
 
-/// Runs `scene` to its end; `Ok(None)` when stopped.
-fn simulate(scene: &Scene, stop: Option<&AtomicBool>) -> Result<Option<RunSummary>, String> {
-    let setup = Instant::now();
+/// What a case's checkpoint keeps besides the simulation.
+#[derive(Clone, Serialize, Deserialize)]
+struct CaseRun {
+    signals: Signals,
+    steps: u64,
+    /// Wall time of the stepping so far, s.
+    run_wall_s: f64,
+    /// Wall time of the case so far (setup and stepping, every attempt), s.
+    case_wall_s: f64,
+    setup_wall_s: f64,
+    max_penetration_m: f64,
+}
+
+/// Whether a case was resumed, and how long its earlier attempts took.
+#[derive(Clone, Debug, Default)]
+struct Resume {
+    from_s: Option<f64>,
+    discarded: Option<String>,
+    earlier_wall_s: f64,
+}
+
+/// Runs `scene` to its end; `Ok(None)` when stopped. With `checkpoint =
+/// (path, S)` it resumes from `path` when the file exists, and writes it at
+/// every multiple of S and when stopped.
+fn simulate(
+    scene: &Scene,
+    stop: Option<&AtomicBool>,
+    checkpoint: Option<(&Path, f64)>,
+    resume: &mut Resume,
+) -> Result<Option<RunSummary>, String> {
+    let started = Instant::now();
     let mut sim = Simulation::new(scene).map_err(|e| e.to_string())?;
-    let setup_wall_s = setup.elapsed().as_secs_f64();
+    let mut setup_wall_s = started.elapsed().as_secs_f64();
     let sampling = SampleRate::new(RATE_HZ, scene.solver().dt_s).map_err(|e| e.to_string())?;
+    let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
     let window_s = DEFAULT_WINDOW_S.min(duration);
     let from_s = (duration - window_s).max(0.0);
     sim.track_power(from_s);
     let mut signals = Signals::new(&sim.model, sampling.rate_hz, from_s);
-    let outcome = sim
-        .run(duration, sampling.every, &mut signals, stop)
-        .map_err(|e| e.to_string())?;
-    if outcome.interrupted {
+    // Only the window's rows are needed (and kept in a checkpoint).
+    signals.keep_window(window_s);
+    let mut so_far = RunOutcome {
+        steps: 0,
+        wall_s: 0.0,
+        interrupted: false,
+        max_penetration_m: 0.0,
+        stage_times: None,
+    };
+    if let Some((path, _)) = checkpoint.filter(|(p, _)| p.exists()) {
+        let taken = read_checkpoint::<CaseRun>(path, scene)
+            .and_then(|ck| sim.restore(&ck.sim).map(|()| ck.run));
+        match taken {
+            Ok(run) => {
+                resume.from_s = Some(sim.state.t_s);
+                resume.earlier_wall_s = run.case_wall_s;
+                signals = run.signals;
+                so_far.steps = run.steps;
+                so_far.wall_s = run.run_wall_s;
+                so_far.max_penetration_m = run.max_penetration_m;
+                setup_wall_s = run.setup_wall_s;
+            }
+            Err(e) => {
+                // The checkpoint only saves time: start over from the
+                // scene (a fresh simulation, the restore may have begun).
+                resume.discarded = Some(e.to_string());
+                sim = Simulation::new(scene).map_err(|e| e.to_string())?;
+                sim.track_power(from_s);
+            }
+        }
+    }
+    loop {
+        let until = match checkpoint {
+            Some((_, every)) => next_checkpoint_s(sim.state.t_s, dt, every, duration),
+            None => duration,
+        };
+        let piece = sim
+            .run(until, sampling.every, &mut signals, stop)
+            .map_err(|e| e.to_string())?;
+        so_far.steps += piece.steps;
+        so_far.wall_s += piece.wall_s;
+        so_far.max_penetration_m = so_far.max_penetration_m.max(piece.max_penetration_m);
+        so_far.interrupted = piece.interrupted;
+        let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
+        if let Some((path, _)) = checkpoint
+            && (piece.interrupted || !done)
+        {
+            let ck = Checkpoint {
+                sim: sim.snapshot().map_err(|e| e.to_string())?,
+                run: CaseRun {
+                    signals: signals.clone(),
+                    steps: so_far.steps,
+                    run_wall_s: so_far.wall_s,
+                    case_wall_s: resume.earlier_wall_s + started.elapsed().as_secs_f64(),
+                    setup_wall_s,
+                    max_penetration_m: so_far.max_penetration_m,
+                },
+            };
+            write_checkpoint(path, scene, &ck).map_err(|e| e.to_string())?;
+        }
+        if done {
+            break;
+        }
+    }
+    if so_far.interrupted {
         return Ok(None);
     }
     Ok(Some(RunSummary::of_run_over(
         &sim,
-        &outcome,
+        &so_far,
         &signals,
         setup_wall_s,
         window_s,

@@ -11,15 +11,17 @@
 //! DIR/scene.toml        the base scene, as read
 //! DIR/cases/<k>/        one per finished case (k from 0), written aside and
 //!                       renamed into place: scene.toml, summary.json
-//!                       (when the run finished), status.json
+//!                       (when the run finished), status.json; while a
+//!                       checkpointed case runs, only checkpoint.ckpt
 //! DIR/results.parquet   `collect`: one row per case
 //! DIR/results.csv
 //! DIR/main_effects/     `collect`: a main-effects figure per response
 //! ```
 //!
-//! A case whose directory exists is finished (ok or failed) and is not run
-//! again, except a failed one when asked; an interrupted case leaves no
-//! directory and runs again. This module does not schedule anything across
+//! A case whose `status.json` exists is finished (ok or failed) and is not
+//! run again, except a failed one when asked; an interrupted case runs
+//! again, from its checkpoint when the plan asks for checkpoints
+//! (`checkpoint_every_s`), else from the start. This module does not schedule anything across
 //! machines: that is Slurm's job (`chaindrive study slurm`).
 
 pub mod cases;

@@ -4,6 +4,7 @@
 //! scene = "../assets/l60mc.toml"        # relative to the plan
 //! set = { "solver.duration_s" = 2.0 }   # the same in every case (optional)
 //! responses = ["max_penetration_m", "segments.0.mean_link_force_n"]   # or "all"
+//! checkpoint_every_s = 1.0              # optional: checkpoint each case every 1 s simulated
 //!
 //! [[factors]]
 //! path = "chain.pretension_n"
@@ -23,7 +24,11 @@
 //! of levels) into `count` strata and visits each once, in an order and at a
 //! point within the stratum drawn from `seed`. An explicit design lists its
 //! cases as rows of values, one per factor (`cases = [[15000, 60], …]`).
-//! (`scene`, `set` and `responses` come before the first `[[factors]]`
+//! With `checkpoint_every_s`, each case writes its complete state
+//! ([`crate::sim::checkpoint`]) into its directory every so many simulated
+//! seconds, and a case that was stopped (a preempted or killed task)
+//! resumes from it: it loses at most that much simulated time.
+//! (`scene`, `set`, `responses` and `checkpoint_every_s` come before the first `[[factors]]`
 //! table: in TOML, a key after a table header belongs to that table.)
 
 use std::collections::BTreeSet;
@@ -32,7 +37,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::StudyError;
-use crate::scene::{Assignment, Scene, ScenePath, set_in_table};
+use crate::scene::{Assignment, Scene, ScenePath, Stepping, set_in_table};
 
 /// A plan file as written (nothing checked beyond its TOML shape).
 #[derive(Clone, Debug, Deserialize)]
@@ -51,6 +56,9 @@ pub struct PlanFile {
     /// `"all"` or a list of summary fields (`segments.0.mean_link_force_n`).
     #[serde(default)]
     pub responses: Option<toml::Value>,
+    /// Simulated seconds between a case's checkpoints (none if absent).
+    #[serde(default)]
+    pub checkpoint_every_s: Option<toml::Value>,
 }
 
 /// One factor as written.
@@ -144,6 +152,8 @@ pub struct Study {
     pub cases: Vec<Case>,
     /// The responses.
     pub responses: Responses,
+    /// Simulated seconds between a case's checkpoints (`None`: no checkpoints).
+    pub checkpoint_every_s: Option<f64>,
 }
 
 /// Collects `path: message` lines.
@@ -359,6 +369,19 @@ impl Study {
                 Responses::All
             }
         };
+        let checkpoint_every_s = match &file.checkpoint_every_s {
+            None => None,
+            Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+                Some(s) if s.is_finite() && s > 0.0 => Some(s),
+                _ => {
+                    p.add(
+                        "checkpoint_every_s",
+                        format!("{v}: allowed: a number of simulated seconds > 0"),
+                    );
+                    None
+                }
+            },
+        };
         if !p.0.is_empty() {
             return Err(StudyError::Plan(p.0));
         }
@@ -377,12 +400,24 @@ impl Study {
                 values,
                 assignments,
             };
-            if let Err(e) = Scene::from_toml_set(scene_toml, &case.assignments) {
-                failed.push(format!(
+            match Scene::from_toml_set(scene_toml, &case.assignments) {
+                Err(e) => failed.push(format!(
                     "case {k} ({}): {}",
                     case.describe(&factors),
                     e.lines().join("; ")
-                ));
+                )),
+                // Rapier keeps solver state a checkpoint does not hold.
+                Ok(scene)
+                    if checkpoint_every_s.is_some()
+                        && scene.solver().stepping != Stepping::Substepped =>
+                {
+                    failed.push(format!(
+                        "case {k} ({}): checkpoint_every_s needs solver.stepping = \"substepped\", the case steps with {}",
+                        case.describe(&factors),
+                        scene.solver().stepping.name()
+                    ));
+                }
+                Ok(_) => {}
             }
             cases.push(case);
         }
@@ -395,6 +430,7 @@ impl Study {
             factors,
             cases,
             responses,
+            checkpoint_every_s,
         })
     }
 
