@@ -84,7 +84,7 @@ fn solve_catenary(
     (h, v0)
 }
 
-/// The upper strand of a 4 m, 20T/20T drive at 500 N (tests/data/catenary_4m.toml):
+/// The upper strand of a 4 m, 20T/20T drive at 560 N (tests/data/catenary_4m.toml):
 /// between two rollers 60 links either side of its lowest roller, the
 /// settled chain's horizontal tension, its sag below the chord and every
 /// roller's position against the discrete catenary through those two rollers.
