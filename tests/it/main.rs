@@ -11,6 +11,7 @@ mod analysis;
 mod analyze;
 #[cfg(feature = "cli")]
 mod auto_step;
+mod catenary;
 mod checkpoint;
 #[cfg(feature = "cli")]
 mod cli;
