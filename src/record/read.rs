@@ -643,7 +643,13 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         .map(|(&t_ns, d)| {
             let m = decode_tensioners(d).map_err(|e| bad(topic, t_ns, e))?;
             if m.tensioners.len() != arms {
-                return Err(shape(topic, t_ns, "tensioner arms", m.tensioners.len(), arms));
+                return Err(shape(
+                    topic,
+                    t_ns,
+                    "tensioner arms",
+                    m.tensioners.len(),
+                    arms,
+                ));
             }
             Ok(m)
         })

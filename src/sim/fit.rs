@@ -299,7 +299,8 @@ impl<'a> Fitter<'a> {
         let mut best: Option<(f64, Probe)> = None;
         let mut jump: Option<FitError> = None;
         let mut stop: [Option<(f64, String)>; 2] = [None, None];
-        let mut last: [(f64, Option<Probe>); 2] = [(0.0, Some(start.clone())), (0.0, Some(start.clone()))];
+        let mut last: [(f64, Option<Probe>); 2] =
+            [(0.0, Some(start.clone())), (0.0, Some(start.clone()))];
         for i in 1..=SCAN_STEPS {
             for (side, sign) in [(0, 1.0), (1, -1.0)] {
                 let s = sign * step_m * i as f64;
@@ -314,7 +315,8 @@ impl<'a> Fitter<'a> {
                 };
                 let (prev_s, prev) = std::mem::replace(&mut last[side], (s, probe.clone()));
                 if let (Some(p0), Some(p1)) = (prev, probe.as_ref())
-                    && let Some(found) = self.solve(k, target, tol, (prev_s, p0), (s, p1.clone()), &eval)
+                    && let Some(found) =
+                        self.solve(k, target, tol, (prev_s, p0), (s, p1.clone()), &eval)
                 {
                     match found {
                         Ok(root) => {
@@ -344,7 +346,9 @@ impl<'a> Fitter<'a> {
         let (at, reached) = best.map_or((0.0, f64::NAN), |(s, p)| (s, p.needed));
         let side = usize::from(at < 0.0);
         let reason = match &stop[side] {
-            Some((s, why)) => format!("{why} at {s:+.4} m, and nowhere closer to the chain's length"),
+            Some((s, why)) => {
+                format!("{why} at {s:+.4} m, and nowhere closer to the chain's length")
+            }
             None => format!(
                 "the path's need stays short of the chain's length out to {:+.4} m",
                 if side == 0 { reach_m } else { -reach_m }

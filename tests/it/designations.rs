@@ -47,7 +47,9 @@ fn ansi_rows_match_asme_b29_1() {
         ("ANSI 60", 0.750, 0.469, 0.500, 0.234, 0.094, 7030.0, 1.00),
         ("ANSI 80", 1.000, 0.625, 0.625, 0.312, 0.125, 12500.0, 1.69),
         ("ANSI 160", 2.000, 1.125, 1.250, 0.562, 0.250, 50000.0, 6.43),
-        ("ANSI 240", 3.000, 1.875, 1.875, 0.937, 0.375, 112500.0, 16.90),
+        (
+            "ANSI 240", 3.000, 1.875, 1.875, 0.937, 0.375, 112500.0, 16.90,
+        ),
     ];
     for (name, p, dr, w, dp, lpt, muts, wt) in typed {
         let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
@@ -57,8 +59,14 @@ fn ansi_rows_match_asme_b29_1() {
         assert!((inch(d.inner_width_m) - w).abs() < 5e-4, "{name} W");
         assert!((inch(d.pin_diameter_m) - dp).abs() < 5e-4, "{name} Dp");
         assert!((inch(d.plate_thickness_m) - lpt).abs() < 5e-4, "{name} LPT");
-        assert!((d.tensile_strength_n / 4.448_222 - muts).abs() < 1.0, "{name} MUTS");
-        assert!((d.mass_per_m_kg / 1.488_164 - wt).abs() < 5e-3, "{name} weight");
+        assert!(
+            (d.tensile_strength_n / 4.448_222 - muts).abs() < 1.0,
+            "{name} MUTS"
+        );
+        assert!(
+            (d.mass_per_m_kg / 1.488_164 - wt).abs() < 5e-3,
+            "{name} weight"
+        );
         assert!(d.sources.dimensions.contains("B29.1"), "{name}");
     }
 }
@@ -98,13 +106,21 @@ fn iso_rows_match_the_ametric_catalogue() {
 fn unchecked_values_are_marked_as_estimates() {
     for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ISO")) {
         assert!(d.sources.plate_thickness.contains("estimate"), "{}", d.name);
-        assert!(d.sources.pin_and_plate_depth.contains("estimate"), "{}", d.name);
+        assert!(
+            d.sources.pin_and_plate_depth.contains("estimate"),
+            "{}",
+            d.name
+        );
     }
     for name in ["56B", "64B", "72B"] {
         assert!(find(name).expect(name).sources.mass.contains("estimate"));
     }
     for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ANSI")) {
-        assert!(!format!("{:?}", d.sources).contains("estimate"), "{}", d.name);
+        assert!(
+            !format!("{:?}", d.sources).contains("estimate"),
+            "{}",
+            d.name
+        );
     }
 }
 

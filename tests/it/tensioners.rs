@@ -430,7 +430,11 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         let sampling = SampleRate::new(1000.0, scene.solver().dt_s).expect("a sample step");
         let options = RecordOptions {
             channels: Channels::all(),
-            scene_file: None,
+            // The scene attached, as `run --record` does, so that
+            // `record::read` can read the file back.
+            scene_file: scene
+                .source_toml()
+                .map(|t| ("timing-drive.toml".to_owned(), t.as_bytes().to_vec())),
             rate_hz: sampling.rate_hz,
         };
         let mut recorder =
@@ -457,7 +461,7 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         }
         // The same file read back by the library.
         let read = chaindrive::record::read::read_recording_bytes("timing.mcap", &bytes)
-            .expect("a readable recording");
+            .unwrap_or_else(|e| panic!("a readable recording: {e}"));
         (samples, drawn, framed, read.tensioners)
     };
     let scene = timing_scene();
@@ -472,8 +476,22 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         let (r, s) = (&r.tensioners[0], &s.tensioners[0]);
         assert_eq!(u64::from(r.tensioner), s.tensioner);
         assert_eq!(
-            [r.travel_m, r.speed_m_s, r.pressure_pa, r.arm_angle_rad, r.shoe_force_n, r.plunger_force_n],
-            [s.travel_m, s.speed_m_s, s.pressure_pa, s.arm_angle_rad, s.shoe_force_n, s.plunger_force_n]
+            [
+                r.travel_m,
+                r.speed_m_s,
+                r.pressure_pa,
+                r.arm_angle_rad,
+                r.shoe_force_n,
+                r.plunger_force_n
+            ],
+            [
+                s.travel_m,
+                s.speed_m_s,
+                s.pressure_pa,
+                s.arm_angle_rad,
+                s.shoe_force_n,
+                s.plunger_force_n
+            ]
         );
         assert_eq!(r.valve_open, s.valve_open);
     }

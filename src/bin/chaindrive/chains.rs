@@ -60,13 +60,25 @@ fn print_rows(rows: &[&Designation]) -> std::io::Result<()> {
     for d in rows {
         let s = &d.sources;
         writeln!(out, "  {}:", d.name)?;
-        writeln!(out, "    pitch, roller diameter, inner width: {}", s.dimensions)?;
-        writeln!(out, "    pin diameter, plate depth: {}", s.pin_and_plate_depth)?;
+        writeln!(
+            out,
+            "    pitch, roller diameter, inner width: {}",
+            s.dimensions
+        )?;
+        writeln!(
+            out,
+            "    pin diameter, plate depth: {}",
+            s.pin_and_plate_depth
+        )?;
         writeln!(out, "    plate thickness: {}", s.plate_thickness)?;
         writeln!(out, "    mass per metre: {}", s.mass)?;
         writeln!(out, "    tensile strength: {}", s.strength)?;
     }
-    writeln!(out, "  stiffness (every row): {}", Designation::stiffness_source())?;
+    writeln!(
+        out,
+        "  stiffness (every row): {}",
+        Designation::stiffness_source()
+    )?;
     writeln!(
         out,
         "  ANSI 25 and 35 are bush chains: their roller diameter is the bush's. In a scene, chain.designation fills pitch_m, roller_radius_m, roller_mass_kg (mass per metre x pitch), stiffness_n_m and pin_radius_m; a field written in the scene overrides it."
