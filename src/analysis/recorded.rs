@@ -90,6 +90,7 @@ impl RecordedRun {
             has_links,
             has_contacts,
             samples,
+            tensioners: _,
         } = recording;
         if samples.len() < 2 {
             return Err(ReadError::TooFewSamples {

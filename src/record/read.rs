@@ -175,6 +175,63 @@ struct SegmentsPb {
     segments: Vec<SegmentPb>,
 }
 
+/// `TensionerSignal` (its arm number read as any varint, as written: `uint32`).
+#[derive(Clone, PartialEq, prost::Message)]
+struct TensionerPb {
+    #[prost(uint64, tag = "1")]
+    tensioner: u64,
+    #[prost(double, tag = "2")]
+    travel_m: f64,
+    #[prost(double, tag = "3")]
+    speed_m_s: f64,
+    #[prost(double, tag = "4")]
+    pressure_pa: f64,
+    #[prost(bool, tag = "5")]
+    valve_open: bool,
+    #[prost(double, tag = "6")]
+    arm_angle_rad: f64,
+    #[prost(double, tag = "7")]
+    shoe_force_n: f64,
+    #[prost(double, tag = "8")]
+    plunger_force_n: f64,
+}
+
+/// `TensionerSignals`.
+#[derive(Clone, PartialEq, prost::Message)]
+struct TensionersPb {
+    #[prost(double, tag = "1")]
+    t_s: f64,
+    #[prost(message, repeated, tag = "2")]
+    tensioners: Vec<TensionerPb>,
+}
+
+/// `TensionerSignals`, its arms in arm order.
+fn decode_tensioners(buf: &[u8]) -> Result<super::TensionerSignals, String> {
+    let mut m = TensionersPb::decode(buf).map_err(|e| e.to_string())?;
+    m.tensioners.sort_by_key(|t| t.tensioner);
+    let tensioners = m
+        .tensioners
+        .into_iter()
+        .map(|t| {
+            Ok(super::TensionerSignal {
+                tensioner: u32::try_from(t.tensioner)
+                    .map_err(|_| format!("arm number {} out of range", t.tensioner))?,
+                travel_m: t.travel_m,
+                speed_m_s: t.speed_m_s,
+                pressure_pa: t.pressure_pa,
+                valve_open: t.valve_open,
+                arm_angle_rad: t.arm_angle_rad,
+                shoe_force_n: t.shoe_force_n,
+                plunger_force_n: t.plunger_force_n,
+            })
+        })
+        .collect::<Result<_, String>>()?;
+    Ok(super::TensionerSignals {
+        t_s: m.t_s,
+        tensioners,
+    })
+}
+
 /// `ChainLinkForces` / `ChainContactForces`: (t, values).
 fn decode_forces(buf: &[u8]) -> Result<(f64, Vec<f64>), String> {
     let m = ForcesPb::decode(buf).map_err(|e| e.to_string())?;
@@ -268,6 +325,10 @@ pub struct Recording {
     pub has_contacts: bool,
     /// The samples, in time order (at least 2).
     pub samples: Vec<RecordedSample>,
+    /// Every `/tensioners` message, in time order, each with one entry per
+    /// tensioner arm of the scene in arm order (empty: no arms, or the
+    /// channel was not recorded).
+    pub tensioners: Vec<super::TensionerSignals>,
 }
 
 fn not_mcap(path: &str, bytes: &[u8]) -> ReadError {
@@ -574,6 +635,25 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
             contacts,
         });
     }
+    // The tensioner arms' states, at whatever times they were written.
+    let arms = scene.tensioners.len();
+    let topic = Channel::Tensioners.topic();
+    let tensioners = get(topic)
+        .iter()
+        .map(|(&t_ns, d)| {
+            let m = decode_tensioners(d).map_err(|e| bad(topic, t_ns, e))?;
+            if m.tensioners.len() != arms {
+                return Err(shape(
+                    topic,
+                    t_ns,
+                    "tensioner arms",
+                    m.tensioners.len(),
+                    arms,
+                ));
+            }
+            Ok(m)
+        })
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(Recording {
         name: name.to_owned(),
         scene,
@@ -583,6 +663,7 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         has_links,
         has_contacts,
         samples,
+        tensioners,
     })
 }
 #[cfg(test)]

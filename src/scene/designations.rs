@@ -3,14 +3,26 @@
 //! radius and an axial link stiffness estimate; a field written in the
 //! scene overrides the table's (docs/model.md, “Chains by designation”).
 //!
-//! **Sources.** Pitch P, roller diameter d₁, pin diameter d₂ and inner plate
-//! depth h₂ are the standards' dimension tables: ISO 606:2004, Table 1
-//! (B series, European), and ASME B29.1 (American standard, ANSI numbers;
-//! ISO 606's A series has the same dimensions). ANSI 25 and 35 are bush
-//! chains without rollers: d₁ is then the bush's diameter, which is what
-//! seats in the sprocket. Neither standard gives a mass or a plate
-//! thickness: mass per metre and link plate thickness are from a
-//! manufacturer's catalogue, named in [`Designation::mass_source`].
+//! **Sources, value by value** (each row names its own in
+//! [`Designation::sources`]; `chaindrive chains` prints them):
+//!
+//! - **ANSI** rows are typed in inches from the ASME B29.1 dimension table
+//!   as printed by Engineers Edge ("Roller Chain Dimensions per ASME/ANSI
+//!   B29.1M") and AmesWeb ("Roller Chain Dimensions Table"): pitch, roller
+//!   diameter (bush diameter for the rollerless 25 and 35), width between
+//!   the inner plates, pin diameter, link plate thickness and minimum
+//!   ultimate tensile strength. B29.1 gives the roller-link plate height as
+//!   at most 0.95 P; the table takes that maximum as the plate depth.
+//!   Mass per metre is the weight per foot of the "Standard Roller Chain
+//!   Dimensions" table (lb/ft × 1.48816 kg/m per lb/ft).
+//! - **ISO 606 B-series** pitch, roller diameter, inner width and mass per
+//!   metre of 05B to 48B are from the Ametric catalogue table "Standard
+//!   Metric Roller Chain (DIN 8180/8187 and BS 228)"; its breaking strengths
+//!   of 05B, 06B and 08B too. No printed copy of ISO 606's Table 1 could be
+//!   read: pin diameter, inner plate depth, the other strengths (the
+//!   standard's minimum tensile strengths as remembered), 56B to 72B's mass
+//!   and inner width, and every B-series plate thickness are marked
+//!   **estimate** in their row.
 //!
 //! **Stiffness estimate.** A link's two side plates in tension, through their
 //! net section at the pin hole: K = η E A / P with A = 2 t (h₂ − d₂),
@@ -26,14 +38,33 @@ pub const STEEL_E_PA: f64 = 206e9;
 /// Reduction η of the plates' E A / P for the joints' compliance (module docs).
 pub const STIFFNESS_REDUCTION: f64 = 1.0 / 3.0;
 
-/// Source of the ISO 606 B-series dimensions.
-const ISO_DIMENSIONS: &str = "ISO 606:2004 Table 1 (B series)";
-/// Source of the ANSI dimensions.
-const ANSI_DIMENSIONS: &str = "ASME B29.1 (= ISO 606 A series)";
-/// Source of the B-series mass per metre and plate thickness.
-const ISO_CATALOGUE: &str = "Renold transmission chain catalogue, European (BS/ISO) simplex";
-/// Source of the ANSI mass per metre and plate thickness.
-const ANSI_CATALOGUE: &str = "Tsubaki RS roller chain catalogue, single strand";
+/// ASME B29.1 as printed by Engineers Edge and AmesWeb.
+const B29: &str = "ASME B29.1 table (Engineers Edge; AmesWeb)";
+/// ASME B29.1's plate height rule.
+const B29_PLATE: &str = "ASME B29.1: roller-link plate height at most 0.95 P (the maximum)";
+/// The weight-per-foot table of ANSI chains.
+const ANSI_WEIGHT: &str = "\"Standard Roller Chain Dimensions\" table, weight lb/ft";
+/// The Ametric metric chain catalogue.
+const AMETRIC: &str = "Ametric catalogue, Standard Metric Roller Chain (DIN 8180/8187, BS 228)";
+/// B-series values no source could be found for.
+const ISO_ESTIMATE: &str = "estimate (ISO 606 Table 1 as remembered; no printed copy read)";
+/// B-series plate thickness.
+const PLATE_ESTIMATE: &str = "estimate (no catalogue found)";
+
+/// Where each of a row's values comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sources {
+    /// Pitch, roller diameter and inner width.
+    pub dimensions: &'static str,
+    /// Pin diameter and inner plate depth.
+    pub pin_and_plate_depth: &'static str,
+    /// Plate thickness.
+    pub plate_thickness: &'static str,
+    /// Mass per metre.
+    pub mass: &'static str,
+    /// Tensile strength.
+    pub strength: &'static str,
+}
 
 /// One chain of the table, single strand.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -44,18 +75,21 @@ pub struct Designation {
     pub pitch_m: f64,
     /// Roller diameter d₁ (bush diameter for a rollerless chain), m.
     pub roller_diameter_m: f64,
+    /// Width between the inner plates b₁, m.
+    pub inner_width_m: f64,
     /// Pin diameter d₂, m.
     pub pin_diameter_m: f64,
     /// Inner plate depth h₂, m.
     pub plate_depth_m: f64,
-    /// Inner link plate thickness t, m (catalogue).
+    /// Inner link plate thickness t, m.
     pub plate_thickness_m: f64,
-    /// Mass per metre, kg/m (catalogue).
+    /// Mass per metre, kg/m.
     pub mass_per_m_kg: f64,
-    /// Where P, d₁, d₂ and h₂ come from.
-    pub dimension_source: &'static str,
-    /// Where the mass per metre and the plate thickness come from.
-    pub mass_source: &'static str,
+    /// Tensile strength, N (the standard's minimum, or a catalogue's
+    /// breaking strength where [`Sources::strength`] says so).
+    pub tensile_strength_n: f64,
+    /// Where each value comes from.
+    pub sources: Sources,
 }
 
 impl Designation {
@@ -87,153 +121,119 @@ impl Designation {
     }
 }
 
-/// Builds a row; lengths in millimetres.
+/// Metres per inch.
+const INCH_M: f64 = 0.0254;
+/// Newtons per pound-force.
+const LBF_N: f64 = 4.448_221_615_260_5;
+/// kg/m per lb/ft.
+const LB_FT_KG_M: f64 = 0.453_592_37 / 0.3048;
+
+/// An ANSI row as printed in ASME B29.1, in inches and pounds: pitch,
+/// roller diameter, width, pin diameter, plate thickness, minimum ultimate
+/// tensile strength (lbf) and weight (lb/ft).
 #[allow(clippy::too_many_arguments)]
-const fn row(
+const fn ansi(
+    name: &'static str,
+    p_in: f64,
+    dr_in: f64,
+    w_in: f64,
+    dp_in: f64,
+    lpt_in: f64,
+    muts_lbf: f64,
+    weight_lb_ft: f64,
+) -> Designation {
+    Designation {
+        name,
+        pitch_m: p_in * INCH_M,
+        roller_diameter_m: dr_in * INCH_M,
+        inner_width_m: w_in * INCH_M,
+        pin_diameter_m: dp_in * INCH_M,
+        plate_depth_m: 0.95 * p_in * INCH_M,
+        plate_thickness_m: lpt_in * INCH_M,
+        mass_per_m_kg: weight_lb_ft * LB_FT_KG_M,
+        tensile_strength_n: muts_lbf * LBF_N,
+        sources: Sources {
+            dimensions: B29,
+            pin_and_plate_depth: B29_PLATE,
+            plate_thickness: B29,
+            mass: ANSI_WEIGHT,
+            strength: B29,
+        },
+    }
+}
+
+/// A B-series row in millimetres, kg/m and kN: pitch, roller diameter,
+/// inner width, pin diameter, inner plate depth, plate thickness, mass per
+/// metre, tensile strength; `checked` is how far the row was found in the
+/// Ametric catalogue (0: nothing, 1: P, d₁, b₁, 2: and the mass, 3: and the
+/// strength).
+#[allow(clippy::too_many_arguments)]
+const fn iso(
     name: &'static str,
     p_mm: f64,
     d1_mm: f64,
+    b1_mm: f64,
     d2_mm: f64,
     h2_mm: f64,
     t_mm: f64,
     q_kg_m: f64,
-    iso: bool,
+    f_kn: f64,
+    checked: u8,
 ) -> Designation {
     Designation {
         name,
         pitch_m: p_mm * 1e-3,
         roller_diameter_m: d1_mm * 1e-3,
+        inner_width_m: b1_mm * 1e-3,
         pin_diameter_m: d2_mm * 1e-3,
         plate_depth_m: h2_mm * 1e-3,
         plate_thickness_m: t_mm * 1e-3,
         mass_per_m_kg: q_kg_m,
-        dimension_source: if iso { ISO_DIMENSIONS } else { ANSI_DIMENSIONS },
-        mass_source: if iso { ISO_CATALOGUE } else { ANSI_CATALOGUE },
+        tensile_strength_n: f_kn * 1e3,
+        sources: Sources {
+            dimensions: if checked >= 1 { AMETRIC } else { ISO_ESTIMATE },
+            pin_and_plate_depth: ISO_ESTIMATE,
+            plate_thickness: PLATE_ESTIMATE,
+            mass: if checked >= 2 { AMETRIC } else { ISO_ESTIMATE },
+            strength: if checked >= 3 { AMETRIC } else { ISO_ESTIMATE },
+        },
     }
 }
 
 /// Every designation known, ISO 606 B series then ANSI, by pitch.
-/// Columns: name, P, d₁, d₂, h₂, t (mm), mass per metre (kg/m).
+#[rustfmt::skip]
 pub const DESIGNATIONS: &[Designation] = &[
-    row("ISO 606 05B-1", 8.00, 5.00, 2.31, 7.11, 0.75, 0.18, true),
-    row("ISO 606 06B-1", 9.525, 6.35, 3.28, 8.26, 1.00, 0.41, true),
-    row("ISO 606 08B-1", 12.70, 8.51, 4.45, 11.81, 1.60, 0.69, true),
-    row(
-        "ISO 606 10B-1",
-        15.875,
-        10.16,
-        5.08,
-        14.73,
-        1.50,
-        0.93,
-        true,
-    ),
-    row("ISO 606 12B-1", 19.05, 12.07, 5.72, 16.13, 1.80, 1.15, true),
-    row("ISO 606 16B-1", 25.40, 15.88, 8.28, 21.08, 3.10, 2.71, true),
-    row(
-        "ISO 606 20B-1",
-        31.75,
-        19.05,
-        10.19,
-        26.42,
-        3.50,
-        3.70,
-        true,
-    ),
-    row(
-        "ISO 606 24B-1",
-        38.10,
-        25.40,
-        14.63,
-        33.40,
-        4.80,
-        7.10,
-        true,
-    ),
-    row(
-        "ISO 606 28B-1",
-        44.45,
-        27.94,
-        15.90,
-        37.08,
-        6.00,
-        8.50,
-        true,
-    ),
-    row(
-        "ISO 606 32B-1",
-        50.80,
-        29.21,
-        17.81,
-        42.29,
-        6.00,
-        10.25,
-        true,
-    ),
-    row(
-        "ISO 606 40B-1",
-        63.50,
-        39.37,
-        22.89,
-        52.96,
-        8.00,
-        16.35,
-        true,
-    ),
-    row(
-        "ISO 606 48B-1",
-        76.20,
-        48.26,
-        29.24,
-        63.88,
-        10.00,
-        25.00,
-        true,
-    ),
-    row(
-        "ISO 606 56B-1",
-        88.90,
-        53.98,
-        34.32,
-        77.85,
-        12.00,
-        35.00,
-        true,
-    ),
-    row(
-        "ISO 606 64B-1",
-        101.60,
-        63.50,
-        39.40,
-        90.17,
-        13.00,
-        46.00,
-        true,
-    ),
-    row(
-        "ISO 606 72B-1",
-        114.30,
-        72.39,
-        44.48,
-        103.63,
-        15.00,
-        60.00,
-        true,
-    ),
-    row("ANSI 25", 6.35, 3.30, 2.31, 6.02, 0.76, 0.14, false),
-    row("ANSI 35", 9.525, 5.08, 3.58, 9.05, 1.27, 0.33, false),
-    row("ANSI 40", 12.70, 7.92, 3.96, 12.07, 1.52, 0.64, false),
-    row("ANSI 41", 12.70, 7.77, 3.58, 9.91, 1.27, 0.41, false),
-    row("ANSI 50", 15.875, 10.16, 5.08, 15.09, 2.03, 1.04, false),
-    row("ANSI 60", 19.05, 11.91, 5.94, 18.08, 2.39, 1.53, false),
-    row("ANSI 80", 25.40, 15.88, 7.92, 24.13, 3.18, 2.66, false),
-    row("ANSI 100", 31.75, 19.05, 9.53, 30.18, 3.96, 3.99, false),
-    row("ANSI 120", 38.10, 22.23, 11.10, 36.20, 4.75, 5.93, false),
-    row("ANSI 140", 44.45, 25.40, 12.70, 42.24, 5.56, 7.49, false),
-    row("ANSI 160", 50.80, 28.58, 14.27, 48.26, 6.35, 10.10, false),
-    row("ANSI 180", 57.15, 35.71, 17.46, 54.30, 7.14, 13.45, false),
-    row("ANSI 200", 63.50, 39.68, 19.85, 60.33, 7.92, 16.49, false),
-    row("ANSI 240", 76.20, 47.63, 23.81, 72.39, 9.53, 24.00, false),
+    //   name              P       d1     b1     d2     h2      t      kg/m   kN    checked
+    iso("ISO 606 05B-1",   8.00,   5.00,  3.00,  2.31,  7.11,  0.75,  0.18,   5.0, 3),
+    iso("ISO 606 06B-1",   9.525,  6.35,  5.72,  3.28,  8.26,  1.00,  0.41,   9.0, 3),
+    iso("ISO 606 08B-1",  12.70,   8.51,  7.75,  4.45, 11.81,  1.60,  0.70,  18.0, 3),
+    iso("ISO 606 10B-1",  15.875, 10.16,  9.65,  5.08, 14.73,  1.50,  0.91,  22.2, 2),
+    iso("ISO 606 12B-1",  19.05,  12.07, 11.68,  5.72, 16.13,  1.80,  1.18,  28.9, 2),
+    iso("ISO 606 16B-1",  25.40,  15.88, 17.02,  8.28, 21.08,  3.10,  2.68,  60.0, 2),
+    iso("ISO 606 20B-1",  31.75,  19.05, 19.56, 10.19, 26.42,  3.50,  3.50,  95.0, 2),
+    iso("ISO 606 24B-1",  38.10,  25.40, 25.40, 14.63, 33.40,  4.80,  6.80, 160.0, 2),
+    iso("ISO 606 28B-1",  44.45,  27.94, 30.99, 15.90, 37.08,  6.00,  8.50, 200.0, 2),
+    iso("ISO 606 32B-1",  50.80,  29.21, 30.99, 17.81, 42.29,  6.00, 10.5,  250.0, 2),
+    iso("ISO 606 40B-1",  63.50,  39.37, 38.10, 22.89, 52.96,  8.00, 16.4,  355.0, 2),
+    iso("ISO 606 48B-1",  76.20,  48.26, 45.72, 29.24, 63.88, 10.00, 25.0,  560.0, 2),
+    iso("ISO 606 56B-1",  88.90,  53.98, 53.34, 34.32, 77.85, 12.00, 35.0,  850.0, 0),
+    iso("ISO 606 64B-1", 101.60,  63.50, 60.96, 39.40, 90.17, 13.00, 46.0, 1120.0, 0),
+    iso("ISO 606 72B-1", 114.30,  72.39, 68.58, 44.48, 103.63, 15.00, 60.0, 1400.0, 0),
+    //    name        P      Dr     W      Dp      LPT    MUTS lbf  lb/ft
+    ansi("ANSI 25",  0.250, 0.130, 0.125, 0.0905, 0.030,    780.0, 0.084),
+    ansi("ANSI 35",  0.375, 0.200, 0.188, 0.141,  0.050,   1760.0, 0.21),
+    ansi("ANSI 40",  0.500, 0.312, 0.312, 0.156,  0.060,   3125.0, 0.41),
+    ansi("ANSI 41",  0.500, 0.306, 0.250, 0.141,  0.050,   1500.0, 0.28),
+    ansi("ANSI 50",  0.625, 0.400, 0.375, 0.200,  0.080,   4880.0, 0.68),
+    ansi("ANSI 60",  0.750, 0.469, 0.500, 0.234,  0.094,   7030.0, 1.00),
+    ansi("ANSI 80",  1.000, 0.625, 0.625, 0.312,  0.125,  12500.0, 1.69),
+    ansi("ANSI 100", 1.250, 0.750, 0.750, 0.375,  0.156,  19530.0, 2.49),
+    ansi("ANSI 120", 1.500, 0.875, 1.000, 0.437,  0.187,  28125.0, 3.67),
+    ansi("ANSI 140", 1.750, 1.000, 1.000, 0.500,  0.219,  38280.0, 4.93),
+    ansi("ANSI 160", 2.000, 1.125, 1.250, 0.562,  0.250,  50000.0, 6.43),
+    ansi("ANSI 180", 2.250, 1.406, 1.406, 0.687,  0.281,  63280.0, 8.70),
+    ansi("ANSI 200", 2.500, 1.562, 1.500, 0.781,  0.312,  78125.0, 10.51),
+    ansi("ANSI 240", 3.000, 1.875, 1.875, 0.937,  0.375, 112500.0, 16.90),
 ];
 
 /// A designation's canonical spelling for comparison: upper case, no

@@ -5,14 +5,20 @@
 //! The path's need of chain, in pitches, is the layout's own count with every
 //! strand link one pitch long ([`crate::geometry::needed_pitches`]); moving a
 //! sprocket by s along a unit direction u makes it a function f(s) whose
-//! root f(s) = N is found by bracketing and bisection (a 1-D root find; the
-//! tolerance is [`FIT_TOLERANCE_M`] of chain length). The bracket grows from
-//! the sprocket's position in the direction that brings f towards N and stops
-//! where the drive changes shape: a wrap that vanishes or jumps (the chain
-//! would leave a sprocket or cross itself), a strand that cannot be laid or
-//! that would run through a sprocket it does not wrap, or two sprockets that
-//! would overlap. There the fit is refused with the
-//! length still missing.
+//! roots f(s) = N are sought on a scan of the line on both sides of the
+//! sprocket, nearest first ([`SCAN_STEPS`] samples a side, out to twice the
+//! missing length plus the drive's size): two neighbouring samples whose
+//! misfits f − N differ in sign bracket a root, which regula falsi kept
+//! inside the bracket's middle half solves to [`FIT_TOLERANCE_M`] of chain
+//! length. A bracket may span a change of the wrap's shape (a wrap that
+//! grows or vanishes); where the need jumps across N there instead, no
+//! position fits and the scan goes on to the next bracket. A position is
+//! valid only where the drive can be built: no two sprockets overlap, no
+//! strand runs through a sprocket it does not wrap, and no two strands
+//! cross — strands that meet at a sprocket included, so a chain pulled
+//! through the strand across the drive, or looped round a sprocket over its
+//! own strand, is refused. A scan that finds no root says how near the
+//! chain's length it came, where, and what bounds the move.
 //!
 //! The tensioner rule starts from this fit: its sprocket first moves along
 //! its `adjust_direction` until the chain fits, then on until the pretension
@@ -20,6 +26,9 @@
 
 use crate::geometry::{PathCircle, ToothProfile, chain_path, needed_pitches};
 use crate::scene::Scene;
+
+/// Samples of the scan on each side of the sprocket's position.
+const SCAN_STEPS: usize = 200;
 
 /// Tolerance of the fit on the chain's length: at the fitted position the
 /// path through the seated rollers needs the chain's N pitches within this
@@ -131,7 +140,6 @@ pub(crate) struct Fitter<'a> {
 #[derive(Clone, Debug)]
 struct Probe {
     needed: f64,
-    wraps_rad: Vec<f64>,
 }
 
 impl<'a> Fitter<'a> {
@@ -179,14 +187,16 @@ impl<'a> Fitter<'a> {
             }
         }
         let path = chain_path(&circles).map_err(|e| e.to_string())?;
-        // Two strands that cross: the chain would run through itself.
+        // Two strands that cross: the chain would run through itself. Strands
+        // that meet at a sprocket are checked too: theirs are distinct
+        // tangent points, so a crossing is a loop of the chain around that
+        // sprocket (a wrap past the half turn that crosses its own strand),
+        // or a strand pulled through the strand across the drive (in a
+        // three-sprocket drive every pair of strands shares a sprocket).
         let strands = &path.strands;
         for (a, sa) in strands.iter().enumerate() {
             for sb in &strands[a + 1..] {
-                let shared = [sa.from, sa.to]
-                    .iter()
-                    .any(|j| *j == sb.from || *j == sb.to);
-                if !shared && segments_cross(sa.start_m, sa.end_m, sb.start_m, sb.end_m) {
+                if segments_cross(sa.start_m, sa.end_m, sb.start_m, sb.end_m) {
                     return Err(format!(
                         "the strand from \"{}\" to \"{}\" would cross the one from \"{}\" to \"{}\"",
                         sp[sa.from].name, sp[sa.to].name, sp[sb.from].name, sp[sb.to].name
@@ -214,10 +224,7 @@ impl<'a> Fitter<'a> {
         if !needed.is_finite() {
             return Err("the layout found no length".to_owned());
         }
-        Ok(Probe {
-            needed,
-            wraps_rad: path.wraps.iter().map(|w| w.wrap_rad).collect(),
-        })
+        Ok(Probe { needed })
     }
 
     /// Pitches of chain the path needs with the sprockets where the scene has them.
@@ -283,159 +290,187 @@ impl<'a> Fitter<'a> {
                 dy: u[1],
             });
         }
-        let sign = if (target - start.needed) / slope > 0.0 {
-            1.0
-        } else {
-            -1.0
-        };
-        let want = |n: f64| sign * slope.signum() * (target - n);
-        // Grow the bracket from 0 in steps of the linear estimate, doubling.
-        let mut step = ((target - start.needed) / slope).abs().max(h);
-        let (mut lo, mut lo_probe) = (0.0, start.clone());
-        let hi = loop {
-            let s = lo + sign * step;
-            match eval(s) {
-                Ok(p) if changed_shape(&lo_probe, &p) => {
-                    let (at, reason) = self.edge(k, u, lo, s, &lo_probe, &evaluations);
-                    // The need may have passed N before the shape changed.
-                    match self.probe(k, u, at) {
-                        Ok(q) if want(q.needed) <= 0.0 => break (at, q),
-                        _ => return Err(self.unreachable(k, u, at, reason, rollers)),
+        // Scan the need along the line, nearest offsets first, out to where
+        // even a move that lengthened both strands at once could not close
+        // the gap twice over, and at least the drive's size.
+        let gap_m = (target - start.needed).abs() * pitch;
+        let reach_m = (2.0 * gap_m + self.drive_size_m()).max(4.0 * pitch);
+        let step_m = reach_m / SCAN_STEPS as f64;
+        let mut best: Option<(f64, Probe)> = None;
+        let mut jump: Option<FitError> = None;
+        let mut stop: [Option<(f64, String)>; 2] = [None, None];
+        let mut last: [(f64, Option<Probe>); 2] =
+            [(0.0, Some(start.clone())), (0.0, Some(start.clone()))];
+        for i in 1..=SCAN_STEPS {
+            for (side, sign) in [(0, 1.0), (1, -1.0)] {
+                let s = sign * step_m * i as f64;
+                let probe = match eval(s) {
+                    Ok(p) => Some(p),
+                    Err(reason) => {
+                        if stop[side].is_none() {
+                            stop[side] = Some((s, reason));
+                        }
+                        None
+                    }
+                };
+                let (prev_s, prev) = std::mem::replace(&mut last[side], (s, probe.clone()));
+                if let (Some(p0), Some(p1)) = (prev, probe.as_ref())
+                    && let Some(found) =
+                        self.solve(k, target, tol, (prev_s, p0), (s, p1.clone()), &eval)
+                {
+                    match found {
+                        Ok(root) => {
+                            let local = self.local_slope(k, u, root.0, h).unwrap_or(slope);
+                            return Ok(fitted(root.0, root.1.needed, local, evaluations.get()));
+                        }
+                        Err(e) => {
+                            jump.get_or_insert(e);
+                        }
                     }
                 }
-                Ok(p) if want(p.needed) <= 0.0 => break (s, p),
-                Ok(p) => {
-                    (lo, lo_probe) = (s, p);
-                    step *= 2.0;
-                    if !(lo.abs() < 1e6) {
-                        return Err(self.unreachable(
-                            k,
-                            u,
-                            lo,
-                            "it would have to move more than 1000 km".to_owned(),
-                            rollers,
-                        ));
-                    }
-                }
-                Err(reason) => {
-                    let (at, reason) = self.edge_failing(k, u, lo, s, reason, &evaluations);
-                    match self.probe(k, u, at) {
-                        Ok(q) if want(q.needed) <= 0.0 => break (at, q),
-                        _ => return Err(self.unreachable(k, u, at, reason, rollers)),
+                if let Some(p) = probe {
+                    let closer = best
+                        .as_ref()
+                        .is_none_or(|(_, b)| (p.needed - target).abs() < (b.needed - target).abs());
+                    if closer {
+                        best = Some((s, p));
                     }
                 }
             }
+        }
+        if let Some(e) = jump {
+            return Err(e);
+        }
+        // No position along the line fits: say how near it came and what
+        // bounds the move on the side that comes nearest.
+        let (at, reached) = best.map_or((0.0, f64::NAN), |(s, p)| (s, p.needed));
+        let side = usize::from(at < 0.0);
+        let reason = match &stop[side] {
+            Some((s, why)) => {
+                format!("{why} at {s:+.4} m, and nowhere closer to the chain's length")
+            }
+            None => format!(
+                "the path's need stays short of the chain's length out to {:+.4} m",
+                if side == 0 { reach_m } else { -reach_m }
+            ),
         };
-        // Bisection on [lo, hi]: f(lo) short of N, f(hi) at or past it.
-        let (mut a, mut b) = (lo, hi.0);
-        let (mut fa, mut fb) = (lo_probe.needed, hi.1.needed);
+        let gap = rollers as f64 - reached;
+        Err(FitError::Unreachable {
+            sprocket: sp.name.clone(),
+            dx: u[0],
+            dy: u[1],
+            reason,
+            offset_m: at,
+            reached,
+            gap_pitches: gap,
+            gap_m: gap * pitch,
+            rollers,
+        })
+    }
+
+    /// The largest distance between two sprockets' far edges, m: the scale
+    /// of the scan.
+    fn drive_size_m(&self) -> f64 {
+        let sp = &self.scene.sprockets;
+        let mut size: f64 = 0.0;
+        for a in sp {
+            for b in sp {
+                let d = (a.center_m[0] - b.center_m[0]).hypot(a.center_m[1] - b.center_m[1]);
+                size = size.max(d + a.pitch_radius_m + b.pitch_radius_m);
+            }
+        }
+        size
+    }
+
+    /// d(needed)/d(offset) at `s`, by central differences.
+    fn local_slope(&self, k: usize, u: [f64; 2], s: f64, h: f64) -> Option<f64> {
+        let a = self.probe(k, u, s + h).ok()?;
+        let b = self.probe(k, u, s - h).ok()?;
+        let slope = (a.needed - b.needed) / (2.0 * h);
+        (slope.abs() > 0.0).then_some(slope)
+    }
+
+    /// The root of need(s) = `target` between two valid probes, if their
+    /// misfits differ in sign: regula falsi kept inside the middle half,
+    /// through any change of the wrap's shape between them. A probe that
+    /// fails inside narrows the bracket to the valid side that still
+    /// changes sign. `None`: no sign change (or none left among valid
+    /// positions); `Some(Err)`: the need jumps across the target there.
+    fn solve(
+        &self,
+        k: usize,
+        target: f64,
+        tol: f64,
+        lo: (f64, Probe),
+        hi: (f64, Probe),
+        eval: &impl Fn(f64) -> Result<Probe, String>,
+    ) -> Option<Result<(f64, Probe), FitError>> {
+        let (mut a, mut pa) = lo;
+        let (mut b, mut pb) = hi;
+        let (ga, gb) = (pa.needed - target, pb.needed - target);
+        if ga.abs() <= tol {
+            return Some(Ok((a, pa)));
+        }
+        if gb.abs() <= tol {
+            return Some(Ok((b, pb)));
+        }
+        if ga.signum() == gb.signum() {
+            return None;
+        }
         for _ in 0..200 {
-            if (fb - target).abs() <= tol || (a - b).abs() <= 1e-15 * (1.0 + a.abs()) {
+            let (fa, fb) = (pa.needed - target, pb.needed - target);
+            if (a - b).abs() <= 1e-13 * (1.0 + a.abs()) {
                 break;
             }
-            // Regula falsi point, kept inside the middle half (Illinois-free safeguard).
-            let mut m = a + (target - fa) * (b - a) / (fb - fa);
+            let mut m = a - fa * (b - a) / (fb - fa);
             let (low, high) = (a.min(b), a.max(b));
             let quarter = 0.25 * (high - low);
             if !(m > low + quarter && m < high - quarter) {
                 m = 0.5 * (a + b);
             }
-            let p = eval(m).map_err(FitError::NoPath)?;
-            if want(p.needed) > 0.0 {
-                (a, fa) = (m, p.needed);
-            } else {
-                (b, fb) = (m, p.needed);
-            }
-        }
-        if (fb - target).abs() <= tol {
-            return Ok(fitted(b, fb, slope, evaluations.get()));
-        }
-        if (fa - target).abs() <= tol {
-            return Ok(fitted(a, fa, slope, evaluations.get()));
-        }
-        Err(FitError::Jump {
-            sprocket: sp.name.clone(),
-            offset_m: 0.5 * (a + b),
-            below: fa,
-            above: fb,
-            rollers,
-        })
-    }
-
-    /// The last offset before the drive changes shape between `good` (at
-    /// `a`) and `b`, by bisection to a micrometre, and what changes.
-    fn edge(
-        &self,
-        k: usize,
-        u: [f64; 2],
-        mut a: f64,
-        mut b: f64,
-        good: &Probe,
-        evaluations: &std::cell::Cell<usize>,
-    ) -> (f64, String) {
-        let mut good = good.clone();
-        let mut bad_reason = String::new();
-        while (b - a).abs() > 1e-6 {
-            let m = 0.5 * (a + b);
-            evaluations.set(evaluations.get() + 1);
-            match self.probe(k, u, m) {
-                Ok(p) if !changed_shape(&good, &p) => (a, good) = (m, p),
+            match eval(m) {
                 Ok(p) => {
-                    bad_reason = shape_change(&self.scene.sprockets, &good, &p);
-                    b = m;
+                    let g = p.needed - target;
+                    if g.abs() <= tol {
+                        return Some(Ok((m, p)));
+                    }
+                    if g.signum() == fa.signum() {
+                        (a, pa) = (m, p);
+                    } else {
+                        (b, pb) = (m, p);
+                    }
                 }
-                Err(e) => {
-                    bad_reason = e;
-                    b = m;
+                Err(_) => {
+                    // An invalid stretch inside: keep the half whose valid
+                    // end lies nearer a sign change, found by sampling.
+                    let inner = (1..8)
+                        .map(|j| a + (b - a) * j as f64 / 8.0)
+                        .filter_map(|x| eval(x).ok().map(|p| (x, p)))
+                        .collect::<Vec<_>>();
+                    let mut chain = vec![(a, pa.clone())];
+                    chain.extend(inner);
+                    chain.push((b, pb.clone()));
+                    let pair = chain.windows(2).find(|w| {
+                        (w[0].1.needed - target).signum() != (w[1].1.needed - target).signum()
+                    })?;
+                    ((a, pa), (b, pb)) = (pair[0].clone(), pair[1].clone());
                 }
             }
         }
-        if bad_reason.is_empty() {
-            bad_reason = "the wrap changes".to_owned();
+        let (fa, fb) = (pa.needed - target, pb.needed - target);
+        if fa.abs() <= tol {
+            return Some(Ok((a, pa)));
         }
-        (a, bad_reason)
-    }
-
-    /// [`Self::edge`] when the probe at `b` failed with `reason`.
-    fn edge_failing(
-        &self,
-        k: usize,
-        u: [f64; 2],
-        a: f64,
-        b: f64,
-        reason: String,
-        evaluations: &std::cell::Cell<usize>,
-    ) -> (f64, String) {
-        match self.probe(k, u, a) {
-            Ok(good) => {
-                let (at, r) = self.edge(k, u, a, b, &good, evaluations);
-                (at, if r.is_empty() { reason } else { r })
-            }
-            Err(_) => (a, reason),
+        if fb.abs() <= tol {
+            return Some(Ok((b, pb)));
         }
-    }
-
-    fn unreachable(
-        &self,
-        k: usize,
-        u: [f64; 2],
-        offset: f64,
-        reason: String,
-        rollers: usize,
-    ) -> FitError {
-        let reached = self.probe(k, u, offset).map_or(f64::NAN, |p| p.needed);
-        let gap = rollers as f64 - reached;
-        FitError::Unreachable {
+        Some(Err(FitError::Jump {
             sprocket: self.scene.sprockets[k].name.clone(),
-            dx: u[0],
-            dy: u[1],
-            reason: format!("{reason} when it has moved"),
-            offset_m: offset,
-            reached,
-            gap_pitches: gap,
-            gap_m: gap * self.scene.chain.pitch_m,
-            rollers,
-        }
+            offset_m: 0.5 * (a + b),
+            below: pa.needed.min(pb.needed),
+            above: pa.needed.max(pb.needed),
+            rollers: target as usize,
+        }))
     }
 }
 
@@ -459,33 +494,6 @@ fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
         0.0
     };
     (p[0] - a[0] - t * ab[0]).hypot(p[1] - a[1] - t * ab[1])
-}
-
-/// Whether the wraps changed shape between two probes: a wrap that jumps by
-/// more than a quarter turn (the chain leaves a sprocket or crosses itself).
-fn changed_shape(a: &Probe, b: &Probe) -> bool {
-    a.wraps_rad
-        .iter()
-        .zip(&b.wraps_rad)
-        .any(|(x, y)| (x - y).abs() > std::f64::consts::FRAC_PI_2)
-}
-
-/// Names the wrap that changed between two probes.
-fn shape_change(sprockets: &[crate::scene::Sprocket], a: &Probe, b: &Probe) -> String {
-    a.wraps_rad
-        .iter()
-        .zip(&b.wraps_rad)
-        .enumerate()
-        .find(|(_, (x, y))| (*x - *y).abs() > std::f64::consts::FRAC_PI_2)
-        .map(|(k, (x, y))| {
-            format!(
-                "the chain's wrap on sprocket \"{}\" jumps from {:.1} to {:.1} degrees",
-                sprockets[k].name,
-                x.to_degrees(),
-                y.to_degrees()
-            )
-        })
-        .unwrap_or_default()
 }
 
 /// Moves sprocket `k` of `scene` along `direction` until a chain of

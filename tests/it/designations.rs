@@ -32,29 +32,95 @@ fn every_pitch_follows_from_its_name() {
     }
 }
 
-/// Pitch P, roller diameter d₁ and pin diameter d₂ (mm) of a handful of
-/// sizes, typed in from ISO 606:2004 Table 1 (B series) and ASME B29.1
-/// (ANSI), to the standards' two decimals.
+/// ANSI rows against ASME B29.1's dimension table as printed by Engineers
+/// Edge ("Roller Chain Dimensions per ASME/ANSI B29.1M") and AmesWeb, in
+/// inches: pitch, roller diameter, width, pin diameter, link plate
+/// thickness, minimum ultimate tensile strength (lbf); and the weight per
+/// foot (lb/ft) of the "Standard Roller Chain Dimensions" table. Typed in
+/// here, converted here (1 in = 25.4 mm, 1 lbf = 4.448 222 N, 1 lb/ft =
+/// 1.488 164 kg/m); to the printed digits.
 #[test]
-fn dimensions_match_the_standards() {
+fn ansi_rows_match_asme_b29_1() {
     let typed = [
-        ("ISO 606 05B-1", 8.00, 5.00, 2.31),
-        ("ISO 606 08B-1", 12.70, 8.51, 4.45),
-        ("ISO 606 16B-1", 25.40, 15.88, 8.28),
-        ("ISO 606 24B-1", 38.10, 25.40, 14.63),
-        ("ISO 606 48B-1", 76.20, 48.26, 29.24),
-        ("ISO 606 72B-1", 114.30, 72.39, 44.48),
-        ("ANSI 40", 12.70, 7.92, 3.96),
-        ("ANSI 60", 19.05, 11.91, 5.94),
-        ("ANSI 80", 25.40, 15.88, 7.92),
-        ("ANSI 120", 38.10, 22.23, 11.10),
-        ("ANSI 240", 76.20, 47.63, 23.81),
+        // name        P      Dr     W      Dp     LPT    MUTS     lb/ft
+        ("ANSI 40", 0.500, 0.312, 0.312, 0.156, 0.060, 3125.0, 0.41),
+        ("ANSI 60", 0.750, 0.469, 0.500, 0.234, 0.094, 7030.0, 1.00),
+        ("ANSI 80", 1.000, 0.625, 0.625, 0.312, 0.125, 12500.0, 1.69),
+        ("ANSI 160", 2.000, 1.125, 1.250, 0.562, 0.250, 50000.0, 6.43),
+        (
+            "ANSI 240", 3.000, 1.875, 1.875, 0.937, 0.375, 112500.0, 16.90,
+        ),
     ];
-    for (name, p, d1, d2) in typed {
+    for (name, p, dr, w, dp, lpt, muts, wt) in typed {
         let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
-        assert!((d.pitch_m * 1e3 - p).abs() < 0.005, "{name} pitch");
+        let inch = |m: f64| m / INCH_M;
+        assert!((inch(d.pitch_m) - p).abs() < 5e-4, "{name} pitch");
+        assert!((inch(d.roller_diameter_m) - dr).abs() < 5e-4, "{name} Dr");
+        assert!((inch(d.inner_width_m) - w).abs() < 5e-4, "{name} W");
+        assert!((inch(d.pin_diameter_m) - dp).abs() < 5e-4, "{name} Dp");
+        assert!((inch(d.plate_thickness_m) - lpt).abs() < 5e-4, "{name} LPT");
+        assert!(
+            (d.tensile_strength_n / 4.448_222 - muts).abs() < 1.0,
+            "{name} MUTS"
+        );
+        assert!(
+            (d.mass_per_m_kg / 1.488_164 - wt).abs() < 5e-3,
+            "{name} weight"
+        );
+        assert!(d.sources.dimensions.contains("B29.1"), "{name}");
+    }
+}
+
+/// B-series rows against the Ametric catalogue table "Standard Metric
+/// Roller Chain (DIN 8180/8187 and BS 228)": pitch, inner width b₁, roller
+/// diameter d₁ (mm, printed to two decimals, 9.525 and 15.875 as 9.52 and
+/// 15.87), weight (kg/m) and, for 06B and 08B, breaking strength (N).
+#[test]
+fn iso_rows_match_the_ametric_catalogue() {
+    let typed = [
+        // name           P      b1     d1     kg/m   N (0: not printed)
+        ("ISO 606 06B-1", 9.52, 5.72, 6.35, 0.41, 9000.0),
+        ("ISO 606 08B-1", 12.70, 7.75, 8.51, 0.70, 18000.0),
+        ("ISO 606 10B-1", 15.87, 9.65, 10.16, 0.91, 0.0),
+        ("ISO 606 16B-1", 25.40, 17.02, 15.88, 2.68, 0.0),
+        ("ISO 606 32B-1", 50.80, 30.99, 29.21, 10.5, 0.0),
+        ("ISO 606 48B-1", 76.20, 45.72, 48.26, 25.0, 0.0),
+    ];
+    for (name, p, b1, d1, q, f) in typed {
+        let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
+        assert!((d.pitch_m * 1e3 - p).abs() < 0.01, "{name} pitch");
+        assert!((d.inner_width_m * 1e3 - b1).abs() < 0.005, "{name} b1");
         assert!((d.roller_diameter_m * 1e3 - d1).abs() < 0.005, "{name} d1");
-        assert!((d.pin_diameter_m * 1e3 - d2).abs() < 0.005, "{name} d2");
+        assert!((d.mass_per_m_kg - q).abs() < 0.005, "{name} mass");
+        if f > 0.0 {
+            assert!((d.tensile_strength_n - f).abs() < 1.0, "{name} strength");
+        }
+        assert!(d.sources.dimensions.contains("Ametric"), "{name}");
+        assert!(d.sources.mass.contains("Ametric"), "{name}");
+    }
+}
+
+/// What no source was found for says so: every B-series plate thickness
+/// and pin diameter, and the 56B to 72B masses.
+#[test]
+fn unchecked_values_are_marked_as_estimates() {
+    for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ISO")) {
+        assert!(d.sources.plate_thickness.contains("estimate"), "{}", d.name);
+        assert!(
+            d.sources.pin_and_plate_depth.contains("estimate"),
+            "{}",
+            d.name
+        );
+    }
+    for name in ["56B", "64B", "72B"] {
+        assert!(find(name).expect(name).sources.mass.contains("estimate"));
+    }
+    for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ANSI")) {
+        assert!(
+            !format!("{:?}", d.sources).contains("estimate"),
+            "{}",
+            d.name
+        );
     }
 }
 
@@ -80,7 +146,7 @@ fn the_table_covers_both_families() {
             "{}",
             d.name
         );
-        assert!(!d.dimension_source.is_empty() && !d.mass_source.is_empty());
+        assert!(!d.sources.dimensions.is_empty() && !d.sources.mass.is_empty());
     }
 }
 

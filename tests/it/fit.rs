@@ -231,3 +231,73 @@ fn run_says_it_once_and_check_offers_the_move() {
         layout.misfit_pitches
     );
 }
+
+/// Whether the closed polygon through `points` crosses itself (two links
+/// that do not share a roller intersecting properly): a chain that runs
+/// through its own other strand.
+fn polygon_crosses_itself(points: &[[f64; 2]]) -> bool {
+    let n = points.len();
+    let orient = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
+        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+    };
+    let cross = |a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]| {
+        orient(a, b, c) * orient(a, b, d) < 0.0 && orient(c, d, a) * orient(c, d, b) < 0.0
+    };
+    (0..n).any(|i| {
+        (i + 2..n).any(|j| {
+            (j + 1) % n != i
+                && cross(
+                    points[i],
+                    points[(i + 1) % n],
+                    points[j],
+                    points[(j + 1) % n],
+                )
+        })
+    })
+}
+
+/// Regression (the idler drive with 160 rollers, 30.6 pitches more than
+/// the path needs where the idler is written): pushed down along its
+/// adjust_direction, the idler took the upper strand through the lower
+/// one, and the fit accepted that position (at y = −0.298 m) because every
+/// pair of strands in a three-sprocket drive shares a sprocket and was
+/// skipped by the crossing check. Now a fit, if one is given, is a drive
+/// whose laid-out rollers form a simple polygon (checked on the rollers
+/// themselves, link by link), and the idler stays above the lower strand.
+#[test]
+fn an_idler_fit_never_pulls_the_chain_through_itself() {
+    let scene = with_rollers("idler_tensioner_3.toml", 160);
+    match fit_sprocket(&scene, 2, [0.0, -1.0], 160) {
+        Ok(fit) => {
+            assert!(fit.misfit_m <= 1e-9, "{fit:?}");
+            let t = text("idler_tensioner_3.toml")
+                .replace("rollers = 129", "rollers = 160")
+                .replace(
+                    "center_m = [0.31, 0.05]",
+                    &format!("center_m = [{:?}, {:?}]", fit.center_m[0], fit.center_m[1]),
+                );
+            let fitted = Scene::from_toml(&t).expect("valid");
+            let (_, _, layout) = DriveModel::build(&fitted).expect("lays out");
+            assert!(
+                !polygon_crosses_itself(&layout.rollers_m),
+                "the chain crosses itself with the idler at {:?}",
+                fit.center_m
+            );
+        }
+        Err(e) => {
+            assert!(matches!(e, FitError::Unreachable { .. }), "{e}");
+        }
+    }
+}
+
+/// The scan finds a root behind a change of the wrap's shape: the idler
+/// drive with 129 rollers fits both ways along the line, and the fit is the
+/// nearer root (the path's need at the written position is 129.36
+/// pitches; moving the idler up shortens it).
+#[test]
+fn the_fit_takes_the_nearest_root() {
+    let scene = with_rollers("idler_tensioner_3.toml", 129);
+    let fit = fit_sprocket(&scene, 2, [0.0, -1.0], 129).expect("a fit");
+    assert!(fit.offset_m < 0.0, "{fit:?}");
+    assert!(fit.misfit_m <= 1e-9, "{fit:?}");
+}

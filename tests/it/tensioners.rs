@@ -430,7 +430,11 @@ fn tensioners_are_recorded_drawn_and_read_back() {
         let sampling = SampleRate::new(1000.0, scene.solver().dt_s).expect("a sample step");
         let options = RecordOptions {
             channels: Channels::all(),
-            scene_file: None,
+            // The scene attached, as `run --record` does, so that
+            // `record::read` can read the file back.
+            scene_file: scene
+                .source_toml()
+                .map(|t| ("timing-drive.toml".to_owned(), t.as_bytes().to_vec())),
             rate_hz: sampling.rate_hz,
         };
         let mut recorder =
@@ -455,12 +459,42 @@ fn tensioners_are_recorded_drawn_and_read_back() {
                 _ => {}
             }
         }
-        (samples, drawn, framed)
+        // The same file read back by the library.
+        let read = chaindrive::record::read::read_recording_bytes("timing.mcap", &bytes)
+            .unwrap_or_else(|e| panic!("a readable recording: {e}"));
+        (samples, drawn, framed, read.tensioners)
     };
     let scene = timing_scene();
-    let (samples, drawn, framed) = record(&scene);
+    let (samples, drawn, framed, read) = record(&scene);
     // t = 0 and every 1 ms to 10 ms: 11 samples.
     assert_eq!(samples.len(), 11);
+    // `record::read` gives back every message as written, field by field.
+    assert_eq!(read.len(), samples.len());
+    for (r, s) in read.iter().zip(&samples) {
+        assert_eq!(r.t_s, s.t_s);
+        assert_eq!(r.tensioners.len(), 1);
+        let (r, s) = (&r.tensioners[0], &s.tensioners[0]);
+        assert_eq!(u64::from(r.tensioner), s.tensioner);
+        assert_eq!(
+            [
+                r.travel_m,
+                r.speed_m_s,
+                r.pressure_pa,
+                r.arm_angle_rad,
+                r.shoe_force_n,
+                r.plunger_force_n
+            ],
+            [
+                s.travel_m,
+                s.speed_m_s,
+                s.pressure_pa,
+                s.arm_angle_rad,
+                s.shoe_force_n,
+                s.plunger_force_n
+            ]
+        );
+        assert_eq!(r.valve_open, s.valve_open);
+    }
     assert!(drawn && framed, "drawn {drawn}, in /tf {framed}");
     let (pivot, a0, e) = (
         [0.090923, 0.015986],
@@ -496,8 +530,8 @@ fn tensioners_are_recorded_drawn_and_read_back() {
     let plain = plain.replace("pretension_by = \"tensioner_preload\"", "");
     let plain = Scene::from_toml(&format!("{plain}[solver]\nduration_s = 0.01\n"))
         .expect("the drive without its arm");
-    let (samples, drawn, framed) = record(&plain);
-    assert!(samples.is_empty() && !drawn && !framed);
+    let (samples, drawn, framed, read) = record(&plain);
+    assert!(samples.is_empty() && !drawn && !framed && read.is_empty());
 }
 
 /// A shoe the chain path does not reach gets a warning naming the arm, as a

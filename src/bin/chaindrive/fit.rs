@@ -72,7 +72,7 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
-    println!(
+    say(format_args!(
         "sprocket \"{}\": centre [{:?}, {:?}] m -> [{:?}, {:?}] m, moved by [{:+.6}, {:+.6}] m",
         sp.name,
         sp.center_m[0],
@@ -81,11 +81,11 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
         fit.center_m[1],
         fit.offset_m * fit.direction[0],
         fit.offset_m * fit.direction[1],
-    );
-    println!(
+    ))?;
+    say(format_args!(
         "the path through the seated rollers needed {:.4} pitches; now {:.9} for {rollers} rollers (misfit {:.1e} m, tolerance {FIT_TOLERANCE_M:.0e} m; {} layouts)",
         fit.needed_before, fit.needed_pitches, fit.misfit_m, fit.evaluations
-    );
+    ))?;
     let mut edits = vec![(
         format!("sprockets[{k}].center_m"),
         format!("[{:?}, {:?}]", fit.center_m[0], fit.center_m[1]),
@@ -103,20 +103,28 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
         }
     };
     match DriveModel::build(&fitted_scene) {
-        Ok((_, _, layout)) => println!(
+        Ok((_, _, layout)) => say(format_args!(
             "fitted layout: strand links {:.9} m for a pitch of {} m (misfit {:.2e} pitches)",
             layout.strand_link_m,
             fitted_scene.chain().pitch_m,
             layout.misfit_pitches
-        ),
+        ))?,
         Err(e) => {
             eprintln!("{name}: the fitted scene does not lay out: {e}");
             return Ok(ExitCode::FAILURE);
         }
     }
     std::fs::write(&out, fitted).with_context(|| format!("cannot write {}", out.display()))?;
-    println!("wrote {}", out.display());
+    say(format_args!("wrote {}", out.display()))?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// One line on stdout; a closed pipe (`chaindrive fit ... | head`) is not
+/// an error: the fitted scene is still written.
+fn say(args: std::fmt::Arguments<'_>) -> std::io::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    crate::chains::quiet_on_closed_pipe(out.write_fmt(args).and_then(|()| out.write_all(b"\n")))
 }
 
 /// `scene.toml` -> `scene-fitted.toml`, beside it.
