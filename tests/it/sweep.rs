@@ -302,7 +302,7 @@ fn a_crossing_peaks_only_where_the_response_is_a_local_maximum_well_above_its_me
     assert_eq!(rpm[j], 300.0);
     // A crossing 10 % away: no peak there, though the sweep has one.
     assert_eq!(judge_peak(&rpm, &response, 330.5).0, PeakVerdict::NoPeak);
-    // A flat response with a ripple: local maxima, but not 3 × the median.
+    // A flat response with a ripple: local maxima, but not 1.5 × the median.
     let ripple: Vec<f64> = rpm
         .iter()
         .enumerate()

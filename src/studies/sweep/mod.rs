@@ -745,6 +745,11 @@ pub fn run_sweep(
     on_case: &(dyn Fn(&CaseOutcome) + Sync),
 ) -> Result<Vec<CaseOutcome>, SweepError> {
     let cases = prepare(scene, settings)?;
+    // The fastest speeds first (they take the longest: more tooth impacts
+    // per second of the same run), so that no long case starts last and
+    // leaves the other threads idle.
+    let mut queue: Vec<usize> = (0..cases.len()).collect();
+    queue.sort_by(|&a, &b| cases[b].rpm.total_cmp(&cases[a].rpm));
     let next = AtomicUsize::new(0);
     let done: Mutex<Vec<(usize, CaseOutcome)>> = Mutex::new(Vec::new());
     let jobs = settings.jobs.clamp(1, cases.len().max(1));
@@ -755,7 +760,9 @@ pub fn run_sweep(
                     if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
                         break;
                     }
-                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&i) = queue.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                        break;
+                    };
                     let Some(case) = cases.get(i) else { break };
                     if let Some(outcome) = run_case(case, settings, stop) {
                         on_case(&outcome);

@@ -74,7 +74,7 @@ pub struct Crossing {
 
 /// How far the response at a crossing must exceed the median of the
 /// order's response over the sweep for a resonance.
-pub const PEAK_MEDIAN_FACTOR: f64 = 3.0;
+pub const PEAK_MEDIAN_FACTOR: f64 = 1.5;
 
 /// The coarsest grid that resolves a crossing: the speeds on either side of
 /// it at most this fraction of its rpm apart.
