@@ -283,6 +283,33 @@ impl AngleWindow {
     /// The order spectrum of `x` (one value per sample; module docs, step 4).
     pub fn spectrum(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
         let resampled = self.resample(x)?;
+        Ok(self.spectrum_of(&resampled))
+    }
+
+    /// The order spectrum of `x` less its linear trend in φ over the window:
+    /// the line through x at the window's two ends (one revolution apart by
+    /// a whole number, so every order has the same value at both and the
+    /// line holds the trend alone) is taken out before the DFT. A linear
+    /// trend of rise Δ left in would leak Δ/(π k N) into order k of N
+    /// revolutions; a signal that is a linear trend plus orders is analysed
+    /// exactly. For a slowly changing speed (a run-up). The mean is the
+    /// signal's own.
+    pub fn spectrum_detrended(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
+        let mut resampled = self.resample(x)?;
+        let n = resampled.len();
+        let mean = resampled.iter().sum::<f64>() / n as f64;
+        let end = interpolate(&self.phi, x, self.phi_start + self.revolutions as f64 * TAU);
+        let rise = end - resampled[0];
+        for (j, v) in resampled.iter_mut().enumerate() {
+            *v -= rise * j as f64 / n as f64;
+        }
+        let mut spectrum = self.spectrum_of(&resampled);
+        spectrum.mean = mean;
+        Ok(spectrum)
+    }
+
+    /// The spectrum of the resampled points (module docs, step 4).
+    fn spectrum_of(&self, resampled: &[f64]) -> OrderSpectrum {
         let n = resampled.len();
         let mut buf: Vec<Complex<f64>> = resampled.iter().map(|&v| Complex::new(v, 0.0)).collect();
         FftPlanner::new().plan_fft_forward(n).process(&mut buf);
@@ -301,10 +328,10 @@ impl AngleWindow {
                 }
             })
             .collect();
-        Ok(OrderSpectrum {
+        OrderSpectrum {
             mean: buf[0].re / n as f64,
             components,
-        })
+        }
     }
 }
 

@@ -305,10 +305,7 @@ impl ChainDrive {
             ));
         }
         if let Some(sp) = self.model.sprockets.get_mut(k) {
-            sp.speed_law = Some(SpeedLaw {
-                speed_rad_s,
-                ramp_s: 0.0,
-            });
+            sp.speed_law = Some(SpeedLaw::ramped(speed_rad_s, 0.0));
         }
         Ok(())
     }
@@ -430,10 +427,7 @@ impl ChainDrive {
                 sprocket.center_velocity_m_s = [v.x, v.y];
                 link.frame_start_m = [c.x, c.y];
                 if link.mount == Mount::Kinematic {
-                    sprocket.speed_law = Some(SpeedLaw {
-                        speed_rad_s: w,
-                        ramp_s: 0.0,
-                    });
+                    sprocket.speed_law = Some(SpeedLaw::ramped(w, 0.0));
                 } else {
                     link.user_torque_n_m = b.user_torque();
                     link.user_force = b.user_force();

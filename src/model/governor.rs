@@ -13,7 +13,12 @@
 //! This module knows nothing of stepping.
 
 use super::excitation::AngleLoad;
-use crate::scene::{GovernorGains, GovernorSpec, Scene, SpeedLaw};
+use crate::geometry::ChainPath;
+use crate::scene::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec, Scene, SpeedLaw};
+
+/// The default bandwidth is the drive's lowest span frequency divided by
+/// this: a decade below it.
+pub const SPAN_FREQUENCY_DIVISOR: f64 = 10.0;
 
 /// A driver's governor with its gains resolved.
 #[derive(Clone, Debug, PartialEq)]
@@ -33,8 +38,15 @@ pub struct Governor {
 impl Governor {
     /// The governor of `spec` on the driver `driver` of `scene`, its target
     /// `target`; gains from a bandwidth use the drive's inertia referred to
-    /// the driver ([`referred_inertia_kg_m2`]).
-    pub fn new(scene: &Scene, driver: usize, spec: &GovernorSpec, target: SpeedLaw) -> Self {
+    /// the driver ([`referred_inertia_kg_m2`]), and the default bandwidth
+    /// the free strands of `path` ([`default_bandwidth_hz`]).
+    pub fn new(
+        scene: &Scene,
+        driver: usize,
+        spec: &GovernorSpec,
+        target: SpeedLaw,
+        path: &ChainPath,
+    ) -> Self {
         let (kp_n_m_s_rad, ki_n_m_rad) = match spec.gains {
             GovernorGains::Given {
                 kp_n_m_s_rad,
@@ -43,6 +55,10 @@ impl Governor {
             GovernorGains::Bandwidth { hz } => {
                 critical_gains(referred_inertia_kg_m2(scene, driver), hz)
             }
+            GovernorGains::FromSpans => critical_gains(
+                referred_inertia_kg_m2(scene, driver),
+                default_bandwidth_hz(scene, path),
+            ),
         };
         Self {
             target,
@@ -75,16 +91,55 @@ impl Governor {
 }
 
 /// Θ_ref(t) = ∫₀ᵗ ω_ref: ω̄ t² / (2 t_r) on the ramp, ω̄ (t − t_r / 2) after
-/// it; 0 before t = 0.
+/// it; 0 before t = 0. A run-up from t₁ over T to ω₁ adds
+/// (ω₁ − ω̄) τ² / (2T) for τ = t − t₁ in [0, T] and (ω₁ − ω̄)(τ − T/2) after.
 #[inline]
 pub fn target_angle_rad(law: &SpeedLaw, t_s: f64) -> f64 {
-    if t_s <= 0.0 {
+    let base = if t_s <= 0.0 {
         0.0
     } else if t_s < law.ramp_s {
         0.5 * law.speed_rad_s * t_s * t_s / law.ramp_s
     } else {
         law.speed_rad_s * (t_s - 0.5 * law.ramp_s)
+    };
+    match law.run_up {
+        Some(r) if t_s > r.start_s => {
+            let (tau, rise) = (t_s - r.start_s, r.to_rad_s - law.speed_rad_s);
+            if tau < r.duration_s {
+                base + 0.5 * rise * tau * tau / r.duration_s
+            } else {
+                base + rise * (tau - 0.5 * r.duration_s)
+            }
+        }
+        _ => base,
     }
+}
+
+/// The lowest first transverse frequency of the drive's free strands at
+/// rest, Hz: c / (2L) with c = √(T₀/μ) from the pretension T₀ and μ = m_r/P,
+/// L each strand's length between pitch circles. `None` without a strand of
+/// positive length or a positive pretension.
+pub fn lowest_span_frequency_hz(scene: &Scene, path: &ChainPath) -> Option<f64> {
+    let chain = scene.chain();
+    let mu = chain.roller_mass_kg / chain.pitch_m;
+    let c = (chain.pretension_n / mu).sqrt();
+    path.strands
+        .iter()
+        .filter(|s| s.length_m > 0.0)
+        .map(|s| c / (2.0 * s.length_m))
+        .filter(|f| f.is_finite() && *f > 0.0)
+        .min_by(f64::total_cmp)
+}
+
+/// The bandwidth of a governor given neither gains nor `bandwidth_hz`, Hz:
+/// a decade below the drive's lowest span frequency
+/// ([`lowest_span_frequency_hz`] / [`SPAN_FREQUENCY_DIVISOR`]), so that the
+/// governor holds the mean speed and leaves the spans' dynamics alone;
+/// [`DEFAULT_GOVERNOR_BANDWIDTH_HZ`] when the drive has no such frequency.
+pub fn default_bandwidth_hz(scene: &Scene, path: &ChainPath) -> f64 {
+    lowest_span_frequency_hz(scene, path).map_or(DEFAULT_GOVERNOR_BANDWIDTH_HZ, |f| {
+        f / SPAN_FREQUENCY_DIVISOR
+    })
 }
 
 /// The gains that make J φ̈ + K_p φ̇ + K_i φ = 0 critically damped at the
@@ -150,10 +205,7 @@ mod tests {
     fn governor(j: f64, hz: f64, speed: f64, drive: f64) -> Governor {
         let (kp, ki) = critical_gains(j, hz);
         Governor {
-            target: SpeedLaw {
-                speed_rad_s: speed,
-                ramp_s: 0.0,
-            },
+            target: SpeedLaw::ramped(speed, 0.0),
             kp_n_m_s_rad: kp,
             ki_n_m_rad: ki,
             drive_torque_n_m: drive,
@@ -206,15 +258,37 @@ mod tests {
 
     #[test]
     fn the_target_angle_integrates_the_ramp() {
-        let law = SpeedLaw {
-            speed_rad_s: 10.0,
-            ramp_s: 0.375,
-        };
+        let law = SpeedLaw::ramped(10.0, 0.375);
         // Trapezoids on a piecewise-linear ω are exact at the knot.
         let n = 4096;
         let dt = 1.0 / f64::from(n);
         let mut theta = 0.0;
         for k in 0..n {
+            let t = f64::from(k) * dt;
+            theta += 0.5 * dt * (law.speed_at(t) + law.speed_at(t + dt));
+            approx::assert_abs_diff_eq!(target_angle_rad(&law, t + dt), theta, epsilon = 1e-9);
+        }
+    }
+
+    #[test]
+    fn the_target_angle_integrates_a_run_up() {
+        // A ramp to 10 rad/s over 0.25 s, then a run-up to 30 rad/s from
+        // 0.5 s over 1.25 s: ω is piecewise linear with knots on the grid
+        // (multiples of 1/4096 s), so trapezoids are exact.
+        let law = SpeedLaw {
+            run_up: Some(crate::scene::RunUp {
+                start_s: 0.5,
+                duration_s: 1.25,
+                to_rad_s: 30.0,
+            }),
+            ..SpeedLaw::ramped(10.0, 0.25)
+        };
+        approx::assert_abs_diff_eq!(law.speed_at(1.125), 20.0, epsilon = 1e-12);
+        approx::assert_abs_diff_eq!(law.speed_at(2.0), 30.0, epsilon = 1e-12);
+        let n = 4096;
+        let dt = 1.0 / f64::from(n);
+        let mut theta = 0.0;
+        for k in 0..2 * n {
             let t = f64::from(k) * dt;
             theta += 0.5 * dt * (law.speed_at(t) + law.speed_at(t + dt));
             approx::assert_abs_diff_eq!(target_angle_rad(&law, t + dt), theta, epsilon = 1e-9);

@@ -12,7 +12,10 @@ pub mod rapier;
 mod segments;
 
 pub use excitation::{AngleLoad, PeriodicSpline, speed_factor};
-pub use governor::{Governor, critical_gains, referred_inertia_kg_m2, target_angle_rad};
+pub use governor::{
+    Governor, SPAN_FREQUENCY_DIVISOR, critical_gains, default_bandwidth_hz,
+    lowest_span_frequency_hz, referred_inertia_kg_m2, target_angle_rad,
+};
 pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
@@ -389,7 +392,7 @@ impl DriveModel {
                 let excitation = &s.excitation;
                 let governor = excitation.governor.as_ref().and_then(|spec| {
                     s.speed_law()
-                        .map(|target| Governor::new(scene, i, spec, target))
+                        .map(|target| Governor::new(scene, i, spec, target, &path))
                 });
                 SprocketModel {
                     center_m: s.center_m,

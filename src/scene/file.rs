@@ -159,6 +159,10 @@ pub struct SprocketFile {
     /// Driver only: time of the linear ramp from rest to the target speed, s (0 = constant speed).
     #[serde(default)]
     pub ramp_s: Option<f64>,
+    /// Driver only: a slow linear change of its speed after the ramp
+    /// (`sprockets.run_up`; a governed driver's target follows it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub run_up: Option<super::RunUpFile>,
     /// Free or tensioner: constant load torque on the sprocket, N·m (counter-clockwise positive).
     #[serde(default)]
     pub load_torque_n_m: Option<f64>,

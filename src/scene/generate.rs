@@ -222,6 +222,7 @@ impl DriveSpec {
                     .to_owned(),
                     speed_rpm: driver.then_some(self.speed_rpm),
                     ramp_s: driver.then_some(self.ramp_s),
+                    run_up: None,
                     load_torque_n_m: None,
                     load_ramp_s: None,
                     adjust_direction: None,

@@ -18,9 +18,9 @@ use super::file::SprocketFile;
 use super::validate::Checker;
 
 /// The governor's natural frequency when the scene gives neither gains nor
-/// a bandwidth, Hz: a choice, not derived from the drive. It should stay
-/// well below the drive's lowest span frequency, so that the governor holds
-/// the mean speed and leaves the tooth-passing dynamics alone.
+/// a bandwidth and the drive has no span frequency to derive one from
+/// (`crate::model::default_bandwidth_hz`: a decade below the
+/// lowest span frequency), Hz.
 pub const DEFAULT_GOVERNOR_BANDWIDTH_HZ: f64 = 2.0;
 
 /// A driver turned by a torque under a PI speed governor, as written
@@ -50,7 +50,8 @@ pub struct GovernorFile {
     pub ki_n_m_rad: Option<f64>,
     /// The closed loop's natural frequency f_n, Hz, critically damped: K_p =
     /// 2 ω_n J, K_i = ω_n² J with ω_n = 2π f_n and J the drive's inertia
-    /// referred to the driver (default [`DEFAULT_GOVERNOR_BANDWIDTH_HZ`]).
+    /// referred to the driver (default: a decade below the drive's lowest
+    /// span frequency, docs/model.md, “A torque-driven driver”).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub bandwidth_hz: Option<f64>,
 }
@@ -70,6 +71,9 @@ pub enum GovernorGains {
         /// f_n, Hz.
         hz: f64,
     },
+    /// Neither given: the bandwidth a decade below the drive's lowest span
+    /// frequency (the model derives it from the drive's geometry).
+    FromSpans,
 }
 
 /// A validated governor: the drive torque and the gains.
@@ -132,11 +136,9 @@ pub(super) fn check_governor(
         })
     });
     let gains = match (g.kp_n_m_s_rad, g.ki_n_m_rad, g.bandwidth_hz) {
-        (None, None, hz) => GovernorGains::Bandwidth {
-            hz: c.positive(
-                &p("bandwidth_hz"),
-                hz.unwrap_or(DEFAULT_GOVERNOR_BANDWIDTH_HZ),
-            ),
+        (None, None, None) => GovernorGains::FromSpans,
+        (None, None, Some(hz)) => GovernorGains::Bandwidth {
+            hz: c.positive(&p("bandwidth_hz"), hz),
         },
         (Some(kp), Some(ki), None) => GovernorGains::Given {
             kp_n_m_s_rad: c.positive(&p("kp_n_m_s_rad"), kp),

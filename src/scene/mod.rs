@@ -22,6 +22,7 @@ mod guides;
 mod kinds;
 pub mod mutate;
 mod overrides;
+mod run_up;
 mod stability;
 mod tensioners;
 mod types;
@@ -43,6 +44,7 @@ pub use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorFile, GovernorGains, G
 pub use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, GuideFile, RampFile};
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
+pub use run_up::RunUpFile;
 pub use stability::{
     AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
 };
@@ -52,7 +54,7 @@ pub use tensioners::{
 };
 pub use types::{
     Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,
-    Solver, SpeedLaw, Sprocket,
+    RunUp, Solver, SpeedLaw, Sprocket,
 };
 
 /// The most sprockets a drive may have: the contact generator keeps each

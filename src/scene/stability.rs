@@ -148,7 +148,7 @@ pub fn impact_duration_s(chain: &Chain, contact: &Contact, sprockets: &[Sprocket
                         .iter()
                         .map(|h| h.amplitude.abs())
                         .sum::<f64>();
-                Some(law.speed_rad_s.abs() * peak * s.pitch_radius_m)
+                Some(law.top_speed_rad_s() * peak * s.pitch_radius_m)
             }
             _ => None,
         })

@@ -5,25 +5,62 @@
 use super::excitation::Excitation;
 use super::{ContactLaw, Integrator, PretensionRule, ProfileKind, Stepping, Wrap};
 
-/// A driver's prescribed speed: a linear ramp from rest, then constant.
+/// A driver's prescribed speed: a linear ramp from rest, then constant,
+/// then optionally a slow linear run-up to another speed.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SpeedLaw {
-    /// Final speed, rad/s, counter-clockwise positive.
+    /// Speed after the ramp, rad/s, counter-clockwise positive.
     pub speed_rad_s: f64,
     /// Ramp time from rest, s (0 = constant speed from t = 0).
     pub ramp_s: f64,
+    /// A linear change of speed after the ramp (`sprockets.run_up`).
+    pub run_up: Option<RunUp>,
+}
+
+/// A driver's run-up: from `start_s` on its speed goes linearly from the
+/// law's `speed_rad_s` to `to_rad_s` over `duration_s`, and stays there.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RunUp {
+    /// Start, s (not before the ramp's end).
+    pub start_s: f64,
+    /// Length, s (> 0).
+    pub duration_s: f64,
+    /// Speed at its end, rad/s, the sense of the law's speed.
+    pub to_rad_s: f64,
 }
 
 impl SpeedLaw {
+    /// A ramp from rest to `speed_rad_s` over `ramp_s`, then constant.
+    pub fn ramped(speed_rad_s: f64, ramp_s: f64) -> Self {
+        Self {
+            speed_rad_s,
+            ramp_s,
+            run_up: None,
+        }
+    }
+
     /// Angular speed at time `t_s` (rest before t = 0).
     pub fn speed_at(&self, t_s: f64) -> f64 {
-        if t_s <= 0.0 && self.ramp_s > 0.0 {
+        let base = if t_s <= 0.0 && self.ramp_s > 0.0 {
             0.0
         } else if t_s < self.ramp_s {
             self.speed_rad_s * t_s / self.ramp_s
         } else {
             self.speed_rad_s
+        };
+        match self.run_up {
+            Some(r) if t_s > r.start_s => {
+                let s = ((t_s - r.start_s) / r.duration_s).min(1.0);
+                base + (r.to_rad_s - self.speed_rad_s) * s
+            }
+            _ => base,
         }
+    }
+
+    /// The largest speed magnitude the law reaches, rad/s.
+    pub fn top_speed_rad_s(&self) -> f64 {
+        let end = self.run_up.map_or(0.0, |r| r.to_rad_s.abs());
+        self.speed_rad_s.abs().max(end)
     }
 }
 

@@ -471,14 +471,18 @@ fn check_role(c: &mut Checker, f: &SprocketFile, i: usize) -> Role {
                 }
             };
             let ramp_s = c.non_negative(&p("ramp_s"), f.ramp_s.unwrap_or(0.0));
+            let speed_rad_s = speed_rpm * std::f64::consts::TAU / 60.0;
+            let run_up = super::run_up::check(c, f.run_up.as_ref(), i, ramp_s, speed_rad_s);
             Role::Driver(SpeedLaw {
-                speed_rad_s: speed_rpm * std::f64::consts::TAU / 60.0,
+                speed_rad_s,
                 ramp_s,
+                run_up,
             })
         }
         RoleKind::Free | RoleKind::Tensioner => {
             forbid(c, "speed_rpm", f.speed_rpm.is_some(), kind.name());
             forbid(c, "ramp_s", f.ramp_s.is_some(), kind.name());
+            forbid(c, "run_up", f.run_up.is_some(), kind.name());
             let load_torque_n_m = c.finite(&p("load_torque_n_m"), f.load_torque_n_m.unwrap_or(0.0));
             let load_ramp_s = match f.load_ramp_s {
                 Some(_) if f.load_torque_n_m.is_none() => {

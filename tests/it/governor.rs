@@ -300,3 +300,36 @@ fn bad_governor_input_names_its_field() {
     let err = error_with("bandwidth_hz = 5.0", "bandwidth = 5.0");
     assert!(err.contains("bandwidth"), "{err}");
 }
+
+/// Without gains or `bandwidth_hz` the governor's bandwidth is a decade
+/// below the drive's lowest span frequency. Closed form on the 20T/40T
+/// drive: strands between pitch circles of R = P / (2 sin(π/z)), d apart,
+/// L = √(d² − (R₂ − R₁)²) (open drive); f₁ = √(T₀/μ) / (2L), μ = m_r/P;
+/// then K_p = 2 ω_n J and K_i = ω_n² J at ω_n = 2π f₁/10 with J the drive's
+/// inertia referred to the driver, J = J₁ + J₂ (z₁/z₂)² + n m_r R₁².
+#[test]
+fn the_default_bandwidth_is_a_decade_below_the_lowest_span_frequency() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(SCENE);
+    let text = std::fs::read_to_string(&path)
+        .expect("scene file")
+        .replace("bandwidth_hz = 5.0\n", "");
+    let scene = Scene::from_toml(&text).expect("valid scene");
+    let sim = Simulation::new(&scene).expect("equilibrium");
+    let g = sim.model.sprockets[0].governor.as_ref().expect("governed");
+    let (p, m_r, t0, n) = (0.0127, 0.00775, 300.0, 90.0);
+    let radius = |z: f64| p / (2.0 * (std::f64::consts::PI / z).sin());
+    let (r1, r2) = (radius(Z_DRIVER), radius(Z_DRIVEN));
+    let d = 0.3785;
+    let l = (d * d - (r2 - r1) * (r2 - r1)).sqrt();
+    let f1 = (t0 / (m_r / p)).sqrt() / (2.0 * l);
+    // About 29 Hz for these 0.38 m strands at 300 N.
+    assert!((f1 - 29.0).abs() < 1.0, "{f1}");
+    let omega_n = TAU * f1 / 10.0;
+    let ratio = Z_DRIVER / Z_DRIVEN;
+    let j = 2e-4 + 2e-3 * ratio * ratio + n * m_r * r1 * r1;
+    let rel = |a: f64, b: f64| (a - b).abs() / b;
+    assert!(rel(g.kp_n_m_s_rad, 2.0 * omega_n * j) < 1e-9, "{g:?}");
+    assert!(rel(g.ki_n_m_rad, omega_n * omega_n * j) < 1e-9, "{g:?}");
+}

@@ -2,7 +2,9 @@
 //! what a speed range is judged by: `sweep.csv` (every summary scalar per
 //! speed), `orders.csv` (order spectra), `spans.csv` (each span's predicted
 //! natural frequencies), a Campbell diagram, order cuts, envelopes and
-//! `report.md` (resonance crossings, worst-case speeds).
+//! `report.md` (resonance crossings, worst-case speeds). With `--run-up`,
+//! one run whose driver speed ramps slowly, analysed in short windows, gives
+//! the same outputs at each window's mean speed.
 
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
@@ -16,9 +18,11 @@ use anyhow::Context;
 use chaindrive::analysis::figures::{self, Campbell, Mark, Plot, Trace};
 use chaindrive::analysis::orders::OrderSet;
 use chaindrive::scene::{Assignment, Overrides, Scene};
+use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 use chaindrive::studies::sweep::{
-    CaseOutcome, CaseResult, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
-    excitation_orders, order_cut, parse_rpm_range, resonance_crossings, run_sweep, summary_scalars,
+    CaseOutcome, CaseResult, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
+    SweepSettings, TRANSVERSE_MODES, completed, default_orders, excitation_orders, order_cut,
+    parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up, summary_scalars,
     worst_cases,
 };
 
@@ -27,9 +31,31 @@ use chaindrive::studies::sweep::{
 pub struct SweepArgs {
     /// Scene file (TOML). Default: the paper's drive (embedded `assets/l60mc.toml`).
     scene: Option<PathBuf>,
-    /// Driver speeds FROM:TO:STEP, rpm (e.g. 300:3000:100).
-    #[arg(long, value_name = "FROM:TO:STEP")]
-    rpm: String,
+    /// Driver speeds FROM:TO:STEP, rpm (e.g. 300:3000:100): one steady run each.
+    #[arg(
+        long,
+        value_name = "FROM:TO:STEP",
+        required_unless_present = "run_up",
+        conflicts_with = "run_up"
+    )]
+    rpm: Option<String>,
+    /// One run whose driver speed rises linearly from FROM to TO rpm over
+    /// --duration seconds (after the ramp and --settle), analysed in windows
+    /// of whole revolutions.
+    #[arg(long, value_name = "FROM:TO", requires = "duration")]
+    run_up: Option<String>,
+    /// Length of the run-up, s.
+    #[arg(
+        long,
+        value_name = "S",
+        allow_negative_numbers = true,
+        requires = "run_up"
+    )]
+    duration: Option<f64>,
+    /// Run-up: largest change of the driver's speed over one window, as a
+    /// fraction of its speed.
+    #[arg(long, value_name = "FRACTION", default_value_t = DEFAULT_WINDOW_SPEED_CHANGE, allow_negative_numbers = true)]
+    window_change: f64,
     /// Time after the driver's ramp before the window, s.
     #[arg(
         long,
@@ -112,7 +138,6 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             .with_set(&assignments)
             .map_err(|e| anyhow::anyhow!("--set: {e}"))?
     };
-    let rpm = parse_rpm_range("--rpm", &args.rpm)?;
     let orders = match args.max_order {
         Some(k) => OrderSet::new(k, args.order_step).map_err(|e| {
             anyhow::anyhow!("--max-order {k} --order-step {}: {e}", args.order_step)
@@ -124,6 +149,10 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         }
     };
     check_signal(&args.signal, &scene)?;
+    if let Some(text) = &args.run_up {
+        return sweep_run_up(&args, &scene, text, orders);
+    }
+    let rpm = parse_rpm_range("--rpm", args.rpm.as_deref().unwrap_or(""))?;
     let jobs = args
         .jobs
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -165,7 +194,18 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         p.finish_and_clear();
     }
     let interrupted = stop.load(Ordering::Relaxed) && cases.len() < settings.rpm.len();
-    write_outputs(&args, &scene, &settings, &cases)?;
+    let header = format!(
+        "{} of {} speeds ({} … {} rpm), settle {} s after the ramp, window {} s; orders up to {} in steps of {}.",
+        cases.len(),
+        settings.rpm.len(),
+        settings.rpm.first().copied().unwrap_or(0.0),
+        settings.rpm.last().copied().unwrap_or(0.0),
+        settings.settle_s,
+        settings.window_s,
+        settings.orders.max_order(),
+        settings.orders.step()
+    );
+    write_outputs(&args, &scene, settings.orders, &header, &cases)?;
     let failed = cases
         .iter()
         .filter(|c| matches!(c, CaseOutcome::Failed { .. }))
@@ -181,6 +221,82 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
             format!(", {failed} failed (see report.md)")
         } else {
             String::new()
+        },
+        if interrupted { " (interrupted)" } else { "" },
+        args.out.display()
+    );
+    Ok(if interrupted {
+        ExitCode::from(130)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// `chaindrive sweep --run-up FROM:TO --duration S`.
+fn sweep_run_up(
+    args: &SweepArgs,
+    scene: &Scene,
+    text: &str,
+    orders: OrderSet,
+) -> anyhow::Result<ExitCode> {
+    let (from_rpm, to_rpm) = parse_run_up(text)?;
+    let settings = RunUpSettings {
+        from_rpm,
+        to_rpm,
+        settle_s: args.settle,
+        duration_s: args.duration.unwrap_or(f64::NAN),
+        orders,
+        max_speed_change: args.window_change,
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
+        let p = indicatif::ProgressBar::new_spinner();
+        p.set_style(
+            indicatif::ProgressStyle::with_template("{spinner} {pos} windows, {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
+        );
+        p
+    });
+    let started = Instant::now();
+    let on_window = |c: &CaseOutcome| {
+        if let Some(p) = &progress {
+            p.inc(1);
+            p.set_message(format!("{:.0} rpm", c.rpm()));
+        }
+    };
+    let windows = run_up(scene, &settings, Some(&stop), &on_window)?;
+    let wall_s = started.elapsed().as_secs_f64();
+    if let Some(p) = &progress {
+        p.finish_and_clear();
+    }
+    let interrupted = stop.load(Ordering::Relaxed);
+    let header = format!(
+        "A run-up from {from_rpm} to {to_rpm} rpm over {} s ({:.1} rpm/s) after the ramp and {} s of settling, analysed in {} windows of whole revolutions (each spanning at most {} % of its speed, or one revolution); orders up to {} in steps of {}, each window's linear trend taken out.",
+        settings.duration_s,
+        settings.rate_rpm_s(),
+        settings.settle_s,
+        windows.len(),
+        100.0 * settings.max_speed_change,
+        orders.max_order(),
+        orders.step()
+    );
+    write_outputs(args, scene, orders, &header, &windows)?;
+    let failed = windows
+        .iter()
+        .any(|c| matches!(c, CaseOutcome::Failed { .. }));
+    println!(
+        "run-up {from_rpm} → {to_rpm} rpm: {} windows in {wall_s:.1} s wall{}{}; outputs in {}",
+        windows.len(),
+        if failed {
+            ", failed (see report.md)"
+        } else {
+            ""
         },
         if interrupted { " (interrupted)" } else { "" },
         args.out.display()
@@ -224,10 +340,29 @@ fn create(dir: &Path, name: &str) -> anyhow::Result<std::io::BufWriter<std::fs::
 fn write_outputs(
     args: &SweepArgs,
     scene: &Scene,
-    settings: &SweepSettings,
+    orders: OrderSet,
+    header: &str,
     cases: &[CaseOutcome],
 ) -> anyhow::Result<()> {
-    let dir = &args.out;
+    // The figures are drawn on a thread of their own while the tables are written.
+    let excitation = excitation_orders(scene);
+    let (figures, written) = std::thread::scope(|s| {
+        let drawing = s.spawn(|| draw_figures(args, &completed(cases), &excitation, orders));
+        let written = write_tables(&args.out, cases);
+        let figures = drawing
+            .join()
+            .unwrap_or_else(|_| vec![Err("the figures' thread panicked".to_owned())]);
+        (figures, written)
+    });
+    written?;
+    let mut report = create(&args.out, "report.md")?;
+    report.write_all(report_text(scene, header, cases, &excitation, &figures).as_bytes())?;
+    report.flush()?;
+    Ok(())
+}
+
+/// `sweep.csv`, `orders.csv` and `spans.csv`.
+fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     let mut sweep_csv = create(dir, "sweep.csv")?;
     writeln!(sweep_csv, "rpm,statistic,value")?;
     for case in cases {
@@ -276,11 +411,6 @@ fn write_outputs(
         }
     }
     spans_csv.flush()?;
-    let excitation = excitation_orders(scene);
-    let figures = draw_figures(args, &done, &excitation, settings);
-    let mut report = create(dir, "report.md")?;
-    report.write_all(report_text(scene, settings, cases, &excitation, &figures).as_bytes())?;
-    report.flush()?;
     Ok(())
 }
 
@@ -290,7 +420,7 @@ fn draw_figures(
     args: &SweepArgs,
     done: &[&CaseResult],
     excitation: &[f64],
-    settings: &SweepSettings,
+    orders: OrderSet,
 ) -> Vec<Result<String, String>> {
     let dir = &args.out;
     let mut out = Vec::new();
@@ -301,7 +431,7 @@ fn draw_figures(
     // Campbell: the chosen signal's orders over order lines and the spans' frequencies.
     let top = done
         .iter()
-        .map(|c| settings.orders.max_order() * c.rev_per_s)
+        .map(|c| orders.max_order() * c.rev_per_s)
         .fold(0.0f64, f64::max);
     let mut lines: Vec<Trace> = excitation
         .iter()
@@ -378,7 +508,7 @@ fn draw_figures(
         let seg = |f: &dyn Fn(&CaseResult) -> f64| -> Vec<(f64, f64)> {
             done.iter().map(|c| (c.rpm, f(c))).collect()
         };
-        let mean = seg(&|c| c.summary.segments[k].mean_link_force_n);
+        let mean = seg(&|c| c.segment_mean_n.get(k).copied().unwrap_or(f64::NAN));
         let lo = seg(&|c| c.segment_range_n.get(k).map_or(f64::NAN, |r| r.0));
         let hi = seg(&|c| c.segment_range_n.get(k).map_or(f64::NAN, |r| r.1));
         traces.push(Trace {
@@ -438,7 +568,7 @@ fn draw_figures(
             label: "max penetration".to_owned(),
             points: done
                 .iter()
-                .map(|c| (c.rpm, c.summary.max_penetration_m * 1e6))
+                .map(|c| (c.rpm, c.max_penetration_m * 1e6))
                 .collect(),
             mark: Mark::Line,
             color: 2,
@@ -454,25 +584,14 @@ fn draw_figures(
 
 fn report_text(
     scene: &Scene,
-    settings: &SweepSettings,
+    header: &str,
     cases: &[CaseOutcome],
     excitation: &[f64],
     figures: &[Result<String, String>],
 ) -> String {
     let mut s = String::new();
     let _ = writeln!(s, "# Speed sweep: {}\n", scene.name());
-    let _ = writeln!(
-        s,
-        "{} of {} speeds ({} … {} rpm), settle {} s after the ramp, window {} s; orders up to {} in steps of {}.\n",
-        cases.len(),
-        settings.rpm.len(),
-        settings.rpm.first().copied().unwrap_or(0.0),
-        settings.rpm.last().copied().unwrap_or(0.0),
-        settings.settle_s,
-        settings.window_s,
-        settings.orders.max_order(),
-        settings.orders.step()
-    );
+    let _ = writeln!(s, "{header}\n");
     let failed: Vec<(f64, &str)> = cases
         .iter()
         .filter_map(|c| match c {
@@ -490,13 +609,14 @@ fn report_text(
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,
-        "Where an excitation order ({}) meets a span's predicted natural frequency (moving string from the run's own mean tension and chain speed; axial rod K·P/μ), and whether that order's amplitude in the span's response peaks there (the largest of the four speeds around the crossing is a local maximum inside the sweep, at least {} × the lowest response on either side).\n",
+        "Where an excitation order ({}) meets a span's predicted natural frequency (moving string from the run's own mean tension and chain speed; axial rod K·P/μ), and whether that order's amplitude in the span's response peaks there: the larger response of the two speeds around the crossing is a local maximum over its neighbours and more than {} × the median of that order's response over the sweep. Where those two speeds are more than {} % of the crossing's rpm apart, or one has no neighbour beyond it, the grid cannot tell: \"not resolved by the grid\".\n",
         excitation
             .iter()
             .map(|k| k.to_string())
             .collect::<Vec<_>>()
             .join(", "),
-        chaindrive::studies::sweep::PEAK_PROMINENCE
+        PEAK_MEDIAN_FACTOR,
+        100.0 * GRID_RESOLUTION
     );
     let crossings = resonance_crossings(cases, excitation);
     if crossings.is_empty() {
@@ -521,7 +641,7 @@ fn report_text(
                 c.signal,
                 c.peak_rpm,
                 c.peak_amplitude,
-                if c.response_peaks { "yes" } else { "no" }
+                c.verdict.describe()
             );
         }
         let _ = writeln!(s);

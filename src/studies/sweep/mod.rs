@@ -12,9 +12,25 @@
 //! the others go on. A stop flag (Ctrl-C) ends the running cases early and
 //! starts no more: only complete cases are kept.
 //!
+//! A run-up ([`run_up`]) is one run whose driver speed ramps slowly
+//! (`sprockets.run_up`), cut into short windows of whole revolutions, each
+//! analysed as a case at its mean speed.
+//!
+//! This module runs and schedules the cases; [`report`]'s functions judge
+//! them (crossings, worst cases, scalars) and [`runup`] holds the run-up.
+//!
 //! What this module does not do: write files, draw figures or print (the
 //! command-line tool does), or define what a signal means
 //! ([`crate::analysis`]).
+
+pub mod report;
+pub mod runup;
+
+pub use report::{
+    Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed, excitation_orders,
+    judge_peak, order_cut, resonance_crossings, summary_scalars, worst_cases,
+};
+pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -22,7 +38,7 @@ use std::time::Instant;
 
 use crate::analysis::orders::{AngleWindow, OrderError, OrderSet, OrderSpectrum};
 use crate::analysis::theory::moving_string_frequency_hz;
-use crate::analysis::{RunSummary, Signals};
+use crate::analysis::{RunSummary, SampleRow, Signals};
 use crate::scene::{Overrides, Role, Scene, SceneError};
 use crate::sim::{Observer, Sample, SampleRate, Simulation};
 
@@ -202,13 +218,29 @@ pub fn span_axial_frequency_hz(
     (stiffness_n_m * pitch_m / mass_per_length_kg_m).sqrt() / (2.0 * length_m)
 }
 
-/// A complete case.
+/// A complete case: one speed of a stepped sweep, or one window of a run-up.
 #[derive(Clone, Debug, PartialEq)]
 pub struct CaseResult {
-    /// The driver's speed asked for, rpm.
+    /// The driver's speed asked for (a stepped sweep) or the window's mean
+    /// speed (a run-up), rpm.
     pub rpm: f64,
-    /// Its run summary (statistics over the window).
-    pub summary: RunSummary,
+    /// The run summary (statistics over the window); `None` for a run-up's
+    /// window, which is part of one run.
+    pub summary: Option<RunSummary>,
+    /// Relative change of the driver's target speed over the window (0 in a
+    /// stepped sweep).
+    pub speed_change: f64,
+    /// Each segment's mean link force (over its free strand) in the window, N.
+    pub segment_mean_n: Vec<f64>,
+    /// Smallest link force of any link in the window, N.
+    pub link_force_min_n: f64,
+    /// Largest link force of any link in the window, N.
+    pub link_force_max_n: f64,
+    /// Largest contact penetration in the window, m.
+    pub max_penetration_m: f64,
+    /// Each sprocket's speed fluctuation (RMS about its mean, and in a
+    /// run-up about the window's linear trend), rad/s.
+    pub speed_rms_rad_s: Vec<f64>,
     /// Mean driver revolutions per second over the analysed revolutions.
     pub rev_per_s: f64,
     /// Whole revolutions analysed.
@@ -258,21 +290,43 @@ impl CaseOutcome {
     }
 }
 
-/// Samples the signals every case needs: the run summary's and, for the
-/// order analysis, the driver's angle and the largest contact force.
+/// What a case samples beyond the [`Signals`] rows, one per row of its
+/// window: the driver's angle, the largest contact force and penetration.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Extra {
+    theta: f64,
+    max_contact: f64,
+    penetration: f64,
+}
+
+impl Extra {
+    fn of(s: &Sample<'_>, driver: usize) -> Self {
+        Self {
+            theta: s.state.theta[driver],
+            max_contact: s.forces.contact_force.iter().fold(0.0f64, |m, &f| m.max(f)),
+            penetration: s.forces.max_penetration_m,
+        }
+    }
+}
+
+/// Samples the signals a stepped case needs: the run summary's (the rows
+/// bounded to the window, [`Signals::keep_window`]) and, from the window's
+/// start on, the [`Extra`]s.
 struct CaseObserver {
     signals: Signals,
     driver: usize,
-    theta: Vec<f64>,
-    max_contact: Vec<f64>,
+    window_start: f64,
+    theta0: Option<f64>,
+    extra: Vec<Extra>,
 }
 
 impl Observer for CaseObserver {
     fn sample(&mut self, s: &Sample<'_>) {
         self.signals.sample(s);
-        self.theta.push(s.state.theta[self.driver]);
-        let peak = s.forces.contact_force.iter().fold(0.0f64, |m, &f| m.max(f));
-        self.max_contact.push(peak);
+        self.theta0.get_or_insert(s.state.theta[self.driver]);
+        if s.state.t_s >= self.window_start {
+            self.extra.push(Extra::of(s, self.driver));
+        }
     }
     fn step(&mut self, s: &Sample<'_>) {
         self.signals.step(s);
@@ -280,6 +334,198 @@ impl Observer for CaseObserver {
     fn per_step_from_s(&self) -> f64 {
         self.signals.per_step_from_s()
     }
+}
+
+/// The drive's constants a window's analysis needs.
+#[derive(Clone, Debug)]
+pub(crate) struct DriveInfo {
+    driver: usize,
+    driver_pitch_radius_m: f64,
+    sprockets: usize,
+    strand_lengths_m: Vec<f64>,
+    mass_per_length_kg_m: f64,
+    stiffness_n_m: f64,
+    pitch_m: f64,
+}
+
+impl DriveInfo {
+    pub(crate) fn of(sim: &Simulation) -> Option<Self> {
+        let driver = sim.model.driver()?;
+        let chain = sim.scene.chain();
+        Some(Self {
+            driver,
+            driver_pitch_radius_m: sim.model.sprockets[driver].pitch_radius_m,
+            sprockets: sim.model.sprocket_count(),
+            strand_lengths_m: sim.model.path.strands.iter().map(|s| s.length_m).collect(),
+            mass_per_length_kg_m: chain.roller_mass_kg / chain.pitch_m,
+            stiffness_n_m: chain.stiffness_n_m,
+            pitch_m: chain.pitch_m,
+        })
+    }
+
+    /// Each span's analytical frequencies at the mean link forces `tension_n`
+    /// and the driver's `rev_per_s`.
+    fn spans(&self, tension_n: &[f64], rev_per_s: f64) -> Vec<SpanFrequencies> {
+        let mu = self.mass_per_length_kg_m;
+        let speed = rev_per_s * std::f64::consts::TAU * self.driver_pitch_radius_m;
+        tension_n
+            .iter()
+            .zip(&self.strand_lengths_m)
+            .enumerate()
+            .map(|(k, (&t, &length))| SpanFrequencies {
+                segment: k + 1,
+                tension_n: t,
+                transverse_hz: (1..=TRANSVERSE_MODES)
+                    .map(|n| moving_string_frequency_hz(n, t, length, mu, speed))
+                    .collect(),
+                axial_hz: span_axial_frequency_hz(self.stiffness_n_m, self.pitch_m, mu, length),
+            })
+            .collect()
+    }
+}
+
+/// The order spectra, ranges and span frequencies of one window: `rows` and
+/// `extra` one per sample, `theta0` the driver's angle at t = 0. With
+/// `detrend`, each signal's linear trend over the window is taken out first
+/// (a run-up's, [`AngleWindow::spectrum_detrended`]). The `rpm` is the
+/// window's mean; `summary` is `None`.
+pub(crate) fn analyse_window(
+    info: &DriveInfo,
+    rows: &[SampleRow],
+    extra: &[Extra],
+    theta0: f64,
+    orders: OrderSet,
+    detrend: bool,
+) -> Result<CaseResult, OrderError> {
+    if rows.len() != extra.len() {
+        return Err(OrderError::BadInput(format!(
+            "{} rows against {} angles",
+            rows.len(),
+            extra.len()
+        )));
+    }
+    let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
+    // Angles turned since t = 0, so that phases are measured from the
+    // driver's position at the start, as the scene's speed harmonics are.
+    let theta: Vec<f64> = extra.iter().map(|e| e.theta - theta0).collect();
+    let window = AngleWindow::new(&t, &theta, orders)?;
+    // Only the samples of the whole revolutions count in the ranges.
+    let first = t.partition_point(|&t| t < window.start_s());
+    let mut result = Vec::new();
+    let mut push = |signal: String, x: &[f64]| -> Result<(), OrderError> {
+        let spectrum = if detrend {
+            window.spectrum_detrended(x)?
+        } else {
+            window.spectrum(x)?
+        };
+        result.push(SignalOrders { signal, spectrum });
+        Ok(())
+    };
+    let segments = info.strand_lengths_m.len();
+    let mut segment_range_n = vec![(f64::NAN, f64::NAN); segments];
+    let mut segment_mean_n = vec![f64::NAN; segments];
+    for k in 0..segments {
+        let held: Vec<f64> = rows[first..]
+            .iter()
+            .filter_map(|r| r.segment_force_n.get(k).copied().flatten())
+            .collect();
+        for &f in &held {
+            let range = &mut segment_range_n[k];
+            *range = (range.0.min(f), range.1.max(f));
+        }
+        if !held.is_empty() {
+            segment_mean_n[k] = held.iter().sum::<f64>() / held.len() as f64;
+        }
+        // A sample with no free link in the segment carries the last force seen.
+        let mut last = rows
+            .iter()
+            .find_map(|r| r.segment_force_n.get(k).copied().flatten());
+        if last.is_some() {
+            let force: Vec<f64> = rows
+                .iter()
+                .map(|r| {
+                    if let Some(f) = r.segment_force_n.get(k).copied().flatten() {
+                        last = Some(f);
+                    }
+                    last.unwrap_or(0.0)
+                })
+                .collect();
+            push(format!("seg{}_link_force_n", k + 1), &force)?;
+        }
+        let transverse: Vec<f64> = rows
+            .iter()
+            .map(|r| r.transverse_m.get(k).copied().unwrap_or(0.0))
+            .collect();
+        push(format!("seg{}_transverse_m", k + 1), &transverse)?;
+    }
+    let mut speed_rms_rad_s = Vec::with_capacity(info.sprockets);
+    for i in 0..info.sprockets {
+        let omega: Vec<f64> = rows
+            .iter()
+            .map(|r| r.omega_rad_s.get(i).copied().unwrap_or(0.0))
+            .collect();
+        push(format!("omega_{}_rad_s", i + 1), &omega)?;
+        speed_rms_rad_s.push(if detrend {
+            rms_about_line(&t[first..], &omega[first..])
+        } else {
+            crate::analysis::stats::rms_about_mean(&omega[first..])
+        });
+    }
+    let contact: Vec<f64> = extra.iter().map(|e| e.max_contact).collect();
+    push("max_contact_force_n".to_owned(), &contact)?;
+    let in_window = &extra[first..];
+    let max_contact_force_n = in_window.iter().fold(0.0f64, |m, e| m.max(e.max_contact));
+    let max_penetration_m = in_window.iter().fold(0.0f64, |m, e| m.max(e.penetration));
+    let (link_force_min_n, link_force_max_n) = rows[first..]
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+            (lo.min(r.link_range_n.0), hi.max(r.link_range_n.1))
+        });
+    let rev_per_s = window.rev_per_s();
+    Ok(CaseResult {
+        rpm: 60.0 * rev_per_s,
+        summary: None,
+        speed_change: 0.0,
+        spans: info.spans(&segment_mean_n, rev_per_s),
+        segment_mean_n,
+        link_force_min_n,
+        link_force_max_n,
+        max_penetration_m,
+        speed_rms_rad_s,
+        rev_per_s,
+        revolutions: window.revolutions(),
+        max_contact_force_n,
+        segment_range_n,
+        orders: result,
+    })
+}
+
+/// RMS of `x` about its least-squares line in `t`.
+fn rms_about_line(t: &[f64], x: &[f64]) -> f64 {
+    let n = x.len().min(t.len());
+    if n < 2 {
+        return 0.0;
+    }
+    let nf = n as f64;
+    let (tm, xm) = (
+        t[..n].iter().sum::<f64>() / nf,
+        x[..n].iter().sum::<f64>() / nf,
+    );
+    let (mut stt, mut stx) = (0.0, 0.0);
+    for (ti, xi) in t[..n].iter().zip(&x[..n]) {
+        stt += (ti - tm) * (ti - tm);
+        stx += (ti - tm) * (xi - xm);
+    }
+    let slope = if stt > 0.0 { stx / stt } else { 0.0 };
+    let ss: f64 = t[..n]
+        .iter()
+        .zip(&x[..n])
+        .map(|(ti, xi)| {
+            let r = xi - xm - slope * (ti - tm);
+            r * r
+        })
+        .sum();
+    (ss / nf).sqrt()
 }
 
 /// A prepared case: its scene and sampling.
@@ -290,7 +536,7 @@ struct Case {
 }
 
 /// The driver's index and its ramp time, s.
-fn driver_of(scene: &Scene) -> Result<(usize, f64), SweepError> {
+pub(crate) fn driver_of(scene: &Scene) -> Result<(usize, f64), SweepError> {
     scene
         .sprockets()
         .iter()
@@ -304,6 +550,18 @@ fn driver_of(scene: &Scene) -> Result<(usize, f64), SweepError> {
 
 /// `scene` with the driver at `rpm` (its sense kept) run for `duration_s`.
 pub fn scene_at(scene: &Scene, rpm: f64, duration_s: f64) -> Result<Scene, SweepError> {
+    scene_with_run_up(scene, rpm, duration_s, None)
+}
+
+/// `scene` with the driver at `rpm` (its sense kept), then the run-up
+/// `run_up` (its `to_rpm` a magnitude, given the sense here), run for
+/// `duration_s`.
+pub(crate) fn scene_with_run_up(
+    scene: &Scene,
+    rpm: f64,
+    duration_s: f64,
+    run_up: Option<crate::scene::RunUpFile>,
+) -> Result<Scene, SweepError> {
     let (driver, _) = driver_of(scene)?;
     let mut file = scene.file().clone();
     let sp = &mut file.sprockets[driver];
@@ -313,6 +571,10 @@ pub fn scene_at(scene: &Scene, rpm: f64, duration_s: f64) -> Result<Scene, Sweep
         1.0
     };
     sp.speed_rpm = Some(sense * rpm);
+    sp.run_up = run_up.map(|r| crate::scene::RunUpFile {
+        to_rpm: sense * r.to_rpm,
+        ..r
+    });
     let overrides = Overrides {
         duration_s: Some(duration_s),
         ..Overrides::default()
@@ -322,7 +584,7 @@ pub fn scene_at(scene: &Scene, rpm: f64, duration_s: f64) -> Result<Scene, Sweep
 
 /// The slowest sample rate of at least 1 kHz and [`SAMPLES_PER_PERIOD`]
 /// samples per period of `max_order` at `rpm` that a whole number of steps makes.
-fn sampling_for(rpm: f64, max_order: f64, dt_s: f64) -> Result<SampleRate, SweepError> {
+pub(crate) fn sampling_for(rpm: f64, max_order: f64, dt_s: f64) -> Result<SampleRate, SweepError> {
     let needed = (SAMPLES_PER_PERIOD * max_order * rpm / 60.0).max(1000.0);
     let every = (1.0 / (needed * dt_s)).floor().max(1.0);
     SampleRate::new(1.0 / (every * dt_s), dt_s).map_err(|e| SweepError::Sampling(e.to_string()))
@@ -409,14 +671,18 @@ fn run_case(
     let duration = case.scene.solver().duration_s;
     let window_start = (duration - settings.window_s).max(0.0);
     sim.track_power(window_start);
-    let Some(driver) = sim.model.driver() else {
+    let Some(info) = DriveInfo::of(&sim) else {
         return failed(SweepError::NoDriver.to_string());
     };
+    let mut signals = Signals::new(&sim.model, case.sampling.rate_hz, window_start);
+    // Memory bounded by the window, whatever the settling time and speed.
+    signals.keep_window(settings.window_s);
     let mut observer = CaseObserver {
-        signals: Signals::new(&sim.model, case.sampling.rate_hz, window_start),
-        driver,
-        theta: Vec::new(),
-        max_contact: Vec::new(),
+        signals,
+        driver: info.driver,
+        window_start,
+        theta0: None,
+        extra: Vec::new(),
     };
     let outcome = match sim.run(duration, case.sampling.every, &mut observer, stop) {
         Ok(o) => o,
@@ -432,106 +698,41 @@ fn run_case(
         setup_wall_s,
         settings.window_s,
     );
-    match analyse(&sim, &observer, &summary, settings, window_start) {
+    let rows = &observer.signals.rows;
+    let first = rows.partition_point(|r| r.t_s < window_start);
+    let analysed = analyse_window(
+        &info,
+        &rows[first..],
+        &observer.extra,
+        observer.theta0.unwrap_or(0.0),
+        settings.orders,
+        false,
+    );
+    match analysed {
         Ok(mut result) => {
+            // The summary's statistics follow every step of the window.
             result.rpm = case.rpm;
+            result.link_force_min_n = summary.link_force_min_n;
+            result.link_force_max_n = summary.link_force_max_n;
+            result.max_penetration_m = summary.max_penetration_m;
+            result.segment_mean_n = summary
+                .segments
+                .iter()
+                .map(|s| s.mean_link_force_n)
+                .collect();
+            result.speed_rms_rad_s = summary
+                .sprockets
+                .iter()
+                .map(|s| s.speed_rms_rad_s)
+                .collect();
+            let speed =
+                summary.sprockets[info.driver].mean_speed_rad_s.abs() / std::f64::consts::TAU;
+            result.spans = info.spans(&result.segment_mean_n, speed);
+            result.summary = Some(summary);
             Some(CaseOutcome::Done(Box::new(result)))
         }
         Err(e) => failed(e.to_string()),
     }
-}
-
-/// The order spectra and span frequencies of a finished case.
-fn analyse(
-    sim: &Simulation,
-    obs: &CaseObserver,
-    summary: &RunSummary,
-    settings: &SweepSettings,
-    window_start: f64,
-) -> Result<CaseResult, OrderError> {
-    let rows = &obs.signals.rows;
-    let first = rows.partition_point(|r| r.t_s < window_start);
-    let rows = &rows[first..];
-    let t: Vec<f64> = rows.iter().map(|r| r.t_s).collect();
-    // Angles turned since t = 0 (the first sample), so that phases are
-    // measured from the driver's position at the start, as the scene's
-    // speed harmonics are.
-    let theta0 = obs.theta.first().copied().unwrap_or(0.0);
-    let theta: Vec<f64> = obs.theta[first..].iter().map(|th| th - theta0).collect();
-    let window = AngleWindow::new(&t, &theta, settings.orders)?;
-    let mut orders = Vec::new();
-    let mut push = |signal: String, x: &[f64]| -> Result<(), OrderError> {
-        orders.push(SignalOrders {
-            signal,
-            spectrum: window.spectrum(x)?,
-        });
-        Ok(())
-    };
-    let segments = sim.model.segments.len();
-    let mut segment_range_n = vec![(f64::NAN, f64::NAN); segments];
-    for (k, range) in segment_range_n.iter_mut().enumerate() {
-        for f in rows.iter().filter_map(|r| r.segment_force_n[k]) {
-            *range = (range.0.min(f), range.1.max(f));
-        }
-        // A sample with no free link in the segment carries the last force seen.
-        let mut last = rows.iter().find_map(|r| r.segment_force_n[k]);
-        if last.is_some() {
-            let force: Vec<f64> = rows
-                .iter()
-                .map(|r| {
-                    if let Some(f) = r.segment_force_n[k] {
-                        last = Some(f);
-                    }
-                    last.unwrap_or(0.0)
-                })
-                .collect();
-            push(format!("seg{}_link_force_n", k + 1), &force)?;
-        }
-        let transverse: Vec<f64> = rows.iter().map(|r| r.transverse_m[k]).collect();
-        push(format!("seg{}_transverse_m", k + 1), &transverse)?;
-    }
-    for i in 0..sim.model.sprocket_count() {
-        let omega: Vec<f64> = rows.iter().map(|r| r.omega_rad_s[i]).collect();
-        push(format!("omega_{}_rad_s", i + 1), &omega)?;
-    }
-    let contact = &obs.max_contact[first..];
-    push("max_contact_force_n".to_owned(), contact)?;
-    let max_contact_force_n = contact.iter().fold(0.0f64, |m, &f| m.max(f));
-    let chain = sim.scene.chain();
-    let mu = chain.roller_mass_kg / chain.pitch_m;
-    let driver = sim.model.driver().unwrap_or(0);
-    let speed = summary.sprockets[driver].mean_speed_rad_s.abs()
-        * sim.model.sprockets[driver].pitch_radius_m;
-    let spans = summary
-        .segments
-        .iter()
-        .zip(&summary.strands)
-        .map(|(seg, strand)| SpanFrequencies {
-            segment: seg.segment,
-            tension_n: seg.mean_link_force_n,
-            transverse_hz: (1..=TRANSVERSE_MODES)
-                .map(|n| {
-                    moving_string_frequency_hz(n, seg.mean_link_force_n, strand.length_m, mu, speed)
-                })
-                .collect(),
-            axial_hz: span_axial_frequency_hz(
-                chain.stiffness_n_m,
-                chain.pitch_m,
-                mu,
-                strand.length_m,
-            ),
-        })
-        .collect();
-    Ok(CaseResult {
-        rpm: 0.0,
-        summary: summary.clone(),
-        rev_per_s: window.rev_per_s(),
-        revolutions: window.revolutions(),
-        max_contact_force_n,
-        segment_range_n,
-        orders,
-        spans,
-    })
 }
 
 /// Runs the sweep: every case on `settings.jobs` threads, `on_case` called
@@ -544,6 +745,11 @@ pub fn run_sweep(
     on_case: &(dyn Fn(&CaseOutcome) + Sync),
 ) -> Result<Vec<CaseOutcome>, SweepError> {
     let cases = prepare(scene, settings)?;
+    // The fastest speeds first (they take the longest: more tooth impacts
+    // per second of the same run), so that no long case starts last and
+    // leaves the other threads idle.
+    let mut queue: Vec<usize> = (0..cases.len()).collect();
+    queue.sort_by(|&a, &b| cases[b].rpm.total_cmp(&cases[a].rpm));
     let next = AtomicUsize::new(0);
     let done: Mutex<Vec<(usize, CaseOutcome)>> = Mutex::new(Vec::new());
     let jobs = settings.jobs.clamp(1, cases.len().max(1));
@@ -554,7 +760,9 @@ pub fn run_sweep(
                     if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
                         break;
                     }
-                    let i = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&i) = queue.get(next.fetch_add(1, Ordering::Relaxed)) else {
+                        break;
+                    };
                     let Some(case) = cases.get(i) else { break };
                     if let Some(outcome) = run_case(case, settings, stop) {
                         on_case(&outcome);
@@ -569,283 +777,4 @@ pub fn run_sweep(
     let mut done = done.into_inner().unwrap_or_else(|e| e.into_inner());
     done.sort_by_key(|(i, _)| *i);
     Ok(done.into_iter().map(|(_, o)| o).collect())
-}
-
-/// Which natural frequency of a span.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SpanMode {
-    /// The moving string's transverse mode n (1-based).
-    Transverse(u32),
-    /// The first axial mode.
-    Axial,
-}
-
-impl SpanMode {
-    /// `transverse n` or `axial`.
-    pub fn name(&self) -> String {
-        match self {
-            Self::Transverse(n) => format!("transverse {n}"),
-            Self::Axial => "axial".to_owned(),
-        }
-    }
-
-    /// The signal that responds to this mode in segment `segment` (1-based).
-    pub fn response_signal(&self, segment: usize) -> String {
-        match self {
-            Self::Transverse(_) => format!("seg{segment}_transverse_m"),
-            Self::Axial => format!("seg{segment}_link_force_n"),
-        }
-    }
-
-    fn of(&self, span: &SpanFrequencies) -> f64 {
-        match self {
-            Self::Transverse(n) => span
-                .transverse_hz
-                .get(*n as usize - 1)
-                .copied()
-                .unwrap_or(0.0),
-            Self::Axial => span.axial_hz,
-        }
-    }
-}
-
-/// Where an excitation order's frequency meets a span's predicted natural
-/// frequency between two swept speeds.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Crossing {
-    /// 1-based segment.
-    pub segment: usize,
-    /// The mode.
-    pub mode: SpanMode,
-    /// The excitation order.
-    pub order: f64,
-    /// The crossing's speed, linearly interpolated between the two cases, rpm.
-    pub rpm: f64,
-    /// The frequency there, Hz.
-    pub frequency_hz: f64,
-    /// The signal whose order amplitude is the response.
-    pub signal: String,
-    /// The case of largest response among the two around the crossing and
-    /// their neighbours, rpm.
-    pub peak_rpm: f64,
-    /// Its amplitude.
-    pub peak_amplitude: f64,
-    /// Whether the response peaks there: the largest of those four is a
-    /// local maximum of the swept response, inside the sweep, and at least
-    /// [`PEAK_PROMINENCE`] times the smallest response on either side of it.
-    pub response_peaks: bool,
-}
-
-/// How far a peak must rise above the lowest response on each side of it.
-pub const PEAK_PROMINENCE: f64 = 1.5;
-
-/// The completed cases, in speed order.
-pub fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
-    let mut done: Vec<&CaseResult> = cases
-        .iter()
-        .filter_map(|c| match c {
-            CaseOutcome::Done(r) => Some(r.as_ref()),
-            CaseOutcome::Failed { .. } => None,
-        })
-        .collect();
-    done.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
-    done
-}
-
-/// The amplitude of `order` in `signal` of each case (0 where absent).
-pub fn order_cut(cases: &[&CaseResult], signal: &str, order: f64) -> Vec<f64> {
-    cases
-        .iter()
-        .map(|c| {
-            c.signal(signal)
-                .and_then(|s| s.at(order))
-                .map_or(0.0, |o| o.amplitude)
-        })
-        .collect()
-}
-
-/// Every crossing of an order in `orders` with a span's predicted natural
-/// frequency (transverse modes 1..=[`TRANSVERSE_MODES`] and axial) between
-/// consecutive completed cases, and whether the response peaks there.
-pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossing> {
-    let done = completed(cases);
-    let spans = done.first().map_or(0, |c| c.spans.len());
-    let modes: Vec<SpanMode> = (1..=TRANSVERSE_MODES)
-        .map(SpanMode::Transverse)
-        .chain([SpanMode::Axial])
-        .collect();
-    let mut found = Vec::new();
-    for k in 0..spans {
-        for mode in &modes {
-            for &order in orders {
-                let gap = |c: &CaseResult| {
-                    let f = c.spans.get(k).map_or(0.0, |s| mode.of(s));
-                    (f > 0.0).then_some(order * c.rev_per_s - f)
-                };
-                for i in 1..done.len() {
-                    let (a, b) = (done[i - 1], done[i]);
-                    let (Some(ga), Some(gb)) = (gap(a), gap(b)) else {
-                        continue;
-                    };
-                    if ga.signum() == gb.signum() && ga != 0.0 {
-                        continue;
-                    }
-                    let w = if ga == gb { 0.0 } else { ga / (ga - gb) };
-                    let rpm = a.rpm + w * (b.rpm - a.rpm);
-                    let rev = a.rev_per_s + w * (b.rev_per_s - a.rev_per_s);
-                    let segment = k + 1;
-                    let signal = mode.response_signal(segment);
-                    let cut = order_cut(&done, &signal, order);
-                    let lo = i.saturating_sub(2);
-                    let hi = (i + 1).min(done.len() - 1);
-                    let j = (lo..=hi)
-                        .max_by(|&x, &y| cut[x].total_cmp(&cut[y]))
-                        .unwrap_or(i);
-                    let inside = j > 0 && j + 1 < cut.len();
-                    let peaks = inside && {
-                        let left = cut[..j].iter().copied().fold(f64::INFINITY, f64::min);
-                        let right = cut[j + 1..].iter().copied().fold(f64::INFINITY, f64::min);
-                        cut[j] >= cut[j - 1]
-                            && cut[j] >= cut[j + 1]
-                            && cut[j] >= PEAK_PROMINENCE * left.max(right)
-                    };
-                    found.push(Crossing {
-                        segment,
-                        mode: *mode,
-                        order,
-                        rpm,
-                        frequency_hz: order * rev,
-                        signal,
-                        peak_rpm: done[j].rpm,
-                        peak_amplitude: cut[j],
-                        response_peaks: peaks,
-                    });
-                }
-            }
-        }
-    }
-    found
-}
-
-/// The excitation orders searched for crossings and drawn on a Campbell
-/// diagram: 1, 2, the driver's tooth count (the meshing order) and twice it.
-pub fn excitation_orders(scene: &Scene) -> Vec<f64> {
-    let teeth = driver_of(scene)
-        .map(|(i, _)| f64::from(scene.sprockets()[i].teeth))
-        .unwrap_or(1.0);
-    let mut orders = vec![1.0, 2.0, teeth, 2.0 * teeth];
-    orders.dedup();
-    orders
-}
-
-/// A worst case: where a statistic of the sweep is at its extreme.
-#[derive(Clone, Debug, PartialEq)]
-pub struct WorstCase {
-    /// What.
-    pub statistic: String,
-    /// The case's speed, rpm.
-    pub rpm: f64,
-    /// The value.
-    pub value: f64,
-}
-
-/// The speeds of the largest link force, the smallest link force, the
-/// largest contact force, the largest penetration and each sprocket's
-/// largest speed fluctuation (RMS).
-pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
-    let done = completed(cases);
-    let pick = |statistic: &str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
-        done.iter()
-            .map(|c| (c.rpm, value(c)))
-            .filter(|(_, v)| v.is_finite())
-            .reduce(|a, b| {
-                let better = if largest { b.1 > a.1 } else { b.1 < a.1 };
-                if better { b } else { a }
-            })
-            .map(|(rpm, value)| WorstCase {
-                statistic: statistic.to_owned(),
-                rpm,
-                value,
-            })
-    };
-    let mut out = vec![
-        pick(
-            "largest link force, N",
-            &|c| c.summary.link_force_max_n,
-            true,
-        ),
-        pick(
-            "smallest link force, N",
-            &|c| c.summary.link_force_min_n,
-            false,
-        ),
-        pick("largest contact force, N", &|c| c.max_contact_force_n, true),
-        pick(
-            "largest penetration, m",
-            &|c| c.summary.max_penetration_m,
-            true,
-        ),
-    ];
-    let sprockets = done.first().map_or(0, |c| c.summary.sprockets.len());
-    for s in 0..sprockets {
-        out.push(pick(
-            &format!("sprocket {} speed RMS, rad/s", s + 1),
-            &|c| c.summary.sprockets[s].speed_rms_rad_s,
-            true,
-        ));
-    }
-    out.into_iter().flatten().collect()
-}
-
-/// Every scalar of a case's run summary as `(name, value)`: numbers as they
-/// are, booleans as 0/1, per-segment and per-sprocket fields as
-/// `segment{k}.field` / `sprocket{i}.field` (1-based), arrays of numbers as
-/// `field[i]`; then the sweep's own: `max_contact_force_n`, `rev_per_s`.
-pub fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
-    let mut out = Vec::new();
-    if let Ok(value) = serde_json::to_value(&case.summary) {
-        flatten("", &value, &mut out);
-    }
-    out.push(("max_contact_force_n".to_owned(), case.max_contact_force_n));
-    out.push(("rev_per_s".to_owned(), case.rev_per_s));
-    out
-}
-
-fn flatten(prefix: &str, value: &serde_json::Value, out: &mut Vec<(String, f64)>) {
-    use serde_json::Value;
-    match value {
-        Value::Number(n) => {
-            if let Some(v) = n.as_f64().filter(|v| v.is_finite()) {
-                out.push((prefix.to_owned(), v));
-            }
-        }
-        Value::Bool(b) => out.push((prefix.to_owned(), f64::from(u8::from(*b)))),
-        Value::Object(map) => {
-            for (k, v) in map {
-                let name = if prefix.is_empty() {
-                    k.clone()
-                } else {
-                    format!("{prefix}.{k}")
-                };
-                flatten(&name, v, out);
-            }
-        }
-        Value::Array(items) => {
-            for (i, item) in items.iter().enumerate() {
-                let numbered = ["segment", "sprocket"].iter().find_map(|key| {
-                    item.get(*key)
-                        .and_then(Value::as_u64)
-                        .map(|n| format!("{key}{n}"))
-                });
-                let name = match numbered {
-                    // `segments` → `segment3`, `strands` → `strand…` keep their own key.
-                    Some(n) if prefix == "segments" || prefix == "sprockets" => n,
-                    Some(n) => format!("{prefix}.{n}"),
-                    None => format!("{prefix}[{i}]"),
-                };
-                flatten(&name, item, out);
-            }
-        }
-        Value::String(_) | Value::Null => {}
-    }
 }

@@ -1,0 +1,368 @@
+//! What a sweep's cases are judged by: the resonance crossings (where an
+//! excitation order meets a span's predicted natural frequency, and whether
+//! the response peaks there), order cuts, the worst-case speeds and every
+//! scalar of a case for `sweep.csv`. Pure functions of the cases: nothing
+//! here runs a simulation or writes a file.
+
+use super::{CaseOutcome, CaseResult, SpanFrequencies, TRANSVERSE_MODES, driver_of};
+use crate::scene::Scene;
+
+/// Which natural frequency of a span.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpanMode {
+    /// The moving string's transverse mode n (1-based).
+    Transverse(u32),
+    /// The first axial mode.
+    Axial,
+}
+
+impl SpanMode {
+    /// `transverse n` or `axial`.
+    pub fn name(&self) -> String {
+        match self {
+            Self::Transverse(n) => format!("transverse {n}"),
+            Self::Axial => "axial".to_owned(),
+        }
+    }
+
+    /// The signal that responds to this mode in segment `segment` (1-based).
+    pub fn response_signal(&self, segment: usize) -> String {
+        match self {
+            Self::Transverse(_) => format!("seg{segment}_transverse_m"),
+            Self::Axial => format!("seg{segment}_link_force_n"),
+        }
+    }
+
+    fn of(&self, span: &SpanFrequencies) -> f64 {
+        match self {
+            Self::Transverse(n) => span
+                .transverse_hz
+                .get(*n as usize - 1)
+                .copied()
+                .unwrap_or(0.0),
+            Self::Axial => span.axial_hz,
+        }
+    }
+}
+
+/// Where an excitation order's frequency meets a span's predicted natural
+/// frequency between two swept speeds.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Crossing {
+    /// 1-based segment.
+    pub segment: usize,
+    /// The mode.
+    pub mode: SpanMode,
+    /// The excitation order.
+    pub order: f64,
+    /// The crossing's speed, linearly interpolated between the two cases, rpm.
+    pub rpm: f64,
+    /// The frequency there, Hz.
+    pub frequency_hz: f64,
+    /// The signal whose order amplitude is the response.
+    pub signal: String,
+    /// The case of largest response among the two around the crossing and
+    /// their neighbours, rpm.
+    pub peak_rpm: f64,
+    /// Its amplitude.
+    pub peak_amplitude: f64,
+    /// Whether the response peaks there ([`judge_peak`]).
+    pub verdict: PeakVerdict,
+    /// `verdict` is [`PeakVerdict::Peaks`].
+    pub response_peaks: bool,
+}
+
+/// How far the response at a crossing must exceed the median of the
+/// order's response over the sweep for a resonance.
+pub const PEAK_MEDIAN_FACTOR: f64 = 1.5;
+
+/// The coarsest grid that resolves a crossing: the speeds on either side of
+/// it at most this fraction of its rpm apart.
+pub const GRID_RESOLUTION: f64 = 0.05;
+
+/// Whether the response peaks at a crossing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PeakVerdict {
+    /// A resonance: the larger response of the two speeds around the
+    /// crossing is a local maximum over its neighbours and at least
+    /// [`PEAK_MEDIAN_FACTOR`] × the median response over the sweep.
+    Peaks,
+    /// The grid resolves the crossing, and the response does not peak there.
+    NoPeak,
+    /// The speeds around the crossing are more than [`GRID_RESOLUTION`] of
+    /// its rpm apart, or one of them has no neighbour beyond it (the edge of
+    /// the sweep): the grid cannot tell.
+    NotResolved,
+}
+
+impl PeakVerdict {
+    /// As written in the report.
+    pub fn describe(&self) -> &'static str {
+        match self {
+            Self::Peaks => "yes",
+            Self::NoPeak => "no",
+            Self::NotResolved => "not resolved by the grid",
+        }
+    }
+}
+
+/// Judges the `response` at speeds `rpm` (ascending, one each) at a crossing
+/// at `crossing_rpm` ([`PeakVerdict`]); returns the verdict and the index
+/// of the larger response of the two speeds around the crossing.
+pub fn judge_peak(rpm: &[f64], response: &[f64], crossing_rpm: f64) -> (PeakVerdict, usize) {
+    let n = rpm.len().min(response.len());
+    if n < 2 {
+        return (PeakVerdict::NotResolved, 0);
+    }
+    // The two speeds around the crossing.
+    let i = rpm[..n]
+        .partition_point(|&r| r < crossing_rpm)
+        .clamp(1, n - 1);
+    let j = if response[i] >= response[i - 1] {
+        i
+    } else {
+        i - 1
+    };
+    let step = rpm[i] - rpm[i - 1];
+    if j == 0 || j + 1 >= n || step > GRID_RESOLUTION * crossing_rpm.abs() {
+        return (PeakVerdict::NotResolved, j);
+    }
+    let mut sorted: Vec<f64> = response[..n].to_vec();
+    sorted.sort_by(f64::total_cmp);
+    let median = if n % 2 == 1 {
+        sorted[n / 2]
+    } else {
+        0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
+    };
+    let peaks = response[j] >= response[j - 1]
+        && response[j] >= response[j + 1]
+        && response[j] > PEAK_MEDIAN_FACTOR * median;
+    (
+        if peaks {
+            PeakVerdict::Peaks
+        } else {
+            PeakVerdict::NoPeak
+        },
+        j,
+    )
+}
+
+/// The completed cases, in speed order.
+pub fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
+    let mut done: Vec<&CaseResult> = cases
+        .iter()
+        .filter_map(|c| match c {
+            CaseOutcome::Done(r) => Some(r.as_ref()),
+            CaseOutcome::Failed { .. } => None,
+        })
+        .collect();
+    done.sort_by(|a, b| a.rpm.total_cmp(&b.rpm));
+    done
+}
+
+/// The amplitude of `order` in `signal` of each case (0 where absent).
+pub fn order_cut(cases: &[&CaseResult], signal: &str, order: f64) -> Vec<f64> {
+    cases
+        .iter()
+        .map(|c| {
+            c.signal(signal)
+                .and_then(|s| s.at(order))
+                .map_or(0.0, |o| o.amplitude)
+        })
+        .collect()
+}
+
+/// Every crossing of an order in `orders` with a span's predicted natural
+/// frequency (transverse modes 1..=[`TRANSVERSE_MODES`] and axial) between
+/// consecutive completed cases, and whether the response peaks there.
+pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossing> {
+    let done = completed(cases);
+    let spans = done.first().map_or(0, |c| c.spans.len());
+    let modes: Vec<SpanMode> = (1..=TRANSVERSE_MODES)
+        .map(SpanMode::Transverse)
+        .chain([SpanMode::Axial])
+        .collect();
+    let mut found = Vec::new();
+    for k in 0..spans {
+        for mode in &modes {
+            for &order in orders {
+                let gap = |c: &CaseResult| {
+                    let f = c.spans.get(k).map_or(0.0, |s| mode.of(s));
+                    (f > 0.0).then_some(order * c.rev_per_s - f)
+                };
+                for i in 1..done.len() {
+                    let (a, b) = (done[i - 1], done[i]);
+                    let (Some(ga), Some(gb)) = (gap(a), gap(b)) else {
+                        continue;
+                    };
+                    if ga.signum() == gb.signum() && ga != 0.0 {
+                        continue;
+                    }
+                    let w = if ga == gb { 0.0 } else { ga / (ga - gb) };
+                    let rpm = a.rpm + w * (b.rpm - a.rpm);
+                    let rev = a.rev_per_s + w * (b.rev_per_s - a.rev_per_s);
+                    let segment = k + 1;
+                    let signal = mode.response_signal(segment);
+                    let cut = order_cut(&done, &signal, order);
+                    let speeds: Vec<f64> = done.iter().map(|c| c.rpm).collect();
+                    let (verdict, j) = judge_peak(&speeds, &cut, rpm);
+                    found.push(Crossing {
+                        segment,
+                        mode: *mode,
+                        order,
+                        rpm,
+                        frequency_hz: order * rev,
+                        signal,
+                        peak_rpm: done[j].rpm,
+                        peak_amplitude: cut[j],
+                        verdict,
+                        response_peaks: verdict == PeakVerdict::Peaks,
+                    });
+                }
+            }
+        }
+    }
+    found
+}
+
+/// The excitation orders searched for crossings and drawn on a Campbell
+/// diagram: 1, 2, the driver's tooth count (the meshing order) and twice it.
+pub fn excitation_orders(scene: &Scene) -> Vec<f64> {
+    let teeth = driver_of(scene)
+        .map(|(i, _)| f64::from(scene.sprockets()[i].teeth))
+        .unwrap_or(1.0);
+    let mut orders = vec![1.0, 2.0, teeth, 2.0 * teeth];
+    orders.dedup();
+    orders
+}
+
+/// A worst case: where a statistic of the sweep is at its extreme.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorstCase {
+    /// What.
+    pub statistic: String,
+    /// The case's speed, rpm.
+    pub rpm: f64,
+    /// The value.
+    pub value: f64,
+}
+
+/// The speeds of the largest link force, the smallest link force, the
+/// largest contact force, the largest penetration and each sprocket's
+/// largest speed fluctuation (RMS).
+pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
+    let done = completed(cases);
+    let pick = |statistic: &str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
+        done.iter()
+            .map(|c| (c.rpm, value(c)))
+            .filter(|(_, v)| v.is_finite())
+            .reduce(|a, b| {
+                let better = if largest { b.1 > a.1 } else { b.1 < a.1 };
+                if better { b } else { a }
+            })
+            .map(|(rpm, value)| WorstCase {
+                statistic: statistic.to_owned(),
+                rpm,
+                value,
+            })
+    };
+    let mut out = vec![
+        pick("largest link force, N", &|c| c.link_force_max_n, true),
+        pick("smallest link force, N", &|c| c.link_force_min_n, false),
+        pick("largest contact force, N", &|c| c.max_contact_force_n, true),
+        pick("largest penetration, m", &|c| c.max_penetration_m, true),
+    ];
+    let sprockets = done.first().map_or(0, |c| c.speed_rms_rad_s.len());
+    for s in 0..sprockets {
+        out.push(pick(
+            &format!("sprocket {} speed RMS, rad/s", s + 1),
+            &|c| c.speed_rms_rad_s.get(s).copied().unwrap_or(f64::NAN),
+            true,
+        ));
+    }
+    out.into_iter().flatten().collect()
+}
+
+/// Every scalar of a case's run summary as `(name, value)`: numbers as they
+/// are, booleans as 0/1, per-segment and per-sprocket fields as
+/// `segment{k}.field` / `sprocket{i}.field` (1-based), arrays of numbers as
+/// `field[i]`; then the sweep's own: `max_contact_force_n`, `rev_per_s`.
+/// A run-up's window has no run summary: its own statistics take its place
+/// (`link_force_min_n`, `link_force_max_n`, `max_penetration_m`,
+/// `segment{k}.mean_link_force_n`, `.min_link_force_n`, `.max_link_force_n`,
+/// `sprocket{i}.speed_rms_rad_s`, `speed_change`, `revolutions`).
+/// Non-finite values are left out.
+pub fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
+    let mut out = Vec::new();
+    match &case.summary {
+        Some(summary) => {
+            if let Ok(value) = serde_json::to_value(summary) {
+                flatten("", &value, &mut out);
+            }
+        }
+        None => {
+            out.push(("link_force_min_n".to_owned(), case.link_force_min_n));
+            out.push(("link_force_max_n".to_owned(), case.link_force_max_n));
+            out.push(("max_penetration_m".to_owned(), case.max_penetration_m));
+            for (k, (mean, range)) in case
+                .segment_mean_n
+                .iter()
+                .zip(&case.segment_range_n)
+                .enumerate()
+            {
+                let k = k + 1;
+                out.push((format!("segment{k}.mean_link_force_n"), *mean));
+                out.push((format!("segment{k}.min_link_force_n"), range.0));
+                out.push((format!("segment{k}.max_link_force_n"), range.1));
+            }
+            for (i, rms) in case.speed_rms_rad_s.iter().enumerate() {
+                out.push((format!("sprocket{}.speed_rms_rad_s", i + 1), *rms));
+            }
+            out.push(("speed_change".to_owned(), case.speed_change));
+            out.push(("revolutions".to_owned(), case.revolutions as f64));
+        }
+    }
+    out.push(("max_contact_force_n".to_owned(), case.max_contact_force_n));
+    out.push(("rev_per_s".to_owned(), case.rev_per_s));
+    out.retain(|(_, v)| v.is_finite());
+    out
+}
+
+fn flatten(prefix: &str, value: &serde_json::Value, out: &mut Vec<(String, f64)>) {
+    use serde_json::Value;
+    match value {
+        Value::Number(n) => {
+            if let Some(v) = n.as_f64().filter(|v| v.is_finite()) {
+                out.push((prefix.to_owned(), v));
+            }
+        }
+        Value::Bool(b) => out.push((prefix.to_owned(), f64::from(u8::from(*b)))),
+        Value::Object(map) => {
+            for (k, v) in map {
+                let name = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&name, v, out);
+            }
+        }
+        Value::Array(items) => {
+            for (i, item) in items.iter().enumerate() {
+                let numbered = ["segment", "sprocket"].iter().find_map(|key| {
+                    item.get(*key)
+                        .and_then(Value::as_u64)
+                        .map(|n| format!("{key}{n}"))
+                });
+                let name = match numbered {
+                    // `segments` → `segment3`, `strands` → `strand…` keep their own key.
+                    Some(n) if prefix == "segments" || prefix == "sprockets" => n,
+                    Some(n) => format!("{prefix}.{n}"),
+                    None => format!("{prefix}[{i}]"),
+                };
+                flatten(&name, item, out);
+            }
+        }
+        Value::String(_) | Value::Null => {}
+    }
+}
