@@ -250,7 +250,27 @@ fn canonical(name: &str) -> String {
         .or_else(|| s.strip_prefix("ANSI"))
         .unwrap_or(&s)
         .to_owned();
-    s.strip_suffix("-1").unwrap_or(&s).to_owned()
+    let s = s.strip_suffix("-1").unwrap_or(&s).to_owned();
+    ansi_of_iso_a(&s).unwrap_or(s)
+}
+
+/// The ANSI number of an ISO 606 A-series or bush-chain name, canonical
+/// spelling: ISO 606's A series is ASME B29.1's chains in metric names, its
+/// two digits the pitch in sixteenths of an inch (08A = ANSI 40, 16A =
+/// ANSI 80), 04C and 06C the bush chains ANSI 25 and 35.
+fn ansi_of_iso_a(s: &str) -> Option<String> {
+    match s {
+        "04C" => return Some("25".to_owned()),
+        "06C" => return Some("35".to_owned()),
+        _ => {}
+    }
+    let digits = s.strip_suffix('A')?;
+    if digits.len() != 2 || !digits.chars().all(|c| c.is_ascii_digit()) {
+        return None;
+    }
+    let sixteenths: u32 = digits.parse().ok()?;
+    // ANSI's leading digits: the pitch in eighths of an inch.
+    (sixteenths % 2 == 0 && sixteenths >= 8).then(|| format!("{}0", sixteenths / 2))
 }
 
 /// The table's entry for `name` (`"ISO 606 16B-1"`, `"16B"`, `"ANSI 80"`,
@@ -293,6 +313,22 @@ fn edit_distance(a: &str, b: &str) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn iso_a_series_names_find_their_ansi_chain() {
+        for (iso, ansi) in [
+            ("ISO 606 08A-1", "ANSI 40"),
+            ("10A", "ANSI 50"),
+            ("16A-1", "ANSI 80"),
+            ("iso 606 48a-1", "ANSI 240"),
+            ("06C", "ANSI 35"),
+        ] {
+            assert_eq!(find(iso).map(|d| d.name), Some(ansi), "{iso}");
+        }
+        for unknown in ["09A", "08A-2", "ANSI 530", "6A"] {
+            assert!(find(unknown).is_none(), "{unknown}");
+        }
+    }
 
     #[test]
     fn spellings_find_the_same_entry() {

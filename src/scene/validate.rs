@@ -167,11 +167,15 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
         }
         found
     });
+    // An unknown designation is its own error: the fields it would have
+    // filled are not reported missing as well.
+    let unknown = f.designation.is_some() && designation.is_none();
     // A field written in the file overrides the designation's value.
     let field = |c: &mut Checker, name: &str, value: Option<f64>, from: Option<f64>| {
         let path = format!("chain.{name}");
         match value.or(from) {
             Some(v) => c.positive(&path, v),
+            None if unknown => f64::NAN,
             None => {
                 c.fail(
                     path,

@@ -16,14 +16,14 @@ use std::time::Instant;
 
 use anyhow::Context;
 use chaindrive::analysis::figures::{self, Campbell, Mark, Plot, Trace};
-use chaindrive::analysis::orders::OrderSet;
+use chaindrive::analysis::orders::{MAX_ORDER_DENOMINATOR, OrderSet};
 use chaindrive::scene::{Assignment, Overrides, Scene};
 use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 use chaindrive::studies::sweep::{
     CaseOutcome, CaseResult, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
-    SweepSettings, TRANSVERSE_MODES, completed, default_orders, excitation_orders, order_cut,
-    parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up, summary_scalars,
-    worst_cases,
+    SweepSettings, TRANSVERSE_MODES, completed, default_orders, excitation_orders, on_order_grid,
+    order_cut, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
+    summary_scalars, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -345,7 +345,7 @@ fn write_outputs(
     cases: &[CaseOutcome],
 ) -> anyhow::Result<()> {
     // The figures are drawn on a thread of their own while the tables are written.
-    let excitation = excitation_orders(scene);
+    let (excitation, off_grid) = on_order_grid(&excitation_orders(scene), &orders);
     let (figures, written) = std::thread::scope(|s| {
         let drawing = s.spawn(|| draw_figures(args, &completed(cases), &excitation, orders));
         let written = write_tables(&args.out, cases);
@@ -356,7 +356,18 @@ fn write_outputs(
     });
     written?;
     let mut report = create(&args.out, "report.md")?;
-    report.write_all(report_text(scene, header, cases, &excitation, &figures).as_bytes())?;
+    report.write_all(
+        report_text(
+            scene,
+            header,
+            cases,
+            &excitation,
+            &off_grid,
+            orders,
+            &figures,
+        )
+        .as_bytes(),
+    )?;
     report.flush()?;
     Ok(())
 }
@@ -587,6 +598,8 @@ fn report_text(
     header: &str,
     cases: &[CaseOutcome],
     excitation: &[f64],
+    off_grid: &[f64],
+    orders: OrderSet,
     figures: &[Result<String, String>],
 ) -> String {
     let mut s = String::new();
@@ -618,6 +631,35 @@ fn report_text(
         PEAK_MEDIAN_FACTOR,
         100.0 * GRID_RESOLUTION
     );
+    if !off_grid.is_empty() {
+        let listed = off_grid
+            .iter()
+            .map(|k| format!("{k:.4}"))
+            .collect::<Vec<_>>()
+            .join(", ");
+        // The smallest step 1/D that puts every one of them on the grid.
+        let step = (1..=MAX_ORDER_DENOMINATOR).find(|&d| {
+            off_grid.iter().all(|k| {
+                let n = k * f64::from(d);
+                (n - n.round()).abs() <= 1e-6
+            })
+        });
+        let hint = match step {
+            Some(d) if off_grid.iter().all(|&k| k <= orders.max_order()) => {
+                format!(
+                    " (`--order-step {}`, a step of 1/{d}, puts them on it)",
+                    1.0 / f64::from(d)
+                )
+            }
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            s,
+            "The scene also excites orders {listed} of the driver, off the analysed orders (steps of 1/{} up to {}): they are left out of the crossings and the figures{hint}.\n",
+            orders.denominator(),
+            orders.max_order()
+        );
+    }
     let crossings = resonance_crossings(cases, excitation);
     if crossings.is_empty() {
         let _ = writeln!(

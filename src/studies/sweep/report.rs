@@ -5,6 +5,7 @@
 //! here runs a simulation or writes a file.
 
 use super::{CaseOutcome, CaseResult, SpanFrequencies, TRANSVERSE_MODES, driver_of};
+use crate::analysis::orders::OrderSet;
 use crate::scene::Scene;
 
 /// Which natural frequency of a span.
@@ -226,14 +227,98 @@ pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossin
 }
 
 /// The excitation orders searched for crossings and drawn on a Campbell
-/// diagram: 1, 2, the driver's tooth count (the meshing order) and twice it.
+/// diagram, in cycles per driver revolution, ascending: 1, 2, the driver's
+/// tooth count (the meshing order) and twice it, and the scene's own
+/// excitation. The driver's speed harmonics and a governed driver's torque
+/// harmonics are orders of the driver as they stand; a load harmonic of
+/// order k on sprocket i is order k·z_d/z_i of the driver (the sprocket turns
+/// z_d/z_i times per driver revolution); a load table (or a governed
+/// driver's torque table) adds its largest harmonic among the first
+/// [`TABLE_HARMONICS`] and every other one at least half as large, so scaled.
 pub fn excitation_orders(scene: &Scene) -> Vec<f64> {
-    let teeth = driver_of(scene)
-        .map(|(i, _)| f64::from(scene.sprockets()[i].teeth))
+    let sprockets = scene.sprockets();
+    let driver_teeth = driver_of(scene)
+        .map(|(i, _)| f64::from(sprockets[i].teeth))
         .unwrap_or(1.0);
-    let mut orders = vec![1.0, 2.0, teeth, 2.0 * teeth];
-    orders.dedup();
+    let mut orders = vec![1.0, 2.0, driver_teeth, 2.0 * driver_teeth];
+    for s in sprockets {
+        let ratio = driver_teeth / f64::from(s.teeth.max(1));
+        let e = &s.excitation;
+        let mut own: Vec<f64> = e
+            .speed_harmonics
+            .iter()
+            .chain(&e.load_harmonics)
+            .map(|h| f64::from(h.order))
+            .collect();
+        own.extend(e.load_table.as_ref().map_or_else(Vec::new, table_orders));
+        if let Some(g) = &e.governor {
+            own.extend(g.drive_harmonics.iter().map(|h| f64::from(h.order)));
+            own.extend(g.drive_table.as_ref().map_or_else(Vec::new, table_orders));
+        }
+        orders.extend(own.into_iter().map(|k| k * ratio));
+    }
+    orders.retain(|k| k.is_finite() && *k > 0.0);
+    orders.sort_by(f64::total_cmp);
+    orders.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs().max(1.0));
     orders
+}
+
+/// Harmonics of a load table weighed by [`excitation_orders`].
+pub const TABLE_HARMONICS: u32 = 12;
+
+/// The orders (per revolution of its sprocket) of a periodic table's
+/// largest harmonic among the first [`TABLE_HARMONICS`] and of every other
+/// one at least half as large: amplitudes |c_k| of the table's piecewise
+/// linear interpolation over its 360°, integrated exactly segment by
+/// segment. A constant table has none.
+fn table_orders(table: &crate::scene::LoadTable) -> Vec<f64> {
+    let (a, t) = (&table.angles_rad, &table.torques_n_m);
+    let amplitude = |k: f64| {
+        // ∫ T(θ) e^{-ikθ} dθ over each linear piece [θ0, θ1], T = T0 + s (θ − θ0).
+        let (mut re, mut im) = (0.0, 0.0);
+        for j in 1..a.len().min(t.len()) {
+            let (x0, x1, y0, y1) = (a[j - 1], a[j], t[j - 1], t[j]);
+            let h = x1 - x0;
+            if h <= 0.0 {
+                continue;
+            }
+            let s = (y1 - y0) / h;
+            // F(x) = ∫ (y0 + s (x − x0)) e^{-ikx} dx = e^{-ikx} [ i (y0 + s (x − x0))/k + s/k² ]
+            let f = |x: f64| {
+                let y = y0 + s * (x - x0);
+                let (c, sn) = ((k * x).cos(), (k * x).sin());
+                // e^{-ikx} = c − i sn; times (s/k² + i y/k)
+                let (pr, pi) = (s / (k * k), y / k);
+                (c * pr + sn * pi, c * pi - sn * pr)
+            };
+            let (r1, i1) = f(x1);
+            let (r0, i0) = f(x0);
+            re += r1 - r0;
+            im += i1 - i0;
+        }
+        re.hypot(im) / std::f64::consts::PI
+    };
+    let amps: Vec<(f64, f64)> = (1..=TABLE_HARMONICS)
+        .map(|k| (f64::from(k), amplitude(f64::from(k))))
+        .collect();
+    let largest = amps.iter().map(|&(_, c)| c).fold(0.0, f64::max);
+    if !(largest > 0.0 && largest.is_finite()) {
+        return Vec::new();
+    }
+    amps.into_iter()
+        .filter(|&(_, c)| c >= 0.5 * largest)
+        .map(|(k, _)| k)
+        .collect()
+}
+
+/// `orders` split into those on `set`'s grid (a multiple of its step, up to
+/// its largest order), whose amplitudes the analysis gives, and the others.
+pub fn on_order_grid(orders: &[f64], set: &OrderSet) -> (Vec<f64>, Vec<f64>) {
+    let d = f64::from(set.denominator());
+    orders.iter().partition(|&&k| {
+        let n = k * d;
+        (n - n.round()).abs() <= 1e-6 && k <= set.max_order() * (1.0 + 1e-12)
+    })
 }
 
 /// A worst case: where a statistic of the sweep is at its extreme.

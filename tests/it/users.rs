@@ -1,0 +1,179 @@
+//! A user's own drives through guides, tensioner arms, designations and
+//! sweeps: a motorcycle's final drive by designation with a wear strip and
+//! a spring arm, the same drive flat with a hydraulic arm setting its
+//! tension, and a sweep of it with an engine harmonic and a cam-table load.
+//! Every expected number is worked by hand from the scene's own inputs.
+
+use chaindrive::scene::designations::find;
+use chaindrive::scene::{Overrides, Scene};
+use chaindrive::studies::sweep::excitation_orders;
+
+fn data(file: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(file)
+}
+
+fn scene(file: &str) -> Scene {
+    Scene::from_path_with(&data(file), &Overrides::default())
+        .expect("the scene file reads")
+        .expect("a valid scene")
+}
+
+const INCH_M: f64 = 0.0254;
+
+/// ISO 606's A series is ASME B29.1's chains under metric names (two digits:
+/// the pitch in sixteenths of an inch): "ISO 606 10A-1" is ANSI 50, pitch
+/// 5/8 in, roller 0.400 in; "16A-1" is ANSI 80, pitch 1 in, roller 0.625 in.
+/// Before, 10A-1 was unknown and its nearest names were 10B-1 (another
+/// chain, roller 10.16 mm on a B-series plate) and ANSI 100 (twice the
+/// pitch). Exact (the table's inch values).
+#[test]
+fn an_iso_a_series_name_is_its_ansi_chain() {
+    for (name, pitch_in, roller_d_in) in [
+        ("ISO 606 10A-1", 0.625, 0.400),
+        ("16A-1", 1.0, 0.625),
+        ("08A", 0.5, 0.312),
+    ] {
+        let d = find(name).unwrap_or_else(|| panic!("{name} is known"));
+        approx::assert_relative_eq!(d.pitch_m, pitch_in * INCH_M, max_relative = 1e-12);
+        approx::assert_relative_eq!(
+            d.roller_radius_m(),
+            roller_d_in / 2.0 * INCH_M,
+            max_relative = 1e-12
+        );
+    }
+    // The same in a scene: the motorcycle drive on "ISO 606 10A-1" is on
+    // ANSI 50's rollers.
+    let text = std::fs::read_to_string(data("user_moto_10b_guide_arm.toml"))
+        .expect("the scene file reads")
+        .replace("ISO 606 10B-1", "ISO 606 10A-1");
+    let s = Scene::from_toml(&text).expect("a valid scene");
+    approx::assert_relative_eq!(
+        s.chain().roller_radius_m,
+        0.2 * INCH_M,
+        max_relative = 1e-12
+    );
+}
+
+/// A typo in the designation is one error at `chain.designation`; the
+/// fields the designation would have filled are not reported missing as
+/// well (before: four more errors, "chain.pitch_m: is required (or give
+/// chain.designation …)", to a user who had given one).
+#[test]
+fn a_typo_in_the_designation_is_one_error() {
+    let text = std::fs::read_to_string(data("user_moto_10b_guide_arm.toml"))
+        .expect("the scene file reads")
+        .replace("ISO 606 10B-1", "ISO 606 10-B1");
+    let err = Scene::from_toml(&text)
+        .expect_err("unknown designation")
+        .to_string();
+    assert!(err.contains("chain.designation"), "{err}");
+    assert!(err.contains("\"ISO 606 10B-1\""), "{err}");
+    assert!(!err.contains("is required"), "{err}");
+    assert!(!err.contains("NaN"), "{err}");
+}
+
+/// The orders a sweep overlays and searches for crossings include the
+/// scene's own excitation, in orders of the driver: the engine's harmonic
+/// (2), the meshing order and twice it (15, 30), the wheel's load harmonic
+/// of order 3 (3 × 15/42 = 15/14: the wheel turns 15/42 of a revolution per
+/// engine revolution) and the cam table's four lobes (assets/cam-torque.csv:
+/// "lobes 90 deg apart", 4 × 15/42 = 10/7). Before, only 1, 2, 15 and 30
+/// were searched, whatever the scene's excitation. Exact.
+#[test]
+fn a_sweep_searches_the_scenes_own_excitation_orders() {
+    let orders = excitation_orders(&scene("user_moto_10b_sweep.toml"));
+    let expected = [15.0 / 14.0, 10.0 / 7.0, 1.0, 2.0, 15.0, 30.0];
+    for k in expected {
+        assert!(
+            orders.iter().any(|o| (o - k).abs() < 1e-12),
+            "order {k} missing from {orders:?}"
+        );
+    }
+    assert_eq!(orders.len(), expected.len(), "{orders:?}");
+    assert!(orders.windows(2).all(|w| w[0] < w[1]), "{orders:?}");
+}
+
+/// The flat drive's hydraulic arm at rest (the series' first row, t = 0):
+/// the chamber at the supply pressure (3 bar), and the plunger's travel the
+/// arm's kinematics by hand: the push point a = (−0.10, 0.12) m turned by
+/// the arm's angle q about the pivot P = (0.04, 0.08) m, projected on the
+/// push direction ê = (0, −1): x = −(a_y(q) − 0.12) with
+/// a_y(q) = 0.08 − 0.14 sin q + 0.04 cos q. Both within 1e-6 relative.
+#[cfg(feature = "cli")]
+#[test]
+fn a_hydraulic_arm_settles_at_supply_pressure_on_its_kinematics() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let series = dir.path().join("series.csv");
+    let scene_path = data("user_flat_hydraulic_arm.toml");
+    let out = crate::common::chaindrive(&[
+        "run",
+        scene_path.to_str().expect("a UTF-8 path"),
+        "--duration",
+        "0.0002",
+        "--series",
+        series.to_str().expect("a UTF-8 path"),
+        "--quiet",
+    ]);
+    assert!(out.status.success(), "{}", crate::common::stderr(&out));
+    let text = std::fs::read_to_string(&series).expect("the series");
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let row: Vec<f64> = lines
+        .next()
+        .expect("a first row")
+        .split(',')
+        .map(|v| v.parse().expect("a number"))
+        .collect();
+    let col = |name: &str| {
+        let i = header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("{name}"));
+        row[i]
+    };
+    assert_eq!(col("t_s"), 0.0);
+    approx::assert_relative_eq!(col("tensioner1_pressure_pa"), 3e5, max_relative = 1e-6);
+    let q = col("tensioner1_arm_angle_rad");
+    assert!(q > 0.0, "the arm turns onto the strand: q = {q}");
+    let travel = -(0.08 - 0.14 * q.sin() + 0.04 * q.cos() - 0.12);
+    approx::assert_relative_eq!(col("tensioner1_travel_m"), travel, max_relative = 1e-6);
+}
+
+/// A sweep of the motorcycle drive names the excitation orders it cannot
+/// analyse on its order grid (whole orders by default: the wheel's 15/14
+/// and 10/7) and the step that would (1/14), instead of silently leaving
+/// them out.
+#[cfg(feature = "cli")]
+#[test]
+fn a_sweep_names_the_excitation_orders_off_its_grid() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let scene_path = data("user_moto_10b_sweep.toml");
+    let out = crate::common::chaindrive(&[
+        "sweep",
+        scene_path.to_str().expect("a UTF-8 path"),
+        "--rpm",
+        "2000:3000:1000",
+        "--settle",
+        "0.02",
+        "--window",
+        "0.05",
+        "--jobs",
+        "2",
+        "--quiet",
+        "--out",
+        dir.path().to_str().expect("a UTF-8 path"),
+    ]);
+    assert!(out.status.success(), "{}", crate::common::stderr(&out));
+    let report = std::fs::read_to_string(dir.path().join("report.md")).expect("the report");
+    assert!(
+        report.contains("excitation order (1, 2, 15, 30)"),
+        "{report}"
+    );
+    assert!(
+        report.contains("orders 1.0714, 1.4286 of the driver"),
+        "{report}"
+    );
+    assert!(report.contains("a step of 1/14"), "{report}");
+}
