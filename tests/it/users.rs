@@ -177,3 +177,40 @@ fn a_sweep_names_the_excitation_orders_off_its_grid() {
     );
     assert!(report.contains("a step of 1/14"), "{report}");
 }
+
+/// A conveyor whose upper strand lies on a wear strip settles at rest as
+/// quickly as without it (0.01 s, residual 1e-10 of the pretension, with the
+/// strip's lines taken out). Found: with the strip the static equilibrium
+/// runs 200+ s of wall time and stops unsettled (residual 2.6e-2 of the
+/// pretension), with or without friction. The static equilibrium's
+/// relaxation is outside the guides' code: left for it, ignored here.
+#[cfg(feature = "cli")]
+#[test]
+#[ignore = "the static equilibrium does not settle a strand lying on a wear strip (200+ s, residual 2.6e-2)"]
+fn a_conveyor_on_a_wear_strip_settles_at_rest() {
+    let scene_path = data("user_conveyor_strips.toml");
+    let started = std::time::Instant::now();
+    let out = crate::common::chaindrive(&["check", scene_path.to_str().expect("a UTF-8 path")]);
+    let text = String::from_utf8_lossy(&out.stdout).to_string() + &crate::common::stderr(&out);
+    assert!(out.status.success(), "{text}");
+    assert!(!text.contains("not settled"), "{text}");
+    assert!(started.elapsed().as_secs_f64() < 20.0, "{text}");
+}
+
+/// `check` on a drive it refuses suggests only moves that make it fit.
+/// Found: the 3 m conveyor that `chaindrive fit` laid out exactly is refused
+/// by the static equilibrium's feasibility (its strands' sag holds 15.6 mm of
+/// chain, by hand 2 · 8 s²/(3 L) = 15.2 mm at s = w L²/(8 T) = 92.5 mm), and
+/// the suggestion that follows is to move the tail by [-0.000000,
+/// +0.000000] m, i.e. where it stands: the fit's need ignores the sag the
+/// feasibility counts. The fit and the feasibility are outside the guides'
+/// and designations' code: left for them, ignored here.
+#[cfg(feature = "cli")]
+#[test]
+#[ignore = "fit ignores the strands' sag that check's feasibility counts: a refused conveyor is told to move its tail by zero"]
+fn a_refused_drive_is_not_told_to_stay_where_it_is() {
+    let scene_path = data("user_conveyor_sag_fit.toml");
+    let out = crate::common::chaindrive(&["check", scene_path.to_str().expect("a UTF-8 path")]);
+    let text = String::from_utf8_lossy(&out.stdout).to_string() + &crate::common::stderr(&out);
+    assert!(!text.contains("moved by [-0.000000, +0.000000]"), "{text}");
+}
