@@ -142,6 +142,27 @@ pub enum EquilibriumError {
         /// Least pretension that holds the load, N.
         needed_n: f64,
     },
+    /// A roller is pulled beyond the circular profile's seating arc, where
+    /// no force of that profile holds it (see the feasibility module).
+    #[error(
+        "roller {roller} is pulled {beyond_deg:.1}° beyond the seating arc of gap {gap} on sprocket \"{sprocket}\" ({outward_n:.1} N outward, {along_n:.1} N along the pitch circle): the circular profile holds a roller only on the half of its seating circle facing the sprocket's centre, so this drive has no smooth rest state with it (the rest state reached leaves {residual:.2e} of the pretension out of balance); the real tooth form holds it (profile = \"real\"), or another load moves the roller off the rim"
+    )]
+    BeyondSeatingArc {
+        /// The roller.
+        roller: usize,
+        /// The sprocket's name.
+        sprocket: String,
+        /// The gap, as the profile numbers it.
+        gap: u32,
+        /// Angle between the roller's pull and the arc's edge, degrees.
+        beyond_deg: f64,
+        /// The pull's component radially outward, N.
+        outward_n: f64,
+        /// Its component along the pitch circle, N.
+        along_n: f64,
+        /// Largest roller force at the rest state reached, relative to the pretension.
+        residual: f64,
+    },
     /// The relaxation itself blew up (dt too large for the scene).
     #[error(
         "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:.3e} m)"
@@ -396,6 +417,44 @@ fn next_rest_length(
     }
 }
 
+/// Force residual, relative to the pretension, above which a rest state
+/// counts as not settled when a roller pulled beyond a circular seating arc
+/// explains it.
+const UNSETTLED_RESIDUAL: f64 = 1e-6;
+
+/// Ends with [`EquilibriumError::BeyondSeatingArc`] when the rest state
+/// reached leaves more than [`UNSETTLED_RESIDUAL`] of the pretension out of
+/// balance and a roller is pulled beyond a circular profile's seating arc
+/// ([`super::feasibility::rim_roller`]): no rest state exists there, and the
+/// cause is named instead of a residual. `forces` evaluated at `state`.
+fn beyond_seating_arc(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    target_n: f64,
+    names: &[&str],
+) -> Result<(), EquilibriumError> {
+    let residual = force_residual(forces, target_n);
+    if !(residual > UNSETTLED_RESIDUAL) {
+        return Ok(());
+    }
+    let Some(rim) = super::feasibility::rim_roller(model, state, forces) else {
+        return Ok(());
+    };
+    let sprocket = names
+        .get(rim.sprocket)
+        .map_or_else(|| format!("{}", rim.sprocket + 1), |n| (*n).to_owned());
+    Err(EquilibriumError::BeyondSeatingArc {
+        roller: rim.roller,
+        sprocket,
+        gap: rim.gap,
+        beyond_deg: rim.beyond_deg,
+        outward_n: rim.outward_n,
+        along_n: rim.along_n,
+        residual,
+    })
+}
+
 /// Force residual, relative to the pretension, at which a relaxation stops
 /// while the pretension iteration is still looking for the rest length: the
 /// static tension is then known well within the tolerance on it.
@@ -557,6 +616,9 @@ pub fn settle_rest_length(
             // says how far it is from equilibrium.
             let stalled = further > 0 && !(now < 0.9 * further_residual);
             if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER {
+                if !settled {
+                    beyond_seating_arc(model, state, forces, target_n, sprocket_names)?;
+                }
                 return Ok(StaticEquilibrium {
                     tension_n: tension,
                     rest_length_m: rest,
@@ -589,6 +651,7 @@ pub fn settle_rest_length(
         previous = Some((rest, tension));
         rest = next;
     }
+    beyond_seating_arc(model, state, forces, target_n, sprocket_names)?;
     let (body, _) = unsettled_body(model, forces, sprocket_names);
     Err(EquilibriumError::Unsettled {
         tension_n: last,

@@ -301,3 +301,23 @@ fn the_fit_takes_the_nearest_root() {
     assert!(fit.offset_m < 0.0, "{fit:?}");
     assert!(fit.misfit_m <= 1e-9, "{fit:?}");
 }
+
+#[test]
+#[ignore]
+fn zz_measure_fit_regression() {
+    let scene = with_rollers("flat_20_40_0508.toml", 110);
+    let fit = fit_sprocket(&scene, 1, [-1.0, 0.0], 110).expect("a fit");
+    eprintln!("fit {fit:?}");
+    for (shift, nudge) in [(0.05, 1e-10), (0.05, -1e-10), (0.05, 5e-10), (0.02, 0.0), (0.03, 0.0)] {
+        let x = fit.center_m[0] - shift * 0.0127 / 2.0 + nudge;
+        let t = text("flat_20_40_0508.toml").replace(
+            "center_m = [0.0, 0.0]",
+            &format!("center_m = [{:?}, 0.0]", x),
+        );
+        let scene = Scene::from_toml(&t).expect("valid");
+        let needed = needed_pitches_of(&scene).unwrap();
+        let counts = fitting_counts(&scene);
+        let r = Simulation::new(&scene).map(|s| format!("{:?}", s.equilibrium));
+        eprintln!("shift {shift} nudge {nudge:e} x {x:?} needed {needed} counts {counts:?} -> {r:?}");
+    }
+}
