@@ -88,33 +88,6 @@ pub(crate) fn check_chain_length(
     Ok(())
 }
 
-/// Whether a chain short of its path stays within what the pretension
-/// takes up without compressing the wrap links, where any sprocket has the
-/// circular profile (always true otherwise).
-///
-/// At the pretension T₀ the free links stretch n_free T₀ / K in all; a
-/// chain shorter than its seated path (plus its sag) by more must shorten
-/// its wraps, and a compressed wrap link pushes its two rollers apart along
-/// the pitch polygon, a net push radially outward. The circular profile
-/// holds a roller only on the half of its seating circle facing the
-/// sprocket's centre, so no force of it balances that push ([`rim_roller`]);
-/// the real profile's flanks hold it within their clearance, which the
-/// margin of [`check_chain_length`] allows for.
-pub(crate) fn wraps_stay_in_tension(scene: &Scene, layout: &Layout, path: &ChainPath) -> bool {
-    let circular = scene
-        .sprockets
-        .iter()
-        .any(|sp| matches!(sp.profile, crate::geometry::ProfileKind::Circular));
-    let chain = &scene.chain;
-    let free_links: usize = layout.strand_links.iter().sum();
-    if !circular || free_links == 0 {
-        return true;
-    }
-    let chain_m = chain.rollers as f64 * chain.pitch_m;
-    let short_m = layout.polygon_length_m + sag_take_up_m(scene, path, chain.pretension_n) - chain_m;
-    short_m <= free_links as f64 * chain.pretension_n / chain.stiffness_n_m
-}
-
 /// Length the free strands' sag takes up at tension `tension_n`: a shallow
 /// sag under the weight per length q⊥ across a strand of span L holds
 /// q⊥² L³ / (24 T²) more chain than the straight span (parabolic cable).
@@ -324,8 +297,7 @@ pub(crate) fn rim_roller(
             let u = [seat[0] / seat_r, seat[1] / seat_r];
             let e = [local[0] - seat[0], local[1] - seat[1]];
             let e_len = e[0].hypot(e[1]);
-            if !(e_len >= 0.5 * c.clearance_m && e_len <= c.clearance_m + 0.5 * c.roller_radius_m)
-            {
+            if !(e_len >= 0.5 * c.clearance_m && e_len <= c.clearance_m + 0.5 * c.roller_radius_m) {
                 continue;
             }
             // Angle of the offset from the gap's bottom (−u).

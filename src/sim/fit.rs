@@ -544,8 +544,7 @@ pub fn default_direction(scene: &Scene, k: usize) -> Option<[f64; 2]> {
 /// The roller counts the drive accepts as it stands, nearest the path's
 /// need first: a count is accepted when the layout lays it out and, under
 /// the rest-length rule, the pretension can take up its misfit
-/// (`feasibility::check_chain_length`; with a circular-profile sprocket
-/// without compressing the wrap links, `feasibility::wraps_stay_in_tension`); under the tensioner rule, when the
+/// (`feasibility::check_chain_length`); under the tensioner rule, when the
 /// tensioner's travel makes it fit. Tried: the two counts either side of
 /// the need. Empty when neither is accepted (then only a move fits).
 pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
@@ -576,7 +575,6 @@ pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
                 | crate::scene::PretensionRule::TensionerPreload => {
                     crate::model::DriveModel::build(&s).is_ok_and(|(model, _, layout)| {
                         super::feasibility::check_chain_length(&s, &layout, &model.path).is_ok()
-                            && super::feasibility::wraps_stay_in_tension(&s, &layout, &model.path)
                     })
                 }
             }
