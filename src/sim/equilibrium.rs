@@ -422,7 +422,8 @@ fn next_rest_length(
 /// explains it.
 const UNSETTLED_RESIDUAL: f64 = 1e-6;
 
-/// Ends with [`EquilibriumError::BeyondSeatingArc`] when the rest state
+/// Ends with [`EquilibriumError::BeyondSeatingArc`] when the drive has a
+/// rest state to solve for (`newton::applies`), the rest state
 /// reached leaves more than [`UNSETTLED_RESIDUAL`] of the pretension out of
 /// balance and a roller is pulled beyond a circular profile's seating arc
 /// ([`super::feasibility::rim_roller`]): no rest state exists there, and the
@@ -434,8 +435,11 @@ fn beyond_seating_arc(
     target_n: f64,
     names: &[&str],
 ) -> Result<(), EquilibriumError> {
+    // Only where a rest state is defined (a held sprocket, rollers and
+    // sprockets only: see the newton module); elsewhere the relaxation's
+    // end is only a start.
     let residual = force_residual(forces, target_n);
-    if !(residual > UNSETTLED_RESIDUAL) {
+    if !(residual > UNSETTLED_RESIDUAL) || !super::newton::applies(model, state) {
         return Ok(());
     }
     let Some(rim) = super::feasibility::rim_roller(model, state, forces) else {
