@@ -2,7 +2,7 @@
 //! requests name their cause with the closed-form threshold.
 
 use chaindrive::scene::Scene;
-use chaindrive::sim::{EquilibriumError, SimError, Simulation};
+use chaindrive::sim::{BeyondSeatingArc, EquilibriumError, SimError, Simulation};
 
 fn scene(file: &str) -> Scene {
     let path = format!("{}/tests/data/{file}", env!("CARGO_MANIFEST_DIR"));
@@ -304,19 +304,22 @@ fn sagging_conveyor_on_the_circular_rim_names_the_cause() {
     );
     let text = std::fs::read_to_string(&path).expect("the scene file exists");
     let scene = Scene::from_toml(&text).expect("a valid scene");
-    let err = Simulation::new(&scene).err().expect("no smooth rest state");
-    let SimError::Equilibrium(EquilibriumError::BeyondSeatingArc {
-        roller,
-        sprocket,
-        beyond_deg,
-        outward_n,
-        along_n,
-        residual,
-        ..
-    }) = &err
+    let sim = Simulation::new(&scene).expect("a run starts from the state reached");
+    let Some(
+        err @ BeyondSeatingArc {
+            roller,
+            sprocket,
+            beyond_deg,
+            outward_n,
+            along_n,
+            residual,
+            ..
+        },
+    ) = &sim.equilibrium.beyond_seating_arc
     else {
-        panic!("expected BeyondSeatingArc, got {err}");
+        panic!("expected the seating arc named, got {:?}", sim.equilibrium);
     };
+    assert!(sim.equilibrium.force_residual > 1e-3, "{err}");
     assert_eq!(sprocket, "tail", "{err}");
     assert!(*beyond_deg > 0.0 && *beyond_deg < 90.0, "{err}");
     assert!(*outward_n > 0.0 && *along_n > 0.0, "{err}");
