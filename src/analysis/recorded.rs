@@ -183,6 +183,7 @@ impl RecordedRun {
                 model,
                 static_tension_n: sim.equilibrium.tension_n,
                 static_force_residual: None,
+                static_unsettled_cause: None,
                 steps: 0,
                 wall_s: 0.0,
                 setup_wall_s: 0.0,

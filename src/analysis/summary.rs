@@ -268,6 +268,9 @@ pub struct SummaryInputs<'a> {
     /// The static equilibrium's force residual (relative to the pretension),
     /// where known.
     pub static_force_residual: Option<f64>,
+    /// Why the static equilibrium's state is not at rest, where known (a
+    /// sentence, for the unsettled-start warning).
+    pub static_unsettled_cause: Option<String>,
     /// Steps taken.
     pub steps: u64,
     /// Wall time of the loop, s.
@@ -292,6 +295,8 @@ pub(crate) struct Judged<'a> {
     pub ramp_s: f64,
     /// The mean chain speed over the window, m/s.
     pub chain_speed_m_s: f64,
+    /// Why the static equilibrium's state is not at rest, where known.
+    pub unsettled_cause: Option<&'a str>,
 }
 
 /// Mean and (min, max) of the finite values of an iterator; zeros when empty.
@@ -373,6 +378,11 @@ impl RunSummary {
                 model: &sim.model,
                 static_tension_n: sim.equilibrium.tension_n,
                 static_force_residual: Some(sim.equilibrium.force_residual),
+                static_unsettled_cause: sim
+                    .equilibrium
+                    .beyond_seating_arc
+                    .as_ref()
+                    .map(ToString::to_string),
                 steps: outcome.steps,
                 wall_s: outcome.wall_s,
                 setup_wall_s,
@@ -595,6 +605,7 @@ impl RunSummary {
             window_rows: &in_window,
             ramp_s: ramp,
             chain_speed_m_s: chain_speed,
+            unsettled_cause: inputs.static_unsettled_cause.as_deref(),
         });
         summary
     }

@@ -56,7 +56,7 @@ fn unsettled_start(j: &Judged<'_>) -> Option<String> {
             residual,
             residual * j.scene.chain.pretension_n,
             STATIC_RESIDUAL_TOLERANCE
-        )
+        ) + &j.unsettled_cause.map(|c| format!("; the cause: {c}")).unwrap_or_default()
     })
 }
 

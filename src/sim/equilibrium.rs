@@ -10,8 +10,32 @@ use super::stepper::Relaxation;
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 
+/// A roller pulled beyond the circular profile's seating arc, where no
+/// force of that profile holds it (see the feasibility module): the drive
+/// has no smooth rest state with this profile.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error(
+    "roller {roller} is pulled {beyond_deg:.1}° beyond the seating arc of gap {gap} on sprocket \"{sprocket}\" ({outward_n:.3} N outward, {along_n:.3} N along the pitch circle): the circular profile holds a roller only on the half of its seating circle facing the sprocket's centre, so this drive has no smooth rest state with it (the rest state reached leaves {residual:.2e} of the pretension out of balance); the real tooth form holds it (profile = \"real\"), or another load moves the roller off the rim"
+)]
+pub struct BeyondSeatingArc {
+    /// The roller.
+    pub roller: usize,
+    /// The sprocket's name.
+    pub sprocket: String,
+    /// The gap, as the profile numbers it.
+    pub gap: u32,
+    /// Angle between the roller's pull and the arc's edge, degrees.
+    pub beyond_deg: f64,
+    /// The pull's component radially outward, N.
+    pub outward_n: f64,
+    /// Its component along the pitch circle, N.
+    pub along_n: f64,
+    /// Largest roller force at the rest state reached, relative to the pretension.
+    pub residual: f64,
+}
+
 /// Outcome of the static equilibrium.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct StaticEquilibrium {
     /// Mean link force over the links of all free strands, N.
     pub tension_n: f64,
@@ -24,6 +48,10 @@ pub struct StaticEquilibrium {
     /// Largest force on a roller at the equilibrium (links, contact and
     /// gravity), relative to the pretension.
     pub force_residual: f64,
+    /// Why the state reached is not at rest, where the cause is known: a
+    /// roller pulled beyond a circular seating arc. A run starts from it and
+    /// warns (the summary's `warnings`); `check` names it.
+    pub beyond_seating_arc: Option<BeyondSeatingArc>,
 }
 
 /// Why no equilibrium was found.
@@ -396,6 +424,46 @@ fn next_rest_length(
     }
 }
 
+/// Force residual, relative to the pretension, above which a rest state
+/// counts as not settled when a roller pulled beyond a circular seating arc
+/// explains it.
+const UNSETTLED_RESIDUAL: f64 = 1e-6;
+
+/// The roller pulled beyond a circular profile's seating arc, when the
+/// drive has a rest state to solve for (`newton::applies`), the rest state
+/// reached leaves more than [`UNSETTLED_RESIDUAL`] of the pretension out of
+/// balance and such a roller explains it
+/// ([`super::feasibility::rim_roller`]): no rest state exists there, and the
+/// cause is named beside the residual. `forces` evaluated at `state`.
+fn beyond_seating_arc(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    target_n: f64,
+    names: &[&str],
+) -> Option<BeyondSeatingArc> {
+    // Only where a rest state is defined (a held sprocket, rollers and
+    // sprockets only: see the newton module); elsewhere the relaxation's
+    // end is only a start.
+    let residual = force_residual(forces, target_n);
+    if !(residual > UNSETTLED_RESIDUAL) || !super::newton::applies(model, state) {
+        return None;
+    }
+    let rim = super::feasibility::rim_roller(model, state, forces)?;
+    let sprocket = names
+        .get(rim.sprocket)
+        .map_or_else(|| format!("{}", rim.sprocket + 1), |n| (*n).to_owned());
+    Some(BeyondSeatingArc {
+        roller: rim.roller,
+        sprocket,
+        gap: rim.gap,
+        beyond_deg: rim.beyond_deg,
+        outward_n: rim.outward_n,
+        along_n: rim.along_n,
+        residual,
+    })
+}
+
 /// Force residual, relative to the pretension, at which a relaxation stops
 /// while the pretension iteration is still looking for the rest length: the
 /// static tension is then known well within the tolerance on it.
@@ -487,6 +555,7 @@ pub(crate) fn settle_preload(
         iterations,
         residual_speed_m_s: residual,
         force_residual: force_residual(forces, scale_n),
+        beyond_seating_arc: None,
     })
 }
 
@@ -525,6 +594,7 @@ pub fn settle_rest_length(
     // Rest lengths known to give a tension above (low) and below (high) the target.
     let (mut above, mut below): (Option<f64>, Option<f64>) = (None, None);
     let mut last = f64::NAN;
+    let mut last_speed = 0.0;
     let mut step_factor = 8.0;
     let mut found = false;
     // Relaxations at the right tension beyond the first, and their limit.
@@ -543,6 +613,7 @@ pub fn settle_rest_length(
             stop * scale,
             0.5 * REST_FORCE * scale,
         )?;
+        last_speed = residual;
         let tension =
             free_strand_tension(model, state, forces).ok_or(EquilibriumError::NoFreeLinks)?;
         last = tension;
@@ -557,12 +628,18 @@ pub fn settle_rest_length(
             // says how far it is from equilibrium.
             let stalled = further > 0 && !(now < 0.9 * further_residual);
             if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER {
+                let beyond_seating_arc = if settled {
+                    None
+                } else {
+                    beyond_seating_arc(model, state, forces, target_n, sprocket_names)
+                };
                 return Ok(StaticEquilibrium {
                     tension_n: tension,
                     rest_length_m: rest,
                     iterations: iteration,
                     residual_speed_m_s: residual,
                     force_residual: force_residual(forces, target_n),
+                    beyond_seating_arc,
                 });
             }
             // Right tension, not yet at rest: relax on at this rest length.
@@ -588,6 +665,18 @@ pub fn settle_rest_length(
         );
         previous = Some((rest, tension));
         rest = next;
+    }
+    // A roller beyond a circular seating arc explains why no rest state
+    // was found: the run may start from the state reached, which names it.
+    if let Some(rim) = beyond_seating_arc(model, state, forces, target_n, sprocket_names) {
+        return Ok(StaticEquilibrium {
+            tension_n: last,
+            rest_length_m: model.rest_length_m,
+            iterations: MAX_ITERATIONS,
+            residual_speed_m_s: last_speed,
+            force_residual: force_residual(forces, target_n),
+            beyond_seating_arc: Some(rim),
+        });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);
     Err(EquilibriumError::Unsettled {

@@ -34,7 +34,9 @@
 //!   strand. Exact for a weightless chain, a guide under gravity.
 
 use super::equilibrium::EquilibriumError;
-use crate::geometry::{ChainPath, Layout};
+use crate::forces::ForceGenerator;
+use crate::geometry::{ChainPath, Layout, ToothProfile};
+use crate::model::{DriveModel, DriveState};
 use crate::scene::{Role, Scene};
 
 /// Factor on the length the pretension can take up beyond which a chain is
@@ -209,4 +211,119 @@ fn strand_tensions(driver: usize, jumps: &[f64], links: &[usize], t0: f64) -> Ve
     let total: usize = links.iter().sum();
     let mean = c.iter().zip(links).map(|(c, &l)| c * l as f64).sum::<f64>() / total as f64;
     c.iter().map(|c| t0 + c - mean).collect()
+}
+
+/// A roller the circular profile cannot hold: its links and its weight pull
+/// it beyond the half of its seating circle that faces the sprocket's
+/// centre (module docs of [`rim_roller`]).
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct RimRoller {
+    /// The roller's index.
+    pub(crate) roller: usize,
+    /// The sprocket whose gap it sits in.
+    pub(crate) sprocket: usize,
+    /// The gap, as the profile numbers it.
+    pub(crate) gap: u32,
+    /// Angle between the pull and the seating arc's edge, degrees (> 0:
+    /// beyond the arc).
+    pub(crate) beyond_deg: f64,
+    /// The pull's component radially outward, N.
+    pub(crate) outward_n: f64,
+    /// Its component along the pitch circle, N (magnitude).
+    pub(crate) along_n: f64,
+}
+
+/// Least angle, from the gap's bottom, of a roller's offset from its seating
+/// centre for the roller to count as on the seating arc's rim, rad (the rim
+/// lies at 90°).
+const RIM_OFFSET_RAD: f64 = 60.0 * std::f64::consts::PI / 180.0;
+
+/// The roller on a circular-profile sprocket that is pulled hardest beyond
+/// its seating arc, if any.
+///
+/// The circular profile holds a roller only on the half of its seating
+/// circle that faces the sprocket's centre: the contact force pushes along
+/// −e/|e|, e the roller centre's offset from the seating centre, and only
+/// while e points inward (e·u ≤ 0, u the gap's radial direction). A roller at
+/// rest is held against the pull F of its links and its weight by a contact
+/// force −F, so it needs a contact point along F; where F points outward
+/// (F·u > 0), that point lies beyond the arc by the angle between F and the
+/// arc's edge, and no force of this profile can balance it: the roller rides
+/// on the rim, where the force jumps from K δⁿ to zero, and the drive has no
+/// smooth rest state. A roller counts when its offset has reached the wall
+/// (|e| ≥ ΔR/2) at least [`RIM_OFFSET_RAD`] from the gap's bottom. `forces`
+/// evaluated at `state`.
+pub(crate) fn rim_roller(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+) -> Option<RimRoller> {
+    let out = forces.output();
+    let n = state.x.len();
+    if n < 3 || out.link_force.len() < n {
+        return None;
+    }
+    let m = model.roller_mass_kg;
+    let [gx, gy] = model.gravity_m_s2;
+    let mut worst: Option<RimRoller> = None;
+    for i in 0..n {
+        let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
+        // The pull of the two links and the weight on roller i.
+        let mut f = [m * gx, m * gy];
+        for (j, force) in [(next, out.link_force[i]), (prev, out.link_force[prev])] {
+            let (dx, dy) = (state.x[j] - state.x[i], state.y[j] - state.y[i]);
+            let l = dx.hypot(dy);
+            if l > 0.0 {
+                f[0] += force * dx / l;
+                f[1] += force * dy / l;
+            }
+        }
+        for (s, sp) in model.sprockets.iter().enumerate() {
+            let ToothProfile::Circular(c) = &sp.profile else {
+                continue;
+            };
+            let (rx, ry) = (state.x[i] - sp.center_m[0], state.y[i] - sp.center_m[1]);
+            if rx * rx + ry * ry > sp.reach_sq_m2 {
+                continue;
+            }
+            let (sin, cos) = state.theta[s].sin_cos();
+            let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+            let gap = c.gap_of(local);
+            let seat = c.seat_center(gap);
+            let seat_r = seat[0].hypot(seat[1]);
+            if !(seat_r > 0.0) {
+                continue;
+            }
+            let u = [seat[0] / seat_r, seat[1] / seat_r];
+            let e = [local[0] - seat[0], local[1] - seat[1]];
+            let e_len = e[0].hypot(e[1]);
+            if !(e_len >= 0.5 * c.clearance_m && e_len <= c.clearance_m + 0.5 * c.roller_radius_m) {
+                continue;
+            }
+            // Angle of the offset from the gap's bottom (−u).
+            let offset_angle = (e[0] * u[1] - e[1] * u[0])
+                .abs()
+                .atan2(-(e[0] * u[0] + e[1] * u[1]));
+            if offset_angle < RIM_OFFSET_RAD {
+                continue;
+            }
+            let f_local = [cos * f[0] + sin * f[1], -sin * f[0] + cos * f[1]];
+            let outward = f_local[0] * u[0] + f_local[1] * u[1];
+            let along = (f_local[0] * u[1] - f_local[1] * u[0]).abs();
+            if !(outward > 0.0) {
+                continue;
+            }
+            if worst.as_ref().is_none_or(|w| outward > w.outward_n) {
+                worst = Some(RimRoller {
+                    roller: i,
+                    sprocket: s,
+                    gap,
+                    beyond_deg: outward.atan2(along).to_degrees(),
+                    outward_n: outward,
+                    along_n: along,
+                });
+            }
+        }
+    }
+    worst
 }

@@ -21,8 +21,8 @@ mod stepper;
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
 pub use equilibrium::{
-    EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension, relax,
-    settle_rest_length,
+    BeyondSeatingArc, EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual,
+    free_strand_tension, relax, settle_rest_length,
 };
 pub use fit::{
     FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
@@ -120,6 +120,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             iterations: 0,
             residual_speed_m_s: residual,
             force_residual: force_residual(&forces, target),
+            beyond_seating_arc: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };

@@ -405,7 +405,7 @@ fn fork(
         base.state.clone(),
         base.forces.clone(),
         base.layout.clone(),
-        base.equilibrium,
+        base.equilibrium.clone(),
         base.limits,
     ))
 }

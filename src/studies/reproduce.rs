@@ -131,6 +131,7 @@ pub fn run_scene(
             iterations: sim.equilibrium.iterations + 1,
             residual_speed_m_s: residual,
             force_residual: force_residual(&sim.forces, scene.chain.pretension_n),
+            beyond_seating_arc: None,
         };
         sim.sync_world();
     }

@@ -178,6 +178,7 @@ fn judged(
             model: &model,
             static_tension_n: scene.chain().pretension_n,
             static_force_residual: None,
+            static_unsettled_cause: None,
             steps: 1,
             wall_s: 0.0,
             setup_wall_s: 0.0,

@@ -2,7 +2,7 @@
 //! requests name their cause with the closed-form threshold.
 
 use chaindrive::scene::Scene;
-use chaindrive::sim::{EquilibriumError, SimError, Simulation};
+use chaindrive::sim::{BeyondSeatingArc, EquilibriumError, SimError, Simulation};
 
 fn scene(file: &str) -> Scene {
     let path = format!("{}/tests/data/{file}", env!("CARGO_MANIFEST_DIR"));
@@ -281,4 +281,52 @@ fn sagging_conveyor_settles_with_either_profile_away_from_the_seating_rim() {
             sim.equilibrium
         );
     }
+}
+
+/// Regression: the 6 m sagging conveyor as written (circular profile,
+/// −100 N·m on the tail) has no smooth rest state, and it ends with an
+/// error naming the cause instead of starting *not settled*. The tight
+/// lower strand sags about 6 cm over 6.35 m and leaves the tail at an angle
+/// below the horizontal, so the first free roller after the tail is pulled
+/// outward (its two links meet at an angle that opens away from the tail's
+/// centre) and along the pitch circle by the tension jump across the
+/// tail, |M|/R = 100 / 0.0812 ≈ 1232 N (R = P / (2 sin(π/20)) for
+/// P = 25.4 mm). The circular profile holds a roller only up to its seating
+/// arc's rim, 90° from the gap's bottom: the error names the tail, a roller
+/// of the tail's wrap end, and a pull beyond the rim (0° < angle < 90°,
+/// outward and along components positive). The same drive with the real
+/// profile settles (the test above).
+#[test]
+fn sagging_conveyor_on_the_circular_rim_names_the_cause() {
+    let path = format!(
+        "{}/tests/data/conveyor_sag_6m.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let text = std::fs::read_to_string(&path).expect("the scene file exists");
+    let scene = Scene::from_toml(&text).expect("a valid scene");
+    let sim = Simulation::new(&scene).expect("a run starts from the state reached");
+    let Some(
+        err @ BeyondSeatingArc {
+            roller,
+            sprocket,
+            beyond_deg,
+            outward_n,
+            along_n,
+            residual,
+            ..
+        },
+    ) = &sim.equilibrium.beyond_seating_arc
+    else {
+        panic!("expected the seating arc named, got {:?}", sim.equilibrium);
+    };
+    assert!(sim.equilibrium.force_residual > 1e-3, "{err}");
+    assert_eq!(sprocket, "tail", "{err}");
+    assert!(*beyond_deg > 0.0 && *beyond_deg < 90.0, "{err}");
+    assert!(*outward_n > 0.0 && *along_n > 0.0, "{err}");
+    assert!(*residual > 1e-6, "{err}");
+    // The roller leaves or enters the tail's wrap: within a few pitches of
+    // half the chain (the tail's wrap holds rollers 250–270 or so of 520).
+    assert!((240..=290).contains(roller), "{err}");
+    let text = err.to_string();
+    assert!(text.contains("profile = \"real\""), "{text}");
 }

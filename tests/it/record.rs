@@ -190,6 +190,7 @@ fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>
             model: &sim.model,
             static_tension_n: sim.equilibrium.tension_n,
             static_force_residual: None,
+            static_unsettled_cause: None,
             steps: outcome.steps,
             wall_s: outcome.wall_s,
             setup_wall_s: 0.0,

@@ -41,6 +41,7 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
             model: &model,
             static_tension_n: scene.chain().pretension_n,
             static_force_residual: None,
+            static_unsettled_cause: None,
             steps: 1,
             wall_s: 0.0,
             setup_wall_s: 0.0,

@@ -27,8 +27,8 @@
 //!   T̄₂ − T̄₁ = (|M| − 2 w R²) / a + w (s₁ − s₂) / 3,
 //!
 //! with s₁, s₂ the strands' sags (the magnitudes of their transverse
-//! displacements). Assumptions: the tail at rest (the relaxation damps it
-//! out), sags small against the span (parabola), rollers evenly spaced along
+//! displacements). Assumptions: the tail at rest (the real tooth form:
+//! with the circular one the drives have no rest state), sags small against the span (parabola), rollers evenly spaced along
 //! a strand. Tolerance 1 % of |M| / R (the polygon band's half-width within).
 
 use std::f64::consts::PI;
@@ -55,6 +55,15 @@ struct AtRest {
 }
 
 fn settle(toml: &str, gravity: bool) -> AtRest {
+    // The real tooth form: with the circular profile the roller leaving the
+    // tail is pulled beyond its seating arc and the drive has no rest state
+    // (docs/model.md, “Pretension and static equilibrium”).
+    let real = toml.replace(
+        "gravity_m_s2 = [0.0, -9.81]",
+        "gravity_m_s2 = [0.0, -9.81]\nprofile = \"real\"",
+    );
+    assert_ne!(real, toml, "the scene states its gravity");
+    let toml = real.as_str();
     let text = if gravity {
         toml.to_owned()
     } else {

@@ -130,6 +130,9 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
                     "{name}: warning: not settled: a roller force imbalance of {residual:.1e} of the pretension is left (above {:.0e}); a run starts from a state that is not at rest",
                     chaindrive::analysis::STATIC_RESIDUAL_TOLERANCE
                 );
+                if let Some(cause) = &sim.equilibrium.beyond_seating_arc {
+                    eprintln!("{name}: the cause: {cause}");
+                }
             }
         }
         Err(e) => {

@@ -395,7 +395,7 @@ fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Result<Simulati
         base.state.clone(),
         base.forces.clone(),
         base.layout.clone(),
-        base.equilibrium,
+        base.equilibrium.clone(),
         base.limits,
     ))
 }
