@@ -182,6 +182,27 @@ fn a_tensioner_takes_up_the_chain_by_itself() {
     }
 }
 
+/// Regression: after the tensioner has moved until the pretension is
+/// reached, the path is longer than the unstretched chain by the links'
+/// stretch (T₀/K = 300 N / 5e7 N/m = 6 µm per link; `check` reported
+/// 1.0 mm over the chain). `check` called that a misfit and pointed to
+/// `fit`; it now prints the tensioner's final position and no misfit notice.
+#[cfg(feature = "cli")]
+#[test]
+fn a_tensioners_stretch_is_not_called_a_misfit() {
+    use crate::common::{chaindrive, stderr};
+    let path = format!(
+        "{}/tests/data/idler_tensioner_3.toml",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let out = chaindrive(&["check", &path]);
+    let err = stderr(&out);
+    assert!(out.status.success(), "{err}");
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("tensioner \"idler\": centre"), "{text}");
+    assert!(!err.contains("notice: the chain is"), "{err}");
+}
+
 /// A tensioner whose travel cannot close the gap is refused with how much
 /// is missing: 300 rollers are more than the idler can take up before the
 /// chain's wrap on it jumps (the path would change shape).
