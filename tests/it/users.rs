@@ -214,3 +214,27 @@ fn a_refused_drive_is_not_told_to_stay_where_it_is() {
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &crate::common::stderr(&out);
     assert!(!text.contains("moved by [-0.000000, +0.000000]"), "{text}");
 }
+
+/// A spring arm whose spring runs out before its shoe reaches the chain
+/// (60 N preload at 5000 N/m: free at 60 / 5000 = 12 mm of travel) holds
+/// nothing at rest; `check` says so, naming the arm and the travel it hangs
+/// at, and says nothing of the sort for the same drive whose arm presses the
+/// strand (`user_moto_10b_guide_arm.toml`).
+#[cfg(feature = "cli")]
+#[test]
+fn an_arm_hanging_free_of_the_chain_is_a_warning() {
+    let check = |file: &str| {
+        let path = data(file);
+        let out = crate::common::chaindrive(&["check", path.to_str().expect("a UTF-8 path")]);
+        assert!(out.status.success(), "{}", crate::common::stderr(&out));
+        crate::common::stderr(&out)
+    };
+    let err = check("user_moto_10b_free_arm.toml");
+    assert!(
+        err.contains("tensioner \"slack arm\" holds no chain at rest")
+            && err.contains("travel 12.00 mm"),
+        "{err}"
+    );
+    let err = check("user_moto_10b_guide_arm.toml");
+    assert!(!err.contains("holds no chain"), "{err}");
+}

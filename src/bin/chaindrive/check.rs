@@ -129,6 +129,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
                 sim.equilibrium.force_residual,
                 started.elapsed().as_secs_f64()
             );
+            idle_tensioners(&name, &sim);
             let residual = sim.equilibrium.force_residual;
             if residual > chaindrive::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
                 eprintln!(
@@ -214,6 +215,29 @@ fn misfit_notice(name: &str, scene: &Scene, layout: &Layout) {
         layout.strand_stretch(pitch).abs() * 100.0,
         if misfit_m > 0.0 { "longer" } else { "shorter" },
     );
+}
+
+/// Arms whose tensioner holds no chain at rest: the push is spent (the
+/// plunger at its free length) or no roller touches the shoe. The strands'
+/// tension is then not what the tensioner gives, whatever its preload.
+fn idle_tensioners(name: &str, sim: &Simulation) {
+    for (t, r) in sim
+        .scene
+        .tensioners()
+        .iter()
+        .zip(&sim.forces.output().tensioners)
+    {
+        if r.plunger_force_n <= 0.0 || r.shoe_rollers == 0 {
+            eprintln!(
+                "{name}: warning: tensioner \"{}\" holds no chain at rest: it pushes {:.1} N at travel {:.2} mm and {} roller(s) touch its shoe ({:.1} N); the arm hangs free, so the strands' tension is not set by it: raise its preload, or shorten the chain",
+                t.name,
+                r.plunger_force_n,
+                r.travel_m * 1e3,
+                r.shoe_rollers,
+                r.shoe_force_n
+            );
+        }
+    }
 }
 
 /// After a chain that does not fit: the roller counts `check` accepts as
