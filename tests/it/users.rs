@@ -178,23 +178,45 @@ fn a_sweep_names_the_excitation_orders_off_its_grid() {
     assert!(report.contains("a step of 1/14"), "{report}");
 }
 
-/// A conveyor whose upper strand lies on a wear strip settles at rest as
-/// quickly as without it (0.01 s, residual 1e-10 of the pretension, with the
-/// strip's lines taken out). Found: with the strip the static equilibrium
-/// runs 200+ s of wall time and stops unsettled (residual 2.6e-2 of the
-/// pretension), with or without friction. The static equilibrium's
-/// relaxation is outside the guides' code: left for it, ignored here.
+/// A conveyor whose upper strand lies on a wear strip (lifted 0.2 mm above
+/// the sprockets' tangent) settles at rest with the real tooth form as it
+/// does without the strip: within 1e-6 of the pretension (found 9.8e-11).
+#[test]
+fn a_conveyor_on_a_wear_strip_settles_at_rest() {
+    let text = std::fs::read_to_string(data("user_conveyor_strips.toml"))
+        .expect("the scene file")
+        .replace("profile = \"circular\"", "profile = \"real\"");
+    let scene = Scene::from_toml(&text).expect("a valid scene");
+    let sim = chaindrive::sim::Simulation::new(&scene).expect("it settles");
+    assert!(
+        sim.equilibrium.force_residual < 1e-6,
+        "{:?}",
+        sim.equilibrium
+    );
+    let t = sim.equilibrium.tension_n;
+    assert!(
+        (t - 2000.0).abs() <= 2000.0 * scene.equilibrium().tension_tolerance,
+        "{t}"
+    );
+}
+
+/// The same conveyor with the circular profile has no smooth rest state: the
+/// strip lifts the strand, and a roller leaving the head is pulled beyond
+/// its seating arc. Found first as "200+ s and not settled, residual
+/// 2.6e-2"; `check` now names the roller (after about 30 s of CPU: the
+/// relaxation runs its course first, hence ignored in the suite).
 #[cfg(feature = "cli")]
 #[test]
-#[ignore = "the static equilibrium does not settle a strand lying on a wear strip (200+ s, residual 2.6e-2)"]
-fn a_conveyor_on_a_wear_strip_settles_at_rest() {
+#[ignore = "slow: about 30 s of CPU before the cause is named"]
+fn a_circular_conveyor_on_a_wear_strip_names_its_cause() {
     let scene_path = data("user_conveyor_strips.toml");
-    let started = std::time::Instant::now();
     let out = crate::common::chaindrive(&["check", scene_path.to_str().expect("a UTF-8 path")]);
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &crate::common::stderr(&out);
     assert!(out.status.success(), "{text}");
-    assert!(!text.contains("not settled"), "{text}");
-    assert!(started.elapsed().as_secs_f64() < 20.0, "{text}");
+    assert!(
+        text.contains("not settled") && text.contains("beyond the seating arc"),
+        "{text}"
+    );
 }
 
 /// `check` on a drive it refuses suggests only moves that make it fit.
