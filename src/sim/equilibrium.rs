@@ -114,7 +114,9 @@ pub enum EquilibriumError {
         free_links: usize,
         /// Length the pretension takes up, m.
         allowed_m: f64,
-        /// Static tension the short chain would carry, N.
+        /// Static tension the short chain would carry (its links' stretch
+        /// taking up what it lacks, the strands' sag at that tension
+        /// included), N.
         needed_tension_n: f64,
     },
     /// The chain is longer than its path by more than the strands' sag at

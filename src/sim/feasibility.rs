@@ -70,7 +70,12 @@ pub(crate) fn check_chain_length(
             short_pitches: short_m / chain.pitch_m,
             free_links,
             allowed_m,
-            needed_tension_n: chain.stiffness_n_m * short_m / free_links as f64,
+            needed_tension_n: hanging_tension_n(
+                layout.polygon_length_m - chain_m,
+                sag_take_up_m(scene, path, 1.0),
+                free_links as f64 / chain.stiffness_n_m,
+                chain.pretension_n,
+            ),
         });
     }
     let long_m = chain_m - layout.polygon_length_m;
@@ -86,6 +91,30 @@ pub(crate) fn check_chain_length(
         });
     }
     Ok(())
+}
+
+/// The static tension T of a chain `deficit_m` shorter than its straight
+/// path whose free links stretch `stretch_m_per_n` per newton in all and
+/// whose strands' sag holds `sag_at_1n_m` / T² (parabolic cable): the root
+/// of stretch · T = deficit + sag₁ / T², which rises with T. Bracketed by
+/// `low_n` (where the stretch is less than the need) and the linear estimate
+/// that holds the sag at `low_n`'s value; bisected in log T.
+fn hanging_tension_n(deficit_m: f64, sag_at_1n_m: f64, stretch_m_per_n: f64, low_n: f64) -> f64 {
+    let excess = |t: f64| stretch_m_per_n * t - deficit_m - sag_at_1n_m / (t * t);
+    let mut lo = low_n;
+    let mut hi = (deficit_m + sag_at_1n_m / (low_n * low_n)) / stretch_m_per_n;
+    if !(excess(lo) < 0.0 && excess(hi) > 0.0) {
+        return hi;
+    }
+    for _ in 0..100 {
+        let mid = (lo * hi).sqrt();
+        if excess(mid) > 0.0 {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    0.5 * (lo + hi)
 }
 
 /// Length the free strands' sag takes up at tension `tension_n`: a shallow

@@ -219,22 +219,35 @@ fn a_circular_conveyor_on_a_wear_strip_names_its_cause() {
     );
 }
 
-/// `check` on a drive it refuses suggests only moves that make it fit.
-/// Found: the 3 m conveyor that `chaindrive fit` laid out exactly is refused
-/// by the static equilibrium's feasibility (its strands' sag holds 15.6 mm of
-/// chain, by hand 2 · 8 s²/(3 L) = 15.2 mm at s = w L²/(8 T) = 92.5 mm), and
-/// the suggestion that follows is to move the tail by [-0.000000,
-/// +0.000000] m, i.e. where it stands: the fit's need ignores the sag the
-/// feasibility counts. The fit and the feasibility are outside the guides'
-/// and designations' code: left for them, ignored here.
+/// `check` on a drive it refuses suggests only what makes it fit. Found: the
+/// 3 m conveyor that `chaindrive fit` laid out exactly is refused by the
+/// static equilibrium's feasibility (its strands' sag holds 15.6 mm of chain
+/// at 300 N, by hand 2 · 8 s²/(3 L) = 15.2 mm at s = w L²/(8 T) = 92.5 mm), and
+/// the suggestion that followed was to move the tail by [-0.000000,
+/// +0.000000] m, where it stands, with the chain said to carry 18116 N (the
+/// sag held at its 300 N value). The chain fits the straight path, so it
+/// hangs at the T where its links' stretch takes up the sag:
+/// (239 links / K) T = S₁ / T², S₁ = 15.6 mm · (300 N)²: T³ = 1404 / 8.6e-7,
+/// T ≈ 1177 N, which `check` now gives, and no move.
 #[cfg(feature = "cli")]
 #[test]
-#[ignore = "fit ignores the strands' sag that check's feasibility counts: a refused conveyor is told to move its tail by zero"]
 fn a_refused_drive_is_not_told_to_stay_where_it_is() {
     let scene_path = data("user_conveyor_sag_fit.toml");
     let out = crate::common::chaindrive(&["check", scene_path.to_str().expect("a UTF-8 path")]);
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &crate::common::stderr(&out);
+    assert!(!out.status.success(), "{text}");
     assert!(!text.contains("moved by [-0.000000, +0.000000]"), "{text}");
+    let at = text
+        .find("set chain.pretension_n to about ")
+        .expect("the advice")
+        + 32;
+    let t: f64 = text[at..]
+        .split(' ')
+        .next()
+        .expect("a number")
+        .parse()
+        .expect("a number");
+    assert!((t - 1177.0).abs() < 0.01 * 1177.0, "{t} N: {text}");
 }
 
 /// A spring arm whose spring runs out before its shoe reaches the chain

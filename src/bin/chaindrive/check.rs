@@ -143,13 +143,26 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         }
         Err(e) => {
             eprintln!("{name}: {e}");
-            if matches!(
-                e,
+            match e {
+                // Short only by what the strands' sag holds: the chain fits
+                // the straight path already, and no move of the straight
+                // layout (which accepts a chain within a quarter pitch of
+                // it) makes room for a sag of more.
+                SimError::Equilibrium(EquilibriumError::ChainTooShort {
+                    short_m,
+                    sag_m,
+                    needed_tension_n,
+                    ..
+                }) if sag_m > 0.0 && short_m <= sag_m + 1e-6 * scene.chain().pitch_m => {
+                    eprintln!(
+                        "{name}: the chain fits the path through the seated rollers; what it lacks is the {:.1} mm its strands' sag holds at chain.pretension_n, which straight strands cannot give: set chain.pretension_n to about {needed_tension_n:.0} N, the tension this chain carries when it hangs",
+                        sag_m * 1e3
+                    );
+                }
                 SimError::Equilibrium(
-                    EquilibriumError::ChainTooShort { .. } | EquilibriumError::ChainTooLong { .. }
-                )
-            ) {
-                suggest_fit(&scene, &name);
+                    EquilibriumError::ChainTooShort { .. } | EquilibriumError::ChainTooLong { .. },
+                ) => suggest_fit(&scene, &name),
+                _ => {}
             }
             return Ok(ExitCode::FAILURE);
         }
