@@ -55,3 +55,4 @@ mod stress;
 mod study;
 mod sweep;
 mod tensioners;
+mod threads;
