@@ -191,11 +191,11 @@ impl Links {
 
 impl Links {
     /// [`ForceElement::evaluate`] with the rollers split in two halves, run
-    /// by `fork` (module `sim::parallel`): each half evaluates its own links
-    /// and sums its own rollers' forces. The link before each half's first
-    /// roller belongs to the other half; the half evaluates it again, with
-    /// the same operations, so each roller's sum is the same bits as on one
-    /// thread without waiting for the other half.
+    /// by `fork` (module `sim::parallel`) in chunks: each chunk evaluates its
+    /// own links and sums its own rollers' forces. The link before a chunk's
+    /// first roller belongs to the chunk before; the chunk evaluates it
+    /// again, with the same operations, so each roller's sum is the same
+    /// bits as on one thread without waiting for the other chunk.
     pub(crate) fn evaluate_split(
         &mut self,
         model: &DriveModel,
@@ -204,7 +204,6 @@ impl Links {
         fork: &dyn super::Fork,
     ) {
         let n = s.x.len();
-        let m = super::middle(n);
         let law = LinkLaw {
             stiffness: model.stiffness_n_m,
             damping: model.damping_n_s_m,
@@ -228,16 +227,17 @@ impl Links {
                 Halves::new(&mut out.link_normal_y[..n]),
             )
         });
-        // Per half: NaN stretch seen, largest |stretch|, largest speed².
-        let mut partial = [0.0f64; 6];
+        // Per chunk: NaN stretch seen, largest |stretch|, largest speed².
+        let mut partial = [0.0f64; 3 * super::CHUNKS];
         let parts = Halves::new(&mut partial);
         let mass = model.roller_mass_kg;
         let (gx, gy) = (mass * model.gravity_m_s2[0], mass * model.gravity_m_s2[1]);
         let half = |h: usize| {
-            // Rollers lo..hi; links lo..hi too, the second half's last being
+            // Rollers lo..hi; links lo..hi too, the last chunk's last being
             // the closing link n−1 → 0.
-            let (lo, hi) = if h == 0 { (0, m) } else { (m, n) };
-            let open_hi = if h == 0 { m } else { n - 1 };
+            let (lo, hi) = super::chunk(n, h);
+            let last = hi == n;
+            let open_hi = if last { n - 1 } else { hi };
             // SAFETY: the two halves take disjoint ranges lo..hi of every
             // output, and the borrows behind the views outlive `fork.both`.
             unsafe {
@@ -260,13 +260,13 @@ impl Links {
                 };
                 open_links(law, ends, slots, rates_h);
                 // The link before roller lo: j → lo, with j = lo − 1 (or the
-                // closing link n − 1 for roller 0). The second half writes
+                // closing link n − 1 for roller 0). The last chunk writes
                 // the closing link; the first only reads it.
                 let j = if lo == 0 { n - 1 } else { lo - 1 };
                 let (dvx, dvy) = (vx[lo] - vx[j], vy[lo] - vy[j]);
                 let (f, ux, uy, _, _) = law.eval(x[lo] - x[j], y[lo] - y[j], dvx, dvy);
                 let (prev_x, prev_y) = (f * ux, f * uy);
-                if h == 1 {
+                if last {
                     let k = n - 1;
                     let (dvx, dvy) = (vx[0] - vx[k], vy[0] - vy[k]);
                     let (f, ux, uy, last, inv) = law.eval(x[0] - x[k], y[0] - y[k], dvx, dvy);
@@ -300,13 +300,15 @@ impl Links {
         fork.both(&half);
         // Maxima do not depend on the order in which they are taken.
         let larger = |a: f64, b: f64| if b > a { b } else { a };
-        let nan = partial[0] != 0.0 || partial[3] != 0.0;
-        out.max_stretch_m = if nan {
-            f64::NAN
-        } else {
-            larger(partial[1], partial[4])
-        };
-        out.max_roller_speed_m_s = larger(partial[2], partial[5]).sqrt();
+        let mut nan = false;
+        let (mut max_stretch, mut max_speed_sq) = (0.0f64, 0.0f64);
+        for p in partial.chunks_exact(3) {
+            nan |= p[0] != 0.0;
+            max_stretch = larger(max_stretch, p[1]);
+            max_speed_sq = larger(max_speed_sq, p[2]);
+        }
+        out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
+        out.max_roller_speed_m_s = max_speed_sq.sqrt();
     }
 }
 

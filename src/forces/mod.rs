@@ -78,7 +78,7 @@ pub use output::Forces;
 
 pub use rows::DampingRows;
 pub use split::Fork;
-pub(crate) use split::{Halves, middle};
+pub(crate) use split::{CHUNKS, Halves, chunk};
 pub use tensioner::{TensionerArm, TensionerReading};
 
 use std::any::Any;

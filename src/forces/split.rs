@@ -9,22 +9,27 @@ pub trait Fork: Send + Sync + std::fmt::Debug {
     /// Whether a drive of `rollers` rollers is split.
     fn splits(&self, rollers: usize) -> bool;
 
-    /// Runs `job(0)` and `job(1)` and returns when both are done.
+    /// Runs `job(k)` once for every chunk `k` in `0..CHUNKS`, on whichever
+    /// thread claims it, and returns when all are done.
     fn both(&self, job: &(dyn Fn(usize) + Sync));
 
     /// A copy with the same setting (and a worker of its own).
     fn clone_box(&self) -> Box<dyn Fork>;
 }
 
-/// The boundary between the two halves of `n` rollers: the first half is
-/// `0..middle(n)`, the second `middle(n)..n`.
+/// Chunks a split loop's rollers are cut into; the two threads claim them
+/// one at a time, so a thread the system stops for a while holds up one
+/// chunk, not half the loop.
+pub const CHUNKS: usize = 8;
+
+/// Rollers `lo..hi` of chunk `k` of `n` (`n ≥ CHUNKS`: no chunk is empty).
 #[inline]
-pub(crate) fn middle(n: usize) -> usize {
-    n / 2
+pub(crate) fn chunk(n: usize, k: usize) -> (usize, usize) {
+    (k * n / CHUNKS, (k + 1) * n / CHUNKS)
 }
 
 /// A raw view of a mutable slice that two halves of a job write in disjoint
-/// ranges. Made from a `&mut [f64]` borrowed for the whole [`Fork::both`].
+/// ranges (one chunk each). Made from a `&mut [f64]` borrowed for the whole [`Fork::both`].
 #[derive(Clone, Copy)]
 pub(crate) struct Halves {
     ptr: *mut f64,

@@ -18,7 +18,7 @@ pub enum Threads {
     Auto,
     /// One thread.
     One,
-    /// Two threads (for drives of at least 4 rollers).
+    /// Two threads (for drives of at least 16 rollers).
     Two,
 }
 
@@ -33,7 +33,7 @@ impl Threads {
                     && std::thread::available_parallelism().map_or(1, |n| n.get()) >= 2
             }
         };
-        if two && rollers >= 4 { 2 } else { 1 }
+        if two && rollers >= 16 { 2 } else { 1 }
     }
 
     /// From the file's value: 1, 2 or `"auto"`; the error says what is allowed.

@@ -3,37 +3,37 @@
 //!
 //! A drive of many rollers spends its step in loops over the rollers (the
 //! links, the rollers' update) whose iterations are independent. With
-//! [`Split`] on, the caller takes the first half of the rollers and a worker
-//! thread the second, for each such loop: one fork and one join per loop,
-//! no allocation.
+//! [`Split`] on, each such loop is cut into [`CHUNKS`] chunks of rollers,
+//! which the stepping thread and a worker thread claim one at a time: one
+//! fork and one join per loop, no allocation. Claiming (rather than a fixed
+//! half each) keeps a thread the system stops for a while from holding up
+//! the other: it finishes the chunks left.
 //!
 //! **Same bits.** Each roller's force is summed in the same order as on one
-//! thread: the two links at the halves' boundary are evaluated by the thread
-//! that owns them, and the neighbouring thread evaluates the one it reads
-//! again, locally, with the same operations (IEEE square root and division,
-//! no fused multiply-add), so it gets the same bits without waiting. The
-//! largest stretch and speed are maxima, which do not depend on the order.
-//! Test: `threads_1_and_2_agree_to_the_bit`.
+//! thread: the link before a chunk's first roller belongs to the chunk
+//! before, and the chunk evaluates it again, locally, with the same
+//! operations (IEEE square root and division, no fused multiply-add), so it
+//! gets the same bits without waiting. The largest stretch and speed are
+//! maxima, which do not depend on the order. Test:
+//! `threads_1_and_2_agree_to_the_bit`.
 //!
 //! **The worker** is spawned at the first split step and lives as long as
 //! its drive's [`crate::forces::ForceGenerator`]. Between jobs it spins
 //! briefly (a step's next loop follows within microseconds), then parks (a
 //! co-simulated drive waits a whole frame for the world's step). The caller
-//! waits for the worker's half the same way, spinning, then yielding its
-//! core. Spawning a thread per step would cost more than the step.
+//! waits for the worker's last chunk the same way, spinning, then yielding
+//! its core. Spawning a thread per step would cost more than the step.
 //!
 //! When the worker is busy with another caller (a generator shared between
-//! threads) or cannot be spawned, both halves run on the caller, in the
-//! same order: the results never depend on the thread count.
+//! threads) or cannot be spawned, every chunk runs on the caller: the
+//! results never depend on the thread count.
 
-use std::cell::UnsafeCell;
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::Arc;
-use std::sync::OnceLock;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::{self, JoinHandle, Thread};
 
-use crate::forces::Fork;
+use crate::forces::{CHUNKS, Fork};
 use crate::scene::Threads;
 
 /// Spins before the worker parks between jobs (≈ 20–50 µs).
@@ -42,37 +42,72 @@ const WORKER_SPINS: u32 = 20_000;
 /// Spins before the caller starts yielding while it waits for the worker.
 const CALLER_SPINS: u32 = 20_000;
 
-/// One half's job: called with the half's index (1 on the worker).
+/// A chunk's job: called with the chunk's index.
 type Job = dyn Fn(usize) + Sync;
+
+/// The posted job's address (only dereferenced under [`Shared`]'s protocol).
+#[derive(Clone, Copy)]
+struct JobPtr(*const Job);
+
+// SAFETY: see `Shared`: the job is `Sync` and outlives every call made
+// through this pointer.
+unsafe impl Send for JobPtr {}
 
 /// What the caller and the worker share.
 struct Shared {
     /// Jobs posted so far.
     posted: AtomicU64,
-    /// Jobs the worker has finished.
-    finished: AtomicU64,
+    /// The posted job's ticket (high bits) and its next unclaimed chunk
+    /// (low 8 bits): a chunk is claimed by raising this, for the ticket read.
+    claim: AtomicU64,
+    /// Chunks of the current job done.
+    done: AtomicUsize,
+    /// A chunk that panicked on the worker (the caller runs it again, to
+    /// panic itself), or `usize::MAX`.
+    panicked: AtomicUsize,
     /// The worker is parked or about to park.
     sleeping: AtomicBool,
-    /// The worker's job panicked (the caller runs it again, to panic itself).
-    panicked: AtomicBool,
     /// Stop and return (the generator is dropped).
     stop: AtomicBool,
     /// A caller holds the worker.
     busy: AtomicBool,
-    /// The posted job: written by the caller before `posted` is raised, read
-    /// by the worker after it sees the raise, and not touched again until
-    /// `finished` catches up.
-    job: UnsafeCell<Option<*const Job>>,
+    /// The posted job.
+    job: Mutex<Option<JobPtr>>,
 }
 
-// SAFETY: `job` is written only by the caller holding `busy`, before the
-// Release increment of `posted`, and read by the worker only after its
-// Acquire load of `posted` sees that increment, while the caller waits for
-// `finished` (Release by the worker, Acquire by the caller) before it
-// returns and the borrowed job ends. The job itself is `Sync`.
-unsafe impl Sync for Shared {}
-// SAFETY: as above; the raw pointer is only dereferenced under that protocol.
-unsafe impl Send for Shared {}
+// Protocol: the caller holding `busy` stores the job, then the claim word
+// of the new ticket, then raises `posted`. A chunk is run only by the thread
+// whose compare-exchange on `claim` for that ticket succeeded, and the caller
+// returns only when `done` counts every chunk: so no chunk runs twice, and
+// the job outlives every call. A worker late for a ticket finds its chunks
+// claimed (the ticket in `claim` has moved on) and runs nothing.
+
+impl Shared {
+    /// Claims the next chunk of ticket `t`, if one is left.
+    fn claim(&self, t: u64) -> Option<usize> {
+        let mut c = self.claim.load(Ordering::Acquire);
+        loop {
+            let k = (c & 0xff) as usize;
+            if c >> 8 != t || k >= CHUNKS {
+                return None;
+            }
+            match self
+                .claim
+                .compare_exchange_weak(c, c + 1, Ordering::AcqRel, Ordering::Acquire)
+            {
+                Ok(_) => return Some(k),
+                Err(now) => c = now,
+            }
+        }
+    }
+
+    fn job(&self) -> Option<JobPtr> {
+        *self
+            .job
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner)
+    }
+}
 
 /// The persistent worker thread.
 struct Worker {
@@ -85,12 +120,13 @@ impl Worker {
     fn spawn() -> Option<Self> {
         let shared = Arc::new(Shared {
             posted: AtomicU64::new(0),
-            finished: AtomicU64::new(0),
+            claim: AtomicU64::new(0),
+            done: AtomicUsize::new(0),
+            panicked: AtomicUsize::new(usize::MAX),
             sleeping: AtomicBool::new(false),
-            panicked: AtomicBool::new(false),
             stop: AtomicBool::new(false),
             busy: AtomicBool::new(false),
-            job: UnsafeCell::new(None),
+            job: Mutex::new(None),
         });
         let theirs = Arc::clone(&shared);
         let handle = thread::Builder::new()
@@ -104,8 +140,9 @@ impl Worker {
         })
     }
 
-    /// Runs `job(0)` here and `job(1)` on the worker; returns when both are
-    /// done. `false` (nothing run) when another caller holds the worker.
+    /// Runs `job(k)` for every chunk, here and on the worker; returns when
+    /// all are done. `false` (nothing run) when another caller holds the
+    /// worker.
     fn run<'a>(&self, job: &'a (dyn Fn(usize) + Sync + 'a)) -> bool {
         let s = &*self.shared;
         if s.busy
@@ -114,19 +151,26 @@ impl Worker {
         {
             return false;
         }
-        // SAFETY: the lifetime is erased only while this call waits for the
-        // worker to finish with the job (see `Shared`).
+        // SAFETY: the lifetime is erased only while this call waits for
+        // every chunk to be done (see `Shared`).
         let ptr: *const Job =
             unsafe { std::mem::transmute::<&'a (dyn Fn(usize) + Sync + 'a), &'static Job>(job) };
-        // SAFETY: we hold `busy` and the worker is idle (finished == posted).
-        unsafe { *s.job.get() = Some(ptr) };
-        let ticket = s.posted.fetch_add(1, Ordering::SeqCst) + 1;
+        *s.job
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(JobPtr(ptr));
+        let ticket = s.posted.load(Ordering::Relaxed) + 1;
+        s.done.store(0, Ordering::Relaxed);
+        s.claim.store(ticket << 8, Ordering::SeqCst);
+        s.posted.store(ticket, Ordering::SeqCst);
         if s.sleeping.load(Ordering::SeqCst) {
             self.thread.unpark();
         }
-        job(0);
+        while let Some(k) = s.claim(ticket) {
+            job(k);
+            s.done.fetch_add(1, Ordering::AcqRel);
+        }
         let mut spins = 0u32;
-        while s.finished.load(Ordering::Acquire) != ticket {
+        while s.done.load(Ordering::Acquire) != CHUNKS {
             if spins < CALLER_SPINS {
                 spins += 1;
                 std::hint::spin_loop();
@@ -134,11 +178,11 @@ impl Worker {
                 thread::yield_now();
             }
         }
-        let panicked = s.panicked.swap(false, Ordering::Relaxed);
+        let panicked = s.panicked.swap(usize::MAX, Ordering::AcqRel);
         s.busy.store(false, Ordering::Release);
-        if panicked {
-            // The worker's half panicked: run it here, to panic here.
-            job(1);
+        if panicked != usize::MAX {
+            // The worker's chunk panicked: run it here, to panic here.
+            job(panicked);
         }
         true
     }
@@ -149,13 +193,14 @@ impl Drop for Worker {
         self.shared.stop.store(true, Ordering::SeqCst);
         self.thread.unpark();
         if let Some(h) = self.handle.take() {
-            // A worker that panicked has already reported it.
+            // A worker's panics are caught and handed to the caller.
             let _ = h.join();
         }
     }
 }
 
-/// The worker's loop: wait for a job, spinning then parking; run it.
+/// The worker's loop: wait for a job, spinning then parking; claim and run
+/// its chunks until none is left.
 fn work(s: &Shared) {
     let mut seen = 0u64;
     loop {
@@ -180,21 +225,22 @@ fn work(s: &Shared) {
             }
         };
         seen = ticket;
-        // SAFETY: see `Shared`: the caller wrote the job before posting it
-        // and keeps it alive until `finished` reaches `ticket`.
-        if let Some(job) = unsafe { *s.job.get() } {
-            // SAFETY: as above.
+        let Some(JobPtr(job)) = s.job() else { continue };
+        while let Some(k) = s.claim(ticket) {
+            // SAFETY: a chunk of `ticket` was claimed, so its caller is
+            // still waiting and `job` (the one posted before `ticket`, see
+            // `Shared`) is alive.
             let job = unsafe { &*job };
-            if catch_unwind(AssertUnwindSafe(|| job(1))).is_err() {
-                s.panicked.store(true, Ordering::Relaxed);
+            if catch_unwind(AssertUnwindSafe(|| job(k))).is_err() {
+                s.panicked.store(k, Ordering::Release);
             }
+            s.done.fetch_add(1, Ordering::AcqRel);
         }
-        s.finished.store(ticket, Ordering::Release);
     }
 }
 
 /// Whether and how a drive's roller loops are split over two threads, with
-/// the worker that takes the second half (spawned at first use).
+/// the worker that shares the chunks (spawned at first use).
 pub struct Split {
     /// Rollers from which the loops are split (`usize::MAX`: never).
     min_rollers: usize,
@@ -223,15 +269,15 @@ impl Split {
         }
     }
 
-    /// Whether a drive of `rollers` rollers is split (at least 4 rollers,
-    /// two per half, whatever the setting).
+    /// Whether a drive of `rollers` rollers is split (at least two rollers
+    /// per chunk, whatever the setting).
     #[inline]
     pub(crate) fn splits(&self, rollers: usize) -> bool {
-        rollers >= self.min_rollers.max(4)
+        rollers >= self.min_rollers.max(2 * CHUNKS)
     }
 
-    /// Runs `job(0)` and `job(1)`, on two threads where the worker is
-    /// available, else one after the other here. Each half must write only
+    /// Runs `job(k)` for every chunk, on two threads where the worker is
+    /// available, else one after the other here. Each chunk must write only
     /// its own data: the results are the same either way.
     pub(crate) fn both(&self, job: &(dyn Fn(usize) + Sync)) {
         let worker = self.worker.get_or_init(Worker::spawn);
@@ -240,8 +286,9 @@ impl Split {
         {
             return;
         }
-        job(0);
-        job(1);
+        for k in 0..CHUNKS {
+            job(k);
+        }
     }
 }
 
@@ -272,34 +319,30 @@ impl std::fmt::Debug for Split {
     }
 }
 
-/// Drive size from which `threads = "auto"` splits the rollers over two
-/// threads (benches/README.md, "Two threads": below it the fork and join
-/// cost more than the half step saves).
-pub const AUTO_MIN_ROLLERS: usize = 2000;
+pub use crate::scene::AUTO_MIN_ROLLERS;
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn both_halves_run_and_the_worker_is_reused() {
-        // 1000 jobs on one worker: every half runs once per call.
+    fn every_chunk_runs_once_and_the_worker_is_reused() {
+        // 1000 jobs on one worker: every chunk runs once per call.
         let split = Split::new(Threads::Two);
-        let count = [AtomicU64::new(0), AtomicU64::new(0)];
+        let count: Vec<AtomicU64> = (0..CHUNKS).map(|_| AtomicU64::new(0)).collect();
         for _ in 0..1000 {
-            split.both(&|h| {
-                count[h].fetch_add(1, Ordering::Relaxed);
+            split.both(&|k| {
+                count[k].fetch_add(1, Ordering::Relaxed);
             });
         }
-        assert_eq!(count[0].load(Ordering::Relaxed), 1000);
-        assert_eq!(count[1].load(Ordering::Relaxed), 1000);
+        assert!(count.iter().all(|c| c.load(Ordering::Relaxed) == 1000));
     }
 
     #[test]
-    fn a_panicking_half_panics_in_the_caller() {
+    fn a_panicking_chunk_panics_in_the_caller() {
         let split = Split::new(Threads::Two);
         let r = catch_unwind(AssertUnwindSafe(|| {
-            split.both(&|h| assert!(h == 0, "second half fails"));
+            split.both(&|k| assert!(k != 5, "chunk 5 fails"));
         }));
         assert!(r.is_err());
         // The worker still serves.
@@ -307,6 +350,6 @@ mod tests {
         split.both(&|_| {
             ran.fetch_add(1, Ordering::Relaxed);
         });
-        assert_eq!(ran.load(Ordering::Relaxed), 2);
+        assert_eq!(ran.load(Ordering::Relaxed), CHUNKS as u64);
     }
 }

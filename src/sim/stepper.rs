@@ -5,7 +5,7 @@
 //! chain's moment plus their load; the driver follows its speed law, sampled
 //! at the step's midpoint so that a ramp's angle is integrated exactly.
 
-use crate::forces::{ForceGenerator, Forces, Halves, middle};
+use crate::forces::{ForceGenerator, Forces, Halves, chunk};
 use crate::model::{DriveModel, DriveState};
 
 /// Extra viscous damping used only while relaxing to static equilibrium:
@@ -47,11 +47,10 @@ pub fn symplectic_euler(
     if let Some(fork) = forces.fork_for(n) {
         // The rollers in two halves on two threads: each roller's update
         // is its own, so the bits are those of one thread.
-        let m = middle(n);
         let (vx, x) = (Halves::new(&mut state.vx), Halves::new(&mut state.x));
         let (vy, y) = (Halves::new(&mut state.vy), Halves::new(&mut state.y));
         fork.both(&|h| {
-            let (lo, hi) = if h == 0 { (0, m) } else { (m, n) };
+            let (lo, hi) = chunk(n, h);
             // SAFETY: the halves take disjoint ranges of the state's
             // vectors, borrowed for the whole `both`.
             unsafe {
