@@ -15,6 +15,7 @@ mod feasibility;
 mod fit;
 pub mod integrate;
 mod newton;
+pub mod parallel;
 mod sample_rate;
 mod stepper;
 
@@ -54,6 +55,8 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
         model,
         scene.chain.rollers,
     );
+    // The roller loops on two threads where the setting and size say so.
+    forces.set_fork(Some(Box::new(parallel::Split::new(scene.solver.threads))));
     if let Some(joints) = scene.chain.joint_friction {
         forces.add(Box::new(JointFriction::new(joints, scene.chain.rollers)));
     }

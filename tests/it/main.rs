@@ -56,3 +56,4 @@ mod stress;
 mod study;
 mod sweep;
 mod tensioners;
+mod threads;
