@@ -85,7 +85,7 @@
 //!     world.bodies[motor].add_torque(5.0, true);
 //!     drive.step_world(&mut world, &(), &())?; // before_step + world step + after_step
 //! }
-//! assert!(drive.state.omega[0] > 0.0 && world.bodies[motor].angvel() > 0.0);
+//! assert!(drive.state().omega[0] > 0.0 && world.bodies[motor].angvel() > 0.0);
 //!
 //! // The same frame, composed with your own pipeline call and hooks:
 //! let dt = world.integration_parameters.dt;
@@ -106,7 +106,7 @@
 //! # let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
 //! # let mut world = PhysicsWorld::default();
 //! let mut drive = ChainDrive::insert(&scene, &[], &mut world.bodies, &mut world.colliders)?;
-//! let s = &drive.state;
+//! let s = &drive.state();
 //! let lowest = (0..s.rollers())
 //!     .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
 //!     .map(|i| s.y[i])

@@ -81,6 +81,7 @@
 //! exactly what a standalone run does; [`ChainDrive::stage_times`] tells
 //! where a frame's wall time goes.
 
+mod access;
 mod bodies;
 mod error;
 mod lifecycle;
@@ -174,27 +175,34 @@ struct MountTranslation {
 }
 
 /// A chain drive living in a user's rapier world.
+///
+/// Its scene, model and state are read through getters ([`Self::scene`],
+/// [`Self::model`], [`Self::state`], ...); what a user changes mid-run has a
+/// setter ([`Self::set_load_torque`], [`Self::set_driver_speed`],
+/// [`Self::set_governor_target`], [`Self::set_driver_torque`],
+/// [`Self::set_coupling`]), since the drive refreshes parts of its model at
+/// every frame.
 pub struct ChainDrive {
     /// The scene it was built from.
-    pub scene: Scene,
+    scene: Scene,
     /// Constant parameters (sprocket centres and loads refreshed per frame).
-    pub model: DriveModel,
+    model: DriveModel,
     /// The chain's state.
-    pub state: DriveState,
+    state: DriveState,
     /// Forces at `state`.
-    pub forces: crate::forces::ForceGenerator,
+    forces: crate::forces::ForceGenerator,
     /// The static equilibrium reached before t = 0.
-    pub equilibrium: StaticEquilibrium,
+    equilibrium: StaticEquilibrium,
     /// Blow-up limits.
-    pub limits: BlowUpLimits,
+    limits: BlowUpLimits,
     /// Roller bodies.
-    pub rollers: Vec<RigidBodyHandle>,
+    rollers: Vec<RigidBodyHandle>,
     /// Sprocket bodies (the user's, where mounted).
-    pub sprockets: Vec<RigidBodyHandle>,
+    sprockets: Vec<RigidBodyHandle>,
     /// How the user's colliders near the rollers are treated (see [`Coupling`]).
-    pub coupling: Coupling,
+    coupling: Coupling,
     /// Wall time spent per stage, accumulated over frames.
-    pub stage_times: FrameTimes,
+    stage_times: FrameTimes,
     /// The drive's colliders; `true` for a roller's.
     colliders: HashMap<ColliderHandle, bool>,
     roller_colliders: Vec<ColliderHandle>,
