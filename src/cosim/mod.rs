@@ -83,11 +83,14 @@
 
 mod access;
 mod bodies;
+mod builder;
 mod error;
 mod lifecycle;
 mod motion;
+mod observe;
 
 pub use bodies::Coupling;
+pub use builder::{ChainDriveBuilder, SprocketKey};
 pub use error::CosimError;
 
 use std::collections::HashMap;

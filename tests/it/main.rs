@@ -16,6 +16,7 @@ mod checkpoint;
 mod cli;
 mod common;
 mod cosim;
+mod cosim_api;
 mod cosim_checks;
 mod cosim_mounts;
 mod designations;
