@@ -218,7 +218,7 @@ pub struct ChainDrive {
     theta0: Vec<f64>,
     force_sum: Vec<[f64; 2]>,
     /// External force on each roller from rapier's contacts, N (held over a frame).
-    external: Vec<[f64; 2]>,
+    external: Vec<Vector>,
     /// Whether `external` holds any non-zero force.
     any_external: bool,
     /// The user's colliders in the substeps.
@@ -336,14 +336,14 @@ impl ChainDrive {
 
     /// The force each roller receives from rapier's contacts with bodies
     /// that are not carried (held over the coming frame), N.
-    pub fn external_forces(&self) -> &[[f64; 2]] {
+    pub fn external_forces(&self) -> &[Vector] {
         &self.external
     }
 
     /// The mean force each roller received over the last frame from the
     /// user's colliders handled in the substeps (guides, kinematic and
     /// carried bodies; see [`Coupling`]), N.
-    pub fn body_forces(&self) -> &[[f64; 2]] {
+    pub fn body_forces(&self) -> &[Vector] {
         &self.contacts.roller_force_mean
     }
 
@@ -354,7 +354,7 @@ impl ChainDrive {
 
     /// The rollers' mean force on `body` over the last frame, N, if it was
     /// carried (the chain's force on your box).
-    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<Vector> {
         self.contacts.chain_force_on(body)
     }
 
@@ -500,8 +500,8 @@ impl ChainDrive {
         for step in 1..=substeps {
             if self.any_external {
                 for (i, f) in self.external.iter().enumerate() {
-                    self.forces.output_mut().fx[i] += f[0];
-                    self.forces.output_mut().fy[i] += f[1];
+                    self.forces.output_mut().fx[i] += f.x;
+                    self.forces.output_mut().fy[i] += f.y;
                 }
             }
             if with_bodies {
@@ -711,7 +711,7 @@ impl ChainDrive {
                     }
                 }
             }
-            self.external[i] = [impulse[0] / span, impulse[1] / span];
+            self.external[i] = Vector::new(impulse[0] / span, impulse[1] / span);
             self.any_external |= impulse != [0.0; 2];
         }
         for (k, link) in self.links.iter().enumerate() {
