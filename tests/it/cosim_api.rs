@@ -277,3 +277,49 @@ fn a_recorded_co_simulation_states_its_real_duration_and_draws_a_moving_mount_wh
     }
     assert!(swing > 0.8 * AMPLITUDE_M, "recorded swing {swing} m");
 }
+
+#[test]
+fn a_new_governor_target_is_a_speed_step_the_governor_follows_critically_damped() {
+    // The torque-driven 20T/40T drive (governor at 5 Hz bandwidth, critically
+    // damped) in a 60 Hz world, at 300 rpm after 1 s; then set_governor_target
+    // to 200 rpm. With the target angle continuous, the angle error
+    // e = Θ_ref − φ obeys J ë + K_p ė + K_i e = J Δω δ(t) (rigid chain), so
+    // e = Δω t e^(−ω_n t) and ω = ω_new − Δω (1 − ω_n t) e^(−ω_n t): the speed
+    // falls below 200 rpm by at most |Δω| e^(−2) = 13.5 rpm (at t = 2/ω_n,
+    // 64 ms) and settles. The chain's compliance and the frames' sampling
+    // allow half as much again: ≥ 180 rpm, and within 1 % of 200 rpm after
+    // 1 s. (Had the target angle jumped to 200 rpm × t, the integral action
+    // would have met an 8.9 rad error at once: K_i · 8.9 rad of torque.)
+    let scene = data_scene("governed_driver_20_40.toml");
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81),
+        ..PhysicsWorld::default()
+    };
+    let mut drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    let rpm = |w: f64| w * 60.0 / std::f64::consts::TAU;
+    for _ in 0..60 {
+        drive.step_world(&mut w, &(), &()).expect("frame");
+    }
+    let before = rpm(drive.state().omega[0]);
+    assert!((before - 300.0).abs() < 3.0, "{before} rpm");
+    drive
+        .set_governor_target(200.0 / 60.0 * std::f64::consts::TAU)
+        .expect("target");
+    let mut lowest = f64::INFINITY;
+    for _ in 0..60 {
+        drive.step_world(&mut w, &(), &()).expect("frame");
+        lowest = lowest.min(rpm(drive.state().omega[0]));
+    }
+    let after = rpm(drive.state().omega[0]);
+    assert!(lowest >= 180.0, "fell to {lowest} rpm");
+    assert!((after - 200.0).abs() < 2.0, "{after} rpm");
+    // Not a governed drive: an error naming the governor.
+    let mut w2 = PhysicsWorld::default();
+    let mut plain = ChainDrive::builder(&driven())
+        .build(&mut w2)
+        .expect("drive");
+    match plain.set_governor_target(1.0) {
+        Err(CosimError::Input { field, .. }) => assert_eq!(field, "governor"),
+        other => panic!("{other:?}"),
+    }
+}
