@@ -46,7 +46,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let radius = drive.model().sprockets[0].pitch_radius_m;
     // The wear strip: its top 0.5 mm below the lowest roller of the upper
     // strand (which sags under its own weight), low friction.
-    let s = &drive.state();
+    let s = drive.state();
     let lowest = (0..s.rollers())
         .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
         .map(|i| s.y[i])

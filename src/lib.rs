@@ -124,7 +124,7 @@
 //! # let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
 //! # let mut world = PhysicsWorld::default();
 //! let mut drive = ChainDrive::insert(&scene, &[], &mut world.bodies, &mut world.colliders)?;
-//! let s = &drive.state();
+//! let s = drive.state();
 //! let lowest = (0..s.rollers())
 //!     .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
 //!     .map(|i| s.y[i])

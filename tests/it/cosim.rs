@@ -167,11 +167,8 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
             // Strand 1 runs along the bottom from sprocket 1 to 2, strand 2 back on top.
-            let seg = crate::common::strand_means(
-                &drive.model(),
-                &drive.state(),
-                drive.forces().output(),
-            );
+            let seg =
+                crate::common::strand_means(drive.model(), drive.state(), drive.forces().output());
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
@@ -265,7 +262,7 @@ const CENTRES_M: f64 = 1.016;
 
 /// The mean link force over the upper strand's links well inside the span, N.
 fn upper_strand_tension(drive: &ChainDrive, top: f64) -> f64 {
-    let s = &drive.state();
+    let s = drive.state();
     let n = s.rollers();
     let links: Vec<f64> = (0..n)
         .filter(|&i| {
@@ -293,7 +290,7 @@ fn a_fixed_guide_deflects_a_tensioned_strand_and_carries_2_t_sin_theta() {
         // The layout seats a roller half a pitch past each sprocket's top:
         // the upper strand runs straight, at y0, from x = P/2 to C − P/2
         // (39 links), and its middle link straddles x = C/2.
-        let s = &drive.state();
+        let s = drive.state();
         let y0 = drive.model().sprockets[0].pitch_radius_m * (std::f64::consts::PI / 20.0).cos();
         let roller_at = |x: f64| {
             (0..s.rollers()).find(|&i| {
@@ -346,7 +343,7 @@ fn a_fixed_guide_deflects_a_tensioned_strand_and_carries_2_t_sin_theta() {
             }
         }
         // Deflection of every upper-strand roller, by its distance from the strand's nearer end.
-        let s = &drive.state();
+        let s = drive.state();
         for i in 0..s.rollers() {
             if s.y[i] > 0.5 * y0 && s.x[i] > ends[0] - 1e-3 && s.x[i] < ends[1] + 1e-3 {
                 let from_end = (s.x[i] - ends[0]).min(ends[1] - s.x[i]).max(0.0);
