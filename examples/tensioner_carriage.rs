@@ -71,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
             Err(e) => println!(
                 "{mass_kg:5.0} kg carriage: gave out at t = {:.3} s after moving up to {:.3} mm: {}",
-                drive.state.t_s,
+                drive.state().t_s,
                 worst * 1e3,
                 e.to_string()
                     .split("; possible causes")

@@ -213,7 +213,7 @@ pub(super) struct BodyContacts {
     /// Sum over the frame's substeps of each roller's force from the user's colliders, N.
     roller_force_sum: Vec<[f64; 2]>,
     /// Its mean over the last frame, N.
-    pub roller_force_mean: Vec<[f64; 2]>,
+    pub roller_force_mean: Vec<Vector>,
     /// Deepest roller penetration into a user's collider this frame, m.
     pub max_depth_m: f64,
     /// Point projections done, summed over frames.
@@ -231,7 +231,7 @@ impl BodyContacts {
             roller_radius_m,
             onsets: vec![[NO_ONSET; ONSETS]; rollers],
             roller_force_sum: vec![[0.0; 2]; rollers],
-            roller_force_mean: vec![[0.0; 2]; rollers],
+            roller_force_mean: vec![Vector::ZERO; rollers],
             ..Self::default()
         }
     }
@@ -247,11 +247,11 @@ impl BodyContacts {
     }
 
     /// The rollers' mean force on a carried body over the frame, N.
-    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<Vector> {
         self.carried
             .iter()
             .find(|c| c.body == body)
-            .map(|c| [c.chain_force.x, c.chain_force.y])
+            .map(|c| c.chain_force)
     }
 
     /// Finds this frame's obstacles and pairs; stashes carried bodies'
@@ -590,7 +590,7 @@ impl BodyContacts {
             .iter_mut()
             .zip(&self.roller_force_sum)
         {
-            *mean = [sum[0] / n, sum[1] / n];
+            *mean = Vector::new(sum[0] / n, sum[1] / n);
         }
         let span = frame_dt_s.max(f64::MIN_POSITIVE);
         for c in &mut self.carried {

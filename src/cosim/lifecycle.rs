@@ -236,7 +236,7 @@ impl ChainDrive {
             roller_colliders,
             links,
             start: vec![[0.0; 2]; n],
-            external: vec![[0.0; 2]; n],
+            external: vec![Vector::ZERO; n],
             world_time_s: 0.0,
             clock_steps: 0,
             frame_dt_s: 0.0,

@@ -81,12 +81,16 @@
 //! exactly what a standalone run does; [`ChainDrive::stage_times`] tells
 //! where a frame's wall time goes.
 
+mod access;
 mod bodies;
+mod builder;
 mod error;
 mod lifecycle;
 mod motion;
+mod observe;
 
 pub use bodies::Coupling;
+pub use builder::{ChainDriveBuilder, SprocketKey};
 pub use error::CosimError;
 
 use std::collections::HashMap;
@@ -174,27 +178,34 @@ struct MountTranslation {
 }
 
 /// A chain drive living in a user's rapier world.
+///
+/// Its scene, model and state are read through getters ([`Self::scene`],
+/// [`Self::model`], [`Self::state`], ...); what a user changes mid-run has a
+/// setter ([`Self::set_load_torque`], [`Self::set_driver_speed`],
+/// [`Self::set_governor_target`], [`Self::set_driver_torque`],
+/// [`Self::set_coupling`]), since the drive refreshes parts of its model at
+/// every frame.
 pub struct ChainDrive {
     /// The scene it was built from.
-    pub scene: Scene,
+    scene: Scene,
     /// Constant parameters (sprocket centres and loads refreshed per frame).
-    pub model: DriveModel,
+    model: DriveModel,
     /// The chain's state.
-    pub state: DriveState,
+    state: DriveState,
     /// Forces at `state`.
-    pub forces: crate::forces::ForceGenerator,
+    forces: crate::forces::ForceGenerator,
     /// The static equilibrium reached before t = 0.
-    pub equilibrium: StaticEquilibrium,
+    equilibrium: StaticEquilibrium,
     /// Blow-up limits.
-    pub limits: BlowUpLimits,
+    limits: BlowUpLimits,
     /// Roller bodies.
-    pub rollers: Vec<RigidBodyHandle>,
+    rollers: Vec<RigidBodyHandle>,
     /// Sprocket bodies (the user's, where mounted).
-    pub sprockets: Vec<RigidBodyHandle>,
+    sprockets: Vec<RigidBodyHandle>,
     /// How the user's colliders near the rollers are treated (see [`Coupling`]).
-    pub coupling: Coupling,
+    coupling: Coupling,
     /// Wall time spent per stage, accumulated over frames.
-    pub stage_times: FrameTimes,
+    stage_times: FrameTimes,
     /// The drive's colliders; `true` for a roller's.
     colliders: HashMap<ColliderHandle, bool>,
     roller_colliders: Vec<ColliderHandle>,
@@ -207,7 +218,7 @@ pub struct ChainDrive {
     theta0: Vec<f64>,
     force_sum: Vec<[f64; 2]>,
     /// External force on each roller from rapier's contacts, N (held over a frame).
-    external: Vec<[f64; 2]>,
+    external: Vec<Vector>,
     /// Whether `external` holds any non-zero force.
     any_external: bool,
     /// The user's colliders in the substeps.
@@ -322,14 +333,14 @@ impl ChainDrive {
 
     /// The force each roller receives from rapier's contacts with bodies
     /// that are not carried (held over the coming frame), N.
-    pub fn external_forces(&self) -> &[[f64; 2]] {
+    pub fn external_forces(&self) -> &[Vector] {
         &self.external
     }
 
     /// The mean force each roller received over the last frame from the
     /// user's colliders handled in the substeps (guides, kinematic and
     /// carried bodies; see [`Coupling`]), N.
-    pub fn body_forces(&self) -> &[[f64; 2]] {
+    pub fn body_forces(&self) -> &[Vector] {
         &self.contacts.roller_force_mean
     }
 
@@ -340,7 +351,7 @@ impl ChainDrive {
 
     /// The rollers' mean force on `body` over the last frame, N, if it was
     /// carried (the chain's force on your box).
-    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<Vector> {
         self.contacts.chain_force_on(body)
     }
 
@@ -483,8 +494,8 @@ impl ChainDrive {
         for step in 1..=substeps {
             if self.any_external {
                 for (i, f) in self.external.iter().enumerate() {
-                    self.forces.output_mut().fx[i] += f[0];
-                    self.forces.output_mut().fy[i] += f[1];
+                    self.forces.output_mut().fx[i] += f.x;
+                    self.forces.output_mut().fy[i] += f.y;
                 }
             }
             if with_bodies {
@@ -694,7 +705,7 @@ impl ChainDrive {
                     }
                 }
             }
-            self.external[i] = [impulse[0] / span, impulse[1] / span];
+            self.external[i] = Vector::new(impulse[0] / span, impulse[1] / span);
             self.any_external |= impulse != [0.0; 2];
         }
         for (k, link) in self.links.iter().enumerate() {

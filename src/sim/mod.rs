@@ -11,6 +11,7 @@ mod blow_up;
 pub mod checkpoint;
 mod energy;
 mod equilibrium;
+mod fanout;
 mod feasibility;
 mod fit;
 pub mod integrate;
@@ -25,6 +26,7 @@ pub use equilibrium::{
     EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension, relax,
     settle_rest_length,
 };
+pub use fanout::Fanout;
 pub use fit::{
     FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
     needed_pitches_of,

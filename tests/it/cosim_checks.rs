@@ -226,10 +226,10 @@ fn a_kinematic_mount_drives_its_sprocket_at_its_speed() {
         w.bodies[motor].set_angvel(SPEED * (t / 0.5).min(1.0), true);
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
-            tail += drive.state.omega[1];
+            tail += drive.state().omega[1];
             n += 1.0;
             // The chain's sprocket is the motor's, which rapier turned.
-            assert_close(drive.state.omega[0], SPEED, 1e-9);
+            assert_close(drive.state().omega[0], SPEED, 1e-9);
         }
     }
     let tail = tail / n;
@@ -332,10 +332,10 @@ fn insert_keeps_a_mounted_bodys_rotation() {
     let mut drive =
         ChainDrive::insert(&scene, &[Some(motor)], &mut w.bodies, &mut w.colliders).expect("drive");
     assert_eq!(w.bodies[motor].rotation().angle(), 0.7);
-    let theta0 = drive.state.theta[0];
+    let theta0 = drive.state().theta[0];
     drive.step_world(&mut w, &(), &()).expect("frame");
     // It turns with the chain from where it was.
-    let turned = drive.state.theta[0] - theta0;
+    let turned = drive.state().theta[0] - theta0;
     let angle = w.bodies[motor].rotation().angle();
     assert!(
         (angle - (0.7 + turned)).abs() < 1e-9,
@@ -369,7 +369,7 @@ fn insert_keeps_a_mounted_bodys_speed() {
     let (mut motor_mean, mut tail_mean) = (0.0, 0.0);
     for frame in 0..10 {
         drive.step_world(&mut w, &(), &()).expect("frame");
-        let (motor, tail) = (w.bodies[spinning].angvel(), drive.state.omega[1]);
+        let (motor, tail) = (w.bodies[spinning].angvel(), drive.state().omega[1]);
         for (what, speed) in [("motor", motor), ("tail", tail)] {
             assert!(
                 (speed - SPEED).abs() < 0.05 * SPEED,
@@ -426,13 +426,13 @@ fn set_load_torque_and_driver_speed_hold_from_frame_to_frame() {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
             let seg =
-                crate::common::strand_means(&drive.model, &drive.state, drive.forces.output());
+                crate::common::strand_means(drive.model(), drive.state(), drive.forces().output());
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
                 n += 1.0;
             }
-            tail += drive.state.omega[1];
+            tail += drive.state().omega[1];
         }
     }
     assert!(
@@ -440,7 +440,7 @@ fn set_load_torque_and_driver_speed_hold_from_frame_to_frame() {
         "tail {} rad/s",
         tail / 60.0
     );
-    let r = drive.model.sprockets[1].pitch_radius_m;
+    let r = drive.model().sprockets[1].pitch_radius_m;
     let diff = ((upper - lower) / n).abs();
     assert!(
         ((diff - torque / r) / (torque / r)).abs() < 0.03,
@@ -468,7 +468,7 @@ fn a_dynamic_mounts_inertia_is_its_bodys() {
     );
     let mut drive =
         ChainDrive::insert(&scene, &[Some(motor)], &mut w.bodies, &mut w.colliders).expect("drive");
-    let r = drive.model.sprockets[0].pitch_radius_m;
+    let r = drive.model().sprockets[0].pitch_radius_m;
     for _ in 0..30 {
         let b = &mut w.bodies[motor];
         b.reset_torques(false);

@@ -17,6 +17,7 @@ mod checkpoint;
 mod cli;
 mod common;
 mod cosim;
+mod cosim_api;
 mod cosim_checks;
 mod cosim_mounts;
 mod designations;
