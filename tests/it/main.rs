@@ -18,6 +18,7 @@ mod common;
 mod cosim;
 mod cosim_checks;
 mod cosim_mounts;
+mod cosim_multi;
 mod designations;
 mod detectors;
 mod equilibrium;
