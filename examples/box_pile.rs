@@ -67,14 +67,19 @@ dt_s = 1e-5
                 .bodies
                 .insert(RigidBodyBuilder::dynamic().translation(Vector::new(x, y)));
             world.colliders.insert_with_parent(
-                ColliderBuilder::cuboid(hx, hy).density(0.2 / (4.0 * hx * hy)).friction(0.8),
+                ColliderBuilder::cuboid(hx, hy)
+                    .density(0.2 / (4.0 * hx * hy))
+                    .friction(0.8),
                 b,
                 &mut world.bodies,
             );
             boxes.push(b);
         }
     }
-    let start: Vec<Vector> = boxes.iter().map(|&b| world.bodies[b].translation()).collect();
+    let start: Vec<Vector> = boxes
+        .iter()
+        .map(|&b| world.bodies[b].translation())
+        .collect();
     println!("   t (s)   box speeds (m/s), bottom row first   largest drift in the pile (mm)");
     for frame in 1..=180 {
         drive.step_world(&mut world, &(), &())?;

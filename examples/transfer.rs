@@ -88,7 +88,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         .bodies
         .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.5, top + 0.0251)));
     world.colliders.insert_with_parent(
-        ColliderBuilder::cuboid(0.05, 0.025).density(40.0).friction(0.8),
+        ColliderBuilder::cuboid(0.05, 0.025)
+            .density(40.0)
+            .friction(0.8),
         bx,
         &mut world.bodies,
     );

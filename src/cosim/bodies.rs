@@ -201,7 +201,8 @@ struct Side {
 impl Touch {
     /// Whether it is between colliders `a` and `b`, either way round.
     fn pair_of(&self, a: ColliderHandle, b: ColliderHandle) -> bool {
-        (self.a.collider == a && self.b.collider == b) || (self.a.collider == b && self.b.collider == a)
+        (self.a.collider == a && self.b.collider == b)
+            || (self.a.collider == b && self.b.collider == a)
     }
 }
 
@@ -239,13 +240,19 @@ fn side(
         RigidBodyType::Fixed if coupling.fixed => (Motion::Fixed, 0.0),
         RigidBodyType::KinematicVelocityBased if coupling.kinematic => {
             let (v, w) = (rb.linvel(), rb.angvel());
-            (Motion::Kinematic { v, w }, (v.length() + w.abs() * extent) * frame_dt_s)
+            (
+                Motion::Kinematic { v, w },
+                (v.length() + w.abs() * extent) * frame_dt_s,
+            )
         }
         RigidBodyType::KinematicPositionBased if coupling.kinematic => {
             let next = rb.next_position();
             let v = (next.transform_point(rb.local_center_of_mass()) - com0) / span;
             let w = (next.rotation * rb.position().rotation.inverse()).angle() / span;
-            (Motion::Kinematic { v, w }, (v.length() + w.abs() * extent) * frame_dt_s)
+            (
+                Motion::Kinematic { v, w },
+                (v.length() + w.abs() * extent) * frame_dt_s,
+            )
         }
         RigidBodyType::Dynamic if coupling.carry_dynamic => {
             let (v, w) = (rb.linvel(), rb.angvel());
@@ -381,7 +388,11 @@ impl BodyContacts {
             }
             _ => true,
         };
-        let kept: Vec<bool> = self.obstacles.iter_mut().map(|ob| moved(&mut ob.motion)).collect();
+        let kept: Vec<bool> = self
+            .obstacles
+            .iter_mut()
+            .map(|ob| moved(&mut ob.motion))
+            .collect();
         self.pairs
             .retain(|p| kept.get(p.obstacle).copied().unwrap_or(false));
         self.touches
@@ -556,9 +567,6 @@ impl BodyContacts {
         gravity: Vector,
         frame_dt_s: f64,
     ) {
-        if std::env::var_os("TMP_NO_TOUCH").is_some() {
-            return;
-        }
         let floor = coupling.search_speed_m_s.max(0.0);
         let mut manifolds: Vec<ContactManifold<(), ()>> = Vec::new();
         let mut k = 0;
@@ -568,7 +576,9 @@ impl BodyContacts {
             k += 1;
             let Some(rb) = bodies.get(body) else { continue };
             for &ha in rb.colliders() {
-                let Some(ca) = colliders.get(ha) else { continue };
+                let Some(ca) = colliders.get(ha) else {
+                    continue;
+                };
                 if ca.is_sensor() || !ca.is_enabled() {
                     continue;
                 }
@@ -614,10 +624,14 @@ impl BodyContacts {
                         continue;
                     }
                     let b = match (b.motion, cb.parent()) {
-                        (Motion::Carried(_), Some(p)) if manifolds.iter().any(|m| !m.points.is_empty()) => Side {
-                            motion: Motion::Carried(self.carry(p, bodies, gravity)),
-                            ..b
-                        },
+                        (Motion::Carried(_), Some(p))
+                            if manifolds.iter().any(|m| !m.points.is_empty()) =>
+                        {
+                            Side {
+                                motion: Motion::Carried(self.carry(p, bodies, gravity)),
+                                ..b
+                            }
+                        }
                         _ => b,
                     };
                     let friction = CoefficientCombineRule::combine(
@@ -829,7 +843,9 @@ impl BodyContacts {
     /// pair's relative tangential speed over one substep).
     fn apply_touches(&mut self, coupling: &Coupling, tau_s: f64, dt_s: f64) {
         let carried = &mut self.carried;
-        let at = |side: &Side, carried: &[Carried]| -> Option<(Pose, Vector, Vector, f64, Option<usize>)> {
+        let at = |side: &Side,
+                  carried: &[Carried]|
+         -> Option<(Pose, Vector, Vector, f64, Option<usize>)> {
             let (dx, dtheta, v, w, k) = match side.motion {
                 Motion::Fixed => (Vector::ZERO, 0.0, Vector::ZERO, 0.0, None),
                 Motion::Kinematic { v, w } => (v * tau_s, w * tau_s, v, w, None),
@@ -850,11 +866,14 @@ impl BodyContacts {
             k.and_then(|k| carried.get(k)).map_or(0.0, |c| {
                 let arm = lever.perp_dot(t);
                 f64::from(c.contacts_last)
-                    * (t.x * t.x * c.inv_mass.x + t.y * t.y * c.inv_mass.y + c.inv_inertia * arm * arm)
+                    * (t.x * t.x * c.inv_mass.x
+                        + t.y * t.y * c.inv_mass.y
+                        + c.inv_inertia * arm * arm)
             })
         };
         for touch in &mut self.touches {
-            let (Some(a), Some(b)) = (at(&touch.a, &carried[..]), at(&touch.b, &carried[..])) else {
+            let (Some(a), Some(b)) = (at(&touch.a, &carried[..]), at(&touch.b, &carried[..]))
+            else {
                 continue;
             };
             let (pose_a, com_a, v_a, w_a, ka) = a;

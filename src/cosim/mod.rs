@@ -482,9 +482,8 @@ impl ChainDrive {
             colliders_map.contains_key(&h) || others.is_some_and(|o| (o.owns)(h))
         };
         let own_mounts = &self.mounted;
-        let mounted = |b: RigidBodyHandle| {
-            own_mounts.contains(&b) || others.is_some_and(|o| (o.mounted)(b))
-        };
+        let mounted =
+            |b: RigidBodyHandle| own_mounts.contains(&b) || others.is_some_and(|o| (o.mounted)(b));
         self.contacts.prepare(
             &self.coupling,
             &DriveView {

@@ -10,7 +10,8 @@
 //! - each drive leaves the others' colliders and mounted bodies alone;
 //! - a body near several chains is carried by one drive in a frame — the
 //!   one with most rollers near it (on a tie, the drive whose first roller
-//!   body has the lowest handle, so the set's order does not matter); the
+//!   body has the lowest handle; the set's order still changes the result,
+//!   see docs/architecture.md, "Several drives"); the
 //!   other drives leave it alone in that frame (their rollers pass through
 //!   it); its gravity, damping and user force are saved once, by that drive,
 //!   and restored once;
