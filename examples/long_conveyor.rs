@@ -55,14 +55,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     }
     let wall = started.elapsed().as_secs_f64();
     let frame_s = wall / f64::from(frames);
-    let steps = drive.state.t_s / scene.solver().dt_s;
+    let steps = drive.state().t_s / scene.solver().dt_s;
     println!(
         "{frames} frames of 1/60 s: {:.2} ms wall per frame, real-time factor {:.2} \
          (simulated / wall)",
         frame_s * 1e3,
         (1.0 / 60.0) / frame_s
     );
-    let t = drive.stage_times;
+    let t = drive.stage_times();
     let per = |s: f64| s / t.frames.max(1) as f64 * 1e3;
     println!(
         "per frame: chain substeps {:.2} ms ({:.2} ns per roller-step), rapier step {:.2} ms, \
@@ -75,7 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!(
         "driver at {:.3} rad/s, tail sprocket at {:.3} rad/s",
-        drive.state.omega[0], drive.state.omega[1]
+        drive.state().omega[0], drive.state().omega[1]
     );
     Ok(())
 }

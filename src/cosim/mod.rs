@@ -88,10 +88,12 @@ mod error;
 mod lifecycle;
 mod motion;
 mod observe;
+mod set;
 
 pub use bodies::Coupling;
 pub use builder::{ChainDriveBuilder, SprocketKey};
 pub use error::CosimError;
+pub use set::{DriveSet, SetHooks};
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -384,6 +386,21 @@ impl ChainDrive {
         gravity: Vector,
         dt_s: f64,
     ) -> Result<(), CosimError> {
+        let frame = self.begin_frame(bodies, colliders, gravity, dt_s, None)?;
+        self.run_frame(bodies, dt_s, frame)
+    }
+
+    /// The first half of [`Self::before_step`]: checks, mounts read, the
+    /// user's colliders near the chain found (leaving `others`' bodies alone).
+    /// Touches only mounted bodies' user torques.
+    fn begin_frame(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        gravity: Vector,
+        dt_s: f64,
+        others: Option<&Others<'_>>,
+    ) -> Result<FrameStart, CosimError> {
         if !(dt_s.is_finite() && dt_s > 0.0) {
             return Err(CosimError::input(
                 "dt_s",
@@ -466,12 +483,17 @@ impl ChainDrive {
         }
         self.theta0.copy_from_slice(&self.state.theta);
         let colliders_map = &self.colliders;
-        let owns = |h: ColliderHandle| colliders_map.contains_key(&h);
+        let owns = |h: ColliderHandle| {
+            colliders_map.contains_key(&h) || others.is_some_and(|o| (o.owns)(h))
+        };
+        let own_mounts = &self.mounted;
+        let mounted =
+            |b: RigidBodyHandle| own_mounts.contains(&b) || others.is_some_and(|o| (o.mounted)(b));
         self.contacts.prepare(
             &self.coupling,
             &DriveView {
                 owns: &owns,
-                mounted: &self.mounted,
+                mounted: &mounted,
                 roller_colliders: &self.roller_colliders,
                 state: &self.state,
             },
@@ -480,6 +502,19 @@ impl ChainDrive {
             gravity,
             dt_s,
         );
+        Ok(FrameStart { started, moving })
+    }
+
+    /// The second half of [`Self::before_step`]: the substeps, and the
+    /// bodies set for rapier's step.
+    fn run_frame(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        dt_s: f64,
+        frame: FrameStart,
+    ) -> Result<(), CosimError> {
+        let FrameStart { started, moving } = frame;
+        let span = dt_s;
         let searched = Instant::now();
         // Substeps at the scene's dt until the world's frame end; the chain's
         // clock lags the world's by less than one substep and is counted from
@@ -850,6 +885,21 @@ impl ChainDrive {
         self.stage_times.world_s += started.elapsed().as_secs_f64();
         self.after_step(&mut world.bodies, &world.narrow_phase, dt)
     }
+}
+
+/// What [`ChainDrive::begin_frame`] hands on to [`ChainDrive::run_frame`].
+#[derive(Clone, Copy, Debug)]
+struct FrameStart {
+    started: Instant,
+    /// Whether a sprocket centre moves this frame.
+    moving: bool,
+}
+
+/// The other drives of a set: their colliders and mounted bodies, which a
+/// drive leaves alone.
+struct Others<'a> {
+    owns: &'a dyn Fn(ColliderHandle) -> bool,
+    mounted: &'a dyn Fn(RigidBodyHandle) -> bool,
 }
 
 /// A dynamic mount's translation for the coming frame, if the substeps

@@ -20,6 +20,7 @@ mod cosim;
 mod cosim_api;
 mod cosim_checks;
 mod cosim_mounts;
+mod cosim_multi;
 mod designations;
 mod detectors;
 mod equilibrium;

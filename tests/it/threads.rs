@@ -77,7 +77,7 @@ fn a_co_simulated_drive_on_two_threads_agrees_to_the_bit() {
         for _ in 0..30 {
             d.step_world(&mut world, &(), &()).expect("stable frame");
         }
-        let s = &d.state;
+        let s = d.state();
         [&s.x, &s.y, &s.vx, &s.vy, &s.omega]
             .into_iter()
             .flat_map(|v| v.iter().map(|x| x.to_bits()))
