@@ -369,10 +369,10 @@ fn run_timings_account_for_the_stepping_loop() {
     })
     .collect();
     // The five stages partition the loop: their shares sum to 100 % (rounding).
+    // (Which stage is largest is a timing, measured by the benches, not here.)
     let sum: f64 = shares.iter().sum();
     assert!((sum - 100.0).abs() < 0.5, "{shares:?}");
-    // The contacts are the largest stage of the paper's drive.
-    assert!(shares[1] > shares[0] && shares[1] > shares[2], "{shares:?}");
+    assert!(shares.iter().all(|s| (0.0..=100.0).contains(s)), "{shares:?}");
 }
 
 #[test]
