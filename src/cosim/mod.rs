@@ -404,15 +404,11 @@ impl ChainDrive {
                 } else {
                     None
                 };
-                let user_force = bodies.get(link.body).map_or(Vector::ZERO, |b| b.user_force());
-                link.translation = mount_translation(
-                    bodies,
-                    link.body,
-                    &link.joints,
-                    user_force,
-                    gravity,
-                    kept,
-                );
+                let user_force = bodies
+                    .get(link.body)
+                    .map_or(Vector::ZERO, |b| b.user_force());
+                link.translation =
+                    mount_translation(bodies, link.body, &link.joints, user_force, gravity, kept);
             }
             let Some(b) = bodies.get_mut(link.body) else {
                 continue;

@@ -230,11 +230,7 @@ pub(super) fn mount_translation(
         let (b1, b2) = (bodies.get(s.body1)?, bodies.get(s.body2)?);
         let f1 = *b1.position() * s.frame1;
         let f2 = *b2.position() * s.frame2;
-        let unit = if s.axis == 0 {
-            Vector::X
-        } else {
-            Vector::Y
-        };
+        let unit = if s.axis == 0 { Vector::X } else { Vector::Y };
         let axis = (f1.rotation * unit).normalize_or_zero();
         let other = if s.moving_is_2 { b1 } else { b2 };
         let other_v = other.linvel();
@@ -284,7 +280,8 @@ impl MountTranslation {
                 // k (x* − x) + c (v* − v), at most max_force.
                 let dist = sf.dist0 + sf.sign * sf.axis.dot(self.dx - sf.other_v * tau);
                 let rate = sf.sign * sf.axis.dot(self.v - sf.other_v);
-                let mut fm = m.stiffness * (m.target_pos - dist) + m.damping * (m.target_vel - rate);
+                let mut fm =
+                    m.stiffness * (m.target_pos - dist) + m.damping * (m.target_vel - rate);
                 if m.model == MotorModel::AccelerationBased {
                     let inv = sf.axis.x * sf.axis.x * self.inv_mass.x
                         + sf.axis.y * sf.axis.y * self.inv_mass.y
@@ -438,8 +435,8 @@ fn slide(
         JointAxesMask::LIN_Y
     };
     let m = data.motors[axis];
-    let motor = (data.motor_axes.contains(mask) && (m.stiffness != 0.0 || m.damping != 0.0))
-        .then_some(m);
+    let motor =
+        (data.motor_axes.contains(mask) && (m.stiffness != 0.0 || m.damping != 0.0)).then_some(m);
     let l = data.limits[axis];
     let limits = data.limit_axes.contains(mask).then_some([l.min, l.max]);
     Slide {
