@@ -105,7 +105,7 @@ impl DriveSet {
             };
             let others = |f: &dyn Fn(&ChainDrive) -> bool| before.iter().chain(after.iter()).any(f);
             let owns = |h: ColliderHandle| others(&|d| d.owns_collider(h));
-            let mounted = |b: RigidBodyHandle| others(&|d| d.mounted.contains(&b));
+            let mounted = |b: RigidBodyHandle| others(&|d| d.holds_body(b));
             let start = drive
                 .begin_frame(
                     bodies,
@@ -179,9 +179,15 @@ impl DriveSet {
         let dt = world.integration_parameters.dt;
         self.read_joints(&world.bodies, &world.impulse_joints);
         self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
+        for d in &mut self.drives {
+            d.joint_motors_off(&mut world.impulse_joints);
+        }
         let started = Instant::now();
         world.step_with_events(&self.hooks(&DynHooks(user_hooks)), events);
         let share = started.elapsed().as_secs_f64() / self.drives.len().max(1) as f64;
+        for d in &mut self.drives {
+            d.joint_motors_on(&mut world.impulse_joints);
+        }
         for d in &mut self.drives {
             d.stage_times.world_s += share;
         }

@@ -1,7 +1,7 @@
 //! Mounted bodies that translate: a carriage carrying the conveyor's tail,
 //! held out by a spring, moves with the chain inside the substeps.
 
-use chaindrive::cosim::{ChainDrive, CosimError};
+use chaindrive::cosim::{ChainDrive, CosimError, MountSpring};
 use rapier2d_f64::prelude::*;
 
 use super::cosim::conveyor;
@@ -69,4 +69,185 @@ fn a_light_sprung_carriage_holds_at_60_hz() {
         let worst = run_carriage(mass_kg, 120).unwrap_or_else(|e| panic!("{mass_kg} kg: {e}"));
         assert!(worst < 0.002, "{mass_kg} kg: the carriage moved {worst} m");
     }
+}
+
+/// The spring's force law on the carriage (`ChainDrive::set_mount_force`):
+/// evaluated in every substep at the carriage's position there.
+fn spring() -> MountSpring {
+    MountSpring {
+        anchor_m: Vector::new(TAIL_X_M, 0.0),
+        axis: Vector::X,
+        stiffness_n_m: SPRING_N_M,
+        damping_n_s_m: 0.0,
+        preload_n: 2.0 * PRETENSION_N,
+    }
+}
+
+/// Like [`run_carriage`], with the spring given to the drive as the
+/// carriage's force law; `release_after`: frames after which it is taken
+/// away. The carriage's x at the end of every frame, m.
+fn run_sprung(
+    mass_kg: f64,
+    frames: usize,
+    release_after: Option<usize>,
+) -> Result<Vec<f64>, CosimError> {
+    let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", 0.0);
+    let mut w = world();
+    let cart = w.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(TAIL_X_M, 0.0))
+            .enabled_translations(true, false)
+            .additional_mass_properties(MassProperties::new(Vector::ZERO, mass_kg, 0.01)),
+    );
+    let mut drive =
+        ChainDrive::insert(&scene, &[None, Some(cart)], &mut w.bodies, &mut w.colliders)?;
+    drive.set_mount_force(1, spring())?;
+    let mut xs = Vec::with_capacity(frames);
+    for frame in 0..frames {
+        if Some(frame) == release_after {
+            drive.clear_mount_force(1)?;
+        }
+        drive.step_world(&mut w, &(), &())?;
+        xs.push(w.bodies[cart].translation().x);
+    }
+    Ok(xs)
+}
+
+fn largest_excursion(xs: &[f64]) -> f64 {
+    xs.iter().map(|x| (x - TAIL_X_M).abs()).fold(0.0, f64::max)
+}
+
+#[test]
+fn every_carriage_mass_holds_with_its_spring_in_the_substeps() {
+    // The same balance as `a_light_sprung_carriage_holds_at_60_hz` (preload
+    // 2 T0 = 400 N against the two strands' pull; an imbalance ΔF moves the
+    // carriage ΔF / 6e5 N/m, 20 % of it 0.13 mm; tolerance 2 mm). The spring
+    // as a force set once per frame is a zero-order hold on a carriage that
+    // moves inside the frame: measured, 5, 20 and 50 kg carriages blew up
+    // (at 0.69, 0.53 and 0.87 s) and 200 kg swung 3.2 mm. Given to the
+    // substeps, the spring acts where the carriage is.
+    for mass_kg in [1.0, 2.0, 5.0, 20.0, 50.0, 200.0] {
+        let xs = run_sprung(mass_kg, 120, None).unwrap_or_else(|e| panic!("{mass_kg} kg: {e}"));
+        let worst = largest_excursion(&xs);
+        assert!(worst < 0.002, "{mass_kg} kg: the carriage moved {worst} m");
+    }
+}
+
+#[test]
+#[ignore = "fails: a penetration blow-up 0.04 s after the release (see docs/architecture.md)"]
+fn a_released_carriage_moves_on_without_a_blow_up() {
+    // A 5 kg carriage held by its spring for 0.5 s, then released: the
+    // strands' pull 2 T0 = 400 N is no longer balanced, so the chain pulls
+    // the carriage in (x falls) until it goes slack, after
+    // 2 T0 / k_chain = 400 / 4e5 = 1 mm, having given it the chain's stored
+    // energy (2 T0)² / (2 k_chain) = 0.2 J: v = √(2 · 0.2 / 5) = 0.28 m/s
+    // (the chain's damping and sag take some; the bound is 0.1 to 0.35 m/s).
+    // It then coasts: no frame may move it more than that speed allows,
+    // and every frame moves it inwards.
+    let (mass_kg, hold, frames) = (5.0, 30, 60);
+    let xs = run_sprung(mass_kg, frames, Some(hold)).expect("a released carriage runs");
+    let dt = 1.0 / 60.0;
+    let v_end = (xs[frames - 2] - xs[frames - 1]) / dt;
+    assert!(
+        (0.1..0.35).contains(&v_end),
+        "coasting at {v_end} m/s (energy balance: 0.28 m/s)"
+    );
+    for f in hold + 1..frames {
+        let step = xs[f - 1] - xs[f];
+        assert!(
+            step > 0.0 && step < 0.35 * dt,
+            "frame {f}: moved {step} m inwards"
+        );
+    }
+}
+
+/// Runs `frames` at 60 Hz with the tail on a hub turning on a revolute joint
+/// to a carriage of `mass_kg` that slides along x on a prismatic joint to
+/// the ground, its spring the joint's position motor (force-based, 2e5 N/m,
+/// target = preload / rate beyond the tail's centre, so 2 T0 at the centre).
+/// The largest excursion of the carriage from the tail's centre, m.
+fn run_prismatic(mass_kg: f64, frames: usize) -> Result<f64, CosimError> {
+    let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", 0.0);
+    let mut w = world();
+    let ground = w.bodies.insert(RigidBodyBuilder::fixed());
+    let cart = w.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(TAIL_X_M, 0.0))
+            .additional_mass_properties(MassProperties::new(Vector::ZERO, mass_kg, 0.01)),
+    );
+    let hub = w.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(TAIL_X_M, 0.0))
+            .additional_mass_properties(MassProperties::new(Vector::ZERO, 0.1, 0.01)),
+    );
+    let mut slide = PrismaticJointBuilder::new(Vector::X)
+        .local_anchor1(Vector::new(TAIL_X_M, 0.0))
+        .motor_position(2.0 * PRETENSION_N / SPRING_N_M, SPRING_N_M, 0.0)
+        .motor_model(MotorModel::ForceBased)
+        .build();
+    slide.data.set_motor_max_force(JointAxis::LinX, f64::MAX);
+    w.impulse_joints.insert(ground, cart, slide, true);
+    w.impulse_joints
+        .insert(cart, hub, RevoluteJointBuilder::new(), true);
+    let mut drive =
+        ChainDrive::insert(&scene, &[None, Some(hub)], &mut w.bodies, &mut w.colliders)?;
+    let mut worst = 0.0f64;
+    for _ in 0..frames {
+        drive.step_world(&mut w, &(), &())?;
+        let p = w.bodies[cart].translation();
+        let h = w.bodies[hub].translation();
+        worst = worst
+            .max((p.x - TAIL_X_M).hypot(p.y))
+            .max((h.x - TAIL_X_M).hypot(h.y));
+    }
+    Ok(worst)
+}
+
+#[test]
+#[ignore = "fails: the carriage is found 63 mm from its joint's anchor in the first frame, \
+            a blow-up (see docs/architecture.md)"]
+fn a_carriage_on_a_prismatic_joint_with_a_position_motor_holds() {
+    // The motor is the spring (2e5 N/m, 400 N at the tail's centre), so the
+    // same balance as the sprung carriage: within 2 mm. The joint's motor
+    // acted in rapier's step only, once per frame on the carriage alone
+    // (measured: a 5 kg carriage's offset flipped sign and grew ×2.7 per
+    // frame, and the hub on its revolute joint met the chain explicitly, a
+    // blow-up in the first frames); now the carriage, the hub and the motor
+    // move with the chain in the substeps.
+    for mass_kg in [1.0, 2.0, 5.0, 20.0] {
+        let worst = run_prismatic(mass_kg, 120).unwrap_or_else(|e| panic!("{mass_kg} kg: {e}"));
+        assert!(worst < 0.002, "{mass_kg} kg: the carriage moved {worst} m");
+    }
+}
+
+#[test]
+fn a_mount_whose_rotation_a_prismatic_joint_locks_is_an_error() {
+    // The sprocket on the carriage itself: the prismatic joint locks the
+    // body's rotation, so the sprocket could not turn (measured before: the
+    // tail turned at 0.8 rad/s while the head turned at 2.0, the chain
+    // sliding over it). An error naming the mount and the cure.
+    let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", 0.0);
+    let mut w = world();
+    let ground = w.bodies.insert(RigidBodyBuilder::fixed());
+    let cart = w.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(Vector::new(TAIL_X_M, 0.0))
+            .additional_mass_properties(MassProperties::new(Vector::ZERO, 5.0, 0.01)),
+    );
+    w.impulse_joints.insert(
+        ground,
+        cart,
+        PrismaticJointBuilder::new(Vector::X).local_anchor1(Vector::new(TAIL_X_M, 0.0)),
+        true,
+    );
+    let mut drive =
+        ChainDrive::insert(&scene, &[None, Some(cart)], &mut w.bodies, &mut w.colliders)
+            .expect("insert");
+    let e = drive
+        .step_world(&mut w, &(), &())
+        .expect_err("a locked sprocket");
+    let text = e.to_string();
+    assert!(text.contains("mounts[1]"), "{text}");
+    assert!(text.contains("rotation"), "{text}");
+    assert!(text.contains("revolute joint"), "{text}");
 }
