@@ -430,6 +430,14 @@ impl ChainDrive {
         let span = dt_s;
         for (k, link) in self.links.iter_mut().enumerate() {
             if link.mount == Mount::Dynamic {
+                // rapier computes a new body's mass properties at its next
+                // step; a carriage added with the drive has none before the
+                // first (its substeps would think it fixed): now.
+                if let Some(c) = link.joints.carrier.and_then(|h| bodies.get_mut(h)) {
+                    if c.is_dynamic() && c.mass() == 0.0 {
+                        c.recompute_mass_properties_from_colliders(colliders);
+                    }
+                }
                 let kept = if self.in_frame {
                     link.translation.as_ref()
                 } else {
