@@ -145,11 +145,15 @@
 //! inertia, and the forces and torques you set on the body stay as rapier
 //! keeps them (the chain's force is added for your step); the body may
 //! already turn when the drive is inserted (the chain joins it). A sprocket on
-//! your kinematic body turns at the body's speed. What does not compose yet:
-//! a light body carrying a sprocket along the chain (a sprung tensioner
-//! carriage of tens of kilograms at 60 Hz), whose translation rapier
-//! integrates once per frame against the chain's stiffness
-//! (`examples/tensioner_carriage.rs` measures where it holds). Misuse — a
+//! your kinematic body turns at the body's speed. A body carrying a sprocket
+//! along the chain (a tensioner carriage) is moved in the chain's substeps;
+//! give its spring to the drive ([`cosim::ChainDrive::set_mount_force`],
+//! [`cosim::MountSpring`]) or make it a prismatic joint's position motor
+//! (imitated in the substeps; put the sprocket on a hub with a revolute joint
+//! to the carriage), and it holds from 1 kg up at 60 Hz. A spring force you
+//! set each frame is held over the frame and lets middle masses swing
+//! (`examples/tensioner_carriage.rs` measures all three; docs/architecture.md,
+//! "Mounted sprockets", says which joints still act once per frame). Misuse — a
 //! bad mount, a bad dt, a world stepped by another dt or without
 //! [`cosim::ChainDrive::hooks`] — is a [`cosim::CosimError`], never a panic;
 //! [`cosim::ChainDrive::remove`] takes the drive out of your world.
