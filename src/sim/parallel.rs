@@ -3,7 +3,7 @@
 //!
 //! A drive of many rollers spends its step in loops over the rollers (the
 //! links, the rollers' update) whose iterations are independent. With
-//! [`Split`] on, each such loop is cut into [`CHUNKS`] chunks of rollers,
+//! [`Split`] on, each such loop is cut into `CHUNKS` chunks of rollers,
 //! which the stepping thread and a worker thread claim one at a time: one
 //! fork and one join per loop, no allocation. Claiming (rather than a fixed
 //! half each) keeps a thread the system stops for a while from holding up

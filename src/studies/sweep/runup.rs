@@ -3,7 +3,7 @@
 //! FROM to TO rpm over S seconds after its ramp and a settling time (the
 //! scene's `sprockets.run_up`), cut into windows of whole revolutions as it
 //! runs. Each window is analysed as a case of a stepped sweep at its mean
-//! speed ([`super::analyse_window`]), each signal's linear trend taken out
+//! speed (`analyse_window`), each signal's linear trend taken out
 //! of its order spectrum ([`crate::analysis::orders::AngleWindow::spectrum_detrended`]).
 //!
 //! **Windows.** A window of n revolutions at N rpm on a ramp of r rpm/s
