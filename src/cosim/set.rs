@@ -87,6 +87,22 @@ impl DriveSet {
         }
     }
 
+    /// [`ChainDrive::joint_motors_off`] for every drive: call right before
+    /// the world's step when stepping by hand ([`Self::step_world`] does).
+    pub fn joint_motors_off(&mut self, joints: &mut ImpulseJointSet) {
+        for d in &mut self.drives {
+            d.joint_motors_off(joints);
+        }
+    }
+
+    /// [`ChainDrive::joint_motors_on`] for every drive: call right after
+    /// the world's step.
+    pub fn joint_motors_on(&mut self, joints: &mut ImpulseJointSet) {
+        for d in &mut self.drives {
+            d.joint_motors_on(joints);
+        }
+    }
+
     /// [`ChainDrive::before_step`] for the set: every drive finds its
     /// bodies, each body near several chains is given to one drive, then
     /// every drive runs its substeps. An error names the drive (`drives[i]`).
@@ -179,15 +195,11 @@ impl DriveSet {
         let dt = world.integration_parameters.dt;
         self.read_joints(&world.bodies, &world.impulse_joints);
         self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
-        for d in &mut self.drives {
-            d.joint_motors_off(&mut world.impulse_joints);
-        }
+        self.joint_motors_off(&mut world.impulse_joints);
         let started = Instant::now();
         world.step_with_events(&self.hooks(&DynHooks(user_hooks)), events);
         let share = started.elapsed().as_secs_f64() / self.drives.len().max(1) as f64;
-        for d in &mut self.drives {
-            d.joint_motors_on(&mut world.impulse_joints);
-        }
+        self.joint_motors_on(&mut world.impulse_joints);
         for d in &mut self.drives {
             d.stage_times.world_s += share;
         }
