@@ -86,7 +86,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!(
         "driver at {:.3} rad/s, tail sprocket at {:.3} rad/s",
-        drive.state().omega[0], drive.state().omega[1]
+        drive.state().omega[0],
+        drive.state().omega[1]
     );
     Ok(())
 }

@@ -135,10 +135,7 @@ impl ChainDrive {
             };
             if active {
                 let [x0, y0] = self.start[i];
-                let v = Vector::new(
-                    (self.state.x[i] - x0) / span,
-                    (self.state.y[i] - y0) / span,
-                );
+                let v = Vector::new((self.state.x[i] - x0) / span, (self.state.y[i] - y0) / span);
                 b.set_translation(Vector::new(x0, y0), true);
                 b.set_linvel(v, true);
                 if !enabled {

@@ -372,7 +372,10 @@ fn run_timings_account_for_the_stepping_loop() {
     // (Which stage is largest is a timing, measured by the benches, not here.)
     let sum: f64 = shares.iter().sum();
     assert!((sum - 100.0).abs() < 0.5, "{shares:?}");
-    assert!(shares.iter().all(|s| (0.0..=100.0).contains(s)), "{shares:?}");
+    assert!(
+        shares.iter().all(|s| (0.0..=100.0).contains(s)),
+        "{shares:?}"
+    );
 }
 
 #[test]
