@@ -20,14 +20,20 @@ use super::*;
 
 /// Distance beyond the frame's travel within which a user collider keeps a
 /// roller in rapier's step, m: covers rapier's contact prediction distance
-/// (0.002 m at a length unit of 1 m) many times over.
-pub const PARK_MARGIN_M: f64 = 0.05;
+/// (0.002 m at a length unit of 1 m) many times over. The docs of
+/// [`ChainDrive::set_parking`] quote it.
+pub(crate) const PARK_MARGIN_M: f64 = 0.05;
 
 impl ChainDrive {
     /// Turns parking on or off (off by default): with it on, the roller
     /// bodies no user collider can reach within a frame are disabled in the
-    /// `RigidBodySet` until one can (see the module's documentation), which
-    /// takes them out of rapier's step. What the user's bodies meet does not
+    /// `RigidBodySet` until one can, which takes them out of rapier's step.
+    /// A roller is reachable when it lies, at the frame's start, within an
+    /// enabled user collider's box loosened by what the collider and the
+    /// rollers can travel in the frame (the bound of the search for the
+    /// user's colliders, [`Coupling::search_speed_m_s`]), the roller radius
+    /// and 50 mm; colliders on mounted bodies count, and roller 0 is never
+    /// parked. What the user's bodies meet does not
     /// change; a parked roller's body stays where it was parked, so draw the
     /// chain from [`Self::state`], and do not cast rays or shapes at rollers
     /// far from the user's colliders. Turning it off enables every roller
