@@ -11,7 +11,10 @@
 //!
 //! The drive splits its rollers over two threads when it is large enough
 //! (`[solver] threads`, default `"auto"`); `CHAINDRIVE_THREADS=1` in the
-//! environment runs it on one thread for comparison.
+//! environment runs it on one thread for comparison. The rollers no
+//! collider can reach are parked out of rapier's step
+//! (`ChainDrive::set_parking`); `CHAINDRIVE_PARKING=0` keeps every roller
+//! body in it.
 
 use chaindrive::cosim::ChainDrive;
 use chaindrive::scene::generate::DriveSpec;
@@ -41,6 +44,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let started = std::time::Instant::now();
     let mut drive = ChainDrive::insert(&scene, &[], &mut world.bodies, &mut world.colliders)?;
     let insert_s = started.elapsed().as_secs_f64();
+    // Rollers no collider of the world can reach leave rapier's step
+    // (`ChainDrive::set_parking`); `CHAINDRIVE_PARKING=0` keeps them all in.
+    drive.set_parking(std::env::var("CHAINDRIVE_PARKING").map_or(true, |v| v != "0"));
     println!(
         "{rollers} rollers, 2 sprockets, dt {} µs ({} substeps per 1/60 s frame), {} thread(s): \
          inserted in {insert_s:.2} s",
@@ -72,6 +78,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         per(t.world_s),
         per(t.sync_s),
         per(t.search_s),
+    );
+    println!(
+        "parking {}: {} of {rollers} roller bodies parked",
+        if drive.parking() { "on" } else { "off" },
+        drive.parked_rollers()
     );
     println!(
         "driver at {:.3} rad/s, tail sprocket at {:.3} rad/s",

@@ -234,6 +234,8 @@ impl ChainDrive {
             equilibrium,
             limits,
             rollers,
+            parking: false,
+            roller_active: vec![true; n],
             colliders: owned,
             roller_colliders,
             links,

@@ -89,6 +89,7 @@ mod lifecycle;
 mod motion;
 mod mounts;
 mod observe;
+mod parking;
 mod set;
 
 pub use bodies::Coupling;
@@ -183,6 +184,10 @@ pub struct ChainDrive {
     limits: BlowUpLimits,
     /// Roller bodies.
     rollers: Vec<RigidBodyHandle>,
+    /// Whether the rollers no user collider can reach are parked (see [`parking`]).
+    parking: bool,
+    /// The rollers in rapier's step this frame (not parked).
+    roller_active: Vec<bool>,
     /// Sprocket bodies (the user's, where mounted).
     sprockets: Vec<RigidBodyHandle>,
     /// How the user's colliders near the rollers are treated (see [`Coupling`]).
@@ -519,6 +524,7 @@ impl ChainDrive {
             gravity,
             dt_s,
         );
+        self.mark_reach(bodies, colliders, others, dt_s);
         Ok(FrameStart { started, moving })
     }
 
@@ -655,16 +661,7 @@ impl ChainDrive {
             }
         }
         let stepped = Instant::now();
-        for i in 0..self.state.rollers() {
-            let v = [
-                (self.state.x[i] - self.start[i][0]) / span,
-                (self.state.y[i] - self.start[i][1]) / span,
-            ];
-            if let Some(b) = bodies.get_mut(self.rollers[i]) {
-                b.set_translation(Vector::new(self.start[i][0], self.start[i][1]), true);
-                b.set_linvel(Vector::new(v[0], v[1]), true);
-            }
-        }
+        self.sync_rollers(bodies, span);
         let n = substeps.max(1) as f64;
         for (k, link) in self.links.iter_mut().enumerate() {
             link.mean_omega = (self.state.theta[k] - self.theta0[k]) / span;
@@ -759,6 +756,10 @@ impl ChainDrive {
         let span = dt_s;
         self.any_external = false;
         for (i, &rc) in self.roller_colliders.iter().enumerate() {
+            if !self.roller_active[i] {
+                self.external[i] = Vector::ZERO;
+                continue;
+            }
             let mut impulse = [0.0f64; 2];
             for pair in narrow_phase.contact_pairs_with(rc) {
                 if !pair.has_any_active_contact() {
@@ -853,7 +854,7 @@ impl ChainDrive {
         }
         let (mut worst, mut at) = (0.0f64, 0);
         for (i, &h) in self.rollers.iter().enumerate() {
-            if let Some(b) = bodies.get(h) {
+            if let Some(b) = bodies.get(h).filter(|b| b.is_enabled()) {
                 let p = b.translation();
                 let d = (p.x - self.state.x[i]).hypot(p.y - self.state.y[i]);
                 if !(d <= worst) {

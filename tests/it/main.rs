@@ -21,6 +21,7 @@ mod cosim_api;
 mod cosim_checks;
 mod cosim_mounts;
 mod cosim_multi;
+mod cosim_parking;
 mod designations;
 mod detectors;
 mod equilibrium;
