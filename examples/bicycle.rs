@@ -74,8 +74,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!(
                 "t = {:4.1} s: cadence {:5.1} rpm, wheel {:5.1} km/h, chain tension up to {:5.0} N",
                 t,
-                drive.state.omega[0].abs() * 60.0 / std::f64::consts::TAU,
-                drive.state.omega[1].abs() * 0.34 * 3.6,
+                drive.state().omega[0].abs() * 60.0 / std::f64::consts::TAU,
+                drive.state().omega[1].abs() * 0.34 * 3.6,
                 tension
             );
         }

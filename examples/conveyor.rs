@@ -43,10 +43,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             rate_hz: 60.0,
         },
     )?;
-    let radius = drive.model.sprockets[0].pitch_radius_m;
+    let radius = drive.model().sprockets[0].pitch_radius_m;
     // The wear strip: its top 0.5 mm below the lowest roller of the upper
     // strand (which sags under its own weight), low friction.
-    let s = &drive.state;
+    let s = drive.state();
     let lowest = (0..s.rollers())
         .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
         .map(|i| s.y[i])
@@ -89,8 +89,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "after {:.1} s: motor at {:.2} rad/s, chain speed {:.3} m/s",
         frames as f64 / 60.0,
-        drive.state.omega[0],
-        drive.state.omega[0] * radius
+        drive.state().omega[0],
+        drive.state().omega[0] * radius
     );
     // Boxes push the rollers down, the strip pushes them up (and drags them).
     let sum = drive

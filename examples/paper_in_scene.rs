@@ -60,20 +60,20 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         frame_s * 1e3,
         (1.0 / 60.0) / frame_s
     );
-    let t = drive.stage_times;
+    let t = drive.stage_times();
     let per = |s: f64| s / t.frames.max(1) as f64 * 1e3;
     println!(
         "per frame: chain substeps {:.3} ms ({:.2} µs per substep), rapier step {:.3} ms, \
          sync {:.3} ms, collider search {:.3} ms",
         per(t.substeps_s),
-        t.substeps_s / (drive.state.t_s / scene.solver().dt_s).max(1.0) * 1e6,
+        t.substeps_s / (drive.state().t_s / scene.solver().dt_s).max(1.0) * 1e6,
         per(t.world_s),
         per(t.sync_s),
         per(t.search_s),
     );
     println!(
         "driver at {:.3} rad/s; wrote paper_in_scene.mcap",
-        drive.state.omega[0]
+        drive.state().omega[0]
     );
     Ok(())
 }

@@ -77,15 +77,17 @@
 //!         .lock_translations()
 //!         .additional_mass_properties(MassProperties::new(Vector::ZERO, 2.0, 0.05)),
 //! );
-//! let mut drive =
-//!     ChainDrive::insert(&scene, &[Some(motor)], &mut world.bodies, &mut world.colliders)?;
+//! // The drive, its head mounted on the motor (by name or index; checked).
+//! let mut drive = ChainDrive::builder(&scene)
+//!     .mount("head (motor)", motor)
+//!     .build(&mut world)?;
 //! for _ in 0..6 {
 //!     // Your motor torque, as you would set it for any rapier body.
 //!     world.bodies[motor].reset_torques(false);
 //!     world.bodies[motor].add_torque(5.0, true);
 //!     drive.step_world(&mut world, &(), &())?; // before_step + world step + after_step
 //! }
-//! assert!(drive.state.omega[0] > 0.0 && world.bodies[motor].angvel() > 0.0);
+//! assert!(drive.state().omega[0] > 0.0 && world.bodies[motor].angvel() > 0.0);
 //!
 //! // The same frame, composed with your own pipeline call and hooks:
 //! let dt = world.integration_parameters.dt;
@@ -94,6 +96,22 @@
 //! drive.after_step(&mut world.bodies, &world.narrow_phase, dt)?;
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
+//!
+//! [`cosim::ChainDriveBuilder`] takes the scene, the mounts by sprocket
+//! name or index (an unknown name, an index out of range or a sprocket
+//! mounted twice is an error naming it), the [`cosim::Coupling`] and a pose
+//! for the whole drive (`insert_at(pose)`: the scene's coordinates are the
+//! drive's own frame), then `build`s into your world;
+//! [`cosim::ChainDrive::insert`] is the same with mounts by index. The
+//! drive's scene, model and state are read-only (`drive.state()`,
+//! `drive.model()`); what you change mid-run has a setter
+//! (`set_load_torque`, `set_driver_speed`, `set_governor_target`,
+//! `set_driver_torque`, `set_coupling`). Forces at the boundary are rapier's
+//! `Vector`. Observers ([`sim::Observer`], several through
+//! [`sim::Fanout`]) see the drive once per frame through
+//! `step_world_observed`; `drive.recorder(...)` records the run with its
+//! frame step, its real duration and mounted sprockets where their bodies
+//! are.
 //!
 //! A fixed guide is any collider of yours; here a wear strip under the upper
 //! strand, pressed 10 µm into its lowest roller (the strand sags under its
@@ -106,7 +124,7 @@
 //! # let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
 //! # let mut world = PhysicsWorld::default();
 //! let mut drive = ChainDrive::insert(&scene, &[], &mut world.bodies, &mut world.colliders)?;
-//! let s = &drive.state;
+//! let s = drive.state();
 //! let lowest = (0..s.rollers())
 //!     .filter(|&i| s.y[i] > 0.0 && (0.15..0.85).contains(&s.x[i]))
 //!     .map(|i| s.y[i])
@@ -118,7 +136,7 @@
 //! world.colliders.insert(strip);
 //! drive.step_world(&mut world, &(), &())?;
 //! // The rollers' mean force from your colliders over that frame, N.
-//! let lift: f64 = drive.body_forces().iter().map(|f| f[1]).sum();
+//! let lift: f64 = drive.body_forces().iter().map(|f| f.y).sum();
 //! assert!(lift > 0.0);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
@@ -127,11 +145,15 @@
 //! inertia, and the forces and torques you set on the body stay as rapier
 //! keeps them (the chain's force is added for your step); the body may
 //! already turn when the drive is inserted (the chain joins it). A sprocket on
-//! your kinematic body turns at the body's speed. What does not compose yet:
-//! a light body carrying a sprocket along the chain (a sprung tensioner
-//! carriage of tens of kilograms at 60 Hz), whose translation rapier
-//! integrates once per frame against the chain's stiffness
-//! (`examples/tensioner_carriage.rs` measures where it holds). Misuse — a
+//! your kinematic body turns at the body's speed. A body carrying a sprocket
+//! along the chain (a tensioner carriage) is moved in the chain's substeps;
+//! give its spring to the drive ([`cosim::ChainDrive::set_mount_force`],
+//! [`cosim::MountSpring`]) or make it a prismatic joint's position motor
+//! (imitated in the substeps; put the sprocket on a hub with a revolute joint
+//! to the carriage), and it holds from 1 kg up at 60 Hz. A spring force you
+//! set each frame is held over the frame and lets middle masses swing
+//! (`examples/tensioner_carriage.rs` measures all three; docs/architecture.md,
+//! "Mounted sprockets", says which joints still act once per frame). Misuse — a
 //! bad mount, a bad dt, a world stepped by another dt or without
 //! [`cosim::ChainDrive::hooks`] — is a [`cosim::CosimError`], never a panic;
 //! [`cosim::ChainDrive::remove`] takes the drive out of your world.

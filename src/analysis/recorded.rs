@@ -114,6 +114,7 @@ impl RecordedRun {
                 chain_torque_n_m,
                 link_force_n,
                 contacts,
+                ..
             } = sample;
             let link_range_n =
                 link_force_n

@@ -226,7 +226,7 @@ impl Observer for Probes {
     }
 }
 
-/// Two observers fed the same run.
+/// Two observers fed the same run (any number: [`crate::sim::Fanout`]).
 pub struct Both<'a, A: Observer, B: Observer>(pub &'a mut A, pub &'a mut B);
 
 impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {

@@ -186,7 +186,7 @@ impl ChainDrive {
                 mean_chain_force: [0.0; 2],
                 frame_start_m: sp.center_m,
                 translation: None,
-                joint_axis: None,
+                joints: MountJoints::default(),
             });
         }
         let mut roller_colliders = Vec::with_capacity(state.rollers());
@@ -222,6 +222,8 @@ impl ChainDrive {
             stage_times: FrameTimes::default(),
             contacts: BodyContacts::new(n, scene.chain.roller_mass_kg, scene.chain.roller_radius_m),
             theta0: vec![0.0; sprocket_count],
+            mount_forces: (0..sprocket_count).map(|_| None).collect(),
+            motors_off: Vec::new(),
             force_sum: vec![[0.0; 2]; sprocket_count],
             any_external: false,
             driver: model.driver(),
@@ -232,11 +234,13 @@ impl ChainDrive {
             equilibrium,
             limits,
             rollers,
+            parking: false,
+            roller_active: vec![true; n],
             colliders: owned,
             roller_colliders,
             links,
             start: vec![[0.0; 2]; n],
-            external: vec![[0.0; 2]; n],
+            external: vec![Vector::ZERO; n],
             world_time_s: 0.0,
             clock_steps: 0,
             frame_dt_s: 0.0,

@@ -81,13 +81,22 @@
 //! exactly what a standalone run does; [`ChainDrive::stage_times`] tells
 //! where a frame's wall time goes.
 
+mod access;
 mod bodies;
+mod builder;
 mod error;
 mod lifecycle;
 mod motion;
+mod mounts;
+mod observe;
+mod parking;
+mod set;
 
 pub use bodies::Coupling;
+pub use builder::{ChainDriveBuilder, SprocketKey};
 pub use error::CosimError;
+pub use mounts::{MountForce, MountSpring};
+pub use set::{DriveSet, SetHooks};
 
 use std::collections::HashMap;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -96,6 +105,7 @@ use std::time::Instant;
 use rapier2d_f64::prelude::*;
 
 use bodies::{BodyContacts, DriveView};
+use mounts::{MountJoints, MountTranslation, mount_translation, read_mount_joints};
 
 use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
@@ -147,67 +157,61 @@ struct SprocketLink {
     /// where rapier moves the body: locked, or tied by a joint that fixes
     /// its position).
     translation: Option<MountTranslation>,
-    /// The free axis a prismatic joint leaves the body (world frame, unit),
-    /// read by [`ChainDrive::read_joints`]; `Some(ZERO)` where a joint ties
-    /// its position.
-    joint_axis: Option<Vector>,
-}
-
-/// A dynamic mount's translation over a frame, integrated with the chain.
-#[derive(Clone, Copy, Debug)]
-struct MountTranslation {
-    /// Inverse mass per axis (zero on a locked axis), 1/kg.
-    inv_mass: Vector,
-    /// The free axis of a prismatic joint, if any.
-    axis: Option<Vector>,
-    /// Gravity and the user's force, N.
-    force_ext: Vector,
-    /// Velocity in the substeps, m/s.
-    v: Vector,
-    /// Displacement since the frame's start, m.
-    dx: Vector,
-    /// Mean velocity over the frame, given to rapier, m/s.
-    mean_v: Vector,
-    /// The body's gravity scale and linear damping, restored after rapier's step.
-    gravity_scale: f64,
-    damping: f64,
+    /// The joints on a dynamic mount, read by [`ChainDrive::read_joints`].
+    joints: MountJoints,
 }
 
 /// A chain drive living in a user's rapier world.
+///
+/// Its scene, model and state are read through getters ([`Self::scene`],
+/// [`Self::model`], [`Self::state`], ...); what a user changes mid-run has a
+/// setter ([`Self::set_load_torque`], [`Self::set_driver_speed`],
+/// [`Self::set_governor_target`], [`Self::set_driver_torque`],
+/// [`Self::set_coupling`]), since the drive refreshes parts of its model at
+/// every frame.
 pub struct ChainDrive {
     /// The scene it was built from.
-    pub scene: Scene,
+    scene: Scene,
     /// Constant parameters (sprocket centres and loads refreshed per frame).
-    pub model: DriveModel,
+    model: DriveModel,
     /// The chain's state.
-    pub state: DriveState,
+    state: DriveState,
     /// Forces at `state`.
-    pub forces: crate::forces::ForceGenerator,
+    forces: crate::forces::ForceGenerator,
     /// The static equilibrium reached before t = 0.
-    pub equilibrium: StaticEquilibrium,
+    equilibrium: StaticEquilibrium,
     /// Blow-up limits.
-    pub limits: BlowUpLimits,
+    limits: BlowUpLimits,
     /// Roller bodies.
-    pub rollers: Vec<RigidBodyHandle>,
+    rollers: Vec<RigidBodyHandle>,
+    /// Whether the rollers no user collider can reach are parked (see [`parking`]).
+    parking: bool,
+    /// The rollers in rapier's step this frame (not parked).
+    roller_active: Vec<bool>,
     /// Sprocket bodies (the user's, where mounted).
-    pub sprockets: Vec<RigidBodyHandle>,
+    sprockets: Vec<RigidBodyHandle>,
     /// How the user's colliders near the rollers are treated (see [`Coupling`]).
-    pub coupling: Coupling,
+    coupling: Coupling,
     /// Wall time spent per stage, accumulated over frames.
-    pub stage_times: FrameTimes,
+    stage_times: FrameTimes,
     /// The drive's colliders; `true` for a roller's.
     colliders: HashMap<ColliderHandle, bool>,
     roller_colliders: Vec<ColliderHandle>,
     links: Vec<SprocketLink>,
     /// Mounted sprockets' bodies.
     mounted: Vec<RigidBodyHandle>,
+    /// Force laws on dynamic mounts, called in every substep.
+    mount_forces: Vec<Option<Box<dyn MountForce>>>,
+    /// Joint motors the substeps imitate, switched off in the joint set
+    /// during the world's step ([`ChainDrive::step_world`]).
+    motors_off: Vec<(ImpulseJointHandle, JointAxesMask)>,
     /// Frame-start roller positions.
     start: Vec<[f64; 2]>,
     /// Scratch: frame-start sprocket angles; the chain's force on each sprocket summed over the frame.
     theta0: Vec<f64>,
     force_sum: Vec<[f64; 2]>,
     /// External force on each roller from rapier's contacts, N (held over a frame).
-    external: Vec<[f64; 2]>,
+    external: Vec<Vector>,
     /// Whether `external` holds any non-zero force.
     any_external: bool,
     /// The user's colliders in the substeps.
@@ -322,14 +326,14 @@ impl ChainDrive {
 
     /// The force each roller receives from rapier's contacts with bodies
     /// that are not carried (held over the coming frame), N.
-    pub fn external_forces(&self) -> &[[f64; 2]] {
+    pub fn external_forces(&self) -> &[Vector] {
         &self.external
     }
 
     /// The mean force each roller received over the last frame from the
     /// user's colliders handled in the substeps (guides, kinematic and
     /// carried bodies; see [`Coupling`]), N.
-    pub fn body_forces(&self) -> &[[f64; 2]] {
+    pub fn body_forces(&self) -> &[Vector] {
         &self.contacts.roller_force_mean
     }
 
@@ -340,8 +344,14 @@ impl ChainDrive {
 
     /// The rollers' mean force on `body` over the last frame, N, if it was
     /// carried (the chain's force on your box).
-    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<[f64; 2]> {
+    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<Vector> {
         self.contacts.chain_force_on(body)
+    }
+
+    /// Whether `b` is one of the drive's mounted bodies, or a carriage one of
+    /// them turns on (the drive moves those itself).
+    pub(crate) fn holds_body(&self, b: RigidBodyHandle) -> bool {
+        holds_body(&self.mounted, &self.links, b)
     }
 
     /// Whether a collider belongs to the drive.
@@ -373,6 +383,21 @@ impl ChainDrive {
         gravity: Vector,
         dt_s: f64,
     ) -> Result<(), CosimError> {
+        let frame = self.begin_frame(bodies, colliders, gravity, dt_s, None)?;
+        self.run_frame(bodies, dt_s, frame)
+    }
+
+    /// The first half of [`Self::before_step`]: checks, mounts read, the
+    /// user's colliders near the chain found (leaving `others`' bodies alone).
+    /// Touches only mounted bodies' user torques.
+    fn begin_frame(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        gravity: Vector,
+        dt_s: f64,
+        others: Option<&Others<'_>>,
+    ) -> Result<FrameStart, CosimError> {
         if !(dt_s.is_finite() && dt_s > 0.0) {
             return Err(CosimError::input(
                 "dt_s",
@@ -396,6 +421,11 @@ impl ChainDrive {
                 ));
             }
         }
+        for (k, link) in self.links.iter().enumerate() {
+            if let Some(why) = link.joints.unsupported {
+                return Err(CosimError::input(format!("mounts[{k}]"), why));
+            }
+        }
         let started = Instant::now();
         // Sprockets: centres, user torques (taken out of rapier's step). A
         // mounted body moves on through the frame at its velocity (rapier's
@@ -404,6 +434,26 @@ impl ChainDrive {
         let mut moving = false;
         let span = dt_s;
         for (k, link) in self.links.iter_mut().enumerate() {
+            if link.mount == Mount::Dynamic {
+                // rapier computes a new body's mass properties at its next
+                // step; a carriage added with the drive has none before the
+                // first (its substeps would think it fixed): now.
+                if let Some(c) = link.joints.carrier.and_then(|h| bodies.get_mut(h)) {
+                    if c.is_dynamic() && c.mass() == 0.0 {
+                        c.recompute_mass_properties_from_colliders(colliders);
+                    }
+                }
+                let kept = if self.in_frame {
+                    link.translation.as_ref()
+                } else {
+                    None
+                };
+                let user_force = bodies
+                    .get(link.body)
+                    .map_or(Vector::ZERO, |b| b.user_force());
+                link.translation =
+                    mount_translation(bodies, link.body, &link.joints, user_force, gravity, kept);
+            }
             let Some(b) = bodies.get_mut(link.body) else {
                 continue;
             };
@@ -432,7 +482,6 @@ impl ChainDrive {
                     link.user_torque_n_m = b.user_torque();
                     link.user_force = b.user_force();
                     b.reset_torques(false);
-                    link.translation = mount_translation(b, link, gravity, self.in_frame);
                     if let Some(tr) = &link.translation {
                         moving = true;
                         sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
@@ -455,12 +504,18 @@ impl ChainDrive {
         }
         self.theta0.copy_from_slice(&self.state.theta);
         let colliders_map = &self.colliders;
-        let owns = |h: ColliderHandle| colliders_map.contains_key(&h);
+        let owns = |h: ColliderHandle| {
+            colliders_map.contains_key(&h) || others.is_some_and(|o| (o.owns)(h))
+        };
+        let (own_mounts, links) = (&self.mounted, &self.links);
+        let mounted = |b: RigidBodyHandle| {
+            holds_body(own_mounts, links, b) || others.is_some_and(|o| (o.mounted)(b))
+        };
         self.contacts.prepare(
             &self.coupling,
             &DriveView {
                 owns: &owns,
-                mounted: &self.mounted,
+                mounted: &mounted,
                 roller_colliders: &self.roller_colliders,
                 state: &self.state,
             },
@@ -469,6 +524,20 @@ impl ChainDrive {
             gravity,
             dt_s,
         );
+        self.mark_reach(bodies, colliders, others, dt_s);
+        Ok(FrameStart { started, moving })
+    }
+
+    /// The second half of [`Self::before_step`]: the substeps, and the
+    /// bodies set for rapier's step.
+    fn run_frame(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        dt_s: f64,
+        frame: FrameStart,
+    ) -> Result<(), CosimError> {
+        let FrameStart { started, moving } = frame;
+        let span = dt_s;
         let searched = Instant::now();
         // Substeps at the scene's dt until the world's frame end; the chain's
         // clock lags the world's by less than one substep and is counted from
@@ -483,8 +552,8 @@ impl ChainDrive {
         for step in 1..=substeps {
             if self.any_external {
                 for (i, f) in self.external.iter().enumerate() {
-                    self.forces.output_mut().fx[i] += f[0];
-                    self.forces.output_mut().fy[i] += f[1];
+                    self.forces.output_mut().fx[i] += f.x;
+                    self.forces.output_mut().fy[i] += f.y;
                 }
             }
             if with_bodies {
@@ -513,19 +582,15 @@ impl ChainDrive {
                     .enumerate()
                 {
                     if let Some(tr) = &mut link.translation {
-                        // Symplectic Euler with the chain's force at the
-                        // substep's start, as the rollers were advanced.
+                        // The chain's force and the law's at the substep's
+                        // start, as the rollers were advanced.
+                        let start = Vector::new(link.frame_start_m[0], link.frame_start_m[1]);
+                        let law = self.mount_forces[k].as_ref().map_or(Vector::ZERO, |f| {
+                            f.force(start + tr.dx, tr.v, t0 + (step - 1) as f64 * dt)
+                        });
                         let f = Vector::new(chain_force[k][0], chain_force[k][1]);
-                        let mut dv = (f + tr.force_ext) * tr.inv_mass * dt;
-                        if let Some(a) = tr.axis {
-                            dv = a * a.dot(dv);
-                        }
-                        tr.v = (tr.v + dv) / (1.0 + dt * tr.damping);
-                        tr.dx += tr.v * dt;
-                        sprocket.center_m = [
-                            link.frame_start_m[0] + tr.dx.x,
-                            link.frame_start_m[1] + tr.dx.y,
-                        ];
+                        tr.advance(f, law, tau - dt, dt);
+                        sprocket.center_m = [start.x + tr.dx.x, start.y + tr.dx.y];
                         sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
                     } else if link.mount != Mount::Own {
                         let [vx, vy] = sprocket.center_velocity_m_s;
@@ -577,6 +642,9 @@ impl ChainDrive {
         for link in &mut self.links {
             if let Some(tr) = &mut link.translation {
                 tr.mean_v = tr.dx / span;
+                if let Some((_, sf)) = &mut tr.slide {
+                    sf.motor_sum /= substeps.max(1) as f64;
+                }
                 if !(tr.mean_v.is_finite() && tr.v.is_finite()) {
                     return Err(at_coupling_limit(
                         SimError::BlowUp {
@@ -593,16 +661,7 @@ impl ChainDrive {
             }
         }
         let stepped = Instant::now();
-        for i in 0..self.state.rollers() {
-            let v = [
-                (self.state.x[i] - self.start[i][0]) / span,
-                (self.state.y[i] - self.start[i][1]) / span,
-            ];
-            if let Some(b) = bodies.get_mut(self.rollers[i]) {
-                b.set_translation(Vector::new(self.start[i][0], self.start[i][1]), true);
-                b.set_linvel(Vector::new(v[0], v[1]), true);
-            }
-        }
+        self.sync_rollers(bodies, span);
         let n = substeps.max(1) as f64;
         for (k, link) in self.links.iter_mut().enumerate() {
             link.mean_omega = (self.state.theta[k] - self.theta0[k]) / span;
@@ -631,12 +690,33 @@ impl ChainDrive {
                         b.set_linear_damping(0.0);
                     } else {
                         // The user's force (rapier's semantics: it stays
-                        // until the user resets it) and the chain's on top.
+                        // until the user resets it), the chain's and the
+                        // law's (held over the frame: rapier moves the body).
+                        let law = self.mount_forces[k].as_ref().map_or(Vector::ZERO, |f| {
+                            f.force(b.translation(), b.linvel(), self.state.t_s)
+                        });
                         b.add_force(
                             link.user_force
+                                + law
                                 + Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
                             true,
                         );
+                    }
+                }
+            }
+            if let Some(tr) = &link.translation {
+                if let Some(c) = tr.carrier.and_then(|(h, _)| bodies.get_mut(h)) {
+                    // The carriage moves with the body: the same treatment.
+                    c.reset_forces(false);
+                    c.set_linvel(tr.mean_v, true);
+                    c.set_gravity_scale(0.0, true);
+                    c.set_linear_damping(0.0);
+                }
+                if let Some((s, sf)) = &tr.slide {
+                    // The imitated motor's reaction on a dynamic other body.
+                    let other = if s.moving_is_2 { s.body1 } else { s.body2 };
+                    if let Some(o) = bodies.get_mut(other).filter(|o| o.is_dynamic()) {
+                        o.add_force(-sf.motor_sum, true);
                     }
                 }
             }
@@ -676,6 +756,10 @@ impl ChainDrive {
         let span = dt_s;
         self.any_external = false;
         for (i, &rc) in self.roller_colliders.iter().enumerate() {
+            if !self.roller_active[i] {
+                self.external[i] = Vector::ZERO;
+                continue;
+            }
             let mut impulse = [0.0f64; 2];
             for pair in narrow_phase.contact_pairs_with(rc) {
                 if !pair.has_any_active_contact() {
@@ -694,7 +778,7 @@ impl ChainDrive {
                     }
                 }
             }
-            self.external[i] = [impulse[0] / span, impulse[1] / span];
+            self.external[i] = Vector::new(impulse[0] / span, impulse[1] / span);
             self.any_external |= impulse != [0.0; 2];
         }
         for (k, link) in self.links.iter().enumerate() {
@@ -708,12 +792,30 @@ impl ChainDrive {
                     // The substeps' end velocity and what the joints and
                     // contacts changed in rapier's step.
                     b.set_linvel(tr.v + (b.linvel() - tr.mean_v), false);
-                    b.set_gravity_scale(tr.gravity_scale, false);
-                    b.set_linear_damping(tr.damping);
+                    b.set_gravity_scale(tr.stash.gravity_scale, false);
+                    b.set_linear_damping(tr.stash.damping);
                 }
                 b.reset_forces(false);
                 b.add_force(link.user_force, false);
                 b.add_torque(link.user_torque_n_m, false);
+            }
+            let Some(tr) = &link.translation else {
+                continue;
+            };
+            if let Some((h, stash)) = tr.carrier {
+                if let Some(c) = bodies.get_mut(h) {
+                    c.set_linvel(tr.v + (c.linvel() - tr.mean_v), false);
+                    c.set_gravity_scale(stash.gravity_scale, false);
+                    c.set_linear_damping(stash.damping);
+                    c.reset_forces(false);
+                    c.add_force(stash.user_force, false);
+                }
+            }
+            if let Some((s, sf)) = &tr.slide {
+                let other = if s.moving_is_2 { s.body1 } else { s.body2 };
+                if let Some(o) = bodies.get_mut(other).filter(|o| o.is_dynamic()) {
+                    o.add_force(sf.motor_sum, false);
+                }
             }
         }
         let colliders = &self.colliders;
@@ -752,7 +854,7 @@ impl ChainDrive {
         }
         let (mut worst, mut at) = (0.0f64, 0);
         for (i, &h) in self.rollers.iter().enumerate() {
-            if let Some(b) = bodies.get(h) {
+            if let Some(b) = bodies.get(h).filter(|b| b.is_enabled()) {
                 let p = b.translation();
                 let d = (p.x - self.state.x[i]).hypot(p.y - self.state.y[i]);
                 if !(d <= worst) {
@@ -773,50 +875,99 @@ impl ChainDrive {
     }
 
     /// Reads the joints on dynamic mounts, for the coming frames until the
-    /// next call: a prismatic joint's free axis is the only one along which
-    /// the substeps move its body; a joint that fixes the body's position
-    /// (revolute, fixed) leaves its translation to rapier's step. Call it
-    /// before [`Self::before_step`] when mounts have joints and their set
-    /// changed ([`Self::step_world`] calls it every frame).
+    /// next call. A prismatic (or pin-slot) joint's free axis is the only
+    /// one along which the substeps move its body, and its motor (stiffness,
+    /// damping, target, largest force) and limits act in the substeps; a hub
+    /// on a revolute joint to a dynamic carriage translates with the
+    /// carriage (and the carriage's prismatic joint, if any, is read the
+    /// same way); a joint that ties the body's position to a fixed or
+    /// kinematic body leaves its translation to rapier's step. A joint that
+    /// locks the body's rotation to a fixed or kinematic body (a prismatic
+    /// joint does) holds its sprocket: [`Self::before_step`] then returns an
+    /// error naming the mount, as it does for arrangements it cannot run.
+    ///
+    /// Call it before [`Self::before_step`] when mounts have joints and their
+    /// set changed ([`Self::step_world`] calls it every frame). A motor the
+    /// substeps imitate must not act again in rapier's step: stepping by
+    /// hand, wrap the step in [`Self::joint_motors_off`] and
+    /// [`Self::joint_motors_on`] ([`Self::step_world`] does).
     pub fn read_joints(&mut self, bodies: &RigidBodySet, joints: &ImpulseJointSet) {
         for link in &mut self.links {
-            if link.mount != Mount::Dynamic {
-                continue;
+            if link.mount == Mount::Dynamic {
+                link.joints = read_mount_joints(bodies, joints, link.body);
             }
-            let Some(b) = bodies.get(link.body) else {
+        }
+    }
+
+    /// Switches off, in `joints`, the joint motors the substeps imitate (a
+    /// mount's prismatic joint's motor), for the world's step; undo with
+    /// [`Self::joint_motors_on`] right after it.
+    pub fn joint_motors_off(&mut self, joints: &mut ImpulseJointSet) {
+        self.motors_off.clear();
+        for link in &self.links {
+            let Some(s) = link.joints.slide.filter(|s| s.motor.is_some()) else {
                 continue;
             };
-            let mut axis: Option<Vector> = None;
-            for (b1, _, _, joint) in joints.attached_joints(link.body) {
-                let data = &joint.data;
-                if !data.is_enabled() {
-                    continue;
+            if let Some(j) = joints.get_mut(s.joint, false) {
+                if j.data.motor_axes.contains(s.mask()) {
+                    j.data.motor_axes.remove(s.mask());
+                    self.motors_off.push((s.joint, s.mask()));
                 }
-                let (lx, ly) = (
-                    data.locked_axes.contains(JointAxesMask::LIN_X),
-                    data.locked_axes.contains(JointAxesMask::LIN_Y),
-                );
-                let local = if b1 == link.body {
-                    data.local_axis1()
-                } else {
-                    data.local_axis2()
-                };
-                let free = match (lx, ly) {
-                    (false, false) => continue,
-                    (true, true) => Vector::ZERO,
-                    (false, true) => *b.rotation() * local,
-                    (true, false) => {
-                        let a = *b.rotation() * local;
-                        Vector::new(-a.y, a.x)
-                    }
-                };
-                axis = match axis {
-                    None => Some(free),
-                    Some(a) if a.perp_dot(free).abs() < 1e-9 => Some(a),
-                    Some(_) => Some(Vector::ZERO),
-                };
             }
-            link.joint_axis = axis.map(|a| a.normalize_or_zero());
+        }
+    }
+
+    /// Switches back on the motors [`Self::joint_motors_off`] switched off.
+    pub fn joint_motors_on(&mut self, joints: &mut ImpulseJointSet) {
+        for (h, mask) in self.motors_off.drain(..) {
+            if let Some(j) = joints.get_mut(h, false) {
+                j.data.motor_axes.insert(mask);
+            }
+        }
+    }
+
+    /// Gives dynamic mount `k` a force law called in every substep with the
+    /// body's position and velocity there (a spring, a damper: see
+    /// [`MountForce`], [`MountSpring`]); it replaces an earlier one. This is
+    /// the way to attach a stiff spring to a mount: a force the user sets
+    /// with rapier's `add_force` is held over the frame while the body
+    /// moves with the chain, and a stiff one held that way can drive the
+    /// body unstable. It adds to the body's user force. Where rapier moves
+    /// the body (a joint fixes its position) the law is evaluated once per
+    /// frame. An error unless sprocket `k` sits on a dynamic body.
+    pub fn set_mount_force(
+        &mut self,
+        k: usize,
+        law: impl MountForce + 'static,
+    ) -> Result<(), CosimError> {
+        self.dynamic_mount(k)?;
+        self.mount_forces[k] = Some(Box::new(law));
+        Ok(())
+    }
+
+    /// Takes away dynamic mount `k`'s force law (a released carriage).
+    pub fn clear_mount_force(&mut self, k: usize) -> Result<(), CosimError> {
+        self.dynamic_mount(k)?;
+        self.mount_forces[k] = None;
+        Ok(())
+    }
+
+    /// An error unless sprocket `k` sits on a dynamic body.
+    fn dynamic_mount(&self, k: usize) -> Result<(), CosimError> {
+        match self.links.get(k).map(|l| l.mount) {
+            Some(Mount::Dynamic) => Ok(()),
+            Some(_) => Err(CosimError::input(
+                format!("mounts[{k}]"),
+                "a force law needs a dynamic body under the sprocket (mount it on one in \
+                 ChainDrive::insert)",
+            )),
+            None => Err(CosimError::input(
+                "k",
+                format!(
+                    "sprocket {k}, but the scene has {} sprockets",
+                    self.links.len()
+                ),
+            )),
         }
     }
 
@@ -830,6 +981,7 @@ impl ChainDrive {
         let dt = world.integration_parameters.dt;
         self.read_joints(&world.bodies, &world.impulse_joints);
         self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
+        self.joint_motors_off(&mut world.impulse_joints);
         let hooks = ChainHooks {
             drive: &*self,
             user: &DynHooks(user_hooks),
@@ -837,42 +989,29 @@ impl ChainDrive {
         let started = Instant::now();
         world.step_with_events(&hooks, events);
         self.stage_times.world_s += started.elapsed().as_secs_f64();
+        self.joint_motors_on(&mut world.impulse_joints);
         self.after_step(&mut world.bodies, &world.narrow_phase, dt)
     }
 }
 
-/// A dynamic mount's translation for the coming frame, if the substeps
-/// move it: not when its translations are locked or a joint fixes its
-/// position. `in_frame`: a frame was set up and not finished, so the body's
-/// gravity scale and damping are the drive's, not the user's.
-fn mount_translation(
-    b: &RigidBody,
-    link: &SprocketLink,
-    gravity: Vector,
-    in_frame: bool,
-) -> Option<MountTranslation> {
-    let inv_mass = b.mass_properties().effective_inv_mass;
-    if inv_mass == Vector::ZERO || link.joint_axis == Some(Vector::ZERO) {
-        return None;
-    }
-    let (gravity_scale, damping) = match (&link.translation, in_frame) {
-        (Some(tr), true) => (tr.gravity_scale, tr.damping),
-        _ => (b.gravity_scale(), b.linear_damping()),
-    };
-    let mut v = b.linvel();
-    if let Some(a) = link.joint_axis {
-        v = a * a.dot(v);
-    }
-    Some(MountTranslation {
-        inv_mass,
-        axis: link.joint_axis,
-        force_ext: gravity * (gravity_scale * b.mass()) + link.user_force,
-        v,
-        dx: Vector::ZERO,
-        mean_v: Vector::ZERO,
-        gravity_scale,
-        damping,
-    })
+/// What [`ChainDrive::begin_frame`] hands on to [`ChainDrive::run_frame`].
+#[derive(Clone, Copy, Debug)]
+struct FrameStart {
+    started: Instant,
+    /// Whether a sprocket centre moves this frame.
+    moving: bool,
+}
+
+/// The other drives of a set: their colliders and mounted bodies, which a
+/// drive leaves alone.
+struct Others<'a> {
+    owns: &'a dyn Fn(ColliderHandle) -> bool,
+    mounted: &'a dyn Fn(RigidBodyHandle) -> bool,
+}
+
+/// Whether `b` is a mounted body of the drive or a carriage a mount turns on.
+fn holds_body(mounted: &[RigidBodyHandle], links: &[SprocketLink], b: RigidBodyHandle) -> bool {
+    mounted.contains(&b) || links.iter().any(|l| l.joints.carrier == Some(b))
 }
 
 struct DynHooks<'a>(&'a dyn PhysicsHooks);

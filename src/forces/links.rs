@@ -1,7 +1,7 @@
 //! The links: linear spring-dampers between consecutive rollers
 //! (docs/model.md, “Links”), and the rollers' weight.
 
-use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
+use super::{ForceElement, Forces, Halves, History, HistoryError, HistoryReader};
 use crate::model::{DriveModel, DriveState};
 
 /// The link law for one link.
@@ -186,6 +186,129 @@ impl Links {
     /// l − rest length of each link at the last evaluation, m.
     pub fn stretch(&self) -> &[f64] {
         &self.stretch
+    }
+}
+
+impl Links {
+    /// [`ForceElement::evaluate`] with the rollers split in two halves, run
+    /// by `fork` (module `sim::parallel`) in chunks: each chunk evaluates its
+    /// own links and sums its own rollers' forces. The link before a chunk's
+    /// first roller belongs to the chunk before; the chunk evaluates it
+    /// again, with the same operations, so each roller's sum is the same
+    /// bits as on one thread without waiting for the other chunk.
+    pub(crate) fn evaluate_split(
+        &mut self,
+        model: &DriveModel,
+        s: &DriveState,
+        out: &mut Forces,
+        fork: &dyn super::Fork,
+    ) {
+        let n = s.x.len();
+        let law = LinkLaw {
+            stiffness: model.stiffness_n_m,
+            damping: model.damping_n_s_m,
+            rest: model.rest_length_m,
+        };
+        let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
+        let with_rates = out.link_omega.len() == n
+            && out.link_normal_x.len() == n
+            && out.link_normal_y.len() == n;
+        let force = Halves::new(&mut out.link_force[..n]);
+        let (lfx, lfy) = (
+            Halves::new(&mut self.link_fx[..n]),
+            Halves::new(&mut self.link_fy[..n]),
+        );
+        let stretch = Halves::new(&mut self.stretch[..n]);
+        let (fx, fy) = (Halves::new(&mut out.fx[..n]), Halves::new(&mut out.fy[..n]));
+        let rate_views = with_rates.then(|| {
+            (
+                Halves::new(&mut out.link_omega[..n]),
+                Halves::new(&mut out.link_normal_x[..n]),
+                Halves::new(&mut out.link_normal_y[..n]),
+            )
+        });
+        // Per chunk: NaN stretch seen, largest |stretch|, largest speed².
+        let mut partial = [0.0f64; 3 * super::CHUNKS];
+        let parts = Halves::new(&mut partial);
+        let mass = model.roller_mass_kg;
+        let (gx, gy) = (mass * model.gravity_m_s2[0], mass * model.gravity_m_s2[1]);
+        let half = |h: usize| {
+            // Rollers lo..hi; links lo..hi too, the last chunk's last being
+            // the closing link n−1 → 0.
+            let (lo, hi) = super::chunk(n, h);
+            let last = hi == n;
+            let open_hi = if last { n - 1 } else { hi };
+            // SAFETY: the two halves take disjoint ranges lo..hi of every
+            // output, and the borrows behind the views outlive `fork.both`.
+            unsafe {
+                let slots = Slots {
+                    force: force.range(lo, open_hi),
+                    fx: lfx.range(lo, open_hi),
+                    fy: lfy.range(lo, open_hi),
+                    stretch: stretch.range(lo, open_hi),
+                };
+                let rates_h = rate_views.map(|(w, gx, gy)| Rates {
+                    omega: w.range(lo, open_hi),
+                    normal_x: gx.range(lo, open_hi),
+                    normal_y: gy.range(lo, open_hi),
+                });
+                let ends = Ends {
+                    x: &x[lo..=open_hi],
+                    y: &y[lo..=open_hi],
+                    vx: &vx[lo..=open_hi],
+                    vy: &vy[lo..=open_hi],
+                };
+                open_links(law, ends, slots, rates_h);
+                // The link before roller lo: j → lo, with j = lo − 1 (or the
+                // closing link n − 1 for roller 0). The last chunk writes
+                // the closing link; the first only reads it.
+                let j = if lo == 0 { n - 1 } else { lo - 1 };
+                let (dvx, dvy) = (vx[lo] - vx[j], vy[lo] - vy[j]);
+                let (f, ux, uy, _, _) = law.eval(x[lo] - x[j], y[lo] - y[j], dvx, dvy);
+                let (prev_x, prev_y) = (f * ux, f * uy);
+                if last {
+                    let k = n - 1;
+                    let (dvx, dvy) = (vx[0] - vx[k], vy[0] - vy[k]);
+                    let (f, ux, uy, last, inv) = law.eval(x[0] - x[k], y[0] - y[k], dvx, dvy);
+                    force.range(k, n)[0] = f;
+                    lfx.range(k, n)[0] = f * ux;
+                    lfy.range(k, n)[0] = f * uy;
+                    stretch.range(k, n)[0] = last;
+                    if let Some((w, nx, ny)) = rate_views {
+                        (w.range(k, n)[0], nx.range(k, n)[0], ny.range(k, n)[0]) =
+                            rates(ux, uy, inv, dvx, dvy);
+                    }
+                }
+                let st_h = &*stretch.range(lo, hi);
+                let nan = st_h.iter().fold(false, |b, s| b | s.is_nan());
+                let max_stretch = largest(st_h, st_h, |s, _| s.abs());
+                let max_speed_sq = largest(&vx[lo..hi], &vy[lo..hi], |a, b| a * a + b * b);
+                let (lx, ly) = (&*lfx.range(lo, hi), &*lfy.range(lo, hi));
+                let (fx_h, fy_h) = (fx.range(lo, hi), fy.range(lo, hi));
+                fx_h[0] = gx + (lx[0] - prev_x);
+                fy_h[0] = gy + (ly[0] - prev_y);
+                for i in 1..hi - lo {
+                    fx_h[i] = gx + (lx[i] - lx[i - 1]);
+                    fy_h[i] = gy + (ly[i] - ly[i - 1]);
+                }
+                let p = parts.range(3 * h, 3 * h + 3);
+                p[0] = if nan { 1.0 } else { 0.0 };
+                p[1] = max_stretch;
+                p[2] = max_speed_sq;
+            }
+        };
+        fork.both(&half);
+        // Maxima do not depend on the order in which they are taken.
+        let larger = |a: f64, b: f64| if b > a { b } else { a };
+        let mut nan = false;
+        let (mut max_stretch, mut max_speed_sq) = (0.0f64, 0.0f64);
+        for p in partial.chunks_exact(3) {
+            nan |= p[0] != 0.0;
+            max_stretch = larger(max_stretch, p[1]);
+            max_speed_sq = larger(max_speed_sq, p[2]);
+        }
+        out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
+        out.max_roller_speed_m_s = max_speed_sq.sqrt();
     }
 }
 

@@ -66,6 +66,7 @@ mod joint_friction;
 mod links;
 mod output;
 mod rows;
+mod split;
 mod tensioner;
 
 pub use contact::{Culling, ToothContact};
@@ -76,6 +77,8 @@ pub use links::Links;
 pub use output::Forces;
 
 pub use rows::DampingRows;
+pub use split::Fork;
+pub(crate) use split::{CHUNKS, Halves, chunk};
 pub use tensioner::{TensionerArm, TensionerReading};
 
 use std::any::Any;
@@ -257,6 +260,8 @@ pub struct ForceGenerator {
     output: Forces,
     /// Stage timers; `None` (the default) times nothing.
     pub timing: Option<ForceTimes>,
+    /// Runs the roller loops on two threads (`None`: one thread).
+    fork: Option<Box<dyn Fork>>,
 }
 
 impl Clone for ForceGenerator {
@@ -267,6 +272,7 @@ impl Clone for ForceGenerator {
             elements: self.elements.iter().map(|e| e.clone_box()).collect(),
             output: self.output.clone(),
             timing: self.timing.clone(),
+            fork: self.fork.as_ref().map(|f| f.clone_box()),
         }
     }
 }
@@ -281,7 +287,20 @@ impl ForceGenerator {
             elements: Vec::new(),
             output: Forces::new(rollers, sprockets, model.bodies.len(), model.scalars.len()),
             timing: None,
+            fork: None,
         }
+    }
+
+    /// Splits the roller loops over two threads where `fork` says so (the
+    /// simulation's `sim::parallel::Split`); `None` steps on one thread.
+    /// The results are the same bits either way.
+    pub fn set_fork(&mut self, fork: Option<Box<dyn Fork>>) {
+        self.fork = fork;
+    }
+
+    /// The fork, where it splits a drive of `rollers` rollers.
+    pub(crate) fn fork_for(&self, rollers: usize) -> Option<&dyn Fork> {
+        self.fork.as_deref().filter(|f| f.splits(rollers))
     }
 
     /// Adds a further element, evaluated after those already present.
@@ -383,8 +402,12 @@ impl ForceGenerator {
     pub fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
         let out = &mut self.output;
         out.begin();
+        let fork = self.fork.as_deref().filter(|f| f.splits(state.rollers()));
         let Some(times) = &mut self.timing else {
-            self.links.evaluate(model, state, out);
+            match fork {
+                Some(f) => self.links.evaluate_split(model, state, out, f),
+                None => self.links.evaluate(model, state, out),
+            }
             self.contact.evaluate(model, state, out);
             for e in &mut self.elements {
                 e.evaluate(model, state, out);
@@ -393,13 +416,19 @@ impl ForceGenerator {
         };
         times.evaluations += 1;
         let mut lap = Instant::now();
+        match fork {
+            Some(f) => self.links.evaluate_split(model, state, out, f),
+            None => self.links.evaluate(model, state, out),
+        }
+        let now = Instant::now();
+        times.add(0, self.links.name(), (now - lap).as_secs_f64());
+        lap = now;
         let mut timed = |k: usize, element: &mut dyn ForceElement| {
             element.evaluate(model, state, out);
             let now = Instant::now();
             times.add(k, element.name(), (now - lap).as_secs_f64());
             lap = now;
         };
-        timed(0, &mut self.links);
         timed(1, &mut self.contact);
         for (k, e) in self.elements.iter_mut().enumerate() {
             timed(k + 2, e.as_mut());

@@ -33,6 +33,9 @@ pub struct Governor {
     pub drive_torque_n_m: f64,
     /// The drive torque's part in the angle φ; `None`: none.
     pub drive_angle: Option<AngleLoad>,
+    /// Added to the target angle Θ_ref(t), rad: zero from the scene; a
+    /// target changed mid-run keeps the target angle continuous with it.
+    pub target_angle_offset_rad: f64,
 }
 
 impl Governor {
@@ -66,6 +69,7 @@ impl Governor {
             ki_n_m_rad,
             drive_torque_n_m: spec.drive_torque_n_m,
             drive_angle: AngleLoad::new(&spec.drive_harmonics, spec.drive_table.as_ref()),
+            target_angle_offset_rad: 0.0,
         }
     }
 
@@ -80,7 +84,8 @@ impl Governor {
     #[inline]
     pub fn control_torque_at(&self, t_s: f64, phi_rad: f64, omega_rad_s: f64) -> f64 {
         self.kp_n_m_s_rad * (self.target.speed_at(t_s) - omega_rad_s)
-            + self.ki_n_m_rad * (target_angle_rad(&self.target, t_s) - phi_rad)
+            + self.ki_n_m_rad
+                * (target_angle_rad(&self.target, t_s) + self.target_angle_offset_rad - phi_rad)
     }
 
     /// The whole torque on the driver, N·m.
@@ -210,6 +215,7 @@ mod tests {
             ki_n_m_rad: ki,
             drive_torque_n_m: drive,
             drive_angle: None,
+            target_angle_offset_rad: 0.0,
         }
     }
 

@@ -391,6 +391,9 @@ struct Frame {
     contact_force: Vec<f64>,
     chain_torque: Vec<f64>,
     segments: Vec<SegmentSignal>,
+    /// Sprocket centres, m (a co-simulated run's, at every sample; empty:
+    /// the centres of the first sample hold).
+    centers_m: Vec<[f64; 2]>,
     shoes: Vec<crate::forces::ShoeForces>,
     tensioners: Vec<crate::forces::TensionerReading>,
 }
@@ -476,6 +479,9 @@ impl<W: Write + Seek> Writer<W> {
         if id(Channel::Scene).is_some() {
             let update = self.chain.update(t_ns, &f.x, &f.y, &f.link_force);
             sink.write(id(Channel::Scene), "/scene", t_ns, update)?;
+        }
+        if !f.centers_m.is_empty() {
+            self.centers_m = std::mem::take(&mut f.centers_m);
         }
         if id(Channel::Transforms).is_some() {
             let arms: Vec<f64> = f.tensioners.iter().map(|r| r.angle_rad).collect();
@@ -582,6 +588,11 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     /// It continues an earlier file, whose static scene and outlines it
     /// copied: the first sample writes none.
     continued: bool,
+    /// A co-simulated run's metadata, written again at its end with the
+    /// run's duration; `None` for a standalone run.
+    cosim: Option<BTreeMap<String, String>>,
+    /// Time of the first sample, ns.
+    first_t_ns: u64,
 }
 
 fn add_channel<W: Write + Seek, T: Encode>(
@@ -683,7 +694,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
     /// Starts a recording into `writer`: header, metadata, the scene file as
     /// an attachment, schemas and channels. Messages follow at every sample.
     pub fn new(writer: W, scene: &Scene, options: &RecordOptions) -> Result<Self, RecordError> {
-        Self::start(writer, scene, options, None)
+        Self::start(writer, scene, options, None, None)
     }
 
     /// Starts a recording into `writer` that continues `earlier`, the MCAP
@@ -707,7 +718,23 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 options.channels
             )));
         }
-        Self::start(writer, scene, options, Some((earlier, mark)))
+        Self::start(writer, scene, options, Some((earlier, mark)), None)
+    }
+
+    /// Starts the recording of a co-simulated run (a drive in a rapier world
+    /// stepped at `frame_dt_s`, sampled once per frame): its metadata gives
+    /// the frame step (`frame_dt_s`) and, written again when the recording
+    /// is finished, the run's real duration (`duration_s`, from the first
+    /// sample to the last) instead of the scene's planned one; the sprocket
+    /// centres are recorded at every sample (a mounted sprocket moves with
+    /// its body).
+    pub fn co_simulated(
+        writer: W,
+        scene: &Scene,
+        options: &RecordOptions,
+        frame_dt_s: f64,
+    ) -> Result<Self, RecordError> {
+        Self::start(writer, scene, options, None, Some(frame_dt_s))
     }
 
     fn start(
@@ -715,6 +742,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         scene: &Scene,
         options: &RecordOptions,
         earlier: Option<(&[u8], &RecordMark)>,
+        frame_dt_s: Option<f64>,
     ) -> Result<Self, RecordError> {
         let mut topics = BTreeMap::new();
         let mut w = mcap::WriteOptions::new()
@@ -724,7 +752,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             .chunk_size(Some(CHUNK_BYTES))
             .library(format!("chaindrive {}", env!("CARGO_PKG_VERSION")))
             .create(writer)?;
-        let metadata: BTreeMap<String, String> = [
+        let mut metadata: BTreeMap<String, String> = [
             ("scene", scene.name.clone()),
             ("profile", scene.profile_name().to_owned()),
             ("contact_law", scene.contact.law.name().to_owned()),
@@ -740,9 +768,15 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         .into_iter()
         .map(|(k, v)| (k.to_owned(), v))
         .collect();
+        if let Some(frame_dt_s) = frame_dt_s {
+            // Not known until the run ends: written then.
+            metadata.remove("duration_s");
+            metadata.insert("frame_dt_s".to_owned(), format!("{frame_dt_s:e}"));
+            metadata.insert("run".to_owned(), "co-simulation".to_owned());
+        }
         w.write_metadata(&mcap::records::Metadata {
             name: "chaindrive".to_owned(),
-            metadata,
+            metadata: metadata.clone(),
         })?;
         if let Some((name, data)) = &options.scene_file {
             w.attach(&mcap::Attachment {
@@ -865,6 +899,8 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             segment_force: Vec::new(),
             lost: false,
             continued: earlier.is_some_and(|(_, m)| m.frames > 0),
+            cosim: frame_dt_s.map(|_| metadata),
+            first_t_ns: 0,
         })
     }
 
@@ -912,6 +948,22 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
     /// any (the file is still finished as far as it can be).
     pub fn finish(mut self, end: RunEnd<'_>) -> Result<W, RecordError> {
         let (mut sink, error) = self.join()?;
+        // A co-simulated run's metadata again, now with its duration (a
+        // reader keeps the last record of a name).
+        let run_written = match self.cosim.take() {
+            Some(mut metadata) => {
+                let span_ns = self.last_t_ns.saturating_sub(self.first_t_ns);
+                metadata.insert(
+                    "duration_s".to_owned(),
+                    format!("{}", span_ns as f64 * 1e-9),
+                );
+                sink.writer.write_metadata(&mcap::records::Metadata {
+                    name: "chaindrive".to_owned(),
+                    metadata,
+                })
+            }
+            None => Ok(()),
+        };
         let (status, message) = match end {
             RunEnd::Completed => ("completed", ""),
             RunEnd::Interrupted => ("interrupted", ""),
@@ -939,6 +991,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         if self.lost {
             return Err(RecordError::WriterStopped);
         }
+        run_written?;
         end_written?;
         finished?;
         flushed?;
@@ -985,6 +1038,7 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
         let ch = self.channels;
         if !self.started {
             self.started = true;
+            self.first_t_ns = t_ns;
             // A continued recording has them from the earlier file.
             let once = !self.continued;
             let static_scene = (once && ch.contains(Channels::SCENE))
@@ -1027,6 +1081,11 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
             contact_force: copy(wants(&[Channel::Contacts]), &f.contact_force),
             chain_torque: copy(wants(&[Channel::Sprockets]), &f.chain_torque),
             segments: Vec::new(),
+            centers_m: if self.cosim.is_some() {
+                s.model.sprockets.iter().map(|s| s.center_m).collect()
+            } else {
+                Vec::new()
+            },
             // The scene's guides are the first shoes; no NaN is written.
             shoes: if ch.contains(Channels::GUIDES) {
                 f.shoes

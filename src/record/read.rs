@@ -32,7 +32,7 @@ use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::path::Path;
 
-use foxglove::schemas::PointCloud;
+use foxglove::schemas::{FrameTransforms, PointCloud};
 use prost::Message as _;
 
 use super::Channel;
@@ -258,6 +258,21 @@ fn decode_segments(buf: &[u8]) -> Result<SegmentsMsg, String> {
 }
 
 /// `foxglove.PointCloud` of f32 x, y: the roller centres.
+/// The sprocket frames' translations (`sprocket1`, ... in order), m.
+fn decode_centers(buf: &[u8], sprockets: usize) -> Result<Vec<[f64; 2]>, String> {
+    let tf = FrameTransforms::decode(buf).map_err(|e| e.to_string())?;
+    Ok((0..sprockets)
+        .map(|k| {
+            let frame = super::visual::sprocket_frame(k);
+            tf.transforms
+                .iter()
+                .find(|t| t.child_frame_id == frame)
+                .and_then(|t| t.translation.as_ref())
+                .map_or([f64::NAN; 2], |v| [v.x, v.y])
+        })
+        .collect())
+}
+
 fn decode_cloud(buf: &[u8]) -> Result<Vec<[f64; 2]>, String> {
     let cloud = PointCloud::decode(buf).map_err(|e| e.to_string())?;
     let stride = cloud.point_stride as usize;
@@ -305,6 +320,9 @@ pub struct RecordedSample {
     pub link_force_n: Option<Vec<f64>>,
     /// Every roller's contact force, N, and centre, m (`/contacts` and `/rollers` recorded).
     pub contacts: Option<(Vec<f64>, Vec<[f64; 2]>)>,
+    /// Each sprocket's centre, m, from `/tf` (empty where it was not
+    /// recorded at this sample's time).
+    pub sprocket_centers_m: Vec<[f64; 2]>,
 }
 
 /// A recording read back.
@@ -625,7 +643,15 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         } else {
             None
         };
+        let tf_topic = Channel::Transforms.topic();
+        let sprocket_centers_m = get(tf_topic)
+            .get(&t_ns)
+            .map(|d| decode_centers(d, n_spr))
+            .transpose()
+            .map_err(|e| bad(tf_topic, t_ns, e))?
+            .unwrap_or_default();
         samples.push(RecordedSample {
+            sprocket_centers_m,
             t_s,
             segment_force_n: force,
             transverse_m: transverse,

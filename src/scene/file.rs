@@ -10,6 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use super::excitation::{LoadHarmonicFile, LoadTableFile, SpeedHarmonicFile};
 use super::governor::GovernorFile;
+use super::threads::ThreadsFile;
 
 /// A whole scene file (TOML).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -224,6 +225,10 @@ pub struct SolverFile {
     /// its default, derived from the chain.
     #[serde(default)]
     pub limits: LimitsFile,
+    /// Threads stepping the drive: 1, 2 or `"auto"` (the default: two from
+    /// [`super::AUTO_MIN_ROLLERS`] rollers on a machine with two cores).
+    #[serde(default, skip_serializing_if = "ThreadsFile::is_auto")]
+    pub threads: ThreadsFile,
 }
 
 /// `solver.dt_s` as written: a number of seconds or the word `"auto"`.
@@ -274,6 +279,7 @@ impl Default for SolverFile {
             tolerance: default_tolerance(),
             duration_s: default_duration(),
             limits: LimitsFile::default(),
+            threads: ThreadsFile::default(),
         }
     }
 }

@@ -25,6 +25,7 @@ mod overrides;
 mod run_up;
 mod stability;
 mod tensioners;
+mod threads;
 mod types;
 mod validate;
 
@@ -52,6 +53,7 @@ pub use tensioners::{
     DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner,
     STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner, TensionerFile, TensionerKind,
 };
+pub use threads::{AUTO_MIN_ROLLERS, Threads, ThreadsFile};
 pub use types::{
     Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,
     RunUp, Solver, SpeedLaw, Sprocket,

@@ -222,6 +222,8 @@ pub struct Solver {
     pub tolerance: f64,
     /// Simulated time, s.
     pub duration_s: f64,
+    /// Threads stepping the drive (`solver.threads`).
+    pub threads: super::Threads,
 }
 
 /// Validated blow-up limits (`[solver.limits]`, docs/model.md "Blow-up

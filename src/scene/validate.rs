@@ -612,6 +612,10 @@ fn check_solver(
         tolerance,
         duration_s: c.non_negative("solver.duration_s", f.duration_s),
         limits: check_limits(c, &f.limits, chain),
+        threads: super::Threads::from_file(&f.threads).unwrap_or_else(|e| {
+            c.fail("solver.threads", e);
+            super::Threads::Auto
+        }),
     }
 }
 

@@ -11,10 +11,12 @@ mod blow_up;
 pub mod checkpoint;
 mod energy;
 mod equilibrium;
+mod fanout;
 mod feasibility;
 mod fit;
 pub mod integrate;
 mod newton;
+pub mod parallel;
 mod sample_rate;
 mod stepper;
 
@@ -24,6 +26,7 @@ pub use equilibrium::{
     BeyondSeatingArc, EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual,
     free_strand_tension, relax, settle_rest_length,
 };
+pub use fanout::Fanout;
 pub use fit::{
     FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
     needed_pitches_of,
@@ -54,6 +57,8 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
         model,
         scene.chain.rollers,
     );
+    // The roller loops on two threads where the setting and size say so.
+    forces.set_fork(Some(Box::new(parallel::Split::new(scene.solver.threads))));
     if let Some(joints) = scene.chain.joint_friction {
         forces.add(Box::new(JointFriction::new(joints, scene.chain.rollers)));
     }

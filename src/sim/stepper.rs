@@ -5,7 +5,7 @@
 //! chain's moment plus their load; the driver follows its speed law, sampled
 //! at the step's midpoint so that a ramp's angle is integrated exactly.
 
-use crate::forces::{ForceGenerator, Forces};
+use crate::forces::{ForceGenerator, Forces, Halves, chunk};
 use crate::model::{DriveModel, DriveState};
 
 /// Extra viscous damping used only while relaxing to static equilibrium:
@@ -40,24 +40,42 @@ pub fn symplectic_euler(
     dt_s: f64,
     relax: Option<Relaxation>,
 ) {
-    let h = dt_s / model.roller_mass_kg;
+    let h_kick = dt_s / model.roller_mass_kg;
     let scale = relax.map_or(1.0, |r| 1.0 / (1.0 + dt_s * r.rate_per_s));
-    kick_drift(
-        &mut state.vx,
-        &mut state.x,
-        &forces.output().fx,
-        h,
-        dt_s,
-        scale,
-    );
-    kick_drift(
-        &mut state.vy,
-        &mut state.y,
-        &forces.output().fy,
-        h,
-        dt_s,
-        scale,
-    );
+    let n = state.rollers();
+    let (fx, fy) = (&forces.output().fx, &forces.output().fy);
+    if let Some(fork) = forces.fork_for(n) {
+        // The rollers in two halves on two threads: each roller's update
+        // is its own, so the bits are those of one thread.
+        let (vx, x) = (Halves::new(&mut state.vx), Halves::new(&mut state.x));
+        let (vy, y) = (Halves::new(&mut state.vy), Halves::new(&mut state.y));
+        fork.both(&|h| {
+            let (lo, hi) = chunk(n, h);
+            // SAFETY: the halves take disjoint ranges of the state's
+            // vectors, borrowed for the whole `both`.
+            unsafe {
+                kick_drift(
+                    vx.range(lo, hi),
+                    x.range(lo, hi),
+                    &fx[lo..hi],
+                    h_kick,
+                    dt_s,
+                    scale,
+                );
+                kick_drift(
+                    vy.range(lo, hi),
+                    y.range(lo, hi),
+                    &fy[lo..hi],
+                    h_kick,
+                    dt_s,
+                    scale,
+                );
+            }
+        });
+    } else {
+        kick_drift(&mut state.vx, &mut state.x, fx, h_kick, dt_s, scale);
+        kick_drift(&mut state.vy, &mut state.y, fy, h_kick, dt_s, scale);
+    }
     for (s, sp) in model.sprockets.iter().enumerate() {
         // A torque-driven driver is held as the kinematic one while the
         // drive relaxes.

@@ -2,7 +2,7 @@
 //! bodies, motors and loads on mounted bodies.
 
 use approx::{abs_diff_eq, assert_abs_diff_eq};
-use chaindrive::cosim::ChainDrive;
+use chaindrive::cosim::{ChainDrive, Coupling};
 use chaindrive::forces::Culling;
 use chaindrive::scene::Scene;
 use chaindrive::sim::Simulation;
@@ -84,19 +84,21 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
         drive.step_world(&mut w, &(), &()).expect("frame");
         alone
             .run(
-                drive.state.t_s,
+                drive.state().t_s,
                 1_000_000,
                 &mut chaindrive::sim::NoObserver,
                 None,
             )
             .expect("run");
-        forces_cosim.push(drive.forces.output().link_force.clone());
+        forces_cosim.push(drive.forces().output().link_force.clone());
         forces_alone.push(alone.forces.output().link_force.clone());
     }
     // Same substeps, same forces: the chain evolves as it does standalone.
-    assert_abs_diff_eq!(drive.state.t_s, 1.5, epsilon = scene.solver().dt_s);
-    let worst = (0..drive.state.rollers())
-        .map(|i| (drive.state.x[i] - alone.state.x[i]).hypot(drive.state.y[i] - alone.state.y[i]))
+    assert_abs_diff_eq!(drive.state().t_s, 1.5, epsilon = scene.solver().dt_s);
+    let worst = (0..drive.state().rollers())
+        .map(|i| {
+            (drive.state().x[i] - alone.state.x[i]).hypot(drive.state().y[i] - alone.state.y[i])
+        })
         .fold(0.0, f64::max);
     assert!(worst < 1e-9, "{worst:e}");
     // Segment-level: mean and peak link force over the last 30 frames within 1%.
@@ -113,9 +115,9 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
         "{a:?} vs {b:?}"
     );
     // The rapier bodies follow the chain.
-    let p = w.bodies[drive.rollers[7]].translation();
-    assert_abs_diff_eq!(p.x, drive.state.x[7], epsilon = 1e-9);
-    assert_abs_diff_eq!(p.y, drive.state.y[7], epsilon = 1e-9);
+    let p = w.bodies[drive.roller_bodies()[7]].translation();
+    assert_abs_diff_eq!(p.x, drive.state().x[7], epsilon = 1e-9);
+    assert_abs_diff_eq!(p.y, drive.state().y[7], epsilon = 1e-9);
 }
 
 #[test]
@@ -166,7 +168,7 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
         if frame >= 60 {
             // Strand 1 runs along the bottom from sprocket 1 to 2, strand 2 back on top.
             let seg =
-                crate::common::strand_means(&drive.model, &drive.state, drive.forces.output());
+                crate::common::strand_means(drive.model(), drive.state(), drive.forces().output());
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
@@ -174,7 +176,7 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
             }
         }
     }
-    let r = drive.model.sprockets[0].pitch_radius_m;
+    let r = drive.model().sprockets[0].pitch_radius_m;
     let diff = (upper - lower) / n;
     // Motor CCW: it pulls the upper strand (leaving the tail) tight.
     assert!(
@@ -190,7 +192,7 @@ fn box_on_the_upper_strand_moves_at_chain_speed() {
     let mut w = world();
     let mut drive =
         ChainDrive::insert(&scene, &[], &mut w.bodies, &mut w.colliders).expect("drive");
-    let r = drive.model.sprockets[0].pitch_radius_m;
+    let r = drive.model().sprockets[0].pitch_radius_m;
     let top = r + 0.00397;
     // A 0.1 kg box near the tail; the upper strand carries it towards the driver.
     let bx = w
@@ -233,9 +235,9 @@ fn motor_spin_up_is_consistent_with_the_chain_reaction() {
         drive.step_world(&mut w, &(), &()).expect("frame");
     }
     let t = frames as f64 / 60.0;
-    let alpha = drive.state.omega[0] / t;
+    let alpha = drive.state().omega[0] / t;
     // Rigid-chain estimate: J_eff = J1 + J2 (equal sprockets) + m_chain R².
-    let r = drive.model.sprockets[0].pitch_radius_m;
+    let r = drive.model().sprockets[0].pitch_radius_m;
     let j_eff = 0.01 + 0.01 + 100.0 * 0.02 * r * r;
     let expected = torque / j_eff;
     assert!(
@@ -244,7 +246,8 @@ fn motor_spin_up_is_consistent_with_the_chain_reaction() {
     );
     // And the body the user sees turns with the chain's sprocket.
     assert!(
-        (w.bodies[motor].angvel() - drive.state.omega[0]).abs() < 0.05 * drive.state.omega[0].abs()
+        (w.bodies[motor].angvel() - drive.state().omega[0]).abs()
+            < 0.05 * drive.state().omega[0].abs()
     );
 }
 
@@ -259,7 +262,7 @@ const CENTRES_M: f64 = 1.016;
 
 /// The mean link force over the upper strand's links well inside the span, N.
 fn upper_strand_tension(drive: &ChainDrive, top: f64) -> f64 {
-    let s = &drive.state;
+    let s = drive.state();
     let n = s.rollers();
     let links: Vec<f64> = (0..n)
         .filter(|&i| {
@@ -268,7 +271,7 @@ fn upper_strand_tension(drive: &ChainDrive, top: f64) -> f64 {
                 |k: usize| s.x[k] > 0.15 && s.x[k] < CENTRES_M - 0.15 && s.y[k] > 0.5 * top;
             inside(i) && inside(j)
         })
-        .map(|i| drive.forces.output().link_force[i])
+        .map(|i| drive.forces().output().link_force[i])
         .collect();
     links.iter().sum::<f64>() / links.len().max(1) as f64
 }
@@ -287,8 +290,8 @@ fn a_fixed_guide_deflects_a_tensioned_strand_and_carries_2_t_sin_theta() {
         // The layout seats a roller half a pitch past each sprocket's top:
         // the upper strand runs straight, at y0, from x = P/2 to C − P/2
         // (39 links), and its middle link straddles x = C/2.
-        let s = &drive.state;
-        let y0 = drive.model.sprockets[0].pitch_radius_m * (std::f64::consts::PI / 20.0).cos();
+        let s = drive.state();
+        let y0 = drive.model().sprockets[0].pitch_radius_m * (std::f64::consts::PI / 20.0).cos();
         let roller_at = |x: f64| {
             (0..s.rollers()).find(|&i| {
                 abs_diff_eq!(s.x[i], x, epsilon = 1e-4) && abs_diff_eq!(s.y[i], y0, epsilon = 1e-4)
@@ -340,7 +343,7 @@ fn a_fixed_guide_deflects_a_tensioned_strand_and_carries_2_t_sin_theta() {
             }
         }
         // Deflection of every upper-strand roller, by its distance from the strand's nearer end.
-        let s = &drive.state;
+        let s = drive.state();
         for i in 0..s.rollers() {
             if s.y[i] > 0.5 * y0 && s.x[i] > ends[0] - 1e-3 && s.x[i] < ends[1] + 1e-3 {
                 let from_end = (s.x[i] - ends[0]).min(ends[1] - s.x[i]).max(0.0);
@@ -408,8 +411,13 @@ fn box_on_conveyor(
     let mut w = world();
     let mut drive =
         ChainDrive::insert(&scene, &[], &mut w.bodies, &mut w.colliders).expect("drive");
-    drive.coupling.carry_dynamic = carry;
-    let top = drive.model.sprockets[0].pitch_radius_m + ROLLER_RADIUS_M;
+    drive
+        .set_coupling(Coupling {
+            carry_dynamic: carry,
+            ..*drive.coupling()
+        })
+        .expect("coupling");
+    let top = drive.model().sprockets[0].pitch_radius_m + ROLLER_RADIUS_M;
     let bx = w.bodies.insert(
         RigidBodyBuilder::dynamic()
             .translation(Vector::new(x_m, top + 0.0255))
@@ -527,7 +535,7 @@ fn a_box_held_by_a_stop_drags_on_the_sliding_chain_with_mu_m_g() {
     let mut w = world();
     let mut drive =
         ChainDrive::insert(&scene, &[], &mut w.bodies, &mut w.colliders).expect("drive");
-    let y0 = drive.model.sprockets[0].pitch_radius_m * (std::f64::consts::PI / 20.0).cos();
+    let y0 = drive.model().sprockets[0].pitch_radius_m * (std::f64::consts::PI / 20.0).cos();
     let frictionless = |c: ColliderBuilder| {
         c.friction(0.0)
             .friction_combine_rule(CoefficientCombineRule::Min)
@@ -621,13 +629,13 @@ fn a_sprocket_on_a_swinging_arm_follows_it_through_the_frame() {
         let mut drive =
             ChainDrive::insert(&scene, &[None, Some(arm)], &mut w.bodies, &mut w.colliders)
                 .expect("drive");
-        drive.forces.contact.culling = cached.then_some(Culling {
+        drive.set_culling(cached.then_some(Culling {
             // No margin beyond the fastest roller: only the mount's own
             // speed in the bound keeps the kept sets right.
             speed_factor: 1.0,
             speed_floor_m_s: 0.0,
             max_skip_s: 0.1,
-        });
+        }));
         let dt = w.integration_parameters.dt;
         let mut swing = 0.0f64;
         for frame in 0..60 {
@@ -636,13 +644,13 @@ fn a_sprocket_on_a_swinging_arm_follows_it_through_the_frame() {
             w.bodies[arm].set_linvel(Vector::new(0.0, v), true);
             // A kinematic mount turns its sprocket: at the driver's speed
             // (equal tooth counts), the law's mean over the coming frame.
-            let law = drive.model.sprockets[0].speed_law.expect("driver");
+            let law = drive.model().sprockets[0].speed_law.expect("driver");
             w.bodies[arm].set_angvel(0.5 * (law.speed_at(t) + law.speed_at(t + dt)), true);
             drive.step_world(&mut w, &(), &()).expect("frame");
             swing = swing.max(w.bodies[arm].translation().y.abs());
         }
         assert!(swing > 0.8 * AMPLITUDE_M, "the arm swung {swing} m");
-        drive.state
+        drive.state().clone()
     };
     assert_eq!(run(true), run(false));
 }

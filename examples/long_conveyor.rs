@@ -1,0 +1,93 @@
+//! A 10,000-roller conveyor in a rapier world stepped at 60 Hz: the paper's
+//! chain (88.9 mm pitch, 889 m of it) round two sprockets, the real tooth
+//! profile, driven at 12 rpm (the strand at 1.1 m/s) and substepped at
+//! 50 µs, below the links' 57 µs stability limit (benches/README.md). Prints
+//! the time to insert the drive, the wall time per frame and the real-time
+//! factor, and where a frame's time goes.
+//!
+//! ```text
+//! cargo run --release --example long_conveyor [FRAMES] [ROLLERS]
+//! ```
+//!
+//! The drive splits its rollers over two threads when it is large enough
+//! (`[solver] threads`, default `"auto"`); `CHAINDRIVE_THREADS=1` in the
+//! environment runs it on one thread for comparison. The rollers no
+//! collider can reach are parked out of rapier's step
+//! (`ChainDrive::set_parking`); `CHAINDRIVE_PARKING=0` keeps every roller
+//! body in it.
+
+use chaindrive::cosim::ChainDrive;
+use chaindrive::scene::generate::DriveSpec;
+use chaindrive::scene::{ProfileKind, StepFile, Threads, ThreadsFile};
+use rapier2d_f64::prelude::*;
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    // Frames to run (first argument), 2 s by default; rollers (second).
+    let frames: u32 = args.next().and_then(|a| a.parse().ok()).unwrap_or(120);
+    let rollers: usize = args.next().and_then(|a| a.parse().ok()).unwrap_or(10_000);
+    let mut spec = DriveSpec::new(rollers, 2)?;
+    spec.name = format!("conveyor, {rollers} rollers");
+    spec.profile = ProfileKind::Real;
+    spec.speed_rpm = 12.0;
+    spec.ramp_s = 0.5;
+    spec.solver.dt_s = StepFile::Seconds(50e-6);
+    // A chain this long has modes slower than any affordable relaxation:
+    // 0.5 s leaves it within 1e-3 of the pretension.
+    spec.equilibrium.max_relax_s = 0.5;
+    if let Ok(t) = std::env::var("CHAINDRIVE_THREADS") {
+        spec.solver.threads = ThreadsFile::from(t.parse::<Threads>()?);
+    }
+    let scene = spec.scene()?;
+
+    let mut world = PhysicsWorld::default(); // 60 Hz
+    let started = std::time::Instant::now();
+    let mut drive = ChainDrive::insert(&scene, &[], &mut world.bodies, &mut world.colliders)?;
+    let insert_s = started.elapsed().as_secs_f64();
+    // Rollers no collider of the world can reach leave rapier's step
+    // (`ChainDrive::set_parking`); `CHAINDRIVE_PARKING=0` keeps them all in.
+    drive.set_parking(std::env::var("CHAINDRIVE_PARKING").map_or(true, |v| v != "0"));
+    println!(
+        "{rollers} rollers, 2 sprockets, dt {} µs ({} substeps per 1/60 s frame), {} thread(s): \
+         inserted in {insert_s:.2} s",
+        scene.solver().dt_s * 1e6,
+        ((1.0 / 60.0) / scene.solver().dt_s).round(),
+        scene.solver().threads.count(rollers),
+    );
+
+    let started = std::time::Instant::now();
+    for _ in 0..frames {
+        drive.step_world(&mut world, &(), &())?;
+    }
+    let wall = started.elapsed().as_secs_f64();
+    let frame_s = wall / f64::from(frames);
+    let steps = drive.state().t_s / scene.solver().dt_s;
+    println!(
+        "{frames} frames of 1/60 s: {:.2} ms wall per frame, real-time factor {:.2} \
+         (simulated / wall)",
+        frame_s * 1e3,
+        (1.0 / 60.0) / frame_s
+    );
+    let t = drive.stage_times();
+    let per = |s: f64| s / t.frames.max(1) as f64 * 1e3;
+    println!(
+        "per frame: chain substeps {:.2} ms ({:.2} ns per roller-step), rapier step {:.2} ms, \
+         sync {:.2} ms, collider search {:.2} ms",
+        per(t.substeps_s),
+        t.substeps_s / (steps.max(1.0) * rollers as f64) * 1e9,
+        per(t.world_s),
+        per(t.sync_s),
+        per(t.search_s),
+    );
+    println!(
+        "parking {}: {} of {rollers} roller bodies parked",
+        if drive.parking() { "on" } else { "off" },
+        drive.parked_rollers()
+    );
+    println!(
+        "driver at {:.3} rad/s, tail sprocket at {:.3} rad/s",
+        drive.state().omega[0],
+        drive.state().omega[1]
+    );
+    Ok(())
+}

@@ -1,0 +1,52 @@
+//! Observers of a co-simulated drive, and its recording.
+//!
+//! An observer ([`crate::sim::Observer`]; several through
+//! [`crate::sim::Fanout`]) sees a co-simulated drive **once per world
+//! frame**, at the frame's end (the chain's state after its last substep):
+//! [`ChainDrive::step_world_observed`] calls its [`Observer::sample`] after
+//! the frame; [`Observer::step`] is not called (the substeps' states are
+//! not kept). [`ChainDrive::observe`] hands it the current state at any
+//! time (at insertion, for a recording's first sample).
+
+use rapier2d_f64::prelude::*;
+
+use super::{ChainDrive, CosimError};
+use crate::sim::Observer;
+
+impl ChainDrive {
+    /// Hands `observer` the drive's current sample ([`Self::sample`]) once.
+    pub fn observe(&self, observer: &mut dyn Observer) {
+        observer.sample(&self.sample());
+    }
+
+    /// One frame of `world` ([`Self::step_world`]), then `observer`'s
+    /// [`Observer::sample`] with the drive at the frame's end. On an error
+    /// the observer is not called.
+    pub fn step_world_observed(
+        &mut self,
+        world: &mut PhysicsWorld,
+        user_hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+        observer: &mut dyn Observer,
+    ) -> Result<(), CosimError> {
+        self.step_world(world, user_hooks, events)?;
+        self.observe(observer);
+        Ok(())
+    }
+
+    /// A recorder of this drive's run in a world stepped at `frame_dt_s`
+    /// ([`crate::record::Recorder::co_simulated`]): feed it with
+    /// [`Self::observe`] at insertion and [`Self::step_world_observed`] per
+    /// frame; its metadata gives the frame step and, once finished, the
+    /// run's real duration; mounted sprockets are drawn where their bodies
+    /// are at each frame. Set `options.rate_hz` to the frame rate.
+    #[cfg(feature = "record")]
+    pub fn recorder<W: std::io::Write + std::io::Seek + Send + 'static>(
+        &self,
+        writer: W,
+        options: &crate::record::RecordOptions,
+        frame_dt_s: f64,
+    ) -> Result<crate::record::Recorder<W>, crate::record::RecordError> {
+        crate::record::Recorder::co_simulated(writer, &self.scene, options, frame_dt_s)
+    }
+}

@@ -1,0 +1,273 @@
+//! Several drives in one world: [`DriveSet`].
+//!
+//! Two [`ChainDrive`]s stepped one after the other in the same world do not
+//! know each other: each would take the other's rollers for the user's
+//! kinematic bodies and its mounted motor for a box to carry, and a box near
+//! both chains would be carried twice (the second drive saving the gravity
+//! scale the first had zeroed for rapier's step, so the box floats off). A
+//! set steps them as one:
+//!
+//! - each drive leaves the others' colliders and mounted bodies alone;
+//! - a body near several chains is carried by one drive in a frame — the
+//!   one with most rollers near it (on a tie, the drive whose first roller
+//!   body has the lowest handle; the set's order still changes the result,
+//!   see docs/architecture.md, "Several drives"); the
+//!   other drives leave it alone in that frame (their rollers pass through
+//!   it); its gravity, damping and user force are saved once, by that drive,
+//!   and restored once;
+//! - one [`SetHooks`] keeps rapier's solver out of every pair of two drives'
+//!   colliders and of every roller–carried-body pair.
+//!
+//! Not coupled: two drives' own bodies (their rollers and sprockets pass
+//! through each other), and a body with the rollers of a drive that does
+//! not carry it in that frame.
+
+use std::sync::atomic::Ordering;
+use std::time::Instant;
+
+use rapier2d_f64::prelude::*;
+
+use super::{ChainDrive, CosimError, DynHooks, FrameStart, Others};
+
+/// Several chain drives stepped together in one rapier world.
+#[derive(Default)]
+pub struct DriveSet {
+    drives: Vec<ChainDrive>,
+    /// Scratch: the frame's starts.
+    starts: Vec<FrameStart>,
+}
+
+impl DriveSet {
+    /// An empty set.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Adds a drive (inserted into the same world); returns its index.
+    pub fn push(&mut self, drive: ChainDrive) -> usize {
+        self.drives.push(drive);
+        self.drives.len() - 1
+    }
+
+    /// The drives, in the order they were added.
+    pub fn drives(&self) -> &[ChainDrive] {
+        &self.drives
+    }
+
+    /// The drives, to set loads or speeds.
+    pub fn drives_mut(&mut self) -> &mut [ChainDrive] {
+        &mut self.drives
+    }
+
+    /// Takes the drives back.
+    pub fn into_drives(self) -> Vec<ChainDrive> {
+        self.drives
+    }
+
+    /// Whether a collider belongs to one of the drives.
+    pub fn owns_collider(&self, h: ColliderHandle) -> bool {
+        self.drives.iter().any(|d| d.owns_collider(h))
+    }
+
+    /// Whether one of the drives carried `body` this frame.
+    pub fn carries(&self, body: RigidBodyHandle) -> bool {
+        self.drives.iter().any(|d| d.carries(body))
+    }
+
+    /// Hooks for the user's step: pairs of the drives' colliders and
+    /// roller–carried-body pairs are filtered out, every other pair goes to `user`.
+    pub fn hooks<'a, H: PhysicsHooks>(&'a self, user: &'a H) -> SetHooks<'a, H> {
+        SetHooks { set: self, user }
+    }
+
+    /// [`ChainDrive::read_joints`] for every drive.
+    pub fn read_joints(&mut self, bodies: &RigidBodySet, joints: &ImpulseJointSet) {
+        for d in &mut self.drives {
+            d.read_joints(bodies, joints);
+        }
+    }
+
+    /// [`ChainDrive::joint_motors_off`] for every drive: call right before
+    /// the world's step when stepping by hand ([`Self::step_world`] does).
+    pub fn joint_motors_off(&mut self, joints: &mut ImpulseJointSet) {
+        for d in &mut self.drives {
+            d.joint_motors_off(joints);
+        }
+    }
+
+    /// [`ChainDrive::joint_motors_on`] for every drive: call right after
+    /// the world's step.
+    pub fn joint_motors_on(&mut self, joints: &mut ImpulseJointSet) {
+        for d in &mut self.drives {
+            d.joint_motors_on(joints);
+        }
+    }
+
+    /// [`ChainDrive::before_step`] for the set: every drive finds its
+    /// bodies, each body near several chains is given to one drive, then
+    /// every drive runs its substeps. An error names the drive (`drives[i]`).
+    pub fn before_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        gravity: Vector,
+        dt_s: f64,
+    ) -> Result<(), CosimError> {
+        self.starts.clear();
+        for i in 0..self.drives.len() {
+            let (before, rest) = self.drives.split_at_mut(i);
+            let Some((drive, after)) = rest.split_first_mut() else {
+                continue;
+            };
+            let others = |f: &dyn Fn(&ChainDrive) -> bool| before.iter().chain(after.iter()).any(f);
+            let owns = |h: ColliderHandle| others(&|d| d.owns_collider(h));
+            let mounted = |b: RigidBodyHandle| others(&|d| d.holds_body(b));
+            let start = drive
+                .begin_frame(
+                    bodies,
+                    colliders,
+                    gravity,
+                    dt_s,
+                    Some(&Others {
+                        owns: &owns,
+                        mounted: &mounted,
+                    }),
+                )
+                .map_err(|e| in_drive(i, e))?;
+            self.starts.push(start);
+        }
+        self.share_bodies();
+        for (i, (drive, start)) in self.drives.iter_mut().zip(&self.starts).enumerate() {
+            drive
+                .run_frame(bodies, dt_s, *start)
+                .map_err(|e| in_drive(i, e))?;
+        }
+        Ok(())
+    }
+
+    /// Gives each body carried by several drives to one of them.
+    fn share_bodies(&mut self) {
+        let key = |d: &ChainDrive| d.rollers.first().map(|h| h.into_raw_parts());
+        let mut claims: Vec<(RigidBodyHandle, usize, usize)> = Vec::new();
+        for (i, d) in self.drives.iter().enumerate() {
+            claims.extend(d.contacts.carried_pairs().map(|(b, n)| (b, n, i)));
+        }
+        for &(body, _, _) in &claims {
+            let keeper = claims
+                .iter()
+                .filter(|c| c.0 == body)
+                .max_by(|x, y| {
+                    x.1.cmp(&y.1).then_with(|| {
+                        // Lower handle wins a tie.
+                        key(&self.drives[y.2]).cmp(&key(&self.drives[x.2]))
+                    })
+                })
+                .map(|c| c.2);
+            for (i, d) in self.drives.iter_mut().enumerate() {
+                if Some(i) != keeper {
+                    d.contacts.release(body);
+                }
+            }
+        }
+    }
+
+    /// [`ChainDrive::after_step`] for every drive.
+    pub fn after_step(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        narrow_phase: &NarrowPhase,
+        dt_s: f64,
+    ) -> Result<(), CosimError> {
+        for (i, d) in self.drives.iter_mut().enumerate() {
+            d.after_step(bodies, narrow_phase, dt_s)
+                .map_err(|e| in_drive(i, e))?;
+        }
+        Ok(())
+    }
+
+    /// One frame of a [`PhysicsWorld`] with the user's hooks and events.
+    pub fn step_world(
+        &mut self,
+        world: &mut PhysicsWorld,
+        user_hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+    ) -> Result<(), CosimError> {
+        let dt = world.integration_parameters.dt;
+        self.read_joints(&world.bodies, &world.impulse_joints);
+        self.before_step(&mut world.bodies, &world.colliders, world.gravity, dt)?;
+        self.joint_motors_off(&mut world.impulse_joints);
+        let started = Instant::now();
+        world.step_with_events(&self.hooks(&DynHooks(user_hooks)), events);
+        let share = started.elapsed().as_secs_f64() / self.drives.len().max(1) as f64;
+        self.joint_motors_on(&mut world.impulse_joints);
+        for d in &mut self.drives {
+            d.stage_times.world_s += share;
+        }
+        self.after_step(&mut world.bodies, &world.narrow_phase, dt)
+    }
+}
+
+/// `e` from drive `i` of a set.
+fn in_drive(i: usize, e: CosimError) -> CosimError {
+    match e {
+        CosimError::Input { field, message } => CosimError::Input {
+            field: format!("drives[{i}].{field}"),
+            message,
+        },
+        CosimError::World(m) => CosimError::World(format!("drives[{i}]: {m}")),
+        other => other,
+    }
+}
+
+/// Keeps rapier's solver out of the drives' own pairs and their rollers'
+/// pairs with carried bodies, and defers everything else to the user's hooks.
+pub struct SetHooks<'a, H: PhysicsHooks> {
+    set: &'a DriveSet,
+    user: &'a H,
+}
+
+impl<H: PhysicsHooks> PhysicsHooks for SetHooks<'_, H> {
+    fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
+        for d in &self.set.drives {
+            d.hook_calls.fetch_add(1, Ordering::Relaxed);
+        }
+        let set = self.set;
+        let roller = |h: ColliderHandle| set.drives.iter().any(|d| d.is_roller_collider(h));
+        let carried = |b: Option<RigidBodyHandle>| b.is_some_and(|b| set.carries(b));
+        if set.owns_collider(c.collider1) && set.owns_collider(c.collider2) {
+            None
+        } else if (roller(c.collider1) && carried(c.rigid_body2))
+            || (roller(c.collider2) && carried(c.rigid_body1))
+        {
+            Some(SolverFlags::empty())
+        } else if self.needs_user(c) {
+            self.user.filter_contact_pair(c)
+        } else {
+            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
+        }
+    }
+
+    fn filter_intersection_pair(&self, c: &PairFilterContext) -> bool {
+        !(self.set.owns_collider(c.collider1) && self.set.owns_collider(c.collider2))
+            && (!self.needs_user(c) || self.user.filter_intersection_pair(c))
+    }
+
+    fn modify_solver_contacts(&self, c: &mut ContactModificationContext) {
+        self.user.modify_solver_contacts(c)
+    }
+}
+
+impl<H: PhysicsHooks> SetHooks<'_, H> {
+    /// Whether one of the pair's colliders, not the drives', asked for the
+    /// user's filter.
+    fn needs_user(&self, c: &PairFilterContext) -> bool {
+        let asks = |h: ColliderHandle| {
+            !self.set.owns_collider(h)
+                && c.colliders.get(h).is_some_and(|col| {
+                    col.active_hooks()
+                        .contains(ActiveHooks::FILTER_CONTACT_PAIRS)
+                })
+        };
+        asks(c.collider1) || asks(c.collider2)
+    }
+}
