@@ -109,7 +109,8 @@
 //! `set_driver_torque`, `set_coupling`). Forces at the boundary are rapier's
 //! `Vector`. Observers ([`sim::Observer`], several through
 //! [`sim::Fanout`]) see the drive once per frame through
-//! `step_world_observed`; `drive.recorder(...)` records the run with its
+//! `step_world_observed`; `record::Recorder::co_simulated(writer,
+//! drive.scene(), ...)` records the run with its
 //! frame step, its real duration and mounted sprockets where their bodies
 //! are.
 //!

@@ -1,4 +1,5 @@
-//! Observers of a co-simulated drive, and its recording.
+//! Observers of a co-simulated drive (a recording is one:
+//! [`crate::record::Recorder::co_simulated`] with the drive's scene).
 //!
 //! An observer ([`crate::sim::Observer`]; several through
 //! [`crate::sim::Fanout`]) sees a co-simulated drive **once per world
@@ -32,21 +33,5 @@ impl ChainDrive {
         self.step_world(world, user_hooks, events)?;
         self.observe(observer);
         Ok(())
-    }
-
-    /// A recorder of this drive's run in a world stepped at `frame_dt_s`
-    /// ([`crate::record::Recorder::co_simulated`]): feed it with
-    /// [`Self::observe`] at insertion and [`Self::step_world_observed`] per
-    /// frame; its metadata gives the frame step and, once finished, the
-    /// run's real duration; mounted sprockets are drawn where their bodies
-    /// are at each frame. Set `options.rate_hz` to the frame rate.
-    #[cfg(feature = "record")]
-    pub fn recorder<W: std::io::Write + std::io::Seek + Send + 'static>(
-        &self,
-        writer: W,
-        options: &crate::record::RecordOptions,
-        frame_dt_s: f64,
-    ) -> Result<crate::record::Recorder<W>, crate::record::RecordError> {
-        crate::record::Recorder::co_simulated(writer, &self.scene, options, frame_dt_s)
     }
 }

@@ -195,7 +195,7 @@ fn a_recorded_co_simulation_states_its_real_duration_and_draws_a_moving_mount_wh
     // frame within one 10 µs substep of the world's, at most 0.04 m/s away:
     // under 1 µm). Before, every frame drew the tail at its first position.
     use chaindrive::record::read::read_recording_bytes;
-    use chaindrive::record::{RecordOptions, RunEnd};
+    use chaindrive::record::{RecordOptions, Recorder, RunEnd};
     use chaindrive::sim::{Fanout, Observer, Sample};
     use std::f64::consts::TAU;
     const AMPLITUDE_M: f64 = 0.003;
@@ -229,9 +229,13 @@ fn a_recorded_co_simulation_states_its_real_duration_and_draws_a_moving_mount_wh
         rate_hz: 1.0 / dt,
         ..RecordOptions::default()
     };
-    let mut recorder = drive
-        .recorder(std::io::Cursor::new(Vec::new()), &options, dt)
-        .expect("recorder");
+    let mut recorder = Recorder::co_simulated(
+        std::io::Cursor::new(Vec::new()),
+        drive.scene(),
+        &options,
+        dt,
+    )
+    .expect("recorder");
     let mut count = Count(0);
     let mut arm_y = vec![0.0];
     {
