@@ -10,13 +10,11 @@ use super::stepper::Relaxation;
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 
-/// A roller pulled beyond the circular profile's seating arc, where no
-/// force of that profile holds it (see the feasibility module): the drive
-/// has no smooth rest state with this profile.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error(
-    "roller {roller} is pulled {beyond_deg:.1}° beyond the seating arc of gap {gap} on sprocket \"{sprocket}\" ({outward_n:.3} N outward, {along_n:.3} N along the pitch circle): the circular profile holds a roller only on the half of its seating circle facing the sprocket's centre, so this drive has no smooth rest state with it (the rest state reached leaves {residual:.2e} of the pretension out of balance); the real tooth form holds it (profile = \"real\"), or another load moves the roller off the rim"
-)]
+/// A roller on the rim of the circular profile's seating arc, where no
+/// force of that profile holds it (see the feasibility module): pulled
+/// beyond the arc, or held on its edge where the contact force jumps to
+/// zero. The drive has no smooth rest state with this profile.
+#[derive(Clone, Debug, PartialEq)]
 pub struct BeyondSeatingArc {
     /// The roller.
     pub roller: usize,
@@ -24,15 +22,54 @@ pub struct BeyondSeatingArc {
     pub sprocket: String,
     /// The gap, as the profile numbers it.
     pub gap: u32,
-    /// Angle between the roller's pull and the arc's edge, degrees.
+    /// Pulled beyond the arc: the angle between the roller's pull and the
+    /// arc's edge; held on the edge: how far beyond the edge the roller's
+    /// offset from its seating centre points; degrees.
     pub beyond_deg: f64,
-    /// The pull's component radially outward, N.
+    /// The pull's component radially outward (negative: inward), N.
     pub outward_n: f64,
     /// Its component along the pitch circle, N.
     pub along_n: f64,
+    /// Held on the edge (pulled back towards the gap, not beyond it): how
+    /// far the roller's centre lies outside the seating circle, m. `None`:
+    /// pulled beyond the arc.
+    pub edge_depth_m: Option<f64>,
     /// Largest roller force at the rest state reached, relative to the pretension.
     pub residual: f64,
 }
+
+impl std::fmt::Display for BeyondSeatingArc {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let Self {
+            roller,
+            sprocket,
+            gap,
+            beyond_deg,
+            outward_n,
+            along_n,
+            residual,
+            ..
+        } = self;
+        match self.edge_depth_m {
+            None => write!(
+                f,
+                "roller {roller} is pulled {beyond_deg:.1}° beyond the seating arc of gap {gap} on sprocket \"{sprocket}\" ({outward_n:.3} N outward, {along_n:.3} N along the pitch circle)"
+            )?,
+            Some(depth_m) => write!(
+                f,
+                "roller {roller} is held on the edge of the seating arc of gap {gap} on sprocket \"{sprocket}\", {:.1} µm outside its seating circle and {beyond_deg:.2}° beyond the edge ({:.3} N inward, {along_n:.3} N along the pitch circle): one step inwards the seat pushes it with the contact's full force at that depth, one step out nothing does",
+                depth_m * 1e6,
+                -outward_n
+            )?,
+        }
+        write!(
+            f,
+            ": the circular profile holds a roller only on the half of its seating circle facing the sprocket's centre, so this drive has no smooth rest state with it (the rest state reached leaves {residual:.2e} of the pretension out of balance); the real tooth form holds it (profile = \"real\"), or another load moves the roller off the rim"
+        )
+    }
+}
+
+impl std::error::Error for BeyondSeatingArc {}
 
 /// Outcome of the static equilibrium.
 #[derive(Clone, Debug, PartialEq)]
@@ -462,6 +499,7 @@ fn beyond_seating_arc(
         beyond_deg: rim.beyond_deg,
         outward_n: rim.outward_n,
         along_n: rim.along_n,
+        edge_depth_m: rim.edge_depth_m,
         residual,
     })
 }
@@ -614,6 +652,7 @@ pub fn settle_rest_length(
             &settings,
             stop * scale,
             0.5 * REST_FORCE * scale,
+            !found,
         )?;
         last_speed = residual;
         let tension =
@@ -628,7 +667,12 @@ pub fn settle_rest_length(
             // A drive whose residual stops falling over further relaxations
             // (a roller chattering on a tooth) ends here too: its residual
             // says how far it is from equilibrium.
-            let stalled = further > 0 && !(now < 0.9 * further_residual);
+            // So does one whose relaxation at this rest length ran its
+            // course with a roller on a circular seating arc's rim: no
+            // further relaxation brings it to rest.
+            let stalled = further > 0
+                && (!(now < 0.9 * further_residual)
+                    || super::feasibility::rim_roller(model, state, forces).is_some());
             if settled || residual < settings.rest_speed_m_s || stalled || further >= MAX_FURTHER {
                 let beyond_seating_arc = if settled {
                     None

@@ -260,12 +260,20 @@ pub(crate) struct RimRoller {
     pub(crate) outward_n: f64,
     /// Its component along the pitch circle, N (magnitude).
     pub(crate) along_n: f64,
+    /// Where the roller sits on the arc's edge instead (pulled back towards
+    /// the gap, not beyond it): how far its centre lies outside the
+    /// seating circle, m.
+    pub(crate) edge_depth_m: Option<f64>,
 }
 
 /// Least angle, from the gap's bottom, of a roller's offset from its seating
 /// centre for the roller to count as on the seating arc's rim, rad (the rim
 /// lies at 90°).
 const RIM_OFFSET_RAD: f64 = 60.0 * std::f64::consts::PI / 180.0;
+
+/// Largest angle beyond the seating arc's edge (90° from the gap's bottom) of
+/// a roller's offset for the roller to count as held on the edge, rad.
+const EDGE_OFFSET_RAD: f64 = 10.0 * std::f64::consts::PI / 180.0;
 
 /// The roller on a circular-profile sprocket that is pulled hardest beyond
 /// its seating arc, if any.
@@ -280,8 +288,16 @@ const RIM_OFFSET_RAD: f64 = 60.0 * std::f64::consts::PI / 180.0;
 /// arc's edge, and no force of this profile can balance it: the roller rides
 /// on the rim, where the force jumps from K δⁿ to zero, and the drive has no
 /// smooth rest state. A roller counts when its offset has reached the wall
-/// (|e| ≥ ΔR/2) at least [`RIM_OFFSET_RAD`] from the gap's bottom. `forces`
-/// evaluated at `state`.
+/// (|e| ≥ ΔR/2) at least [`RIM_OFFSET_RAD`] from the gap's bottom.
+///
+/// Where no roller is pulled beyond an arc, a roller held on an arc's edge
+/// is named instead: its centre just beyond the edge (e·u ≥ 0, within
+/// [`EDGE_OFFSET_RAD`] of it) and outside the seating circle (|e| > ΔR),
+/// pulled back towards the gap. One step inwards the wall pushes it with
+/// K (|e| − ΔR)ⁿ, one step out nothing does: the force it needs lies on the
+/// jump, and the solve stalls there (found on a sagging conveyor whose
+/// strand leaves the tail from such a roller). `forces` evaluated at
+/// `state`.
 pub(crate) fn rim_roller(
     model: &DriveModel,
     state: &DriveState,
@@ -294,7 +310,8 @@ pub(crate) fn rim_roller(
     }
     let m = model.roller_mass_kg;
     let [gx, gy] = model.gravity_m_s2;
-    let mut worst: Option<RimRoller> = None;
+    // Rollers pulled beyond an arc, and rollers held on an arc's edge.
+    let (mut pulled, mut edge): (Option<RimRoller>, Option<RimRoller>) = (None, None);
     for i in 0..n {
         let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
         // The pull of the two links and the weight on roller i.
@@ -339,20 +356,37 @@ pub(crate) fn rim_roller(
             let f_local = [cos * f[0] + sin * f[1], -sin * f[0] + cos * f[1]];
             let outward = f_local[0] * u[0] + f_local[1] * u[1];
             let along = (f_local[0] * u[1] - f_local[1] * u[0]).abs();
-            if !(outward > 0.0) {
+            if outward > 0.0 {
+                if pulled.as_ref().is_none_or(|w| outward > w.outward_n) {
+                    pulled = Some(RimRoller {
+                        roller: i,
+                        sprocket: s,
+                        gap,
+                        beyond_deg: outward.atan2(along).to_degrees(),
+                        outward_n: outward,
+                        along_n: along,
+                        edge_depth_m: None,
+                    });
+                }
                 continue;
             }
-            if worst.as_ref().is_none_or(|w| outward > w.outward_n) {
-                worst = Some(RimRoller {
+            let beyond = offset_angle - 0.5 * std::f64::consts::PI;
+            let depth = e_len - c.clearance_m;
+            if (0.0..=EDGE_OFFSET_RAD).contains(&beyond)
+                && depth > 0.0
+                && edge.as_ref().is_none_or(|w| w.edge_depth_m < Some(depth))
+            {
+                edge = Some(RimRoller {
                     roller: i,
                     sprocket: s,
                     gap,
-                    beyond_deg: outward.atan2(along).to_degrees(),
+                    beyond_deg: beyond.to_degrees(),
                     outward_n: outward,
                     along_n: along,
+                    edge_depth_m: Some(depth),
                 });
             }
         }
     }
-    worst
+    pulled.or(edge)
 }

@@ -569,13 +569,19 @@ pub(crate) fn solve(
 
 /// Newton steps per solve.
 const MAX_ITERATIONS: usize = 40;
+/// Share of the relaxation's time spent where Newton stalls on a roller at a
+/// circular seating arc's rim.
+const RIM_RELAX_SHARE: f64 = 0.1;
 
 /// Brings the drive at its current rest length to equilibrium within
 /// `rest_force_n`: Newton from `state` (aiming at `newton_force_n`, at most
 /// `rest_force_n`); where Newton stalls, the dynamic relaxation
 /// ([`relax_until`]) from the point it reached, then Newton again from the
-/// relaxed state. Returns the residual roller speed of the relaxation (0
-/// when Newton alone converged).
+/// relaxed state. Where Newton stalls with a roller on a circular seating
+/// arc's rim ([`super::feasibility::rim_roller`]) while `searching` for the
+/// rest length, the relaxation takes a tenth of its time: it cannot come to
+/// rest there, and the search needs only its tension. Returns the residual roller speed of
+/// the relaxation (0 when Newton alone converged).
 pub(crate) fn settle(
     model: &DriveModel,
     state: &mut DriveState,
@@ -583,6 +589,7 @@ pub(crate) fn settle(
     settings: &RelaxSettings,
     rest_force_n: f64,
     newton_force_n: f64,
+    searching: bool,
 ) -> Result<f64, EquilibriumError> {
     let aim = newton_force_n.min(rest_force_n);
     if !applies(model, state) {
@@ -592,7 +599,19 @@ pub(crate) fn settle(
     if first.residual_n <= rest_force_n {
         return Ok(0.0);
     }
-    let speed = relax_until(model, state, forces, settings, Some(rest_force_n))?;
+    // A roller on a circular seating arc's rim stalls Newton and keeps the
+    // relaxation from ever coming to rest (no smooth rest state there):
+    // while the rest length is searched for, the relaxation then only moves
+    // the drive on, over a share of its time.
+    let settings = if searching && super::feasibility::rim_roller(model, state, forces).is_some() {
+        RelaxSettings {
+            max_time_s: RIM_RELAX_SHARE * settings.max_time_s,
+            ..*settings
+        }
+    } else {
+        *settings
+    };
+    let speed = relax_until(model, state, forces, &settings, Some(rest_force_n))?;
     let again = solve(model, state, forces, aim, MAX_ITERATIONS);
     if again.residual_n <= rest_force_n {
         return Ok(0.0);

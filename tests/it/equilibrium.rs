@@ -286,16 +286,20 @@ fn sagging_conveyor_settles_with_either_profile_away_from_the_seating_rim() {
 /// Regression: the 6 m sagging conveyor as written (circular profile,
 /// −100 N·m on the tail) has no smooth rest state, and it ends with an
 /// error naming the cause instead of starting *not settled*. The tight
-/// lower strand sags about 6 cm over 6.35 m and leaves the tail at an angle
-/// below the horizontal, so the first free roller after the tail is pulled
-/// outward (its two links meet at an angle that opens away from the tail's
-/// centre) and along the pitch circle by the tension jump across the
-/// tail, |M|/R = 100 / 0.0812 ≈ 1232 N (R = P / (2 sin(π/20)) for
+/// lower strand sags about 6 cm over 6.35 m and leaves both sprockets at an
+/// angle below the horizontal, so the first free roller at either end of it
+/// is pulled outward (its two links meet at an angle that opens away from
+/// the sprocket's centre) and along the pitch circle by the tension jump
+/// across that sprocket, |M|/R = 100 / 0.0812 ≈ 1232 N on the tail and the
+/// same on the held head that reacts it (R = P / (2 sin(π/20)) for
 /// P = 25.4 mm). The circular profile holds a roller only up to its seating
-/// arc's rim, 90° from the gap's bottom: the error names the tail, a roller
-/// of the tail's wrap end, and a pull beyond the rim (0° < angle < 90°,
-/// outward and along components positive). The same drive with the real
-/// profile settles (the test above).
+/// arc's rim, 90° from the gap's bottom: the cause names a roller at an end
+/// of the lower strand, on the sprocket there, on the rim: pulled beyond it
+/// (0° < angle < 90°, outward and along components positive), or held on
+/// its edge outside the seating circle where the force jumps to zero (the
+/// relaxation leaves the roller chattering across the rim, and the state
+/// reached catches it on either side). The same drive with the real profile
+/// settles (the test above).
 #[test]
 fn sagging_conveyor_on_the_circular_rim_names_the_cause() {
     let path = format!(
@@ -320,13 +324,29 @@ fn sagging_conveyor_on_the_circular_rim_names_the_cause() {
         panic!("expected the seating arc named, got {:?}", sim.equilibrium);
     };
     assert!(sim.equilibrium.force_residual > 1e-3, "{err}");
-    assert_eq!(sprocket, "tail", "{err}");
-    assert!(*beyond_deg > 0.0 && *beyond_deg < 90.0, "{err}");
-    assert!(*outward_n > 0.0 && *along_n > 0.0, "{err}");
+    match err.edge_depth_m {
+        None => {
+            assert!(*beyond_deg > 0.0 && *beyond_deg < 90.0, "{err}");
+            assert!(*outward_n > 0.0 && *along_n > 0.0, "{err}");
+        }
+        Some(depth_m) => {
+            // Beyond the edge by at most the 10° the check allows, outside
+            // the seating circle by less than the roller's radius, pulled
+            // back towards the gap.
+            assert!((0.0..=10.0).contains(beyond_deg), "{err}");
+            assert!(depth_m > 0.0 && depth_m < 7.94e-3, "{err}");
+            assert!(*outward_n <= 0.0, "{err}");
+        }
+    }
     assert!(*residual > 1e-6, "{err}");
-    // The roller leaves or enters the tail's wrap: within a few pitches of
-    // half the chain (the tail's wrap holds rollers 250–270 or so of 520).
-    assert!((240..=290).contains(roller), "{err}");
+    // The roller is at an end of the lower strand, within a few pitches of
+    // the wraps' ends on its sprocket: the tail's wrap holds rollers 250–270
+    // or so of 520, the head's 510–519 and 0–10.
+    match sprocket.as_str() {
+        "tail" => assert!((240..=290).contains(roller), "{err}"),
+        "head (driver, held)" => assert!(*roller >= 490 || *roller <= 30, "{err}"),
+        _ => panic!("{err}"),
+    }
     let text = err.to_string();
     assert!(text.contains("profile = \"real\""), "{text}");
 }
