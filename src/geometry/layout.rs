@@ -16,6 +16,14 @@
 //! [`Layout::strand_stretch`]); whether the pretension can then be reached is
 //! the equilibrium's question, not the layout's. A chain further off gets
 //! [`LayoutError::ChainLength`], which names the nearest count.
+//!
+//! Under gravity a chain longer than that hangs ([`layout_hanging`]): the
+//! seated rollers and the strands' ends stay where the walk at λ = P puts
+//! them, each strand takes a share of the excess links in proportion to the
+//! length its sag holds (q⊥² L³ / 24 T² for a shallow cable, so in
+//! proportion to q⊥² L³), and its rollers are laid one pitch apart along
+//! the parabola of that arc length, sagging towards gravity. The static
+//! equilibrium starts from there.
 
 use std::f64::consts::{PI, TAU};
 
@@ -38,8 +46,13 @@ pub struct Layout {
     pub polygon_length_m: f64,
     /// Pitches of chain the path through the seated rollers needs, less the
     /// chain's links: positive when the chain is short (its strand links are
-    /// laid longer than the pitch), negative when it is long. At most 0.5.
+    /// laid longer than the pitch), negative when it is long. At most 0.5
+    /// in magnitude, unless the chain hangs ([`Self::hanging`]).
     pub misfit_pitches: f64,
+    /// The chain is longer than its path by more than half a pitch and its
+    /// excess hangs in the strands' sag ([`layout_hanging`]): the strand
+    /// links are one pitch long, laid on parabolas.
+    pub hanging: bool,
 }
 
 impl Layout {
@@ -146,6 +159,171 @@ pub fn needed_pitches(
     Ok(walker.walk(pitch_m, None)?.needed_links(pitch_m))
 }
 
+/// [`layout_rollers`], and where the chain is too long for it under
+/// `gravity_m_s2`, the excess hung in the strands' sag (module docs). A
+/// chain that is short, or long without gravity to sag it, or whose strands
+/// all run along gravity, gets [`layout_rollers`]'s error.
+pub fn layout_hanging(
+    path: &ChainPath,
+    circles: &[PathCircle],
+    teeth: &[u32],
+    rollers: usize,
+    pitch_m: f64,
+    gravity_m_s2: [f64; 2],
+) -> Result<Layout, LayoutError> {
+    let straight = layout_rollers(path, circles, teeth, rollers, pitch_m);
+    let Err(LayoutError::ChainLength { needed, .. }) = straight else {
+        return straight;
+    };
+    if !(needed < rollers as f64) {
+        return straight;
+    }
+    let walker = Walker::engaged(path, circles, teeth)?;
+    let first = walker.walk(pitch_m, None)?;
+    let strands = first.strand_links.len();
+    // Links the chain has beyond the walk's own; the closing strand's
+    // residual (its chord less its links, within half a pitch) is its own.
+    let walk_links = first.rollers_m.len();
+    let Some(extra) = rollers.checked_sub(walk_links) else {
+        return straight;
+    };
+    // Each strand's share: q⊥² L³ ∝ (|t × g|)² L³.
+    let g = gravity_m_s2[0].hypot(gravity_m_s2[1]);
+    let chords: Vec<([f64; 2], [f64; 2])> = (0..strands)
+        .map(|k| first.strand_ends(k))
+        .collect();
+    let weights: Vec<f64> = chords
+        .iter()
+        .map(|(a, b)| {
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let l = d[0].hypot(d[1]);
+            if !(l > 0.0 && g > 0.0) {
+                return 0.0;
+            }
+            let across = (d[0] * gravity_m_s2[1] - d[1] * gravity_m_s2[0]).abs() / (l * g);
+            across * across * l.powi(3)
+        })
+        .collect();
+    let total: f64 = weights.iter().sum();
+    if !(total > 0.0) {
+        return straight;
+    }
+    // Largest remainders: whole links, `extra` in all.
+    let exact: Vec<f64> = weights.iter().map(|w| extra as f64 * w / total).collect();
+    let mut shares: Vec<usize> = exact.iter().map(|e| e.floor() as usize).collect();
+    let mut order: Vec<usize> = (0..strands).collect();
+    order.sort_by(|&i, &j| (exact[j] - exact[j].floor()).total_cmp(&(exact[i] - exact[i].floor())));
+    let given: usize = shares.iter().sum();
+    for &k in order.iter().take(extra - given) {
+        shares[k] += 1;
+    }
+    let mut rollers_m = Vec::with_capacity(rollers);
+    let mut seats = Vec::with_capacity(rollers);
+    let mut strand_links = Vec::with_capacity(strands);
+    let mut at = 0;
+    for k in 0..strands {
+        let seated = first.seated[k];
+        rollers_m.extend_from_slice(&first.rollers_m[at..at + seated]);
+        seats.extend_from_slice(&first.seats[at..at + seated]);
+        at += seated + first.strand_links[k] - 1;
+        let links = first.strand_links[k] + shares[k];
+        let (a, b) = chords[k];
+        for p in hang(a, b, links, pitch_m, gravity_m_s2) {
+            rollers_m.push(p);
+            seats.push(None);
+        }
+        strand_links.push(links);
+    }
+    if rollers_m.len() != rollers {
+        return straight;
+    }
+    let wrap_links: usize = first.seated.iter().map(|m| m - 1).sum();
+    let walk_strand: usize = first.strand_links.iter().sum();
+    Ok(Layout {
+        rollers_m,
+        sprocket_angles_rad: first.sprocket_angles_rad,
+        seats,
+        strand_links,
+        strand_link_m: pitch_m,
+        polygon_length_m: (wrap_links + walk_strand) as f64 * pitch_m + first.residual_m,
+        misfit_pitches: needed - rollers as f64,
+        hanging: true,
+    })
+}
+
+/// The `links − 1` inner rollers of a strand of `links` links of one pitch
+/// from `a` to `b` (chord c ≤ the links' length), a pitch apart along the
+/// parabola y = 4 s u (1 − u) over the chord whose arc length is the links'
+/// length, sagging on the side gravity pulls to. The arc length of that
+/// parabola with a = 4 s / c is (c / 2) (√(1 + a²) + asinh(a) / a), and
+/// from u = 0 to u it is (c / 2) (F(1) − F(1 − 2u)), F(v) = (v √(1 + a²v²)
+/// + asinh(a v) / a) / 2.
+fn hang(
+    a: [f64; 2],
+    b: [f64; 2],
+    links: usize,
+    pitch_m: f64,
+    gravity_m_s2: [f64; 2],
+) -> Vec<[f64; 2]> {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let c = d[0].hypot(d[1]);
+    let inner = links.saturating_sub(1);
+    let straight = |u: f64| [a[0] + u * d[0], a[1] + u * d[1]];
+    if !(c > 0.0) || links == 0 {
+        return (1..=inner).map(|q| straight(q as f64 / links as f64)).collect();
+    }
+    let t = [d[0] / c, d[1] / c];
+    // The chord's normal on gravity's side.
+    let mut n = [-t[1], t[0]];
+    if n[0] * gravity_m_s2[0] + n[1] * gravity_m_s2[1] < 0.0 {
+        n = [-n[0], -n[1]];
+    }
+    // F(v) for the slope parameter `k` (a = 4 s / c).
+    let f = |k: f64, v: f64| {
+        let asinh_over = if k > 1e-9 { (k * v).asinh() / k } else { v };
+        0.5 * (v * (1.0 + k * k * v * v).sqrt() + asinh_over)
+    };
+    let arc = |k: f64| c * f(k, 1.0);
+    // The links' length as the arc, by bisection on a (the arc grows with
+    // a); a chord longer than the links (the closing strand's residual)
+    // stays straight, its links a little long.
+    let wanted = links as f64 * pitch_m;
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while arc(hi) < wanted && hi < 1e6 {
+        hi *= 2.0;
+    }
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if arc(mid) < wanted {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let k = 0.5 * (lo + hi);
+    let sag = k * c / 4.0;
+    let total = arc(k);
+    (1..=inner)
+        .map(|q| {
+            // u where the arc from u = 0 is q / links of the whole.
+            let goal = total * q as f64 / links as f64;
+            let (mut u0, mut u1) = (0.0, 1.0);
+            for _ in 0..60 {
+                let u = 0.5 * (u0 + u1);
+                if 0.5 * c * (f(k, 1.0) - f(k, 1.0 - 2.0 * u)) < goal {
+                    u0 = u;
+                } else {
+                    u1 = u;
+                }
+            }
+            let u = 0.5 * (u0 + u1);
+            let p = straight(u);
+            let y = 4.0 * sag * u * (1.0 - u);
+            [p[0] + y * n[0], p[1] + y * n[1]]
+        })
+        .collect()
+}
+
 fn length_error(needed: f64, rollers: usize) -> LayoutError {
     LayoutError::ChainLength {
         needed,
@@ -196,6 +374,25 @@ impl Walk {
         links as f64 + self.residual_m / pitch_m
     }
 
+    /// Strand `k`'s ends: the last roller seated on sprocket k and the
+    /// first on the next.
+    fn strand_ends(&self, k: usize) -> ([f64; 2], [f64; 2]) {
+        let offset = |j: usize| -> usize {
+            (0..j)
+                .map(|i| self.seated[i] + self.strand_links[i] - 1)
+                .sum()
+        };
+        let next = if k + 1 == self.seated.len() {
+            0
+        } else {
+            offset(k + 1)
+        };
+        (
+            self.rollers_m[offset(k) + self.seated[k] - 1],
+            self.rollers_m[next],
+        )
+    }
+
     fn into_layout(self, pitch_m: f64, misfit_pitches: f64) -> Layout {
         let wrap_links: usize = self.seated.iter().map(|m| m - 1).sum();
         let strand: usize = self.strand_links.iter().sum();
@@ -209,6 +406,7 @@ impl Walk {
             strand_links: self.strand_links,
             strand_link_m: self.lambda_m,
             misfit_pitches,
+            hanging: false,
         }
     }
 }

@@ -20,7 +20,7 @@ pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
-    layout_rollers,
+    layout_hanging,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 
@@ -374,12 +374,13 @@ impl DriveModel {
             .collect();
         let seat_path = chain_path(&seat_circles)?;
         let teeth: Vec<u32> = scene.sprockets.iter().map(|s| s.teeth).collect();
-        let layout = layout_rollers(
+        let layout = layout_hanging(
             &seat_path,
             &seat_circles,
             &teeth,
             chain.rollers,
             chain.pitch_m,
+            scene.gravity_m_s2,
         )?;
         let sprockets: Vec<SprocketModel> = scene
             .sprockets

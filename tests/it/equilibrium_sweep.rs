@@ -145,19 +145,17 @@ fn run_case(case: &Case, seed: u64) -> (Outcome, f64) {
             true,
         ) => Outcome::Named("load beyond the pretension"),
         // The circular profile holds a roller only on its seating arc: a
-        // drive whose rest state needs one held beyond it has none with this
-        // profile, and the error names the roller (docs/model.md).
-        (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooShort { sag_m, .. })), _) => {
-            // The generator closes the chain on the straight path to a small
-            // fraction of a pitch. Under gravity the strands must sag at the
-            // pretension and hold q² L³ / (24 T₀²) more chain (parabolic
-            // cable), which a long straight-laid chain lacks: a named cause.
-            // Without gravity nothing sags and the chain is never too short.
-            if case.gravity && sag_m > 0.1 * scene.chain().pitch_m {
-                Outcome::Named("chain too short for its sag (generator)")
-            } else {
-                Outcome::Failed(format!("generated chain rejected: {e}"))
-            }
+        // chain that runs off it while relaxing (a deep sag leaves the wraps
+        // at a steep angle) names the roller (docs/model.md).
+        (Err(SimError::Equilibrium(EquilibriumError::OffSeatingArc { .. })), false)
+            if case.profile == ProfileKind::Circular =>
+        {
+            Outcome::Named("beyond the circular seating arc")
+        }
+        // The generator lays under gravity a chain that holds its strands'
+        // sag at the pretension: never too short nor too long.
+        (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooShort { .. })), _) => {
+            Outcome::Failed(format!("generated chain rejected: {e}"))
         }
         (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooLong { .. })), _) => {
             Outcome::Failed(format!("generated chain rejected: {e}"))
