@@ -41,7 +41,11 @@
 //! (shallow cable, q⊥ the weight per length across it), so the chain is
 //! that much longer than its straight path and hangs
 //! ([`crate::geometry::layout_hanging`]): the drive is feasible at its
-//! pretension.
+//! pretension. Only while every strand sags by at most
+//! [`MAX_SAG_OVER_SPAN`] of its span: a deeper one leaves its wraps too
+//! steeply for the laid parabola to be a good start, and the chain is
+//! closed on the straight path as without gravity (too short for its sag
+//! at the pretension, which the static equilibrium names).
 //!
 //! This module only writes scene data; it uses [`crate::geometry`]'s path and
 //! layout arithmetic to check the fit and knows nothing of the model or of
@@ -54,7 +58,8 @@ use super::{
     SprocketFile, TEETH_RANGE, Wrap,
 };
 use crate::geometry::{
-    LayoutError, PathCircle, chain_path, layout_hanging, layout_rollers, needed_pitches, pitch_radius,
+    LayoutError, PathCircle, chain_path, layout_hanging, layout_rollers, needed_pitches,
+    pitch_radius,
 };
 
 /// Most sprockets a generated drive may have (the placement's own limit,
@@ -299,21 +304,30 @@ struct Sag {
     mass_per_m_per_n: f64,
 }
 
+/// Deepest sag, over its span, that a generated drive's strands are laid
+/// with: s / L = q⊥ L / (8 T₀). Deeper strands leave their wraps so steeply
+/// (4 s / L, above 11°) that the laid parabola is a poor start.
+pub const MAX_SAG_OVER_SPAN: f64 = 0.05;
+
 impl Sag {
     /// Pitches of chain the strands of `path` hold in their sag beyond
     /// their spans: q⊥² L³ / (24 T₀²) each (shallow cable), q⊥ the weight
-    /// per length across the strand.
+    /// per length across the strand; 0 where a strand would sag deeper
+    /// than [`MAX_SAG_OVER_SPAN`] (the chain is then laid straight).
     fn pitches(&self, path: &crate::geometry::ChainPath, pitch_m: f64) -> f64 {
         let [gx, gy] = self.gravity_m_s2;
-        path.strands
+        let q_over_t = |st: &crate::geometry::Strand| {
+            let [dx, dy] = st.direction();
+            self.mass_per_m_per_n * (dx * gy - dy * gx).abs()
+        };
+        if path
+            .strands
             .iter()
-            .map(|st| {
-                let [dx, dy] = st.direction();
-                let q_over_t = self.mass_per_m_per_n * (dx * gy - dy * gx).abs();
-                q_over_t * q_over_t * st.length_m.powi(3) / 24.0
-            })
-            .sum::<f64>()
-            / pitch_m
+            .any(|st| q_over_t(st) * st.length_m / 8.0 > MAX_SAG_OVER_SPAN)
+        {
+            return 0.0;
+        }
+        path.sag_take_up_m(self.mass_per_m_per_n, self.gravity_m_s2, 1.0) / pitch_m
     }
 }
 
@@ -387,12 +401,13 @@ impl Placement {
         let circles = self.circles(s);
         let path = chain_path(&circles).map_err(|e| Err(e.to_string()))?;
         if let Some(sag) = &self.sag {
-            // The walk's own count plus the sag, within half a pitch; the
-            // excess then hangs in the strands.
+            // The walk's own count plus the sag, within a tenth of a pitch
+            // (what the model's layout lets the sag hold beyond its own);
+            // the excess then hangs in the strands.
             let walk = needed_pitches(&path, &circles, &self.teeth, self.pitch_m)
                 .map_err(|e| Err(e.to_string()))?;
             let needed = walk + sag.pitches(&path, self.pitch_m);
-            if (needed - rollers as f64).abs() > 0.5 {
+            if (needed - rollers as f64).abs() > 0.1 {
                 return Err(Ok(needed));
             }
             return layout_hanging(

@@ -117,21 +117,15 @@ fn hanging_tension_n(deficit_m: f64, sag_at_1n_m: f64, stretch_m_per_n: f64, low
     0.5 * (lo + hi)
 }
 
-/// Length the free strands' sag takes up at tension `tension_n`: a shallow
-/// sag under the weight per length q⊥ across a strand of span L holds
-/// q⊥² L³ / (24 T²) more chain than the straight span (parabolic cable).
+/// Length the free strands' sag takes up at tension `tension_n`
+/// ([`ChainPath::sag_take_up_m`]).
 fn sag_take_up_m(scene: &Scene, path: &ChainPath, tension_n: f64) -> f64 {
     let chain = &scene.chain;
-    let [gx, gy] = scene.gravity_m_s2;
-    let q = chain.roller_mass_kg / chain.pitch_m;
-    path.strands
-        .iter()
-        .map(|s| {
-            let [dx, dy] = s.direction();
-            let q_perp = q * (dx * gy - dy * gx).abs();
-            q_perp * q_perp * s.length_m.powi(3) / (24.0 * tension_n * tension_n)
-        })
-        .sum()
+    path.sag_take_up_m(
+        chain.roller_mass_kg / chain.pitch_m,
+        scene.gravity_m_s2,
+        tension_n,
+    )
 }
 
 /// No load torque leaves a free strand in compression (any number of sprockets).

@@ -152,10 +152,24 @@ fn run_case(case: &Case, seed: u64) -> (Outcome, f64) {
         {
             Outcome::Named("beyond the circular seating arc")
         }
-        // The generator lays under gravity a chain that holds its strands'
-        // sag at the pretension: never too short nor too long.
-        (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooShort { .. })), _) => {
-            Outcome::Failed(format!("generated chain rejected: {e}"))
+        (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooShort { sag_m, .. })), _) => {
+            // Under gravity the generator lays a chain that holds its
+            // strands' sag at the pretension, q⊥² L³ / (24 T₀²) each
+            // (parabolic cable), while every strand sags by at most
+            // `MAX_SAG_OVER_SPAN` of its span (s / L = q⊥ L / (8 T₀)); a
+            // drive with deeper strands is closed on the straight path and
+            // lacks that chain: a named cause. Without gravity nothing sags
+            // and the chain is never too short.
+            let deep = scene.chain().roller_mass_kg / scene.chain().pitch_m
+                * 9.81
+                * longest_strand_m(&scene)
+                / (8.0 * scene.chain().pretension_n)
+                > chaindrive::scene::generate::MAX_SAG_OVER_SPAN;
+            if case.gravity && deep && sag_m > 0.1 * scene.chain().pitch_m {
+                Outcome::Named("chain too short for its deep sag (laid straight)")
+            } else {
+                Outcome::Failed(format!("generated chain rejected: {e}"))
+            }
         }
         (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooLong { .. })), _) => {
             Outcome::Failed(format!("generated chain rejected: {e}"))
@@ -163,6 +177,17 @@ fn run_case(case: &Case, seed: u64) -> (Outcome, f64) {
         (Err(e), _) => Outcome::Failed(e.to_string()),
     };
     (outcome, wall)
+}
+
+/// The longest straight strand of `scene`'s path, m.
+fn longest_strand_m(scene: &Scene) -> f64 {
+    let (model, _, _) = chaindrive::model::DriveModel::build(scene).expect("lays out");
+    model
+        .path
+        .strands
+        .iter()
+        .map(|s| s.length_m)
+        .fold(0.0, f64::max)
 }
 
 fn grid() -> Vec<Case> {
