@@ -21,7 +21,7 @@ pub mod shoe;
 mod testing;
 
 pub use circular::CircularProfile;
-pub use layout::{Layout, LayoutError, layout_rollers, needed_pitches};
+pub use layout::{Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
 pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
 
 /// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two

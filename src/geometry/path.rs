@@ -58,6 +58,25 @@ pub struct ChainPath {
     pub wraps: Vec<WrapArc>,
 }
 
+impl ChainPath {
+    /// Length of chain the free strands hold in their sag beyond their
+    /// spans at tension `tension_n`, m: a shallow cable of span L under the
+    /// weight per length q⊥ across it holds q⊥² L³ / (24 T²) (parabolic
+    /// sag s = q⊥ L² / (8 T), arc − span = 8 s² / (3 L)). `mass_per_m_kg`:
+    /// the chain's mass per length.
+    pub fn sag_take_up_m(&self, mass_per_m_kg: f64, gravity_m_s2: [f64; 2], tension_n: f64) -> f64 {
+        let [gx, gy] = gravity_m_s2;
+        self.strands
+            .iter()
+            .map(|s| {
+                let [dx, dy] = s.direction();
+                let q_perp = mass_per_m_kg * (dx * gy - dy * gx).abs();
+                q_perp * q_perp * s.length_m.powi(3) / (24.0 * tension_n * tension_n)
+            })
+            .sum()
+    }
+}
+
 /// Why no chain path exists.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum PathError {

@@ -20,7 +20,7 @@ pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
-    layout_rollers,
+    layout_hanging, layout_rollers,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 
@@ -28,6 +28,20 @@ use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 /// body k (its angle from the scene's pose), and each hydraulic tensioner's
 /// chamber pressure a scalar state, in scene order. The arms start at the
 /// scene's pose, at rest; the chambers at their supply pressure.
+/// Whether a chain of `scene` longer than its path (which needs `needed`
+/// pitches) has its excess held by the strands' sag at the pretension
+/// (under gravity), within a tenth of a pitch.
+fn sag_holds(scene: &Scene, path: &ChainPath, needed: f64) -> bool {
+    let chain = &scene.chain;
+    let excess_m = (chain.rollers as f64 - needed) * chain.pitch_m;
+    let sag_m = path.sag_take_up_m(
+        chain.roller_mass_kg / chain.pitch_m,
+        scene.gravity_m_s2,
+        chain.pretension_n,
+    );
+    excess_m > 0.0 && excess_m <= sag_m + 0.1 * chain.pitch_m
+}
+
 fn tensioner_states(scene: &Scene) -> (Vec<BodyModel>, Vec<ScalarModel>) {
     // Error scales: the arm turning by the static link stretch T/K over its
     // shoe's distance from the pivot; the chamber's fluid volume by what
@@ -374,13 +388,31 @@ impl DriveModel {
             .collect();
         let seat_path = chain_path(&seat_circles)?;
         let teeth: Vec<u32> = scene.sprockets.iter().map(|s| s.teeth).collect();
-        let layout = layout_rollers(
+        // A chain longer than its path by more than half a pitch hangs in
+        // its strands' sag where that sag, at the pretension, holds the
+        // excess (within a tenth of a pitch); otherwise the layout's error
+        // stands (and `check` offers the counts and moves that fit).
+        let layout = match layout_rollers(
             &seat_path,
             &seat_circles,
             &teeth,
             chain.rollers,
             chain.pitch_m,
-        )?;
+        ) {
+            Err(LayoutError::ChainLength { needed, .. })
+                if sag_holds(scene, &seat_path, needed) =>
+            {
+                layout_hanging(
+                    &seat_path,
+                    &seat_circles,
+                    &teeth,
+                    chain.rollers,
+                    chain.pitch_m,
+                    scene.gravity_m_s2,
+                )?
+            }
+            laid => laid?,
+        };
         let sprockets: Vec<SprocketModel> = scene
             .sprockets
             .iter()

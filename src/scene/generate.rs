@@ -35,8 +35,17 @@
 //! and counterweights); masses and inertias scale from the paper's 30-tooth
 //! counterweight (759 kg, 82 kg·m²) as a disc does: m ∝ R², J ∝ R⁴.
 //! **Gravity is off** by default: a 10,000-roller conveyor's 440 m strands
-//! would sag some 34 m at 21 kN (w L²/8T), far from the straight layout the
-//! relaxation starts from; the paper's equations have no gravity either.
+//! would sag some 34 m at 21 kN (w L²/8T); the paper's equations have no
+//! gravity either. With gravity set, the placement counts the chain the
+//! strands' sag holds at the pretension, q⊥² L³ / (24 T₀²) per strand
+//! (shallow cable, q⊥ the weight per length across it), so the chain is
+//! that much longer than its straight path and hangs
+//! ([`crate::geometry::layout_hanging`]): the drive is feasible at its
+//! pretension. Only while every strand sags by at most
+//! [`MAX_SAG_OVER_SPAN`] of its span: a deeper one leaves its wraps too
+//! steeply for the laid parabola to be a good start, and the chain is
+//! closed on the straight path as without gravity (too short for its sag
+//! at the pretension, which the static equilibrium names).
 //!
 //! This module only writes scene data; it uses [`crate::geometry`]'s path and
 //! layout arithmetic to check the fit and knows nothing of the model or of
@@ -48,7 +57,10 @@ use super::{
     L60MC_TOML, ProfileKind, RoleKind, Scene, SceneBuilder, SceneError, SceneFile, SolverFile,
     SprocketFile, TEETH_RANGE, Wrap,
 };
-use crate::geometry::{LayoutError, PathCircle, chain_path, layout_rollers, pitch_radius};
+use crate::geometry::{
+    LayoutError, PathCircle, chain_path, layout_hanging, layout_rollers, needed_pitches,
+    pitch_radius,
+};
 
 /// Most sprockets a generated drive may have (the placement's own limit,
 /// well below the [`super::MAX_SPROCKETS`] any scene may have).
@@ -191,6 +203,12 @@ impl DriveSpec {
             teeth: self.teeth.clone(),
             pitch_m: pitch,
             clearance_m: 2.0 * self.chain.roller_radius_m.unwrap_or(0.0),
+            sag: (self.gravity_m_s2 != [0.0, 0.0] && self.chain.pretension_n > 0.0).then(|| Sag {
+                gravity_m_s2: self.gravity_m_s2,
+                mass_per_m_per_n: self.chain.roller_mass_kg.unwrap_or(0.0)
+                    / pitch
+                    / self.chain.pretension_n,
+            }),
         };
         let centres = placement.solve(self.rollers)?;
         let sprockets = centres
@@ -274,6 +292,43 @@ struct Placement {
     pitch_m: f64,
     /// Gap kept between two sprockets' pitch circles (a roller diameter).
     clearance_m: f64,
+    /// Under gravity, what the strands' sag holds.
+    sag: Option<Sag>,
+}
+
+/// The chain's weight and tension that set its strands' sag.
+struct Sag {
+    /// Gravity, m/s².
+    gravity_m_s2: [f64; 2],
+    /// Chain mass per length over the pretension, kg/(m·N).
+    mass_per_m_per_n: f64,
+}
+
+/// Deepest sag, over its span, that a generated drive's strands are laid
+/// with: s / L = q⊥ L / (8 T₀). Deeper strands leave their wraps so steeply
+/// (4 s / L, above 11°) that the laid parabola is a poor start.
+pub const MAX_SAG_OVER_SPAN: f64 = 0.05;
+
+impl Sag {
+    /// Pitches of chain the strands of `path` hold in their sag beyond
+    /// their spans: q⊥² L³ / (24 T₀²) each (shallow cable), q⊥ the weight
+    /// per length across the strand; 0 where a strand would sag deeper
+    /// than [`MAX_SAG_OVER_SPAN`] (the chain is then laid straight).
+    fn pitches(&self, path: &crate::geometry::ChainPath, pitch_m: f64) -> f64 {
+        let [gx, gy] = self.gravity_m_s2;
+        let q_over_t = |st: &crate::geometry::Strand| {
+            let [dx, dy] = st.direction();
+            self.mass_per_m_per_n * (dx * gy - dy * gx).abs()
+        };
+        if path
+            .strands
+            .iter()
+            .any(|st| q_over_t(st) * st.length_m / 8.0 > MAX_SAG_OVER_SPAN)
+        {
+            return 0.0;
+        }
+        path.sag_take_up_m(self.mass_per_m_per_n, self.gravity_m_s2, 1.0) / pitch_m
+    }
 }
 
 impl Placement {
@@ -323,7 +378,7 @@ impl Placement {
     }
 
     /// Pitches of chain the path at scale `s` needs: strands over P plus
-    /// each wrap over its pitch angle.
+    /// each wrap over its pitch angle, plus what the strands' sag holds.
     fn needed(&self, s: f64) -> Option<f64> {
         let path = chain_path(&self.circles(s)).ok()?;
         let strands: f64 = path.strands.iter().map(|st| st.length_m).sum::<f64>() / self.pitch_m;
@@ -333,7 +388,11 @@ impl Placement {
             .zip(&self.teeth)
             .map(|(w, &n)| w.wrap_rad * f64::from(n) / TAU)
             .sum();
-        Some(strands + wraps)
+        let sag = self
+            .sag
+            .as_ref()
+            .map_or(0.0, |g| g.pitches(&path, self.pitch_m));
+        Some(strands + wraps + sag)
     }
 
     /// The walk's verdict at scale `s`: `Ok` if the rollers lay out, else the
@@ -341,6 +400,27 @@ impl Placement {
     fn lays_out(&self, s: f64, rollers: usize) -> Result<(), Result<f64, String>> {
         let circles = self.circles(s);
         let path = chain_path(&circles).map_err(|e| Err(e.to_string()))?;
+        if let Some(sag) = &self.sag {
+            // The walk's own count plus the sag, within a tenth of a pitch
+            // (what the model's layout lets the sag hold beyond its own);
+            // the excess then hangs in the strands.
+            let walk = needed_pitches(&path, &circles, &self.teeth, self.pitch_m)
+                .map_err(|e| Err(e.to_string()))?;
+            let needed = walk + sag.pitches(&path, self.pitch_m);
+            if (needed - rollers as f64).abs() > 0.1 {
+                return Err(Ok(needed));
+            }
+            return layout_hanging(
+                &path,
+                &circles,
+                &self.teeth,
+                rollers,
+                self.pitch_m,
+                sag.gravity_m_s2,
+            )
+            .map(|_| ())
+            .map_err(|e| Err(e.to_string()));
+        }
         match layout_rollers(&path, &circles, &self.teeth, rollers, self.pitch_m) {
             Ok(_) => Ok(()),
             Err(LayoutError::ChainLength { needed, .. }) => Err(Ok(needed)),

@@ -117,21 +117,15 @@ fn hanging_tension_n(deficit_m: f64, sag_at_1n_m: f64, stretch_m_per_n: f64, low
     0.5 * (lo + hi)
 }
 
-/// Length the free strands' sag takes up at tension `tension_n`: a shallow
-/// sag under the weight per length q⊥ across a strand of span L holds
-/// q⊥² L³ / (24 T²) more chain than the straight span (parabolic cable).
+/// Length the free strands' sag takes up at tension `tension_n`
+/// ([`ChainPath::sag_take_up_m`]).
 fn sag_take_up_m(scene: &Scene, path: &ChainPath, tension_n: f64) -> f64 {
     let chain = &scene.chain;
-    let [gx, gy] = scene.gravity_m_s2;
-    let q = chain.roller_mass_kg / chain.pitch_m;
-    path.strands
-        .iter()
-        .map(|s| {
-            let [dx, dy] = s.direction();
-            let q_perp = q * (dx * gy - dy * gx).abs();
-            q_perp * q_perp * s.length_m.powi(3) / (24.0 * tension_n * tension_n)
-        })
-        .sum()
+    path.sag_take_up_m(
+        chain.roller_mass_kg / chain.pitch_m,
+        scene.gravity_m_s2,
+        tension_n,
+    )
 }
 
 /// No load torque leaves a free strand in compression (any number of sprockets).
@@ -303,6 +297,28 @@ pub(crate) fn rim_roller(
     state: &DriveState,
     forces: &ForceGenerator,
 ) -> Option<RimRoller> {
+    scan_rims(model, state, forces, false)
+}
+
+/// The roller on a circular-profile sprocket that its links and weight pull
+/// hardest outward (F · u > 0), wherever in its gap it sits: one the profile
+/// cannot keep in its seat, so the chain runs off the arc there. `forces`
+/// evaluated at `state`.
+pub(crate) fn pulled_off_roller(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+) -> Option<RimRoller> {
+    scan_rims(model, state, forces, true)
+}
+
+/// [`rim_roller`] (`anywhere` false) or [`pulled_off_roller`] (true).
+fn scan_rims(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    anywhere: bool,
+) -> Option<RimRoller> {
     let out = forces.output();
     let n = state.x.len();
     if n < 3 || out.link_force.len() < n {
@@ -343,14 +359,16 @@ pub(crate) fn rim_roller(
             let u = [seat[0] / seat_r, seat[1] / seat_r];
             let e = [local[0] - seat[0], local[1] - seat[1]];
             let e_len = e[0].hypot(e[1]);
-            if !(e_len >= 0.5 * c.clearance_m && e_len <= c.clearance_m + 0.5 * c.roller_radius_m) {
+            if e_len > c.clearance_m + 0.5 * c.roller_radius_m
+                || !(anywhere || e_len >= 0.5 * c.clearance_m)
+            {
                 continue;
             }
             // Angle of the offset from the gap's bottom (−u).
             let offset_angle = (e[0] * u[1] - e[1] * u[0])
                 .abs()
                 .atan2(-(e[0] * u[0] + e[1] * u[1]));
-            if offset_angle < RIM_OFFSET_RAD {
+            if offset_angle < RIM_OFFSET_RAD && !anywhere {
                 continue;
             }
             let f_local = [cos * f[0] + sin * f[1], -sin * f[0] + cos * f[1]];
@@ -372,7 +390,8 @@ pub(crate) fn rim_roller(
             }
             let beyond = offset_angle - 0.5 * std::f64::consts::PI;
             let depth = e_len - c.clearance_m;
-            if (0.0..=EDGE_OFFSET_RAD).contains(&beyond)
+            if !anywhere
+                && (0.0..=EDGE_OFFSET_RAD).contains(&beyond)
                 && depth > 0.0
                 && edge.as_ref().is_none_or(|w| w.edge_depth_m < Some(depth))
             {

@@ -64,6 +64,8 @@ pub(crate) struct NewtonEnd {
     pub(crate) iterations: usize,
     /// Whether the residual reached the tolerance.
     pub(crate) converged: bool,
+    /// The residual at the start, N.
+    pub(crate) start_residual_n: f64,
 }
 
 /// Regularising stiffness on a free sprocket's rotation, times k R².
@@ -475,6 +477,7 @@ pub(crate) fn solve(
     let mut r = vec![0.0; 2 * n + m];
     let mut tangent = Tangent::new(n, m);
     let mut now = residual(model, state, forces, &free, &mut r0);
+    let start_residual_n = now;
     let (mut u0, _) = energy(model, state, &reference, forces, &free);
     let k = model.stiffness_n_m;
     let mu_min = 1e-8 * k;
@@ -564,6 +567,7 @@ pub(crate) fn solve(
         residual_n: now,
         iterations,
         converged: now <= tolerance_n,
+        start_residual_n,
     }
 }
 
@@ -595,15 +599,29 @@ pub(crate) fn settle(
     if !applies(model, state) {
         return relax_until(model, state, forces, settings, Some(rest_force_n));
     }
+    let start = state.clone();
     let first = solve(model, state, forces, aim, MAX_ITERATIONS);
     if first.residual_n <= rest_force_n {
         return Ok(0.0);
+    }
+    // A stall further from equilibrium than the start, or with a link
+    // stretched beyond the relaxation's blow-up bound (Newton's energy
+    // descent may trade the chain's weight for stretch far from the rest
+    // state: found on a 2000-roller conveyor hanging 13 m), is no start for
+    // the relaxation: it starts where Newton did.
+    if !(first.residual_n <= first.start_residual_n)
+        || !(forces.output().max_stretch_m <= settings.max_stretch_m)
+    {
+        state.clone_from(&start);
+        forces.reset_memory();
+        forces.evaluate(model, state);
     }
     // A roller on a circular seating arc's rim stalls Newton and keeps the
     // relaxation from ever coming to rest (no smooth rest state there):
     // while the rest length is searched for, the relaxation then only moves
     // the drive on, over a share of its time.
-    let settings = if searching && super::feasibility::rim_roller(model, state, forces).is_some() {
+    let rim = super::feasibility::rim_roller(model, state, forces);
+    let settings = if searching && rim.is_some() {
         RelaxSettings {
             max_time_s: RIM_RELAX_SHARE * settings.max_time_s,
             ..*settings
@@ -611,7 +629,30 @@ pub(crate) fn settle(
     } else {
         *settings
     };
-    let speed = relax_until(model, state, forces, &settings, Some(rest_force_n))?;
+    // A relaxation that blows up from a state where a roller is pulled
+    // out of a circular seat ran off the arc: that roller is the cause.
+    let relax_start = state.clone();
+    let speed = match relax_until(model, state, forces, &settings, Some(rest_force_n)) {
+        Err(EquilibriumError::BlowUp { stretch_m }) => {
+            state.clone_from(&relax_start);
+            forces.reset_memory();
+            forces.evaluate(model, state);
+            let off = super::feasibility::pulled_off_roller(model, state, forces);
+            return Err(match off {
+                Some(r) => EquilibriumError::OffSeatingArc {
+                    stretch_m,
+                    roller: r.roller,
+                    sprocket: r.sprocket + 1,
+                    gap: r.gap,
+                    beyond_deg: r.beyond_deg,
+                    outward_n: r.outward_n,
+                    along_n: r.along_n,
+                },
+                None => EquilibriumError::BlowUp { stretch_m },
+            });
+        }
+        relaxed => relaxed?,
+    };
     let again = solve(model, state, forces, aim, MAX_ITERATIONS);
     if again.residual_n <= rest_force_n {
         return Ok(0.0);

@@ -189,3 +189,74 @@ fn hanging_strand_is_the_discrete_catenary() {
     // The strand really hangs: a sag of centimetres, far above the tolerance.
     assert!(sag_catenary > 0.02, "sag {sag_catenary} m");
 }
+
+/// A chain one pitch longer than its path hangs: the layout lays the excess
+/// in the strands' sag (links of one pitch on parabolas), and the static
+/// equilibrium settles there, each strand hanging as a cable does.
+///
+/// The 3 m conveyor of `tests/data/conveyor_hanging_3m.toml` (two 12-tooth
+/// sprockets, ANSI 80, 251 rollers where the path through the seated
+/// rollers needs 249.998 pitches; before, it was refused: "no roller count
+/// fits as the sprockets stand"). At rest each strand is a shallow cable of
+/// weight q = m_r g / P per length: over a chord c between two of its
+/// rollers it sags s = q c² / (8 H) below the chord's middle, H the
+/// horizontal component of its tension (the mean link force T over the
+/// chord's links, T = H √(1 + y′²), within (8/3) (s/c)² = 0.3 % of H here).
+/// Checked on each strand's middle two metres (clear of the wraps' ends,
+/// where the sprockets hold it) within 2 %: the parabola's own error is
+/// O((s/c)²), 0.1 %, and the discrete chain's O(P/c).
+#[test]
+fn a_chain_a_pitch_longer_than_its_path_hangs_as_a_cable() {
+    let text = std::fs::read_to_string(format!(
+        "{}/tests/data/conveyor_hanging_3m.toml",
+        env!("CARGO_MANIFEST_DIR")
+    ))
+    .expect("the scene file exists");
+    for profile in ["real", "circular"] {
+        let text = text.replace("profile = \"real\"", &format!("profile = \"{profile}\""));
+        let scene = Scene::from_toml(&text).expect("a valid scene");
+        let chain = scene.chain();
+        let sim = Simulation::new(&scene).expect("settles");
+        let eq = &sim.equilibrium;
+        assert!(eq.force_residual <= 1e-6, "{profile}: {eq:?}");
+        assert!(
+            ((eq.tension_n - chain.pretension_n) / chain.pretension_n).abs() <= 1e-3,
+            "{profile}: {eq:?}"
+        );
+        let q = chain.roller_mass_kg * 9.81 / chain.pitch_m;
+        let (x, y) = (&sim.state.x, &sim.state.y);
+        let link_force = &sim.forces.output().link_force;
+        let n = x.len();
+        // The strands: rollers between x = 0.5 m and 2.5 m from the head
+        // (the tail at x = −3.02 m), below (lower strand) or above y = −0.1 m.
+        let mut checked = 0;
+        for lower in [true, false] {
+            let on = |i: usize| {
+                let along = -x[i];
+                (0.5..=2.5).contains(&along) && (y[i] < -0.1) == lower
+            };
+            let ids: Vec<usize> = (0..n).filter(|&i| on(i)).collect();
+            let (&a, &b) = (ids.first().expect("rollers"), ids.last().expect("rollers"));
+            // The run is contiguous in chain order (one strand).
+            assert_eq!(b - a + 1, ids.len(), "{profile}: one strand");
+            let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
+            let c = dx.hypot(dy);
+            let sag = ids
+                .iter()
+                .map(|&i| ((x[i] - x[a]) * dy - (y[i] - y[a]) * dx).abs() / c)
+                .fold(0.0, f64::max);
+            let mean_t = ids[..ids.len() - 1]
+                .iter()
+                .map(|&i| link_force[i])
+                .sum::<f64>()
+                / (ids.len() - 1) as f64;
+            let expected = q * c * c / (8.0 * mean_t);
+            assert!(
+                (sag / expected - 1.0).abs() < 0.02,
+                "{profile}, lower {lower}: sag {sag} m over {c} m at {mean_t} N, cable {expected} m"
+            );
+            checked += 1;
+        }
+        assert_eq!(checked, 2);
+    }
+}

@@ -145,16 +145,28 @@ fn run_case(case: &Case, seed: u64) -> (Outcome, f64) {
             true,
         ) => Outcome::Named("load beyond the pretension"),
         // The circular profile holds a roller only on its seating arc: a
-        // drive whose rest state needs one held beyond it has none with this
-        // profile, and the error names the roller (docs/model.md).
+        // chain that runs off it while relaxing (a deep sag leaves the wraps
+        // at a steep angle) names the roller (docs/model.md).
+        (Err(SimError::Equilibrium(EquilibriumError::OffSeatingArc { .. })), false)
+            if case.profile == ProfileKind::Circular =>
+        {
+            Outcome::Named("beyond the circular seating arc")
+        }
         (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooShort { sag_m, .. })), _) => {
-            // The generator closes the chain on the straight path to a small
-            // fraction of a pitch. Under gravity the strands must sag at the
-            // pretension and hold q² L³ / (24 T₀²) more chain (parabolic
-            // cable), which a long straight-laid chain lacks: a named cause.
-            // Without gravity nothing sags and the chain is never too short.
-            if case.gravity && sag_m > 0.1 * scene.chain().pitch_m {
-                Outcome::Named("chain too short for its sag (generator)")
+            // Under gravity the generator lays a chain that holds its
+            // strands' sag at the pretension, q⊥² L³ / (24 T₀²) each
+            // (parabolic cable), while every strand sags by at most
+            // `MAX_SAG_OVER_SPAN` of its span (s / L = q⊥ L / (8 T₀)); a
+            // drive with deeper strands is closed on the straight path and
+            // lacks that chain: a named cause. Without gravity nothing sags
+            // and the chain is never too short.
+            let deep = scene.chain().roller_mass_kg / scene.chain().pitch_m
+                * 9.81
+                * longest_strand_m(&scene)
+                / (8.0 * scene.chain().pretension_n)
+                > chaindrive::scene::generate::MAX_SAG_OVER_SPAN;
+            if case.gravity && deep && sag_m > 0.1 * scene.chain().pitch_m {
+                Outcome::Named("chain too short for its deep sag (laid straight)")
             } else {
                 Outcome::Failed(format!("generated chain rejected: {e}"))
             }
@@ -165,6 +177,17 @@ fn run_case(case: &Case, seed: u64) -> (Outcome, f64) {
         (Err(e), _) => Outcome::Failed(e.to_string()),
     };
     (outcome, wall)
+}
+
+/// The longest straight strand of `scene`'s path, m.
+fn longest_strand_m(scene: &Scene) -> f64 {
+    let (model, _, _) = chaindrive::model::DriveModel::build(scene).expect("lays out");
+    model
+        .path
+        .strands
+        .iter()
+        .map(|s| s.length_m)
+        .fold(0.0, f64::max)
 }
 
 fn grid() -> Vec<Case> {

@@ -220,6 +220,14 @@ fn misfit_notice(name: &str, scene: &Scene, layout: &Layout) {
         return;
     }
     let free: usize = layout.strand_links.iter().sum();
+    if layout.hanging {
+        eprintln!(
+            "{name}: notice: the chain is {:.3} pitches ({:.3} mm) longer than the path through the seated rollers; it is laid hanging in its strands' sag, its {free} free links one pitch long",
+            layout.misfit_pitches.abs(),
+            misfit_m.abs() * 1e3,
+        );
+        return;
+    }
     eprintln!(
         "{name}: notice: the chain is {:.3} pitches ({:.3} mm) {} than the path through the seated rollers; its {free} free links are laid {:.4} % {} than the pitch to take this up (`chaindrive fit` moves a sprocket so that it fits exactly)",
         layout.misfit_pitches.abs(),
