@@ -90,6 +90,14 @@ pub struct Coupling {
     /// Speed floor of the once-per-frame pair search, m/s: a roller or body
     /// is assumed to travel at most (2 v + this) · dt over the frame.
     pub search_speed_m_s: f64,
+    /// With the circular tooth form, a roller beside its seat (radially
+    /// outside the seat's centre) meets the tooth's tip, the seating arc's
+    /// end, instead of nothing: needed where the chain can go slack (a
+    /// released carriage), whose rollers slide over the teeth and would
+    /// otherwise meet the arc at a depth at once and blow up. Off by
+    /// default (the paper's form, whose runs it would change); the real
+    /// tooth form has its tips regardless.
+    pub tooth_tips: bool,
 }
 
 impl Coupling {
@@ -101,6 +109,7 @@ impl Coupling {
             carry_dynamic: true,
             law: ContactLawParams::new(contact),
             search_speed_m_s: 5.0,
+            tooth_tips: false,
         }
     }
 }
