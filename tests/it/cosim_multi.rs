@@ -321,8 +321,27 @@ fn two_conveyors_keep_a_transfer_boxs_gravity_and_their_motors() {
 }
 
 #[test]
-#[ignore = "fails: the box bounces at the gap between the conveyors (vertical speed up to 1 m/s) for about 2 s and is at x = -0.34 m, not beyond -0.5 m, at 4 s; cause not found"]
+#[ignore = "fails: a body near two chains is carried by one drive per frame and the other's rollers pass through it; at the gap the carrier switches A/B/A/B (frames 91-134) and the box, its corner among the rollers that passed through it, is thrown (vy 1.4 m/s, tumbling); x = -0.34 m at 4 s"]
 fn a_box_crosses_from_one_conveyor_to_the_other_at_chain_speed() {
+    // The geometry: the strands' flat tops end at the two sprockets' tops,
+    // x = 0 (A's driver) and x = -0.18 m (B's tail), 180 mm apart, and the
+    // wrapped rollers' outer surfaces are 10 mm apart at the gap (pitch
+    // radius 81.2 mm + roller radius 4 mm on each side). A 100 mm box cannot
+    // bridge 180 mm: it tips over A's rounded end into the valley between
+    // the two wraps, to rest on both (a level box there sits about 10 mm
+    // low), and is lifted out by B's wrap, whose rollers at the gap move up
+    // at chain speed (A's move down): a rough but physical crossing, if
+    // both chains hold the box at once. The co-simulation does not: a body
+    // near two chains is carried by the drive with more rollers near it,
+    // frame by frame, and the other drive's rollers pass through it
+    // (src/cosim/set.rs). Measured: carried by A alone the box tips to
+    // 0.72 rad at x = -0.077 m (frame 81), B's wrap not holding its front;
+    // then the carrier switches A, B, A, B, ... (frames 91, 93, 94, 101,
+    // 111, 122, 133), each switch finding the new carrier's rollers inside
+    // the box, and at frame 133 it is thrown up at 1.4 m/s, tumbling. With
+    // a 250 mm box (bridging the tops) a chain blows up at 1.45 s the same
+    // way. Until a body can be met by several drives in the same substeps
+    // this test stays ignored.
     let a = transfer([0, 1], 4.0).expect("A first");
     // The box crossed onto B and rides it at chain speed, resting on its strand.
     let v = chain_speed(60.0);
