@@ -86,6 +86,7 @@ mod bodies;
 mod builder;
 mod error;
 mod frame;
+mod hooks;
 mod lifecycle;
 mod motion;
 mod mounts;
@@ -534,50 +535,14 @@ pub struct ChainHooks<'a, H: PhysicsHooks> {
 
 impl<H: PhysicsHooks> PhysicsHooks for ChainHooks<'_, H> {
     fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
-        self.drive.hook_calls.fetch_add(1, Ordering::Relaxed);
-        if self.drive.owns_collider(c.collider1) && self.drive.owns_collider(c.collider2) {
-            None
-        } else if self.carried_pair(c) {
-            // The substeps handle it: contacts (and events) without impulses.
-            Some(SolverFlags::empty())
-        } else if self.needs_user(c) {
-            self.user.filter_contact_pair(c)
-        } else {
-            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
-        }
+        hooks::filter_contact_pair(self.drive, self.user, c)
     }
 
     fn filter_intersection_pair(&self, c: &PairFilterContext) -> bool {
-        !(self.drive.owns_collider(c.collider1) && self.drive.owns_collider(c.collider2))
-            && (!self.needs_user(c) || self.user.filter_intersection_pair(c))
+        hooks::filter_intersection_pair(self.drive, self.user, c)
     }
 
     fn modify_solver_contacts(&self, c: &mut ContactModificationContext) {
         self.user.modify_solver_contacts(c)
-    }
-}
-
-impl<H: PhysicsHooks> ChainHooks<'_, H> {
-    /// A roller and a body carried in the substeps.
-    fn carried_pair(&self, c: &PairFilterContext) -> bool {
-        let d = self.drive;
-        let carried = |b: Option<RigidBodyHandle>| b.is_some_and(|b| d.carries(b));
-        (d.is_roller_collider(c.collider1) && carried(c.rigid_body2))
-            || (d.is_roller_collider(c.collider2) && carried(c.rigid_body1))
-    }
-
-    /// Whether one of the pair's colliders asked for the user's filter itself
-    /// (rapier only calls hooks for flagged colliders; ours flag every pair
-    /// they are in, so the user's filter is asked only when the user's
-    /// collider asked for it too).
-    fn needs_user(&self, c: &PairFilterContext) -> bool {
-        let asks = |h: ColliderHandle| {
-            !self.drive.owns_collider(h)
-                && c.colliders.get(h).is_some_and(|col| {
-                    col.active_hooks()
-                        .contains(ActiveHooks::FILTER_CONTACT_PAIRS)
-                })
-        };
-        asks(c.collider1) || asks(c.collider2)
     }
 }
