@@ -76,7 +76,19 @@ impl ChainDrive {
     pub fn set_coupling(&mut self, coupling: Coupling) -> Result<(), CosimError> {
         check_coupling(&coupling)?;
         self.coupling = coupling;
+        self.apply_tooth_tips();
         Ok(())
+    }
+
+    /// The sprockets' circular profiles with the coupling's tooth tips, and
+    /// their reach to match.
+    pub(super) fn apply_tooth_tips(&mut self) {
+        for sp in &mut self.model.sprockets {
+            sp.profile.set_tips(self.coupling.tooth_tips);
+            sp.reach_m = sp.profile.reach_m();
+            sp.reach_sq_m2 = sp.reach_m * sp.reach_m;
+        }
+        self.forces.forget_reach();
     }
 
     /// Sets the blow-up limits checked in the substeps.

@@ -196,6 +196,7 @@ impl<'a> ChainDriveBuilder<'a> {
         let mut drive = ChainDrive::insert(scene, &mounts, bodies, colliders)?;
         if let Some(c) = self.coupling {
             drive.coupling = c;
+            drive.apply_tooth_tips();
         }
         Ok(drive)
     }

@@ -22,7 +22,6 @@
 //! through each other), and a body with the rollers of a drive that does
 //! not carry it in that frame.
 
-use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
@@ -228,46 +227,14 @@ pub struct SetHooks<'a, H: PhysicsHooks> {
 
 impl<H: PhysicsHooks> PhysicsHooks for SetHooks<'_, H> {
     fn filter_contact_pair(&self, c: &PairFilterContext) -> Option<SolverFlags> {
-        for d in &self.set.drives {
-            d.hook_calls.fetch_add(1, Ordering::Relaxed);
-        }
-        let set = self.set;
-        let roller = |h: ColliderHandle| set.drives.iter().any(|d| d.is_roller_collider(h));
-        let carried = |b: Option<RigidBodyHandle>| b.is_some_and(|b| set.carries(b));
-        if set.owns_collider(c.collider1) && set.owns_collider(c.collider2) {
-            None
-        } else if (roller(c.collider1) && carried(c.rigid_body2))
-            || (roller(c.collider2) && carried(c.rigid_body1))
-        {
-            Some(SolverFlags::empty())
-        } else if self.needs_user(c) {
-            self.user.filter_contact_pair(c)
-        } else {
-            Some(SolverFlags::COMPUTE_RIGID_IMPULSES)
-        }
+        super::hooks::filter_contact_pair(self.set, self.user, c)
     }
 
     fn filter_intersection_pair(&self, c: &PairFilterContext) -> bool {
-        !(self.set.owns_collider(c.collider1) && self.set.owns_collider(c.collider2))
-            && (!self.needs_user(c) || self.user.filter_intersection_pair(c))
+        super::hooks::filter_intersection_pair(self.set, self.user, c)
     }
 
     fn modify_solver_contacts(&self, c: &mut ContactModificationContext) {
         self.user.modify_solver_contacts(c)
-    }
-}
-
-impl<H: PhysicsHooks> SetHooks<'_, H> {
-    /// Whether one of the pair's colliders, not the drives', asked for the
-    /// user's filter.
-    fn needs_user(&self, c: &PairFilterContext) -> bool {
-        let asks = |h: ColliderHandle| {
-            !self.set.owns_collider(h)
-                && c.colliders.get(h).is_some_and(|col| {
-                    col.active_hooks()
-                        .contains(ActiveHooks::FILTER_CONTACT_PAIRS)
-                })
-        };
-        asks(c.collider1) || asks(c.collider2)
     }
 }

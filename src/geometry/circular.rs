@@ -28,6 +28,9 @@ pub struct CircularProfile {
     tan_half_pitch: f64,
     /// Unit radial direction of each gap centre, (cos jφ, sin jφ).
     gap_dirs: Vec<[f64; 2]>,
+    /// Whether a roller radially outside its seat's centre meets the seating
+    /// arc's ends, the tooth tips (off: it is free there, the paper's form).
+    pub tips: bool,
 }
 
 impl CircularProfile {
@@ -50,6 +53,7 @@ impl CircularProfile {
                     [a.cos(), a.sin()]
                 })
                 .collect(),
+            tips: false,
         }
     }
 
@@ -122,7 +126,11 @@ impl CircularProfile {
         let e = [p[0] - rc * u[0], p[1] - rc * u[1]];
         // Only the half facing the sprocket centre holds the roller (e·u ≤ 0).
         if e[0] * u[0] + e[1] * u[1] > 0.0 {
-            return 0;
+            return if self.tips {
+                self.tip_contact(e, u, gap, out)
+            } else {
+                0
+            };
         }
         // Cheap rejection before the square root: |e| ≤ ΔR means no contact.
         let len_sq = e[0] * e[0] + e[1] * e[1];
@@ -136,6 +144,46 @@ impl CircularProfile {
         out[0] = Patch {
             depth_m,
             normal: [-e[0] * inv_len, -e[1] * inv_len],
+            area: 4,
+            gap,
+            patch_id: gap,
+        };
+        1
+    }
+
+    /// With [`Self::tips`]: contact of a roller radially outside its seat's centre (`e`: from the
+    /// seat's centre to the roller's, `u`: the gap's radial direction) with
+    /// the nearer end of the seating arc, the tooth's tip corner: none for a
+    /// roller leaving the gap radially, but a roller beside the seat at its
+    /// centre's radius (a slack chain sliding over the teeth) meets the
+    /// corner with the depth and normal the arc has there, so the contact
+    /// does not appear at a depth (|e| − ΔR) as the roller crosses the
+    /// seat's diameter.
+    #[inline(never)]
+    fn tip_contact(
+        &self,
+        e: [f64; 2],
+        u: [f64; 2],
+        gap: u32,
+        out: &mut [Patch; MAX_PATCHES],
+    ) -> usize {
+        let t = [-u[1], u[0]];
+        let side = if e[0] * t[0] + e[1] * t[1] >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        let r = side * self.seating_radius_m;
+        let d = [e[0] - r * t[0], e[1] - r * t[1]];
+        let len_sq = d[0] * d[0] + d[1] * d[1];
+        if !(len_sq < self.roller_radius_m * self.roller_radius_m) || len_sq == 0.0 {
+            return 0;
+        }
+        let len = len_sq.sqrt();
+        let inv_len = 1.0 / len;
+        out[0] = Patch {
+            depth_m: self.roller_radius_m - len,
+            normal: [d[0] * inv_len, d[1] * inv_len],
             area: 4,
             gap,
             patch_id: gap,
@@ -177,7 +225,13 @@ impl CircularProfile {
 
     /// The radius beyond which no roller centre can touch this profile.
     pub fn reach_m(&self) -> f64 {
-        self.pitch_radius_m + self.clearance_m + self.seating_radius_m
+        let rc = self.pitch_radius_m + self.clearance_m;
+        if self.tips {
+            // A roller touching an arc's end (a tip) reaches a hair further.
+            (rc + self.seating_radius_m).max(rc.hypot(self.seating_radius_m) + self.roller_radius_m)
+        } else {
+            rc + self.seating_radius_m
+        }
     }
 }
 
@@ -188,6 +242,38 @@ mod tests {
 
     const P: f64 = 0.0889;
     const RR: f64 = 0.027;
+
+    #[test]
+    fn tip_contact_continues_the_arc_across_the_seat_diameter() {
+        // A roller 1.2 mm beside its seat's centre, crossing the seat's
+        // diameter outwards: on the arc side the depth is |e| − ΔR (closed
+        // form of the arc); with the tips it goes on from that value and
+        // normal, without them it drops to nothing (the jump that blew up a
+        // slack chain).
+        let mut c = CircularProfile::new(20, 0.0254, 0.00397);
+        let rc = c.pitch_radius_m + c.clearance_m;
+        let side = 1.2e-3;
+        let depth = |c: &CircularProfile, radial: f64| {
+            let mut out = [Patch::default(); MAX_PATCHES];
+            let mut hint = 0;
+            let n = c.contacts([rc + radial, side], &mut hint, &mut out);
+            (n > 0).then_some((out[0].depth_m, out[0].normal))
+        };
+        let arc = side.hypot(1e-9) - c.clearance_m;
+        let (inside, n_in) = depth(&c, -1e-9).expect("arc contact");
+        assert!((inside - arc).abs() < 1e-9, "{inside} against {arc}");
+        assert!(depth(&c, 1e-9).is_none());
+        c.tips = true;
+        let (outside, n_out) = depth(&c, 1e-9).expect("tip contact");
+        assert!(
+            (outside - inside).abs() < 1e-8,
+            "{outside} against {inside}"
+        );
+        assert!((n_out[0] - n_in[0]).abs() < 1e-5 && (n_out[1] - n_in[1]).abs() < 1e-5);
+        // Radially out of the seat, away from the tips: free.
+        let mut out = [Patch::default(); MAX_PATCHES];
+        assert_eq!(c.contacts([rc + 1e-3, 0.0], &mut 0, &mut out), 0);
+    }
 
     #[test]
     fn clearance_matches_tooth_profile_table() {

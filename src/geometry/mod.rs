@@ -205,6 +205,14 @@ impl ToothProfile {
         }
     }
 
+    /// Turns the circular form's tooth-tip contact on or off
+    /// ([`CircularProfile::tips`]); the real form has its tips already.
+    pub fn set_tips(&mut self, on: bool) {
+        if let Self::Circular(c) = self {
+            c.tips = on;
+        }
+    }
+
     /// The radius at which a seated roller's centre sits on this profile.
     pub fn seated_radius_m(&self) -> f64 {
         match self {

@@ -1,7 +1,7 @@
 //! Mounted bodies that translate: a carriage carrying the conveyor's tail,
 //! held out by a spring, moves with the chain inside the substeps.
 
-use chaindrive::cosim::{ChainDrive, CosimError, MountSpring};
+use chaindrive::cosim::{ChainDrive, CosimError, Coupling, MountForce, MountSpring};
 use rapier2d_f64::prelude::*;
 
 use super::cosim::conveyor;
@@ -86,10 +86,21 @@ fn spring() -> MountSpring {
 /// Like [`run_carriage`], with the spring given to the drive as the
 /// carriage's force law; `release`: the frame after which another law
 /// replaces it. The carriage's x at the end of every frame, m.
-fn run_sprung(
+fn run_sprung<L: MountForce + Clone + 'static>(
     mass_kg: f64,
     frames: usize,
-    release: Option<(usize, MountSpring)>,
+    release: Option<(usize, L)>,
+) -> Result<Vec<f64>, CosimError> {
+    run_sprung_with(mass_kg, frames, release, false)
+}
+
+/// [`run_sprung`], the circular teeth with their tips
+/// ([`Coupling::tooth_tips`]) where `tips`.
+fn run_sprung_with<L: MountForce + Clone + 'static>(
+    mass_kg: f64,
+    frames: usize,
+    release: Option<(usize, L)>,
+    tips: bool,
 ) -> Result<Vec<f64>, CosimError> {
     let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", 0.0);
     let mut w = world();
@@ -102,10 +113,14 @@ fn run_sprung(
     let mut drive =
         ChainDrive::insert(&scene, &[None, Some(cart)], &mut w.bodies, &mut w.colliders)?;
     drive.set_mount_force(1, spring())?;
+    drive.set_coupling(Coupling {
+        tooth_tips: tips,
+        ..*drive.coupling()
+    })?;
     let mut xs = Vec::with_capacity(frames);
     for frame in 0..frames {
-        if let Some((_, law)) = release.filter(|r| r.0 == frame) {
-            drive.set_mount_force(1, law)?;
+        if let Some((_, law)) = release.as_ref().filter(|r| r.0 == frame) {
+            drive.set_mount_force(1, law.clone())?;
         }
         drive.step_world(&mut w, &(), &())?;
         xs.push(w.bodies[cart].translation().x);
@@ -127,7 +142,8 @@ fn every_carriage_mass_holds_with_its_spring_in_the_substeps() {
     // (at 0.69, 0.53 and 0.87 s) and 200 kg swung 3.2 mm. Given to the
     // substeps, the spring acts where the carriage is.
     for mass_kg in [1.0, 2.0, 5.0, 20.0, 50.0, 200.0] {
-        let xs = run_sprung(mass_kg, 120, None).unwrap_or_else(|e| panic!("{mass_kg} kg: {e}"));
+        let xs = run_sprung::<MountSpring>(mass_kg, 120, None)
+            .unwrap_or_else(|e| panic!("{mass_kg} kg: {e}"));
         let worst = largest_excursion(&xs);
         assert!(worst < 0.002, "{mass_kg} kg: the carriage moved {worst} m");
     }
@@ -141,12 +157,8 @@ fn a_carriage_released_onto_its_damper_moves_on_without_a_blow_up() {
     // damper's terminal speed 2 T0 / c = 0.08 m/s, by more than the chain's
     // elastic stretch 2 T0 / k_chain = 400 / 4e5 = 1 mm (then the sag's
     // pull, a few newtons, keeps it creeping in): every frame moves it
-    // inwards, by less than that speed allows. (Released with nothing to
-    // hold it back, the carriage coasts into the slackening chain at
-    // ≈ 0.3 m/s and rams its strands end on; the model's links push in
-    // compression (docs/model.md, "Link compression"), and the rammed
-    // strand blows up within 0.04 s, at any frame rate and chain dt:
-    // measured 0.54 s at 60, 240 and 1000 Hz and at dt 2.5 µs.)
+    // inwards, by less than that speed allows. (Released onto nothing:
+    // `a_carriage_released_onto_nothing_moves_on_without_a_blow_up`.)
     let (hold, frames, c) = (30, 120, 5000.0);
     let v_max = 2.0 * PRETENSION_N / c;
     let dt = 1.0 / 60.0;
@@ -263,4 +275,75 @@ fn a_mount_whose_rotation_a_prismatic_joint_locks_is_an_error() {
     assert!(text.contains("mounts[1]"), "{text}");
     assert!(text.contains("rotation"), "{text}");
     assert!(text.contains("revolute joint"), "{text}");
+}
+
+/// A carriage's end of travel `travel_m` inwards of the tail's centre: a
+/// stiff one-sided spring–damper (1e6 N/m, 2000 N·s/m), no force before it.
+#[derive(Clone, Copy)]
+struct EndStop {
+    travel_m: f64,
+}
+
+impl MountForce for EndStop {
+    fn force(&self, position_m: Vector, velocity_m_s: Vector, _t_s: f64) -> Vector {
+        let over = TAIL_X_M - self.travel_m - position_m.x;
+        if over > 0.0 {
+            Vector::new((1e6 * over - 2000.0 * velocity_m_s.x).max(0.0), 0.0)
+        } else {
+            Vector::ZERO
+        }
+    }
+}
+
+#[test]
+fn a_carriage_released_onto_nothing_moves_on_without_a_blow_up() {
+    // 1, 5 and 20 kg carriages held by their spring for 0.5 s, then released
+    // onto nothing but an end of travel 0.1 m in (`EndStop`), for 2 s at 60
+    // Hz. The strands' pull, 2 T0 = 400 N, draws the carriage in; its
+    // energy comes from the chain's elastic stretch, ½ k_chain x² = 0.2 J
+    // (k_chain = 4e5 N/m, x = 2 T0 / k_chain = 1 mm), and, as the strands go
+    // slack and sag, from their fall: 0.2 m of slack (twice the travel) hung
+    // as two parabolas of span S = 1.016 m lets each strand sag by at most
+    // d = √(3 S ΔL / 8) = 0.195 m (ΔL = 0.1 m each; an even split is the
+    // largest), its centre of mass falling 2 d / 3, so 2 × 0.8 kg × g ×
+    // 0.13 m = 2.04 J at most (the energy is concave in the split). So the
+    // carriage moves in every frame until it reaches its stop, never faster
+    // than √(2 × 2.24 J / m) (2.1, 0.95, 0.47 m/s; the driver's work on the
+    // slack chain is left out, the chain's own motion too), and reaches the
+    // stop within the 2 s. Measured before: released onto nothing, the
+    // carriage blew up within 0.04 s (1 kg: link 44 stretched 3.3 mm at
+    // 0.53 s), at 60, 240 and 1000 Hz and at dt 2.5 µs, because a roller
+    // sliding over a tooth at its seat's centre radius met the circular
+    // seating arc at 1.2 mm depth at once (docs/model.md, "Tooth tips");
+    // with the tips (`Coupling::tooth_tips`) it meets the tooth's tip first.
+    // Without them the same run still blows up (checked below).
+    let (hold, frames, travel_m) = (30, 150, 0.1);
+    let stretch_j = 0.5 * 4e5 * (2.0 * PRETENSION_N / 4e5f64).powi(2);
+    let sag_m = (3.0 * 1.016 * travel_m / 8.0f64).sqrt();
+    let fall_j = 2.0 * 40.0 * 0.02 * 9.81 * 2.0 * sag_m / 3.0;
+    let dt = 1.0 / 60.0;
+    for mass_kg in [1.0, 5.0, 20.0] {
+        let xs = run_sprung_with(mass_kg, frames, Some((hold, EndStop { travel_m })), true)
+            .unwrap_or_else(|e| panic!("{mass_kg} kg: {e}"));
+        let v_max = (2.0 * (stretch_j + fall_j) / mass_kg).sqrt();
+        let stop = TAIL_X_M - travel_m;
+        let arrival = (hold..frames)
+            .find(|&f| xs[f] < stop + 1e-3)
+            .unwrap_or_else(|| {
+                panic!("{mass_kg} kg: not at its stop after 2 s: {:?}", &xs[hold..])
+            });
+        for f in hold..frames {
+            let v = (xs[f - 1] - xs[f]) / dt;
+            assert!(
+                v.abs() < v_max,
+                "{mass_kg} kg, frame {f}: {v} m/s, more than {v_max} m/s"
+            );
+            assert!(
+                f > arrival || v > 0.0,
+                "{mass_kg} kg, frame {f}: moved out at {v} m/s before its stop"
+            );
+        }
+    }
+    let without = run_sprung_with(1.0, frames, Some((hold, EndStop { travel_m })), false);
+    assert!(without.is_err(), "without the tips: {without:?}");
 }

@@ -321,8 +321,27 @@ fn two_conveyors_keep_a_transfer_boxs_gravity_and_their_motors() {
 }
 
 #[test]
-#[ignore = "fails: the box bounces at the gap between the conveyors (vertical speed up to 1 m/s) for about 2 s and is at x = -0.34 m, not beyond -0.5 m, at 4 s; cause not found"]
+#[ignore = "fails: a body near two chains is carried by one drive per frame and the other's rollers pass through it; at the gap the carrier switches A/B/A/B (frames 91-134) and the box, its corner among the rollers that passed through it, is thrown (vy 1.4 m/s, tumbling); x = -0.34 m at 4 s"]
 fn a_box_crosses_from_one_conveyor_to_the_other_at_chain_speed() {
+    // The geometry: the strands' flat tops end at the two sprockets' tops,
+    // x = 0 (A's driver) and x = -0.18 m (B's tail), 180 mm apart, and the
+    // wrapped rollers' outer surfaces are 10 mm apart at the gap (pitch
+    // radius 81.2 mm + roller radius 4 mm on each side). A 100 mm box cannot
+    // bridge 180 mm: it tips over A's rounded end into the valley between
+    // the two wraps, to rest on both (a level box there sits about 10 mm
+    // low), and is lifted out by B's wrap, whose rollers at the gap move up
+    // at chain speed (A's move down): a rough but physical crossing, if
+    // both chains hold the box at once. The co-simulation does not: a body
+    // near two chains is carried by the drive with more rollers near it,
+    // frame by frame, and the other drive's rollers pass through it
+    // (src/cosim/set.rs). Measured: carried by A alone the box tips to
+    // 0.72 rad at x = -0.077 m (frame 81), B's wrap not holding its front;
+    // then the carrier switches A, B, A, B, ... (frames 91, 93, 94, 101,
+    // 111, 122, 133), each switch finding the new carrier's rollers inside
+    // the box, and at frame 133 it is thrown up at 1.4 m/s, tumbling. With
+    // a 250 mm box (bridging the tops) a chain blows up at 1.45 s the same
+    // way. Until a body can be met by several drives in the same substeps
+    // this test stays ignored.
     let a = transfer([0, 1], 4.0).expect("A first");
     // The box crossed onto B and rides it at chain speed, resting on its strand.
     let v = chain_speed(60.0);
@@ -341,4 +360,24 @@ fn a_box_crosses_from_one_conveyor_to_the_other_at_chain_speed() {
             p[1]
         );
     }
+}
+
+#[test]
+fn the_sets_order_does_not_change_a_box_on_one_conveyor() {
+    // A first or B first: while the box rides A alone (the first 1.2 s; it
+    // reaches A's end at x = 0 in frame 74), every drive runs its own
+    // substeps and leaves the others' bodies alone, so the set's order
+    // changes nothing: the same bits, the box's path and both tails'
+    // speeds. (At the gap the two orders part from frame 82 on, where the
+    // box, carried by A, has tipped into B's wrap; not traced further: the
+    // bodies' handles, which rapier's step orders by, differ with the
+    // insertion order, and a tie between two drives' claims on the box is
+    // broken by handle. With B first the run then blows up at 2.17 s: see
+    // `a_box_crosses_from_one_conveyor_to_the_other_at_chain_speed`.)
+    let a = transfer([0, 1], 1.2).expect("A first");
+    let b = transfer([1, 0], 1.2).expect("B first");
+    assert_eq!(a.path, b.path);
+    assert_eq!(a.tail_speed[0], b.tail_speed[0]);
+    assert_eq!(a.tail_speed[1], b.tail_speed[1]);
+    assert_eq!(a.motor_torque, b.motor_torque);
 }
