@@ -217,28 +217,6 @@ pub enum EquilibriumError {
         /// Largest link stretch seen, m.
         stretch_m: f64,
     },
-    /// The relaxation blew up from a state with a roller pulled beyond a
-    /// circular seating arc: the chain ran off the arc (see
-    /// [`BeyondSeatingArc`]).
-    #[error(
-        "the chain blew up while relaxing to static equilibrium (largest link stretch {stretch_m:.3e} m) from a state where roller {roller} is pulled {beyond_deg:.1}° beyond the seating arc of gap {gap} on sprocket {sprocket} ({outward_n:.3} N outward, {along_n:.3} N along the pitch circle): the circular profile holds a roller only on the half of its seating circle facing the sprocket's centre, so this drive has no smooth rest state with it; the real tooth form holds it (profile = \"real\")"
-    )]
-    OffSeatingArc {
-        /// Largest link stretch seen, m.
-        stretch_m: f64,
-        /// The roller.
-        roller: usize,
-        /// The sprocket, 1-based.
-        sprocket: usize,
-        /// The gap, as the profile numbers it.
-        gap: u32,
-        /// Angle between the roller's pull and the arc's edge, degrees.
-        beyond_deg: f64,
-        /// The pull's component radially outward, N.
-        outward_n: f64,
-        /// Its component along the pitch circle, N.
-        along_n: f64,
-    },
 }
 
 /// Settings of the relaxation.

@@ -297,28 +297,6 @@ pub(crate) fn rim_roller(
     state: &DriveState,
     forces: &ForceGenerator,
 ) -> Option<RimRoller> {
-    scan_rims(model, state, forces, false)
-}
-
-/// The roller on a circular-profile sprocket that its links and weight pull
-/// hardest outward (F · u > 0), wherever in its gap it sits: one the profile
-/// cannot keep in its seat, so the chain runs off the arc there. `forces`
-/// evaluated at `state`.
-pub(crate) fn pulled_off_roller(
-    model: &DriveModel,
-    state: &DriveState,
-    forces: &ForceGenerator,
-) -> Option<RimRoller> {
-    scan_rims(model, state, forces, true)
-}
-
-/// [`rim_roller`] (`anywhere` false) or [`pulled_off_roller`] (true).
-fn scan_rims(
-    model: &DriveModel,
-    state: &DriveState,
-    forces: &ForceGenerator,
-    anywhere: bool,
-) -> Option<RimRoller> {
     let out = forces.output();
     let n = state.x.len();
     if n < 3 || out.link_force.len() < n {
@@ -359,16 +337,14 @@ fn scan_rims(
             let u = [seat[0] / seat_r, seat[1] / seat_r];
             let e = [local[0] - seat[0], local[1] - seat[1]];
             let e_len = e[0].hypot(e[1]);
-            if e_len > c.clearance_m + 0.5 * c.roller_radius_m
-                || !(anywhere || e_len >= 0.5 * c.clearance_m)
-            {
+            if !(e_len >= 0.5 * c.clearance_m && e_len <= c.clearance_m + 0.5 * c.roller_radius_m) {
                 continue;
             }
             // Angle of the offset from the gap's bottom (−u).
             let offset_angle = (e[0] * u[1] - e[1] * u[0])
                 .abs()
                 .atan2(-(e[0] * u[0] + e[1] * u[1]));
-            if offset_angle < RIM_OFFSET_RAD && !anywhere {
+            if offset_angle < RIM_OFFSET_RAD {
                 continue;
             }
             let f_local = [cos * f[0] + sin * f[1], -sin * f[0] + cos * f[1]];
@@ -390,8 +366,7 @@ fn scan_rims(
             }
             let beyond = offset_angle - 0.5 * std::f64::consts::PI;
             let depth = e_len - c.clearance_m;
-            if !anywhere
-                && (0.0..=EDGE_OFFSET_RAD).contains(&beyond)
+            if (0.0..=EDGE_OFFSET_RAD).contains(&beyond)
                 && depth > 0.0
                 && edge.as_ref().is_none_or(|w| w.edge_depth_m < Some(depth))
             {

@@ -620,8 +620,7 @@ pub(crate) fn settle(
     // relaxation from ever coming to rest (no smooth rest state there):
     // while the rest length is searched for, the relaxation then only moves
     // the drive on, over a share of its time.
-    let rim = super::feasibility::rim_roller(model, state, forces);
-    let settings = if searching && rim.is_some() {
+    let settings = if searching && super::feasibility::rim_roller(model, state, forces).is_some() {
         RelaxSettings {
             max_time_s: RIM_RELAX_SHARE * settings.max_time_s,
             ..*settings
@@ -629,30 +628,7 @@ pub(crate) fn settle(
     } else {
         *settings
     };
-    // A relaxation that blows up from a state where a roller is pulled
-    // out of a circular seat ran off the arc: that roller is the cause.
-    let relax_start = state.clone();
-    let speed = match relax_until(model, state, forces, &settings, Some(rest_force_n)) {
-        Err(EquilibriumError::BlowUp { stretch_m }) => {
-            state.clone_from(&relax_start);
-            forces.reset_memory();
-            forces.evaluate(model, state);
-            let off = super::feasibility::pulled_off_roller(model, state, forces);
-            return Err(match off {
-                Some(r) => EquilibriumError::OffSeatingArc {
-                    stretch_m,
-                    roller: r.roller,
-                    sprocket: r.sprocket + 1,
-                    gap: r.gap,
-                    beyond_deg: r.beyond_deg,
-                    outward_n: r.outward_n,
-                    along_n: r.along_n,
-                },
-                None => EquilibriumError::BlowUp { stretch_m },
-            });
-        }
-        relaxed => relaxed?,
-    };
+    let speed = relax_until(model, state, forces, &settings, Some(rest_force_n))?;
     let again = solve(model, state, forces, aim, MAX_ITERATIONS);
     if again.residual_n <= rest_force_n {
         return Ok(0.0);

@@ -144,14 +144,6 @@ fn run_case(case: &Case, seed: u64) -> (Outcome, f64) {
             )),
             true,
         ) => Outcome::Named("load beyond the pretension"),
-        // The circular profile holds a roller only on its seating arc: a
-        // chain that runs off it while relaxing (a deep sag leaves the wraps
-        // at a steep angle) names the roller (docs/model.md).
-        (Err(SimError::Equilibrium(EquilibriumError::OffSeatingArc { .. })), false)
-            if case.profile == ProfileKind::Circular =>
-        {
-            Outcome::Named("beyond the circular seating arc")
-        }
         (Err(SimError::Equilibrium(e @ EquilibriumError::ChainTooShort { sag_m, .. })), _) => {
             // Under gravity the generator lays a chain that holds its
             // strands' sag at the pretension, q⊥² L³ / (24 T₀²) each
