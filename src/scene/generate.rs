@@ -501,6 +501,44 @@ mod tests {
     }
 
     #[test]
+    fn under_gravity_the_chain_holds_its_strands_sag() {
+        // A 400-roller conveyor of the paper's chain (q = m_r g / P =
+        // 3.01 · 9.81 / 0.0889 = 332 N/m) at 21 kN: two horizontal strands of
+        // span L each hold q² L³ / (24 T²) beyond their spans (shallow
+        // cable); with L ≈ 16.4 m, 46 mm each, about a pitch in all. The
+        // chain is that much longer than its straight path, within the
+        // tenth of a pitch the placement allows (laid straight, it would be
+        // within half a pitch of the path instead), and the strands sag by
+        // s / L = q L / (8 T) ≈ 0.03, under the twentieth a generated
+        // strand may.
+        let mut spec = DriveSpec::new(400, 2).expect("spec");
+        spec.teeth = vec![30, 30];
+        spec.gravity_m_s2 = [0.0, -9.81];
+        let scene = spec.scene().expect("placed");
+        let chain = scene.chain();
+        let circles: Vec<PathCircle> = scene
+            .sprockets()
+            .iter()
+            .map(|s| PathCircle {
+                center_m: s.center_m,
+                radius_m: s.pitch_radius_m,
+                sense: 1.0,
+            })
+            .collect();
+        let path = chain_path(&circles).expect("a path");
+        let span = path.strands[0].length_m;
+        let q = chain.roller_mass_kg * 9.81 / chain.pitch_m;
+        let sag_m = 2.0 * q * q * span.powi(3) / (24.0 * chain.pretension_n.powi(2));
+        let needed = needed_pitches(&path, &circles, &[30, 30], chain.pitch_m).expect("walks");
+        let excess_m = (chain.rollers as f64 - needed) * chain.pitch_m;
+        assert!(
+            (excess_m - sag_m).abs() < 0.1 * chain.pitch_m,
+            "the chain is {excess_m} m longer than its path, its sag holds {sag_m} m"
+        );
+        assert!(q * span / (8.0 * chain.pretension_n) < MAX_SAG_OVER_SPAN);
+    }
+
+    #[test]
     fn too_short_a_chain_says_how_many_rollers_fit() {
         let err = DriveSpec::new(40, 10)
             .and_then(|s| s.scene())
