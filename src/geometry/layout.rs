@@ -171,10 +171,28 @@ pub fn layout_hanging(
     pitch_m: f64,
     gravity_m_s2: [f64; 2],
 ) -> Result<Layout, LayoutError> {
-    let straight = layout_rollers(path, circles, teeth, rollers, pitch_m);
-    let Err(LayoutError::ChainLength { needed, .. }) = straight else {
-        return straight;
-    };
+    match layout_rollers(path, circles, teeth, rollers, pitch_m) {
+        Err(LayoutError::ChainLength { needed, .. }) => {
+            hang_excess(path, circles, teeth, rollers, pitch_m, gravity_m_s2, needed)
+        }
+        laid => laid,
+    }
+}
+
+/// The hanging half of [`layout_hanging`], for a chain that
+/// [`layout_rollers`] refused because the path needs `needed` pitches: the
+/// excess hung, or that refusal where it cannot hang (a short chain, no
+/// gravity across any strand).
+pub(crate) fn hang_excess(
+    path: &ChainPath,
+    circles: &[PathCircle],
+    teeth: &[u32],
+    rollers: usize,
+    pitch_m: f64,
+    gravity_m_s2: [f64; 2],
+    needed: f64,
+) -> Result<Layout, LayoutError> {
+    let straight = Err(length_error(needed, rollers));
     if !(needed < rollers as f64) {
         return straight;
     }

@@ -20,7 +20,7 @@ pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
-    layout_hanging, layout_rollers,
+    hang_excess, layout_rollers,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 
@@ -402,13 +402,14 @@ impl DriveModel {
             Err(LayoutError::ChainLength { needed, .. })
                 if sag_holds(scene, &seat_path, needed) =>
             {
-                layout_hanging(
+                hang_excess(
                     &seat_path,
                     &seat_circles,
                     &teeth,
                     chain.rollers,
                     chain.pitch_m,
                     scene.gravity_m_s2,
+                    needed,
                 )?
             }
             laid => laid?,
