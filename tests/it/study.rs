@@ -406,7 +406,7 @@ fn bad_plans_are_refused_before_anything_runs() {
         (
             "window_longer_than_the_run",
             good.replace("set = {", "window_s = 0.5\nset = {"),
-            "case 0 (chain.pretension_n = 15000, sprockets[0].speed_rpm = 60): window_s = 0.5 s is longer than the run (solver.duration_s = 0.2 s)",
+            "case 0 (chain.pretension_n = 15000, sprockets.0.speed_rpm = 60): window_s = 0.5 s is longer than the run (solver.duration_s = 0.2 s)",
         ),
         (
             "empty_design",

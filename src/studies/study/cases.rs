@@ -49,7 +49,7 @@ pub struct CaseStatus {
     pub error: Option<String>,
     /// Wall time of the case (layout, equilibrium and run), s.
     pub wall_s: f64,
-    /// Factor values, `path = value`.
+    /// Factor values, `path = value` (paths as the plan wrote them).
     pub factors: String,
     /// Simulated time at which the case was resumed from its checkpoint, s
     /// (the last resume, if it was stopped more than once).
@@ -191,7 +191,7 @@ impl StudyDir {
             }
         }
         let started = Instant::now();
-        let factors = case.describe(&self.study.factors);
+        let factors = case.describe(&self.study.factor_names);
         let scene = self.study.scene(k)?;
         let checkpoint = self
             .study

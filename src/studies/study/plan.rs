@@ -137,8 +137,9 @@ pub struct Case {
 }
 
 impl Case {
-    /// `path = value, …` of the factors, for messages.
-    pub fn describe(&self, factors: &[ScenePath]) -> String {
+    /// `path = value, …` of the factors (their paths as the plan wrote
+    /// them), for messages and `status.json`.
+    pub fn describe(&self, factors: &[String]) -> String {
         factors
             .iter()
             .zip(&self.values)
@@ -419,7 +420,7 @@ impl Study {
             match Scene::from_toml_set(scene_toml, &case.assignments) {
                 Err(e) => failed.push(format!(
                     "case {k} ({}): {}",
-                    case.describe(&factors),
+                    case.describe(&factor_names),
                     e.lines().join("; ")
                 )),
                 // Rapier keeps solver state a checkpoint does not hold.
@@ -429,7 +430,7 @@ impl Study {
                 {
                     failed.push(format!(
                         "case {k} ({}): checkpoint_every_s needs solver.stepping = \"substepped\", the case steps with {}",
-                        case.describe(&factors),
+                        case.describe(&factor_names),
                         scene.solver().stepping.name()
                     ));
                 }
@@ -438,7 +439,7 @@ impl Study {
                 {
                     failed.push(format!(
                         "case {k} ({}): window_s = {} s is longer than the run (solver.duration_s = {} s); allowed: a window within the run",
-                        case.describe(&factors),
+                        case.describe(&factor_names),
                         window_s.unwrap_or_default(),
                         scene.solver().duration_s
                     ));
@@ -479,7 +480,7 @@ impl Study {
         Scene::from_toml_set(&self.scene_toml, &case.assignments).map_err(|e| {
             StudyError::Cases(vec![format!(
                 "case {k} ({}): {}",
-                case.describe(&self.factors),
+                case.describe(&self.factor_names),
                 e.lines().join("; ")
             )])
         })
@@ -740,7 +741,7 @@ count = 8
         let l = lines(&PLAN.replace("[15000, 21000]", "[15000, -5]"));
         assert_eq!(l.len(), 3, "{l:?}");
         assert!(
-            l[0].starts_with("case 3 (chain.pretension_n = -5, sprockets[0].speed_rpm = 60.0): "),
+            l[0].starts_with("case 3 (chain.pretension_n = -5, sprockets.0.speed_rpm = 60.0): "),
             "{l:?}"
         );
         assert!(l[0].contains("chain.pretension_n"), "{l:?}");
