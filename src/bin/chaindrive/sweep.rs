@@ -23,9 +23,9 @@ use chaindrive::scene::{Assignment, Overrides, Scene};
 use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, CaseResult, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR,
-    RunUpSettings, SweepSettings, TRANSVERSE_MODES, completed, default_orders, excitation_orders,
-    on_order_grid, order_cut, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep,
-    run_up, summary_scalars, worst_cases,
+    RunUpSettings, SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section,
+    excitation_orders, on_order_grid, order_cut, parse_rpm_range, parse_run_up,
+    resonance_crossings, run_sweep, run_up, summary_scalars, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -635,53 +635,6 @@ fn draw_figures(
     out
 }
 
-/// `## Runs to doubt`: the speeds whose run warned or has a segment that is
-/// not stationary, each with its warnings.
-fn doubt_section(s: &mut String, cases: &[CaseOutcome]) {
-    let flagged: Vec<CaseFlags> = cases
-        .iter()
-        .map(CaseFlags::of)
-        .filter(CaseFlags::warned)
-        .collect();
-    if cases.iter().all(|c| CaseFlags::of(c).stationary.is_none()) {
-        return;
-    }
-    let _ = writeln!(s, "## Runs to doubt\n");
-    if flagged.is_empty() {
-        let _ = writeln!(
-            s,
-            "Every run finished without a warning, each segment's statistics stationary over its window.\n"
-        );
-        return;
-    }
-    let _ = writeln!(
-        s,
-        "{} of {} speeds ran with a warning or with a segment whose mean drifts over the window (not stationary): their numbers below, in the tables and in the figures are in doubt.\n",
-        flagged.len(),
-        cases.len()
-    );
-    let _ = writeln!(s, "| rpm | not stationary | warnings |\n|---|---|---|");
-    for f in &flagged {
-        let segments = if f.not_stationary.is_empty() {
-            "—".to_owned()
-        } else {
-            f.not_stationary
-                .iter()
-                .map(|k| format!("segment {k}"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        let warnings = f
-            .warnings
-            .as_deref()
-            .unwrap_or_default()
-            .join("<br>")
-            .replace('|', "\\|");
-        let _ = writeln!(s, "| {} | {segments} | {warnings} |", f.rpm);
-    }
-    let _ = writeln!(s);
-}
-
 fn report_text(
     scene: &Scene,
     header: &str,
@@ -708,7 +661,7 @@ fn report_text(
         }
         let _ = writeln!(s);
     }
-    doubt_section(&mut s, cases);
+    s.push_str(&doubt_section(cases));
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,

@@ -6,6 +6,8 @@
 //! stationary). Pure functions of the cases: nothing here runs a simulation
 //! or writes a file.
 
+use std::fmt::Write as _;
+
 use super::{CaseOutcome, CaseResult, SpanFrequencies, TRANSVERSE_MODES, driver_of};
 use crate::analysis::orders::OrderSet;
 use crate::scene::Scene;
@@ -440,6 +442,56 @@ impl CaseFlags {
     pub fn warned(&self) -> bool {
         self.status == "warned"
     }
+}
+
+/// `## Runs to doubt` of a sweep's `report.md`: the speeds whose run warned
+/// or has a segment that is not stationary ([`CaseFlags`]), each with its
+/// warnings (Markdown); empty when no case has a run summary (a run-up).
+pub fn doubt_section(cases: &[CaseOutcome]) -> String {
+    let mut s = String::new();
+    let flagged: Vec<CaseFlags> = cases
+        .iter()
+        .map(CaseFlags::of)
+        .filter(CaseFlags::warned)
+        .collect();
+    if cases.iter().all(|c| CaseFlags::of(c).stationary.is_none()) {
+        return s;
+    }
+    let _ = writeln!(s, "## Runs to doubt\n");
+    if flagged.is_empty() {
+        let _ = writeln!(
+            s,
+            "Every run finished without a warning, each segment's statistics stationary over its window.\n"
+        );
+        return s;
+    }
+    let _ = writeln!(
+        s,
+        "{} of {} speeds ran with a warning or with a segment whose mean drifts over the window (not stationary): their numbers below, in the tables and in the figures are in doubt.\n",
+        flagged.len(),
+        cases.len()
+    );
+    let _ = writeln!(s, "| rpm | not stationary | warnings |\n|---|---|---|");
+    for f in &flagged {
+        let segments = if f.not_stationary.is_empty() {
+            "—".to_owned()
+        } else {
+            f.not_stationary
+                .iter()
+                .map(|k| format!("segment {k}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let warnings = f
+            .warnings
+            .as_deref()
+            .unwrap_or_default()
+            .join("<br>")
+            .replace('|', "\\|");
+        let _ = writeln!(s, "| {} | {segments} | {warnings} |", f.rpm);
+    }
+    let _ = writeln!(s);
+    s
 }
 
 /// Every scalar of a case's run summary as `(name, value)`: numbers as they
