@@ -1,8 +1,10 @@
 //! `chaindrive sweep`: one steady run per driver speed, in parallel, and
 //! what a speed range is judged by: `sweep.csv` (every summary scalar per
-//! speed), `orders.csv` (order spectra), `spans.csv` (each span's predicted
+//! speed), `cases.csv` (each speed's status, stationarity and warnings),
+//! `orders.csv` (order spectra), `spans.csv` (each span's predicted
 //! natural frequencies), a Campbell diagram, order cuts, envelopes and
-//! `report.md` (resonance crossings, worst-case speeds). With `--run-up`,
+//! `report.md` (speeds whose runs warned, resonance crossings, worst-case
+//! speeds). With `--run-up`,
 //! one run whose driver speed ramps slowly, analysed in short windows, gives
 //! the same outputs at each window's mean speed.
 
@@ -20,10 +22,10 @@ use chaindrive::analysis::orders::{MAX_ORDER_DENOMINATOR, OrderSet};
 use chaindrive::scene::{Assignment, Overrides, Scene};
 use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 use chaindrive::studies::sweep::{
-    CaseOutcome, CaseResult, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
-    SweepSettings, TRANSVERSE_MODES, completed, default_orders, excitation_orders, on_order_grid,
-    order_cut, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
-    summary_scalars, worst_cases,
+    CaseFlags, CaseOutcome, CaseResult, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR,
+    RunUpSettings, SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section,
+    excitation_orders, on_order_grid, order_cut, parse_rpm_range, parse_run_up,
+    resonance_crossings, run_sweep, run_up, summary_scalars, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -210,8 +212,9 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .filter(|c| matches!(c, CaseOutcome::Failed { .. }))
         .count();
+    let warned = cases.iter().filter(|c| CaseFlags::of(c).warned()).count();
     println!(
-        "{} of {} speeds run in {:.1} s wall on {} thread(s) ({:.2} s per case){}{}; outputs in {}",
+        "{} of {} speeds run in {:.1} s wall on {} thread(s) ({:.2} s per case){}{}{}; outputs in {}",
         cases.len(),
         settings.rpm.len(),
         wall_s,
@@ -219,6 +222,11 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         wall_s / cases.len().max(1) as f64,
         if failed > 0 {
             format!(", {failed} failed (see report.md)")
+        } else {
+            String::new()
+        },
+        if warned > 0 {
+            format!(", {warned} warned (see report.md, cases.csv)")
         } else {
             String::new()
         },
@@ -372,8 +380,42 @@ fn write_outputs(
     Ok(())
 }
 
-/// `sweep.csv`, `orders.csv` and `spans.csv`.
+/// `cases.csv`: one row per speed, `rpm,status,stationary,warning_count,warnings,error`
+/// ([`CaseFlags`]; the warnings joined by ` | `, empty cells where unknown).
+fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
+    let path = dir.join("cases.csv");
+    let mut w = csv::Writer::from_path(&path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    w.write_record([
+        "rpm",
+        "status",
+        "stationary",
+        "warning_count",
+        "warnings",
+        "error",
+    ])?;
+    for case in cases {
+        let f = CaseFlags::of(case);
+        w.write_record([
+            f.rpm.to_string(),
+            f.status.to_owned(),
+            f.stationary.map_or_else(String::new, |s| s.to_string()),
+            f.warnings
+                .as_ref()
+                .map_or_else(String::new, |w| w.len().to_string()),
+            f.warnings
+                .as_ref()
+                .map_or_else(String::new, |w| w.join(" | ")),
+            f.error.unwrap_or_default(),
+        ])?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// `sweep.csv`, `cases.csv`, `orders.csv` and `spans.csv`.
 fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
+    write_case_flags(dir, cases)?;
     let mut sweep_csv = create(dir, "sweep.csv")?;
     writeln!(sweep_csv, "rpm,statistic,value")?;
     for case in cases {
@@ -619,6 +661,7 @@ fn report_text(
         }
         let _ = writeln!(s);
     }
+    s.push_str(&doubt_section(cases));
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,
@@ -689,14 +732,27 @@ fn report_text(
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "## Worst-case speeds\n");
-    let _ = writeln!(s, "| statistic | rpm | value |\n|---|---|---|");
+    let _ = writeln!(s, "| statistic | rpm | value | run |\n|---|---|---|---|");
+    let flags: Vec<CaseFlags> = cases.iter().map(CaseFlags::of).collect();
     for w in worst_cases(cases) {
-        let _ = writeln!(s, "| {} | {} | {:.6e} |", w.statistic, w.rpm, w.value);
+        let run = flags
+            .iter()
+            .find(|f| f.rpm == w.rpm && f.status != "failed")
+            .map_or("", |f| f.status);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {:.6e} | {run} |",
+            w.statistic, w.rpm, w.value
+        );
     }
     let _ = writeln!(s, "\n## Files\n");
     let _ = writeln!(
         s,
-        "- `sweep.csv`: `rpm,statistic,value`, every scalar of each run's summary (`failed` = 1 for a case that blew up)"
+        "- `sweep.csv`: `rpm,statistic,value`, every scalar of each run's summary (`failed` = 1 for a case that blew up; `warned` = 1 for a run that warned or has a segment that is not stationary, `warning_count`)"
+    );
+    let _ = writeln!(
+        s,
+        "- `cases.csv`: `rpm,status,stationary,warning_count,warnings,error`, one row per speed (status `ok`, `warned`, `failed`, or `not judged` for a run-up's window)"
     );
     let _ = writeln!(
         s,

@@ -27,8 +27,9 @@ pub mod report;
 pub mod runup;
 
 pub use report::{
-    Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed, excitation_orders,
-    judge_peak, on_order_grid, order_cut, resonance_crossings, summary_scalars, worst_cases,
+    CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
+    doubt_section, excitation_orders, judge_peak, on_order_grid, order_cut, resonance_crossings,
+    summary_scalars, worst_cases,
 };
 pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 
