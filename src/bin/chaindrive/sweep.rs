@@ -16,7 +16,9 @@ use std::time::Instant;
 
 use anyhow::Context;
 use chaindrive::analysis::orders::{MAX_ORDER_DENOMINATOR, OrderSet};
+use chaindrive::analysis::units::si;
 use chaindrive::scene::{Assignment, Overrides, Scene};
+use chaindrive::studies::sweep::campbell::describe_signal;
 use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 
 use crate::sweep_figures::{FigureSettings, draw_figures};
@@ -522,7 +524,7 @@ fn report_text(
         for c in &crossings {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {:.1} | {:.2} | {} | {} | {:.4e} | {} |",
+                "| {} | {} | {} | {:.1} | {:.2} | {} | {} | {} | {} |",
                 c.segment,
                 c.mode.name(),
                 c.order,
@@ -530,7 +532,7 @@ fn report_text(
                 c.frequency_hz,
                 c.signal,
                 c.peak_rpm,
-                c.peak_amplitude,
+                si(c.peak_amplitude, describe_signal(&c.signal).1),
                 c.verdict.describe()
             );
         }
@@ -539,7 +541,13 @@ fn report_text(
     let _ = writeln!(s, "## Worst-case speeds\n");
     let _ = writeln!(s, "| statistic | rpm | value |\n|---|---|---|");
     for w in worst_cases(cases) {
-        let _ = writeln!(s, "| {} | {} | {:.6e} |", w.statistic, w.rpm, w.value);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} |",
+            w.statistic,
+            w.rpm,
+            si(w.value, w.unit)
+        );
     }
     let _ = writeln!(s, "\n## Files\n");
     let _ = writeln!(
