@@ -340,15 +340,18 @@ where
         .bold_line_style(BLACK.mix(0.1))
         .draw()
         .map_err(e)?;
-    // Span modes, behind everything.
+    // Span modes, behind everything; the earlier spans' lines wider, so that
+    // a span whose frequencies equal a later one's (a symmetric drive) shows
+    // as a rim around it.
     for (k, span) in c.spans.iter().enumerate() {
         let col = SPAN_COLORS[k % SPAN_COLORS.len()];
+        let wider = (c.spans.len() - 1 - k).min(2) as u32;
         let lines = span
             .transverse
             .iter()
             .enumerate()
-            .map(|(n, m)| (m, dashes(n), 2))
-            .chain(std::iter::once((&span.axial, Some(AXIAL_DASHES), 1)));
+            .map(|(n, m)| (m, dashes(n), 2 + wider))
+            .chain(std::iter::once((&span.axial, Some(AXIAL_DASHES), 1 + wider)));
         for (points, dash, width) in lines {
             for part in clip_below(points, top) {
                 let style = col.stroke_width(width);
