@@ -23,6 +23,7 @@ pub mod stats;
 pub mod study;
 mod summary;
 pub mod theory;
+pub mod units;
 mod warnings;
 
 pub(crate) use summary::segment_series;

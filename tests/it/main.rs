@@ -28,6 +28,8 @@ mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
 mod excitation;
+#[cfg(feature = "cli")]
+mod figures;
 mod fit;
 mod friction;
 mod fuzz;

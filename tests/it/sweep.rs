@@ -563,7 +563,7 @@ fn a_sweep_flags_the_speeds_whose_runs_warned() {
         assert!(line.contains("penetration"), "{line}");
     }
     assert!(
-        report.contains("| largest penetration, m | ") && report.contains(" | warned |"),
+        report.contains("| largest penetration | ") && report.contains(" | warned |"),
         "{report}"
     );
 }

@@ -14,6 +14,7 @@ mod run;
 mod stress;
 mod study;
 mod sweep;
+mod sweep_figures;
 mod work_precision;
 
 use clap::{Parser, Subcommand};

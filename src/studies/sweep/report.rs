@@ -332,8 +332,10 @@ pub struct WorstCase {
     pub statistic: String,
     /// The case's speed, rpm.
     pub rpm: f64,
-    /// The value.
+    /// The value, in `unit`.
     pub value: f64,
+    /// Its SI unit: `N`, `m`, `rad/s`.
+    pub unit: &'static str,
 }
 
 /// The speeds of the largest link force, the smallest link force, the
@@ -341,30 +343,38 @@ pub struct WorstCase {
 /// largest speed fluctuation (RMS).
 pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
     let done = completed(cases);
-    let pick = |statistic: &str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
-        done.iter()
-            .map(|c| (c.rpm, value(c)))
-            .filter(|(_, v)| v.is_finite())
-            .reduce(|a, b| {
-                let better = if largest { b.1 > a.1 } else { b.1 < a.1 };
-                if better { b } else { a }
-            })
-            .map(|(rpm, value)| WorstCase {
-                statistic: statistic.to_owned(),
-                rpm,
-                value,
-            })
-    };
+    let pick =
+        |statistic: &str, unit: &'static str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
+            done.iter()
+                .map(|c| (c.rpm, value(c)))
+                .filter(|(_, v)| v.is_finite())
+                .reduce(|a, b| {
+                    let better = if largest { b.1 > a.1 } else { b.1 < a.1 };
+                    if better { b } else { a }
+                })
+                .map(|(rpm, value)| WorstCase {
+                    statistic: statistic.to_owned(),
+                    rpm,
+                    value,
+                    unit,
+                })
+        };
     let mut out = vec![
-        pick("largest link force, N", &|c| c.link_force_max_n, true),
-        pick("smallest link force, N", &|c| c.link_force_min_n, false),
-        pick("largest contact force, N", &|c| c.max_contact_force_n, true),
-        pick("largest penetration, m", &|c| c.max_penetration_m, true),
+        pick("largest link force", "N", &|c| c.link_force_max_n, true),
+        pick("smallest link force", "N", &|c| c.link_force_min_n, false),
+        pick(
+            "largest contact force",
+            "N",
+            &|c| c.max_contact_force_n,
+            true,
+        ),
+        pick("largest penetration", "m", &|c| c.max_penetration_m, true),
     ];
     let sprockets = done.first().map_or(0, |c| c.speed_rms_rad_s.len());
     for s in 0..sprockets {
         out.push(pick(
-            &format!("sprocket {} speed RMS, rad/s", s + 1),
+            &format!("sprocket {} speed RMS", s + 1),
+            "rad/s",
             &|c| c.speed_rms_rad_s.get(s).copied().unwrap_or(f64::NAN),
             true,
         ));
