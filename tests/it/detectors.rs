@@ -210,6 +210,7 @@ fn steady(
         link_range_n: link_range,
         tensioners: Vec::new(),
         shoes: Vec::new(),
+        step_sums: Default::default(),
     }
 }
 

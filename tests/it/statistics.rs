@@ -32,6 +32,7 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
                 link_range_n: (100.0, 3000.0),
                 tensioners: Vec::new(),
                 shoes: Vec::new(),
+                step_sums: Default::default(),
             }
         })
         .collect();
