@@ -345,7 +345,9 @@ struct WindowMeans<'a> {
 
 impl<'a> WindowMeans<'a> {
     fn of(rows: &'a [&'a SampleRow]) -> Self {
-        let every_step = !rows.is_empty() && rows.iter().all(|r| r.step_sums.duration_s > 0.0);
+        // The first row may hold the step where the counting began (its
+        // sums then start after it), or none where the window starts on it.
+        let every_step = rows.len() > 1 && rows[1..].iter().all(|r| r.step_sums.duration_s > 0.0);
         let sums = every_step.then(|| {
             let mut sums = StepSums::default();
             for r in rows {

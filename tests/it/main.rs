@@ -35,6 +35,7 @@ mod governor;
 mod guides;
 mod integrators;
 mod layering;
+mod means;
 mod orders;
 #[cfg(feature = "cli")]
 mod outputs;
