@@ -24,7 +24,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::{Study, StudyError};
-use crate::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
+use crate::analysis::{RunSummary, Signals, StatsWindow};
 use crate::scene::Scene;
 use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
@@ -340,12 +340,10 @@ fn simulate(
     let sampling = SampleRate::new(RATE_HZ, scene.solver().dt_s).map_err(|e| e.to_string())?;
     let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
-    let window_s = DEFAULT_WINDOW_S.min(duration);
-    let from_s = (duration - window_s).max(0.0);
-    sim.track_power(from_s);
-    let mut signals = Signals::new(&sim.model, sampling.rate_hz, from_s);
-    // Only the window's rows are needed (and kept in a checkpoint).
-    signals.keep_window(window_s);
+    // The default statistics window, after the scene's ramps; only its rows
+    // are kept (and in a checkpoint).
+    let window = StatsWindow::of(scene, None).map_err(|e| e.to_string())?;
+    let mut signals = window.observe(&mut sim, sampling.rate_hz);
     let mut so_far = RunOutcome {
         steps: 0,
         wall_s: 0.0,
@@ -371,7 +369,7 @@ fn simulate(
                 // scene (a fresh simulation, the restore may have begun).
                 resume.discarded = Some(e.to_string());
                 sim = Simulation::new(scene).map_err(|e| e.to_string())?;
-                sim.track_power(from_s);
+                signals = window.observe(&mut sim, sampling.rate_hz);
             }
         }
     }
@@ -411,11 +409,11 @@ fn simulate(
     if so_far.interrupted {
         return Ok(None);
     }
-    Ok(Some(RunSummary::of_run_over(
+    Ok(Some(RunSummary::of_run_in(
         &sim,
         &so_far,
         &signals,
         setup_wall_s,
-        window_s,
+        &window,
     )))
 }
