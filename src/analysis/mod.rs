@@ -27,17 +27,17 @@ pub mod theory;
 mod warnings;
 mod window;
 
+pub use means::{Extent, StepSums, TensionerSums};
 pub(crate) use summary::segment_series;
 pub use summary::{
-    GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
-    SummaryInputs, TensionerSummary,
+    GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
+    TensionerSummary,
 };
-pub use means::{Extent, StepSums, TensionerSums};
-pub use window::{DEFAULT_WINDOW_S, Ramp, StatsWindow, WindowError, last_ramp};
 pub use warnings::{
     ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION,
     RUNNING_TENSION_RATIO, STATIC_RESIDUAL_TOLERANCE,
 };
+pub use window::{DEFAULT_WINDOW_S, Ramp, StatsWindow, WindowError, last_ramp};
 
 use serde::{Deserialize, Serialize};
 

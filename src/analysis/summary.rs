@@ -393,7 +393,11 @@ impl<'a> WindowMeans<'a> {
     /// Guide `k`'s mean Σ f_n and Σ |f_t|.
     fn shoe_n(&self, k: usize) -> [f64; 2] {
         let shoe = |s: &StepSums, i: usize| s.shoe_n_s.get(k).map_or(0.0, |f| f[i]);
-        let sample = |r: &SampleRow, i: usize| r.shoes.get(k).map_or(f64::NAN, |f| [f.normal_n, f.friction_n][i]);
+        let sample = |r: &SampleRow, i: usize| {
+            r.shoes
+                .get(k)
+                .map_or(f64::NAN, |f| [f.normal_n, f.friction_n][i])
+        };
         [0, 1].map(|i| self.mean(|s| shoe(s, i), |r| sample(r, i)))
     }
 
@@ -588,7 +592,8 @@ impl RunSummary {
         let (_, _, link_max) = stats(in_window.iter().map(|r| r.link_range_n.1));
         // The chain's speed from the driver; in a drive without one, the mean
         // over the sprockets (each passes the same chain length per unit time).
-        let chain_speed_at = |j: usize| means.speed_rad_s(j).abs() * model.sprockets[j].pitch_radius_m;
+        let chain_speed_at =
+            |j: usize| means.speed_rad_s(j).abs() * model.sprockets[j].pitch_radius_m;
         let chain_speed = match model.driving() {
             Some(driver) => chain_speed_at(driver),
             None => {

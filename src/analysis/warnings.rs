@@ -130,33 +130,60 @@ fn ramp_in_window(j: &Judged<'_>) -> Option<String> {
     })
 }
 
-/// A harmonic (1 to [`ALIAS_HARMONICS`]) of a sprocket's tooth-passing
-/// frequency z |ω̄| / 2π above the Nyquist frequency whose alias,
-/// its distance to the nearest multiple of the sample rate, falls below
-/// [`ALIAS_BAND_HZ`]: the samples see it as a slow swing that is not there.
+/// A harmonic of a tooth-passing frequency that the samples alias.
+struct Alias<'a> {
+    sprocket: &'a str,
+    teeth: u32,
+    tooth_hz: f64,
+    harmonic: u32,
+    multiple: f64,
+    alias_hz: f64,
+}
+
+/// The first harmonic (1 to [`ALIAS_HARMONICS`]) of a sprocket's
+/// tooth-passing frequency z |ω̄| / 2π above the Nyquist frequency whose
+/// alias, its distance to the nearest multiple of the sample rate, falls
+/// below [`ALIAS_BAND_HZ`].
+fn find_alias<'a>(j: &'a Judged<'_>, rate_hz: f64) -> Option<Alias<'a>> {
+    j.scene
+        .sprockets
+        .iter()
+        .zip(&j.summary.sprockets)
+        .find_map(|(sp, summary)| {
+            let tooth_hz =
+                f64::from(sp.teeth) * summary.mean_speed_rad_s.abs() / std::f64::consts::TAU;
+            (1..=ALIAS_HARMONICS).find_map(|harmonic| {
+                let f = f64::from(harmonic) * tooth_hz;
+                let multiple = (f / rate_hz).round();
+                let alias_hz = (f - multiple * rate_hz).abs();
+                (multiple >= 1.0 && alias_hz < ALIAS_BAND_HZ).then_some(Alias {
+                    sprocket: &sp.name,
+                    teeth: sp.teeth,
+                    tooth_hz,
+                    harmonic,
+                    multiple,
+                    alias_hz,
+                })
+            })
+        })
+}
+
+/// A sample rate that aliases a tooth-passing harmonic ([`find_alias`]):
+/// the samples see it as a slow swing that is not there.
 fn aliasing(j: &Judged<'_>) -> Option<String> {
     let rate = j.summary.sample_rate_hz;
     if !(rate > 0.0) {
         return None;
     }
-    let (name, teeth, f, k, m, alias) = j
-        .scene
-        .sprockets
-        .iter()
-        .zip(&j.summary.sprockets)
-        .find_map(|(sp, summary)| {
-            let f = f64::from(sp.teeth) * summary.mean_speed_rad_s.abs() / std::f64::consts::TAU;
-            (1..=ALIAS_HARMONICS).find_map(|k| {
-                let fk = k as f64 * f;
-                let m = (fk / rate).round();
-                let alias = (fk - m * rate).abs();
-                (m >= 1.0 && alias < ALIAS_BAND_HZ).then(|| (&sp.name, sp.teeth, f, k, m, alias))
-            })
-        })?;
-    let harmonic = if k == 1 {
+    let a = find_alias(j, rate)?;
+    let harmonic = if a.harmonic == 1 {
         String::new()
     } else {
-        format!(", its harmonic {k} at {:.1} Hz", k as f64 * f)
+        format!(
+            ", its harmonic {} at {:.1} Hz",
+            a.harmonic,
+            f64::from(a.harmonic) * a.tooth_hz
+        )
     };
     let means = if j.summary.means_every_step {
         "the means are counted every step and are not affected"
@@ -164,7 +191,8 @@ fn aliasing(j: &Judged<'_>) -> Option<String> {
         "the means, taken from the samples here, are too"
     };
     Some(format!(
-        "sample rate: the tooth-passing frequency of sprocket \"{name}\" ({teeth} teeth) is {f:.1} Hz{harmonic}, {alias:.1} Hz from {m:.0} × the sample rate {rate} Hz (warning below {ALIAS_BAND_HZ} Hz): the samples see it as a swing at {alias:.1} Hz that is not there, so the sampled statistics (peaks-to-peak, RMS, standard errors, stationarity, spectra) are aliased; {means}: choose a sample rate (--rate) whose multiples keep away from it"
+        "sample rate: the tooth-passing frequency of sprocket \"{}\" ({} teeth) is {:.1} Hz{harmonic}, {:.1} Hz from {:.0} × the sample rate {rate} Hz (warning below {ALIAS_BAND_HZ} Hz): the samples see it as a swing at {:.1} Hz that is not there, so the sampled statistics (peaks-to-peak, RMS, standard errors, stationarity, spectra) are aliased; {means}: choose a sample rate (--rate) whose multiples keep away from it",
+        a.sprocket, a.teeth, a.tooth_hz, a.alias_hz, a.multiple, a.alias_hz
     ))
 }
 

@@ -171,8 +171,10 @@ mod tests {
     use crate::scene::L60MC_TOML;
 
     fn paper(duration_s: f64) -> Scene {
-        Scene::from_toml(&L60MC_TOML.replace("duration_s = 10.0", &format!("duration_s = {duration_s}")))
-            .expect("valid")
+        Scene::from_toml(
+            &L60MC_TOML.replace("duration_s = 10.0", &format!("duration_s = {duration_s}")),
+        )
+        .expect("valid")
     }
 
     #[test]
@@ -180,7 +182,11 @@ mod tests {
         // The paper's drive ramps to speed over 1 s.
         let ramp = last_ramp(&paper(10.0)).expect("a ramp");
         assert_eq!(ramp.end_s, 1.0);
-        assert!(ramp.what.contains("speed ramp of sprocket 1"), "{}", ramp.what);
+        assert!(
+            ramp.what.contains("speed ramp of sprocket 1"),
+            "{}",
+            ramp.what
+        );
         let w = StatsWindow::of(&paper(10.0), None).expect("window");
         assert_eq!((w.start_s(), w.length_s()), (9.0, 1.0));
         // 1.5 s: the last second would start at 0.5 s, inside the ramp.

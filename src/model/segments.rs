@@ -64,7 +64,11 @@ struct RunsAsWritten {
 
 impl serde::Serialize for StrandRuns {
     fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let used = self.runs.iter().rposition(Option::is_some).map_or(0, |k| k + 1);
+        let used = self
+            .runs
+            .iter()
+            .rposition(Option::is_some)
+            .map_or(0, |k| k + 1);
         RunsAsWritten {
             n: self.n,
             runs: self.runs[..used].to_vec(),

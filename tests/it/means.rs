@@ -17,7 +17,12 @@ fn summary_at(scene: &Scene, rate_hz: f64) -> (RunSummary, PowerMeans) {
     let sampling = SampleRate::new(rate_hz, scene.solver().dt_s).expect("a whole number of steps");
     let mut signals = window.observe(&mut sim, sampling.rate_hz);
     let outcome = sim
-        .run(scene.solver().duration_s, sampling.every, &mut signals, None)
+        .run(
+            scene.solver().duration_s,
+            sampling.every,
+            &mut signals,
+            None,
+        )
         .expect("no blow-up");
     let flow = sim.power.as_ref().and_then(|p| p.means()).expect("counted");
     let summary = RunSummary::of_run_in(&sim, &outcome, &signals, 0.0, &window);
@@ -27,7 +32,11 @@ fn summary_at(scene: &Scene, rate_hz: f64) -> (RunSummary, PowerMeans) {
 /// The summary's window is `[from, to]`, s (to the clock's rounding).
 fn assert_window(s: &RunSummary, [from, to]: [f64; 2]) {
     let [a, b] = s.window_s;
-    assert!((a - from).abs() < 1e-9 && (b - to).abs() < 1e-9, "{:?}", s.window_s);
+    assert!(
+        (a - from).abs() < 1e-9 && (b - to).abs() < 1e-9,
+        "{:?}",
+        s.window_s
+    );
 }
 
 #[test]
@@ -59,7 +68,10 @@ fn mean_torques_meet_the_closed_form_at_a_rate_equal_to_the_tooth_frequency() {
         let closed = 560.0 * ratio + losses_w / engine.mean_speed_rad_s;
         approx::assert_relative_eq!(-engine.mean_torque_n_m, closed, max_relative = 5e-3);
         // The engine supplies at least the load: never less than 560 · 15/44.
-        assert!(-engine.mean_torque_n_m > 560.0 * ratio, "{rate} Hz: {engine:?}");
+        assert!(
+            -engine.mean_torque_n_m > 560.0 * ratio,
+            "{rate} Hz: {engine:?}"
+        );
         approx::assert_relative_eq!(
             wheel.mean_speed_rad_s,
             engine.mean_speed_rad_s * ratio,
@@ -86,10 +98,15 @@ fn a_rate_equal_to_the_tooth_frequency_warns_of_the_sampled_statistics() {
         .expect("a valid scene");
     let warned = |rate| {
         let (s, _) = summary_at(&scene, rate);
-        s.warnings.into_iter().find(|w| w.starts_with("sample rate"))
+        s.warnings
+            .into_iter()
+            .find(|w| w.starts_with("sample rate"))
     };
     let w = warned(1000.0).expect("a warning at 1 kHz");
-    assert!(w.contains("engine") && w.contains("0.0 Hz from 1 × the sample rate"), "{w}");
+    assert!(
+        w.contains("engine") && w.contains("0.0 Hz from 1 × the sample rate"),
+        "{w}"
+    );
     assert!(w.contains("the means are counted every step"), "{w}");
     // 5 kHz: the harmonics 1–3 (1, 2, 3 kHz) keep away from its multiples.
     assert_eq!(warned(5000.0), None);
