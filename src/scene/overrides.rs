@@ -25,7 +25,10 @@ pub struct Overrides {
     /// `solver.dt_s = "auto"`: the step chosen from the scene (takes
     /// precedence over `dt_s`).
     pub dt_auto: bool,
-    /// `solver.stepping`.
+    /// `solver.stepping`. Rapier's stepping without an `integrator`
+    /// override also sets `solver.integrator` to symplectic Euler, the
+    /// scheme rapier integrates with (whatever scheme the file names for
+    /// the substepped chain).
     pub stepping: Option<Stepping>,
     /// `solver.integrator`.
     pub integrator: Option<Integrator>,
@@ -85,6 +88,10 @@ impl SceneFile {
         }
         set(&mut solver.tolerance, tolerance);
         set_name(&mut solver.stepping, stepping.map(Stepping::name));
+        let integrator = match (stepping, integrator) {
+            (Some(Stepping::Rapier), None) => Some(Integrator::SymplecticEuler),
+            _ => integrator,
+        };
         set_name(&mut solver.integrator, integrator.map(Integrator::name));
         set_name(&mut self.contact.law, contact_law.map(ContactLaw::name));
         set(&mut self.equilibrium.max_relax_s, max_relax_s);
@@ -189,6 +196,18 @@ mod tests {
         };
         let err = Scene::from_toml_with(L60MC_TOML, &overrides).expect_err("invalid");
         assert_eq!(err.lines(), ["solver.dt_s: must be > 0, got -1"]);
+    }
+
+    #[test]
+    fn rapier_stepping_brings_its_own_scheme() {
+        // The paper's drive names velocity Verlet for its substepped chain;
+        // `--stepping rapier` alone runs it with rapier's symplectic Euler.
+        let overrides = Overrides {
+            stepping: Some(Stepping::Rapier),
+            ..Overrides::default()
+        };
+        let scene = Scene::l60mc().with(&overrides).expect("valid");
+        assert_eq!(scene.solver().integrator, Integrator::SymplecticEuler);
     }
 
     #[test]

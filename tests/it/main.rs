@@ -37,6 +37,7 @@ mod governor;
 mod guides;
 mod integrators;
 mod layering;
+mod means;
 mod orders;
 #[cfg(feature = "cli")]
 mod outputs;

@@ -44,7 +44,7 @@ fn each_bad_input_names_its_field() {
         (
             L60MC_TOML
                 .replace("stepping = \"substepped\"", "stepping = \"rapier\"")
-                .replace("integrator = \"symplectic_euler\"", "integrator = \"rk4\""),
+                .replace("integrator = \"velocity_verlet\"", "integrator = \"rk4\""),
             "solver.integrator",
             "needs stepping = \"substepped\"",
         ),

@@ -24,7 +24,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::{Study, StudyError};
-use crate::analysis::{RunSummary, Signals};
+use crate::analysis::{RunSummary, Signals, StatsWindow};
 use crate::scene::Scene;
 use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
@@ -197,7 +197,7 @@ impl StudyDir {
             .study
             .checkpoint_every_s
             .map(|every| (final_dir.join(CHECKPOINT_FILE), every));
-        let window_s = self.study.statistics_window_s(&scene);
+        let window_s = self.study.statistics_window_s();
         if checkpoint.is_some() {
             std::fs::create_dir_all(&final_dir).map_err(|e| StudyError::io(&final_dir, e))?;
         }
@@ -333,13 +333,14 @@ struct Resume {
     earlier_wall_s: f64,
 }
 
-/// Runs `scene` to its end, its statistics over the last `window_s`;
+/// Runs `scene` to its end, its statistics over the last `window_s` (`None`:
+/// the default window after the ramps);
 /// `Ok(None)` when stopped. With `checkpoint = (path, S)` it resumes from
 /// `path` when the file exists, and writes it at every multiple of S and
 /// when stopped.
 fn simulate(
     scene: &Scene,
-    window_s: f64,
+    window_s: Option<f64>,
     stop: Option<&AtomicBool>,
     checkpoint: Option<(&Path, f64)>,
     resume: &mut Resume,
@@ -350,11 +351,10 @@ fn simulate(
     let sampling = SampleRate::new(RATE_HZ, scene.solver().dt_s).map_err(|e| e.to_string())?;
     let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
-    let from_s = (duration - window_s).max(0.0);
-    sim.track_power(from_s);
-    let mut signals = Signals::new(&sim.model, sampling.rate_hz, from_s);
-    // Only the window's rows are needed (and kept in a checkpoint).
-    signals.keep_window(window_s);
+    // The plan's statistics window, or the default after the scene's ramps;
+    // only its rows are kept (and in a checkpoint).
+    let window = StatsWindow::of(scene, window_s).map_err(|e| e.to_string())?;
+    let mut signals = window.observe(&mut sim, sampling.rate_hz);
     let mut so_far = RunOutcome {
         steps: 0,
         wall_s: 0.0,
@@ -380,7 +380,7 @@ fn simulate(
                 // scene (a fresh simulation, the restore may have begun).
                 resume.discarded = Some(e.to_string());
                 sim = Simulation::new(scene).map_err(|e| e.to_string())?;
-                sim.track_power(from_s);
+                signals = window.observe(&mut sim, sampling.rate_hz);
             }
         }
     }
@@ -420,11 +420,11 @@ fn simulate(
     if so_far.interrupted {
         return Ok(None);
     }
-    Ok(Some(RunSummary::of_run_over(
+    Ok(Some(RunSummary::of_run_in(
         &sim,
         &so_far,
         &signals,
         setup_wall_s,
-        window_s,
+        &window,
     )))
 }

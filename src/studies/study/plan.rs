@@ -43,7 +43,6 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::StudyError;
-use crate::analysis::DEFAULT_WINDOW_S;
 use crate::scene::{Assignment, Scene, ScenePath, Stepping, set_in_table};
 
 /// A plan file as written (nothing checked beyond its TOML shape).
@@ -463,12 +462,12 @@ impl Study {
         })
     }
 
-    /// The statistics window of a case's run of `scene`, s: the plan's
-    /// `window_s` (checked against every case's run when the plan was
-    /// read), else the default, clipped to the run.
-    pub fn statistics_window_s(&self, scene: &Scene) -> f64 {
-        let duration = scene.solver().duration_s;
-        self.window_s.unwrap_or(DEFAULT_WINDOW_S).min(duration)
+    /// The statistics window of a case's runs, s: the plan's `window_s`
+    /// (checked against every case's run when the plan was read), or `None`
+    /// for the default window after the scene's ramps
+    /// ([`crate::analysis::StatsWindow`]).
+    pub fn statistics_window_s(&self) -> Option<f64> {
+        self.window_s
     }
 
     /// The validated scene of case `k`.
