@@ -23,6 +23,7 @@ mod kinds;
 pub mod mutate;
 mod overrides;
 mod run_up;
+mod shape;
 mod stability;
 mod tensioners;
 mod threads;
@@ -47,7 +48,7 @@ pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap
 pub use overrides::Overrides;
 pub use run_up::RunUpFile;
 pub use stability::{
-    AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
+    AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s, step_note,
 };
 pub use tensioners::{
     DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner,
@@ -153,10 +154,14 @@ impl Scene {
         &self.guides
     }
 
-    /// What is valid but likely unintended, one sentence each: guides and
-    /// tensioner arms' shoes the chain's nominal path does not reach.
+    /// What is valid but likely unintended, one sentence each: a step above
+    /// its integrator's estimated stability limit, guides and tensioner
+    /// arms' shoes the chain's nominal path does not reach.
     pub fn warnings(&self) -> Vec<String> {
-        let mut w = guides::warnings(&self.guides);
+        let mut w: Vec<String> = stability::step_warning(&self.solver, &StepLimits::of(self))
+            .into_iter()
+            .collect();
+        w.extend(guides::warnings(&self.guides));
         w.extend(tensioners::warnings(
             &self.tensioners,
             &self.sprockets,

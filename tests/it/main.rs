@@ -52,6 +52,8 @@ mod running_tension;
 mod scene_errors;
 mod seam;
 mod statistics;
+#[cfg(feature = "cli")]
+mod stderr_lines;
 mod stepping;
 mod strands;
 mod stress;
