@@ -24,6 +24,8 @@ mod cosim_multi;
 mod cosim_parking;
 mod designations;
 mod detectors;
+#[cfg(feature = "cli")]
+mod docs_drift;
 mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
