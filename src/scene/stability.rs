@@ -274,6 +274,32 @@ fn rebound_integral(p: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// Each scheme's limit, written out: symplectic Euler and velocity
+    /// Verlet min(links, damping, joints); RK4 min(√2 links, 1.3925 damping,
+    /// 1.3925 joints); the implicit scheme min(links, joints); the adaptive
+    /// one none.
+    #[test]
+    fn each_scheme_is_bound_by_its_own_estimates() {
+        let l = StepLimits {
+            links_s: 10e-6,
+            contact_damping_s: 3e-6,
+            joint_friction_s: 20e-6,
+        };
+        assert_eq!(l.for_integrator(Integrator::SymplecticEuler), 3e-6);
+        assert_eq!(l.for_integrator(Integrator::VelocityVerlet), 3e-6);
+        assert_eq!(l.for_integrator(Integrator::Rk4), 3e-6 * 1.3925);
+        assert_eq!(l.for_integrator(Integrator::ImplicitDamping), 10e-6);
+        assert_eq!(l.for_integrator(Integrator::DormandPrince45), f64::INFINITY);
+        let rk4_links = StepLimits {
+            contact_damping_s: 1.0,
+            ..l
+        };
+        assert_eq!(
+            rk4_links.for_integrator(Integrator::Rk4),
+            10e-6 * std::f64::consts::SQRT_2
+        );
+    }
+
     /// Closed forms: p = 2 (linear spring), ∫₀¹ (1 − x²)^(−½) dx = π/2;
     /// p = 2.5 (Hertz), B(2/5, 1/2)/(5/2) = 1.4716 (Γ(0.4) = 2.21816,
     /// Γ(0.5) = √π, Γ(0.9) = 1.06863).
