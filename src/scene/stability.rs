@@ -152,8 +152,10 @@ pub fn step_note(scene: &Scene) -> String {
     let limit_s = StepLimits::of(scene).for_integrator(solver.integrator);
     let how = if solver.dt_auto {
         let impact_s = impact_duration_s(&scene.chain, &scene.contact, &scene.sprockets);
+        // Nine digits: 1 ms, 0.2 ms, 0.333333333 ms.
+        let period_ms = (solver.sample_period_s * 1e12).round() / 1e9;
         format!(
-            " (auto: at most {AUTO_SAFETY} x the estimated limit{} and 1/{AUTO_STEPS_PER_IMPACT} of a roller's impact{}, a whole fraction of the {} sample period)",
+            " (auto: at most {AUTO_SAFETY} x the estimated limit{} and 1/{AUTO_STEPS_PER_IMPACT} of a roller's impact{}, a whole fraction of the {period_ms} ms sample period)",
             if limit_s.is_finite() {
                 ""
             } else {
@@ -164,8 +166,6 @@ pub fn step_note(scene: &Scene) -> String {
             } else {
                 String::new()
             },
-            // Nine digits: 1 ms, 0.2 ms, 0.333333333 ms.
-            format!("{} ms", (solver.sample_period_s * 1e12).round() / 1e9)
         )
     } else {
         String::new()
