@@ -38,6 +38,12 @@ pub struct Overrides {
     pub contact_law: Option<ContactLaw>,
     /// `equilibrium.max_relax_s`: largest relaxation time per iteration, s.
     pub max_relax_s: Option<f64>,
+    /// The rate the run samples at, Hz: an automatic step
+    /// (`solver.dt_s = "auto"`) is a whole fraction of its period, so that
+    /// every sample falls on a step (`None`: 1 kHz). Not a scene-file
+    /// field; a rate that is not a finite number > 0 is left out here (the
+    /// sampler refuses it).
+    pub sample_rate_hz: Option<f64>,
 }
 
 impl Overrides {
@@ -73,6 +79,7 @@ impl SceneFile {
             tolerance,
             contact_law,
             max_relax_s,
+            sample_rate_hz,
         } = *overrides;
         if let Some(p) = profile {
             for s in &mut self.sprockets {
@@ -85,6 +92,9 @@ impl SceneFile {
             solver.dt_s = StepFile::Word(super::file::AUTO.to_owned());
         } else if let Some(dt) = dt_s {
             solver.dt_s = StepFile::Seconds(dt);
+        }
+        if let Some(rate) = sample_rate_hz.filter(|r| r.is_finite() && *r > 0.0) {
+            solver.sample_period_s = Some(1.0 / rate);
         }
         set(&mut solver.tolerance, tolerance);
         set_name(&mut solver.stepping, stepping.map(Stepping::name));
@@ -146,12 +156,27 @@ impl Scene {
         base_dir: Option<&std::path::Path>,
         overrides: &Overrides,
     ) -> Result<Self, SceneError> {
-        let mut file: SceneFile = toml::from_str(text).map_err(SceneError::from_toml)?;
+        // Every problem at once: the shape's (unknown, mistyped, missing
+        // fields), and the values' when only unknown fields were wrong.
+        let read = super::shape::read::<SceneFile>(text, super::file::required)?;
+        let Some(mut file) = read.value else {
+            return Err(SceneError::Invalid(read.errors));
+        };
         file.base_dir = base_dir.map(std::path::Path::to_path_buf);
         file.apply(overrides);
-        let mut scene = Self::try_from(file).map_err(|e| e.located(text, &overrides.paths()))?;
-        scene.source_toml = Some(text.to_owned());
-        Ok(scene)
+        let mut errors = read.errors;
+        match Self::try_from(file).map_err(|e| e.located(text, &overrides.paths())) {
+            Ok(mut scene) if errors.is_empty() => {
+                scene.source_toml = Some(text.to_owned());
+                Ok(scene)
+            }
+            Ok(_) => Err(SceneError::Invalid(errors)),
+            Err(SceneError::Invalid(more)) => {
+                errors.extend(more);
+                Err(SceneError::Invalid(errors))
+            }
+            Err(other) => Err(other),
+        }
     }
 
     /// Parses a TOML scene, applies `overrides` and validates the result.

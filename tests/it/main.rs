@@ -24,6 +24,8 @@ mod cosim_multi;
 mod cosim_parking;
 mod designations;
 mod detectors;
+#[cfg(feature = "cli")]
+mod docs_drift;
 mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
@@ -55,6 +57,8 @@ mod running_tension;
 mod scene_errors;
 mod seam;
 mod statistics;
+#[cfg(feature = "cli")]
+mod stderr_lines;
 mod stepping;
 mod strands;
 mod stress;

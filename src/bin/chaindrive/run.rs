@@ -15,9 +15,7 @@ use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping
 use chaindrive::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
-use chaindrive::sim::{
-    Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
-};
+use chaindrive::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes};
 use serde::{Deserialize, Serialize};
 
 /// Arguments of `chaindrive run`.
@@ -224,6 +222,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         tolerance: args.tolerance,
         contact_law: args.contact_law,
         max_relax_s: None,
+        sample_rate_hz: Some(args.rate),
     };
     let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
@@ -409,26 +408,8 @@ fn simulate(
         // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
-    let limits = StepLimits::of(&scene);
-    let limit_s = limits.for_integrator(scene.solver().integrator);
-    if scene.solver().dt_auto && !args.quiet {
-        eprintln!(
-            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit, at most 1/{} of a roller's impact, a whole fraction of 1 ms)",
-            scene.solver().dt_s,
-            chaindrive::scene::AUTO_SAFETY,
-            scene.solver().integrator.name(),
-            chaindrive::scene::AUTO_STEPS_PER_IMPACT,
-        );
-    }
-    if scene.solver().dt_s > limit_s {
-        eprintln!(
-            "warning: dt = {:e} s exceeds {}'s estimated stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s, for symplectic Euler)",
-            scene.solver().dt_s,
-            scene.solver().integrator.name(),
-            limit_s,
-            limits.links_s,
-            limits.contact_damping_s
-        );
+    if !args.quiet {
+        eprintln!("{}", chaindrive::scene::step_note(&scene));
     }
     for w in scene.warnings() {
         eprintln!("warning: {w}");
