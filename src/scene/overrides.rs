@@ -41,8 +41,9 @@ pub struct Overrides {
     /// The rate the run samples at, Hz: an automatic step
     /// (`solver.dt_s = "auto"`) is a whole fraction of its period, so that
     /// every sample falls on a step (`None`: 1 kHz). Not a scene-file
-    /// field; a rate that is not a finite number > 0 is left out here (the
-    /// sampler refuses it).
+    /// field, and nothing to a scene that gives its step in seconds; a rate
+    /// that is not a finite number > 0 is left out here (the sampler
+    /// refuses it).
     pub sample_rate_hz: Option<f64>,
 }
 
@@ -93,7 +94,11 @@ impl SceneFile {
         } else if let Some(dt) = dt_s {
             solver.dt_s = StepFile::Seconds(dt);
         }
-        if let Some(rate) = sample_rate_hz.filter(|r| r.is_finite() && *r > 0.0) {
+        // Only an automatic step depends on the rate: a scene with its own
+        // step stays the same scene at every rate.
+        if let Some(rate) = sample_rate_hz.filter(|r| r.is_finite() && *r > 0.0)
+            && matches!(solver.dt_s, StepFile::Word(_))
+        {
             solver.sample_period_s = Some(1.0 / rate);
         }
         set(&mut solver.tolerance, tolerance);

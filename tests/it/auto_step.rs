@@ -142,6 +142,12 @@ fn the_auto_step_divides_the_sample_period_of_any_rate() {
         0.2e-3 / 44.0,
         max_relative = 1e-12
     );
+    // A scene with its own step is the same scene at every rate.
+    let paper_at_5k = Scene::l60mc().with(&Overrides {
+        sample_rate_hz: Some(5000.0),
+        ..Overrides::default()
+    });
+    assert_eq!(paper_at_5k.expect("valid"), Scene::l60mc());
     // The default rate keeps the step it always had.
     assert_eq!(
         at(1000.0).solver().dt_s,
