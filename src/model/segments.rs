@@ -104,34 +104,31 @@ impl StrandRuns {
     /// from 0 first), so that sums over them do not depend on where the
     /// chain's numbering starts.
     pub fn links(&self, k: usize) -> impl Iterator<Item = usize> {
+        let [wrapped, rest] = self.link_ranges(k);
+        wrapped.chain(rest)
+    }
+
+    /// Segment `k`'s links as two index ranges in the order of
+    /// [`StrandRuns::links`]: those past the last roller (from 0), then the rest.
+    fn link_ranges(&self, k: usize) -> [std::ops::Range<usize>; 2] {
         let (first, links) = self
             .get(k)
             .map_or((0, 0), |r| (r.first, r.rollers.saturating_sub(1)));
         let end = first + links;
-        let (wrapped, end) = if end > self.n {
-            (end - self.n, self.n)
+        if end > self.n {
+            [0..end - self.n, first..self.n]
         } else {
-            (0, end)
-        };
-        (0..wrapped).chain(first..end)
+            [0..0, first..end]
+        }
     }
 
     /// The sum of `link_force` over segment `k`'s free strand, in the order
     /// of [`StrandRuns::links`], and the number of links summed (links
     /// beyond `link_force` left out): two slices, no bounds check per link.
     pub fn force_sum(&self, k: usize, link_force: &[f64]) -> (f64, usize) {
-        let (first, links) = self
-            .get(k)
-            .map_or((0, 0), |r| (r.first, r.rollers.saturating_sub(1)));
-        let end = first + links;
-        let (wrapped, end) = if end > self.n {
-            (end - self.n, self.n)
-        } else {
-            (0, end)
-        };
         let mut sum = 0.0;
         let mut count = 0;
-        for range in [0..wrapped, first..end] {
+        for range in self.link_ranges(k) {
             let slice = link_force
                 .get(range.start.min(link_force.len())..range.end.min(link_force.len()))
                 .unwrap_or_default();
