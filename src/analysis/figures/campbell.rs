@@ -351,7 +351,11 @@ where
             .iter()
             .enumerate()
             .map(|(n, m)| (m, dashes(n), 2 + wider))
-            .chain(std::iter::once((&span.axial, Some(AXIAL_DASHES), 1 + wider)));
+            .chain(std::iter::once((
+                &span.axial,
+                Some(AXIAL_DASHES),
+                1 + wider,
+            )));
         for (points, dash, width) in lines {
             for part in clip_below(points, top) {
                 let style = col.stroke_width(width);
