@@ -482,10 +482,9 @@ impl<DB: DrawingBackend> Column<'_, DB> {
         let points = vec![(12, self.y + 8), (44, self.y + 8)];
         match dash {
             None => self.panel.draw(&PathElement::new(points, style)),
-            Some((d, g)) => {
-                self.panel
-                    .draw(&DashedPathElement::new(points.into_iter(), d, g, style))
-            }
+            Some((d, g)) => self
+                .panel
+                .draw(&DashedPathElement::new(points, d, g, style)),
         }
     }
 }

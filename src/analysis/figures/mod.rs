@@ -341,7 +341,7 @@ where
         let pts: Vec<(f64, f64)> = finite(&t.points).collect();
         // Dense signals in a thin line; a few results in a line that shows.
         let width = if pts.len() > 200 { 1 } else { 2 };
-        let mut anno = match t.mark {
+        let anno = match t.mark {
             Mark::Line => chart.draw_series(LineSeries::new(pts, c.stroke_width(width))),
             Mark::Dashed => chart.draw_series(DashedLineSeries::new(pts, 8, 5, c.stroke_width(2))),
             Mark::LineDots => {
@@ -358,7 +358,7 @@ where
         .map_err(e)?;
         // A trace with no label shares the legend entry of the one before.
         if !t.label.is_empty() {
-            legend(&mut anno, t.mark, c, t.label.clone());
+            legend(anno, t.mark, c, t.label.clone());
         }
     }
     // A note too close to one already written is left out: overlapping
