@@ -361,8 +361,19 @@ where
             legend(anno, t.mark, c, t.label.clone());
         }
     }
+    // A note too close to one already written is left out: overlapping
+    // labels read as neither.
+    let mut written: Vec<(f64, f64)> = Vec::new();
     for (x, y, text) in &plot.notes {
+        let (u, v) = ((x - x0) / (x1 - x0), (y - y0) / (y1 - y0));
+        if written
+            .iter()
+            .any(|(a, b)| (u - a).abs() < 0.08 && (v - b).abs() < 0.05)
+        {
+            continue;
+        }
         if x.is_finite() && y.is_finite() {
+            written.push((u, v));
             // Beside the point, a little above it.
             chart
                 .draw_series(std::iter::once(

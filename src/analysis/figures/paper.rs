@@ -106,7 +106,7 @@ pub fn paper_figures(
         };
         let mut spectra = Plot {
             title: format!(
-                "Fig. {fig_f}: amplitude spectrum of segment {seg}'s transverse displacement"
+                "Fig. {fig_f}: amplitude spectrum of segment {seg}'s transverse displacement (dots: peaks)"
             ),
             x_label: "frequency (Hz)".into(),
             y_label: "amplitude".into(),
@@ -134,7 +134,8 @@ pub fn paper_figures(
                 color: i,
             });
             spectra.traces.push(Trace {
-                label: format!("{} peaks", r.label),
+                // The run's colour says whose; one legend entry per run.
+                label: String::new(),
                 points: picked.peaks.iter().map(|(f, a)| (*f, *a)).collect(),
                 mark: Mark::Dots,
                 color: i,
