@@ -193,3 +193,15 @@ fn the_drive_as_written_has_no_speed_or_strength_warning() {
     assert!(r.static_safety_factor.expect("a strength") > 6.0, "{r:?}");
     assert!(r.mean_static_safety_factor.expect("a strength") > r.static_safety_factor.expect("a strength"));
 }
+
+/// A chain without a designation is rated by its pitch as a guide: a
+/// margin below 1 is reported in the block, not flagged.
+#[test]
+fn a_chain_without_designation_is_rated_but_its_margin_not_flagged() {
+    let text = MOTO_10B.replace("designation = \"ISO 606 10B-1\"\n", "pitch_m = 0.015875\nroller_radius_m = 0.00508\nroller_mass_kg = 0.0144\nstiffness_n_m = 2.0e8\npin_radius_m = 0.00254\n");
+    let scene = Scene::from_toml(&text).expect("valid scene");
+    let r = rating::of_scene(&scene, RatingSettings::default(), Some(1e5)).expect("rated");
+    assert!(r.designation.is_none() && r.tensile_strength_n.is_none());
+    assert!(r.margin.expect("a power") < 1.0);
+    assert!(r.notes.iter().any(|n| n.contains("chain.designation")), "{:?}", r.notes);
+}

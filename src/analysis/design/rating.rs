@@ -554,8 +554,14 @@ pub(crate) fn warnings(scene: &Scene, rating: &Rating, largest_link_force_n: f64
             centrifugal * 1e-3
         ));
     }
-    if let (Some(p), Some(margin)) = (rating.transmitted_power_w, rating.margin)
-        && margin < 1.0
+    // A chain without a designation is rated by its pitch alone, as a guide:
+    // nothing says it is a catalogue chain, so its margin is reported, not
+    // flagged.
+    if let (Some(p), Some(margin), Some(_)) = (
+        rating.transmitted_power_w,
+        rating.margin,
+        &rating.designation,
+    ) && margin < 1.0
     {
         found.push(format!(
             "rating: the drive transmits {:.2} kW, above the chain's catalogue rating of {:.2} kW ({} limited, {} teeth at {:.0} rpm, strand factor {}, service factor {}; margin {margin:.2}); {}",
