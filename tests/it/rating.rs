@@ -19,9 +19,8 @@ fn table_hp(name: &str, teeth: f64, rpm: f64) -> f64 {
     let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
     let class = ChainClass::of(Some(d.name));
     let p_in = d.pitch_m / INCH_M;
-    link_plate_limited_hp(class, teeth, rpm, p_in).min(roller_bushing_limited_hp(
-        class, teeth, rpm, p_in,
-    ))
+    link_plate_limited_hp(class, teeth, rpm, p_in)
+        .min(roller_bushing_limited_hp(class, teeth, rpm, p_in))
 }
 
 /// Horsepower-table entries as printed (single strand, small sprocket's
@@ -106,16 +105,32 @@ fn a_scene_is_rated_at_its_smallest_sprocket_with_the_service_factor() {
     assert_eq!(r.limited_by, "link_plate");
     // Chain speed N P n / 60 = 17 × 0.0127 m × 1000 / 60 = 3.598 m/s: bath
     // lubrication (type B: 1.52 to 11.7 m/s for No. 40).
-    approx::assert_relative_eq!(r.chain_speed_m_s, 17.0 * 0.0127 * 1000.0 / 60.0, max_relative = 1e-12);
+    approx::assert_relative_eq!(
+        r.chain_speed_m_s,
+        17.0 * 0.0127 * 1000.0 / 60.0,
+        max_relative = 1e-12
+    );
     assert_eq!(r.lubrication, rating::Lubrication::B);
     // 1 − cos(π/17) = 0.017 026; 17 teeth at 1000 rpm pass at 283.3 Hz, and
     // the driven sprocket's 38 teeth at the same rate.
     approx::assert_relative_eq!(r.polygonal_speed_variation, 0.017_026, max_relative = 1e-3);
-    approx::assert_relative_eq!(r.tooth_frequency_hz[0], 17_000.0 / 60.0, max_relative = 1e-12);
-    approx::assert_relative_eq!(r.tooth_frequency_hz[1], 17_000.0 / 60.0, max_relative = 1e-12);
+    approx::assert_relative_eq!(
+        r.tooth_frequency_hz[0],
+        17_000.0 / 60.0,
+        max_relative = 1e-12
+    );
+    approx::assert_relative_eq!(
+        r.tooth_frequency_hz[1],
+        17_000.0 / 60.0,
+        max_relative = 1e-12
+    );
     approx::assert_relative_eq!(r.margin.expect("a power"), r.design_power_w / 2000.0);
     // ANSI 40's minimum tensile strength: 12,500 × 0.5² lbf = 13.90 kN.
-    approx::assert_relative_eq!(r.tensile_strength_n.expect("a strength"), 13_900.7, max_relative = 1e-3);
+    approx::assert_relative_eq!(
+        r.tensile_strength_n.expect("a strength"),
+        13_900.7,
+        max_relative = 1e-3
+    );
 }
 
 #[test]
@@ -191,7 +206,10 @@ fn the_drive_as_written_has_no_speed_or_strength_warning() {
         s.warnings
     );
     assert!(r.static_safety_factor.expect("a strength") > 6.0, "{r:?}");
-    assert!(r.mean_static_safety_factor.expect("a strength") > r.static_safety_factor.expect("a strength"));
+    assert!(
+        r.mean_static_safety_factor.expect("a strength")
+            > r.static_safety_factor.expect("a strength")
+    );
 }
 
 /// A chain without a designation is rated by its pitch as a guide: a
@@ -203,5 +221,9 @@ fn a_chain_without_designation_is_rated_but_its_margin_not_flagged() {
     let r = rating::of_scene(&scene, RatingSettings::default(), Some(1e5)).expect("rated");
     assert!(r.designation.is_none() && r.tensile_strength_n.is_none());
     assert!(r.margin.expect("a power") < 1.0);
-    assert!(r.notes.iter().any(|n| n.contains("chain.designation")), "{:?}", r.notes);
+    assert!(
+        r.notes.iter().any(|n| n.contains("chain.designation")),
+        "{:?}",
+        r.notes
+    );
 }

@@ -339,7 +339,8 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
     if !(sf.is_finite() && sf > 0.0) {
         return Err(RatingError::ServiceFactor(sf));
     }
-    let strand_factor = strand_factor(settings.strands).ok_or(RatingError::Strands(settings.strands))?;
+    let strand_factor =
+        strand_factor(settings.strands).ok_or(RatingError::Strands(settings.strands))?;
     let sprockets = &scene.sprockets;
     let smallest = (0..sprockets.len())
         .min_by_key(|&s| sprockets[s].teeth)
@@ -401,7 +402,12 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
         link_plate_limited_power_w: h1_w,
         roller_bushing_limited_power_w: h2_w,
         rated_power_w: rated_w,
-        limited_by: if h1_w <= h2_w { "link_plate" } else { "roller_bushing" }.to_owned(),
+        limited_by: if h1_w <= h2_w {
+            "link_plate"
+        } else {
+            "roller_bushing"
+        }
+        .to_owned(),
         strands: settings.strands,
         strand_factor,
         service_factor: sf,
@@ -451,7 +457,8 @@ fn load_power(scene: &Scene, speeds: &[f64]) -> Result<(f64, String), String> {
     if power > 0.0 {
         Ok((
             power,
-            "the scene's load torques at the driver's speed, sum of |load torque| x speed".to_owned(),
+            "the scene's load torques at the driver's speed, sum of |load torque| x speed"
+                .to_owned(),
         ))
     } else {
         Err("no transmitted power: the scene has no load torque (sprockets.N.load_torque_n_m); give the power (--power-w) or run the scene (its summary's rating uses the run's driver power)".to_owned())
@@ -500,7 +507,10 @@ pub(crate) fn of_run(scene: &Scene, summary: &RunSummary) -> Option<Rating> {
     }
     let power = summary.driver_mean_power_w;
     let transmitted = if power > 0.0 && power.is_finite() {
-        Ok((power, "the run's mean driver power over the window".to_owned()))
+        Ok((
+            power,
+            "the run's mean driver power over the window".to_owned(),
+        ))
     } else {
         Err("no transmitted power: the driver delivered none over the window".to_owned())
     };
