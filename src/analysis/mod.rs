@@ -13,6 +13,7 @@
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
 pub mod binder;
+pub mod design;
 #[cfg(feature = "figures")]
 pub mod figures;
 mod means;

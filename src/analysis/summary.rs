@@ -267,6 +267,11 @@ pub struct RunSummary {
     /// Tensioner arms (absent from scenes without them).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tensioners: Vec<TensionerSummary>,
+    /// The catalogue rating and static safety factors
+    /// ([`super::design::rating`]; absent where the smallest sprocket did
+    /// not turn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rating: Option<super::design::Rating>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
@@ -722,8 +727,10 @@ impl RunSummary {
                 .enumerate()
                 .map(|(k, t)| means.tensioner(&t.name, k))
                 .collect(),
+            rating: None,
             warnings: Vec::new(),
         };
+        summary.rating = super::design::rating::of_run(scene, &summary);
         summary.warnings = super::warnings::of_run(&Judged {
             scene,
             summary: &summary,

@@ -57,6 +57,12 @@ pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {
     ]
     .into_iter()
     .flatten()
+    .chain(
+        j.summary
+            .rating
+            .iter()
+            .flat_map(|r| super::design::rating::warnings(j.scene, r, j.summary.link_force_max_n)),
+    )
     .collect()
 }
 

@@ -45,6 +45,7 @@ mod orders;
 mod outputs;
 mod paper;
 mod profile;
+mod rating;
 #[cfg(feature = "record")]
 mod record;
 #[cfg(feature = "record")]

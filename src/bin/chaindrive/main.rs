@@ -23,6 +23,7 @@ mod convergence;
 mod fit;
 mod outputs;
 mod profile;
+mod rate;
 mod recover;
 mod reproduce;
 mod run;
@@ -58,6 +59,9 @@ enum Command {
     /// List the chains known by designation (ISO 606 B series, ANSI) with
     /// each value's source.
     Chains(chains::ChainsArgs),
+    /// The chain's catalogue power rating at the scene's speeds (ANSI
+    /// formulas), its lubrication, chain speed and the margin.
+    Rate(rate::RateArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
@@ -83,6 +87,7 @@ fn main() -> std::process::ExitCode {
         Command::Fit(args) => fit::fit(args),
         Command::Chains(args) => chains::chains(args),
         Command::Profile(args) => profile::profile(args),
+        Command::Rate(args) => rate::rate(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
         Command::Sweep(args) => sweep::sweep(args),
