@@ -9,8 +9,7 @@
 //! cargo run --release --example box_pile
 //! ```
 
-use chaindrive::cosim::ChainDrive;
-use chaindrive::scene::Scene;
+use chaindrive::prelude::*;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

@@ -10,10 +10,7 @@
 //! cargo run --release --example conveyor
 //! ```
 
-use chaindrive::cosim::ChainDrive;
-use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
-use chaindrive::scene::Scene;
-use chaindrive::sim::Observer;
+use chaindrive::prelude::*;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

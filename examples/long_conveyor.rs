@@ -16,7 +16,7 @@
 //! (`ChainDrive::set_parking`); `CHAINDRIVE_PARKING=0` keeps every roller
 //! body in it.
 
-use chaindrive::cosim::ChainDrive;
+use chaindrive::prelude::*;
 use chaindrive::scene::generate::DriveSpec;
 use chaindrive::scene::{ProfileKind, StepFile, Threads, ThreadsFile};
 use rapier2d_f64::prelude::*;

@@ -15,8 +15,7 @@
 //! cargo run --release --example motor_joint
 //! ```
 
-use chaindrive::cosim::ChainDrive;
-use chaindrive::scene::Scene;
+use chaindrive::prelude::*;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

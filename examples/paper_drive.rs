@@ -6,9 +6,7 @@
 //! cargo run --release --example paper_drive
 //! ```
 
-use chaindrive::analysis::{RunSummary, Signals};
-use chaindrive::scene::{Overrides, Scene};
-use chaindrive::sim::{SampleRate, Simulation};
+use chaindrive::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let scene = Scene::l60mc().with(&Overrides {

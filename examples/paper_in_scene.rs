@@ -7,10 +7,8 @@
 //! cargo run --release --example paper_in_scene [FRAMES]
 //! ```
 
-use chaindrive::cosim::ChainDrive;
-use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
-use chaindrive::scene::{L60MC_TOML, Scene};
-use chaindrive::sim::Observer;
+use chaindrive::prelude::*;
+use chaindrive::scene::L60MC_TOML;
 use rapier2d_f64::prelude::*;
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {

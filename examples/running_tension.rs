@@ -11,8 +11,7 @@
 //! cargo run --release --example running_tension -- tests/data/flat_20_40_1000rpm.toml [rpm]
 //! ```
 
-use chaindrive::scene::{Overrides, Scene};
-use chaindrive::sim::{Observer, Sample, SampleRate, Simulation};
+use chaindrive::prelude::*;
 
 /// Means over the window of the loop's decomposition, m.
 #[derive(Default)]

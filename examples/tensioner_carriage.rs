@@ -21,8 +21,8 @@
 //! cargo run --release --example tensioner_carriage
 //! ```
 
-use chaindrive::cosim::{ChainDrive, MountSpring};
-use chaindrive::scene::Scene;
+use chaindrive::cosim::MountSpring;
+use chaindrive::prelude::*;
 use rapier2d_f64::prelude::*;
 
 /// The tail's centre in the scene, m.

@@ -11,13 +11,13 @@
 //! cargo run --release --example transfer
 //! ```
 
-use chaindrive::cosim::{ChainDrive, DriveSet};
-use chaindrive::scene::Scene;
+use chaindrive::cosim::DriveSet;
+use chaindrive::prelude::*;
 use rapier2d_f64::prelude::*;
 
 /// A conveyor of two 20-tooth sprockets, 1" pitch, 100 rollers, its driver
 /// at `x0` on the x axis turning at 60 rpm; its upper strand runs towards −x.
-fn conveyor(x0: f64) -> Result<Scene, chaindrive::scene::SceneError> {
+fn conveyor(x0: f64) -> Result<Scene, SceneError> {
     let tail = x0 + 1.016;
     Scene::from_toml(&format!(
         r#"

@@ -36,9 +36,7 @@
 //! ## Quick start
 //!
 //! ```no_run
-//! use chaindrive::analysis::{RunSummary, StatsWindow};
-//! use chaindrive::scene::{Overrides, Scene};
-//! use chaindrive::sim::{SampleRate, Simulation};
+//! use chaindrive::prelude::*;
 //!
 //! // The paper's drive, for 2 s instead of the scene file's 10 s.
 //! let scene = Scene::l60mc().with(&Overrides { duration_s: Some(2.0), ..Overrides::default() })?;
@@ -68,8 +66,7 @@
 //! with it at its dt — heavy ones too — and handed back to your step.
 //!
 //! ```
-//! use chaindrive::cosim::ChainDrive;
-//! use chaindrive::scene::Scene;
+//! use chaindrive::prelude::*;
 //! use rapier2d_f64::prelude::*;
 //!
 //! let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
@@ -122,8 +119,7 @@
 //! own weight):
 //!
 //! ```
-//! # use chaindrive::cosim::ChainDrive;
-//! # use chaindrive::scene::Scene;
+//! # use chaindrive::prelude::*;
 //! # use rapier2d_f64::prelude::*;
 //! # let scene = Scene::from_toml(include_str!("../assets/conveyor.toml"))?;
 //! # let mut world = PhysicsWorld::default();
@@ -207,6 +203,7 @@ pub mod cosim;
 pub mod forces;
 pub mod geometry;
 pub mod model;
+pub mod prelude;
 #[cfg(feature = "record")]
 pub mod record;
 pub mod scene;

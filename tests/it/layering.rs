@@ -119,3 +119,35 @@ fn the_scan_opens_use_groups_and_skips_comments() {
     let want: BTreeSet<String> = ["forces", "model", "sim"].map(str::to_owned).into();
     assert_eq!(found, want);
 }
+
+/// The modules a user is documented to reach besides the prelude: each
+/// holds the parts of a concept the prelude names (a scene's parts, the
+/// co-simulation's details, the recording's options).
+const USER_MODULES: [&str; 6] = ["prelude", "scene", "cosim", "record", "analysis", "studies"];
+
+/// The top-level modules named by `chaindrive::…` paths in `code`.
+fn library_modules(code: &str) -> BTreeSet<String> {
+    crate_modules(&code.replace("chaindrive::", "crate::"))
+}
+
+#[test]
+fn examples_use_only_the_prelude_and_user_modules() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
+    let mut files = Vec::new();
+    rust_files(&dir, &mut files);
+    assert!(files.len() > 5, "examples found: {files:?}");
+    let mut seen = BTreeSet::new();
+    let mut violations = Vec::new();
+    for file in files {
+        let code = std::fs::read_to_string(&file).expect("readable");
+        for used in library_modules(&code) {
+            seen.insert(used.clone());
+            if !USER_MODULES.contains(&used.as_str()) {
+                violations.push(format!("{} uses chaindrive::{used}", file.display()));
+            }
+        }
+    }
+    // The scan sees the examples' imports at all.
+    assert!(seen.contains("prelude"), "{seen:?}");
+    assert!(violations.is_empty(), "{}", violations.join("\n"));
+}
