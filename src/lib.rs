@@ -199,6 +199,8 @@
 //! differences over seconds of simulated time, as it would any perturbation.
 
 pub mod analysis;
+#[cfg(feature = "cli")]
+pub mod cli;
 pub mod cosim;
 pub mod forces;
 pub mod geometry;

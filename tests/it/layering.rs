@@ -6,7 +6,7 @@ use std::path::Path;
 
 /// The stages, earliest first; modules of one rank are siblings, which may
 /// not import each other either.
-const STAGES: [(&str, u8); 9] = [
+const STAGES: [(&str, u8); 10] = [
     ("geometry", 0),
     ("scene", 1),
     ("model", 2),
@@ -16,6 +16,7 @@ const STAGES: [(&str, u8); 9] = [
     ("record", 5),
     ("analysis", 6),
     ("studies", 7),
+    ("cli", 8),
 ];
 
 fn rank(module: &str) -> Option<u8> {

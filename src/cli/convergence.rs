@@ -1,17 +1,15 @@
 //! `chaindrive bench convergence`: the summary statistics of every
 //! integrator over a ladder of steps against a fine reference (see
-//! `chaindrive::studies::convergence` for the measure).
+//! `crate::studies::convergence` for the measure).
 
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::analysis::figures::{FigureError, Mark, Plot, Trace, save};
+use crate::studies::convergence::{Convergence, REL_TOLERANCE, Run, SE_TOLERANCE, Settings, study};
+use crate::studies::work_precision::Setting;
 use anyhow::Context;
-use chaindrive::analysis::figures::{FigureError, Mark, Plot, Trace, save};
-use chaindrive::studies::convergence::{
-    Convergence, REL_TOLERANCE, Run, SE_TOLERANCE, Settings, study,
-};
-use chaindrive::studies::work_precision::Setting;
 
 /// Arguments of `chaindrive bench convergence`.
 #[derive(clap::Args)]
@@ -20,7 +18,7 @@ pub struct ConvergenceArgs {
     scene: Option<PathBuf>,
     /// Tooth profile of every sprocket.
     #[arg(long, value_enum)]
-    profile: Option<chaindrive::scene::ProfileKind>,
+    profile: Option<crate::scene::ProfileKind>,
     /// Simulated time of each run after the warm-up, s.
     #[arg(long, default_value_t = 10.0)]
     duration: f64,
@@ -39,26 +37,26 @@ pub struct ConvergenceArgs {
 }
 
 pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
-    let overrides = chaindrive::scene::Overrides {
+    let overrides = crate::scene::Overrides {
         profile: args.profile,
         ..Default::default()
     };
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+    let Some(scene) = crate::cli::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
         return Ok(ExitCode::FAILURE);
     };
-    crate::ensure_positive("--duration", args.duration)?;
-    crate::ensure_non_negative("--warmup", args.warmup)?;
+    crate::cli::ensure_positive("--duration", args.duration)?;
+    crate::cli::ensure_non_negative("--warmup", args.warmup)?;
     anyhow::ensure!(args.jobs >= 1, "--jobs must be at least 1");
     let mut settings = Settings::default_for(args.duration);
     settings.warmup_s = args.warmup;
     settings.threads = args.jobs;
     if args.quick {
         settings.methods = vec![(
-            chaindrive::scene::Integrator::SymplecticEuler,
+            crate::scene::Integrator::SymplecticEuler,
             vec![Setting::Step(1e-5), Setting::Step(2e-5)],
         )];
         settings.reference = (
-            chaindrive::scene::Integrator::SymplecticEuler,
+            crate::scene::Integrator::SymplecticEuler,
             Setting::Step(5e-6),
         );
     }

@@ -9,8 +9,8 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use chaindrive::geometry::asa::AsaProfile;
-use chaindrive::geometry::{CircularProfile, ProfileKind};
+use crate::geometry::asa::AsaProfile;
+use crate::geometry::{CircularProfile, ProfileKind};
 
 /// Arguments of `chaindrive profile`.
 #[derive(clap::Args)]
@@ -36,8 +36,8 @@ pub struct ProfileArgs {
 const STEP_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
-    crate::ensure_positive("--pitch", args.pitch)?;
-    crate::ensure_positive("--roller-diameter", args.roller_diameter)?;
+    crate::cli::ensure_positive("--pitch", args.pitch)?;
+    crate::cli::ensure_positive("--roller-diameter", args.roller_diameter)?;
     anyhow::ensure!(
         (3..=10_000).contains(&args.teeth),
         "--teeth must lie in 3..=10000, got {}",

@@ -16,15 +16,15 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
+use crate::analysis::orders::{MAX_ORDER_DENOMINATOR, OrderSet};
+use crate::analysis::units::si;
+use crate::scene::{Assignment, Overrides, Scene};
+use crate::studies::sweep::campbell::describe_signal;
+use crate::studies::sweep::report::GRID_RESOLUTION;
 use anyhow::Context;
-use chaindrive::analysis::orders::{MAX_ORDER_DENOMINATOR, OrderSet};
-use chaindrive::analysis::units::si;
-use chaindrive::scene::{Assignment, Overrides, Scene};
-use chaindrive::studies::sweep::campbell::describe_signal;
-use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 
-use crate::sweep_figures::{FigureSettings, draw_figures};
-use chaindrive::studies::sweep::{
+use crate::cli::sweep_figures::{FigureSettings, draw_figures};
+use crate::studies::sweep::{
     CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
     SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section, excitation_orders,
     on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
@@ -110,20 +110,20 @@ pub struct SweepArgs {
     set: Vec<String>,
     /// The chain's integration step, s, or `auto` (overrides the scene).
     #[arg(long, value_name = "SECONDS|auto")]
-    dt: Option<crate::DtArg>,
+    dt: Option<crate::cli::DtArg>,
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
 }
 
 pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
-    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
+    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
     let overrides = Overrides {
         dt_s,
         dt_auto,
         ..Overrides::default()
     };
-    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
+    let scene = match crate::cli::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");

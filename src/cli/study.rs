@@ -9,7 +9,7 @@
 //! - `study run-case DIR K`: one case (what each array task runs).
 //! - `study collect DIR`: `results.parquet`, `results.csv`, main-effects figures.
 //!
-//! The study itself lives in `chaindrive::studies::study`.
+//! The study itself lives in `crate::studies::study`.
 
 use std::fmt::Write as _;
 use std::io::IsTerminal;
@@ -18,9 +18,9 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
+use crate::studies::study::cases::CHECKPOINT_FILE;
+use crate::studies::study::{CaseOutcome, CaseStatus, RowStatus, Study, StudyDir, Table};
 use anyhow::Context;
-use chaindrive::studies::study::cases::CHECKPOINT_FILE;
-use chaindrive::studies::study::{CaseOutcome, CaseStatus, RowStatus, Study, StudyDir, Table};
 
 /// Arguments of `chaindrive study`.
 #[derive(clap::Args)]

@@ -10,17 +10,15 @@
 //!   (`super::convergence`).
 //! - `work-precision`: wall time against trajectory error (`super::work_precision`).
 //!
-//! The studies themselves live in `chaindrive::studies`; this file parses the
+//! The studies themselves live in `crate::studies`; this file parses the
 //! arguments and prints.
 
 use std::process::ExitCode;
 
-use chaindrive::scene::{L60MC_TOML, Overrides, ProfileKind};
-use chaindrive::sim::Simulation;
-use chaindrive::studies::fuzz::{FuzzOutcome, run_case};
-use chaindrive::studies::soak::{
-    STEADY_FRACTION, STEADY_MIN_WINDOWS, STEADY_SE, Soak, steady_from,
-};
+use crate::scene::{L60MC_TOML, Overrides, ProfileKind};
+use crate::sim::Simulation;
+use crate::studies::fuzz::{FuzzOutcome, run_case};
+use crate::studies::soak::{STEADY_FRACTION, STEADY_MIN_WINDOWS, STEADY_SE, Soak, steady_from};
 
 /// Arguments of `chaindrive bench`.
 #[derive(clap::Args)]
@@ -46,13 +44,13 @@ enum Study {
         profile: Option<ProfileKind>,
         /// The chain's integration step, s, or `auto` (overrides the scene).
         #[arg(long, value_name = "SECONDS|auto")]
-        dt: Option<crate::DtArg>,
+        dt: Option<crate::cli::DtArg>,
     },
     /// The summary statistics of every integrator over a ladder of steps
     /// against a fine reference: table, CSV, figure, verdict.
-    Convergence(crate::convergence::ConvergenceArgs),
+    Convergence(crate::cli::convergence::ConvergenceArgs),
     /// Wall time against error for every integrator: table, CSV, figure.
-    WorkPrecision(crate::work_precision::WorkPrecisionArgs),
+    WorkPrecision(crate::cli::work_precision::WorkPrecisionArgs),
     /// Mutated scene files: no panic, every rejection explained, no NaN.
     Fuzz {
         /// Number of cases.
@@ -77,8 +75,8 @@ pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
             dt,
         } => soak(scene.as_deref(), duration, window, profile, dt),
         Study::Fuzz { cases, seed } => fuzz(cases, seed),
-        Study::Convergence(args) => crate::convergence::convergence(args),
-        Study::WorkPrecision(args) => crate::work_precision::work_precision(args),
+        Study::Convergence(args) => crate::cli::convergence::convergence(args),
+        Study::WorkPrecision(args) => crate::cli::work_precision::work_precision(args),
         Study::Stress(args) => super::stress::stress(args),
     }
 }
@@ -88,11 +86,11 @@ fn soak(
     duration: f64,
     window: f64,
     profile: Option<ProfileKind>,
-    dt: Option<crate::DtArg>,
+    dt: Option<crate::cli::DtArg>,
 ) -> anyhow::Result<ExitCode> {
-    crate::ensure_positive("--duration", duration)?;
-    crate::ensure_positive("--window", window)?;
-    let (dt_s, dt_auto) = crate::DtArg::overrides(dt);
+    crate::cli::ensure_positive("--duration", duration)?;
+    crate::cli::ensure_positive("--window", window)?;
+    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(dt);
     let overrides = Overrides {
         profile,
         duration_s: Some(duration),
@@ -100,7 +98,7 @@ fn soak(
         dt_auto,
         ..Overrides::default()
     };
-    let Some(scene) = crate::load_scene_or_report(path, &overrides)? else {
+    let Some(scene) = crate::cli::load_scene_or_report(path, &overrides)? else {
         return Ok(ExitCode::FAILURE);
     };
     let mut sim = Simulation::new(&scene)?;

@@ -3,10 +3,10 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use chaindrive::geometry::{Layout, LayoutError};
-use chaindrive::model::{BuildError, DriveModel};
-use chaindrive::scene::{PretensionRule, Role, Scene};
-use chaindrive::sim::{
+use crate::geometry::{Layout, LayoutError};
+use crate::model::{BuildError, DriveModel};
+use crate::scene::{PretensionRule, Role, Scene};
+use crate::sim::{
     EquilibriumError, SimError, Simulation, default_direction, fit_sprocket, fitting_counts,
     needed_pitches_of,
 };
@@ -18,7 +18,7 @@ pub struct CheckArgs {
     scene: Option<PathBuf>,
     /// The chain's integration step, s, or `auto` (overrides the scene).
     #[arg(long, value_name = "SECONDS|auto")]
-    dt: Option<crate::DtArg>,
+    dt: Option<crate::cli::DtArg>,
     /// The sample rate `run --rate` would use, Hz: an automatic step is a
     /// whole fraction of its period.
     #[arg(long, default_value_t = 1000.0)]
@@ -26,14 +26,14 @@ pub struct CheckArgs {
 }
 
 pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
-    let overrides = chaindrive::scene::Overrides {
+    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
+    let overrides = crate::scene::Overrides {
         dt_s,
         dt_auto,
         sample_rate_hz: Some(args.rate),
         ..Default::default()
     };
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+    let Some(scene) = crate::cli::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
         return Ok(ExitCode::FAILURE);
     };
     let name = args.scene.as_ref().map_or_else(
@@ -65,7 +65,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     }
-    println!("{}", chaindrive::scene::step_note(&scene));
+    println!("{}", crate::scene::step_note(&scene));
     for w in scene.warnings() {
         eprintln!("{name}: warning: {w}");
     }
@@ -114,10 +114,10 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             );
             idle_tensioners(&name, &sim);
             let residual = sim.equilibrium.force_residual;
-            if residual > chaindrive::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
+            if residual > crate::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
                 eprintln!(
                     "{name}: warning: not settled: a roller force imbalance of {residual:.1e} of the pretension is left (above {:.0e}); a run starts from a state that is not at rest",
-                    chaindrive::analysis::STATIC_RESIDUAL_TOLERANCE
+                    crate::analysis::STATIC_RESIDUAL_TOLERANCE
                 );
                 if let Some(cause) = &sim.equilibrium.beyond_seating_arc {
                     eprintln!("{name}: the cause: {cause}");

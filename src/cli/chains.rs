@@ -1,10 +1,10 @@
 //! `chaindrive chains`: the table of chains by designation
-//! (`chaindrive::scene::designations`), with each value's source.
+//! (`crate::scene::designations`), with each value's source.
 
 use std::io::Write;
 use std::process::ExitCode;
 
-use chaindrive::scene::designations::{DESIGNATIONS, Designation};
+use crate::scene::designations::{DESIGNATIONS, Designation};
 
 /// Arguments of `chaindrive chains`.
 #[derive(clap::Args)]
@@ -15,12 +15,12 @@ pub struct ChainsArgs {
 
 pub fn chains(args: ChainsArgs) -> anyhow::Result<ExitCode> {
     let rows: Vec<&Designation> = match &args.name {
-        Some(name) => match chaindrive::scene::designations::find(name) {
+        Some(name) => match crate::scene::designations::find(name) {
             Some(d) => vec![d],
             None => {
                 eprintln!(
                     "unknown designation \"{name}\"; nearest: {}",
-                    chaindrive::scene::designations::nearest(name, 3).join(", ")
+                    crate::scene::designations::nearest(name, 3).join(", ")
                 );
                 return Ok(ExitCode::FAILURE);
             }

@@ -8,14 +8,14 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use anyhow::Context;
-use chaindrive::analysis::{RunSummary, Signals, StatsWindow};
-use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
-use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
-use chaindrive::sim::checkpoint::{
+use crate::analysis::{RunSummary, Signals, StatsWindow};
+use crate::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
+use crate::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
+use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
-use chaindrive::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes};
+use crate::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes};
+use anyhow::Context;
 use serde::{Deserialize, Serialize};
 
 /// Arguments of `chaindrive run`.
@@ -31,7 +31,7 @@ pub struct RunArgs {
     duration: Option<f64>,
     /// The chain's integration step, s, or `auto` (overrides the scene).
     #[arg(long, value_name = "SECONDS|auto")]
-    dt: Option<crate::DtArg>,
+    dt: Option<crate::cli::DtArg>,
     /// How the chain is stepped (overrides the scene).
     #[arg(long, value_enum)]
     stepping: Option<Stepping>,
@@ -196,7 +196,7 @@ fn io_error(e: csv::Error) -> std::io::Error {
 }
 
 pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
-    crate::outputs::check_distinct(
+    crate::cli::outputs::check_distinct(
         &[("scene file", args.scene.as_deref())],
         &[
             ("--summary", args.summary.as_deref()),
@@ -211,7 +211,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             "--checkpoint-every {every}: the time between checkpoints must be a number of simulated seconds > 0"
         );
     }
-    let (dt_s, dt_auto) = crate::DtArg::overrides(args.dt);
+    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
         duration_s: args.duration,
@@ -224,7 +224,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         max_relax_s: None,
         sample_rate_hz: Some(args.rate),
     };
-    let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
+    let scene = match crate::cli::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
@@ -324,7 +324,7 @@ fn continue_series(path: &Path, bytes: Option<u64>) -> anyhow::Result<File> {
 fn start_recording(
     path: &PathBuf,
     args: &RunArgs,
-    scene: &chaindrive::scene::Scene,
+    scene: &crate::scene::Scene,
     sampling: SampleRate,
     resume: Option<&Checkpoint<CliRun>>,
 ) -> anyhow::Result<Recorder<BufWriter<File>>> {
@@ -337,7 +337,7 @@ fn start_recording(
         ),
         None => (
             "l60mc.toml".to_owned(),
-            chaindrive::scene::L60MC_TOML.as_bytes().to_vec(),
+            crate::scene::L60MC_TOML.as_bytes().to_vec(),
         ),
     };
     let options = RecordOptions {
@@ -393,7 +393,7 @@ struct Sampling {
 
 fn simulate(
     args: &RunArgs,
-    scene: chaindrive::scene::Scene,
+    scene: crate::scene::Scene,
     sampling: Sampling,
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<csv::Writer<File>>,
@@ -409,7 +409,7 @@ fn simulate(
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
     if !args.quiet {
-        eprintln!("{}", chaindrive::scene::step_note(&scene));
+        eprintln!("{}", crate::scene::step_note(&scene));
     }
     for w in scene.warnings() {
         eprintln!("warning: {w}");
@@ -542,7 +542,7 @@ fn simulate(
 /// clock counts the steps from the start).
 fn run_with_checkpoints(
     sim: &mut Simulation,
-    scene: &chaindrive::scene::Scene,
+    scene: &crate::scene::Scene,
     observer: &mut CliObserver,
     mut so_far: RunOutcome,
     checkpoints: Option<(&Path, f64)>,

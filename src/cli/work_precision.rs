@@ -1,14 +1,14 @@
 //! `chaindrive bench work-precision`: wall time against error for every
-//! integrator (see `chaindrive::studies::work_precision` for the measure).
+//! integrator (see `crate::studies::work_precision` for the measure).
 
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::analysis::figures::{Mark, Plot, Trace, save};
+use crate::studies::work_precision::{Settings, WorkPrecision, study};
 use anyhow::Context;
-use chaindrive::analysis::figures::{Mark, Plot, Trace, save};
-use chaindrive::studies::work_precision::{Settings, WorkPrecision, study};
 
 /// Arguments of `chaindrive bench work-precision`.
 #[derive(clap::Args)]
@@ -23,7 +23,7 @@ pub struct WorkPrecisionArgs {
     warmup: f64,
     /// Tooth profile of every sprocket.
     #[arg(long, value_enum)]
-    profile: Option<chaindrive::scene::ProfileKind>,
+    profile: Option<crate::scene::ProfileKind>,
     /// Output directory: work_precision.csv, work_precision.md, work_precision.png/.svg.
     #[arg(long, default_value = "work-precision")]
     out: PathBuf,
@@ -33,15 +33,15 @@ pub struct WorkPrecisionArgs {
 }
 
 pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
-    let overrides = chaindrive::scene::Overrides {
+    let overrides = crate::scene::Overrides {
         profile: args.profile,
         ..Default::default()
     };
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+    let Some(scene) = crate::cli::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
         return Ok(ExitCode::FAILURE);
     };
-    crate::ensure_positive("--horizon", args.horizon)?;
-    crate::ensure_non_negative("--warmup", args.warmup)?;
+    crate::cli::ensure_positive("--horizon", args.horizon)?;
+    crate::cli::ensure_non_negative("--warmup", args.warmup)?;
     let mut settings = Settings::default_for(args.horizon);
     settings.warmup_s = args.warmup;
     anyhow::ensure!(

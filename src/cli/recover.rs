@@ -1,13 +1,13 @@
 //! `chaindrive recover`: a complete, indexed copy of a recording cut short
-//! (`chaindrive::record::recover`).
+//! (`crate::record::recover`).
 
 use std::fs::File;
 use std::io::BufWriter;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::record::recover::recover as recover_bytes;
 use anyhow::Context;
-use chaindrive::record::recover::recover as recover_bytes;
 
 /// Arguments of `chaindrive recover`.
 #[derive(clap::Args)]
@@ -19,7 +19,7 @@ pub struct RecoverArgs {
 }
 
 pub fn recover(args: RecoverArgs) -> anyhow::Result<ExitCode> {
-    crate::outputs::check_distinct(
+    crate::cli::outputs::check_distinct(
         &[("input recording", Some(&args.input))],
         &[("the output", Some(&args.output))],
     )?;

@@ -1,6 +1,6 @@
 //! `chaindrive fit`: moves one sprocket along a direction until the
 //! unstretched chain fits the path through the seated rollers exactly
-//! (`chaindrive::sim::fit_sprocket`), prints where, and writes the fitted
+//! (`crate::sim::fit_sprocket`), prints where, and writes the fitted
 //! scene. The scene file is edited in place of its values — the sprocket's
 //! `center_m` and, with `--rollers`, `chain.rollers` are replaced where they
 //! stand in the text — so its comments, order and layout are kept.
@@ -9,10 +9,10 @@ use std::ops::Range;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
+use crate::model::DriveModel;
+use crate::scene::{Overrides, Scene, value_span};
+use crate::sim::{FIT_TOLERANCE_M, default_direction, fit_sprocket};
 use anyhow::Context;
-use chaindrive::model::DriveModel;
-use chaindrive::scene::{Overrides, Scene, value_span};
-use chaindrive::sim::{FIT_TOLERANCE_M, default_direction, fit_sprocket};
 
 /// Arguments of `chaindrive fit`.
 #[derive(clap::Args)]
@@ -40,7 +40,7 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
     let name = args.scene.display().to_string();
     let text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read scene {name}"))?;
-    let scene = match crate::load_scene(Some(&args.scene), &Overrides::default())? {
+    let scene = match crate::cli::load_scene(Some(&args.scene), &Overrides::default())? {
         Ok(s) => s,
         Err(lines) => {
             eprintln!("{lines}");
@@ -48,7 +48,7 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let out = args.out.clone().unwrap_or_else(|| fitted_path(&args.scene));
-    crate::outputs::check_distinct(
+    crate::cli::outputs::check_distinct(
         &[("scene file", Some(&args.scene))],
         &[("--out", Some(&out))],
     )?;
@@ -124,7 +124,9 @@ pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
 fn say(args: std::fmt::Arguments<'_>) -> std::io::Result<()> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
-    crate::chains::quiet_on_closed_pipe(out.write_fmt(args).and_then(|()| out.write_all(b"\n")))
+    crate::cli::chains::quiet_on_closed_pipe(
+        out.write_fmt(args).and_then(|()| out.write_all(b"\n")),
+    )
 }
 
 /// `scene.toml` -> `scene-fitted.toml`, beside it.

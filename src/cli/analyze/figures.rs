@@ -1,15 +1,15 @@
 //! `chaindrive analyze`'s figures of a recorded run (PNG and SVG), drawn
-//! with `chaindrive::analysis::figures`.
+//! with `crate::analysis::figures`.
 
 use std::path::{Path, PathBuf};
 
-use chaindrive::analysis::figures::{Mark, Plot, Trace, save};
-use chaindrive::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
-use chaindrive::analysis::study::{
+use crate::analysis::figures::{Mark, Plot, Trace, save};
+use crate::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
+use crate::analysis::study::{
     Series, link_force_series, roller_contact_series, segment_force_series, spectrum_with_peaks,
     transverse_series,
 };
-use chaindrive::analysis::units::si;
+use crate::analysis::units::si;
 
 /// Figures drawn: (file stem, caption).
 pub(super) type FigureList = Vec<(String, String)>;

@@ -1,4 +1,4 @@
-//! `chaindrive bench stress`: the stress matrix of [`chaindrive::studies::stress`].
+//! `chaindrive bench stress`: the stress matrix of [`crate::studies::stress`].
 //!
 //! Progress goes to stderr, one line per ladder and per cell; the tables and
 //! findings to stdout; `DIR/stress.csv` (one row per run),
@@ -13,12 +13,12 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::mpsc;
 use std::time::Instant;
 
-use anyhow::Context;
-use chaindrive::studies::stress::{
+use crate::studies::stress::{
     BLOWUPS_CSV_HEADER, CSV_HEADER, CaseResult, LIMITS_CSV_HEADER, Ladder, Progress,
     blowup_csv_rows, csv_rows, default_matrix, first_failure, limits_csv_rows, quick_matrix,
     roller_costs, run_case,
 };
+use anyhow::Context;
 
 /// Arguments of `bench stress`.
 #[derive(clap::Args)]

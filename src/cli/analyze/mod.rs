@@ -1,7 +1,7 @@
 //! `chaindrive analyze`: the paper-reproduction analysis for any recorded run.
 //!
-//! The library reads the recording (`chaindrive::record::read`) and measures
-//! it (`chaindrive::analysis::recorded`); this command writes the results:
+//! The library reads the recording (`crate::record::read`) and measures
+//! it (`crate::analysis::recorded`); this command writes the results:
 //! `DIR/report.md` ([`report`]), `DIR/analysis.json` and the figures
 //! ([`figures`]).
 
@@ -11,7 +11,7 @@ mod report;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use chaindrive::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
+use crate::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
 
 use figures::{FigureList, recorded_figures};
 use report::report_markdown;
@@ -114,11 +114,7 @@ fn unfinished_mcap(path: &Path) -> bool {
         .and_then(|mut f| f.read_exact(&mut head))
         .is_ok()
         && head == *b"\x89MCAP0\r\n";
-    starts_like_mcap
-        && matches!(
-            chaindrive::record::read::is_complete_mcap_file(path),
-            Ok(false)
-        )
+    starts_like_mcap && matches!(crate::record::read::is_complete_mcap_file(path), Ok(false))
 }
 
 /// A file that could not be written.

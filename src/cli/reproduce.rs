@@ -4,11 +4,11 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use anyhow::Context;
-use chaindrive::analysis::figures::{FigureChoice, paper_figures};
-use chaindrive::studies::reproduce::{
+use crate::analysis::figures::{FigureChoice, paper_figures};
+use crate::studies::reproduce::{
     Findings, StudySettings, report_markdown, run_paper_study, summaries_json,
 };
+use anyhow::Context;
 
 /// Arguments of `chaindrive reproduce`.
 #[derive(clap::Args)]
@@ -40,8 +40,8 @@ pub fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
         args.duration
     );
     // The paper's drive: reject a bad rate or index before minutes of simulation.
-    let paper = chaindrive::scene::Scene::l60mc();
-    chaindrive::sim::SampleRate::new(args.rate, paper.solver().dt_s)
+    let paper = crate::scene::Scene::l60mc();
+    crate::sim::SampleRate::new(args.rate, paper.solver().dt_s)
         .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
     let rollers = paper.chain().rollers;
     anyhow::ensure!(

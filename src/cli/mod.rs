@@ -1,4 +1,7 @@
-//! The `chaindrive` command-line tool: one file per subcommand.
+//! The `chaindrive` command-line tool (feature `cli`): one file per
+//! subcommand, its argument parsing, progress bars, Ctrl-C and the files the
+//! tool writes. It drives the library's stages and adds no physics of its
+//! own; the binary is [`main`] and nothing else.
 
 /// `eprintln!` for this tool: the line, newline included, goes to stderr in
 /// one write (std's writes each piece of the format separately, so a line
@@ -8,10 +11,10 @@
 /// closed stderr leaves nowhere to report it.
 macro_rules! eprintln {
     () => {
-        $crate::stderr_line(::std::format_args!(""))
+        $crate::cli::stderr_line(::std::format_args!(""))
     };
     ($($arg:tt)*) => {
-        $crate::stderr_line(::std::format_args!($($arg)*))
+        $crate::cli::stderr_line(::std::format_args!($($arg)*))
     };
 }
 
@@ -78,7 +81,10 @@ enum Command {
     Study(study::StudyArgs),
 }
 
-fn main() -> std::process::ExitCode {
+/// The `chaindrive` command: parses the process's arguments, runs the
+/// subcommand and reports its error on stderr. A closed pipe on stdout
+/// (`chaindrive profile --csv | head`) ends it with success.
+pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Run(args) => run::run(args),
@@ -127,9 +133,9 @@ fn write_line(out: &mut impl std::io::Write, args: std::fmt::Arguments<'_>) -> s
 /// line, or with the option for an overridden field.
 pub(crate) fn load_scene(
     path: Option<&std::path::Path>,
-    overrides: &chaindrive::scene::Overrides,
-) -> anyhow::Result<Result<chaindrive::scene::Scene, String>> {
-    use chaindrive::scene::{L60MC_TOML, Scene, SceneError};
+    overrides: &crate::scene::Overrides,
+) -> anyhow::Result<Result<crate::scene::Scene, String>> {
+    use crate::scene::{L60MC_TOML, Scene, SceneError};
     let (name, text) = match path {
         Some(p) => (
             p.display().to_string(),
@@ -166,8 +172,8 @@ pub(crate) fn load_scene(
 /// and `None` returned, for the command to exit with failure.
 pub(crate) fn load_scene_or_report(
     path: Option<&std::path::Path>,
-    overrides: &chaindrive::scene::Overrides,
-) -> anyhow::Result<Option<chaindrive::scene::Scene>> {
+    overrides: &crate::scene::Overrides,
+) -> anyhow::Result<Option<crate::scene::Scene>> {
     Ok(load_scene(path, overrides)?
         .map_err(|lines| eprintln!("{lines}"))
         .ok())

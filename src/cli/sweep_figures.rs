@@ -5,10 +5,10 @@
 
 use std::path::{Path, PathBuf};
 
-use chaindrive::analysis::figures::{self, Mark, Plot, Trace};
-use chaindrive::scene::Scene;
-use chaindrive::studies::sweep::campbell::{campbell, describe_signal};
-use chaindrive::studies::sweep::{CaseResult, order_cut};
+use crate::analysis::figures::{self, Mark, Plot, Trace};
+use crate::scene::Scene;
+use crate::studies::sweep::campbell::{campbell, describe_signal};
+use crate::studies::sweep::{CaseResult, order_cut};
 
 /// What the figures show beyond the cases.
 pub(crate) struct FigureSettings<'a> {

@@ -1,10 +1,10 @@
 //! `chaindrive rate`: the catalogue rating of a scene's chain at its
-//! driver's speed, without a run (`chaindrive::analysis::design::rating`).
+//! driver's speed, without a run (`crate::analysis::design::rating`).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use chaindrive::analysis::design::rating::{self, HP_W, Rating, RatingSettings};
+use crate::analysis::design::rating::{self, HP_W, Rating, RatingSettings};
 
 /// Arguments of `chaindrive rate`.
 #[derive(clap::Args)]
@@ -24,11 +24,11 @@ pub struct RateArgs {
 }
 
 pub fn rate(args: RateArgs) -> anyhow::Result<ExitCode> {
-    crate::ensure_positive("--service-factor", args.service_factor)?;
+    crate::cli::ensure_positive("--service-factor", args.service_factor)?;
     if let Some(p) = args.power_w {
-        crate::ensure_positive("--power-w", p)?;
+        crate::cli::ensure_positive("--power-w", p)?;
     }
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &Default::default())?
+    let Some(scene) = crate::cli::load_scene_or_report(args.scene.as_deref(), &Default::default())?
     else {
         return Ok(ExitCode::FAILURE);
     };
