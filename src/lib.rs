@@ -198,16 +198,17 @@
 //! is exact) differ between platforms; chaotic growth then amplifies such
 //! differences over seconds of simulated time, as it would any perturbation.
 
+#![warn(unnameable_types, unreachable_pub)]
 pub mod analysis;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod cosim;
-pub mod forces;
-pub mod geometry;
-pub mod model;
+mod forces;
+mod geometry;
+mod model;
 pub mod prelude;
 #[cfg(feature = "record")]
 pub mod record;
 pub mod scene;
 pub mod sim;
-pub mod studies;
+mod studies;

@@ -12,34 +12,30 @@
 //! left of the strand's direction. Samples with no free link in
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
-pub mod binder;
-pub mod design;
+pub(crate) mod binder;
+pub(crate) mod design;
 #[cfg(feature = "figures")]
-pub mod figures;
+pub(crate) mod figures;
 mod means;
-pub mod orders;
+pub(crate) mod orders;
 #[cfg(feature = "record")]
-pub mod recorded;
-pub mod spectrum;
-pub mod stats;
-pub mod study;
+pub(crate) mod recorded;
+pub(crate) mod spectrum;
+pub(crate) mod stats;
+pub(crate) mod study;
 mod summary;
-pub mod theory;
-pub mod units;
+pub(crate) mod theory;
+pub(crate) mod units;
 mod warnings;
 mod window;
 
-pub use means::{Extent, StepSums, TensionerSums};
+pub(crate) use means::{Extent, StepSums, TensionerSums};
 pub(crate) use summary::segment_series;
-pub use summary::{
-    GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
-    TensionerSummary,
-};
-pub use warnings::{
-    ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION,
-    RUNNING_TENSION_RATIO, STATIC_RESIDUAL_TOLERANCE,
-};
-pub use window::{DEFAULT_WINDOW_S, Ramp, StatsWindow, WindowError, last_ramp};
+pub use summary::{GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, TensionerSummary};
+pub(crate) use summary::SummaryInputs;
+pub(crate) use warnings::{ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO, STATIC_RESIDUAL_TOLERANCE};
+pub use window::{StatsWindow, WindowError};
+pub(crate) use window::{DEFAULT_WINDOW_S, Ramp, last_ramp};
 
 use serde::{Deserialize, Serialize};
 

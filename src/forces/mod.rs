@@ -61,7 +61,7 @@ mod buffer;
 mod contact;
 mod contact_law;
 mod guide;
-pub mod hydraulic;
+pub(crate) mod hydraulic;
 mod joint_friction;
 mod links;
 mod output;
@@ -69,17 +69,17 @@ mod rows;
 mod split;
 mod tensioner;
 
-pub use contact::{Culling, ToothContact};
-pub use contact_law::ContactLawParams;
-pub use guide::{Carrier, Guide, GuideParams, ShoeForces};
-pub use joint_friction::JointFriction;
-pub use links::Links;
+pub(crate) use contact::{Culling, ToothContact};
+pub(crate) use contact_law::ContactLawParams;
+pub(crate) use guide::{Carrier, Guide, GuideParams, ShoeForces};
+pub(crate) use joint_friction::JointFriction;
+pub(crate) use links::Links;
 pub use output::Forces;
 
-pub use rows::DampingRows;
-pub use split::Fork;
+pub(crate) use rows::DampingRows;
+pub(crate) use split::Fork;
 pub(crate) use split::{CHUNKS, Halves, chunk};
-pub use tensioner::{TensionerArm, TensionerReading};
+pub(crate) use tensioner::{TensionerArm, TensionerReading};
 
 use std::any::Any;
 use std::time::Instant;

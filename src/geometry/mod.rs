@@ -12,18 +12,18 @@
 //! the +x axis, gaps numbered counter-clockwise; gap j's centre at polar angle
 //! j·2π/N.
 
-pub mod asa;
+pub(crate) mod asa;
 mod circular;
 mod layout;
 mod path;
-pub mod shoe;
+pub(crate) mod shoe;
 #[cfg(test)]
 mod testing;
 
-pub use circular::CircularProfile;
+pub(crate) use circular::CircularProfile;
 pub(crate) use layout::hang_excess;
-pub use layout::{Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
-pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
+pub(crate) use layout::{Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
+pub(crate) use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
 
 /// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two
 /// seated roller centres is exactly the pitch.

@@ -8,15 +8,15 @@
 
 mod excitation;
 mod governor;
-pub mod rapier;
+pub(crate) mod rapier;
 mod segments;
 
-pub use excitation::{AngleLoad, PeriodicSpline, speed_factor};
-pub use governor::{
+pub(crate) use excitation::{AngleLoad, PeriodicSpline, speed_factor};
+pub(crate) use governor::{
     Governor, SPAN_FREQUENCY_DIVISOR, critical_gains, default_bandwidth_hz,
     lowest_span_frequency_hz, referred_inertia_kg_m2, target_angle_rad,
 };
-pub use segments::{Run, Segments, StrandRuns};
+pub(crate) use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,

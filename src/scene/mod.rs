@@ -12,7 +12,7 @@
 
 mod builder;
 mod by_path;
-pub mod designations;
+pub(crate) mod designations;
 mod error;
 mod excitation;
 mod file;
@@ -20,7 +20,7 @@ pub mod generate;
 mod governor;
 mod guides;
 mod kinds;
-pub mod mutate;
+pub(crate) mod mutate;
 mod overrides;
 mod run_up;
 mod shape;
@@ -32,33 +32,24 @@ mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
-pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
-pub use error::{FieldError, SceneError, locate, value_span};
-pub use excitation::{
-    Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
-    SpeedHarmonicFile,
-};
-pub use file::{
-    ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
-    StepFile,
-};
-pub use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorFile, GovernorGains, GovernorSpec};
-pub use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, GuideFile, RampFile};
+pub(crate) use by_path::{Assignment, PathPart, ScenePath, set_in_table};
+pub use error::{FieldError, SceneError};
+pub(crate) use error::{locate, value_span};
+pub(crate) use excitation::{Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS, SpeedHarmonicFile};
+pub use file::{ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile, StepFile};
+pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorFile, GovernorGains, GovernorSpec};
+pub use guides::GuideFile;
+pub(crate) use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, RampFile};
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
-pub use run_up::RunUpFile;
-pub use stability::{
-    AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s, step_note,
-};
-pub use tensioners::{
-    DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner,
-    STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner, TensionerFile, TensionerKind,
-};
-pub use threads::{AUTO_MIN_ROLLERS, Threads, ThreadsFile};
-pub use types::{
-    Chain, Contact, DEFAULT_JOINT_FRICTION_SPEED_RAD_S, Equilibrium, JointFriction, Limits, Role,
-    RunUp, Solver, SpeedLaw, Sprocket,
-};
+pub(crate) use run_up::RunUpFile;
+pub use stability::StepLimits;
+pub(crate) use stability::{AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, impact_duration_s, step_note};
+pub(crate) use tensioners::{DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner, STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner, TensionerFile, TensionerKind};
+pub use threads::{Threads, ThreadsFile};
+pub(crate) use threads::AUTO_MIN_ROLLERS;
+pub use types::{Chain, Contact, Equilibrium, JointFriction, Limits, Role, RunUp, Solver, SpeedLaw, Sprocket};
+pub(crate) use types::DEFAULT_JOINT_FRICTION_SPEED_RAD_S;
 
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit

@@ -8,32 +8,30 @@
 //! What observers compute is their business ([`crate::analysis`]).
 
 mod blow_up;
-pub mod checkpoint;
+pub(crate) mod checkpoint;
 mod energy;
 mod equilibrium;
 mod fanout;
 mod feasibility;
 mod fit;
-pub mod integrate;
+pub(crate) mod integrate;
 mod newton;
-pub mod parallel;
+pub(crate) mod parallel;
 mod sample_rate;
 mod stepper;
 
-pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
-pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
-pub use equilibrium::{
-    BeyondSeatingArc, EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual,
-    free_strand_tension, relax, settle_rest_length,
-};
+pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
+pub(crate) use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
+pub use equilibrium::{BeyondSeatingArc, EquilibriumError, StaticEquilibrium};
+pub(crate) use equilibrium::{RelaxSettings, force_residual, free_strand_tension, relax, settle_rest_length};
+pub use crate::forces::ForceTimes;
+pub use crate::model::BuildError;
 pub use fanout::Fanout;
-pub use fit::{
-    FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
-    needed_pitches_of,
-};
-pub use integrate::{Integration, IntegrationStats};
+pub use fit::FitError;
+pub(crate) use fit::{FIT_TOLERANCE_M, Fit, default_direction, fit_sprocket, fitting_counts, needed_pitches_of};
+pub(crate) use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
-pub use stepper::{Relaxation, driver_speed, symplectic_euler};
+pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -43,12 +41,12 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, Guide, JointFriction,
+    ContactLawParams, ForceElement, ForceGenerator, Forces, Guide, JointFriction,
     TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
-use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
+use crate::model::{BodyModel, DriveModel, DriveState, ScalarModel};
 use crate::scene::{PretensionRule, Role, Scene, Stepping, TensionerKind};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
@@ -163,7 +161,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
-pub use crate::scene::StepLimits;
+pub(crate) use crate::scene::StepLimits;
 
 /// Why a simulation could not be built or stopped early.
 #[derive(Debug, thiserror::Error)]
@@ -269,33 +267,33 @@ pub struct RunOutcome {
 /// A chain drive in a rapier world.
 pub struct Simulation {
     /// The scene it was built from.
-    pub scene: Scene,
+    pub(crate) scene: Scene,
     /// Constant parameters.
-    pub model: DriveModel,
+    pub(crate) model: DriveModel,
     /// State.
-    pub state: DriveState,
+    pub(crate) state: DriveState,
     /// Force generator with its buffers.
-    pub forces: ForceGenerator,
+    pub(crate) forces: ForceGenerator,
     /// The initial layout.
-    pub layout: Layout,
+    pub(crate) layout: Layout,
     /// The static equilibrium reached before t = 0.
-    pub equilibrium: StaticEquilibrium,
+    pub(crate) equilibrium: StaticEquilibrium,
     /// The rapier world holding the drive's bodies.
-    pub world: PhysicsWorld,
+    pub(crate) world: PhysicsWorld,
     /// Handles of the drive's bodies.
-    pub bodies: ChainBodies,
+    pub(crate) bodies: ChainBodies,
     /// Blow-up limits.
-    pub limits: BlowUpLimits,
+    pub(crate) limits: BlowUpLimits,
     /// The growth detector's history.
-    pub growth: GrowthWatch,
+    pub(crate) growth: GrowthWatch,
     /// The chain's integrator (substepped stepping).
-    pub integration: Integration,
+    pub(crate) integration: Integration,
     /// Time every stage of [`Simulation::run`] (off by default: a few clock
     /// reads per step).
-    pub timings: bool,
+    pub(crate) timings: bool,
     /// Where the power goes, counted every step from a chosen time
     /// ([`Simulation::track_power`]; off by default).
-    pub power: Option<PowerLedger>,
+    pub(crate) power: Option<PowerLedger>,
     /// The run's clock (see [`Clock`]).
     clock: Clock,
 }
@@ -653,6 +651,38 @@ impl Simulation {
             max_penetration_m: max_pen,
             stage_times: times,
         })
+    }
+
+    /// The scene the drive was built from.
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The drive's constant parameters.
+    pub fn model(&self) -> &DriveModel {
+        &self.model
+    }
+
+    /// The drive's state now.
+    pub fn state(&self) -> &DriveState {
+        &self.state
+    }
+
+    /// The forces of the last evaluation (at [`Self::state`] after a step).
+    pub fn forces(&self) -> &Forces {
+        self.forces.output()
+    }
+
+    /// The static equilibrium reached before t = 0.
+    pub fn equilibrium(&self) -> &StaticEquilibrium {
+        &self.equilibrium
+    }
+
+    /// Times every stage of [`Self::run`] from now on, or stops timing
+    /// (off by default: a few clock reads per step); the times come back in
+    /// [`RunOutcome::stage_times`].
+    pub fn set_timings(&mut self, on: bool) {
+        self.timings = on;
     }
 
     /// The current sample view.

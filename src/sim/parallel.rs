@@ -319,7 +319,7 @@ impl std::fmt::Debug for Split {
     }
 }
 
-pub use crate::scene::AUTO_MIN_ROLLERS;
+pub(crate) use crate::scene::AUTO_MIN_ROLLERS;
 
 #[cfg(test)]
 mod tests {

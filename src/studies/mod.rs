@@ -18,11 +18,11 @@
 //! [`crate::analysis`]'s business; writing files and printing tables is the
 //! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
 
-pub mod convergence;
-pub mod fuzz;
-pub mod reproduce;
-pub mod soak;
-pub mod stress;
-pub mod study;
-pub mod sweep;
-pub mod work_precision;
+pub(crate) mod convergence;
+pub(crate) mod fuzz;
+pub(crate) mod reproduce;
+pub(crate) mod soak;
+pub(crate) mod stress;
+pub(crate) mod study;
+pub(crate) mod sweep;
+pub(crate) mod work_precision;

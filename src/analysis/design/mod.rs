@@ -12,6 +12,6 @@
 //! link's force, an S–N model, Miner's rule), wear and duty cycles are not
 //! here yet.
 
-pub mod rating;
+pub(crate) mod rating;
 
-pub use rating::{Lubrication, Rating, RatingError, RatingSettings};
+pub(crate) use rating::{Lubrication, Rating, RatingError, RatingSettings};

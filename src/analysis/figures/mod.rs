@@ -24,8 +24,8 @@ use super::units::Prefix;
 mod campbell;
 mod paper;
 
-pub use campbell::{Campbell, OrderLine, SpanLines, save_campbell};
-pub use paper::{FigureChoice, paper_figures};
+pub(crate) use campbell::{Campbell, OrderLine, SpanLines, save_campbell};
+pub(crate) use paper::{FigureChoice, paper_figures};
 
 const FONT: &[u8] = include_bytes!("../../../assets/fonts/DejaVuSans.ttf");
 const SIZE: (u32, u32) = (1100, 620);

@@ -21,7 +21,7 @@
 mod pass;
 mod reach;
 
-pub use reach::Culling;
+pub(crate) use reach::Culling;
 
 use pass::{ContactPass, Frame};
 use reach::{Reach, shared_stretches};

@@ -90,7 +90,7 @@ use pieces::{Hit, Piece, gap_pieces, nearest_hit, neighbour_map};
 use query::{Reach, Shortcuts, SideGraph};
 use v2::{V2, atan2_approx, dot};
 
-pub use dimensions::{AsaDimensions, GapPoints};
+pub(crate) use dimensions::{AsaDimensions, GapPoints};
 
 use super::{MAX_PATCHES, OutlinePoint, Patch};
 

@@ -40,7 +40,7 @@ use crate::sim::{
 
 mod report;
 
-pub use report::report_markdown;
+pub(crate) use report::report_markdown;
 
 /// Labels of the runs, in order.
 pub const RUN_LABELS: [&str; 5] = [

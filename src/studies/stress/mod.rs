@@ -64,8 +64,8 @@ mod output;
 
 use std::time::Instant;
 
-pub use cells::{default_matrix, quick_matrix};
-pub use output::{
+pub(crate) use cells::{default_matrix, quick_matrix};
+pub(crate) use output::{
     BLOWUPS_CSV_HEADER, BlowupRow, CSV_HEADER, LIMITS_CSV_HEADER, LimitRow, RollerCost, RunRow,
     blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, roller_costs,
 };

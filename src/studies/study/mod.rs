@@ -26,13 +26,13 @@
 //! (`checkpoint_every_s`), else from the start. This module does not schedule anything across
 //! machines: that is Slurm's job (`chaindrive study slurm`).
 
-pub mod cases;
-pub mod plan;
-pub mod table;
+pub(crate) mod cases;
+pub(crate) mod plan;
+pub(crate) mod table;
 
-pub use cases::{CaseOutcome, CaseStatus, StudyDir};
-pub use plan::{Case, PlanFile, Responses, Study};
-pub use table::{Column, ColumnData, RowStatus, Table, WARNING_SEPARATOR};
+pub(crate) use cases::{CaseOutcome, CaseStatus, StudyDir};
+pub(crate) use plan::{Case, PlanFile, Responses, Study};
+pub(crate) use table::{Column, ColumnData, RowStatus, Table, WARNING_SEPARATOR};
 
 /// Why a study could not be prepared, run or collected.
 #[derive(Debug, thiserror::Error)]

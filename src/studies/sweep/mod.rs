@@ -25,16 +25,16 @@
 //! ([`crate::analysis`]).
 
 #[cfg(feature = "figures")]
-pub mod campbell;
-pub mod report;
-pub mod runup;
+pub(crate) mod campbell;
+pub(crate) mod report;
+pub(crate) mod runup;
 
-pub use report::{
+pub(crate) use report::{
     CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
     doubt_section, excitation_orders, judge_peak, on_order_grid, order_cut, resonance_crossings,
     summary_scalars, worst_cases,
 };
-pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
+pub(crate) use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
