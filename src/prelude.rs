@@ -35,4 +35,4 @@ pub use crate::sim::{
 
 // The extension seam.
 pub use crate::forces::{ForceElement, Forces, History, HistoryError, HistoryReader};
-pub use crate::model::{BodyModel, DriveModel, DriveState, ScalarModel};
+pub use crate::model::{BodyModel, DriveModel, DriveState, ScalarModel, SprocketModel};

@@ -26,23 +26,23 @@
 use std::f64::consts::PI;
 
 /// Pressure angle α = 35° − 120°/nt (48), rad.
-pub fn pressure_angle_rad(teeth: u32) -> f64 {
+pub(crate) fn pressure_angle_rad(teeth: u32) -> f64 {
     (35.0 - 120.0 / f64::from(teeth)).to_radians()
 }
 
 /// Pitch angle φ = 2π/nt, rad.
-pub fn pitch_angle_rad(teeth: u32) -> f64 {
+pub(crate) fn pitch_angle_rad(teeth: u32) -> f64 {
     2.0 * PI / f64::from(teeth)
 }
 
 /// Decay factor per bedded roller β = sin α / sin(α + φ).
-pub fn beta(teeth: u32) -> f64 {
+pub(crate) fn beta(teeth: u32) -> f64 {
     let (a, p) = (pressure_angle_rad(teeth), pitch_angle_rad(teeth));
     a.sin() / (a + p).sin()
 }
 
 /// Centrifugal tension q_c = m_r V² / P (50), N.
-pub fn centrifugal_tension_n(roller_mass_kg: f64, chain_speed_m_s: f64, pitch_m: f64) -> f64 {
+pub(crate) fn centrifugal_tension_n(roller_mass_kg: f64, chain_speed_m_s: f64, pitch_m: f64) -> f64 {
     if pitch_m > 0.0 {
         roller_mass_kg * chain_speed_m_s * chain_speed_m_s / pitch_m
     } else {
@@ -52,7 +52,7 @@ pub fn centrifugal_tension_n(roller_mass_kg: f64, chain_speed_m_s: f64, pitch_m:
 
 /// What (47)–(49) need for one sprocket.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BinderInputs {
+pub(crate) struct BinderInputs {
     /// Tooth count nt.
     pub teeth: u32,
     /// Rollers bedded, nb ≥ 1.
@@ -73,7 +73,7 @@ impl BinderInputs {
     }
 
     /// Link forces (47), consistent form: nb + 1 values for links i = 0 … nb, N.
-    pub fn link_forces(&self) -> Vec<f64> {
+    pub(crate) fn link_forces(&self) -> Vec<f64> {
         let (b, _, _, nb) = self.terms();
         let (qa, qb) = (self.q_a_n - self.q_c_n, self.q_b_n - self.q_c_n);
         (0..=nb)
@@ -82,7 +82,7 @@ impl BinderInputs {
     }
 
     /// Contact forces (49), consistent form: nb values for rollers i = 1 … nb, N.
-    pub fn contact_forces(&self) -> Vec<f64> {
+    pub(crate) fn contact_forces(&self) -> Vec<f64> {
         let (b, s, _, nb) = self.terms();
         let (qa, qb) = (self.q_a_n - self.q_c_n, self.q_b_n - self.q_c_n);
         (1..=nb)
@@ -93,7 +93,7 @@ impl BinderInputs {
 
 /// Link forces as the paper prints (47): q_a β^i + q_b β^(nb−i+1) + q_c for
 /// i = 1 … nb, N.
-pub fn printed_link_forces(inputs: &BinderInputs) -> Vec<f64> {
+pub(crate) fn printed_link_forces(inputs: &BinderInputs) -> Vec<f64> {
     let (b, _, _, nb) = inputs.terms();
     (1..=nb)
         .map(|i| inputs.q_a_n * b.powi(i) + inputs.q_b_n * b.powi(nb - i + 1) + inputs.q_c_n)
@@ -102,7 +102,7 @@ pub fn printed_link_forces(inputs: &BinderInputs) -> Vec<f64> {
 
 /// Contact forces as the paper prints (49):
 /// [q_a β^(i−1) + q_b β^(nb−i)] sin φ / sin(α+φ) + 2 q_c sin(φ/2), i = 1 … nb, N.
-pub fn printed_contact_forces(inputs: &BinderInputs) -> Vec<f64> {
+pub(crate) fn printed_contact_forces(inputs: &BinderInputs) -> Vec<f64> {
     let (b, s, p, nb) = inputs.terms();
     (1..=nb)
         .map(|i| {
@@ -114,7 +114,7 @@ pub fn printed_contact_forces(inputs: &BinderInputs) -> Vec<f64> {
 
 /// The times (51) at which the nb analytical values are placed:
 /// t_i = t_s + (i − 1)(t_e − t_s)/(nb − 1), i = 1 … nb (t_s alone for nb = 1).
-pub fn placement_times_s(t_start_s: f64, t_end_s: f64, bedded: usize) -> Vec<f64> {
+pub(crate) fn placement_times_s(t_start_s: f64, t_end_s: f64, bedded: usize) -> Vec<f64> {
     if bedded <= 1 {
         return vec![t_start_s; bedded];
     }
@@ -125,7 +125,7 @@ pub fn placement_times_s(t_start_s: f64, t_end_s: f64, bedded: usize) -> Vec<f64
 /// Polygonal action (docs/model.md, “Polygonal action”): the strand speed
 /// leaving a sprocket of nt teeth at constant ω varies by 1 − cos(π/nt) of its
 /// maximum.
-pub fn polygonal_speed_variation(teeth: u32) -> f64 {
+pub(crate) fn polygonal_speed_variation(teeth: u32) -> f64 {
     1.0 - (PI / f64::from(teeth)).cos()
 }
 

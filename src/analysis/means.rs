@@ -32,7 +32,7 @@ use crate::sim::Sample;
 
 /// Integral, smallest and largest value of a quantity over steps.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Extent {
+pub(crate) struct Extent {
     /// Σ h x.
     pub integral: f64,
     /// Smallest value (+∞ over no step).
@@ -68,7 +68,7 @@ impl Extent {
 
 /// One tensioner arm's reading over steps.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct TensionerSums {
+pub(crate) struct TensionerSums {
     /// Arm angle, rad.
     pub angle_rad: Extent,
     /// Plunger travel, m.
@@ -117,7 +117,7 @@ impl TensionerSums {
 /// Integrals over the steps since the previous sample (a [`super::SampleRow`]'s);
 /// `duration_s` = 0 where the steps were not followed.
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct StepSums {
+pub(crate) struct StepSums {
     /// Σ h over the steps counted, s.
     pub duration_s: f64,
     /// Each sprocket's ∫ω dt, rad.
@@ -213,7 +213,7 @@ pub(crate) struct StepCounter {
 impl StepCounter {
     /// Counts the step that ended at `s` (the first one followed only marks
     /// the time: the sums cover the steps after it).
-    pub fn step(&mut self, s: &Sample<'_>) {
+    pub(super) fn step(&mut self, s: &Sample<'_>) {
         let t = s.state.t_s;
         let Some(last) = self.last_s.replace(t) else {
             self.sums = StepSums::sized(s);
@@ -271,7 +271,7 @@ impl StepCounter {
 
     /// The sums since the last call, for a sample row (empty before the
     /// first step followed).
-    pub fn take(&mut self) -> StepSums {
+    pub(super) fn take(&mut self) -> StepSums {
         let out = self.sums.clone();
         self.sums.clear();
         out

@@ -29,13 +29,12 @@ pub(crate) mod units;
 mod warnings;
 mod window;
 
-pub(crate) use means::{Extent, StepSums, TensionerSums};
+pub(crate) use means::StepSums;
 pub(crate) use summary::segment_series;
 pub use summary::{GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, TensionerSummary};
 pub(crate) use summary::SummaryInputs;
-pub(crate) use warnings::{ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO, STATIC_RESIDUAL_TOLERANCE};
+pub(crate) use warnings::STATIC_RESIDUAL_TOLERANCE;
 pub use window::{StatsWindow, WindowError};
-pub(crate) use window::{DEFAULT_WINDOW_S, Ramp, last_ramp};
 
 use serde::{Deserialize, Serialize};
 
@@ -62,14 +61,14 @@ pub struct SampleRow {
     /// Smallest and largest link force since the previous sample, N.
     pub link_range_n: (f64, f64),
     /// Each tensioner arm's reading (empty without arms).
-    pub tensioners: Vec<crate::forces::TensionerReading>,
+    pub(crate) tensioners: Vec<crate::forces::TensionerReading>,
     /// Each shoe's forces (the guides', in scene order); empty without.
-    pub shoes: Vec<ShoeSample>,
+    pub(crate) shoes: Vec<ShoeSample>,
     /// Integrals over every step since the previous sample, where the steps
     /// were followed ([`Signals::new`]'s `per_step_from_s`); the window's
     /// means are theirs.
     #[serde(default)]
-    pub step_sums: StepSums,
+    pub(crate) step_sums: StepSums,
 }
 
 /// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).

@@ -38,11 +38,11 @@ use rustfft::FftPlanner;
 use rustfft::num_complex::Complex;
 
 /// Largest denominator of an order step (1/D).
-pub const MAX_ORDER_DENOMINATOR: u32 = 16;
+pub(crate) const MAX_ORDER_DENOMINATOR: u32 = 16;
 
 /// Why an order spectrum could not be taken.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum OrderError {
+pub(crate) enum OrderError {
     /// No order is asked for.
     #[error(
         "the order set is empty: the largest order must be ≥ the order step (got largest {max_order}, step {step})"
@@ -76,14 +76,14 @@ pub enum OrderError {
 
 /// The orders analysed: `step`, 2 `step`, … up to `max_order`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OrderSet {
+pub(crate) struct OrderSet {
     max_order: f64,
     denominator: u32,
 }
 
 impl OrderSet {
     /// Orders `1/D, 2/D, …, max_order` for `step` = 1/D; an error names what is wrong.
-    pub fn new(max_order: f64, step: f64) -> Result<Self, OrderError> {
+    pub(crate) fn new(max_order: f64, step: f64) -> Result<Self, OrderError> {
         let d = (1.0 / step).round();
         let whole = step.is_finite()
             && step > 0.0
@@ -102,46 +102,46 @@ impl OrderSet {
     }
 
     /// Largest order, cycles per revolution of the driver.
-    pub fn max_order(&self) -> f64 {
+    pub(crate) fn max_order(&self) -> f64 {
         self.max_order
     }
 
     /// Denominator D of the step 1/D.
-    pub fn denominator(&self) -> u32 {
+    pub(crate) fn denominator(&self) -> u32 {
         self.denominator
     }
 
     /// The step between orders, 1/D.
-    pub fn step(&self) -> f64 {
+    pub(crate) fn step(&self) -> f64 {
         1.0 / f64::from(self.denominator)
     }
 
     /// Number of orders in the set.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         (self.max_order * f64::from(self.denominator) + 1e-9).floor() as usize
     }
 
     /// Never true for a set made by [`OrderSet::new`].
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.len() == 0
     }
 
     /// The orders, ascending.
-    pub fn orders(&self) -> Vec<f64> {
+    pub(crate) fn orders(&self) -> Vec<f64> {
         (1..=self.len())
             .map(|i| i as f64 / f64::from(self.denominator))
             .collect()
     }
 
     /// Resampled points per revolution: 8 × the largest order, at least 16.
-    pub fn points_per_revolution(&self) -> usize {
+    pub(crate) fn points_per_revolution(&self) -> usize {
         ((8.0 * self.max_order).ceil() as usize).max(16)
     }
 }
 
 /// One order's amplitude and phase.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OrderComponent {
+pub(crate) struct OrderComponent {
     /// Order, cycles per revolution of the driver.
     pub order: f64,
     /// Its frequency at the window's mean speed, Hz.
@@ -154,7 +154,7 @@ pub struct OrderComponent {
 
 /// The order spectrum of one signal over a window.
 #[derive(Clone, Debug, PartialEq)]
-pub struct OrderSpectrum {
+pub(crate) struct OrderSpectrum {
     /// Mean of the resampled signal.
     pub mean: f64,
     /// The orders asked for, ascending.
@@ -163,7 +163,7 @@ pub struct OrderSpectrum {
 
 impl OrderSpectrum {
     /// The component of `order` (to within 10⁻⁹), if it was asked for.
-    pub fn at(&self, order: f64) -> Option<&OrderComponent> {
+    pub(crate) fn at(&self, order: f64) -> Option<&OrderComponent> {
         self.components
             .iter()
             .find(|c| (c.order - order).abs() < 1e-9)
@@ -173,7 +173,7 @@ impl OrderSpectrum {
 /// The driver's rotation over a window of samples, cut to whole revolutions
 /// (module docs, steps 1–2): the common part of every signal's analysis.
 #[derive(Clone, Debug, PartialEq)]
-pub struct AngleWindow {
+pub(crate) struct AngleWindow {
     /// Time of each sample, s.
     t_s: Vec<f64>,
     /// Rotation angle φ of each sample, rad, increasing.
@@ -192,7 +192,7 @@ pub struct AngleWindow {
 impl AngleWindow {
     /// The whole revolutions of the driver's angle `theta_rad` sampled at
     /// `t_s` (module docs), for the orders in `orders`.
-    pub fn new(t_s: &[f64], theta_rad: &[f64], orders: OrderSet) -> Result<Self, OrderError> {
+    pub(crate) fn new(t_s: &[f64], theta_rad: &[f64], orders: OrderSet) -> Result<Self, OrderError> {
         if t_s.len() != theta_rad.len() || t_s.len() < 4 {
             return Err(OrderError::BadInput(format!(
                 "{} times and {} angles (at least 4 of each, as many of one as of the other)",
@@ -240,28 +240,28 @@ impl AngleWindow {
     }
 
     /// Whole revolutions analysed.
-    pub fn revolutions(&self) -> usize {
+    pub(crate) fn revolutions(&self) -> usize {
         self.revolutions
     }
 
     /// Mean revolutions per second of the driver over them.
-    pub fn rev_per_s(&self) -> f64 {
+    pub(crate) fn rev_per_s(&self) -> f64 {
         self.rev_per_s
     }
 
     /// +1 if the driver turns counter-clockwise, −1 otherwise.
-    pub fn sign(&self) -> f64 {
+    pub(crate) fn sign(&self) -> f64 {
         self.sign
     }
 
     /// Time at which the whole revolutions start, s.
-    pub fn start_s(&self) -> f64 {
+    pub(crate) fn start_s(&self) -> f64 {
         interpolate(&self.phi, &self.t_s, self.phi_start)
     }
 
     /// `x` (one value per sample) resampled uniformly in φ over the whole
     /// revolutions, M points per revolution (module docs, step 3).
-    pub fn resample(&self, x: &[f64]) -> Result<Vec<f64>, OrderError> {
+    pub(crate) fn resample(&self, x: &[f64]) -> Result<Vec<f64>, OrderError> {
         if x.len() != self.phi.len() {
             return Err(OrderError::BadInput(format!(
                 "{} values against {} driver angles",
@@ -281,7 +281,7 @@ impl AngleWindow {
     }
 
     /// The order spectrum of `x` (one value per sample; module docs, step 4).
-    pub fn spectrum(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
+    pub(crate) fn spectrum(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
         let resampled = self.resample(x)?;
         Ok(self.spectrum_of(&resampled))
     }
@@ -294,7 +294,7 @@ impl AngleWindow {
     /// revolutions; a signal that is a linear trend plus orders is analysed
     /// exactly. For a slowly changing speed (a run-up). The mean is the
     /// signal's own.
-    pub fn spectrum_detrended(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
+    pub(crate) fn spectrum_detrended(&self, x: &[f64]) -> Result<OrderSpectrum, OrderError> {
         let mut resampled = self.resample(x)?;
         let n = resampled.len();
         let mean = resampled.iter().sum::<f64>() / n as f64;

@@ -41,7 +41,7 @@ use crate::sim::{SimError, Simulation};
 
 /// Why a recording cannot be analysed.
 #[derive(Debug, thiserror::Error)]
-pub enum RecordedError {
+pub(crate) enum RecordedError {
     /// The recording cannot be read, or lacks what a measure needs.
     #[error(transparent)]
     Read(#[from] ReadError),
@@ -54,7 +54,7 @@ pub enum RecordedError {
 }
 
 /// A recording read back, ready for analysis.
-pub struct RecordedRun {
+pub(crate) struct RecordedRun {
     /// The scene, with the run's overrides applied.
     pub scene: Scene,
     /// Signals, probes, the recomputed summary and the drive's facts.
@@ -73,14 +73,14 @@ pub struct RecordedRun {
 
 impl RecordedRun {
     /// Reads the recording at `path` and rebuilds its drive.
-    pub fn read(path: &Path) -> Result<Self, RecordedError> {
+    pub(crate) fn read(path: &Path) -> Result<Self, RecordedError> {
         Self::new(read_recording(path)?)
     }
 
     /// Rebuilds a recording's drive (settled as the run did before t = 0)
     /// and turns its samples into [`Signals`], [`Probes`] and the summary;
     /// the run's label is the recording's file stem.
-    pub fn new(recording: Recording) -> Result<Self, RecordedError> {
+    pub(crate) fn new(recording: Recording) -> Result<Self, RecordedError> {
         let Recording {
             name,
             scene,
@@ -222,7 +222,7 @@ impl RecordedRun {
 
 /// What to analyse beyond the defaults.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct AnalyzeOptions {
+pub(crate) struct AnalyzeOptions {
     /// Link of the link-force figure (0-based); default 0 when `/links` was recorded.
     pub link: Option<usize>,
     /// Roller of the contact figure (0-based); default 0 when `/contacts` was recorded.
@@ -236,7 +236,7 @@ pub struct AnalyzeOptions {
 
 /// One segment's measured quantities.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RecordedSegment {
+pub(crate) struct RecordedSegment {
     /// 1-based segment.
     pub segment: usize,
     /// Strand length, m.
@@ -263,7 +263,7 @@ pub struct RecordedSegment {
 
 /// One sprocket's contact forces against Binder's (49).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RecordedBinder {
+pub(crate) struct RecordedBinder {
     /// Complete contacts compared.
     pub contacts: usize,
     /// RMS of (simulated − (49)), N.
@@ -286,7 +286,7 @@ pub struct RecordedBinder {
 
 /// One sprocket's measured quantities.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RecordedSprocket {
+pub(crate) struct RecordedSprocket {
     /// 1-based sprocket.
     pub sprocket: usize,
     /// Tooth count.
@@ -307,7 +307,7 @@ pub struct RecordedSprocket {
 
 /// One link's force over the statistics window.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RecordedLink {
+pub(crate) struct RecordedLink {
     /// 0-based link (roller `link` to `link + 1`).
     pub link: usize,
     /// Mean, N.
@@ -320,7 +320,7 @@ pub struct RecordedLink {
 
 /// One roller's contact force over its window.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RecordedRoller {
+pub(crate) struct RecordedRoller {
     /// 0-based roller.
     pub roller: usize,
     /// Window, s.
@@ -342,7 +342,7 @@ pub struct RecordedRoller {
 /// contact comparisons over `contact_window_s` (ramp end to the end). A
 /// given window replaces all three.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RecordedAnalysis {
+pub(crate) struct RecordedAnalysis {
     /// The recording's file name.
     pub recording: String,
     /// Scene name.
@@ -425,7 +425,7 @@ impl RecordedRun {
     }
 
     /// Checks `options` against the recording: indices, channels, window.
-    pub fn check(&self, options: &AnalyzeOptions) -> Result<(), RecordedError> {
+    pub(crate) fn check(&self, options: &AnalyzeOptions) -> Result<(), RecordedError> {
         let rollers = self.data.probes.rollers();
         if let Some(link) = options.link {
             if link >= rollers {
@@ -494,7 +494,7 @@ impl RecordedRun {
     }
 
     /// Measures the recording (after [`Self::check`]).
-    pub fn analyze(&self, options: &AnalyzeOptions) -> Result<RecordedAnalysis, RecordedError> {
+    pub(crate) fn analyze(&self, options: &AnalyzeOptions) -> Result<RecordedAnalysis, RecordedError> {
         self.check(options)?;
         let d = &self.data;
         let s = &d.summary;

@@ -26,11 +26,11 @@ use serde::{Deserialize, Serialize};
 
 /// Length of a segment of the averaged spectrum, samples (16.4 s at 1 kHz:
 /// a resolution of 0.06 Hz).
-pub const WELCH_SEGMENT: usize = 16_384;
+pub(crate) const WELCH_SEGMENT: usize = 16_384;
 
 /// One-sided amplitude spectrum of `signal` sampled at `rate_hz`:
 /// (frequencies, amplitudes). Empty for fewer than 4 samples.
-pub fn amplitude_spectrum(signal: &[f64], rate_hz: f64) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn amplitude_spectrum(signal: &[f64], rate_hz: f64) -> (Vec<f64>, Vec<f64>) {
     let n = signal.len();
     if n < 4 {
         return (Vec::new(), Vec::new());
@@ -55,7 +55,7 @@ pub fn amplitude_spectrum(signal: &[f64], rate_hz: f64) -> (Vec<f64>, Vec<f64>) 
 /// An averaged amplitude spectrum built as the samples arrive (module docs,
 /// “Averaged segments”).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Welch {
+pub(crate) struct Welch {
     rate_hz: f64,
     segment: usize,
     /// Samples not yet in a finished segment (at most one segment).
@@ -69,7 +69,7 @@ pub struct Welch {
 impl Welch {
     /// An empty spectrum of samples at `rate_hz`, in segments of `segment`
     /// samples (at least 4).
-    pub fn new(rate_hz: f64, segment: usize) -> Self {
+    pub(crate) fn new(rate_hz: f64, segment: usize) -> Self {
         Self {
             rate_hz,
             segment: segment.max(4),
@@ -80,7 +80,7 @@ impl Welch {
     }
 
     /// Adds the next sample.
-    pub fn push(&mut self, x: f64) {
+    pub(crate) fn push(&mut self, x: f64) {
         self.pending.push(x);
         if self.pending.len() < self.segment {
             return;
@@ -97,12 +97,12 @@ impl Welch {
     }
 
     /// Whether no sample was taken.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.segments == 0 && self.pending.is_empty()
     }
 
     /// The spectrum of the samples so far: (frequencies, amplitudes).
-    pub fn spectrum(&self) -> (Vec<f64>, Vec<f64>) {
+    pub(crate) fn spectrum(&self) -> (Vec<f64>, Vec<f64>) {
         if self.segments == 0 {
             return amplitude_spectrum(&self.pending, self.rate_hz);
         }
@@ -117,7 +117,7 @@ impl Welch {
 
 /// The averaged amplitude spectrum of `signal` in segments of `segment`
 /// samples (module docs): what [`Welch`] gives fed the same samples.
-pub fn welch_spectrum(signal: &[f64], rate_hz: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn welch_spectrum(signal: &[f64], rate_hz: f64, segment: usize) -> (Vec<f64>, Vec<f64>) {
     let mut w = Welch::new(rate_hz, segment);
     for &x in signal {
         w.push(x);
@@ -127,14 +127,14 @@ pub fn welch_spectrum(signal: &[f64], rate_hz: f64, segment: usize) -> (Vec<f64>
 
 /// The highest spectral peak of `signal` with frequency in [lo_hz, hi_hz],
 /// refined between bins: (frequency, amplitude). `None` if no bin lies in the band.
-pub fn main_peak(signal: &[f64], rate_hz: f64, lo_hz: f64, hi_hz: f64) -> Option<(f64, f64)> {
+pub(crate) fn main_peak(signal: &[f64], rate_hz: f64, lo_hz: f64, hi_hz: f64) -> Option<(f64, f64)> {
     let (freqs, amps) = amplitude_spectrum(signal, rate_hz);
     peak_in(&freqs, &amps, lo_hz, hi_hz)
 }
 
 /// The highest peak of a spectrum (frequencies, amplitudes) with frequency
 /// in [lo_hz, hi_hz], refined between bins as [`main_peak`] does.
-pub fn peak_in(freqs: &[f64], amps: &[f64], lo_hz: f64, hi_hz: f64) -> Option<(f64, f64)> {
+pub(crate) fn peak_in(freqs: &[f64], amps: &[f64], lo_hz: f64, hi_hz: f64) -> Option<(f64, f64)> {
     let k = (1..freqs.len().min(amps.len()).saturating_sub(1))
         .filter(|&k| freqs[k] >= lo_hz && freqs[k] <= hi_hz)
         .max_by(|&a, &b| amps[a].total_cmp(&amps[b]))?;

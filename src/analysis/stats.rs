@@ -27,16 +27,16 @@
 //! [`MIN_JUDGED`] samples is not judged (reported stationary).
 
 /// Batches of the batch-means rule.
-pub const BATCHES: usize = 20;
+pub(crate) const BATCHES: usize = 20;
 
 /// Fewest samples whose stationarity is judged.
-pub const MIN_JUDGED: usize = 60;
+pub(crate) const MIN_JUDGED: usize = 60;
 
 /// Combined standard errors by which the first and last thirds' means may differ.
-pub const STATIONARITY_SE: f64 = 3.0;
+pub(crate) const STATIONARITY_SE: f64 = 3.0;
 
 /// Mean of a slice; 0 when empty.
-pub fn mean(x: &[f64]) -> f64 {
+pub(crate) fn mean(x: &[f64]) -> f64 {
     if x.is_empty() {
         0.0
     } else {
@@ -45,7 +45,7 @@ pub fn mean(x: &[f64]) -> f64 {
 }
 
 /// Root mean square of the fluctuation about the mean, √(Σ (x − x̄)² / n); 0 when empty.
-pub fn rms_about_mean(x: &[f64]) -> f64 {
+pub(crate) fn rms_about_mean(x: &[f64]) -> f64 {
     if x.is_empty() {
         return 0.0;
     }
@@ -54,7 +54,7 @@ pub fn rms_about_mean(x: &[f64]) -> f64 {
 }
 
 /// The batch means of `x` under the batch rule (module docs).
-pub fn batch_means(x: &[f64]) -> Vec<f64> {
+pub(crate) fn batch_means(x: &[f64]) -> Vec<f64> {
     let n = x.len();
     if n < BATCHES {
         return x.to_vec();
@@ -65,7 +65,7 @@ pub fn batch_means(x: &[f64]) -> Vec<f64> {
 
 /// Standard error of the mean of `x` by batch means (module docs); 0 with
 /// fewer than 2 samples.
-pub fn standard_error(x: &[f64]) -> f64 {
+pub(crate) fn standard_error(x: &[f64]) -> f64 {
     let b = batch_means(x);
     let k = b.len();
     if k < 2 {
@@ -79,7 +79,7 @@ pub fn standard_error(x: &[f64]) -> f64 {
 /// Standard error of the RMS about the mean, by the delta method on the
 /// mean of squared deviations: SE(r) ≈ SE(mean (x − x̄)²) / (2 r); 0 when
 /// the RMS is 0.
-pub fn rms_standard_error(x: &[f64]) -> f64 {
+pub(crate) fn rms_standard_error(x: &[f64]) -> f64 {
     let r = rms_about_mean(x);
     if r <= 0.0 {
         return 0.0;
@@ -91,7 +91,7 @@ pub fn rms_standard_error(x: &[f64]) -> f64 {
 
 /// The stationarity test's numbers.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Stationarity {
+pub(crate) struct Stationarity {
     /// Mean of the first third.
     pub first_mean: f64,
     /// Mean of the last third.
@@ -104,7 +104,7 @@ pub struct Stationarity {
 
 impl Stationarity {
     /// |m₁ − m₃| in combined standard errors (∞ when they are 0 and the means differ).
-    pub fn z(&self) -> f64 {
+    pub(crate) fn z(&self) -> f64 {
         let d = (self.last_mean - self.first_mean).abs();
         if self.combined_se > 0.0 {
             d / self.combined_se
@@ -117,7 +117,7 @@ impl Stationarity {
 }
 
 /// Tests `x` for stationarity (module docs).
-pub fn stationarity(x: &[f64]) -> Stationarity {
+pub(crate) fn stationarity(x: &[f64]) -> Stationarity {
     let n = x.len();
     let third = n / 3;
     let (first, last) = (&x[..third], &x[n - third..]);

@@ -32,7 +32,7 @@ const NONE: u8 = u8::MAX;
 
 /// Why a series cannot be cut from a run.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum AnalysisError {
+pub(crate) enum AnalysisError {
     /// Segment number outside 1 … count.
     #[error("unknown segment {segment}: the drive has segments 1 to {count}")]
     UnknownSegment {
@@ -95,7 +95,7 @@ pub enum AnalysisError {
 
 /// Per-sample record of every link force and every roller's contact.
 #[derive(Clone, Debug, Default)]
-pub struct Probes {
+pub(crate) struct Probes {
     rollers: usize,
     /// Sample times, s.
     pub t_s: Vec<f64>,
@@ -109,7 +109,7 @@ impl Probes {
     /// An empty record for `model`'s drive (the chain's length is taken at
     /// the first sample). Feed it the same samples as the run's [`Signals`]:
     /// the analysis pairs their rows by index.
-    pub fn new(model: &DriveModel) -> Self {
+    pub(crate) fn new(model: &DriveModel) -> Self {
         Self {
             centers: model
                 .sprockets
@@ -122,7 +122,7 @@ impl Probes {
 
     /// From recorded samples: `rows` of (t, link forces, contact forces,
     /// sprocket index touched or `None`), each of the chain's length.
-    pub fn from_rows(
+    pub(crate) fn from_rows(
         rollers: usize,
         rows: impl IntoIterator<Item = (f64, Vec<f64>, Vec<f64>, Vec<Option<usize>>)>,
     ) -> Self {
@@ -146,17 +146,17 @@ impl Probes {
     }
 
     /// Rollers (= links) in the chain.
-    pub fn rollers(&self) -> usize {
+    pub(crate) fn rollers(&self) -> usize {
         self.rollers
     }
 
     /// Samples taken.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.t_s.len()
     }
 
     /// Whether no sample was taken.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.t_s.is_empty()
     }
 
@@ -227,7 +227,7 @@ impl Observer for Probes {
 }
 
 /// Two observers fed the same run (any number: [`crate::sim::Fanout`]).
-pub struct Both<'a, A: Observer, B: Observer>(pub &'a mut A, pub &'a mut B);
+pub(crate) struct Both<'a, A: Observer, B: Observer>(pub &'a mut A, pub &'a mut B);
 
 impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
     fn sample(&mut self, s: &Sample<'_>) {
@@ -249,7 +249,7 @@ impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
 
 /// What the analysis needs to know of the drive.
 #[derive(Clone, Debug, PartialEq)]
-pub struct DriveFacts {
+pub(crate) struct DriveFacts {
     /// Tooth count of each sprocket.
     pub teeth: Vec<u32>,
     /// Pitch radius of each sprocket, m.
@@ -264,7 +264,7 @@ pub struct DriveFacts {
 
 impl DriveFacts {
     /// From a scene and its model.
-    pub fn new(scene: &Scene, model: &DriveModel) -> Self {
+    pub(crate) fn new(scene: &Scene, model: &DriveModel) -> Self {
         Self {
             teeth: model.sprockets.iter().map(|s| s.teeth).collect(),
             pitch_radius_m: model.sprockets.iter().map(|s| s.pitch_radius_m).collect(),
@@ -281,7 +281,7 @@ impl DriveFacts {
 }
 
 /// A finished run, ready for analysis.
-pub struct RunData {
+pub(crate) struct RunData {
     /// Name in figures and the report (e.g. "circular").
     pub label: String,
     /// Sampled signals.
@@ -297,7 +297,7 @@ pub struct RunData {
 impl RunData {
     /// The window of steady speed for contact statistics: the driver's ramp
     /// end to the end of the run (the whole run if that is under 0.1 s).
-    pub fn steady_window_s(&self) -> [f64; 2] {
+    pub(crate) fn steady_window_s(&self) -> [f64; 2] {
         let (first, last) = (
             self.probes.t_s.first().copied().unwrap_or(0.0),
             self.probes.t_s.last().copied().unwrap_or(0.0),
@@ -311,7 +311,7 @@ impl RunData {
 
     /// The window for spectra: the summary's `spectrum_window_s`, or the
     /// whole run if that is under 0.2 s.
-    pub fn spectrum_window_s(&self) -> [f64; 2] {
+    pub(crate) fn spectrum_window_s(&self) -> [f64; 2] {
         let w = self.summary.spectrum_window_s;
         if w[1] - w[0] >= 0.2 {
             w
@@ -323,7 +323,7 @@ impl RunData {
 
 /// A sampled signal.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Series {
+pub(crate) struct Series {
     /// Times, s.
     pub t_s: Vec<f64>,
     /// Values (unit by context).
@@ -332,7 +332,7 @@ pub struct Series {
 
 impl Series {
     /// Mean of the values (0 if empty).
-    pub fn mean(&self) -> f64 {
+    pub(crate) fn mean(&self) -> f64 {
         if self.value.is_empty() {
             0.0
         } else {
@@ -341,14 +341,14 @@ impl Series {
     }
 
     /// Largest |value − mean|: the "amplitude up to" of the paper (0 if empty).
-    pub fn amplitude(&self) -> f64 {
+    pub(crate) fn amplitude(&self) -> f64 {
         let m = self.mean();
         self.value.iter().map(|v| (v - m).abs()).fold(0.0, f64::max)
     }
 }
 
 /// Sample indices of `t` within `window`, or the window error.
-pub fn window_indices(
+pub(crate) fn window_indices(
     t: &[f64],
     window_s: [f64; 2],
 ) -> Result<std::ops::Range<usize>, AnalysisError> {
@@ -398,7 +398,7 @@ fn check_sprocket(data: &RunData, sprocket: usize) -> Result<usize, AnalysisErro
 }
 
 /// The force of link `link` (roller `link` to `link + 1`) over a window (Fig. 16), N.
-pub fn link_force_series(
+pub(crate) fn link_force_series(
     data: &RunData,
     link: usize,
     window_s: [f64; 2],
@@ -413,7 +413,7 @@ pub fn link_force_series(
 
 /// A segment's average link force over a window (Fig. 17), N; samples with no
 /// free link are left out.
-pub fn segment_force_series(
+pub(crate) fn segment_force_series(
     data: &RunData,
     segment: usize,
     window_s: [f64; 2],
@@ -435,7 +435,7 @@ pub fn segment_force_series(
 }
 
 /// A segment's transverse displacement over a window (Figs. 18–19), m.
-pub fn transverse_series(
+pub(crate) fn transverse_series(
     data: &RunData,
     segment: usize,
     window_s: [f64; 2],
@@ -452,7 +452,7 @@ pub fn transverse_series(
 
 /// One roller's contact force over a window (Fig. 22), N, with the 1-based
 /// sprocket it touches at each sample (0: none).
-pub fn roller_contact_series(
+pub(crate) fn roller_contact_series(
     data: &RunData,
     roller: usize,
     window_s: [f64; 2],
@@ -474,7 +474,7 @@ pub fn roller_contact_series(
 
 /// An amplitude spectrum with its highest local maxima.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct PickedSpectrum {
+pub(crate) struct PickedSpectrum {
     /// Frequencies, Hz.
     pub freq_hz: Vec<f64>,
     /// Amplitudes (the signal's unit), see [`super::spectrum`] for the normalisation.
@@ -487,7 +487,7 @@ pub struct PickedSpectrum {
 /// mean removed, Hann window, scaled so a sine of amplitude A peaks at ≈ A) and
 /// its `count` highest local maxima in [lo_hz, hi_hz], each at least `min_gap_hz`
 /// from a higher one.
-pub fn spectrum_with_peaks(
+pub(crate) fn spectrum_with_peaks(
     series: &Series,
     rate_hz: f64,
     band_hz: [f64; 2],
@@ -519,7 +519,7 @@ pub fn spectrum_with_peaks(
 
 /// One roller's complete contact with a sprocket.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactInterval {
+pub(crate) struct ContactInterval {
     /// The roller.
     pub roller: usize,
     /// First sample index in contact.
@@ -574,7 +574,7 @@ fn contact_intervals(
 
 /// One contact compared with (49).
 #[derive(Clone, Debug, PartialEq)]
-pub struct ContactExample {
+pub(crate) struct ContactExample {
     /// The roller.
     pub roller: usize,
     /// Contact start and end, s.
@@ -595,7 +595,7 @@ pub struct ContactExample {
 
 /// The simulated contact forces on one sprocket against (49).
 #[derive(Clone, Debug, PartialEq)]
-pub struct BinderComparison {
+pub(crate) struct BinderComparison {
     /// 1-based sprocket.
     pub sprocket: usize,
     /// Complete contacts compared.
@@ -625,7 +625,7 @@ pub struct BinderComparison {
 /// contact force over the samples within half a spacing (t_e − t_s)/(nb − 1)
 /// of t_i, so the comparison is of the quasi-static level, not of the impact
 /// ringing.
-pub fn binder_comparison(
+pub(crate) fn binder_comparison(
     data: &RunData,
     sprocket: usize,
     window_s: [f64; 2],

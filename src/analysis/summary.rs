@@ -271,14 +271,14 @@ pub struct RunSummary {
     /// ([`super::design::rating`]; absent where the smallest sprocket did
     /// not turn).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub rating: Option<super::design::Rating>,
+    pub(crate) rating: Option<super::design::Rating>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
 }
 
 /// What the summary needs besides the signals.
-pub struct SummaryInputs<'a> {
+pub(crate) struct SummaryInputs<'a> {
     /// The scene (names, settings).
     pub scene: &'a Scene,
     /// The model (strands, driver radius).
@@ -535,14 +535,14 @@ impl RunSummary {
 
     /// Computes the summary of a run from its signals, over the default
     /// window ([`StatsWindow`]).
-    pub fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
+    pub(crate) fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
         Self::compute_in(inputs, signals, None, None)
     }
 
     /// Computes the summary of a run from its signals, statistics over the
     /// last `window_s` (the whole run if it is shorter; a window that is not
     /// a positive number is the default).
-    pub fn compute_over(inputs: &SummaryInputs<'_>, signals: &Signals, window_s: f64) -> Self {
+    pub(crate) fn compute_over(inputs: &SummaryInputs<'_>, signals: &Signals, window_s: f64) -> Self {
         Self::compute_full(inputs, signals, window_s, None)
     }
 
@@ -550,7 +550,7 @@ impl RunSummary {
     /// last `window_s` (a window that is not a positive number is the
     /// default), and, where it was counted, the window's power flow
     /// ([`crate::sim::PowerLedger`]).
-    pub fn compute_full(
+    pub(crate) fn compute_full(
         inputs: &SummaryInputs<'_>,
         signals: &Signals,
         window_s: f64,

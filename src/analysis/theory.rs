@@ -2,14 +2,14 @@
 
 /// Transverse eigenfrequency n of a pretensioned string (52):
 /// f_n = n √(F / (4 l m)), F tension (N), l length (m), m the strand's mass (kg).
-pub fn string_frequency_hz(n: u32, tension_n: f64, length_m: f64, mass_kg: f64) -> f64 {
+pub(crate) fn string_frequency_hz(n: u32, tension_n: f64, length_m: f64, mass_kg: f64) -> f64 {
     f64::from(n) * (tension_n / (4.0 * length_m * mass_kg)).sqrt()
 }
 
 /// Eigenfrequency n of an axially moving string:
 /// f_n = (n / 2l) c (1 − V²/c²), c² = F / μ, μ the mass per length (kg/m).
 /// Zero when the string moves at or above its wave speed (no standing wave).
-pub fn moving_string_frequency_hz(
+pub(crate) fn moving_string_frequency_hz(
     n: u32,
     tension_n: f64,
     length_m: f64,

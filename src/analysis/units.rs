@@ -8,7 +8,7 @@
 
 /// An SI prefix in a step of 1000 and its power of ten.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Prefix {
+pub(crate) struct Prefix {
     /// `"µ"`, `"m"`, `""`, `"k"`, …
     pub symbol: &'static str,
     /// The power of ten it stands for (−9 … 9, a multiple of 3).
@@ -51,7 +51,7 @@ const NONE: Prefix = PREFIXES[3];
 impl Prefix {
     /// The prefix that puts |`value`| in [1, 1000) (clamped to n … G); none
     /// for 0 and for a non-finite value.
-    pub fn of(value: f64) -> Self {
+    pub(crate) fn of(value: f64) -> Self {
         let a = value.abs();
         if !(a > 0.0 && a.is_finite()) {
             return NONE;
@@ -71,12 +71,12 @@ impl Prefix {
     }
 
     /// `value` (in the base unit) in this prefix's unit.
-    pub fn scale(&self, value: f64) -> f64 {
+    pub(crate) fn scale(&self, value: f64) -> f64 {
         value / 10f64.powi(self.exponent)
     }
 
     /// The prefixed unit: `Prefix::of(2e-5).unit("m")` is `"µm"`.
-    pub fn unit(&self, unit: &str) -> String {
+    pub(crate) fn unit(&self, unit: &str) -> String {
         format!("{}{unit}", self.symbol)
     }
 }
@@ -85,7 +85,7 @@ impl Prefix {
 /// "s", "W"), with the prefix that puts it in [1, 1000) and three
 /// significant digits: 2.0e-5 m → "20.0 µm", 1234.5 N → "1.23 kN",
 /// 0.5 Hz → "500 mHz", 0 → "0 N". A non-finite value is "—".
-pub fn si(value: f64, unit: &str) -> String {
+pub(crate) fn si(value: f64, unit: &str) -> String {
     if !value.is_finite() {
         return "—".to_owned();
     }

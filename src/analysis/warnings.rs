@@ -12,36 +12,36 @@ use super::window::{DEFAULT_WINDOW_S, holds, last_ramp};
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
 /// is flagged (the paper's drive: 3 % at 120 rpm, 18 % at 600 rpm).
-pub const PENETRATION_FRACTION: f64 = 0.1;
+pub(crate) const PENETRATION_FRACTION: f64 = 0.1;
 
 /// Tolerance of the energy balance, as a fraction of the power that flows
 /// through the drive.
-pub const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
+pub(crate) const ENERGY_BALANCE_TOLERANCE: f64 = 0.01;
 
 /// The slackest strand's mean force above this multiple of static + m v² is
 /// flagged: an excess of 15 %, beyond what the tooth-passing geometry alone
 /// gives at a crawl (under 2 % on the flat 20T/40T drive at 20 rpm) and
 /// what the paper's drive gives at 120 rpm (1 %); docs/model.md, "Running
 /// tension".
-pub const RUNNING_TENSION_RATIO: f64 = 1.15;
+pub(crate) const RUNNING_TENSION_RATIO: f64 = 1.15;
 
 /// Largest roller force imbalance at the static equilibrium, as a fraction
 /// of the pretension, above which a run is flagged: the relaxation stops at
 /// 10⁻⁶ when it settles; a thousand times that is a start that is not at
 /// rest, whose release the window may still hold.
-pub const STATIC_RESIDUAL_TOLERANCE: f64 = 1e-3;
+pub(crate) const STATIC_RESIDUAL_TOLERANCE: f64 = 1e-3;
 
 /// Harmonics of the tooth-passing frequency judged for aliasing: the
 /// polygonal action's speed and force swings are strongest in the first
 /// few (the impacts' sharp peaks reach higher, and the means, which they
 /// would bias most, are counted every step).
-pub const ALIAS_HARMONICS: u32 = 3;
+pub(crate) const ALIAS_HARMONICS: u32 = 3;
 
 /// An alias (a harmonic's distance to the nearest multiple of the sample
 /// rate) below this is flagged, Hz: it falls among the slow swings the
 /// sampled statistics read (the 1–50 Hz transverse peak, 20 batches of a
 /// 1 s window at 20 Hz, the thirds of the stationarity test).
-pub const ALIAS_BAND_HZ: f64 = 50.0;
+pub(crate) const ALIAS_BAND_HZ: f64 = 50.0;
 
 /// The warnings of a run, one sentence each.
 pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {

@@ -29,7 +29,7 @@ use crate::sim::Simulation;
 use super::Signals;
 
 /// Length of the statistics window unless chosen, s.
-pub const DEFAULT_WINDOW_S: f64 = 1.0;
+pub(crate) const DEFAULT_WINDOW_S: f64 = 1.0;
 
 /// Times closer than this are the same instant (a window "after" a ramp
 /// that ends a rounding error after its start), s.
@@ -37,7 +37,7 @@ const SAME_INSTANT_S: f64 = 1e-9;
 
 /// The end of a scene's last ramp.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Ramp {
+pub(crate) struct Ramp {
     /// What ramps, for people: "the driver's speed ramp of sprocket 1
     /// (crankshaft)".
     pub what: String,
@@ -47,7 +47,7 @@ pub struct Ramp {
 
 /// The ramp of `scene` that ends last, if any ends after t = 0: the drivers'
 /// speed ramps (a governed driver's target), their run-ups, the loads' ramps.
-pub fn last_ramp(scene: &Scene) -> Option<Ramp> {
+pub(crate) fn last_ramp(scene: &Scene) -> Option<Ramp> {
     let mut last: Option<Ramp> = None;
     let mut consider = |what: String, end_s: f64| {
         if end_s > 0.0 && last.as_ref().is_none_or(|r| end_s > r.end_s) {

@@ -22,7 +22,7 @@ use crate::studies::soak::{STEADY_FRACTION, STEADY_MIN_WINDOWS, STEADY_SE, Soak,
 
 /// Arguments of `chaindrive bench`.
 #[derive(clap::Args)]
-pub struct BenchArgs {
+pub(super) struct BenchArgs {
     #[command(subcommand)]
     study: Study,
 }
@@ -65,7 +65,7 @@ enum Study {
     Stress(super::stress::StressArgs),
 }
 
-pub fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn bench(args: BenchArgs) -> anyhow::Result<ExitCode> {
     match args.study {
         Study::Soak {
             scene,

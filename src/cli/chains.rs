@@ -8,12 +8,12 @@ use crate::scene::designations::{DESIGNATIONS, Designation};
 
 /// Arguments of `chaindrive chains`.
 #[derive(clap::Args)]
-pub struct ChainsArgs {
+pub(super) struct ChainsArgs {
     /// Print one designation only (any spelling: "16B", "ANSI 80").
     name: Option<String>,
 }
 
-pub fn chains(args: ChainsArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn chains(args: ChainsArgs) -> anyhow::Result<ExitCode> {
     let rows: Vec<&Designation> = match &args.name {
         Some(name) => match crate::scene::designations::find(name) {
             Some(d) => vec![d],

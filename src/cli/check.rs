@@ -13,7 +13,7 @@ use crate::sim::{
 
 /// Arguments of `chaindrive check`.
 #[derive(clap::Args)]
-pub struct CheckArgs {
+pub(super) struct CheckArgs {
     /// Scene file (TOML). Default: the embedded paper drive.
     scene: Option<PathBuf>,
     /// The chain's integration step, s, or `auto` (overrides the scene).
@@ -25,7 +25,7 @@ pub struct CheckArgs {
     rate: f64,
 }
 
-pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
     let overrides = crate::scene::Overrides {
         dt_s,

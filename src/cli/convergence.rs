@@ -13,7 +13,7 @@ use anyhow::Context;
 
 /// Arguments of `chaindrive bench convergence`.
 #[derive(clap::Args)]
-pub struct ConvergenceArgs {
+pub(super) struct ConvergenceArgs {
     /// Scene file (TOML). Default: the paper's drive.
     scene: Option<PathBuf>,
     /// Tooth profile of every sprocket.
@@ -36,7 +36,7 @@ pub struct ConvergenceArgs {
     quick: bool,
 }
 
-pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
     let overrides = crate::scene::Overrides {
         profile: args.profile,
         ..Default::default()
@@ -111,7 +111,7 @@ pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
 }
 
 /// The columns of `convergence.csv`.
-pub const CSV_HEADER: [&str; 10] = [
+pub(super) const CSV_HEADER: [&str; 10] = [
     "integrator",
     "setting",
     "dt_s",

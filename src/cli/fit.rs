@@ -16,7 +16,7 @@ use anyhow::Context;
 
 /// Arguments of `chaindrive fit`.
 #[derive(clap::Args)]
-pub struct FitArgs {
+pub(super) struct FitArgs {
     /// Scene file (TOML).
     scene: PathBuf,
     /// The sprocket to move: its name or its 1-based position in the scene.
@@ -36,7 +36,7 @@ pub struct FitArgs {
     out: Option<PathBuf>,
 }
 
-pub fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn fit(args: FitArgs) -> anyhow::Result<ExitCode> {
     let name = args.scene.display().to_string();
     let text = std::fs::read_to_string(&args.scene)
         .with_context(|| format!("cannot read scene {name}"))?;

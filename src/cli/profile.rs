@@ -14,7 +14,7 @@ use crate::geometry::{CircularProfile, ProfileKind};
 
 /// Arguments of `chaindrive profile`.
 #[derive(clap::Args)]
-pub struct ProfileArgs {
+pub(super) struct ProfileArgs {
     /// Number of teeth.
     #[arg(long)]
     teeth: u32,
@@ -35,7 +35,7 @@ pub struct ProfileArgs {
 /// Arc sampling of the CSV outline.
 const STEP_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
-pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
     crate::cli::ensure_positive("--pitch", args.pitch)?;
     crate::cli::ensure_positive("--roller-diameter", args.roller_diameter)?;
     anyhow::ensure!(

@@ -8,7 +8,7 @@ use crate::analysis::design::rating::{self, HP_W, Rating, RatingSettings};
 
 /// Arguments of `chaindrive rate`.
 #[derive(clap::Args)]
-pub struct RateArgs {
+pub(super) struct RateArgs {
     /// Scene file (TOML). Default: the embedded paper drive.
     scene: Option<PathBuf>,
     /// Print one JSON object instead of text.
@@ -23,7 +23,7 @@ pub struct RateArgs {
     power_w: Option<f64>,
 }
 
-pub fn rate(args: RateArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn rate(args: RateArgs) -> anyhow::Result<ExitCode> {
     crate::cli::ensure_positive("--service-factor", args.service_factor)?;
     if let Some(p) = args.power_w {
         crate::cli::ensure_positive("--power-w", p)?;

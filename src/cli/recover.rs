@@ -11,14 +11,14 @@ use anyhow::Context;
 
 /// Arguments of `chaindrive recover`.
 #[derive(clap::Args)]
-pub struct RecoverArgs {
+pub(super) struct RecoverArgs {
     /// The damaged recording (e.g. of a run that was killed).
     input: PathBuf,
     /// The complete copy to write (must differ from the input).
     output: PathBuf,
 }
 
-pub fn recover(args: RecoverArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn recover(args: RecoverArgs) -> anyhow::Result<ExitCode> {
     crate::cli::outputs::check_distinct(
         &[("input recording", Some(&args.input))],
         &[("the output", Some(&args.output))],

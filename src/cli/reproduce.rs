@@ -12,7 +12,7 @@ use anyhow::Context;
 
 /// Arguments of `chaindrive reproduce`.
 #[derive(clap::Args)]
-pub struct ReproduceArgs {
+pub(super) struct ReproduceArgs {
     /// Output directory (created if missing).
     #[arg(long, default_value = "reproduce")]
     out: PathBuf,
@@ -33,7 +33,7 @@ pub struct ReproduceArgs {
     sequential: bool,
 }
 
-pub fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn reproduce(args: ReproduceArgs) -> anyhow::Result<ExitCode> {
     anyhow::ensure!(
         args.duration > 0.0 && args.duration.is_finite(),
         "--duration must be a positive number of seconds, got {}",

@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 
 /// Arguments of `chaindrive run`.
 #[derive(clap::Args)]
-pub struct RunArgs {
+pub(super) struct RunArgs {
     /// Scene file (TOML). Default: the paper's drive (embedded `assets/l60mc.toml`).
     scene: Option<PathBuf>,
     /// Tooth profile of every sprocket.
@@ -195,7 +195,7 @@ fn io_error(e: csv::Error) -> std::io::Error {
     }
 }
 
-pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     crate::cli::outputs::check_distinct(
         &[("scene file", args.scene.as_deref())],
         &[

@@ -22,7 +22,7 @@ use anyhow::Context;
 
 /// Arguments of `bench stress`.
 #[derive(clap::Args)]
-pub struct StressArgs {
+pub(super) struct StressArgs {
     /// Output directory for the CSV files.
     #[arg(long, default_value = "stress-out")]
     out: PathBuf,
@@ -120,7 +120,7 @@ fn us(x: Option<f64>) -> String {
     x.map_or_else(|| "-".to_owned(), |v| format!("{:.1}", v * 1e6))
 }
 
-pub fn stress(args: StressArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn stress(args: StressArgs) -> anyhow::Result<ExitCode> {
     let mut cases = if args.quick {
         quick_matrix()?
     } else {

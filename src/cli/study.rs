@@ -25,7 +25,7 @@ use anyhow::Context;
 /// Arguments of `chaindrive study`.
 #[derive(clap::Args)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
-pub struct StudyArgs {
+pub(super) struct StudyArgs {
     #[command(subcommand)]
     command: Option<StudyCommand>,
     #[command(flatten)]
@@ -99,7 +99,7 @@ struct SlurmArgs {
 }
 
 /// Runs `chaindrive study`.
-pub fn study(args: StudyArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn study(args: StudyArgs) -> anyhow::Result<ExitCode> {
     match args.command {
         Some(StudyCommand::Slurm(a)) => slurm(&a),
         Some(StudyCommand::RunCase {

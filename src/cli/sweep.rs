@@ -33,7 +33,7 @@ use crate::studies::sweep::{
 
 /// Arguments of `chaindrive sweep`.
 #[derive(clap::Args)]
-pub struct SweepArgs {
+pub(super) struct SweepArgs {
     /// Scene file (TOML). Default: the paper's drive (embedded `assets/l60mc.toml`).
     scene: Option<PathBuf>,
     /// Driver speeds FROM:TO:STEP, rpm (e.g. 300:3000:100): one steady run each.
@@ -116,7 +116,7 @@ pub struct SweepArgs {
     quiet: bool,
 }
 
-pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
     let overrides = Overrides {
         dt_s,

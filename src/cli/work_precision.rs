@@ -12,7 +12,7 @@ use anyhow::Context;
 
 /// Arguments of `chaindrive bench work-precision`.
 #[derive(clap::Args)]
-pub struct WorkPrecisionArgs {
+pub(super) struct WorkPrecisionArgs {
     /// Scene file (TOML). Default: the paper's drive.
     scene: Option<PathBuf>,
     /// Horizon after the warm-up, s.
@@ -32,7 +32,7 @@ pub struct WorkPrecisionArgs {
     quick: bool,
 }
 
-pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
     let overrides = crate::scene::Overrides {
         profile: args.profile,
         ..Default::default()

@@ -35,7 +35,7 @@ impl ChainDrive {
 
     /// The force generator, its forces at [`Self::state`]
     /// (`forces().output()`).
-    pub fn forces(&self) -> &ForceGenerator {
+    pub(crate) fn forces(&self) -> &ForceGenerator {
         &self.forces
     }
 
@@ -45,7 +45,7 @@ impl ChainDrive {
     }
 
     /// The blow-up limits the substeps are checked against.
-    pub fn limits(&self) -> &BlowUpLimits {
+    pub(crate) fn limits(&self) -> &BlowUpLimits {
         &self.limits
     }
 
@@ -92,14 +92,14 @@ impl ChainDrive {
     }
 
     /// Sets the blow-up limits checked in the substeps.
-    pub fn set_limits(&mut self, limits: BlowUpLimits) {
+    pub(crate) fn set_limits(&mut self, limits: BlowUpLimits) {
         self.limits = limits;
     }
 
     /// Sets the roller–tooth contact's reach caching (`None`: every pair is
     /// tested at every substep). It changes the cost, not the result, within
     /// the caching's safety margin.
-    pub fn set_culling(&mut self, culling: Option<Culling>) {
+    pub(crate) fn set_culling(&mut self, culling: Option<Culling>) {
         self.forces.contact.culling = culling;
         self.forces.forget_reach();
     }

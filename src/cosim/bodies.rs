@@ -88,7 +88,7 @@ pub struct Coupling {
     /// much heavier than a roller).
     pub carry_dynamic: bool,
     /// Normal law between a roller and a user's collider.
-    pub law: ContactLawParams,
+    pub(crate) law: ContactLawParams,
     /// Speed floor of the once-per-frame pair search, m/s: a roller or body
     /// is assumed to travel at most (2 v + this) · dt over the frame.
     pub search_speed_m_s: f64,
@@ -239,7 +239,7 @@ pub(super) struct BodyContacts {
 }
 
 impl BodyContacts {
-    pub fn new(rollers: usize, roller_mass_kg: f64, roller_radius_m: f64) -> Self {
+    pub(super) fn new(rollers: usize, roller_mass_kg: f64, roller_radius_m: f64) -> Self {
         Self {
             roller_mass_kg,
             roller_radius_m,
@@ -251,17 +251,17 @@ impl BodyContacts {
     }
 
     /// Whether any pair is active this frame.
-    pub fn is_empty(&self) -> bool {
+    pub(super) fn is_empty(&self) -> bool {
         self.pairs.is_empty() && self.touches.is_empty()
     }
 
     /// Whether `body` is carried this frame.
-    pub fn carries(&self, body: RigidBodyHandle) -> bool {
+    pub(super) fn carries(&self, body: RigidBodyHandle) -> bool {
         self.carried.iter().any(|c| c.body == body)
     }
 
     /// Bodies carried this frame, with their roller pairs.
-    pub fn carried_pairs(&self) -> impl Iterator<Item = (RigidBodyHandle, usize)> + '_ {
+    pub(super) fn carried_pairs(&self) -> impl Iterator<Item = (RigidBodyHandle, usize)> + '_ {
         self.carried.iter().enumerate().map(|(k, c)| {
             let pairs = self
                 .pairs
@@ -279,7 +279,7 @@ impl BodyContacts {
     /// Leaves `body` to another drive for this frame: it is no longer
     /// carried here, and its colliders touch neither the rollers nor the
     /// bodies carried here (the drive that carries it meets them).
-    pub fn release(&mut self, body: RigidBodyHandle) {
+    pub(super) fn release(&mut self, body: RigidBodyHandle) {
         let Some(k) = self.carried.iter().position(|c| c.body == body) else {
             return;
         };
@@ -308,7 +308,7 @@ impl BodyContacts {
     }
 
     /// The rollers' mean force on a carried body over the frame, N.
-    pub fn chain_force_on(&self, body: RigidBodyHandle) -> Option<Vector> {
+    pub(super) fn chain_force_on(&self, body: RigidBodyHandle) -> Option<Vector> {
         self.carried
             .iter()
             .find(|c| c.body == body)
@@ -317,7 +317,7 @@ impl BodyContacts {
 
     /// Finds this frame's obstacles and pairs; stashes carried bodies'
     /// gravity and user forces. Call once at the frame's start.
-    pub fn prepare(
+    pub(super) fn prepare(
         &mut self,
         coupling: &Coupling,
         drive: &DriveView<'_>,
@@ -500,7 +500,7 @@ impl BodyContacts {
     /// Adds the user's colliders' forces at the chain's current state (and
     /// `tau_s` into the frame) to the roller forces `fx`, `fy`; accumulates
     /// their reactions on carried bodies.
-    pub fn apply(
+    pub(super) fn apply(
         &mut self,
         coupling: &Coupling,
         state: &DriveState,
@@ -626,7 +626,7 @@ impl BodyContacts {
 
     /// Advances the carried bodies by one substep (symplectic Euler, as the
     /// chain; rapier's damping as rapier applies it, v / (1 + dt c)).
-    pub fn integrate(&mut self, dt_s: f64) {
+    pub(super) fn integrate(&mut self, dt_s: f64) {
         for c in &mut self.carried {
             c.v += (c.force_ext + c.force) * c.inv_mass * dt_s;
             c.w += (c.torque_ext + c.torque) * c.inv_inertia * dt_s;
@@ -642,7 +642,7 @@ impl BodyContacts {
     /// bodies set for rapier's step (frame-start pose, mean velocity, no
     /// gravity or user force: the substeps applied them). Returns false,
     /// touching no body, if a carried body's state is not finite.
-    pub fn finish_substeps(
+    pub(super) fn finish_substeps(
         &mut self,
         bodies: &mut RigidBodySet,
         substeps: u64,
@@ -686,7 +686,7 @@ impl BodyContacts {
     /// one of its contacts pushed the body (a stop, a wall), the part of the
     /// substeps' late velocity change that still points into that contact is
     /// dropped, so a body held by a stop stays held.
-    pub fn after_step(
+    pub(super) fn after_step(
         &mut self,
         bodies: &mut RigidBodySet,
         narrow_phase: &NarrowPhase,

@@ -89,7 +89,7 @@ pub(super) struct Slide {
 
 impl Slide {
     /// The mask bit of the free axis.
-    pub fn mask(&self) -> JointAxesMask {
+    pub(super) fn mask(&self) -> JointAxesMask {
         if self.axis == 0 {
             JointAxesMask::LIN_X
         } else {
@@ -271,7 +271,7 @@ impl MountTranslation {
     /// One substep of `dt` (symplectic Euler, as the rollers), `tau` into
     /// the frame, under the chain's force `chain` and the law's force `law`
     /// (both at the substep's start).
-    pub fn advance(&mut self, chain: Vector, law: Vector, tau: f64, dt: f64) {
+    pub(super) fn advance(&mut self, chain: Vector, law: Vector, tau: f64, dt: f64) {
         let mut f = chain + self.force_ext + law;
         if let Some((s, sf)) = &mut self.slide {
             if let Some(m) = &s.motor {

@@ -23,7 +23,7 @@ use crate::scene::ContactLaw;
 
 /// A contact law ready to evaluate.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactLawParams {
+pub(crate) struct ContactLawParams {
     /// K_g, N/m^n.
     pub stiffness: f64,
     /// n.
@@ -38,7 +38,7 @@ pub struct ContactLawParams {
 
 impl ContactLawParams {
     /// From the scene's contact settings.
-    pub fn new(contact: &Contact) -> Self {
+    pub(crate) fn new(contact: &Contact) -> Self {
         let chi = contact.law.chi(contact.restitution);
         Self {
             stiffness: contact.stiffness,
@@ -50,19 +50,19 @@ impl ContactLawParams {
     }
 
     /// The same law with another damping factor χ.
-    pub fn with_chi(self, chi: f64) -> Self {
+    pub(crate) fn with_chi(self, chi: f64) -> Self {
         Self { chi, ..self }
     }
 
     /// The approach speed to remember at contact onset.
     #[inline]
-    pub fn onset_speed(&self, approach_speed_m_s: f64) -> f64 {
+    pub(crate) fn onset_speed(&self, approach_speed_m_s: f64) -> f64 {
         approach_speed_m_s.max(self.min_approach_speed_m_s)
     }
 
     /// Elastic part K_g δⁿ, N.
     #[inline]
-    pub fn elastic(&self, depth_m: f64) -> f64 {
+    pub(crate) fn elastic(&self, depth_m: f64) -> f64 {
         if self.hertz {
             self.stiffness * depth_m * depth_m.sqrt()
         } else {
@@ -73,14 +73,14 @@ impl ContactLawParams {
     /// The damping factor χ / δ̇⁻ to remember for a contact whose onset
     /// approach speed is `approach_speed_m_s` (floored), 1/(m/s).
     #[inline]
-    pub fn damping_per_speed(&self, approach_speed_m_s: f64) -> f64 {
+    pub(crate) fn damping_per_speed(&self, approach_speed_m_s: f64) -> f64 {
         self.chi / self.onset_speed(approach_speed_m_s)
     }
 
     /// Normal force from a remembered damping factor χ / δ̇⁻ (see
     /// [`Self::damping_per_speed`]): a multiplication where [`Self::force`] divides.
     #[inline]
-    pub fn force_with(&self, depth_m: f64, depth_rate_m_s: f64, damping_per_speed: f64) -> f64 {
+    pub(crate) fn force_with(&self, depth_m: f64, depth_rate_m_s: f64, damping_per_speed: f64) -> f64 {
         (self.elastic(depth_m) * (1.0 + damping_per_speed * depth_rate_m_s)).max(0.0)
     }
 
@@ -89,7 +89,7 @@ impl ContactLawParams {
     /// `depth_rate_m_s` is δ̇ (positive while approaching), `onset_m_s` the
     /// remembered approach speed δ̇⁻ (already floored).
     #[inline]
-    pub fn force(&self, depth_m: f64, depth_rate_m_s: f64, onset_m_s: f64) -> f64 {
+    pub(crate) fn force(&self, depth_m: f64, depth_rate_m_s: f64, onset_m_s: f64) -> f64 {
         let f = self.elastic(depth_m) * (1.0 + self.chi * depth_rate_m_s / onset_m_s);
         f.max(0.0)
     }

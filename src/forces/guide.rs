@@ -20,7 +20,7 @@ const RELAXATION_CHI: f64 = 0.75;
 /// A further body that carries a shoe: the shoe's pose is its scene pose
 /// turned by the body's coordinate `q[body]` about `pivot_m`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Carrier {
+pub(crate) struct Carrier {
     /// Index of the carrying body's coordinate in [`DriveState::q`].
     pub body: usize,
     /// The pivot, m (world).
@@ -29,7 +29,7 @@ pub struct Carrier {
 
 /// What a [`Guide`] is built from.
 #[derive(Clone, Debug, PartialEq)]
-pub struct GuideParams {
+pub(crate) struct GuideParams {
     /// Name, for outputs.
     pub name: String,
     /// The working face in its scene pose (at q = 0 for a carried shoe).
@@ -46,7 +46,7 @@ pub struct GuideParams {
 
 /// The forces of one evaluation on one shoe.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct ShoeForces {
+pub(crate) struct ShoeForces {
     /// Σ f_n over the rollers in contact, N.
     pub normal_n: f64,
     /// Σ |f_t| over the rollers in contact, N.
@@ -79,7 +79,7 @@ pub struct ShoeForces {
 /// The friction reaches ±μ f_n smoothly over a few v_s and vanishes at zero
 /// slip (no stick: a roller at rest on a sloping shoe creeps).
 #[derive(Clone, Debug)]
-pub struct Guide {
+pub(crate) struct Guide {
     params: GuideParams,
     /// The law of the run, kept while the relaxation uses its own.
     run_law: Option<ContactLawParams>,
@@ -93,7 +93,7 @@ pub struct Guide {
 
 impl Guide {
     /// The element for a chain of `rollers` rollers of radius `roller_radius_m`.
-    pub fn new(params: GuideParams, rollers: usize, roller_radius_m: f64) -> Self {
+    pub(crate) fn new(params: GuideParams, rollers: usize, roller_radius_m: f64) -> Self {
         Self {
             params,
             run_law: None,
@@ -105,7 +105,7 @@ impl Guide {
     }
 
     /// A fixed guide of the scene, on `chain`'s rollers.
-    pub fn fixed(guide: &crate::scene::Guide, chain: &crate::scene::Chain) -> Self {
+    pub(crate) fn fixed(guide: &crate::scene::Guide, chain: &crate::scene::Chain) -> Self {
         Self::new(
             GuideParams {
                 name: guide.name.clone(),
@@ -121,12 +121,12 @@ impl Guide {
     }
 
     /// Its parameters.
-    pub fn params(&self) -> &GuideParams {
+    pub(crate) fn params(&self) -> &GuideParams {
         &self.params
     }
 
     /// The forces of the last evaluation.
-    pub fn forces(&self) -> &ShoeForces {
+    pub(crate) fn forces(&self) -> &ShoeForces {
         &self.last
     }
 

@@ -29,11 +29,11 @@ use crate::scene::HydraulicTensioner;
 /// turbulent orifice law √Δp with equal value at the joint: the orifice law's
 /// infinite slope at Δp = 0 would otherwise make the chamber's equation
 /// infinitely stiff as the valve opens.
-pub const VALVE_TRANSITION_PA: f64 = 1e4;
+pub(crate) const VALVE_TRANSITION_PA: f64 = 1e4;
 
 /// The chamber's constants, derived once from the tensioner's parameters.
 #[derive(Clone, Copy, Debug)]
-pub struct Chamber {
+pub(crate) struct Chamber {
     /// The parameters.
     pub params: HydraulicTensioner,
     /// Plunger area A = π d²/4, m².
@@ -46,7 +46,7 @@ pub struct Chamber {
 
 impl Chamber {
     /// The chamber of `params`.
-    pub fn new(params: &HydraulicTensioner) -> Self {
+    pub(crate) fn new(params: &HydraulicTensioner) -> Self {
         let h = params;
         let valve_area = PI * h.valve_diameter_m * h.valve_diameter_m / 4.0;
         Self {
@@ -60,21 +60,21 @@ impl Chamber {
 
     /// The lowest gauge pressure the oil holds, Pa: absolute zero (it
     /// cavitates below).
-    pub fn floor_pa(&self) -> f64 {
+    pub(crate) fn floor_pa(&self) -> f64 {
         -self.params.ambient_pressure_pa
     }
 
     /// Chamber volume V(x) = V₀ + A x at travel `x_m`, m³ (never below a
     /// thousandth of V₀, so that a plunger driven past its bottom stop
     /// leaves a finite stiffness).
-    pub fn volume_m3(&self, x_m: f64) -> f64 {
+    pub(crate) fn volume_m3(&self, x_m: f64) -> f64 {
         let v0 = self.params.chamber_volume_m3;
         (v0 + self.area_m2 * x_m).max(1e-3 * v0)
     }
 
     /// φ(p): the volume that fluid of unit volume at the ambient pressure
     /// fills at gauge pressure `p_pa`.
-    pub fn fill_ratio(&self, p_pa: f64) -> f64 {
+    pub(crate) fn fill_ratio(&self, p_pa: f64) -> f64 {
         let h = &self.params;
         let pa = h.ambient_pressure_pa;
         (1.0 - h.air_fraction) * (1.0 - p_pa / h.bulk_modulus_pa)
@@ -86,7 +86,7 @@ impl Chamber {
     /// V_ref φ(p) = V, i.e. with r = V / V_ref and a = 1 − α,
     /// (a/β) p² − (a − a p_a/β − r) p − p_a (1 − r) = 0
     /// (or, without air, p = β (1 − r)). Floored at the cavitation floor.
-    pub fn pressure_pa(&self, reference_m3: f64, volume_m3: f64) -> f64 {
+    pub(crate) fn pressure_pa(&self, reference_m3: f64, volume_m3: f64) -> f64 {
         let h = &self.params;
         let pa = h.ambient_pressure_pa;
         let r = volume_m3 / reference_m3;
@@ -111,13 +111,13 @@ impl Chamber {
 
     /// The fluid volume at the ambient pressure that is at gauge pressure
     /// `p_pa` in the chamber at travel `x_m`, m³.
-    pub fn reference_volume_m3(&self, p_pa: f64, x_m: f64) -> f64 {
+    pub(crate) fn reference_volume_m3(&self, p_pa: f64, x_m: f64) -> f64 {
         self.volume_m3(x_m) / self.fill_ratio(p_pa)
     }
 
     /// Effective bulk modulus at gauge pressure `p_pa`, Pa:
     /// 1/β_eff = −φ'(p)/φ(p), φ'(p) = −(1 − α)/β − α p_a/(p + p_a)².
-    pub fn bulk_modulus_pa(&self, p_pa: f64) -> f64 {
+    pub(crate) fn bulk_modulus_pa(&self, p_pa: f64) -> f64 {
         let h = &self.params;
         let pa = h.ambient_pressure_pa;
         let absolute = (p_pa + pa).max(1e-3 * pa);
@@ -127,20 +127,20 @@ impl Chamber {
     }
 
     /// Leak out through the annular gap, Q = G p, m³/s.
-    pub fn leak_flow_m3_s(&self, p_pa: f64) -> f64 {
+    pub(crate) fn leak_flow_m3_s(&self, p_pa: f64) -> f64 {
         self.leak_conductance * p_pa
     }
 
     /// The pressure difference that drives the check valve, p_s − p_crack − p,
     /// Pa: it is open while this is positive.
-    pub fn valve_drive_pa(&self, p_pa: f64) -> f64 {
+    pub(crate) fn valve_drive_pa(&self, p_pa: f64) -> f64 {
         self.params.supply_pressure_pa - self.params.cracking_pressure_pa - p_pa
     }
 
     /// Flow in through the check valve, m³/s: C_d A_v √(2 Δp / ρ) with
     /// Δp = [`Self::valve_drive_pa`] when open (laminar below
     /// [`VALVE_TRANSITION_PA`]), zero when closed.
-    pub fn valve_flow_m3_s(&self, p_pa: f64) -> f64 {
+    pub(crate) fn valve_flow_m3_s(&self, p_pa: f64) -> f64 {
         let dp = self.valve_drive_pa(p_pa);
         if dp <= 0.0 {
             0.0
@@ -152,14 +152,14 @@ impl Chamber {
     }
 
     /// dV_ref/dt = (Q_in − Q_leak)/φ(p), m³/s, at gauge pressure `p_pa`.
-    pub fn reference_rate(&self, p_pa: f64) -> f64 {
+    pub(crate) fn reference_rate(&self, p_pa: f64) -> f64 {
         (self.valve_flow_m3_s(p_pa) - self.leak_flow_m3_s(p_pa)) / self.fill_ratio(p_pa)
     }
 
     /// The plunger's push at gauge pressure `p_pa` and travel `x_m`, N:
     /// p A plus the return spring F₀ − k x, plus the end stops, plus the
     /// ratchet's stop at `ratchet_floor_m` (`None`: no ratchet).
-    pub fn force_n(&self, p_pa: f64, x_m: f64, ratchet_floor_m: Option<f64>) -> f64 {
+    pub(crate) fn force_n(&self, p_pa: f64, x_m: f64, ratchet_floor_m: Option<f64>) -> f64 {
         let h = &self.params;
         let mut f = p_pa.max(self.floor_pa()) * self.area_m2 + h.spring_preload_n
             - h.spring_stiffness_n_m * x_m
@@ -175,7 +175,7 @@ impl Chamber {
 
 /// The end stops' force on a plunger at travel `x_m`, N: pushing out below
 /// `min_m`, holding back beyond `max_m`, stiffness `k_n_m`.
-pub fn stops_n(x_m: f64, min_m: f64, max_m: f64, k_n_m: f64) -> f64 {
+pub(crate) fn stops_n(x_m: f64, min_m: f64, max_m: f64, k_n_m: f64) -> f64 {
     if x_m < min_m {
         k_n_m * (min_m - x_m)
     } else if x_m > max_m {

@@ -21,7 +21,7 @@ use crate::scene::JointFriction as Params;
 /// unit normal n a moment m is the couple −(m/ℓ) n at its first roller and
 /// +(m/ℓ) n at its second: the forces sum to zero and their power is m ω.
 #[derive(Clone, Debug)]
-pub struct JointFriction {
+pub(crate) struct JointFriction {
     params: Params,
     /// Scratch: each joint's relative angular velocity ω_rel, rad/s.
     rel: Vec<f64>,
@@ -29,7 +29,7 @@ pub struct JointFriction {
 
 impl JointFriction {
     /// The element for a chain of `rollers` rollers (as many joints).
-    pub fn new(params: Params, rollers: usize) -> Self {
+    pub(crate) fn new(params: Params, rollers: usize) -> Self {
         Self {
             params,
             rel: vec![0.0; rollers],

@@ -164,7 +164,7 @@ fn open_links_body(law: LinkLaw, ends: Ends, slots: Slots, with_rates: Option<Ra
 /// links (every later element adds to it), the links' forces, the largest
 /// stretch and the largest roller speed.
 #[derive(Clone, Debug)]
-pub struct Links {
+pub(crate) struct Links {
     /// Scratch: force vector of link i on roller i, N.
     link_fx: Vec<f64>,
     /// Scratch: its y component, N.
@@ -175,7 +175,7 @@ pub struct Links {
 
 impl Links {
     /// Buffers for a chain of `rollers` rollers (and as many links).
-    pub fn new(rollers: usize) -> Self {
+    pub(crate) fn new(rollers: usize) -> Self {
         Self {
             link_fx: vec![0.0; rollers],
             link_fy: vec![0.0; rollers],
@@ -184,7 +184,7 @@ impl Links {
     }
 
     /// l − rest length of each link at the last evaluation, m.
-    pub fn stretch(&self) -> &[f64] {
+    pub(crate) fn stretch(&self) -> &[f64] {
         &self.stretch
     }
 }

@@ -71,7 +71,7 @@ mod tensioner;
 
 pub(crate) use contact::{Culling, ToothContact};
 pub(crate) use contact_law::ContactLawParams;
-pub(crate) use guide::{Carrier, Guide, GuideParams, ShoeForces};
+pub(crate) use guide::{Guide, ShoeForces};
 pub(crate) use joint_friction::JointFriction;
 pub(crate) use links::Links;
 pub use output::Forces;
@@ -250,7 +250,7 @@ impl ForceTimes {
 /// The drive's force elements and their outputs: the links, the
 /// roller–tooth contact, then any further elements.
 #[derive(Debug)]
-pub struct ForceGenerator {
+pub(crate) struct ForceGenerator {
     /// The chain's links (and the rollers' weight).
     pub links: Links,
     /// The roller–tooth contact.
@@ -279,7 +279,7 @@ impl Clone for ForceGenerator {
 
 impl ForceGenerator {
     /// The links and the contact for `model`'s drive of `rollers` rollers.
-    pub fn new(law: ContactLawParams, model: &DriveModel, rollers: usize) -> Self {
+    pub(crate) fn new(law: ContactLawParams, model: &DriveModel, rollers: usize) -> Self {
         let sprockets = model.sprockets.len();
         Self {
             links: Links::new(rollers),
@@ -294,7 +294,7 @@ impl ForceGenerator {
     /// Splits the roller loops over two threads where `fork` says so (the
     /// simulation's `sim::parallel::Split`); `None` steps on one thread.
     /// The results are the same bits either way.
-    pub fn set_fork(&mut self, fork: Option<Box<dyn Fork>>) {
+    pub(crate) fn set_fork(&mut self, fork: Option<Box<dyn Fork>>) {
         self.fork = fork;
     }
 
@@ -304,42 +304,42 @@ impl ForceGenerator {
     }
 
     /// Adds a further element, evaluated after those already present.
-    pub fn add(&mut self, element: Box<dyn ForceElement>) {
+    pub(crate) fn add(&mut self, element: Box<dyn ForceElement>) {
         self.elements.push(element);
     }
 
     /// Sizes the outputs of further bodies and scalar states to `model`'s.
-    pub fn fit(&mut self, model: &DriveModel) {
+    pub(crate) fn fit(&mut self, model: &DriveModel) {
         self.output.body_force.resize(model.bodies.len(), 0.0);
         self.output.scalar_rate.resize(model.scalars.len(), 0.0);
     }
 
     /// The further element of type `T`, if the drive has one.
-    pub fn element<T: ForceElement + 'static>(&self) -> Option<&T> {
+    pub(crate) fn element<T: ForceElement + 'static>(&self) -> Option<&T> {
         self.elements
             .iter()
             .find_map(|e| e.as_any().downcast_ref::<T>())
     }
 
     /// The outputs of the last evaluation.
-    pub fn output(&self) -> &Forces {
+    pub(crate) fn output(&self) -> &Forces {
         &self.output
     }
 
     /// The outputs, to add forces from outside the elements (the
     /// co-simulation's user colliders act on the rollers between evaluations).
-    pub fn output_mut(&mut self) -> &mut Forces {
+    pub(crate) fn output_mut(&mut self) -> &mut Forces {
         &mut self.output
     }
 
     /// The contact law in use.
-    pub fn law(&self) -> &ContactLawParams {
+    pub(crate) fn law(&self) -> &ContactLawParams {
         self.contact.law()
     }
 
     /// Forgets all history of every element (the contact's remembered onsets
     /// and kept reach sets).
-    pub fn reset_memory(&mut self) {
+    pub(crate) fn reset_memory(&mut self) {
         self.contact.reset();
         for e in &mut self.elements {
             e.reset();
@@ -347,22 +347,22 @@ impl ForceGenerator {
     }
 
     /// See [`ToothContact::forget_reach`].
-    pub fn forget_reach(&mut self) {
+    pub(crate) fn forget_reach(&mut self) {
         self.contact.forget_reach();
     }
 
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
-    pub fn enable_damping_rows(&mut self) {
+    pub(crate) fn enable_damping_rows(&mut self) {
         self.contact.enable_damping_rows();
     }
 
     /// The contact's damping rows of the last evaluation, if enabled.
-    pub fn damping_rows(&self) -> Option<&DampingRows> {
+    pub(crate) fn damping_rows(&self) -> Option<&DampingRows> {
         self.contact.damping_rows()
     }
 
     /// Every element switches to what the static equilibrium needs.
-    pub fn begin_equilibrium(&mut self) {
+    pub(crate) fn begin_equilibrium(&mut self) {
         self.links.begin_equilibrium();
         self.contact.begin_equilibrium();
         for e in &mut self.elements {
@@ -371,7 +371,7 @@ impl ForceGenerator {
     }
 
     /// Every element switches back to the run's settings.
-    pub fn end_equilibrium(&mut self) {
+    pub(crate) fn end_equilibrium(&mut self) {
         self.links.end_equilibrium();
         self.contact.end_equilibrium();
         for e in &mut self.elements {
@@ -381,14 +381,14 @@ impl ForceGenerator {
 
     /// Evaluates all forces at `state`, the end of a step, and advances every
     /// element's history to it.
-    pub fn evaluate(&mut self, model: &DriveModel, state: &DriveState) {
+    pub(crate) fn evaluate(&mut self, model: &DriveModel, state: &DriveState) {
         self.evaluate_trial(model, state);
         self.commit_trial();
     }
 
     /// Adopts the history of the last [`Self::evaluate_trial`], whose state
     /// has become the step's end state.
-    pub fn commit_trial(&mut self) {
+    pub(crate) fn commit_trial(&mut self) {
         self.links.commit();
         self.contact.commit();
         for e in &mut self.elements {
@@ -399,7 +399,7 @@ impl ForceGenerator {
     /// Evaluates all forces at `state` without advancing any history (an
     /// integrator's inner stage). The outputs are overwritten as by
     /// [`Self::evaluate`].
-    pub fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
+    pub(crate) fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
         let out = &mut self.output;
         out.begin();
         let fork = self.fork.as_deref().filter(|f| f.splits(state.rollers()));
@@ -489,7 +489,7 @@ impl ForceGenerator {
 
     /// Whether a roller centred at (`x`, `y`) touches any sprocket, the
     /// sprockets at angles `theta` (see [`ToothContact::touches`]).
-    pub fn touches(
+    pub(crate) fn touches(
         &self,
         model: &DriveModel,
         roller: usize,

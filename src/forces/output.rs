@@ -47,11 +47,11 @@ pub struct Forces {
     pub joint_friction_power_w: f64,
     /// Each tensioner arm's reading, in scene order (empty without arms;
     /// an arm sizes it at its first evaluation).
-    pub tensioners: Vec<super::TensionerReading>,
+    pub(crate) tensioners: Vec<super::TensionerReading>,
     /// The forces on each shoe ([`super::Guide`]), one entry per shoe in the
     /// order the elements are evaluated (the scene's guides in scene order);
     /// empty without shoes.
-    pub shoes: Vec<super::ShoeForces>,
+    pub(crate) shoes: Vec<super::ShoeForces>,
     /// Each link's angular velocity ω = (u × Δv)/ℓ, rad/s: written by the
     /// links when it holds one slot per link (the joint friction sizes it at
     /// its first evaluation), left empty and not computed otherwise.

@@ -9,7 +9,7 @@
 /// the roller): `C v_sp − C v` with `C = Σ E_k κ_k n_k n_kᵀ`. Patches on a
 /// second sprocket (only where reach circles overlap) stay explicit.
 #[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
-pub struct DampingRows {
+pub(crate) struct DampingRows {
     /// The sprocket of roller i's implicit contacts; `u32::MAX` for none.
     pub sprocket: Vec<u32>,
     /// C as (c_xx, c_xy, c_yy), N·s/m.

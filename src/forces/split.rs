@@ -5,7 +5,7 @@
 
 /// Runs a job's two halves, on two threads or one after the other: the
 /// halves write disjoint data, so the results do not depend on which.
-pub trait Fork: Send + Sync + std::fmt::Debug {
+pub(crate) trait Fork: Send + Sync + std::fmt::Debug {
     /// Whether a drive of `rollers` rollers is split.
     fn splits(&self, rollers: usize) -> bool;
 
@@ -20,7 +20,7 @@ pub trait Fork: Send + Sync + std::fmt::Debug {
 /// Chunks a split loop's rollers are cut into; the two threads claim them
 /// one at a time, so a thread the system stops for a while holds up one
 /// chunk, not half the loop.
-pub const CHUNKS: usize = 8;
+pub(crate) const CHUNKS: usize = 8;
 
 /// Rollers `lo..hi` of chunk `k` of `n` (`n ≥ CHUNKS`: no chunk is empty).
 #[inline]

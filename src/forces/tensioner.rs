@@ -27,7 +27,7 @@ use crate::scene::{Tensioner, TensionerKind};
 
 /// What a tensioner arm reports at its last evaluation.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct TensionerReading {
+pub(crate) struct TensionerReading {
     /// Arm angle from the scene's pose, rad (counter-clockwise).
     pub angle_rad: f64,
     /// Arm angular speed, rad/s.
@@ -54,7 +54,7 @@ pub struct TensionerReading {
 
 /// A tensioner arm with its tensioner: one force element per arm.
 #[derive(Clone, Debug)]
-pub struct TensionerArm {
+pub(crate) struct TensionerArm {
     params: Tensioner,
     /// The arm's body coordinate in [`DriveState::q`].
     body: usize,
@@ -79,7 +79,7 @@ impl TensionerArm {
     /// The arm of `params` on body coordinate `body` (and the chamber's
     /// pressure on scalar `scalar`, hydraulic only) in a drive of `rollers`
     /// rollers of radius `roller_radius_m`, meeting the shoe with `law`.
-    pub fn new(
+    pub(crate) fn new(
         params: &Tensioner,
         body: usize,
         scalar: Option<usize>,
@@ -134,41 +134,41 @@ impl TensionerArm {
     }
 
     /// The arm's name.
-    pub fn name_of_arm(&self) -> &str {
+    pub(crate) fn name_of_arm(&self) -> &str {
         &self.params.name
     }
 
     /// The tensioner's parameters.
-    pub fn params(&self) -> &Tensioner {
+    pub(crate) fn params(&self) -> &Tensioner {
         &self.params
     }
 
     /// The arm's body coordinate index.
-    pub fn body(&self) -> usize {
+    pub(crate) fn body(&self) -> usize {
         self.body
     }
 
     /// What the last evaluation found.
-    pub fn reading(&self) -> &TensionerReading {
+    pub(crate) fn reading(&self) -> &TensionerReading {
         &self.reading
     }
 
     /// The chamber state z that holds gauge pressure `p_pa` at arm angle
     /// `q` (hydraulic only; `None` for a spring tensioner).
-    pub fn chamber_state_for(&self, p_pa: f64, q: f64) -> Option<f64> {
+    pub(crate) fn chamber_state_for(&self, p_pa: f64, q: f64) -> Option<f64> {
         let ch = self.chamber.as_ref()?;
         let (_, x) = self.lever_and_travel(q);
         Some(ch.reference_volume_m3(p_pa, x) - self.offset_m3)
     }
 
     /// The hydraulic chamber, if the tensioner is hydraulic.
-    pub fn chamber(&self) -> Option<&Chamber> {
+    pub(crate) fn chamber(&self) -> Option<&Chamber> {
         self.chamber.as_ref()
     }
 
     /// The lever of the tensioner's line about the pivot at arm angle `q`,
     /// ℓ = r × ê, m, and the travel x = (a(q) − a(0))·ê, m.
-    pub fn lever_and_travel(&self, q: f64) -> (f64, f64) {
+    pub(crate) fn lever_and_travel(&self, q: f64) -> (f64, f64) {
         let p = &self.params;
         let (s, c) = q.sin_cos();
         let r0 = [p.point_m[0] - p.pivot_m[0], p.point_m[1] - p.pivot_m[1]];

@@ -11,7 +11,7 @@ use super::{MAX_PATCHES, OutlinePoint, Patch, pitch_radius, seating_radius};
 
 /// One seating arc per gap.
 #[derive(Clone, Debug)]
-pub struct CircularProfile {
+pub(crate) struct CircularProfile {
     /// Tooth count N.
     pub teeth: u32,
     /// Pitch radius R_s, m.
@@ -36,7 +36,7 @@ pub struct CircularProfile {
 impl CircularProfile {
     /// The profile of a sprocket with `teeth` teeth for a chain of pitch
     /// `pitch_m` and roller radius `roller_radius_m`.
-    pub fn new(teeth: u32, pitch_m: f64, roller_radius_m: f64) -> Self {
+    pub(crate) fn new(teeth: u32, pitch_m: f64, roller_radius_m: f64) -> Self {
         let pitch_angle = std::f64::consts::TAU / f64::from(teeth);
         let seating_radius_m = seating_radius(roller_radius_m);
         Self {
@@ -59,7 +59,7 @@ impl CircularProfile {
 
     /// Index of the gap nearest in polar angle to `p`.
     #[inline]
-    pub fn gap_of(&self, p: [f64; 2]) -> u32 {
+    pub(crate) fn gap_of(&self, p: [f64; 2]) -> u32 {
         let k = (p[1].atan2(p[0]) * self.gaps_per_rad).round() as i64;
         k.rem_euclid(i64::from(self.teeth)) as u32
     }
@@ -68,7 +68,7 @@ impl CircularProfile {
     /// before falling back to [`Self::gap_of`]: a roller stays in a gap for
     /// many steps, and two products are much cheaper than an `atan2`.
     #[inline(always)]
-    pub fn gap_near(&self, p: [f64; 2], hint: u32) -> u32 {
+    pub(crate) fn gap_near(&self, p: [f64; 2], hint: u32) -> u32 {
         // The roller is almost always still in its hinted gap: one cone test, inline.
         if let Some(&u) = self.gap_dirs.get(hint as usize) {
             let along = u[0] * p[0] + u[1] * p[1];
@@ -108,7 +108,7 @@ impl CircularProfile {
 
     /// Centre of gap `gap`'s seating circle.
     #[inline]
-    pub fn seat_center(&self, gap: u32) -> [f64; 2] {
+    pub(crate) fn seat_center(&self, gap: u32) -> [f64; 2] {
         let u = self.gap_dirs[gap as usize];
         let r = self.pitch_radius_m + self.clearance_m;
         [r * u[0], r * u[1]]
@@ -118,7 +118,7 @@ impl CircularProfile {
     /// `hint` is a gap the roller was recently in (any value works); it is
     /// updated to the gap found.
     #[inline(always)]
-    pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+    pub(crate) fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         let gap = self.gap_near(p, *hint);
         *hint = gap;
         let u = self.gap_dirs[gap as usize];
@@ -197,7 +197,7 @@ impl CircularProfile {
     /// (area 0, not a contact surface; docs/tooth-profile.md, “The circular
     /// profile”). Each arc runs from the gap's clockwise side through its bottom to its
     /// counter-clockwise side.
-    pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
+    pub(crate) fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
         use std::f64::consts::PI;
         let step = if max_step_rad.is_finite() && max_step_rad > 0.0 {
             max_step_rad.min(PI / 8.0)
@@ -224,7 +224,7 @@ impl CircularProfile {
     }
 
     /// The radius beyond which no roller centre can touch this profile.
-    pub fn reach_m(&self) -> f64 {
+    pub(crate) fn reach_m(&self) -> f64 {
         let rc = self.pitch_radius_m + self.clearance_m;
         if self.tips {
             // A roller touching an arc's end (a tip) reaches a hair further.

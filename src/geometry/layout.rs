@@ -31,7 +31,7 @@ use super::path::{ChainPath, PathCircle};
 
 /// Where every roller starts and how the sprockets are turned to receive them.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Layout {
+pub(crate) struct Layout {
     /// Roller centres, m, in chain order (roller i linked to i + 1, cyclic).
     pub rollers_m: Vec<[f64; 2]>,
     /// Initial angle of each sprocket (gap 0 under its first seated roller), rad.
@@ -58,7 +58,7 @@ pub struct Layout {
 impl Layout {
     /// Relative stretch of the strand links as laid out, λ/P − 1: the
     /// misfit shared among the free links.
-    pub fn strand_stretch(&self, pitch_m: f64) -> f64 {
+    pub(crate) fn strand_stretch(&self, pitch_m: f64) -> f64 {
         self.strand_link_m / pitch_m - 1.0
     }
 }
@@ -103,12 +103,12 @@ pub enum LayoutError {
 
 /// Largest mismatch, in pitches, between the chain and the path: half a
 /// pitch, so that the nearest roller count always lays out.
-pub const MAX_LENGTH_MISMATCH_PITCHES: f64 = 0.5;
+pub(super) const MAX_LENGTH_MISMATCH_PITCHES: f64 = 0.5;
 
 /// Lays `rollers` rollers of pitch `pitch_m` on `path` around `circles`
 /// (radius = the radius at which seated roller centres lie), circle k with
 /// `teeth[k]` teeth.
-pub fn layout_rollers(
+pub(crate) fn layout_rollers(
     path: &ChainPath,
     circles: &[PathCircle],
     teeth: &[u32],
@@ -149,7 +149,7 @@ pub fn layout_rollers(
 /// Pitches of chain the path through the seated rollers of `circles` needs
 /// (the layout's count at strand links of one pitch): the quantity a chain of
 /// N rollers must match within half a pitch.
-pub fn needed_pitches(
+pub(crate) fn needed_pitches(
     path: &ChainPath,
     circles: &[PathCircle],
     teeth: &[u32],
@@ -163,7 +163,7 @@ pub fn needed_pitches(
 /// `gravity_m_s2`, the excess hung in the strands' sag (module docs). A
 /// chain that is short, or long without gravity to sag it, or whose strands
 /// all run along gravity, gets [`layout_rollers`]'s error.
-pub fn layout_hanging(
+pub(crate) fn layout_hanging(
     path: &ChainPath,
     circles: &[PathCircle],
     teeth: &[u32],

@@ -22,18 +22,20 @@ mod testing;
 
 pub(crate) use circular::CircularProfile;
 pub(crate) use layout::hang_excess;
-pub(crate) use layout::{Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
-pub(crate) use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
+pub use layout::LayoutError;
+pub use path::PathError;
+pub(crate) use layout::{Layout, layout_hanging, layout_rollers, needed_pitches};
+pub(crate) use path::{ChainPath, PathCircle, Strand, chain_path};
 
 /// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two
 /// seated roller centres is exactly the pitch.
-pub fn pitch_radius(pitch_m: f64, teeth: u32) -> f64 {
+pub(crate) fn pitch_radius(pitch_m: f64, teeth: u32) -> f64 {
     pitch_m / (2.0 * (std::f64::consts::PI / f64::from(teeth)).sin())
 }
 
 /// Seating-curve radius R_t = (1.005 D_r + 0.003 in) / 2 (ASA B29.1;
 /// docs/tooth-profile.md, “Constants”).
-pub fn seating_radius(roller_radius_m: f64) -> f64 {
+pub(crate) fn seating_radius(roller_radius_m: f64) -> f64 {
     const INCH_0_003_M: f64 = 7.62e-5;
     (1.005 * 2.0 * roller_radius_m + INCH_0_003_M) / 2.0
 }
@@ -71,7 +73,7 @@ impl ProfileKind {
 
 /// One sample of a sprocket outline, in the sprocket frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OutlinePoint {
+pub(crate) struct OutlinePoint {
     /// x in metres.
     pub x_m: f64,
     /// y in metres.
@@ -85,7 +87,7 @@ pub struct OutlinePoint {
 
 /// One contact patch between a roller and a tooth outline, in the sprocket frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Patch {
+pub(crate) struct Patch {
     /// Penetration depth δ > 0, m.
     pub depth_m: f64,
     /// Unit normal from the closest outline point towards the roller centre
@@ -104,12 +106,12 @@ pub struct Patch {
 }
 
 /// The most patches one roller can have on one sprocket.
-pub const MAX_PATCHES: usize = 2;
+pub(crate) const MAX_PATCHES: usize = 2;
 
 /// What the contact generator asks of one kind of tooth outline. The contact
 /// loop is compiled once per kind ([`ToothProfile`] dispatches once per
 /// sprocket, not once per roller).
-pub trait Outline {
+pub(crate) trait Outline {
     /// Contact patches of a roller centred at `p` (sprocket frame); returns
     /// the count. `hint` is a gap the roller was recently in (any value
     /// works); it is updated to the gap found.
@@ -147,7 +149,7 @@ impl Outline for asa::AsaProfile {
 
 /// A sprocket's tooth outline, as used by the contact generator.
 #[derive(Clone, Debug)]
-pub enum ToothProfile {
+pub(crate) enum ToothProfile {
     /// One seating arc per gap.
     Circular(CircularProfile),
     /// ASA B29.1 Type II.
@@ -160,7 +162,7 @@ impl ToothProfile {
     ///
     /// # Errors
     /// [`asa::AsaError`] when the real profile cannot be built for these inputs.
-    pub fn new(
+    pub(crate) fn new(
         kind: ProfileKind,
         teeth: u32,
         pitch_m: f64,
@@ -182,7 +184,7 @@ impl ToothProfile {
     /// the count. `hint` is a gap the roller was recently in (any value
     /// works); it is updated to the gap found.
     #[inline]
-    pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+    pub(crate) fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         match self {
             Self::Circular(c) => Outline::contacts(c, p, hint, out),
             Self::Real(r) => Outline::contacts(&**r, p, hint, out),
@@ -191,7 +193,7 @@ impl ToothProfile {
 
     /// The whole outline in the sprocket frame, counter-clockwise, arcs
     /// sampled at ≤ `max_step_rad` (for drawing, colliders and the outline CSV).
-    pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
+    pub(crate) fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
         match self {
             Self::Circular(c) => c.outline(max_step_rad),
             Self::Real(r) => r.outline(max_step_rad),
@@ -199,7 +201,7 @@ impl ToothProfile {
     }
 
     /// The radius beyond which no roller centre can touch this sprocket.
-    pub fn reach_m(&self) -> f64 {
+    pub(crate) fn reach_m(&self) -> f64 {
         match self {
             Self::Circular(c) => c.reach_m(),
             Self::Real(r) => r.dimensions().tip_radius_m + r.dimensions().roller_diameter_m / 2.0,
@@ -208,14 +210,14 @@ impl ToothProfile {
 
     /// Turns the circular form's tooth-tip contact on or off
     /// ([`CircularProfile::tips`]); the real form has its tips already.
-    pub fn set_tips(&mut self, on: bool) {
+    pub(crate) fn set_tips(&mut self, on: bool) {
         if let Self::Circular(c) = self {
             c.tips = on;
         }
     }
 
     /// The radius at which a seated roller's centre sits on this profile.
-    pub fn seated_radius_m(&self) -> f64 {
+    pub(crate) fn seated_radius_m(&self) -> f64 {
         match self {
             Self::Circular(c) => c.pitch_radius_m,
             Self::Real(r) => {

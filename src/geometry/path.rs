@@ -11,7 +11,7 @@ use std::f64::consts::TAU;
 
 /// A free strand: the tangent line from sprocket `from` to sprocket `to`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Strand {
+pub(crate) struct Strand {
     /// Index of the sprocket the strand leaves (0-based).
     pub from: usize,
     /// Index of the sprocket the strand reaches.
@@ -30,7 +30,7 @@ pub struct Strand {
 
 impl Strand {
     /// Unit direction from start to end.
-    pub fn direction(&self) -> [f64; 2] {
+    pub(crate) fn direction(&self) -> [f64; 2] {
         [
             (self.end_m[0] - self.start_m[0]) / self.length_m,
             (self.end_m[1] - self.start_m[1]) / self.length_m,
@@ -40,7 +40,7 @@ impl Strand {
 
 /// The arc the chain wraps on one sprocket.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WrapArc {
+pub(crate) struct WrapArc {
     /// Polar angle where the chain arrives, rad.
     pub arrive_rad: f64,
     /// Polar angle where the chain leaves, rad.
@@ -51,7 +51,7 @@ pub struct WrapArc {
 
 /// Strands and wraps of a closed drive; strand k leaves sprocket k.
 #[derive(Clone, Debug, PartialEq)]
-pub struct ChainPath {
+pub(crate) struct ChainPath {
     /// Free strands, strand k from sprocket k to k + 1 (cyclic).
     pub strands: Vec<Strand>,
     /// Wraps, one per sprocket.
@@ -64,7 +64,7 @@ impl ChainPath {
     /// weight per length q⊥ across it holds q⊥² L³ / (24 T²) (parabolic
     /// sag s = q⊥ L² / (8 T), arc − span = 8 s² / (3 L)). `mass_per_m_kg`:
     /// the chain's mass per length.
-    pub fn sag_take_up_m(&self, mass_per_m_kg: f64, gravity_m_s2: [f64; 2], tension_n: f64) -> f64 {
+    pub(crate) fn sag_take_up_m(&self, mass_per_m_kg: f64, gravity_m_s2: [f64; 2], tension_n: f64) -> f64 {
         let [gx, gy] = gravity_m_s2;
         self.strands
             .iter()
@@ -96,7 +96,7 @@ pub enum PathError {
 
 /// A circle the chain follows: centre, radius, sense (+1 CCW).
 #[derive(Clone, Copy, Debug)]
-pub struct PathCircle {
+pub(crate) struct PathCircle {
     /// Centre, m.
     pub center_m: [f64; 2],
     /// Radius, m.
@@ -106,13 +106,13 @@ pub struct PathCircle {
 }
 
 /// Polar angle wrapped into [0, 2π).
-pub fn wrap_angle(a: f64) -> f64 {
+pub(crate) fn wrap_angle(a: f64) -> f64 {
     let r = a.rem_euclid(TAU);
     if r >= TAU { 0.0 } else { r }
 }
 
 /// Computes strands and wraps for circles visited in order (closed loop).
-pub fn chain_path(circles: &[PathCircle]) -> Result<ChainPath, PathError> {
+pub(crate) fn chain_path(circles: &[PathCircle]) -> Result<ChainPath, PathError> {
     let n = circles.len();
     let mut strands = Vec::with_capacity(n);
     for i in 0..n {

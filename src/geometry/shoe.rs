@@ -12,7 +12,7 @@ use std::f64::consts::PI;
 
 /// One piece of a face: a segment or a circular arc.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Piece {
+pub(crate) enum Piece {
     /// The segment from `a` to `b`.
     Segment {
         /// Start, m.
@@ -36,7 +36,7 @@ pub enum Piece {
 
 /// The closest point of a piece (or face) to a query point.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FacePoint {
+pub(crate) struct FacePoint {
     /// Signed distance from the face, m: positive on the working side,
     /// negative behind it.
     pub distance_m: f64,
@@ -64,7 +64,7 @@ impl FacePoint {
 
 /// Why a face cannot be built.
 #[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
-pub enum ShoeError {
+pub(crate) enum ShoeError {
     /// The end points coincide (or are not finite).
     #[error("the end points coincide")]
     DegenerateEnds,
@@ -89,7 +89,7 @@ pub enum ShoeError {
 }
 
 /// Relative tolerance on a given centre's distances from the two ends.
-pub const CENTRE_TOLERANCE: f64 = 1e-6;
+pub(crate) const CENTRE_TOLERANCE: f64 = 1e-6;
 
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
@@ -108,7 +108,7 @@ fn norm(a: [f64; 2]) -> f64 {
 /// `radius_m`: `None` for a straight shoe; `Some(r)` an arc through both ends
 /// of radius |r| (the shorter one), bending to the left of the direction
 /// start → end for r > 0 (the centre on the left), to the right for r < 0.
-pub fn body_from_radius(
+pub(crate) fn body_from_radius(
     start_m: [f64; 2],
     end_m: [f64; 2],
     radius_m: Option<f64>,
@@ -140,7 +140,7 @@ pub fn body_from_radius(
 
 /// The body of an arc shoe from its end points and centre: the shorter arc
 /// between them (a half circle goes counter-clockwise from start to end).
-pub fn body_from_centre(
+pub(crate) fn body_from_centre(
     start_m: [f64; 2],
     end_m: [f64; 2],
     centre_m: [f64; 2],
@@ -180,7 +180,7 @@ fn arc_between(centre: [f64; 2], start: [f64; 2], end: [f64; 2], radius: f64) ->
 impl Piece {
     /// Its two ends in the order the face runs (an arc given by its
     /// counter-clockwise start first).
-    pub fn ends(&self) -> ([f64; 2], [f64; 2]) {
+    pub(crate) fn ends(&self) -> ([f64; 2], [f64; 2]) {
         match *self {
             Self::Segment { a, b } => (a, b),
             Self::Arc {
@@ -201,7 +201,7 @@ impl Piece {
     }
 
     /// Length, m.
-    pub fn length_m(&self) -> f64 {
+    pub(crate) fn length_m(&self) -> f64 {
         match *self {
             Self::Segment { a, b } => norm(sub(b, a)),
             Self::Arc {
@@ -213,7 +213,7 @@ impl Piece {
     }
 
     /// The point at fraction `s` ∈ [0, 1] of its length from its first end.
-    pub fn point_at(&self, s: f64) -> [f64; 2] {
+    pub(crate) fn point_at(&self, s: f64) -> [f64; 2] {
         match *self {
             Self::Segment { a, b } => [a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1])],
             Self::Arc {
@@ -300,7 +300,7 @@ impl Piece {
 /// A lead-in ramp: a straight piece continuing the body's end tangent,
 /// turned away from the working side.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ramp {
+pub(crate) struct Ramp {
     /// Length, m (> 0).
     pub length_m: f64,
     /// Angle away from the body's tangent, rad, in (0, π/2).
@@ -309,7 +309,7 @@ pub struct Ramp {
 
 /// A working face: a body with optional ramps, its working side fixed.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Face {
+pub(crate) struct Face {
     /// The body (the shoe proper).
     pub body: Piece,
     /// +1: the working side is on the left of the body's first → second end;
@@ -327,7 +327,7 @@ pub struct Face {
 impl Face {
     /// The face of `body` working on `side` (+1 left, −1 right of the body's
     /// direction), with ramps at its first and second ends.
-    pub fn new(body: Piece, side: f64, start: Option<Ramp>, end: Option<Ramp>) -> Self {
+    pub(crate) fn new(body: Piece, side: f64, start: Option<Ramp>, end: Option<Ramp>) -> Self {
         let (p0, p1) = body.ends();
         // Away from the working side: rotate the outward tangent towards the
         // back (−side normal).
@@ -397,7 +397,7 @@ impl Face {
     /// depth, its face normal (the ramps bend away from the working side, so
     /// the solid behind the face is locally the intersection of the pieces'
     /// back half-planes). `None` behind the face and beyond its ends.
-    pub fn query(&self, p: [f64; 2]) -> Option<FacePoint> {
+    pub(crate) fn query(&self, p: [f64; 2]) -> Option<FacePoint> {
         let mut outside: Option<FacePoint> = None;
         let mut behind: Option<FacePoint> = None;
         let pieces = [Some(self.body), self.start_ramp, self.end_ramp];
@@ -422,12 +422,12 @@ impl Face {
     }
 
     /// The face's middle point (the body's), m.
-    pub fn middle_m(&self) -> [f64; 2] {
+    pub(crate) fn middle_m(&self) -> [f64; 2] {
         self.body.point_at(0.5)
     }
 
     /// The working normal at the body's middle.
-    pub fn middle_normal(&self) -> [f64; 2] {
+    pub(crate) fn middle_normal(&self) -> [f64; 2] {
         let t = self.body.tangent_at(0.5);
         [-self.side * t[1], self.side * t[0]]
     }
@@ -436,7 +436,7 @@ impl Face {
 /// The side (+1 left, −1 right of the body's first → second end) on which
 /// `p` lies as seen from the body's middle, or `None` if `p` is on the
 /// body's tangent line there.
-pub fn side_of(body: &Piece, p: [f64; 2]) -> Option<f64> {
+pub(crate) fn side_of(body: &Piece, p: [f64; 2]) -> Option<f64> {
     let m = body.point_at(0.5);
     let t = body.tangent_at(0.5);
     let cross = t[0] * (p[1] - m[1]) - t[1] * (p[0] - m[0]);

@@ -15,7 +15,7 @@ use crate::scene::{Harmonic, LoadTable};
 /// on a smooth periodic f is at most (5/384) h⁴ max|f⁗| for the largest node
 /// spacing h (Hall & Meyer's bound, as for the clamped spline).
 #[derive(Clone, Debug, PartialEq)]
-pub struct PeriodicSpline {
+pub(crate) struct PeriodicSpline {
     /// Node angles, rad, strictly increasing within [x₀, x₀ + 2π).
     x: Vec<f64>,
     /// Values at the nodes.
@@ -28,7 +28,7 @@ impl PeriodicSpline {
     /// The spline through `(angles_rad[i], values[i])`, one period with the
     /// closing node left out. `None` with fewer than three nodes, lengths
     /// that differ or angles not strictly increasing within 2π.
-    pub fn new(angles_rad: &[f64], values: &[f64]) -> Option<Self> {
+    pub(crate) fn new(angles_rad: &[f64], values: &[f64]) -> Option<Self> {
         let n = angles_rad.len();
         if n < 3 || values.len() != n {
             return None;
@@ -61,7 +61,7 @@ impl PeriodicSpline {
     }
 
     /// The spline at `theta_rad` (any angle; taken modulo 2π).
-    pub fn at(&self, theta_rad: f64) -> f64 {
+    pub(crate) fn at(&self, theta_rad: f64) -> f64 {
         let n = self.x.len();
         let x0 = self.x[0];
         let x = x0 + (theta_rad - x0).rem_euclid(TAU);
@@ -128,7 +128,7 @@ fn solve_tridiagonal(sub: &[f64], diag: &[f64], sup: &[f64], rhs: &[f64]) -> Opt
 /// A load torque in a sprocket's angle: a harmonic series plus a tabled
 /// torque, N·m.
 #[derive(Clone, Debug, PartialEq)]
-pub struct AngleLoad {
+pub(crate) struct AngleLoad {
     /// Σ M_k sin(k θ + φ_k).
     pub harmonics: Vec<Harmonic>,
     /// The table's periodic spline.
@@ -139,7 +139,7 @@ impl AngleLoad {
     /// The load from a scene's harmonics and table; `None` when there is
     /// neither (a table too short or unordered for a spline is taken as
     /// absent: the scene's validation rejects those).
-    pub fn new(harmonics: &[Harmonic], table: Option<&LoadTable>) -> Option<Self> {
+    pub(crate) fn new(harmonics: &[Harmonic], table: Option<&LoadTable>) -> Option<Self> {
         let table = table.and_then(|t| PeriodicSpline::new(&t.angles_rad, &t.torques_n_m));
         (!harmonics.is_empty() || table.is_some()).then(|| Self {
             harmonics: harmonics.to_vec(),
@@ -149,7 +149,7 @@ impl AngleLoad {
 
     /// The torque at `theta_rad` from the angle origin, N·m.
     #[inline]
-    pub fn at(&self, theta_rad: f64) -> f64 {
+    pub(crate) fn at(&self, theta_rad: f64) -> f64 {
         let series: f64 = self.harmonics.iter().map(|h| h.at(theta_rad)).sum();
         series + self.table.as_ref().map_or(0.0, |t| t.at(theta_rad))
     }
@@ -158,7 +158,7 @@ impl AngleLoad {
 /// The driver's speed factor 1 + Σ a_k sin(k θ + φ_k) at `theta_rad` from
 /// the angle origin.
 #[inline]
-pub fn speed_factor(harmonics: &[Harmonic], theta_rad: f64) -> f64 {
+pub(crate) fn speed_factor(harmonics: &[Harmonic], theta_rad: f64) -> f64 {
     1.0 + harmonics.iter().map(|h| h.at(theta_rad)).sum::<f64>()
 }
 

@@ -18,11 +18,11 @@ use crate::scene::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec, S
 
 /// The default bandwidth is the drive's lowest span frequency divided by
 /// this: a decade below it.
-pub const SPAN_FREQUENCY_DIVISOR: f64 = 10.0;
+pub(crate) const SPAN_FREQUENCY_DIVISOR: f64 = 10.0;
 
 /// A driver's governor with its gains resolved.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Governor {
+pub(crate) struct Governor {
     /// The target speed law ω_ref(t).
     pub target: SpeedLaw,
     /// Proportional gain K_p, N·m per rad/s.
@@ -43,7 +43,7 @@ impl Governor {
     /// `target`; gains from a bandwidth use the drive's inertia referred to
     /// the driver ([`referred_inertia_kg_m2`]), and the default bandwidth
     /// the free strands of `path` ([`default_bandwidth_hz`]).
-    pub fn new(
+    pub(crate) fn new(
         scene: &Scene,
         driver: usize,
         spec: &GovernorSpec,
@@ -75,14 +75,14 @@ impl Governor {
 
     /// The drive torque T_d(φ) at the angle `phi_rad` from the origin, N·m.
     #[inline]
-    pub fn drive_torque_at(&self, phi_rad: f64) -> f64 {
+    pub(crate) fn drive_torque_at(&self, phi_rad: f64) -> f64 {
         self.drive_torque_n_m + self.drive_angle.as_ref().map_or(0.0, |a| a.at(phi_rad))
     }
 
     /// The governor's part K_p (ω_ref − ω) + K_i (Θ_ref − φ) at time `t_s`,
     /// angle `phi_rad` from the origin and speed `omega_rad_s`, N·m.
     #[inline]
-    pub fn control_torque_at(&self, t_s: f64, phi_rad: f64, omega_rad_s: f64) -> f64 {
+    pub(crate) fn control_torque_at(&self, t_s: f64, phi_rad: f64, omega_rad_s: f64) -> f64 {
         self.kp_n_m_s_rad * (self.target.speed_at(t_s) - omega_rad_s)
             + self.ki_n_m_rad
                 * (target_angle_rad(&self.target, t_s) + self.target_angle_offset_rad - phi_rad)
@@ -90,7 +90,7 @@ impl Governor {
 
     /// The whole torque on the driver, N·m.
     #[inline]
-    pub fn torque_at(&self, t_s: f64, phi_rad: f64, omega_rad_s: f64) -> f64 {
+    pub(crate) fn torque_at(&self, t_s: f64, phi_rad: f64, omega_rad_s: f64) -> f64 {
         self.drive_torque_at(phi_rad) + self.control_torque_at(t_s, phi_rad, omega_rad_s)
     }
 }
@@ -99,7 +99,7 @@ impl Governor {
 /// it; 0 before t = 0. A run-up from t₁ over T to ω₁ adds
 /// (ω₁ − ω̄) τ² / (2T) for τ = t − t₁ in [0, T] and (ω₁ − ω̄)(τ − T/2) after.
 #[inline]
-pub fn target_angle_rad(law: &SpeedLaw, t_s: f64) -> f64 {
+pub(crate) fn target_angle_rad(law: &SpeedLaw, t_s: f64) -> f64 {
     let base = if t_s <= 0.0 {
         0.0
     } else if t_s < law.ramp_s {
@@ -124,7 +124,7 @@ pub fn target_angle_rad(law: &SpeedLaw, t_s: f64) -> f64 {
 /// rest, Hz: c / (2L) with c = √(T₀/μ) from the pretension T₀ and μ = m_r/P,
 /// L each strand's length between pitch circles. `None` without a strand of
 /// positive length or a positive pretension.
-pub fn lowest_span_frequency_hz(scene: &Scene, path: &ChainPath) -> Option<f64> {
+pub(crate) fn lowest_span_frequency_hz(scene: &Scene, path: &ChainPath) -> Option<f64> {
     let chain = scene.chain();
     let mu = chain.roller_mass_kg / chain.pitch_m;
     let c = (chain.pretension_n / mu).sqrt();
@@ -141,7 +141,7 @@ pub fn lowest_span_frequency_hz(scene: &Scene, path: &ChainPath) -> Option<f64> 
 /// ([`lowest_span_frequency_hz`] / [`SPAN_FREQUENCY_DIVISOR`]), so that the
 /// governor holds the mean speed and leaves the spans' dynamics alone;
 /// [`DEFAULT_GOVERNOR_BANDWIDTH_HZ`] when the drive has no such frequency.
-pub fn default_bandwidth_hz(scene: &Scene, path: &ChainPath) -> f64 {
+pub(crate) fn default_bandwidth_hz(scene: &Scene, path: &ChainPath) -> f64 {
     lowest_span_frequency_hz(scene, path).map_or(DEFAULT_GOVERNOR_BANDWIDTH_HZ, |f| {
         f / SPAN_FREQUENCY_DIVISOR
     })
@@ -149,7 +149,7 @@ pub fn default_bandwidth_hz(scene: &Scene, path: &ChainPath) -> f64 {
 
 /// The gains that make J φ̈ + K_p φ̇ + K_i φ = 0 critically damped at the
 /// natural frequency `bandwidth_hz`: (2 ω_n J, ω_n² J), ω_n = 2π f_n.
-pub fn critical_gains(inertia_kg_m2: f64, bandwidth_hz: f64) -> (f64, f64) {
+pub(crate) fn critical_gains(inertia_kg_m2: f64, bandwidth_hz: f64) -> (f64, f64) {
     let omega_n = std::f64::consts::TAU * bandwidth_hz;
     (
         2.0 * omega_n * inertia_kg_m2,
@@ -161,7 +161,7 @@ pub fn critical_gains(inertia_kg_m2: f64, bandwidth_hz: f64) -> (f64, f64) {
 /// over the sprockets (the driver's own with factor 1) plus the chain's mass
 /// at the driver's pitch radius, m_chain r_d², the chain taken as rigid and
 /// every sprocket as turning with it. Tensioner arms are left out.
-pub fn referred_inertia_kg_m2(scene: &Scene, driver: usize) -> f64 {
+pub(crate) fn referred_inertia_kg_m2(scene: &Scene, driver: usize) -> f64 {
     let sprockets = scene.sprockets();
     let z_d = f64::from(sprockets[driver].teeth);
     let r_d = sprockets[driver].pitch_radius_m;

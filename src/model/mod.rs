@@ -11,12 +11,11 @@ mod governor;
 pub(crate) mod rapier;
 mod segments;
 
-pub(crate) use excitation::{AngleLoad, PeriodicSpline, speed_factor};
+pub(crate) use excitation::{AngleLoad, speed_factor};
 pub(crate) use governor::{
-    Governor, SPAN_FREQUENCY_DIVISOR, critical_gains, default_bandwidth_hz,
-    lowest_span_frequency_hz, referred_inertia_kg_m2, target_angle_rad,
+    Governor, target_angle_rad,
 };
-pub(crate) use segments::{Run, Segments, StrandRuns};
+pub(crate) use segments::{Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
@@ -93,16 +92,16 @@ pub struct SprocketModel {
     /// sprocket turns freely under it (read through
     /// [`SprocketModel::torque_at`]) and is held while the drive relaxes to
     /// static equilibrium; `None`: none.
-    pub governor: Option<Governor>,
+    pub(crate) governor: Option<Governor>,
     /// The driver's speed harmonics in its angle (relative amplitudes):
     /// ω = ω̄(t) (1 + Σ a_k sin(k (θ − θ₀) + φ_k)); empty: ω = ω̄(t).
-    pub speed_harmonics: Vec<Harmonic>,
+    pub(crate) speed_harmonics: Vec<Harmonic>,
     /// External load torque at full value, N·m (read through
     /// [`SprocketModel::torque_at`]).
     pub load_torque_n_m: f64,
     /// The part of the load that depends on the angle θ − θ₀, ramped in with
     /// the constant load; `None`: none.
-    pub angle_load: Option<AngleLoad>,
+    pub(crate) angle_load: Option<AngleLoad>,
     /// The angle origin θ₀ of the speed harmonics and the angle-dependent
     /// load, rad: the sprocket's angle as laid out (the driver's at t = 0).
     pub angle_origin_rad: f64,
@@ -113,7 +112,7 @@ pub struct SprocketModel {
     /// body a sprocket is mounted on (zero in a standalone run).
     pub user_torque_n_m: f64,
     /// Tooth outline used by the contact generator.
-    pub profile: ToothProfile,
+    pub(crate) profile: ToothProfile,
     /// Radius beyond which no roller centre touches the sprocket, m.
     pub reach_m: f64,
     /// Its square, m².
@@ -228,9 +227,9 @@ pub struct DriveModel {
     /// Sprockets in scene order.
     pub sprockets: Vec<SprocketModel>,
     /// The nominal chain path (tangent lines and wraps on the pitch circles).
-    pub path: ChainPath,
+    pub(crate) path: ChainPath,
     /// Free-strand classification of links.
-    pub segments: Segments,
+    pub(crate) segments: Segments,
     /// Further rigid bodies' coordinates (a tensioner arm's angle, a
     /// plunger's travel), beside the rollers and sprockets.
     pub bodies: Vec<BodyModel>,
@@ -353,7 +352,7 @@ impl DriveModel {
     /// Lays out `scene`'s chain: path, rollers seated on every wrap, sprockets
     /// turned to receive them, rest length = pitch (the pretension rule
     /// adjusts it later). Returns the model and its initial state (at rest).
-    pub fn build(scene: &Scene) -> Result<(Self, DriveState, Layout), BuildError> {
+    pub(crate) fn build(scene: &Scene) -> Result<(Self, DriveState, Layout), BuildError> {
         let chain = &scene.chain;
         let profiles: Vec<ToothProfile> = scene
             .sprockets

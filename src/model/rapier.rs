@@ -16,11 +16,11 @@ use rapier2d_f64::prelude::*;
 use super::{DriveModel, DriveState};
 
 /// The collision group of every roller and sprocket collider.
-pub const CHAIN_GROUP: Group = Group::GROUP_32;
+pub(crate) const CHAIN_GROUP: Group = Group::GROUP_32;
 
 /// Handles of the drive's bodies in a rapier world.
 #[derive(Clone, Debug)]
-pub struct ChainBodies {
+pub(crate) struct ChainBodies {
     /// Roller bodies, in chain order.
     pub rollers: Vec<RigidBodyHandle>,
     /// Sprocket bodies, in scene order.
@@ -29,7 +29,7 @@ pub struct ChainBodies {
 
 /// What a sprocket body needs beyond the model.
 #[derive(Clone, Copy, Debug)]
-pub struct SprocketBody {
+pub(crate) struct SprocketBody {
     /// Mass, kg.
     pub mass_kg: f64,
     /// Polar inertia, kg·m².
@@ -38,13 +38,13 @@ pub struct SprocketBody {
 
 /// Arc step of the sprocket colliders' tessellation: the chord error is
 /// r (1 − cos(step/2)), 4 µm on a 27 mm seating arc.
-pub const COLLIDER_ARC_STEP_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
+pub(crate) const COLLIDER_ARC_STEP_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
 /// The sprocket's outline as a closed parry polyline (parry has no arc
 /// primitive), tessellated at [`COLLIDER_ARC_STEP_RAD`]. Other bodies of the
 /// scene collide with it, ray casts see it, viewers draw it; the chain's own
 /// contact uses the exact geometry instead.
-pub fn sprocket_shape(profile: &crate::geometry::ToothProfile) -> SharedShape {
+pub(crate) fn sprocket_shape(profile: &crate::geometry::ToothProfile) -> SharedShape {
     let points: Vec<Vector> = profile
         .outline(COLLIDER_ARC_STEP_RAD)
         .iter()
@@ -65,7 +65,7 @@ fn chain_groups() -> InteractionGroups {
 
 impl ChainBodies {
     /// Adds the drive's bodies and colliders to `bodies`/`colliders`, placed at `state`.
-    pub fn insert(
+    pub(crate) fn insert(
         model: &DriveModel,
         state: &DriveState,
         sprocket_bodies: &[SprocketBody],
@@ -127,7 +127,7 @@ impl ChainBodies {
     }
 
     /// Writes the drive's state into the bodies (the substepped mode's sync).
-    pub fn write_state(&self, state: &DriveState, bodies: &mut RigidBodySet) {
+    pub(crate) fn write_state(&self, state: &DriveState, bodies: &mut RigidBodySet) {
         for (i, h) in self.rollers.iter().enumerate() {
             if let Some(b) = bodies.get_mut(*h) {
                 b.set_translation(Vector::new(state.x[i], state.y[i]), false);
@@ -146,7 +146,7 @@ impl ChainBodies {
     ///
     /// Sprocket angles are unwrapped against the previous value so they stay
     /// continuous over many turns.
-    pub fn read_state(&self, bodies: &RigidBodySet, state: &mut DriveState) {
+    pub(crate) fn read_state(&self, bodies: &RigidBodySet, state: &mut DriveState) {
         for (i, h) in self.rollers.iter().enumerate() {
             if let Some(b) = bodies.get(*h) {
                 let (p, v) = (b.translation(), b.linvel());

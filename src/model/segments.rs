@@ -24,7 +24,7 @@ use crate::scene::MAX_SPROCKETS;
 
 /// The nominal strand lines, prepared for classification.
 #[derive(Clone, Debug)]
-pub struct Segments {
+pub(crate) struct Segments {
     lines: Vec<Line>,
 }
 
@@ -39,7 +39,7 @@ struct Line {
 /// `first − 1` is the last engaged on the segment's `from` sprocket, roller
 /// `first + rollers` the first engaged on its `to` sprocket.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct Run {
+pub(crate) struct Run {
     /// First free roller.
     pub first: usize,
     /// Number of free rollers (links in the free strand: one fewer).
@@ -49,7 +49,7 @@ pub struct Run {
 /// Every segment's free run at one instant ([`Segments::runs`]); held on the
 /// stack, so finding them allocates nothing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct StrandRuns {
+pub(crate) struct StrandRuns {
     n: usize,
     runs: [Option<Run>; MAX_SPROCKETS],
 }
@@ -95,7 +95,7 @@ impl<'de> serde::Deserialize<'de> for StrandRuns {
 impl StrandRuns {
     /// Segment `k`'s run; `None` when the contact state shows no passage from
     /// its `from` sprocket to its `to` sprocket (the chain off a sprocket).
-    pub fn get(&self, k: usize) -> Option<Run> {
+    pub(crate) fn get(&self, k: usize) -> Option<Run> {
         self.runs.get(k).copied().flatten()
     }
 
@@ -103,7 +103,7 @@ impl StrandRuns {
     /// i + 1), in index order (a run across the last roller gives its links
     /// from 0 first), so that sums over them do not depend on where the
     /// chain's numbering starts.
-    pub fn links(&self, k: usize) -> impl Iterator<Item = usize> {
+    pub(crate) fn links(&self, k: usize) -> impl Iterator<Item = usize> {
         let [wrapped, rest] = self.link_ranges(k);
         wrapped.chain(rest)
     }
@@ -125,7 +125,7 @@ impl StrandRuns {
     /// The sum of `link_force` over segment `k`'s free strand, in the order
     /// of [`StrandRuns::links`], and the number of links summed (links
     /// beyond `link_force` left out): two slices, no bounds check per link.
-    pub fn force_sum(&self, k: usize, link_force: &[f64]) -> (f64, usize) {
+    pub(crate) fn force_sum(&self, k: usize, link_force: &[f64]) -> (f64, usize) {
         let mut sum = 0.0;
         let mut count = 0;
         for range in self.link_ranges(k) {
@@ -148,7 +148,7 @@ fn wrap(i: usize, n: usize) -> usize {
 
 impl Segments {
     /// From the nominal path.
-    pub fn new(path: &ChainPath) -> Self {
+    pub(crate) fn new(path: &ChainPath) -> Self {
         Self {
             lines: path
                 .strands
@@ -165,12 +165,12 @@ impl Segments {
     }
 
     /// Number of segments.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.lines.len()
     }
 
     /// Whether there are none.
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.lines.is_empty()
     }
 
@@ -179,7 +179,7 @@ impl Segments {
     /// at a touching roller. A touching roller is engaged on the sprocket
     /// whose pitch circle is nearest to its centre; each change of that
     /// sprocket from k to k + 1 along the chain closes segment k's run.
-    pub fn runs(
+    pub(crate) fn runs(
         &self,
         sprockets: &[SprocketModel],
         x: &[f64],
@@ -234,7 +234,7 @@ impl Segments {
 
     /// Mean link force of each segment's free strand; NaN-free: a segment with
     /// no free link gets `None`.
-    pub fn mean_forces(&self, runs: &StrandRuns, link_force: &[f64], out: &mut [Option<f64>]) {
+    pub(crate) fn mean_forces(&self, runs: &StrandRuns, link_force: &[f64], out: &mut [Option<f64>]) {
         for (k, o) in out.iter_mut().enumerate().take(self.lines.len()) {
             let (sum, count) = runs.force_sum(k, link_force);
             *o = (count > 0).then(|| sum / count as f64);
@@ -245,7 +245,7 @@ impl Segments {
     /// run and its two tangent rollers, the one nearest the middle of the
     /// nominal line, its distance from the line (left positive). Without a
     /// run (the chain off a sprocket), the nearest roller of the whole chain.
-    pub fn transverse(&self, k: usize, runs: &StrandRuns, x: &[f64], y: &[f64]) -> f64 {
+    pub(crate) fn transverse(&self, k: usize, runs: &StrandRuns, x: &[f64], y: &[f64]) -> f64 {
         let Some(l) = self.lines.get(k) else {
             return 0.0;
         };

@@ -78,7 +78,7 @@ impl Channel {
 }
 
 /// Topic of the static scene, written once at the first sample.
-pub const STATIC_SCENE_TOPIC: &str = "/scene/static";
+pub(crate) const STATIC_SCENE_TOPIC: &str = "/scene/static";
 
 bitflags::bitflags! {
     /// A set of channels, one flag per [`Channel`] (`Channels::from(c)`).

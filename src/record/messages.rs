@@ -13,7 +13,7 @@
 
 /// `/links`: the force of every link, tension positive.
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct ChainLinkForces {
+pub(crate) struct ChainLinkForces {
     /// Simulated time, s (the message's log time too).
     pub t_s: f64,
     /// F_link of link i (roller i to roller i + 1, the last closing the loop), N.
@@ -25,7 +25,7 @@ pub struct ChainLinkForces {
 
 /// `/contacts`: the total contact force on every roller.
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct ChainContactForces {
+pub(crate) struct ChainContactForces {
     /// Simulated time, s.
     pub t_s: f64,
     /// Magnitude of the vector sum of the contact forces on roller i over
@@ -36,7 +36,7 @@ pub struct ChainContactForces {
 
 /// `/sprockets`: the sprockets' rotation, in scene order (index 0 = sprocket 1).
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct SprocketSignals {
+pub(crate) struct SprocketSignals {
     /// Simulated time, s.
     pub t_s: f64,
     /// Angle, rad (counter-clockwise positive, not wrapped).
@@ -49,7 +49,7 @@ pub struct SprocketSignals {
 
 /// One segment (free strand) at one sample.
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct SegmentSignal {
+pub(crate) struct SegmentSignal {
     /// 1-based segment number: the strand from sprocket k to the next.
     pub segment: u32,
     /// Mean link force over the strand's free links, N; absent when no link is free.
@@ -61,7 +61,7 @@ pub struct SegmentSignal {
 /// `/segments`: every segment's average link force and transverse displacement,
 /// as defined in [`crate::analysis`].
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct SegmentSignals {
+pub(crate) struct SegmentSignals {
     /// Simulated time, s.
     pub t_s: f64,
     /// Segments in order (index 0 = segment 1).
@@ -70,7 +70,7 @@ pub struct SegmentSignals {
 
 /// One guide at one sample (docs/model.md, “Guides”).
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct GuideSignal {
+pub(crate) struct GuideSignal {
     /// 1-based guide number (`guides[k]` of the scene is guide k + 1).
     pub guide: u32,
     /// Σ f_n, the rollers' normal forces on the shoe, N.
@@ -87,7 +87,7 @@ pub struct GuideSignal {
 
 /// `/guides`: every guide's forces, in scene order.
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct GuideSignals {
+pub(crate) struct GuideSignals {
     /// Simulated time, s.
     pub t_s: f64,
     /// Guides in order (index 0 = guide 1).
@@ -96,7 +96,7 @@ pub struct GuideSignals {
 
 /// One tensioner arm at one sample (docs/model.md, “Tensioner arms”).
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct TensionerSignal {
+pub(crate) struct TensionerSignal {
     /// 1-based arm number (`tensioners[k]` of the scene is arm k + 1).
     pub tensioner: u32,
     /// Tensioner (plunger) travel x from the scene's pose, m.
@@ -117,7 +117,7 @@ pub struct TensionerSignal {
 
 /// `/tensioners`: every tensioner arm's state, in scene order.
 #[derive(Clone, Debug, Default, PartialEq, foxglove::Encode)]
-pub struct TensionerSignals {
+pub(crate) struct TensionerSignals {
     /// Simulated time, s.
     pub t_s: f64,
     /// Arms in order (index 0 = arm 1).

@@ -69,11 +69,9 @@ mod writer;
 pub use channels::{Channel, Channels};
 pub(crate) use channels::STATIC_SCENE_TOPIC;
 pub(crate) use writer::CHUNK_BYTES;
-pub(crate) use writer::FLUSH_INTERVAL_NS;
 use writer::{ChannelIds, Frame, Job, QUEUE_FRAMES, Sink, Writer};
 
-pub(crate) use messages::{ChainContactForces, ChainLinkForces, GuideSignal, GuideSignals, SegmentSignal, SegmentSignals, SprocketSignals, TensionerSignal, TensionerSignals};
-pub(crate) use visual::{FORCE_BINS, OUTLINE_SPACING_M, OUTLINES_TOPIC, POINT_STRIDE, WORLD_FRAME, bin_color, outline_points, outline_topic, sprocket_color, sprocket_frame};
+pub(crate) use messages::{ChainContactForces, ChainLinkForces, GuideSignals, SegmentSignal, SegmentSignals, SprocketSignals, TensionerSignal, TensionerSignals};
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;

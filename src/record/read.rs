@@ -43,7 +43,7 @@ const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
 
 /// Why a recording cannot be read.
 #[derive(Debug, thiserror::Error)]
-pub enum ReadError {
+pub(crate) enum ReadError {
     /// The file could not be read.
     #[error("cannot read {path}: {source}")]
     Read {
@@ -111,7 +111,7 @@ pub enum ReadError {
 impl ReadError {
     /// `missing` topics (of [`Channel`]s) needed for `needed_for`, with the
     /// topics `found` in the file.
-    pub fn missing_channels(needed_for: &str, missing: &[&str], found: &[String]) -> Self {
+    pub(crate) fn missing_channels(needed_for: &str, missing: &[&str], found: &[String]) -> Self {
         let channels: Vec<&str> = missing
             .iter()
             .filter_map(|t| {
@@ -305,7 +305,7 @@ fn decode_cloud(buf: &[u8]) -> Result<Vec<[f64; 2]>, String> {
 
 /// One sample present on every channel read.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RecordedSample {
+pub(crate) struct RecordedSample {
     /// Simulated time, s.
     pub t_s: f64,
     /// Mean link force of each segment's free strand, N (`None`: no free link).
@@ -326,7 +326,7 @@ pub struct RecordedSample {
 }
 
 /// A recording read back.
-pub struct Recording {
+pub(crate) struct Recording {
     /// The name it was read under (its path).
     pub name: String,
     /// The attached scene, with the run's overrides applied.
@@ -381,7 +381,7 @@ fn not_mcap(path: &str, bytes: &[u8]) -> ReadError {
 /// that points at a summary section (the index seeking readers need) and
 /// with the closing magic. A recording whose process was killed outright is
 /// not; [`super::recover::recover`] rewrites it whole.
-pub fn is_complete_mcap(bytes: &[u8]) -> bool {
+pub(crate) fn is_complete_mcap(bytes: &[u8]) -> bool {
     // Footer record: opcode 0x02, length u64, summary_start u64,
     // summary_offset_start u64, summary_crc u32 (29 bytes), then the magic.
     const FOOTER: usize = 1 + 8 + 8 + 8 + 4;
@@ -399,7 +399,7 @@ pub fn is_complete_mcap(bytes: &[u8]) -> bool {
 
 /// Whether the MCAP file at `path` is complete ([`is_complete_mcap`]),
 /// reading only its last bytes.
-pub fn is_complete_mcap_file(path: &Path) -> std::io::Result<bool> {
+pub(crate) fn is_complete_mcap_file(path: &Path) -> std::io::Result<bool> {
     use std::io::{Read, Seek, SeekFrom};
     let mut f = std::fs::File::open(path)?;
     let n = f.seek(SeekFrom::End(0))?;
@@ -411,7 +411,7 @@ pub fn is_complete_mcap_file(path: &Path) -> std::io::Result<bool> {
 }
 
 /// Reads the recording at `path` (see the module documentation).
-pub fn read_recording(path: &Path) -> Result<Recording, ReadError> {
+pub(crate) fn read_recording(path: &Path) -> Result<Recording, ReadError> {
     let name = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|source| ReadError::Read {
         path: name.clone(),
@@ -424,7 +424,7 @@ pub fn read_recording(path: &Path) -> Result<Recording, ReadError> {
 type Topic<'a> = BTreeMap<u64, Cow<'a, [u8]>>;
 
 /// Reads a recording held in memory; `name` is used in messages.
-pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadError> {
+pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadError> {
     if !bytes.starts_with(MCAP_MAGIC) {
         return Err(not_mcap(name, bytes));
     }

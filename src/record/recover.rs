@@ -24,7 +24,7 @@ use super::read::is_complete_mcap;
 
 /// Why a recording cannot be recovered.
 #[derive(Debug, thiserror::Error)]
-pub enum RecoverError {
+pub(crate) enum RecoverError {
     /// The input does not start like an MCAP file.
     #[error("not an MCAP file: it does not start with the MCAP magic")]
     NotMcap,
@@ -41,7 +41,7 @@ pub enum RecoverError {
 
 /// What [`recover`] found and wrote.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Recovered {
+pub(crate) struct Recovered {
     /// Whether the input was already complete (it had its summary and footer).
     pub input_complete: bool,
     /// Where reading stopped, when it stopped at a broken or missing record.
@@ -63,7 +63,7 @@ pub struct Recovered {
 /// Reads the MCAP file held in `bytes` up to its first missing or broken
 /// record and writes everything before it into `out` as a complete file
 /// (see the module documentation). Schema and channel ids are kept.
-pub fn recover<W: Write + Seek>(bytes: &[u8], out: W) -> Result<(W, Recovered), RecoverError> {
+pub(crate) fn recover<W: Write + Seek>(bytes: &[u8], out: W) -> Result<(W, Recovered), RecoverError> {
     if !bytes.starts_with(b"\x89MCAP0\r\n") {
         return Err(RecoverError::NotMcap);
     }

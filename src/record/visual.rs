@@ -17,10 +17,10 @@ use crate::model::DriveModel;
 use crate::scene::Scene;
 
 /// The fixed frame of the world.
-pub const WORLD_FRAME: &str = "world";
+pub(crate) const WORLD_FRAME: &str = "world";
 
 /// Number of colour bins of the link-force colour map.
-pub const FORCE_BINS: usize = 16;
+pub(crate) const FORCE_BINS: usize = 16;
 
 /// Outline sampling step of the real tooth profile, rad.
 const OUTLINE_STEP_RAD: f64 = 2.0 * std::f64::consts::PI / 180.0;
@@ -31,24 +31,24 @@ const FINE_OUTLINE_STEP_RAD: f64 = 0.1 * std::f64::consts::PI / 180.0;
 
 /// Spacing of the points of an outline cloud (`/outlines/sprocketN`) along
 /// the outline, m: dense enough to read as a line.
-pub const OUTLINE_SPACING_M: f64 = 0.5e-3;
+pub(crate) const OUTLINE_SPACING_M: f64 = 0.5e-3;
 
 /// Topic prefix of the outline clouds: sprocket `i` (0-based) is on
 /// `/outlines/sprocket{i + 1}`.
-pub const OUTLINES_TOPIC: &str = "/outlines";
+pub(crate) const OUTLINES_TOPIC: &str = "/outlines";
 
 /// Topic of sprocket `i`'s outline cloud (0-based): `/outlines/sprocket1`, ….
-pub fn outline_topic(i: usize) -> String {
+pub(crate) fn outline_topic(i: usize) -> String {
     format!("{OUTLINES_TOPIC}/{}", sprocket_frame(i))
 }
 
 /// Frame name of sprocket `i` (0-based): `sprocket1`, `sprocket2`, ….
-pub fn sprocket_frame(i: usize) -> String {
+pub(crate) fn sprocket_frame(i: usize) -> String {
     format!("sprocket{}", i + 1)
 }
 
 /// Simulated time as a protobuf timestamp.
-pub fn timestamp(t_ns: u64) -> Timestamp {
+pub(super) fn timestamp(t_ns: u64) -> Timestamp {
     let sec = u32::try_from(t_ns / 1_000_000_000).unwrap_or(u32::MAX);
     let nsec = (t_ns % 1_000_000_000) as u32;
     Timestamp::new_checked(sec, nsec).unwrap_or(Timestamp::MAX)
@@ -75,7 +75,7 @@ fn grey(level: f64) -> Color {
 
 /// Colour of force bin `b` of [`FORCE_BINS`]: blue (slack) through cyan,
 /// green and yellow to red (the top of the scale).
-pub fn bin_color(b: usize) -> Color {
+pub(crate) fn bin_color(b: usize) -> Color {
     let s = b as f64 / (FORCE_BINS - 1) as f64;
     // Piecewise-linear "jet": four ramps over [0, 1].
     let ramp = |x: f64| x.clamp(0.0, 1.0);
@@ -90,7 +90,7 @@ pub fn bin_color(b: usize) -> Color {
 /// The static geometry: per sprocket an entity in its own frame, locked to
 /// it, with the tooth outline, the pitch circle, a spoke to gap 0 (so that
 /// rotation shows) and the sprocket's name.
-pub fn static_scene(scene: &Scene, model: &DriveModel, t_ns: u64) -> SceneUpdate {
+pub(super) fn static_scene(scene: &Scene, model: &DriveModel, t_ns: u64) -> SceneUpdate {
     let entities = model
         .sprockets
         .iter()
@@ -298,7 +298,7 @@ fn tensioner_arms(scene: &Scene, t_ns: u64) -> impl Iterator<Item = SceneEntity>
 }
 
 /// The chain entity of `/scene`, updated in place at every sample.
-pub struct ChainScene {
+pub(super) struct ChainScene {
     update: SceneUpdate,
     /// Link force at the top of the colour scale, N.
     full_scale_n: f64,
@@ -307,7 +307,7 @@ pub struct ChainScene {
 impl ChainScene {
     /// The chain of `rollers` rollers of radius `roller_radius_m`; link
     /// colours span 0 … `full_scale_n` in [`FORCE_BINS`] bins.
-    pub fn new(rollers: usize, roller_radius_m: f64, full_scale_n: f64) -> Self {
+    pub(super) fn new(rollers: usize, roller_radius_m: f64, full_scale_n: f64) -> Self {
         let d = 2.0 * roller_radius_m;
         let sphere = SpherePrimitive {
             pose: Some(identity_pose()),
@@ -341,7 +341,7 @@ impl ChainScene {
     }
 
     /// The update at a sample: roller centres and link forces.
-    pub fn update(
+    pub(super) fn update(
         &mut self,
         t_ns: u64,
         x: &[f64],
@@ -403,7 +403,7 @@ fn force_bin(force_n: f64, full_scale_n: f64) -> usize {
 }
 
 /// The frame of tensioner arm `k` (0-based): `tensioner{k+1}`.
-pub fn tensioner_frame(k: usize) -> String {
+pub(super) fn tensioner_frame(k: usize) -> String {
     format!("tensioner{}", k + 1)
 }
 
@@ -411,7 +411,7 @@ pub fn tensioner_frame(k: usize) -> String {
 /// `world` → `tensionerN` (pivot, the arm's angle) for every arm. An arm
 /// without an angle in `arm_angles_rad` (a sample whose readings were not
 /// finite) keeps its last pose.
-pub fn transforms(
+pub(super) fn transforms(
     centers_m: &[[f64; 2]],
     theta: &[f64],
     pivots_m: &[[f64; 2]],
@@ -466,7 +466,7 @@ pub fn transforms(
 
 /// Bytes per point of `/rollers` and of the outline clouds: x, y, z as
 /// little-endian f32, then red, green, blue, alpha as u8 (0–255).
-pub const POINT_STRIDE: u32 = 16;
+pub(crate) const POINT_STRIDE: u32 = 16;
 
 /// The fields of a [`POINT_STRIDE`] point: f32 x, y, z and u8 red, green,
 /// blue, alpha, the names Foxglove's "RGBA (separate fields)" colour mode and
@@ -531,7 +531,7 @@ fn roller_force_n(link_force_n: &[f64], i: usize) -> f64 {
 /// z = 0), each coloured by the mean force of its two links on the links'
 /// scale ([`bin_color`] of 0 … `full_scale_n` in [`FORCE_BINS`] bins; grey
 /// when the link forces are not given).
-pub fn roller_cloud(
+pub(super) fn roller_cloud(
     x: &[f64],
     y: &[f64],
     link_force_n: &[f64],
@@ -554,7 +554,7 @@ pub fn roller_cloud(
 
 /// Colour of sprocket `i`'s outline (0-based), from a palette of eight that
 /// stands out against the force colours' blue … red and a dark background.
-pub fn sprocket_color(i: usize) -> [u8; 4] {
+pub(crate) fn sprocket_color(i: usize) -> [u8; 4] {
     const PALETTE: [[u8; 4]; 8] = [
         [255, 255, 255, 255], // white
         [255, 105, 180, 255], // pink
@@ -571,7 +571,7 @@ pub fn sprocket_color(i: usize) -> [u8; 4] {
 /// A sprocket's outline, in its frame, as points about `spacing_m` apart
 /// along it: the tooth profile sampled finely and walked at equal arc
 /// length, the closing stretch back to the start included.
-pub fn outline_points(profile: &ToothProfile, spacing_m: f64) -> Vec<[f64; 2]> {
+pub(crate) fn outline_points(profile: &ToothProfile, spacing_m: f64) -> Vec<[f64; 2]> {
     let fine: Vec<[f64; 2]> = profile
         .outline(FINE_OUTLINE_STEP_RAD)
         .iter()
@@ -618,7 +618,7 @@ fn resample_closed(pts: &[[f64; 2]], spacing_m: f64) -> Vec<[f64; 2]> {
 /// [`OUTLINE_SPACING_M`]) as a point cloud in its frame `sprocketN`, in its
 /// colour ([`sprocket_color`]). Written once, at the first sample; the
 /// frame's transform on `/tf` turns it.
-pub fn outline_cloud(profile: &ToothProfile, i: usize, t_ns: u64) -> PointCloud {
+pub(super) fn outline_cloud(profile: &ToothProfile, i: usize, t_ns: u64) -> PointCloud {
     let points = outline_points(profile, OUTLINE_SPACING_M);
     let rgba = sprocket_color(i);
     let mut data = Vec::with_capacity(points.len() * POINT_STRIDE as usize);

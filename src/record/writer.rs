@@ -106,7 +106,7 @@ pub(crate) const CHUNK_BYTES: u64 = 1 << 20;
 /// Simulated time after which the open chunk is closed and written to the
 /// file even if it is not full, ns: a process killed outright loses at most
 /// this much of the run (or one chunk, if that is less).
-pub const FLUSH_INTERVAL_NS: u64 = 100_000_000;
+pub(crate) const FLUSH_INTERVAL_NS: u64 = 100_000_000;
 
 /// The writer thread's state: messages kept between frames, updated in place.
 pub(super) struct Writer<W: Write + Seek> {

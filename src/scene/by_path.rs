@@ -21,7 +21,7 @@ use super::{Scene, SceneError, SceneFile};
 
 /// One step of a [`ScenePath`]: a table's key or an array's 0-based index.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum PathPart {
+pub(crate) enum PathPart {
     /// A key of a table (`chain`, `speed_rpm`).
     Key(String),
     /// A 0-based index into an array (`sprockets.2`).
@@ -30,13 +30,13 @@ pub enum PathPart {
 
 /// A dotted path into a scene file, e.g. `sprockets.2.speed_rpm`.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub struct ScenePath {
+pub(crate) struct ScenePath {
     parts: Vec<PathPart>,
 }
 
 impl ScenePath {
     /// The steps of the path, root first.
-    pub fn parts(&self) -> &[PathPart] {
+    pub(crate) fn parts(&self) -> &[PathPart] {
         &self.parts
     }
 
@@ -120,7 +120,7 @@ impl FromStr for ScenePath {
 /// A value for the field at a path: one study factor's level, or one
 /// `--set path=value`.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Assignment {
+pub(crate) struct Assignment {
     /// Where.
     pub path: ScenePath,
     /// What: any TOML value (number, string, array, …).
@@ -131,7 +131,7 @@ impl Assignment {
     /// `path = value` from its parts; the value is read as TOML (`21000`,
     /// `1e-5`, `"ccw"`, `[0.5, 2.2]`), and as a plain string if it is not
     /// TOML (`ccw`).
-    pub fn parse(path: &str, value: &str) -> Result<Self, SceneError> {
+    pub(crate) fn parse(path: &str, value: &str) -> Result<Self, SceneError> {
         let path: ScenePath = path.trim().parse()?;
         let text = value.trim();
         let value = format!("v = {text}")
@@ -181,7 +181,7 @@ fn kind(v: &toml::Value) -> &'static str {
 /// exists (or names an optional field the file leaves out) and that the
 /// value has the field's type. The table must hold a valid scene file's
 /// shape; it is left unchanged on error.
-pub fn set_in_table(table: &mut toml::Table, a: &Assignment) -> Result<(), SceneError> {
+pub(crate) fn set_in_table(table: &mut toml::Table, a: &Assignment) -> Result<(), SceneError> {
     let mut edited = table.clone();
     let previous = write(&mut edited, a)?;
     // The file's shape (known fields, their types) is serde's to check.
@@ -307,7 +307,7 @@ fn replace(
 impl SceneFile {
     /// Writes `a` into this file (path and type checked; the value is
     /// validated when the file becomes a [`Scene`]).
-    pub fn set(&mut self, a: &Assignment) -> Result<(), SceneError> {
+    pub(crate) fn set(&mut self, a: &Assignment) -> Result<(), SceneError> {
         let mut table = match toml::Value::try_from(&*self) {
             Ok(toml::Value::Table(t)) => t,
             Ok(_) | Err(_) => {
@@ -328,7 +328,7 @@ impl Scene {
     /// Parses a TOML scene, writes `assignments` into it in order and
     /// validates the result. Errors in the file carry their line and
     /// column; errors in an assigned field name its path without one.
-    pub fn from_toml_set(text: &str, assignments: &[Assignment]) -> Result<Self, SceneError> {
+    pub(crate) fn from_toml_set(text: &str, assignments: &[Assignment]) -> Result<Self, SceneError> {
         // The base must be a scene file before anything is written into it.
         let read = super::shape::read::<SceneFile>(text, super::file::required)?;
         if !read.errors.is_empty() {
@@ -350,7 +350,7 @@ impl Scene {
 
     /// This scene with `assignments` written into its file form, validated
     /// again.
-    pub fn with_set(&self, assignments: &[Assignment]) -> Result<Self, SceneError> {
+    pub(crate) fn with_set(&self, assignments: &[Assignment]) -> Result<Self, SceneError> {
         let mut file = self.file.clone();
         for a in assignments {
             file.set(a)?;

@@ -34,9 +34,9 @@
 //! stiffness belongs in `chain.stiffness_n_m`, which overrides it.
 
 /// Young's modulus of chain steel, Pa.
-pub const STEEL_E_PA: f64 = 206e9;
+pub(crate) const STEEL_E_PA: f64 = 206e9;
 /// Reduction η of the plates' E A / P for the joints' compliance (module docs).
-pub const STIFFNESS_REDUCTION: f64 = 1.0 / 3.0;
+pub(crate) const STIFFNESS_REDUCTION: f64 = 1.0 / 3.0;
 
 /// ASME B29.1 as printed by Engineers Edge and AmesWeb.
 const B29: &str = "ASME B29.1 table (Engineers Edge; AmesWeb)";
@@ -53,7 +53,7 @@ const PLATE_ESTIMATE: &str = "estimate (no catalogue found)";
 
 /// Where each of a row's values comes from.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Sources {
+pub(crate) struct Sources {
     /// Pitch, roller diameter and inner width.
     pub dimensions: &'static str,
     /// Pin diameter and inner plate depth.
@@ -68,7 +68,7 @@ pub struct Sources {
 
 /// One chain of the table, single strand.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Designation {
+pub(crate) struct Designation {
     /// The designation as written in a scene (`"ISO 606 16B-1"`, `"ANSI 80"`).
     pub name: &'static str,
     /// Pitch P, m.
@@ -94,29 +94,29 @@ pub struct Designation {
 
 impl Designation {
     /// Roller radius, m.
-    pub fn roller_radius_m(&self) -> f64 {
+    pub(crate) fn roller_radius_m(&self) -> f64 {
         0.5 * self.roller_diameter_m
     }
 
     /// Pin radius, m (the joint friction's r_pin).
-    pub fn pin_radius_m(&self) -> f64 {
+    pub(crate) fn pin_radius_m(&self) -> f64 {
         0.5 * self.pin_diameter_m
     }
 
     /// Mass lumped at each roller: mass per metre times the pitch, kg.
-    pub fn roller_mass_kg(&self) -> f64 {
+    pub(crate) fn roller_mass_kg(&self) -> f64 {
         self.mass_per_m_kg * self.pitch_m
     }
 
     /// Axial link stiffness estimate η E A / P, A = 2 t (h₂ − d₂), N/m
     /// (module docs).
-    pub fn stiffness_n_m(&self) -> f64 {
+    pub(crate) fn stiffness_n_m(&self) -> f64 {
         let area_m2 = 2.0 * self.plate_thickness_m * (self.plate_depth_m - self.pin_diameter_m);
         STIFFNESS_REDUCTION * STEEL_E_PA * area_m2 / self.pitch_m
     }
 
     /// How the stiffness estimate is derived, for listings.
-    pub fn stiffness_source() -> &'static str {
+    pub(crate) fn stiffness_source() -> &'static str {
         "estimate: (1/3) E A / P, A = 2 t (h2 - d2) net plate section, E = 206 GPa; 1/3 calibrated on the paper's 88.9 mm chain"
     }
 }
@@ -202,7 +202,7 @@ const fn iso(
 
 /// Every designation known, ISO 606 B series then ANSI, by pitch.
 #[rustfmt::skip]
-pub const DESIGNATIONS: &[Designation] = &[
+pub(crate) const DESIGNATIONS: &[Designation] = &[
     //   name              P       d1     b1     d2     h2      t      kg/m   kN    checked
     iso("ISO 606 05B-1",   8.00,   5.00,  3.00,  2.31,  7.11,  0.75,  0.18,   5.0, 3),
     iso("ISO 606 06B-1",   9.525,  6.35,  5.72,  3.28,  8.26,  1.00,  0.41,   9.0, 3),
@@ -275,14 +275,14 @@ fn ansi_of_iso_a(s: &str) -> Option<String> {
 
 /// The table's entry for `name` (`"ISO 606 16B-1"`, `"16B"`, `"ANSI 80"`,
 /// `"80"`, any case or spacing).
-pub fn find(name: &str) -> Option<&'static Designation> {
+pub(crate) fn find(name: &str) -> Option<&'static Designation> {
     let key = canonical(name);
     DESIGNATIONS.iter().find(|d| canonical(d.name) == key)
 }
 
 /// The `n` names nearest `name` by edit distance (on the canonical
 /// spelling), nearest first.
-pub fn nearest(name: &str, n: usize) -> Vec<&'static str> {
+pub(crate) fn nearest(name: &str, n: usize) -> Vec<&'static str> {
     let key = canonical(name);
     let mut scored: Vec<(usize, &'static str)> = DESIGNATIONS
         .iter()

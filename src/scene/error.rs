@@ -26,14 +26,14 @@ impl fmt::Display for FieldError {
 /// the TOML `text`: 1-based (line, column). `None` if the text does not parse
 /// or has no such field. A path that stops at an array element or table
 /// points at that element or table.
-pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
+pub(crate) fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
     super::shape::line_column(text, value_span(text, path)?.start)
 }
 
 /// The byte range of the value at `path` (`sprockets[1].center_m`) in the
 /// TOML `text`, as [`locate`] finds it (an empty path: the whole document);
 /// `None` if the text does not parse or has no such field.
-pub fn value_span(text: &str, path: &str) -> Option<std::ops::Range<usize>> {
+pub(crate) fn value_span(text: &str, path: &str) -> Option<std::ops::Range<usize>> {
     use toml::de::{DeTable, DeValue};
     let root = DeTable::parse(text).ok()?;
     let mut span = root.span();

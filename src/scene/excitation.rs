@@ -21,7 +21,7 @@ use super::validate::Checker;
 /// (`[[sprockets.speed_harmonics]]`): ω(θ) = ω̄ (1 + Σ a_k sin(k θ + φ_k)).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct SpeedHarmonicFile {
+pub(crate) struct SpeedHarmonicFile {
     /// Order k: cycles per revolution of the driver, an integer ≥ 1.
     pub order: i64,
     /// Relative amplitude a_k (of the mean speed); Σ |a_k| < 1.
@@ -35,7 +35,7 @@ pub struct SpeedHarmonicFile {
 /// (`[[sprockets.load_harmonics]]`): M(θ) = Σ M_k sin(k θ + φ_k).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct LoadHarmonicFile {
+pub(crate) struct LoadHarmonicFile {
     /// Order k: cycles per revolution of the sprocket, an integer ≥ 1.
     pub order: i64,
     /// Amplitude M_k, N·m.
@@ -49,7 +49,7 @@ pub struct LoadHarmonicFile {
 /// (`sprockets.load_table`).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct LoadTableFile {
+pub(crate) struct LoadTableFile {
     /// CSV file of rows `angle_deg,torque_n_m`, relative to the scene file's
     /// directory. A first line that is not two numbers is a header; lines
     /// starting with `#` are comments. The angles increase strictly and span
@@ -70,7 +70,7 @@ fn one() -> f64 {
 /// One validated term of a series in a sprocket's angle θ:
 /// `amplitude · sin(order · θ + phase_rad)`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Harmonic {
+pub(crate) struct Harmonic {
     /// Order k (cycles per revolution).
     pub order: u32,
     /// Amplitude: relative (a speed harmonic) or N·m (a load harmonic).
@@ -82,7 +82,7 @@ pub struct Harmonic {
 impl Harmonic {
     /// The term at angle `theta_rad`.
     #[inline]
-    pub fn at(&self, theta_rad: f64) -> f64 {
+    pub(crate) fn at(&self, theta_rad: f64) -> f64 {
         self.amplitude * (f64::from(self.order) * theta_rad + self.phase_rad).sin()
     }
 }
@@ -90,7 +90,7 @@ impl Harmonic {
 /// A validated load table: one period of nodes (the closing row at +360°
 /// dropped), angles in radians from the first, scale applied.
 #[derive(Clone, Debug, PartialEq)]
-pub struct LoadTable {
+pub(crate) struct LoadTable {
     /// The file it was read from (resolved).
     pub file: PathBuf,
     /// Node angles, rad, strictly increasing, within [first, first + 2π).
@@ -101,7 +101,7 @@ pub struct LoadTable {
 
 /// What a sprocket is excited by beyond a constant speed or load.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Excitation {
+pub(crate) struct Excitation {
     /// The driver's speed harmonics (relative amplitudes); empty: the speed
     /// law alone.
     pub speed_harmonics: Vec<Harmonic>,
@@ -115,10 +115,10 @@ pub struct Excitation {
 }
 
 /// Largest harmonic order accepted (a tooth count's multiple is far below).
-pub const MAX_ORDER: i64 = 1000;
+pub(crate) const MAX_ORDER: i64 = 1000;
 
 /// Rows a load table needs at least (three nodes and the closing row).
-pub const MIN_TABLE_ROWS: usize = 4;
+pub(crate) const MIN_TABLE_ROWS: usize = 4;
 
 /// Validates the excitation fields of sprocket `i` (role `kind`), reading a
 /// load table's file relative to `base_dir` (the working directory if

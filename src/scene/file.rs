@@ -43,7 +43,7 @@ pub struct SceneFile {
     pub base_dir: Option<std::path::PathBuf>,
     /// Tensioner arms with their tensioners (`[[tensioners]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub tensioners: Vec<super::TensionerFile>,
+    pub(crate) tensioners: Vec<super::TensionerFile>,
     /// Fixed guides on the strands (`[[guides]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub guides: Vec<super::GuideFile>,
@@ -184,7 +184,7 @@ pub struct SprocketFile {
     /// Driver only: a slow linear change of its speed after the ramp
     /// (`sprockets.run_up`; a governed driver's target follows it).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub run_up: Option<super::RunUpFile>,
+    pub(crate) run_up: Option<super::RunUpFile>,
     /// Free or tensioner: constant load torque on the sprocket, N·m (counter-clockwise positive).
     #[serde(default)]
     pub load_torque_n_m: Option<f64>,
@@ -202,22 +202,22 @@ pub struct SprocketFile {
     /// Driver only: harmonics of the speed in the driver's angle
     /// (`[[sprockets.speed_harmonics]]`, docs/model.md, “Excitation”).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub speed_harmonics: Vec<SpeedHarmonicFile>,
+    pub(crate) speed_harmonics: Vec<SpeedHarmonicFile>,
     /// Free or tensioner: a load torque in the sprocket's angle, as a
     /// harmonic series (`[[sprockets.load_harmonics]]`), added to the
     /// constant load.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    pub load_harmonics: Vec<LoadHarmonicFile>,
+    pub(crate) load_harmonics: Vec<LoadHarmonicFile>,
     /// Free or tensioner: a load torque in the sprocket's angle, tabled over
     /// one revolution in a CSV file (`sprockets.load_table`), added to the
     /// constant load.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub load_table: Option<LoadTableFile>,
+    pub(crate) load_table: Option<LoadTableFile>,
     /// Driver only: turn the driver by a drive torque under a PI speed
     /// governor to its `speed_rpm` (`[sprockets.governor]`, docs/model.md,
     /// “A torque-driven driver”) instead of prescribing its speed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub governor: Option<GovernorFile>,
+    pub(crate) governor: Option<GovernorFile>,
 }
 
 /// Integration settings.

@@ -21,14 +21,14 @@ use super::validate::Checker;
 /// a bandwidth and the drive has no span frequency to derive one from
 /// (`crate::model::default_bandwidth_hz`: a decade below the
 /// lowest span frequency), Hz.
-pub const DEFAULT_GOVERNOR_BANDWIDTH_HZ: f64 = 2.0;
+pub(crate) const DEFAULT_GOVERNOR_BANDWIDTH_HZ: f64 = 2.0;
 
 /// A driver turned by a torque under a PI speed governor, as written
 /// (`[sprockets.governor]` under a `role = "driver"` sprocket, whose
 /// `speed_rpm` and `ramp_s` become the governor's target).
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct GovernorFile {
+pub(crate) struct GovernorFile {
     /// Constant drive torque, N·m, counter-clockwise positive (default 0).
     #[serde(default)]
     pub drive_torque_n_m: f64,
@@ -58,7 +58,7 @@ pub struct GovernorFile {
 
 /// How a governor's gains are set.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum GovernorGains {
+pub(crate) enum GovernorGains {
     /// Given: K_p, N·m·s/rad, and K_i, N·m/rad.
     Given {
         /// K_p, N·m per rad/s.
@@ -78,7 +78,7 @@ pub enum GovernorGains {
 
 /// A validated governor: the drive torque and the gains.
 #[derive(Clone, Debug, PartialEq)]
-pub struct GovernorSpec {
+pub(crate) struct GovernorSpec {
     /// Constant drive torque, N·m.
     pub drive_torque_n_m: f64,
     /// Drive torque in the driver's angle: a harmonic series, N·m.

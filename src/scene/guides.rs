@@ -18,7 +18,7 @@ use crate::geometry::{PathCircle, chain_path};
 /// none, m/s: small beside the chain's speed along a guide (0.4 m/s at the
 /// paper's drive's 120 rpm on its 36-tooth crankshaft sprocket… metres per
 /// second on faster drives), so a sliding roller feels very nearly μ f_n.
-pub const DEFAULT_GUIDE_SLIP_SPEED_M_S: f64 = 0.01;
+pub(crate) const DEFAULT_GUIDE_SLIP_SPEED_M_S: f64 = 0.01;
 
 /// One guide as written (`[[guides]]`).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -39,10 +39,10 @@ pub struct GuideFile {
     pub center_m: Option<[f64; 2]>,
     /// Lead-in ramp at `start_m`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub start_ramp: Option<RampFile>,
+    pub(crate) start_ramp: Option<RampFile>,
     /// Lead-in ramp at `end_m`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub end_ramp: Option<RampFile>,
+    pub(crate) end_ramp: Option<RampFile>,
     /// Contact stiffness K_g, N/m^n (n the scene's `contact.exponent`;
     /// default: the scene's `contact.stiffness`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -62,7 +62,7 @@ pub struct GuideFile {
 /// A lead-in ramp as written.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct RampFile {
+pub(crate) struct RampFile {
     /// Length along the ramp, m.
     pub length_m: f64,
     /// Angle away from the face's end tangent, degrees, in (0, 45].
@@ -71,7 +71,7 @@ pub struct RampFile {
 
 /// A validated guide.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Guide {
+pub(crate) struct Guide {
     /// Name.
     pub name: String,
     /// The working face, its side fixed by the chain path.

@@ -32,24 +32,23 @@ mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
-pub(crate) use by_path::{Assignment, PathPart, ScenePath, set_in_table};
+pub(crate) use by_path::{Assignment, ScenePath, set_in_table};
 pub use error::{FieldError, SceneError};
-pub(crate) use error::{locate, value_span};
-pub(crate) use excitation::{Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS, SpeedHarmonicFile};
+pub(crate) use error::value_span;
+pub(crate) use excitation::{Harmonic, LoadTable};
 pub use file::{ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile, StepFile};
-pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorFile, GovernorGains, GovernorSpec};
+pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec};
 pub use guides::GuideFile;
-pub(crate) use guides::{DEFAULT_GUIDE_SLIP_SPEED_M_S, Guide, RampFile};
+pub(crate) use guides::Guide;
 pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
 pub use overrides::Overrides;
 pub(crate) use run_up::RunUpFile;
 pub use stability::StepLimits;
-pub(crate) use stability::{AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, impact_duration_s, step_note};
-pub(crate) use tensioners::{DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner, STANDARD_ATMOSPHERE_PA, SpringFile, SpringTensioner, Tensioner, TensionerFile, TensionerKind};
+pub(crate) use stability::{AUTO_GRID_S, step_note};
+pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};
 pub use threads::{Threads, ThreadsFile};
 pub(crate) use threads::AUTO_MIN_ROLLERS;
 pub use types::{Chain, Contact, Equilibrium, JointFriction, Limits, Role, RunUp, Solver, SpeedLaw, Sprocket};
-pub(crate) use types::DEFAULT_JOINT_FRICTION_SPEED_RAD_S;
 
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit
@@ -126,7 +125,7 @@ impl Scene {
     }
 
     /// Tensioner arms with their tensioners (`[[tensioners]]`).
-    pub fn tensioners(&self) -> &[Tensioner] {
+    pub(crate) fn tensioners(&self) -> &[Tensioner] {
         &self.tensioners
     }
 
@@ -141,7 +140,7 @@ impl Scene {
     }
 
     /// Fixed guides on the strands.
-    pub fn guides(&self) -> &[Guide] {
+    pub(crate) fn guides(&self) -> &[Guide] {
         &self.guides
     }
 

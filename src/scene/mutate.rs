@@ -5,16 +5,16 @@
 
 /// A small deterministic generator (64-bit LCG, Knuth's constants).
 #[derive(Clone, Debug)]
-pub struct Lcg(u64);
+pub(crate) struct Lcg(u64);
 
 impl Lcg {
     /// A generator from a seed.
-    pub fn new(seed: u64) -> Self {
+    pub(crate) fn new(seed: u64) -> Self {
         Self(seed ^ 0x9E37_79B9_7F4A_7C15)
     }
 
     /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
+    pub(crate) fn next_u64(&mut self) -> u64 {
         self.0 = self
             .0
             .wrapping_mul(6_364_136_223_846_793_005)
@@ -23,18 +23,18 @@ impl Lcg {
     }
 
     /// Uniform in [0, n).
-    pub fn below(&mut self, n: usize) -> usize {
+    pub(crate) fn below(&mut self, n: usize) -> usize {
         (self.next_u64() % n.max(1) as u64) as usize
     }
 
     /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
+    pub(crate) fn unit(&mut self) -> f64 {
         (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
     }
 }
 
 /// Applies 1–3 random mutations to a scene file's text.
-pub fn mutate(text: &str, rng: &mut Lcg) -> String {
+pub(crate) fn mutate(text: &str, rng: &mut Lcg) -> String {
     let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
     for _ in 0..1 + rng.below(3) {
         let assignments: Vec<usize> = lines

@@ -11,7 +11,7 @@ use super::validate::Checker;
 /// A run-up as written: `run_up = { to_rpm = 3000, duration_s = 60, start_s = 1 }`.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct RunUpFile {
+pub(crate) struct RunUpFile {
     /// Speed at the end of the run-up, rpm, the sense of `speed_rpm`.
     pub to_rpm: f64,
     /// Length of the run-up, s (> 0).

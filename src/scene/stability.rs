@@ -13,7 +13,7 @@ use super::{Chain, Contact, Integrator, Role, Scene, Solver, Sprocket};
 /// stable step measured 0.94 times the links' estimate and 2.4 times the
 /// contact damping's (docs/model.md, “Time scales and stability”), so one
 /// half keeps a margin below the worst case.
-pub const AUTO_SAFETY: f64 = 0.5;
+pub(crate) const AUTO_SAFETY: f64 = 0.5;
 
 /// `dt_s = "auto"` takes at most this fraction of a roller's impact on
 /// engagement, [`impact_duration_s`]: an impact rises and falls over t_c
@@ -22,12 +22,12 @@ pub const AUTO_SAFETY: f64 = 0.5;
 /// (docs/model.md, “Time scales and stability”; `benches/auto_dt.sh`): on
 /// the motorcycle drive the cap takes the step from 12.8 to 6.67 µs and the
 /// largest link force from 2.1 % to 0.2 % off the reference.
-pub const AUTO_STEPS_PER_IMPACT: f64 = 16.0;
+pub(crate) const AUTO_STEPS_PER_IMPACT: f64 = 16.0;
 
 /// `dt_s = "auto"` chooses a whole fraction of the run's sample period; this
 /// one, s (1 ms, the default 1 kHz), where no rate is given
 /// ([`super::Overrides::sample_rate_hz`]).
-pub const AUTO_GRID_S: f64 = 1e-3;
+pub(crate) const AUTO_GRID_S: f64 = 1e-3;
 
 /// Estimated largest stable steps of the explicit schemes (docs/model.md), s.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -146,7 +146,7 @@ impl StepLimits {
 /// How a validated scene's step was chosen, in one line for people (`check`
 /// and `run` print the same): the step, its integrator's own estimated limit
 /// and, for an automatic step, what bounded it.
-pub fn step_note(scene: &Scene) -> String {
+pub(crate) fn step_note(scene: &Scene) -> String {
     let solver = &scene.solver;
     let scheme = solver.integrator.name();
     let limit_s = StepLimits::of(scene).for_integrator(solver.integrator);
@@ -220,7 +220,7 @@ fn micro(t_s: f64) -> String {
 /// elastic part F = K δⁿ it penetrates δ_max = ((n+1) m_r v_i² / (2K))^(1/(n+1))
 /// and leaves after t_c = 2 (δ_max / v_i) ∫₀¹ (1 − xⁿ⁺¹)^(−½) dx (Hertz's
 /// impact, damping left out: it shortens the impact slightly).
-pub fn impact_duration_s(chain: &Chain, contact: &Contact, sprockets: &[Sprocket]) -> f64 {
+pub(crate) fn impact_duration_s(chain: &Chain, contact: &Contact, sprockets: &[Sprocket]) -> f64 {
     let v = sprockets
         .iter()
         .filter_map(|s| match s.role {

@@ -15,7 +15,7 @@ use super::validate::Checker;
 /// One tensioner arm with its tensioner, as written.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct TensionerFile {
+pub(crate) struct TensionerFile {
     /// Name, for outputs.
     pub name: String,
     /// The arm's fixed pivot, m.
@@ -60,7 +60,7 @@ pub struct TensionerFile {
 /// tensioner's line from the scene's pose, positive as it pushes out.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct SpringFile {
+pub(crate) struct SpringFile {
     /// Force at the scene's pose (x = 0), N.
     pub preload_n: f64,
     /// Stiffness, N/m (the force falls as it extends: F = F₀ − k x).
@@ -80,7 +80,7 @@ pub struct SpringFile {
 /// A hydraulic tensioner, as written (pressures relative to the ambient).
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
-pub struct HydraulicFile {
+pub(crate) struct HydraulicFile {
     /// Plunger diameter d, m.
     pub bore_m: f64,
     /// Radial clearance c of the plunger in its bore, m.
@@ -128,15 +128,15 @@ pub struct HydraulicFile {
 }
 
 /// Default stiffness of end stops and ratchets, N/m.
-pub const DEFAULT_STOP_STIFFNESS_N_M: f64 = 1e7;
+pub(crate) const DEFAULT_STOP_STIFFNESS_N_M: f64 = 1e7;
 /// Default regularisation speed of the shoe's friction, m/s.
-pub const DEFAULT_SHOE_FRICTION_SPEED_M_S: f64 = 0.05;
+pub(crate) const DEFAULT_SHOE_FRICTION_SPEED_M_S: f64 = 0.05;
 /// Standard atmosphere, Pa.
-pub const STANDARD_ATMOSPHERE_PA: f64 = 101_325.0;
+pub(crate) const STANDARD_ATMOSPHERE_PA: f64 = 101_325.0;
 
 /// A validated tensioner arm and its tensioner (SI, radians).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Tensioner {
+pub(crate) struct Tensioner {
     /// Name.
     pub name: String,
     /// Pivot, m.
@@ -169,7 +169,7 @@ pub struct Tensioner {
 
 /// What pushes the arm.
 #[derive(Clone, Debug, PartialEq)]
-pub enum TensionerKind {
+pub(crate) enum TensionerKind {
     /// A spring-damper with end stops.
     Spring(SpringTensioner),
     /// A hydraulic tensioner.
@@ -178,7 +178,7 @@ pub enum TensionerKind {
 
 /// A validated spring-damper tensioner.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SpringTensioner {
+pub(crate) struct SpringTensioner {
     /// Force at x = 0, N.
     pub preload_n: f64,
     /// Stiffness, N/m.
@@ -195,7 +195,7 @@ pub struct SpringTensioner {
 
 /// A validated hydraulic tensioner (pressures gauge, SI).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct HydraulicTensioner {
+pub(crate) struct HydraulicTensioner {
     /// Plunger diameter d, m.
     pub bore_m: f64,
     /// Radial clearance c, m.

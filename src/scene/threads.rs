@@ -8,7 +8,7 @@ use serde::{Deserialize, Serialize};
 /// the half loop saves. Measured on an idle 2-core machine: two threads
 /// break even at 5,000 rollers and gain 1.2× at 7,000 and 10,000
 /// (benches/README.md, "Two threads").
-pub const AUTO_MIN_ROLLERS: usize = 6000;
+pub(crate) const AUTO_MIN_ROLLERS: usize = 6000;
 
 /// How many threads step the drive's roller loops (links, the rollers'
 /// update). The results are the same bits on one thread or two.

@@ -109,7 +109,7 @@ pub struct Sprocket {
     /// Tooth profile.
     pub profile: ProfileKind,
     /// Speed harmonics (a driver) or a load in the sprocket's angle.
-    pub excitation: Excitation,
+    pub(crate) excitation: Excitation,
 }
 
 impl Sprocket {
@@ -188,7 +188,7 @@ pub struct JointFriction {
 /// 12.6 rad/s on the paper's drive's crankshaft), and large enough that the
 /// law's slope μ r_pin F / ω_s keeps the paper's drive's explicit limit above
 /// 10 µs (docs/model.md, “Joint friction”).
-pub const DEFAULT_JOINT_FRICTION_SPEED_RAD_S: f64 = 1.0;
+pub(crate) const DEFAULT_JOINT_FRICTION_SPEED_RAD_S: f64 = 1.0;
 
 /// Validated contact-law parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -9,7 +9,7 @@ use crate::scene::Scene;
 /// Blow-up thresholds (docs/model.md, “Blow-up detection”): the scene's
 /// `[solver.limits]` with their defaults.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BlowUpLimits {
+pub(crate) struct BlowUpLimits {
     /// Largest penetration, m (default: the roller radius, the roller's
     /// centre on the tooth's surface).
     pub max_penetration_m: f64,
@@ -27,7 +27,7 @@ pub struct BlowUpLimits {
 
 impl BlowUpLimits {
     /// The scene's limits.
-    pub fn for_scene(scene: &Scene) -> Self {
+    pub(crate) fn for_scene(scene: &Scene) -> Self {
         let l = scene.solver.limits;
         Self {
             max_penetration_m: l.max_penetration_m,
@@ -43,7 +43,7 @@ impl BlowUpLimits {
 /// The growth detector's memory: the largest link stretch of the last
 /// steps, in a ring allocated once.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
-pub struct GrowthWatch {
+pub(crate) struct GrowthWatch {
     ring: Vec<f64>,
     next: usize,
     filled: usize,
@@ -54,7 +54,7 @@ const HISTORY_SHOWN: usize = 8;
 
 impl GrowthWatch {
     /// A watch over `steps` steps.
-    pub fn new(steps: u32) -> Self {
+    pub(crate) fn new(steps: u32) -> Self {
         let len = steps as usize + 1;
         Self {
             ring: vec![0.0; len],
@@ -64,7 +64,7 @@ impl GrowthWatch {
     }
 
     /// Forgets the past (after the state was changed from outside).
-    pub fn clear(&mut self) {
+    pub(crate) fn clear(&mut self) {
         self.filled = 0;
         self.ring.fill(0.0);
     }
@@ -87,7 +87,7 @@ impl GrowthWatch {
     }
 
     /// The last values, oldest first, m.
-    pub fn recent(&self) -> Vec<f64> {
+    pub(crate) fn recent(&self) -> Vec<f64> {
         let len = self.ring.len();
         let n = self.filled.min(HISTORY_SHOWN);
         (0..n)
@@ -110,7 +110,7 @@ fn history_text(history: &[f64]) -> String {
 
 /// Which detector fired.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Detector {
+pub(crate) enum Detector {
     /// A non-finite number in the state or the forces.
     NonFinite,
     /// A roller sank deeper than the limit into a tooth.
@@ -125,7 +125,7 @@ pub enum Detector {
 
 impl Detector {
     /// Name for messages and outputs.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Self::NonFinite => "non-finite",
             Self::Penetration => "penetration",
@@ -164,7 +164,7 @@ impl Detector {
 /// A detector that fires names the body where its quantity is largest: the
 /// roller that penetrates a tooth deepest, the link stretched (or
 /// compressed) most.
-pub fn check_blow_up(
+pub(crate) fn check_blow_up(
     model: &DriveModel,
     state: &DriveState,
     forces: &ForceGenerator,

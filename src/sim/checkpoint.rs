@@ -46,13 +46,13 @@ use crate::model::DriveState;
 use crate::scene::{Scene, Stepping};
 
 /// The checkpoint file format's number; a change of what is kept raises it.
-pub const FORMAT: u32 = 1;
+pub(crate) const FORMAT: u32 = 1;
 
 const MAGIC: &[u8; 16] = b"chaindrive-ckpt\n";
 
 /// Why a checkpoint cannot be written or taken up.
 #[derive(Debug, thiserror::Error)]
-pub enum CheckpointError {
+pub(crate) enum CheckpointError {
     /// Reading or writing the file failed.
     #[error("checkpoint {path}: {source}")]
     Io {
@@ -114,7 +114,7 @@ pub enum CheckpointError {
 
 /// A [`Simulation`]'s state at a step's end (module docs).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Snapshot {
+pub(crate) struct Snapshot {
     clock: Clock,
     state: DriveState,
     forces: Forces,
@@ -128,7 +128,7 @@ pub struct Snapshot {
 
 impl Snapshot {
     /// Simulated time, s.
-    pub fn t_s(&self) -> f64 {
+    pub(crate) fn t_s(&self) -> f64 {
         self.state.t_s
     }
 }
@@ -136,7 +136,7 @@ impl Snapshot {
 /// What a checkpoint file holds: the simulation and what the caller keeps
 /// of the run (its observers' accumulated signals, counters).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Checkpoint<T> {
+pub(crate) struct Checkpoint<T> {
     /// The simulation.
     pub sim: Snapshot,
     /// The caller's part.
@@ -153,7 +153,7 @@ struct Header {
 impl Simulation {
     /// The simulation's state for a checkpoint. Call between runs
     /// ([`Simulation::run`] returns at a step's end).
-    pub fn snapshot(&self) -> Result<Snapshot, CheckpointError> {
+    pub(crate) fn snapshot(&self) -> Result<Snapshot, CheckpointError> {
         if self.scene.solver.stepping != Stepping::Substepped {
             return Err(CheckpointError::Stepping);
         }
@@ -175,7 +175,7 @@ impl Simulation {
     /// (by [`Simulation::new`], with the same elements added): the next
     /// [`Simulation::run`] goes on as the one that took the snapshot would
     /// have.
-    pub fn restore(&mut self, snapshot: &Snapshot) -> Result<(), CheckpointError> {
+    pub(crate) fn restore(&mut self, snapshot: &Snapshot) -> Result<(), CheckpointError> {
         if self.scene.solver.stepping != Stepping::Substepped {
             return Err(CheckpointError::Stepping);
         }
@@ -226,7 +226,7 @@ impl Simulation {
 /// steps of `dt_s`, at least one) after `t_s`, but not after the run's end
 /// `duration_s`. A run stepped in these pieces checkpoints at t = k·S
 /// whether it started at 0 or was resumed.
-pub fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f64) -> f64 {
+pub(crate) fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f64) -> f64 {
     let last_step = (duration_s / dt_s).round();
     let per = (every_s / dt_s).round().max(1.0);
     let next = ((t_s / dt_s).round() / per).floor() * per + per;
@@ -234,14 +234,14 @@ pub fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f64) -> 
 }
 
 /// Whether a run at `t_s` has reached its end `duration_s` (in whole steps).
-pub fn run_is_done(t_s: f64, dt_s: f64, duration_s: f64) -> bool {
+pub(crate) fn run_is_done(t_s: f64, dt_s: f64, duration_s: f64) -> bool {
     (t_s / dt_s).round() >= (duration_s / dt_s).round()
 }
 
 /// A hash of the validated scene (its every field, numbers bit for bit):
 /// 16 hex digits of FNV-1a (64 bit) over its debug form. Stable for one
 /// version of the crate, which is all a checkpoint needs.
-pub fn scene_hash(scene: &Scene) -> String {
+pub(crate) fn scene_hash(scene: &Scene) -> String {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for b in format!("{scene:?}").bytes() {
         h ^= u64::from(b);
@@ -268,7 +268,7 @@ fn cbor<T: Serialize>(value: &T, path: &Path) -> Result<Vec<u8>, CheckpointError
 
 /// Writes `checkpoint` of a run of `scene` to `path`, atomically: to a file
 /// beside it, synced, then renamed over `path`.
-pub fn write_checkpoint<T: Serialize>(
+pub(crate) fn write_checkpoint<T: Serialize>(
     path: &Path,
     scene: &Scene,
     checkpoint: &Checkpoint<T>,
@@ -308,7 +308,7 @@ fn write_parts(path: &Path, header: &[u8], body: &[u8]) -> Result<(), Checkpoint
 
 /// Reads a checkpoint for a run of `scene` from `path`; refuses one of
 /// another scene, version or format.
-pub fn read_checkpoint<T: DeserializeOwned>(
+pub(crate) fn read_checkpoint<T: DeserializeOwned>(
     path: &Path,
     scene: &Scene,
 ) -> Result<Checkpoint<T>, CheckpointError> {

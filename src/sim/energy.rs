@@ -5,7 +5,7 @@ use crate::model::{DriveModel, DriveState};
 
 /// Mechanical energy of a drive state, J.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Energy {
+pub(crate) struct Energy {
     /// Rollers' and sprockets' kinetic energy.
     pub kinetic_j: f64,
     /// The links' elastic energy Σ ½ K (l − l₀)².
@@ -18,7 +18,7 @@ pub struct Energy {
 
 impl Energy {
     /// Of `state`, with `forces` evaluated at it.
-    pub fn of(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> Self {
+    pub(crate) fn of(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> Self {
         let m = model.roller_mass_kg;
         let n = state.rollers();
         let mut kinetic = 0.0;
@@ -47,7 +47,7 @@ impl Energy {
     }
 
     /// The sum.
-    pub fn total_j(&self) -> f64 {
+    pub(crate) fn total_j(&self) -> f64 {
         self.kinetic_j + self.links_j + self.contacts_j + self.gravity_j
     }
 }
@@ -56,7 +56,7 @@ impl Energy {
 /// the power they dissipate (≥ 0), the driver's as the power it delivers,
 /// the loads' as the power they absorb (positive for a braking load).
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct Powers {
+pub(crate) struct Powers {
     /// Delivered by the speed-controlled sprockets, Σ −(chain moment) ω,
     /// and by a torque-driven driver's torque, T ω.
     pub driver_w: f64,
@@ -72,7 +72,7 @@ pub struct Powers {
 
 impl Powers {
     /// At `state`, with `forces` evaluated at it.
-    pub fn of(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> Self {
+    pub(crate) fn of(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> Self {
         let out = forces.output();
         let (mut driver, mut load) = (0.0, 0.0);
         for (s, sp) in model.sprockets.iter().enumerate() {
@@ -122,7 +122,7 @@ impl Powers {
     }
 
     /// The losses: joint friction, link and contact damping, W.
-    pub fn losses_w(&self) -> f64 {
+    pub(crate) fn losses_w(&self) -> f64 {
         self.joint_friction_w + self.link_damping_w + self.contact_damping_w
     }
 }
@@ -130,7 +130,7 @@ impl Powers {
 /// The energy a balance counts: the drive's mechanical energy less the
 /// kinetic energy of the speed-controlled sprockets (their speed is imposed,
 /// so the driver's power is measured at the chain), J.
-pub fn balance_energy_j(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> f64 {
+pub(crate) fn balance_energy_j(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> f64 {
     let driven: f64 = model
         .sprockets
         .iter()
@@ -145,7 +145,7 @@ pub fn balance_energy_j(model: &DriveModel, state: &DriveState, forces: &ForceGe
 /// integrated step by step (trapezoids) from `from_s` on, and the energy at
 /// the window's ends (docs/model.md, “Where the power goes”).
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct PowerLedger {
+pub(crate) struct PowerLedger {
     from_s: f64,
     start: Option<(f64, f64)>,
     last: Option<(f64, Powers)>,
@@ -155,7 +155,7 @@ pub struct PowerLedger {
 
 /// A [`PowerLedger`]'s window means.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct PowerMeans {
+pub(crate) struct PowerMeans {
     /// Window length, s.
     pub duration_s: f64,
     /// Mean powers over the window, W.
@@ -168,7 +168,7 @@ impl PowerMeans {
     /// Relative residual of driver power = losses + load power + dE/dt,
     /// against the mean |power| flowing through the drive (the driver's and
     /// the loads' powers); 0 when nothing flows.
-    pub fn balance_error(&self) -> f64 {
+    pub(crate) fn balance_error(&self) -> f64 {
         let m = &self.mean;
         let through = m.driver_w.abs().max(m.load_w.abs());
         if !(through > 0.0) || !(self.duration_s > 0.0) {
@@ -180,7 +180,7 @@ impl PowerMeans {
 
 impl PowerLedger {
     /// A ledger that counts from `from_s` on.
-    pub fn new(from_s: f64) -> Self {
+    pub(crate) fn new(from_s: f64) -> Self {
         Self {
             from_s,
             start: None,
@@ -191,7 +191,7 @@ impl PowerLedger {
     }
 
     /// Counts the step that ended at `state` (forces evaluated at it).
-    pub fn step(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
+    pub(crate) fn step(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
         let t = state.t_s;
         if t < self.from_s {
             return;
@@ -208,14 +208,14 @@ impl PowerLedger {
 
     /// Marks the end of the counted steps at `state`, the last one counted
     /// (the energy is measured at the window's ends only).
-    pub fn close(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
+    pub(crate) fn close(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
         if self.last.is_some_and(|(t, _)| t == state.t_s) {
             self.end = Some((state.t_s, balance_energy_j(model, state, forces)));
         }
     }
 
     /// The window's means; `None` before two steps were counted and closed.
-    pub fn means(&self) -> Option<PowerMeans> {
+    pub(crate) fn means(&self) -> Option<PowerMeans> {
         let ((t0, e0), (t1, _)) = (self.start?, self.last?);
         let (t_end, e1) = self.end?;
         if t_end != t1 {

@@ -221,7 +221,7 @@ pub enum EquilibriumError {
 
 /// Settings of the relaxation.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RelaxSettings {
+pub(crate) struct RelaxSettings {
     /// Integration step, s.
     pub dt_s: f64,
     /// Largest relaxation time, s.
@@ -239,7 +239,7 @@ pub struct RelaxSettings {
 /// Steps symplectic Euler with the contact damping implicit
 /// ([`super::integrate`]), so the contact damping puts no limit on the step;
 /// the relaxation's own damping (`rate_per_s`) brings everything to rest.
-pub fn relax(
+pub(crate) fn relax(
     model: &DriveModel,
     state: &mut DriveState,
     forces: &mut ForceGenerator,
@@ -375,7 +375,7 @@ fn max_speed(state: &DriveState) -> f64 {
 
 /// Mean link force over the links of all free strands, pooled; `None` if
 /// there is no free link. `forces` must have been evaluated at `state`.
-pub fn free_strand_tension(
+pub(crate) fn free_strand_tension(
     model: &DriveModel,
     state: &DriveState,
     forces: &ForceGenerator,
@@ -396,7 +396,7 @@ pub fn free_strand_tension(
 
 /// Largest force on a roller at `state`, relative to `scale_n`: the
 /// equilibrium's residual. `forces` must have been evaluated at `state`.
-pub fn force_residual(forces: &ForceGenerator, scale_n: f64) -> f64 {
+pub(crate) fn force_residual(forces: &ForceGenerator, scale_n: f64) -> f64 {
     let out = forces.output();
     let largest = out
         .fx
@@ -612,7 +612,7 @@ pub(crate) fn settle_preload(
 /// chosen from the drive's own frequencies (`damping_rate`), at most
 /// `settings.rate_per_s`. `sprocket_names` name the body that did not settle
 /// when there is no equilibrium.
-pub fn settle_rest_length(
+pub(crate) fn settle_rest_length(
     model: &mut DriveModel,
     state: &mut DriveState,
     forces: &mut ForceGenerator,

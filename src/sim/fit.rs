@@ -33,11 +33,11 @@ const SCAN_STEPS: usize = 200;
 /// Tolerance of the fit on the chain's length: at the fitted position the
 /// path through the seated rollers needs the chain's N pitches within this
 /// length, m.
-pub const FIT_TOLERANCE_M: f64 = 1e-9;
+pub(crate) const FIT_TOLERANCE_M: f64 = 1e-9;
 
 /// A sprocket's position at which the chain fits.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Fit {
+pub(crate) struct Fit {
     /// The moved sprocket, 0-based.
     pub sprocket: usize,
     /// Unit direction of the move.
@@ -499,7 +499,7 @@ fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 /// Moves sprocket `k` of `scene` along `direction` until a chain of
 /// `rollers` rollers fits the path through the seated rollers within
 /// [`FIT_TOLERANCE_M`] (module docs).
-pub fn fit_sprocket(
+pub(crate) fn fit_sprocket(
     scene: &Scene,
     k: usize,
     direction: [f64; 2],
@@ -510,7 +510,7 @@ pub fn fit_sprocket(
 
 /// Pitches of chain the path through the seated rollers needs as the scene
 /// stands (the layout's count at strand links of one pitch).
-pub fn needed_pitches_of(scene: &Scene) -> Result<f64, FitError> {
+pub(crate) fn needed_pitches_of(scene: &Scene) -> Result<f64, FitError> {
     Fitter::new(scene)?.needed_here()
 }
 
@@ -518,7 +518,7 @@ pub fn needed_pitches_of(scene: &Scene) -> Result<f64, FitError> {
 /// direction if it is a tensioner, else away from the other sprockets'
 /// centroid (for two sprockets: along the centre line). `None` when the
 /// sprocket sits on that centroid.
-pub fn default_direction(scene: &Scene, k: usize) -> Option<[f64; 2]> {
+pub(crate) fn default_direction(scene: &Scene, k: usize) -> Option<[f64; 2]> {
     let sp = scene.sprockets.get(k)?;
     if let crate::scene::Role::Tensioner { direction, .. } = sp.role {
         return Some(direction);
@@ -547,7 +547,7 @@ pub fn default_direction(scene: &Scene, k: usize) -> Option<[f64; 2]> {
 /// (`feasibility::check_chain_length`); under the tensioner rule, when the
 /// tensioner's travel makes it fit. Tried: the two counts either side of
 /// the need. Empty when neither is accepted (then only a move fits).
-pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
+pub(crate) fn fitting_counts(scene: &Scene) -> Vec<usize> {
     let Ok(needed) = needed_pitches_of(scene) else {
         return Vec::new();
     };

@@ -74,7 +74,7 @@ use crate::scene::Integrator;
 
 /// Counters of the integration work done.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub struct IntegrationStats {
+pub(crate) struct IntegrationStats {
     /// Accepted integration steps (internal steps of the adaptive scheme).
     pub steps: u64,
     /// Rejected trial steps (error too large).
@@ -87,8 +87,8 @@ pub struct IntegrationStats {
 
 /// Dormand–Prince 5(4) tableau.
 mod dp45 {
-    pub const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
-    pub const A: [[f64; 6]; 7] = [
+    pub(super) const C: [f64; 7] = [0.0, 0.2, 0.3, 0.8, 8.0 / 9.0, 1.0, 1.0];
+    pub(super) const A: [[f64; 6]; 7] = [
         [0.0; 6],
         [0.2, 0.0, 0.0, 0.0, 0.0, 0.0],
         [3.0 / 40.0, 9.0 / 40.0, 0.0, 0.0, 0.0, 0.0],
@@ -130,7 +130,7 @@ mod dp45 {
         0.0,
     ];
     /// B minus the fourth-order weights: the error estimate's weights.
-    pub const E: [f64; 7] = [
+    pub(super) const E: [f64; 7] = [
         35.0 / 384.0 - 5179.0 / 57600.0,
         0.0,
         500.0 / 1113.0 - 7571.0 / 16695.0,
@@ -146,7 +146,7 @@ const MIN_STEP_S: f64 = 1e-12;
 
 /// An integrator with its reused buffers.
 #[derive(Clone, Debug)]
-pub struct Integration {
+pub(crate) struct Integration {
     scheme: Integrator,
     tolerance: f64,
     /// Stage rates k_j (a `DriveState` whose fields hold time derivatives).
@@ -175,7 +175,7 @@ pub struct Integration {
 impl Integration {
     /// Buffers for `model`'s drive. `forces` is switched to record what the
     /// scheme needs (damping rows for `implicit_damping`).
-    pub fn new(
+    pub(crate) fn new(
         scheme: Integrator,
         tolerance: f64,
         model: &DriveModel,
@@ -239,13 +239,13 @@ impl Integration {
     }
 
     /// The scheme.
-    pub fn scheme(&self) -> Integrator {
+    pub(crate) fn scheme(&self) -> Integrator {
         self.scheme
     }
 
     /// Advances `state` by `dt_s`; `forces` must hold the forces at `state`
     /// (committed) and holds those at the new state afterwards.
-    pub fn advance(
+    pub(crate) fn advance(
         &mut self,
         model: &DriveModel,
         state: &mut DriveState,

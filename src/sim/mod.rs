@@ -21,14 +21,16 @@ mod sample_rate;
 mod stepper;
 
 pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
-pub(crate) use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
+pub(crate) use energy::{PowerLedger, PowerMeans};
 pub use equilibrium::{BeyondSeatingArc, EquilibriumError, StaticEquilibrium};
 pub(crate) use equilibrium::{RelaxSettings, force_residual, free_strand_tension, relax, settle_rest_length};
 pub use crate::forces::ForceTimes;
+pub use crate::geometry::asa::AsaError;
+pub use crate::geometry::{LayoutError, PathError};
 pub use crate::model::BuildError;
 pub use fanout::Fanout;
 pub use fit::FitError;
-pub(crate) use fit::{FIT_TOLERANCE_M, Fit, default_direction, fit_sprocket, fitting_counts, needed_pitches_of};
+pub(crate) use fit::{FIT_TOLERANCE_M, default_direction, fit_sprocket, fitting_counts, needed_pitches_of};
 pub(crate) use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
 pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
@@ -380,7 +382,7 @@ impl Simulation {
     /// its bodies at `state`, and the scene's integrator. [`Simulation::new`]
     /// ends here; a study that runs one settled drive with several schemes
     /// starts each run here from a copy.
-    pub fn assemble(
+    pub(crate) fn assemble(
         scene: Scene,
         model: DriveModel,
         mut state: DriveState,

@@ -241,7 +241,7 @@ fn work(s: &Shared) {
 
 /// Whether and how a drive's roller loops are split over two threads, with
 /// the worker that shares the chunks (spawned at first use).
-pub struct Split {
+pub(crate) struct Split {
     /// Rollers from which the loops are split (`usize::MAX`: never).
     min_rollers: usize,
     worker: OnceLock<Option<Worker>>,
@@ -250,7 +250,7 @@ pub struct Split {
 impl Split {
     /// The split for `setting` (one thread, two, or two from
     /// [`AUTO_MIN_ROLLERS`] rollers on a machine with two cores or more).
-    pub fn new(setting: Threads) -> Self {
+    pub(crate) fn new(setting: Threads) -> Self {
         let min_rollers = match setting {
             Threads::One => usize::MAX,
             Threads::Two => 0,

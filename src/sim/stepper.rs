@@ -11,7 +11,7 @@ use crate::model::{DriveModel, DriveState};
 /// Extra viscous damping used only while relaxing to static equilibrium:
 /// velocities are scaled by 1 / (1 + dt·rate) each step (unconditionally stable).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Relaxation {
+pub(crate) struct Relaxation {
     /// Damping rate, 1/s.
     pub rate_per_s: f64,
 }
@@ -20,7 +20,7 @@ pub struct Relaxation {
 /// driver at `theta_rad` (midpoint rule,
 /// [`crate::model::SprocketModel::driver_step_speed`]).
 #[inline]
-pub fn driver_speed(
+pub(crate) fn driver_speed(
     model: &DriveModel,
     sprocket: usize,
     t_s: f64,
@@ -33,7 +33,7 @@ pub fn driver_speed(
 /// Advances `state` by `dt_s`. `forces` must hold the forces at `state`
 /// (call [`ForceGenerator::evaluate`] first). With `relax`, the driver is held
 /// and every velocity is damped.
-pub fn symplectic_euler(
+pub(crate) fn symplectic_euler(
     model: &DriveModel,
     state: &mut DriveState,
     forces: &ForceGenerator,

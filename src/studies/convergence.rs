@@ -41,14 +41,14 @@ use crate::scene::{Integrator, Overrides, Scene};
 use crate::sim::{NoObserver, SampleRate, SimError, Simulation};
 
 /// Relative tolerance of a converged statistic.
-pub const REL_TOLERANCE: f64 = 0.01;
+pub(crate) const REL_TOLERANCE: f64 = 0.01;
 
 /// A converged statistic may instead lie within this many of the reference's standard errors.
-pub const SE_TOLERANCE: f64 = 2.0;
+pub(crate) const SE_TOLERANCE: f64 = 2.0;
 
 /// What to study.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
+pub(crate) struct Settings {
     /// Time run with the scene's own settings before every run, s.
     pub warmup_s: f64,
     /// Simulated time of each run after the warm-up, s.
@@ -67,7 +67,7 @@ impl Settings {
     /// The default study: the fixed-step schemes from 5 µs to 50 µs (steps
     /// that divide the 1 ms sampling interval), the adaptive scheme from
     /// tolerance 10⁻² to 10⁻⁴; symplectic Euler at 1 µs as the reference.
-    pub fn default_for(duration_s: f64) -> Self {
+    pub(crate) fn default_for(duration_s: f64) -> Self {
         let steps = |list: &[f64]| list.iter().map(|&d| Setting::Step(d)).collect::<Vec<_>>();
         let fixed = [5e-6, 1e-5, 2e-5, 4e-5, 5e-5];
         Self {
@@ -95,7 +95,7 @@ impl Settings {
 
 /// One statistic of one run.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Statistic {
+pub(crate) struct Statistic {
     /// Name, with its segment or sprocket (`seg1_mean_link_force_n`).
     pub name: String,
     /// Value.
@@ -106,7 +106,7 @@ pub struct Statistic {
 
 /// What a statistic is measured on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Per {
+pub(crate) enum Per {
     /// Each segment (`seg{k}_` prefix).
     Segment,
     /// Each sprocket but the driver, whose speed is prescribed (`sprocket{j}_` prefix).
@@ -116,7 +116,7 @@ pub enum Per {
 }
 
 /// A run's summary with the samples of its window, for the extractors.
-pub struct Measured<'a> {
+pub(crate) struct Measured<'a> {
     /// The summary.
     pub summary: &'a RunSummary,
     /// The window's samples.
@@ -146,12 +146,12 @@ impl Measured<'_> {
 }
 
 /// Value and standard error of a statistic of segment, sprocket or run `i`.
-pub type Extract = fn(&Measured<'_>, usize) -> (f64, Option<f64>);
+pub(crate) type Extract = fn(&Measured<'_>, usize) -> (f64, Option<f64>);
 
 /// The statistics compared: name, what it is measured on, how. A field of
 /// the summary without a standard error is one line:
 /// `("name_w", Per::Run, |m, _| (m.summary.name_w, None))`.
-pub const STATISTICS: &[(&str, Per, Extract)] = &[
+pub(crate) const STATISTICS: &[(&str, Per, Extract)] = &[
     ("mean_link_force_n", Per::Segment, |m, k| {
         let s = &m.summary.segments[k];
         (s.mean_link_force_n, Some(s.mean_link_force_se_n))
@@ -184,7 +184,7 @@ pub const STATISTICS: &[(&str, Per, Extract)] = &[
 ];
 
 /// Every statistic of [`STATISTICS`] of a measured run.
-pub fn statistics(m: &Measured<'_>) -> Vec<Statistic> {
+pub(crate) fn statistics(m: &Measured<'_>) -> Vec<Statistic> {
     let mut out = Vec::new();
     for (name, per, extract) in STATISTICS {
         let (indices, prefix): (Vec<usize>, &str) = match per {
@@ -216,7 +216,7 @@ pub fn statistics(m: &Measured<'_>) -> Vec<Statistic> {
 
 /// One run of one method.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Run {
+pub(crate) struct Run {
     /// The method.
     pub integrator: Integrator,
     /// Its setting.
@@ -233,7 +233,7 @@ pub struct Run {
 
 /// One statistic of a run against the reference.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Compared {
+pub(crate) struct Compared {
     /// Name.
     pub name: String,
     /// The run's value (`None`: the run failed).
@@ -250,7 +250,7 @@ pub struct Compared {
 
 impl Compared {
     /// |value − reference| in reference standard errors, if defined.
-    pub fn se_error(&self) -> Option<f64> {
+    pub(crate) fn se_error(&self) -> Option<f64> {
         let (v, se) = (self.value?, self.reference_se?);
         (se > 0.0).then(|| (v - self.reference).abs() / se)
     }
@@ -258,7 +258,7 @@ impl Compared {
     /// |value − reference| over the larger of the two allowances,
     /// [`REL_TOLERANCE`] |reference| and [`SE_TOLERANCE`] × its standard
     /// error: converged exactly when at most 1 (∞ for a failed run).
-    pub fn normalized_error(&self) -> f64 {
+    pub(crate) fn normalized_error(&self) -> f64 {
         let Some(v) = self.value else {
             return f64::INFINITY;
         };
@@ -277,7 +277,7 @@ impl Compared {
 
 /// The study's result.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Convergence {
+pub(crate) struct Convergence {
     /// The reference run.
     pub reference: Run,
     /// The ladder runs, method by method.
@@ -286,7 +286,7 @@ pub struct Convergence {
 
 impl Convergence {
     /// A run's statistics against the reference (empty if the reference failed).
-    pub fn compare(&self, run: &Run) -> Vec<Compared> {
+    pub(crate) fn compare(&self, run: &Run) -> Vec<Compared> {
         let Ok(reference) = &self.reference.outcome else {
             return Vec::new();
         };
@@ -305,12 +305,12 @@ impl Convergence {
     }
 
     /// Whether every statistic of `run` is converged.
-    pub fn converged(&self, run: &Run) -> bool {
+    pub(crate) fn converged(&self, run: &Run) -> bool {
         run.outcome.is_ok() && self.compare(run).iter().all(|c| c.converged)
     }
 
     /// The cheapest converged run (wall time), if any.
-    pub fn verdict(&self) -> Option<&Run> {
+    pub(crate) fn verdict(&self) -> Option<&Run> {
         self.runs
             .iter()
             .filter(|r| self.converged(r))
@@ -320,7 +320,7 @@ impl Convergence {
     /// The cheapest converged run whose finer settings (smaller step or
     /// tolerance, same method) are all converged too: a converged coarse
     /// run between failing finer ones agrees by chance, not by convergence.
-    pub fn robust_verdict(&self) -> Option<&Run> {
+    pub(crate) fn robust_verdict(&self) -> Option<&Run> {
         let finer = |a: &Run, b: &Run| match (a.setting, b.setting) {
             (Setting::Step(x), Setting::Step(y))
             | (Setting::Tolerance(x), Setting::Tolerance(y)) => x < y,
@@ -368,7 +368,7 @@ fn compare_one(r: &Statistic, value: Option<f64>) -> Compared {
 
 /// Why the study could not be made.
 #[derive(Debug, thiserror::Error)]
-pub enum ConvergenceError {
+pub(crate) enum ConvergenceError {
     /// The warm start could not be built or run.
     #[error(transparent)]
     Start(#[from] SimError),
@@ -411,7 +411,7 @@ fn fork(
 }
 
 /// Runs `duration_s` from the warm `base` with one method.
-pub fn run_one(
+pub(crate) fn run_one(
     base: &Simulation,
     integrator: Integrator,
     setting: Setting,
@@ -480,7 +480,7 @@ pub fn run_one(
 
 /// Runs the study on `settings.threads` threads. `progress` is called with
 /// each finished run (from the calling thread).
-pub fn study(
+pub(crate) fn study(
     scene: &Scene,
     settings: &Settings,
     mut progress: impl FnMut(&Run),

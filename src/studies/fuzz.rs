@@ -10,7 +10,7 @@ use crate::sim::{NoObserver, Simulation};
 
 /// How a case ended (all of them acceptable).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FuzzOutcome {
+pub(crate) enum FuzzOutcome {
     /// The scene was rejected with explained errors.
     Rejected,
     /// The scene parsed but could not be laid out or settled, with an error.
@@ -23,7 +23,7 @@ pub enum FuzzOutcome {
 
 /// Mutates `base` with the generator seeded by `seed` and checks the
 /// promises. `Err` describes a broken promise.
-pub fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
+pub(crate) fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
     let mut rng = Lcg::new(seed);
     let text = mutate(base, &mut rng);
     let scene = match Scene::from_toml(&text) {

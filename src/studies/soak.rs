@@ -24,17 +24,17 @@ use crate::analysis::stats::BATCHES;
 use crate::sim::{Observer, Sample};
 
 /// Relative band of the steady state about the overall mean.
-pub const STEADY_FRACTION: f64 = 0.02;
+pub(crate) const STEADY_FRACTION: f64 = 0.02;
 
 /// Standard errors of the steady state's band.
-pub const STEADY_SE: f64 = 2.0;
+pub(crate) const STEADY_SE: f64 = 2.0;
 
 /// Fewest windows a steady state spans.
-pub const STEADY_MIN_WINDOWS: usize = 3;
+pub(crate) const STEADY_MIN_WINDOWS: usize = 3;
 
 /// Per-window sums.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct SoakWindow {
+pub(crate) struct SoakWindow {
     /// Samples in the window.
     pub samples: usize,
     /// Sum of each sprocket's angular speed over the samples, rad/s.
@@ -54,14 +54,14 @@ pub struct SoakWindow {
 
 impl SoakWindow {
     /// Mean angular speed of each sprocket over the window, rad/s.
-    pub fn mean_omega_rad_s(&self) -> Vec<f64> {
+    pub(crate) fn mean_omega_rad_s(&self) -> Vec<f64> {
         let n = self.samples.max(1) as f64;
         self.omega_sum.iter().map(|s| s / n).collect()
     }
 
     /// Mean link force of each segment over its samples with a free link, N
     /// (0 when there was none).
-    pub fn mean_force_n(&self) -> Vec<f64> {
+    pub(crate) fn mean_force_n(&self) -> Vec<f64> {
         self.force_sum
             .iter()
             .zip(&self.force_count)
@@ -71,7 +71,7 @@ impl SoakWindow {
 
     /// Standard error of each segment's mean force by batch means, N (0 with
     /// fewer than two batches holding a sample).
-    pub fn force_se_n(&self) -> Vec<f64> {
+    pub(crate) fn force_se_n(&self) -> Vec<f64> {
         self.batch_sum
             .iter()
             .zip(&self.batch_count)
@@ -97,7 +97,7 @@ impl SoakWindow {
 /// The index of the earliest window from which the run is steady (module
 /// docs), or `None`. `means[i][k]` and `ses[i][k]` are window i's mean of
 /// segment k and its standard error.
-pub fn steady_from(means: &[Vec<f64>], ses: &[Vec<f64>]) -> Option<usize> {
+pub(crate) fn steady_from(means: &[Vec<f64>], ses: &[Vec<f64>]) -> Option<usize> {
     let n = means.len();
     let segments = means.first().map_or(0, Vec::len);
     let needed = STEADY_MIN_WINDOWS.max(n.div_ceil(2));
@@ -115,7 +115,7 @@ pub fn steady_from(means: &[Vec<f64>], ses: &[Vec<f64>]) -> Option<usize> {
 }
 
 /// Sums a run's samples in windows of `window_s` of simulated time.
-pub struct Soak {
+pub(crate) struct Soak {
     window_s: f64,
     /// The windows, in time order.
     pub windows: Vec<SoakWindow>,
@@ -124,7 +124,7 @@ pub struct Soak {
 
 impl Soak {
     /// An observer summing in windows of `window_s` for a drive of `segments` segments.
-    pub fn new(window_s: f64, segments: usize) -> Self {
+    pub(crate) fn new(window_s: f64, segments: usize) -> Self {
         Self {
             window_s,
             windows: Vec::new(),
@@ -145,7 +145,7 @@ impl Soak {
     }
 
     /// Each window's segment means and their standard errors, N.
-    pub fn means_and_ses(&self) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
+    pub(crate) fn means_and_ses(&self) -> (Vec<Vec<f64>>, Vec<Vec<f64>>) {
         (
             self.windows.iter().map(SoakWindow::mean_force_n).collect(),
             self.windows.iter().map(SoakWindow::force_se_n).collect(),

@@ -46,7 +46,7 @@ use crate::sim::{
 
 /// A step size or, for the adaptive scheme, a tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Setting {
+pub(crate) enum Setting {
     /// A fixed step, s.
     Step(f64),
     /// An error tolerance (the adaptive scheme; its largest step is the grid step).
@@ -55,7 +55,7 @@ pub enum Setting {
 
 impl Setting {
     /// `dt=…` or `tol=…`.
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         match self {
             Self::Step(dt) => format!("dt={dt:e}"),
             Self::Tolerance(tol) => format!("tol={tol:e}"),
@@ -65,7 +65,7 @@ impl Setting {
 
 /// What to study.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Settings {
+pub(crate) struct Settings {
     /// Time run with the scene's own integrator before the horizon, s.
     pub warmup_s: f64,
     /// The horizon, s.
@@ -87,7 +87,7 @@ pub struct Settings {
 impl Settings {
     /// The default study for a scene: every scheme over a ladder of steps
     /// from 1 µs up to past the explicit limits.
-    pub fn default_for(horizon_s: f64) -> Self {
+    pub(crate) fn default_for(horizon_s: f64) -> Self {
         let steps = |list: &[f64]| list.iter().map(|&d| Setting::Step(d)).collect::<Vec<_>>();
         let fixed = [1e-6, 2e-6, 4e-6, 5e-6, 1e-5, 2e-5, 2.5e-5, 4e-5, 5e-5];
         Self {
@@ -117,7 +117,7 @@ impl Settings {
 
 /// The sampled signals of one run (grid-point-major).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct GridSignals {
+pub(crate) struct GridSignals {
     /// Free sprockets' speeds, all of them per grid point, rad/s.
     pub omega_rad_s: Vec<f64>,
     /// Every link's force per grid point, N.
@@ -130,7 +130,7 @@ pub struct GridSignals {
 
 /// Which link and roller the error compares.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Probe {
+pub(crate) struct Probe {
     /// Link index.
     pub link: usize,
     /// Roller index.
@@ -143,19 +143,19 @@ impl GridSignals {
     }
 
     /// The chosen link's force over the grid.
-    pub fn link(&self, link: usize) -> Vec<f64> {
+    pub(crate) fn link(&self, link: usize) -> Vec<f64> {
         Self::column(&self.link_force_n, self.rollers, link).collect()
     }
 
     /// The chosen roller's contact force over the grid.
-    pub fn contact(&self, roller: usize) -> Vec<f64> {
+    pub(crate) fn contact(&self, roller: usize) -> Vec<f64> {
         Self::column(&self.contact_force_n, self.rollers, roller).collect()
     }
 
     /// The probe a reference run suggests: the link whose force varies most,
     /// the roller whose contact starts or ends most often (ties: the larger
     /// mean contact force).
-    pub fn suggest_probe(&self) -> Probe {
+    pub(crate) fn suggest_probe(&self) -> Probe {
         let n = self.rollers.max(1);
         let var = |v: &[f64]| {
             let m = v.iter().sum::<f64>() / v.len().max(1) as f64;
@@ -182,14 +182,14 @@ impl GridSignals {
     }
 
     /// Relative RMS differences of the three signals to `reference`, the largest.
-    pub fn error_against(&self, reference: &Self, probe: Probe) -> f64 {
+    pub(crate) fn error_against(&self, reference: &Self, probe: Probe) -> f64 {
         let [a, b, c] = self.errors_against(reference, probe);
         a.max(b).max(c)
     }
 
     /// Relative RMS differences of the sprocket speeds, the link force and
     /// the contact force to `reference`.
-    pub fn errors_against(&self, reference: &Self, probe: Probe) -> [f64; 3] {
+    pub(crate) fn errors_against(&self, reference: &Self, probe: Probe) -> [f64; 3] {
         fn rel(a: &[f64], b: &[f64]) -> f64 {
             if a.len() != b.len() {
                 return f64::INFINITY;
@@ -218,7 +218,7 @@ impl GridSignals {
 
 /// The warm start every run begins from.
 #[derive(Clone, Debug)]
-pub struct Start {
+pub(crate) struct Start {
     /// The scene.
     pub scene: Scene,
     /// The model.
@@ -233,7 +233,7 @@ pub struct Start {
 
 impl Start {
     /// Builds the scene, settles it and runs `warmup_s` with its own settings.
-    pub fn warm(scene: &Scene, warmup_s: f64) -> Result<Self, SimError> {
+    pub(crate) fn warm(scene: &Scene, warmup_s: f64) -> Result<Self, SimError> {
         let mut sim = Simulation::new(scene)?;
         sim.run(warmup_s, u64::MAX, &mut NoObserver, None)?;
         let mut forces = sim.forces.clone();
@@ -252,7 +252,7 @@ impl Start {
 
 /// One run of one method.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Run {
+pub(crate) struct Run {
     /// The method.
     pub integrator: Integrator,
     /// Its setting.
@@ -268,7 +268,7 @@ pub struct Run {
 }
 
 /// Integrates `horizon_s` from `start` with one method.
-pub fn integrate(
+pub(crate) fn integrate(
     start: &Start,
     integrator: Integrator,
     setting: Setting,
@@ -339,7 +339,7 @@ pub fn integrate(
 
 /// One row of the table.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Row {
+pub(crate) struct Row {
     /// The run.
     pub run: Run,
     /// Its error against the reference (∞ for a failed run).
@@ -357,7 +357,7 @@ pub struct Row {
 
 /// The study's result.
 #[derive(Clone, Debug, PartialEq)]
-pub struct WorkPrecision {
+pub(crate) struct WorkPrecision {
     /// The horizon, s.
     pub horizon_s: f64,
     /// Every run.
@@ -374,7 +374,7 @@ pub struct WorkPrecision {
 
 /// Least-squares slope of log(error) against log(dt) over the points whose
 /// error lies between `floor` and 0.5 (the asymptotic range).
-pub fn observed_order(points: &[(f64, f64)], floor: f64) -> Option<f64> {
+pub(crate) fn observed_order(points: &[(f64, f64)], floor: f64) -> Option<f64> {
     let pts: Vec<(f64, f64)> = points
         .iter()
         .filter(|(dt, e)| e.is_finite() && *e > floor && *e < 0.5 && *dt > 0.0)
@@ -398,7 +398,7 @@ pub fn observed_order(points: &[(f64, f64)], floor: f64) -> Option<f64> {
 
 /// Why the study could not be made.
 #[derive(Debug, thiserror::Error)]
-pub enum WorkPrecisionError {
+pub(crate) enum WorkPrecisionError {
     /// The warm start could not be built or run.
     #[error(transparent)]
     Start(#[from] SimError),
@@ -408,7 +408,7 @@ pub enum WorkPrecisionError {
 }
 
 /// Runs the study. `progress` is called with each finished run.
-pub fn study(
+pub(crate) fn study(
     scene: &Scene,
     settings: &Settings,
     mut progress: impl FnMut(&Run, [f64; 3]),

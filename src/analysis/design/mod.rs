@@ -14,4 +14,4 @@
 
 pub(crate) mod rating;
 
-pub(crate) use rating::{Lubrication, Rating, RatingError, RatingSettings};
+pub(crate) use rating::Rating;

@@ -33,7 +33,7 @@ use crate::scene::designations::{self, Designation};
 use crate::scene::{Role, Scene};
 
 /// Watts per (mechanical) horsepower, 550 ft·lbf/s.
-pub const HP_W: f64 = 745.699_871_582_270_2;
+pub(crate) const HP_W: f64 = 745.699_871_582_270_2;
 /// Metres per inch.
 const INCH_M: f64 = 0.0254;
 /// m/s per ft/min.
@@ -43,7 +43,7 @@ const FT_MIN_M_S: f64 = 0.3048 / 60.0;
 /// run is flagged: the working-load limit of one sixth of the minimum
 /// ultimate tensile strength that chain makers give for a chain in service
 /// (Diamond Chain, "Technical Engineering" guide; docs/design-checks.md).
-pub const WORKING_LOAD_FRACTION: f64 = 1.0 / 6.0;
+pub(crate) const WORKING_LOAD_FRACTION: f64 = 1.0 / 6.0;
 
 /// The chain speed, as a multiple of the oil-bath (type B) limit, above
 /// which a run is flagged. This is chaindrive's own threshold, not a
@@ -52,7 +52,7 @@ pub const WORKING_LOAD_FRACTION: f64 = 1.0 / 6.0;
 /// flagged; three times the bath limit is far above the speeds the
 /// horsepower tables read here cover (No. 40's reach about 17 m/s,
 /// 45 teeth at 1800 rpm) and catches a speed typed ten times too high.
-pub const LUBRICATION_WARNING_FACTOR: f64 = 3.0;
+pub(crate) const LUBRICATION_WARNING_FACTOR: f64 = 3.0;
 
 /// Lubrication limits by chain size: (ANSI number, pitch in inches, type A
 /// limit, type B limit), chain speeds in ft/min, from McGuire Bearing's
@@ -72,7 +72,7 @@ const LUBRICATION_FT_MIN: [(u32, f64, f64, f64); 8] = [
 /// The constants the rating formulas take for a chain.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub enum ChainClass {
+pub(crate) enum ChainClass {
     /// Standard roller chains, ANSI 40–240: K = 0.004, K_r = 17.
     Standard,
     /// The rollerless bush chains ANSI 25 and 35: K = 0.004, K_r = 29.
@@ -84,7 +84,7 @@ pub enum ChainClass {
 impl ChainClass {
     /// The class of a designation (the table's name); a chain without one
     /// is rated as a standard roller chain.
-    pub fn of(designation: Option<&str>) -> Self {
+    pub(crate) fn of(designation: Option<&str>) -> Self {
         match designation {
             Some("ANSI 25" | "ANSI 35") => Self::BushChain,
             Some("ANSI 41") => Self::Lightweight,
@@ -93,7 +93,7 @@ impl ChainClass {
     }
 
     /// K of the link-plate formula.
-    pub fn link_plate_k(self) -> f64 {
+    pub(crate) fn link_plate_k(self) -> f64 {
         match self {
             Self::Lightweight => 0.0022,
             Self::Standard | Self::BushChain => 0.004,
@@ -101,7 +101,7 @@ impl ChainClass {
     }
 
     /// K_r of the roller–bushing formula.
-    pub fn roller_bushing_kr(self) -> f64 {
+    pub(crate) fn roller_bushing_kr(self) -> f64 {
         match self {
             Self::Standard => 17.0,
             Self::BushChain => 29.0,
@@ -113,7 +113,7 @@ impl ChainClass {
 /// Link-plate fatigue limited rating H₁ = K N₁^1.08 n₁^0.9 p^(3.0 − 0.07 p),
 /// hp, one strand (`pitch_in` in inches, `speed_rpm` of the sprocket with
 /// `teeth`).
-pub fn link_plate_limited_hp(class: ChainClass, teeth: f64, speed_rpm: f64, pitch_in: f64) -> f64 {
+pub(crate) fn link_plate_limited_hp(class: ChainClass, teeth: f64, speed_rpm: f64, pitch_in: f64) -> f64 {
     class.link_plate_k()
         * teeth.powf(1.08)
         * speed_rpm.powf(0.9)
@@ -122,7 +122,7 @@ pub fn link_plate_limited_hp(class: ChainClass, teeth: f64, speed_rpm: f64, pitc
 
 /// Roller–bushing impact limited rating H₂ = 1000 K_r N₁^1.5 p^0.8 / n₁^1.5,
 /// hp, one strand; infinite at rest (the caller refuses a speed of zero).
-pub fn roller_bushing_limited_hp(
+pub(crate) fn roller_bushing_limited_hp(
     class: ChainClass,
     teeth: f64,
     speed_rpm: f64,
@@ -133,7 +133,7 @@ pub fn roller_bushing_limited_hp(
 
 /// The multiple-strand factor of the ANSI tables (1, 1.7, 2.5, 3.3 for
 /// 1–4 strands); `None` beyond four, which the tables do not give.
-pub fn strand_factor(strands: u32) -> Option<f64> {
+pub(crate) fn strand_factor(strands: u32) -> Option<f64> {
     match strands {
         1 => Some(1.0),
         2 => Some(1.7),
@@ -145,7 +145,7 @@ pub fn strand_factor(strands: u32) -> Option<f64> {
 
 /// The lubrication the ratings assume at a chain speed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Lubrication {
+pub(crate) enum Lubrication {
     /// Type A: manual or drip.
     A,
     /// Type B: oil bath or slinger disc.
@@ -156,7 +156,7 @@ pub enum Lubrication {
 
 impl Lubrication {
     /// What the type means, for people.
-    pub fn description(self) -> &'static str {
+    pub(crate) fn description(self) -> &'static str {
         match self {
             Self::A => "type A: manual or drip",
             Self::B => "type B: oil bath or disc",
@@ -169,7 +169,7 @@ impl Lubrication {
 /// of `pitch_m`, m/s, with the ANSI number whose row gives them: the row of
 /// nearest pitch (below No. 40 and above No. 160 the table has none, and
 /// the nearest row's limits are used).
-pub fn lubrication_limits_m_s(pitch_m: f64) -> (f64, f64, u32) {
+pub(crate) fn lubrication_limits_m_s(pitch_m: f64) -> (f64, f64, u32) {
     let pitch_in = pitch_m / INCH_M;
     let mut best = LUBRICATION_FT_MIN[0];
     for row in LUBRICATION_FT_MIN {
@@ -182,7 +182,7 @@ pub fn lubrication_limits_m_s(pitch_m: f64) -> (f64, f64, u32) {
 
 /// What a rating is computed with besides the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct RatingSettings {
+pub(crate) struct RatingSettings {
     /// Service factor (≥ 1 for a load rougher than the tables' smooth one).
     pub service_factor: f64,
     /// Strands of the chain.
@@ -200,7 +200,7 @@ impl Default for RatingSettings {
 
 /// Why a rating cannot be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub enum RatingError {
+pub(crate) enum RatingError {
     /// The service factor is not a finite number > 0.
     #[error("the service factor must be a finite number > 0, got {0}")]
     ServiceFactor(f64),
@@ -227,7 +227,7 @@ pub enum RatingError {
 /// The rating of a drive: the `rating` block of the run summary and the
 /// output of `chaindrive rate --json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Rating {
+pub(crate) struct Rating {
     /// The designation rated (absent: the scene names none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub designation: Option<String>,
@@ -473,7 +473,7 @@ fn load_power(scene: &Scene, speeds: &[f64]) -> Result<(f64, String), String> {
 /// A service factor that is not a positive number, a strand count the
 /// tables do not cover, a scene without a driver or whose smallest
 /// sprocket does not turn.
-pub fn of_scene(
+pub(crate) fn of_scene(
     scene: &Scene,
     settings: RatingSettings,
     power_w: Option<f64>,

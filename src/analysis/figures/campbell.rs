@@ -27,11 +27,11 @@ const PANEL_PX: u32 = 340;
 
 /// Markers below this fraction of the largest drawn amplitude are left out;
 /// the colour scale spans from it to 1 (logarithmic).
-pub const SMALLEST_DRAWN: f64 = 0.01;
+pub(super) const SMALLEST_DRAWN: f64 = 0.01;
 
 /// A Campbell diagram.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Campbell {
+pub(crate) struct Campbell {
     /// Title.
     pub title: String,
     /// What the markers measure, in words: `segment 1 link force`.
@@ -50,7 +50,7 @@ pub struct Campbell {
 
 /// An excitation order's line: frequency = order × driver revolutions per second.
 #[derive(Clone, Debug, PartialEq)]
-pub struct OrderLine {
+pub(crate) struct OrderLine {
     /// Cycles per driver revolution.
     pub order: f64,
     /// A meshing order (a multiple of the driver's tooth count).
@@ -61,7 +61,7 @@ pub struct OrderLine {
 
 impl OrderLine {
     /// `2×`, `0.5×`; `20× mesh` for a meshing order.
-    pub fn label(&self) -> String {
+    pub(crate) fn label(&self) -> String {
         let k = tick(self.order);
         if self.meshing {
             format!("{k}× mesh")
@@ -73,7 +73,7 @@ impl OrderLine {
 
 /// One span's predicted natural frequencies against the driver's speed.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SpanLines {
+pub(crate) struct SpanLines {
     /// `span 1: crankshaft → exhaust camshaft`.
     pub label: String,
     /// Transverse modes 1, 2, …: (driver rpm, Hz) each.
@@ -104,7 +104,7 @@ impl Campbell {
     /// highest of the non-meshing order lines and the spans' transverse
     /// modes, rounded up to a round number. With neither, the highest of
     /// every line and marker.
-    pub fn default_max_hz(&self) -> f64 {
+    pub(crate) fn default_max_hz(&self) -> f64 {
         let band = self
             .orders
             .iter()
@@ -134,7 +134,7 @@ impl Campbell {
     }
 
     /// The frequency axis's upper end: `max_hz`, or the default.
-    pub fn top_hz(&self) -> f64 {
+    pub(crate) fn top_hz(&self) -> f64 {
         self.max_hz
             .filter(|f| *f > 0.0 && f.is_finite())
             .unwrap_or_else(|| self.default_max_hz())
@@ -142,7 +142,7 @@ impl Campbell {
 
     /// What lies above the frequency axis and is not drawn, in words; empty
     /// when everything shows.
-    pub fn above_range(&self) -> Vec<String> {
+    pub(crate) fn above_range(&self) -> Vec<String> {
         let top = self.top_hz();
         let mut out = Vec::new();
         let orders: Vec<String> = self
@@ -583,7 +583,7 @@ fn draw_panel<DB: DrawingBackend>(
 
 /// Writes `campbell` as `dir/stem.png` and `dir/stem.svg`; returns the
 /// paths. A diagram with no finite point is an error.
-pub fn save_campbell(
+pub(crate) fn save_campbell(
     campbell: &Campbell,
     dir: &Path,
     stem: &str,

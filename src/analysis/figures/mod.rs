@@ -32,7 +32,7 @@ const SIZE: (u32, u32) = (1100, 620);
 
 /// Why a figure was not written.
 #[derive(Debug, thiserror::Error)]
-pub enum FigureError {
+pub(crate) enum FigureError {
     /// Nothing finite to draw.
     #[error("figure {0}: no finite data to draw")]
     Empty(String),
@@ -56,7 +56,7 @@ pub enum FigureError {
 
 /// How a series is drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mark {
+pub(crate) enum Mark {
     /// A line through the points.
     Line,
     /// A line through the points with a dot at each: few points, each one a
@@ -80,7 +80,7 @@ impl Mark {
 
 /// One drawn series.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Trace {
+pub(crate) struct Trace {
     /// Legend text.
     pub label: String,
     /// Points (x, y); non-finite ones are skipped.
@@ -93,7 +93,7 @@ pub struct Trace {
 
 /// A line plot.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Plot {
+pub(crate) struct Plot {
     /// Title.
     pub title: String,
     /// x-axis label, with its unit: `driver speed (rpm)`.
@@ -111,7 +111,7 @@ impl Plot {
     /// the prefix that puts the largest in [1, 1000), and the unit appended
     /// to the axis title: a link force of 0.2–1.6 kN reads "link force (kN)",
     /// a displacement of 20 µm "displacement (µm)". Notes move with the values.
-    pub fn with_y_unit(mut self, unit: &str) -> Self {
+    pub(crate) fn with_y_unit(mut self, unit: &str) -> Self {
         let largest = self
             .traces
             .iter()
@@ -128,7 +128,7 @@ impl Plot {
     }
 
     /// As [`Plot::with_y_unit`], for x: a contact of 8 ms reads "(ms)".
-    pub fn with_x_unit(mut self, unit: &str) -> Self {
+    pub(crate) fn with_x_unit(mut self, unit: &str) -> Self {
         let largest = self
             .traces
             .iter()
@@ -397,7 +397,7 @@ where
 
 /// Writes `plot` as `dir/stem.png` and `dir/stem.svg`; returns the paths.
 /// An empty plot writes nothing and is an error.
-pub fn save(plot: &Plot, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, FigureError> {
+pub(crate) fn save(plot: &Plot, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, FigureError> {
     if bounds(plot).is_none() {
         return Err(FigureError::Empty(stem.to_owned()));
     }

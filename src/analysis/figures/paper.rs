@@ -22,7 +22,7 @@ fn points(s: &Series, t0: f64) -> Vec<(f64, f64)> {
 
 /// Which series of the runs a figure shows.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FigureChoice {
+pub(crate) struct FigureChoice {
     /// Link of Fig. 16 (0-based).
     pub link: usize,
     /// Roller of Fig. 22 (0-based).
@@ -34,7 +34,7 @@ pub struct FigureChoice {
 /// anything is drawn for it; a figure whose data cannot be cut (unknown
 /// index, window outside the run) is an error, and figures already written
 /// stay.
-pub fn paper_figures(
+pub(crate) fn paper_figures(
     runs: &[&RunData],
     choice: FigureChoice,
     dir: &Path,

@@ -18,7 +18,7 @@ use report::report_markdown;
 
 /// Arguments of `chaindrive analyze`.
 #[derive(clap::Args)]
-pub struct AnalyzeArgs {
+pub(super) struct AnalyzeArgs {
     /// Recording written by `chaindrive run --record` (needs /segments and
     /// /sprockets; /links, /contacts and /rollers for the link and contact analyses).
     recording: PathBuf,
@@ -41,7 +41,7 @@ pub struct AnalyzeArgs {
 
 /// `T0,T1` in seconds.
 #[derive(Clone, Copy, Debug)]
-pub struct Window([f64; 2]);
+pub(super) struct Window([f64; 2]);
 
 fn parse_window(s: &str) -> Result<Window, String> {
     let parts: Vec<&str> = s.split(',').map(str::trim).collect();
@@ -63,7 +63,7 @@ fn parse_window(s: &str) -> Result<Window, String> {
     Ok(Window([t0, t1]))
 }
 
-pub fn analyze(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
+pub(super) fn analyze(args: AnalyzeArgs) -> anyhow::Result<ExitCode> {
     let options = AnalyzeOptions {
         link: args.link,
         roller: args.roller,

@@ -57,7 +57,7 @@ const RELAXATION_CHI: f64 = 0.75;
 
 /// The roller–tooth contact element.
 #[derive(Clone, Debug)]
-pub struct ToothContact {
+pub(crate) struct ToothContact {
     law: ContactLawParams,
     /// The run's law and whether it recorded damping rows, kept aside while
     /// the static equilibrium uses its own.
@@ -85,7 +85,7 @@ impl ToothContact {
     /// Buffers for `rollers` rollers and `sprockets` sprockets (at most
     /// [`MAX_SPROCKETS`]: a roller's set of sprockets within reach is a
     /// 64-bit mask; the scene's validator holds every drive to it).
-    pub fn new(law: ContactLawParams, rollers: usize, sprockets: usize) -> Self {
+    pub(crate) fn new(law: ContactLawParams, rollers: usize, sprockets: usize) -> Self {
         debug_assert!(
             sprockets <= MAX_SPROCKETS,
             "a drive has at most 64 sprockets"
@@ -106,12 +106,12 @@ impl ToothContact {
     }
 
     /// The contact law in use.
-    pub fn law(&self) -> &ContactLawParams {
+    pub(crate) fn law(&self) -> &ContactLawParams {
         &self.law
     }
 
     /// Replaces the contact law.
-    pub fn set_law(&mut self, law: ContactLawParams) {
+    pub(crate) fn set_law(&mut self, law: ContactLawParams) {
         self.law = law;
     }
 
@@ -119,12 +119,12 @@ impl ToothContact {
     /// measures every roller again. Call when a sprocket centre has moved
     /// other than at its `center_velocity_m_s` (a co-simulation frame's new
     /// mount position and velocity).
-    pub fn forget_reach(&mut self) {
+    pub(crate) fn forget_reach(&mut self) {
         self.reach.expire();
     }
 
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
-    pub fn enable_damping_rows(&mut self) {
+    pub(crate) fn enable_damping_rows(&mut self) {
         if self.damping_rows.is_none() {
             self.damping_rows = Some(DampingRows::new(self.gap_hint.len()));
         }
@@ -136,14 +136,14 @@ impl ToothContact {
     }
 
     /// The damping rows of the last evaluation, if enabled.
-    pub fn damping_rows(&self) -> Option<&DampingRows> {
+    pub(crate) fn damping_rows(&self) -> Option<&DampingRows> {
         self.damping_rows.as_ref()
     }
 
     /// Whether a roller centred at (`x`, `y`) touches any sprocket, the
     /// sprockets at angles `theta` (for locating contact events; the roller's
     /// gap hint is read, not updated). Stops at the first sprocket touched.
-    pub fn touches(
+    pub(crate) fn touches(
         &self,
         model: &DriveModel,
         roller: usize,
@@ -159,7 +159,7 @@ impl ToothContact {
     /// The roller of `state` that penetrates a tooth deepest, with its
     /// depth, m (a slow search of every roller against every sprocket, for
     /// reports).
-    pub fn deepest_roller(&self, model: &DriveModel, state: &DriveState) -> Option<(usize, f64)> {
+    pub(crate) fn deepest_roller(&self, model: &DriveModel, state: &DriveState) -> Option<(usize, f64)> {
         let mut patches = [Patch::default(); MAX_PATCHES];
         let mut deepest: Option<(usize, f64)> = None;
         for i in 0..state.rollers() {

@@ -19,7 +19,7 @@ use crate::scene::MAX_SPROCKETS;
 /// without it (without: every roller measured against every sprocket at
 /// every evaluation).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Culling {
+pub(crate) struct Culling {
     /// Factor on the fastest roller speed.
     pub speed_factor: f64,
     /// Speed added to the bound, m/s (covers rollers starting from rest).

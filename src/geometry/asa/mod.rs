@@ -99,11 +99,11 @@ pub(crate) const IN_0_003_M: f64 = 7.62e-5;
 /// 0.0015 in expressed in metres (additive constant of Rt, RE and RF).
 pub(crate) const IN_0_0015_M: f64 = 3.81e-5;
 /// Smallest tooth count accepted before the geometric checks (B, C > 0 needs N ≥ 4).
-pub const MIN_TEETH: u32 = 4;
+pub(crate) const MIN_TEETH: u32 = 4;
 /// Largest tooth count accepted (keeps patch ids well inside `u32`).
-pub const MAX_TEETH: u32 = 100_000;
+pub(crate) const MAX_TEETH: u32 = 100_000;
 /// Smallest arc step used by [`AsaProfile::outline`] (bounds the allocation).
-pub const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
+pub(crate) const MIN_OUTLINE_STEP_RAD: f64 = 1e-4;
 /// Rounding allowance when comparing a patch with the nearest outline point.
 const CONSISTENCY_TOL_M: f64 = 1e-9;
 /// Distances closer than this are a tie (the earlier piece is kept: own before neighbour).
@@ -149,7 +149,7 @@ pub enum AsaError {
 /// A contact patch of [`AsaProfile::contacts`] with the place it touches: the closest
 /// outline point, in the sprocket frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LocatedPatch {
+pub(crate) struct LocatedPatch {
     /// Depth, normal, area, gap and identity of the patch.
     pub patch: Patch,
     /// Closest outline point, metres.
@@ -159,7 +159,7 @@ pub struct LocatedPatch {
 /// Precomputed geometry of one ASA sprocket: the pieces of one gap in its local frame, the
 /// neighbouring toppings, and the gap rotations.
 #[derive(Clone, Debug, PartialEq)]
-pub struct AsaProfile {
+pub(crate) struct AsaProfile {
     /// Standard dimensions.
     dims: AsaDimensions,
     /// Construction points and angles.
@@ -202,7 +202,7 @@ impl AsaProfile {
     /// # Errors
     /// [`AsaError`] when the inputs are out of range or the standard construction
     /// degenerates (e.g. too few teeth for a positive straight portion).
-    pub fn new(teeth: u32, pitch_m: f64, roller_diameter_m: f64) -> Result<Self, AsaError> {
+    pub(crate) fn new(teeth: u32, pitch_m: f64, roller_diameter_m: f64) -> Result<Self, AsaError> {
         let dims = dimensions::dimensions(teeth, pitch_m, roller_diameter_m)?;
         let points = dimensions::gap_points(&dims)?;
         let own = gap_pieces(&dims, &points);
@@ -274,25 +274,25 @@ impl AsaProfile {
 
     /// The standard dimensions of this sprocket.
     #[must_use]
-    pub fn dimensions(&self) -> &AsaDimensions {
+    pub(crate) fn dimensions(&self) -> &AsaDimensions {
         &self.dims
     }
 
     /// The construction points and angles of one gap (gap-local frame).
     #[must_use]
-    pub fn gap_points(&self) -> &GapPoints {
+    pub(crate) fn gap_points(&self) -> &GapPoints {
         &self.points
     }
 
     /// Number of teeth N.
     #[must_use]
-    pub fn teeth(&self) -> u32 {
+    pub(crate) fn teeth(&self) -> u32 {
         self.dims.teeth
     }
 
     /// Pitch angle Φ = 2π/N.
     #[must_use]
-    pub fn pitch_angle_rad(&self) -> f64 {
+    pub(crate) fn pitch_angle_rad(&self) -> f64 {
         self.pitch_angle_rad
     }
 
@@ -301,7 +301,7 @@ impl AsaProfile {
     /// contact sliding from one to the other is the same contact continuing; the caller
     /// may carry its contact memory over.
     #[must_use]
-    pub fn patches_are_neighbours(&self, a: u32, b: u32) -> bool {
+    pub(crate) fn patches_are_neighbours(&self, a: u32, b: u32) -> bool {
         let n = u64::from(self.dims.teeth);
         let (a, b) = (u64::from(a), u64::from(b));
         let gap_of_concave = |id: u64| -> Option<u64> {
@@ -450,7 +450,7 @@ impl AsaProfile {
     /// Not examined: the concave parts of the neighbouring gaps. A roller in free space
     /// could only reach them across a whole tooth, i.e. with a radius of the order of the
     /// tooth width.
-    pub fn contacts(
+    pub(crate) fn contacts(
         &self,
         p: [f64; 2],
         roller_radius_m: f64,
@@ -464,7 +464,7 @@ impl AsaProfile {
     /// roller was recently in; any value works, e.g. `u32::MAX` for none) and `hint` is
     /// updated to the gap of `p` whenever that gap is looked up (it is left unchanged when
     /// `p` is rejected before, e.g. beyond the tips or non-finite).
-    pub fn contacts_hinted(
+    pub(crate) fn contacts_hinted(
         &self,
         p: [f64; 2],
         roller_radius_m: f64,
@@ -492,7 +492,7 @@ impl AsaProfile {
     /// [`AsaProfile::contacts_hinted`] for the profile's own roller (radius Dr/2), without
     /// the contact point (the contact generator's call): the same patches.
     #[inline]
-    pub fn contacts_nominal(
+    pub(crate) fn contacts_nominal(
         &self,
         p: [f64; 2],
         hint: &mut u32,
@@ -521,7 +521,7 @@ impl AsaProfile {
     /// negative inside the material. Returns (distance, closest point, area, gap).
     /// Non-finite input returns (NaN, [NaN, NaN], 0, 0).
     #[must_use]
-    pub fn signed_distance(&self, p: [f64; 2]) -> (f64, [f64; 2], u8, i64) {
+    pub(crate) fn signed_distance(&self, p: [f64; 2]) -> (f64, [f64; 2], u8, i64) {
         if !(p[0].is_finite() && p[1].is_finite()) {
             return (f64::NAN, [f64::NAN; 2], 0, 0);
         }
@@ -549,7 +549,7 @@ impl AsaProfile {
     /// last point connects back to the first (not repeated). `max_step_rad` is clamped to
     /// [[`MIN_OUTLINE_STEP_RAD`], π/8]; a non-finite or non-positive step uses 1°.
     #[must_use]
-    pub fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
+    pub(crate) fn outline(&self, max_step_rad: f64) -> Vec<OutlinePoint> {
         let step = if max_step_rad.is_finite() && max_step_rad > 0.0 {
             max_step_rad.clamp(MIN_OUTLINE_STEP_RAD, PI / 8.0)
         } else {

@@ -43,7 +43,7 @@ mod report;
 pub(crate) use report::report_markdown;
 
 /// Labels of the runs, in order.
-pub const RUN_LABELS: [&str; 5] = [
+pub(crate) const RUN_LABELS: [&str; 5] = [
     "circular",
     "real",
     "real_same_rest_length",
@@ -52,11 +52,11 @@ pub const RUN_LABELS: [&str; 5] = [
 ];
 
 /// The paper's drive with pin–bushing friction (docs/model.md, “Joint friction”).
-pub const L60MC_FRICTION_TOML: &str = include_str!("../../../assets/l60mc-friction.toml");
+pub(crate) const L60MC_FRICTION_TOML: &str = include_str!("../../../assets/l60mc-friction.toml");
 
 /// Settings of the study.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StudySettings {
+pub(crate) struct StudySettings {
     /// Simulated time of each run, s (the paper: 10 s).
     pub duration_s: f64,
     /// Sample rate, Hz.
@@ -77,7 +77,7 @@ impl Default for StudySettings {
 
 /// Why the study failed.
 #[derive(Debug, thiserror::Error)]
-pub enum StudyError {
+pub(crate) enum StudyError {
     /// A run could not be built or blew up.
     #[error("{label} run: {source}")]
     Sim {
@@ -101,7 +101,7 @@ pub enum StudyError {
 /// `rest_length_m`, the links' rest length is set to it after the pretension
 /// rule and the drive re-relaxed to static equilibrium (the static tension
 /// then follows from the geometry).
-pub fn run_scene(
+pub(crate) fn run_scene(
     label: &str,
     scene: &Scene,
     rate_hz: f64,
@@ -158,7 +158,7 @@ pub fn run_scene(
 }
 
 /// The three runs of the study.
-pub struct Study {
+pub(crate) struct Study {
     /// Settings used.
     pub settings: StudySettings,
     /// `circular`, `real`, `real_same_rest_length` (see [`RUN_LABELS`]).
@@ -168,7 +168,7 @@ pub struct Study {
 }
 
 /// Runs the paper's drive three times (see the module docs).
-pub fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
+pub(crate) fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
     if !(settings.duration_s > 0.0 && settings.duration_s.is_finite()) {
         return Err(StudyError::Settings(format!(
             "duration must be positive, got {} s",
@@ -251,7 +251,7 @@ pub fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
 }
 
 /// `summary.json`: `{"circular": …, "real": …, "real_same_rest_length": …}`.
-pub fn summaries_json(study: &Study) -> serde_json::Value {
+pub(crate) fn summaries_json(study: &Study) -> serde_json::Value {
     let map: serde_json::Map<String, serde_json::Value> = study
         .runs
         .iter()
@@ -267,7 +267,7 @@ pub fn summaries_json(study: &Study) -> serde_json::Value {
 
 /// One segment's measured quantities.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SegmentFindings {
+pub(crate) struct SegmentFindings {
     /// 1-based segment.
     pub segment: usize,
     /// Mean average link force over the statistics window, N.
@@ -288,7 +288,7 @@ pub struct SegmentFindings {
 
 /// One run's measured quantities.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RunFindings {
+pub(crate) struct RunFindings {
     /// Run label.
     pub label: String,
     /// Static tension, N.
@@ -307,14 +307,14 @@ pub struct RunFindings {
 
 /// What the report states, measured from the study.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Findings {
+pub(crate) struct Findings {
     /// Per run, in [`RUN_LABELS`] order.
     pub runs: Vec<RunFindings>,
 }
 
 impl Findings {
     /// Measures the study.
-    pub fn measure(study: &Study) -> Result<Self, StudyError> {
+    pub(crate) fn measure(study: &Study) -> Result<Self, StudyError> {
         let runs = study
             .runs
             .iter()

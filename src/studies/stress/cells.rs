@@ -169,7 +169,7 @@ fn set_damping_ratio(file: &mut SceneFile, ratio: f64) {
 }
 
 /// The full matrix (see the module docs).
-pub fn default_matrix() -> Result<Vec<Case>, StressError> {
+pub(crate) fn default_matrix() -> Result<Vec<Case>, StressError> {
     use ProfileKind::{Circular, Real};
     let all = all_integrators;
     let mut cases = vec![
@@ -313,7 +313,7 @@ pub fn default_matrix() -> Result<Vec<Case>, StressError> {
 
 /// A small subset for tests: the baseline at 30 rpm with a short horizon
 /// (ramp 0.1 s, hold 0.02 s), symplectic Euler and implicit damping.
-pub fn quick_matrix() -> Result<Vec<Case>, StressError> {
+pub(crate) fn quick_matrix() -> Result<Vec<Case>, StressError> {
     let mut file = paper_file("quick-baseline")?;
     set_speed(&mut file, 30.0, 0.1, 0.02);
     Ok(vec![cell(

@@ -66,7 +66,7 @@ use std::time::Instant;
 
 pub(crate) use cells::{default_matrix, quick_matrix};
 pub(crate) use output::{
-    BLOWUPS_CSV_HEADER, BlowupRow, CSV_HEADER, LIMITS_CSV_HEADER, LimitRow, RollerCost, RunRow,
+    BLOWUPS_CSV_HEADER, CSV_HEADER, LIMITS_CSV_HEADER,
     blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, roller_costs,
 };
 
@@ -76,7 +76,7 @@ use crate::sim::{Observer, Sample, SimError, Simulation, StepLimits};
 
 /// Why the matrix cannot be set up.
 #[derive(Debug, thiserror::Error)]
-pub enum StressError {
+pub(crate) enum StressError {
     /// A generated drive could not be placed.
     #[error("case {case}: {source}")]
     Generate {
@@ -105,7 +105,7 @@ pub enum StressError {
 
 /// The step ladder.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Ladder {
+pub(crate) struct Ladder {
     /// Smallest step, s.
     pub first_dt_s: f64,
     /// Ratio between rungs.
@@ -133,7 +133,7 @@ impl Default for Ladder {
 
 /// One cell of the matrix: a scene and the integrators to run it with.
 #[derive(Clone, Debug)]
-pub struct Case {
+pub(crate) struct Case {
     /// Short name, e.g. `baseline`, `rpm-1200`, `gen-10000x2-real`.
     pub name: String,
     /// The validated scene; `solver.duration_s` is the horizon.
@@ -147,7 +147,7 @@ pub struct Case {
 
 /// The parameters a CSV row repeats for its cell.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CaseInfo {
+pub(crate) struct CaseInfo {
     /// Case name.
     pub name: String,
     /// Rollers.
@@ -168,7 +168,7 @@ pub struct CaseInfo {
 
 impl CaseInfo {
     /// The parameters of `scene`.
-    pub fn of(name: &str, scene: &Scene) -> Self {
+    pub(crate) fn of(name: &str, scene: &Scene) -> Self {
         let c = &scene.chain;
         let rpm = scene
             .sprockets
@@ -193,7 +193,7 @@ impl CaseInfo {
 
 /// How one run ended.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Verdict {
+pub(crate) enum Verdict {
     /// Reached the horizon.
     Stable,
     /// A blow-up detector fired.
@@ -218,12 +218,12 @@ pub enum Verdict {
 
 impl Verdict {
     /// Whether the run reached its horizon.
-    pub fn is_stable(&self) -> bool {
+    pub(crate) fn is_stable(&self) -> bool {
         matches!(self, Self::Stable)
     }
 
     /// The detector's name (`timeout` for the budget), empty when stable.
-    pub fn detector(&self) -> &'static str {
+    pub(crate) fn detector(&self) -> &'static str {
         match self {
             Self::Stable => "",
             Self::BlowUp { detector, .. } => detector,
@@ -232,7 +232,7 @@ impl Verdict {
     }
 
     /// When the run stopped early, s.
-    pub fn stop_t_s(&self) -> Option<f64> {
+    pub(crate) fn stop_t_s(&self) -> Option<f64> {
         match self {
             Self::Stable => None,
             Self::BlowUp { t_s, .. } | Self::Timeout { t_s } => Some(*t_s),
@@ -242,7 +242,7 @@ impl Verdict {
 
 /// One run of one cell with one integrator at one step.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RunRecord {
+pub(crate) struct RunRecord {
     /// The integrator.
     pub integrator: Integrator,
     /// The step (the adaptive scheme's cap), s.
@@ -269,7 +269,7 @@ pub struct RunRecord {
 
 impl RunRecord {
     /// Wall time per simulated second (over the time reached).
-    pub fn wall_per_sim_s(&self) -> f64 {
+    pub(crate) fn wall_per_sim_s(&self) -> f64 {
         if self.sim_s > 0.0 {
             self.wall_s / self.sim_s
         } else {
@@ -278,7 +278,7 @@ impl RunRecord {
     }
 
     /// Wall time per roller and integration step, ns.
-    pub fn ns_per_roller_step(&self, rollers: usize) -> f64 {
+    pub(crate) fn ns_per_roller_step(&self, rollers: usize) -> f64 {
         let work = self.steps as f64 * rollers as f64;
         if work > 0.0 {
             self.wall_s * 1e9 / work
@@ -290,7 +290,7 @@ impl RunRecord {
 
 /// What the ladder found for one integrator on one cell.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Limit {
+pub(crate) struct Limit {
     /// The integrator.
     pub integrator: Integrator,
     /// [`StepLimits::for_integrator`]'s estimate, s (∞ for the adaptive scheme).
@@ -310,7 +310,7 @@ pub struct Limit {
 
 /// A cell's runs.
 #[derive(Clone, Debug)]
-pub struct CaseResult {
+pub(crate) struct CaseResult {
     /// The cell's parameters.
     pub info: CaseInfo,
     /// Whether the cell is in the roller-count series.
@@ -327,7 +327,7 @@ pub struct CaseResult {
 
 /// Watches a run's outputs for non-finite numbers and keeps its peaks.
 #[derive(Clone, Debug, Default)]
-pub struct NanWatch {
+pub(crate) struct NanWatch {
     /// First time a non-finite number was seen, s.
     pub first_t_s: Option<f64>,
     /// Largest penetration, m.
@@ -401,7 +401,7 @@ fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Result<Simulati
 }
 
 /// Runs `base`'s drive with `integrator` at `dt_s` to the scene's horizon.
-pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s: f64) -> RunRecord {
+pub(crate) fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s: f64) -> RunRecord {
     /// Simulated time between wall-budget checks, s.
     const CHUNK_S: f64 = 0.01;
     let horizon = base.scene.solver.duration_s;
@@ -492,7 +492,7 @@ pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s:
 pub(crate) const ADAPTIVE_FIRST_RUNG: i32 = 4;
 
 /// Runs one integrator's ladder on a settled cell; `report` sees every run.
-pub fn run_ladder(
+pub(crate) fn run_ladder(
     base: &Simulation,
     integrator: Integrator,
     ladder: &Ladder,
@@ -588,7 +588,7 @@ pub fn run_ladder(
 }
 
 /// What a cell's progress callback hears.
-pub enum Progress<'a> {
+pub(crate) enum Progress<'a> {
     /// The cell settled (or failed to), after this many wall seconds.
     Settled {
         /// The cell.
@@ -615,7 +615,7 @@ pub enum Progress<'a> {
 }
 
 /// Settles a cell and runs every integrator's ladder.
-pub fn run_case(
+pub(crate) fn run_case(
     case: &Case,
     ladder: &Ladder,
     progress: &mut dyn FnMut(Progress<'_>),

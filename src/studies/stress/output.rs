@@ -7,19 +7,19 @@ use super::{CaseResult, Limit, RunRecord, Verdict};
 use crate::scene::Integrator;
 
 /// The column header of `stress.csv`.
-pub const CSV_HEADER: &str = "case,rollers,sprockets,rpm,e,damping_ratio,kg,profile,integrator,dt_s,stable,detector,wall_per_sim_s";
+pub(crate) const CSV_HEADER: &str = "case,rollers,sprockets,rpm,e,damping_ratio,kg,profile,integrator,dt_s,stable,detector,wall_per_sim_s";
 
 /// The column header of `stress_limits.csv`.
-pub const LIMITS_CSV_HEADER: &str = "case,rollers,sprockets,profile,integrator,estimated_dt_s,largest_stable_dt_s,first_unstable_dt_s,detector,blow_up_t_s,wall_per_sim_s_at_limit,false_alarm_dts";
+pub(crate) const LIMITS_CSV_HEADER: &str = "case,rollers,sprockets,profile,integrator,estimated_dt_s,largest_stable_dt_s,first_unstable_dt_s,detector,blow_up_t_s,wall_per_sim_s_at_limit,false_alarm_dts";
 
 /// The column header of `stress_blowups.csv` (one row per unstable run).
-pub const BLOWUPS_CSV_HEADER: &str = "case,integrator,dt_s,detector,t_s,body,value,limit";
+pub(crate) const BLOWUPS_CSV_HEADER: &str = "case,integrator,dt_s,detector,t_s,body,value,limit";
 
 /// One row of `stress.csv`: one run. Numbers are already formatted (up to
 /// 6 significant digits, `7.5e-6` rather than `7.500000000000001e-6`); the column names are the
 /// field names ([`CSV_HEADER`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct RunRow {
+pub(crate) struct RunRow {
     /// Case name.
     pub case: String,
     /// Rollers.
@@ -49,7 +49,7 @@ pub struct RunRow {
 }
 
 /// `stress.csv`'s rows of one cell (no header).
-pub fn csv_rows(result: &CaseResult) -> Vec<RunRow> {
+pub(crate) fn csv_rows(result: &CaseResult) -> Vec<RunRow> {
     let i = &result.info;
     result
         .runs
@@ -105,7 +105,7 @@ fn opt(x: Option<f64>) -> String {
 /// One row of `stress_limits.csv`: one integrator's limits on one cell
 /// (empty fields: not found).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct LimitRow {
+pub(crate) struct LimitRow {
     /// Case name.
     pub case: String,
     /// Rollers.
@@ -133,7 +133,7 @@ pub struct LimitRow {
 }
 
 /// `stress_limits.csv`'s rows of one cell (no header).
-pub fn limits_csv_rows(result: &CaseResult) -> Vec<LimitRow> {
+pub(crate) fn limits_csv_rows(result: &CaseResult) -> Vec<LimitRow> {
     let i = &result.info;
     result
         .limits
@@ -169,7 +169,7 @@ pub fn limits_csv_rows(result: &CaseResult) -> Vec<LimitRow> {
 /// One row of `stress_blowups.csv`: one unstable run (a timeout leaves
 /// body, value and limit empty).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct BlowupRow {
+pub(crate) struct BlowupRow {
     /// Case name.
     pub case: String,
     /// Integrator name.
@@ -189,7 +189,7 @@ pub struct BlowupRow {
 }
 
 /// `stress_blowups.csv`'s rows of one cell (no header).
-pub fn blowup_csv_rows(result: &CaseResult) -> Vec<BlowupRow> {
+pub(crate) fn blowup_csv_rows(result: &CaseResult) -> Vec<BlowupRow> {
     result
         .runs
         .iter()
@@ -226,7 +226,7 @@ pub fn blowup_csv_rows(result: &CaseResult) -> Vec<BlowupRow> {
 }
 
 /// The run at a limit's first failing step.
-pub fn first_failure<'a>(result: &'a CaseResult, limit: &Limit) -> Option<&'a RunRecord> {
+pub(crate) fn first_failure<'a>(result: &'a CaseResult, limit: &Limit) -> Option<&'a RunRecord> {
     let dt = limit.first_unstable_dt_s?;
     result
         .runs
@@ -237,7 +237,7 @@ pub fn first_failure<'a>(result: &'a CaseResult, limit: &Limit) -> Option<&'a Ru
 /// Per-roller cost of one integrator across the roller-count series, at
 /// one step every member ran stable.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RollerCost {
+pub(crate) struct RollerCost {
     /// The integrator.
     pub integrator: Integrator,
     /// The common step, s.
@@ -248,7 +248,7 @@ pub struct RollerCost {
 
 impl RollerCost {
     /// Largest over smallest ns per roller-step.
-    pub fn spread(&self) -> f64 {
+    pub(crate) fn spread(&self) -> f64 {
         let ns = self.points.iter().map(|p| p.2);
         let max = ns.clone().fold(f64::NEG_INFINITY, f64::max);
         let min = ns.fold(f64::INFINITY, f64::min);
@@ -258,7 +258,7 @@ impl RollerCost {
 
 /// Per-roller cost from the cells marked `cost_series`: for every
 /// integrator they all ran, at the common stable step closest to 10 µs.
-pub fn roller_costs(results: &[CaseResult]) -> Vec<RollerCost> {
+pub(crate) fn roller_costs(results: &[CaseResult]) -> Vec<RollerCost> {
     let mut series: Vec<&CaseResult> = results.iter().filter(|r| r.cost_series).collect();
     series.sort_by_key(|r| r.info.rollers);
     if series.len() < 2 {

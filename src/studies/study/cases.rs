@@ -32,14 +32,14 @@ use crate::sim::checkpoint::{
 use crate::sim::{RunOutcome, SampleRate, Simulation};
 
 /// Sampling rate of a case's signals, Hz (as `chaindrive run`'s default).
-pub const RATE_HZ: f64 = 1000.0;
+pub(crate) const RATE_HZ: f64 = 1000.0;
 
 /// A running case's checkpoint, in its directory `DIR/cases/<k>/`.
-pub const CHECKPOINT_FILE: &str = "checkpoint.ckpt";
+pub(crate) const CHECKPOINT_FILE: &str = "checkpoint.ckpt";
 
 /// How a finished case ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct CaseStatus {
+pub(crate) struct CaseStatus {
     /// The case.
     pub case: usize,
     /// Whether it ran to its end.
@@ -65,7 +65,7 @@ pub struct CaseStatus {
 
 /// What [`StudyDir::run_case`] did.
 #[derive(Clone, Debug, PartialEq)]
-pub enum CaseOutcome {
+pub(crate) enum CaseOutcome {
     /// It was finished already (ok or failed): not run.
     Skipped(CaseStatus),
     /// It ran now.
@@ -76,7 +76,7 @@ pub enum CaseOutcome {
 
 /// A study in its directory.
 #[derive(Clone, Debug)]
-pub struct StudyDir {
+pub(crate) struct StudyDir {
     /// The directory.
     pub dir: PathBuf,
     /// The study.
@@ -97,7 +97,7 @@ fn read(path: &Path) -> Result<String, StudyError> {
 impl StudyDir {
     /// Puts `study` into `dir` (its plan and base scene), or checks that
     /// `dir` already holds this same study.
-    pub fn prepare(dir: &Path, study: Study) -> Result<Self, StudyError> {
+    pub(crate) fn prepare(dir: &Path, study: Study) -> Result<Self, StudyError> {
         let cases = dir.join("cases");
         std::fs::create_dir_all(&cases).map_err(|e| StudyError::io(&cases, e))?;
         for (name, text) in [
@@ -123,7 +123,7 @@ impl StudyDir {
     }
 
     /// Opens the study prepared in `dir`.
-    pub fn open(dir: &Path) -> Result<Self, StudyError> {
+    pub(crate) fn open(dir: &Path) -> Result<Self, StudyError> {
         let plan = read(&dir.join("plan.toml"))?;
         let scene = read(&dir.join("scene.toml"))?;
         Ok(Self {
@@ -133,12 +133,12 @@ impl StudyDir {
     }
 
     /// `DIR/cases/<k>`.
-    pub fn case_dir(&self, k: usize) -> PathBuf {
+    pub(crate) fn case_dir(&self, k: usize) -> PathBuf {
         self.dir.join("cases").join(k.to_string())
     }
 
     /// The status of case `k`, if it finished.
-    pub fn status(&self, k: usize) -> Result<Option<CaseStatus>, StudyError> {
+    pub(crate) fn status(&self, k: usize) -> Result<Option<CaseStatus>, StudyError> {
         let path = self.case_dir(k).join("status.json");
         if !path.exists() {
             return Ok(None);
@@ -149,7 +149,7 @@ impl StudyDir {
     }
 
     /// The summary of case `k`, if it finished ok.
-    pub fn summary(&self, k: usize) -> Result<Option<serde_json::Value>, StudyError> {
+    pub(crate) fn summary(&self, k: usize) -> Result<Option<serde_json::Value>, StudyError> {
         let path = self.case_dir(k).join("summary.json");
         if !path.exists() {
             return Ok(None);
@@ -160,7 +160,7 @@ impl StudyDir {
     }
 
     /// The cases not finished, and with `retry_failed` the failed ones.
-    pub fn pending(&self, retry_failed: bool) -> Result<Vec<usize>, StudyError> {
+    pub(crate) fn pending(&self, retry_failed: bool) -> Result<Vec<usize>, StudyError> {
         let mut left = Vec::new();
         for k in 0..self.study.cases.len() {
             match self.status(k)? {
@@ -174,7 +174,7 @@ impl StudyDir {
 
     /// Runs case `k` unless it is finished (a failed one runs again with
     /// `retry_failed`). `stop` ends the run early without writing the case.
-    pub fn run_case(
+    pub(crate) fn run_case(
         &self,
         k: usize,
         retry_failed: bool,
@@ -273,7 +273,7 @@ impl StudyDir {
 
     /// Runs every pending case on `jobs` threads; `on_done` is called after
     /// each case. Stops taking cases when `stop` is set.
-    pub fn run_all(
+    pub(crate) fn run_all(
         &self,
         jobs: usize,
         retry_failed: bool,

@@ -31,12 +31,12 @@ pub(crate) mod plan;
 pub(crate) mod table;
 
 pub(crate) use cases::{CaseOutcome, CaseStatus, StudyDir};
-pub(crate) use plan::{Case, PlanFile, Responses, Study};
-pub(crate) use table::{Column, ColumnData, RowStatus, Table, WARNING_SEPARATOR};
+pub(crate) use plan::{Responses, Study};
+pub(crate) use table::{RowStatus, Table};
 
 /// Why a study could not be prepared, run or collected.
 #[derive(Debug, thiserror::Error)]
-pub enum StudyError {
+pub(crate) enum StudyError {
     /// The plan is invalid: one `path: message` line per problem.
     #[error("invalid plan:\n{}", .0.join("\n"))]
     Plan(Vec<String>),

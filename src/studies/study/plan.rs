@@ -48,7 +48,7 @@ use crate::scene::{Assignment, Scene, ScenePath, Stepping, set_in_table};
 /// A plan file as written (nothing checked beyond its TOML shape).
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct PlanFile {
+pub(crate) struct PlanFile {
     /// The base scene, relative to the plan file.
     pub scene: String,
     /// Values set in every case, by path (nested tables or quoted dotted keys).
@@ -73,7 +73,7 @@ pub struct PlanFile {
 /// One factor as written.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct FactorFile {
+pub(crate) struct FactorFile {
     /// Dotted path into the scene file.
     pub path: String,
     /// Its levels.
@@ -87,7 +87,7 @@ pub struct FactorFile {
 /// A range of a numeric factor.
 #[derive(Clone, Copy, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct RangeFile {
+pub(crate) struct RangeFile {
     /// First level.
     pub from: f64,
     /// Last level.
@@ -100,7 +100,7 @@ pub struct RangeFile {
 /// The design as written.
 #[derive(Clone, Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct DesignFile {
+pub(crate) struct DesignFile {
     /// `full_factorial`, `latin_hypercube` or `explicit`.
     pub kind: String,
     /// Latin hypercube: seed of the draw.
@@ -116,7 +116,7 @@ pub struct DesignFile {
 
 /// Which summary fields a study reports.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub enum Responses {
+pub(crate) enum Responses {
     /// Every numeric field of the summary.
     All,
     /// These fields, as dotted paths into the summary (`max_penetration_m`,
@@ -126,7 +126,7 @@ pub enum Responses {
 
 /// One case: its factor values and everything written into the base scene.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Case {
+pub(crate) struct Case {
     /// 0-based case number (the job array's task id).
     pub k: usize,
     /// One value per factor, in the plan's order.
@@ -138,7 +138,7 @@ pub struct Case {
 impl Case {
     /// `path = value, …` of the factors (their paths as the plan wrote
     /// them), for messages and `status.json`.
-    pub fn describe(&self, factors: &[String]) -> String {
+    pub(crate) fn describe(&self, factors: &[String]) -> String {
         factors
             .iter()
             .zip(&self.values)
@@ -151,7 +151,7 @@ impl Case {
 /// A checked plan: the base scene's text, the factors and every case, each
 /// case's scene already validated.
 #[derive(Clone, Debug)]
-pub struct Study {
+pub(crate) struct Study {
     /// The plan's text.
     pub plan_toml: String,
     /// The base scene's text.
@@ -182,7 +182,7 @@ impl Problems {
 
 impl Study {
     /// Reads the plan at `path` and the scene it names, and checks both.
-    pub fn from_plan_path(path: &Path) -> Result<Self, StudyError> {
+    pub(crate) fn from_plan_path(path: &Path) -> Result<Self, StudyError> {
         let plan_toml = std::fs::read_to_string(path).map_err(|e| StudyError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
@@ -206,7 +206,7 @@ impl Study {
     /// is not read). Every problem is reported, each with its path in the
     /// plan; then every case's scene is validated, and the cases that fail
     /// are reported with their factor values. Nothing is run.
-    pub fn from_texts(plan_toml: &str, scene_toml: &str) -> Result<Self, StudyError> {
+    pub(crate) fn from_texts(plan_toml: &str, scene_toml: &str) -> Result<Self, StudyError> {
         let file: PlanFile = toml::from_str(plan_toml)
             .map_err(|e| StudyError::Plan(vec![e.to_string().trim_end().replace('\n', " ")]))?;
         if let Err(e) = Scene::from_toml(scene_toml) {
@@ -466,12 +466,12 @@ impl Study {
     /// (checked against every case's run when the plan was read), or `None`
     /// for the default window after the scene's ramps
     /// ([`crate::analysis::StatsWindow`]).
-    pub fn statistics_window_s(&self) -> Option<f64> {
+    pub(crate) fn statistics_window_s(&self) -> Option<f64> {
         self.window_s
     }
 
     /// The validated scene of case `k`.
-    pub fn scene(&self, k: usize) -> Result<Scene, StudyError> {
+    pub(crate) fn scene(&self, k: usize) -> Result<Scene, StudyError> {
         let case = self.cases.get(k).ok_or(StudyError::NoCase {
             k,
             count: self.cases.len(),

@@ -21,7 +21,7 @@ use super::{CaseStatus, Responses, StudyDir, StudyError};
 
 /// A column's values; `None` is null.
 #[derive(Clone, Debug, PartialEq)]
-pub enum ColumnData {
+pub(crate) enum ColumnData {
     /// 64-bit integers, never null (the case number).
     Int(Vec<i64>),
     /// Counts, 64-bit integers.
@@ -36,7 +36,7 @@ pub enum ColumnData {
 
 /// A named column.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Column {
+pub(crate) struct Column {
     /// Its name: `case`, a factor's path as the plan wrote it, a
     /// response's path, `dt_auto`, `segments.<k>.stationary`,
     /// `warning_count`, `warnings`, `status`, `case_wall_s`, `error`.
@@ -47,7 +47,7 @@ pub struct Column {
 
 /// The merged results.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Table {
+pub(crate) struct Table {
     /// Columns, all of the same length.
     pub columns: Vec<Column>,
     /// How many of the columns (after `case`) are factors.
@@ -58,7 +58,7 @@ pub struct Table {
 
 /// The numeric leaves of a summary as (dotted path, value); booleans and
 /// text are left out.
-pub fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
+pub(crate) fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
     fn walk(v: &serde_json::Value, prefix: &str, out: &mut Vec<(String, f64)>) {
         let join = |key: &str| {
             if prefix.is_empty() {
@@ -93,7 +93,7 @@ pub fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
 
 /// What a case's row says of it (`status`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum RowStatus {
+pub(crate) enum RowStatus {
     /// Finished, no warning, every segment stationary.
     Ok,
     /// Finished with a warning or a segment that is not stationary: its
@@ -107,7 +107,7 @@ pub enum RowStatus {
 
 impl RowStatus {
     /// As written in the table.
-    pub fn name(self) -> &'static str {
+    pub(crate) fn name(self) -> &'static str {
         match self {
             Self::Ok => "ok",
             Self::Warned => "warned",
@@ -118,7 +118,7 @@ impl RowStatus {
 }
 
 /// Separates a case's warnings in the `warnings` column.
-pub const WARNING_SEPARATOR: &str = " | ";
+pub(crate) const WARNING_SEPARATOR: &str = " | ";
 
 /// What the table reads of one case.
 struct CaseRow {
@@ -174,7 +174,7 @@ impl CaseRow {
 impl Table {
     /// Merges the cases in `dir`: finished ones with their responses and
     /// flags, failed ones with their error, the rest as `missing`.
-    pub fn collect(dir: &StudyDir) -> Result<Self, StudyError> {
+    pub(crate) fn collect(dir: &StudyDir) -> Result<Self, StudyError> {
         let study = &dir.study;
         let n = study.cases.len();
         let mut rows = Vec::with_capacity(n);
@@ -240,7 +240,7 @@ impl Table {
     }
 
     /// Each case's [`RowStatus`], from the `status` column.
-    pub fn statuses(&self) -> Vec<Option<&str>> {
+    pub(crate) fn statuses(&self) -> Vec<Option<&str>> {
         match self
             .columns
             .iter()
@@ -253,7 +253,7 @@ impl Table {
     }
 
     /// Number of rows.
-    pub fn rows(&self) -> usize {
+    pub(crate) fn rows(&self) -> usize {
         self.columns.first().map_or(0, |c| match &c.data {
             ColumnData::Int(v) => v.len(),
             ColumnData::Count(v) => v.len(),
@@ -265,7 +265,7 @@ impl Table {
 
     /// The table as CSV: a header of column names, empty cells for nulls,
     /// numbers in Rust's shortest round-trip form, booleans `true`/`false`.
-    pub fn to_csv(&self) -> String {
+    pub(crate) fn to_csv(&self) -> String {
         fn quote(s: &str) -> String {
             if s.contains([',', '"', '\n', '\r']) {
                 format!("\"{}\"", s.replace('"', "\"\""))
@@ -304,7 +304,7 @@ impl Table {
     /// text BYTE_ARRAY (UTF-8), every column but `case` optional; one row
     /// group, uncompressed.
     #[cfg(feature = "parquet")]
-    pub fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
+    pub(crate) fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
         let tmp = path.with_extension(format!("parquet.tmp.{}", std::process::id()));
         let file = std::fs::File::create(&tmp).map_err(|e| StudyError::io(&tmp, e))?;
         parquet_writer::write(self, file).map_err(|e| StudyError::io(path, e))?;
@@ -316,7 +316,7 @@ impl Table {
     /// at each of its levels (levels grouped into 5 equal bins when there
     /// are more than 8, as in a Latin hypercube), the level scaled to 0
     /// (lowest) … 1 (highest). One trace per factor: (scaled level, mean).
-    pub fn main_effects(&self, response: usize) -> Vec<(String, Vec<(f64, f64)>)> {
+    pub(crate) fn main_effects(&self, response: usize) -> Vec<(String, Vec<(f64, f64)>)> {
         let ColumnData::Float(y) = &self.columns[response].data else {
             return Vec::new();
         };
@@ -379,7 +379,7 @@ impl Table {
     /// (`<response>.png` and `.svg`); returns how many were drawn. A
     /// response with no finished case is skipped.
     #[cfg(feature = "figures")]
-    pub fn main_effects_figures(&self, dir: &std::path::Path) -> Result<usize, StudyError> {
+    pub(crate) fn main_effects_figures(&self, dir: &std::path::Path) -> Result<usize, StudyError> {
         use crate::analysis::figures::{Mark, Plot, Trace, save};
         std::fs::create_dir_all(dir).map_err(|e| StudyError::io(dir, e))?;
         let mut drawn = 0;

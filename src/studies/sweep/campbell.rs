@@ -13,7 +13,7 @@ use crate::scene::Scene;
 /// transverse displacement", "m"), `omega_3_rad_s` ("sprocket 3 speed",
 /// "rad/s"), `max_contact_force_n` ("largest contact force", "N"). Another
 /// name is kept as it is, with no unit.
-pub fn describe_signal(signal: &str) -> (String, &'static str) {
+pub(crate) fn describe_signal(signal: &str) -> (String, &'static str) {
     let numbered = |prefix: &str, suffix: &str| {
         signal
             .strip_prefix(prefix)
@@ -44,7 +44,7 @@ fn is_meshing(order: f64, teeth: f64) -> bool {
 /// order): its order amplitudes as markers, the `excitation` orders' lines
 /// and each span's transverse and axial frequencies; `max_hz` ends the
 /// frequency axis (`None`: [`Campbell::default_max_hz`]).
-pub fn campbell(
+pub(crate) fn campbell(
     scene: &Scene,
     cases: &[&CaseResult],
     signal: &str,

@@ -30,8 +30,8 @@ pub(crate) mod report;
 pub(crate) mod runup;
 
 pub(crate) use report::{
-    CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
-    doubt_section, excitation_orders, judge_peak, on_order_grid, order_cut, resonance_crossings,
+    CaseFlags, PEAK_MEDIAN_FACTOR, completed,
+    doubt_section, excitation_orders, on_order_grid, order_cut, resonance_crossings,
     summary_scalars, worst_cases,
 };
 pub(crate) use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
@@ -47,18 +47,18 @@ use crate::scene::{Overrides, Role, Scene, SceneError};
 use crate::sim::{Observer, Sample, SampleRate, Simulation};
 
 /// Most cases a sweep may have.
-pub const MAX_CASES: usize = 100_000;
+pub(crate) const MAX_CASES: usize = 100_000;
 
 /// Samples per period of the largest order asked for (the cubic
 /// resampling then loses about 10⁻³ of that order's amplitude).
-pub const SAMPLES_PER_PERIOD: f64 = 16.0;
+pub(crate) const SAMPLES_PER_PERIOD: f64 = 16.0;
 
 /// Transverse modes of each span drawn and searched for crossings.
-pub const TRANSVERSE_MODES: u32 = 3;
+pub(crate) const TRANSVERSE_MODES: u32 = 3;
 
 /// Why a sweep cannot start.
 #[derive(Debug, thiserror::Error)]
-pub enum SweepError {
+pub(crate) enum SweepError {
     /// A range of speeds that is not `FROM:TO:STEP` with 0 < FROM ≤ TO and STEP > 0.
     #[error("{what} {text:?}: {why}")]
     BadRange {
@@ -100,7 +100,7 @@ pub enum SweepError {
 
 /// Speeds `FROM:TO:STEP` in rpm (both ends included when STEP divides the
 /// span; a last point beyond TO is not added). `what` names the option in errors.
-pub fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, SweepError> {
+pub(crate) fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, SweepError> {
     let bad = |why: &str| SweepError::BadRange {
         what,
         text: text.to_owned(),
@@ -140,7 +140,7 @@ pub fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, Sweep
 }
 
 /// Two speeds `FROM:TO` in rpm with 0 < FROM < TO (a run-up).
-pub fn parse_run_up(text: &str) -> Result<(f64, f64), SweepError> {
+pub(crate) fn parse_run_up(text: &str) -> Result<(f64, f64), SweepError> {
     let bad = |why: &str| SweepError::BadRange {
         what: "--run-up",
         text: text.to_owned(),
@@ -160,7 +160,7 @@ pub fn parse_run_up(text: &str) -> Result<(f64, f64), SweepError> {
 
 /// A sweep's settings.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SweepSettings {
+pub(crate) struct SweepSettings {
     /// Driver speeds, rpm (magnitudes; the scene's sense of rotation is kept).
     pub rpm: Vec<f64>,
     /// Time after the driver's ramp before the window, s.
@@ -174,18 +174,18 @@ pub struct SweepSettings {
 }
 
 /// The largest tooth count of the scene's sprockets.
-pub fn largest_teeth(scene: &Scene) -> u32 {
+pub(crate) fn largest_teeth(scene: &Scene) -> u32 {
     scene.sprockets().iter().map(|s| s.teeth).max().unwrap_or(1)
 }
 
 /// The default order set: every whole order up to twice the largest tooth count.
-pub fn default_orders(scene: &Scene) -> Result<OrderSet, OrderError> {
+pub(crate) fn default_orders(scene: &Scene) -> Result<OrderSet, OrderError> {
     OrderSet::new(f64::from(2 * largest_teeth(scene)), 1.0)
 }
 
 /// The order spectrum of one signal.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SignalOrders {
+pub(crate) struct SignalOrders {
     /// Signal name: `seg{k}_link_force_n`, `seg{k}_transverse_m`,
     /// `omega_{i}_rad_s`, `max_contact_force_n` (k, i 1-based).
     pub signal: String,
@@ -195,7 +195,7 @@ pub struct SignalOrders {
 
 /// The analytical natural frequencies of one span at a case's speed.
 #[derive(Clone, Debug, PartialEq)]
-pub struct SpanFrequencies {
+pub(crate) struct SpanFrequencies {
     /// 1-based segment.
     pub segment: usize,
     /// The mean link force used, N.
@@ -210,7 +210,7 @@ pub struct SpanFrequencies {
 /// sprockets: the links in series form a rod of axial stiffness EA = K P and
 /// mass μ per length, whose first fixed–fixed mode is f = (1 / 2L) √(K P / μ).
 /// The discrete chain of n = L/P links is within (π/2n)²/6 of it.
-pub fn span_axial_frequency_hz(
+pub(crate) fn span_axial_frequency_hz(
     stiffness_n_m: f64,
     pitch_m: f64,
     mass_per_length_kg_m: f64,
@@ -224,7 +224,7 @@ pub fn span_axial_frequency_hz(
 
 /// A complete case: one speed of a stepped sweep, or one window of a run-up.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CaseResult {
+pub(crate) struct CaseResult {
     /// The driver's speed asked for (a stepped sweep) or the window's mean
     /// speed (a run-up), rpm.
     pub rpm: f64,
@@ -262,7 +262,7 @@ pub struct CaseResult {
 
 impl CaseResult {
     /// The spectrum of `signal`, if it was analysed.
-    pub fn signal(&self, signal: &str) -> Option<&OrderSpectrum> {
+    pub(crate) fn signal(&self, signal: &str) -> Option<&OrderSpectrum> {
         self.orders
             .iter()
             .find(|s| s.signal == signal)
@@ -272,7 +272,7 @@ impl CaseResult {
 
 /// One case of a sweep.
 #[derive(Clone, Debug, PartialEq)]
-pub enum CaseOutcome {
+pub(crate) enum CaseOutcome {
     /// Ran to its end.
     Done(Box<CaseResult>),
     /// Blew up, or could not be built or analysed.
@@ -286,7 +286,7 @@ pub enum CaseOutcome {
 
 impl CaseOutcome {
     /// The case's speed, rpm.
-    pub fn rpm(&self) -> f64 {
+    pub(crate) fn rpm(&self) -> f64 {
         match self {
             Self::Done(r) => r.rpm,
             Self::Failed { rpm, .. } => *rpm,
@@ -553,7 +553,7 @@ pub(crate) fn driver_of(scene: &Scene) -> Result<(usize, f64), SweepError> {
 }
 
 /// `scene` with the driver at `rpm` (its sense kept) run for `duration_s`.
-pub fn scene_at(scene: &Scene, rpm: f64, duration_s: f64) -> Result<Scene, SweepError> {
+pub(crate) fn scene_at(scene: &Scene, rpm: f64, duration_s: f64) -> Result<Scene, SweepError> {
     scene_with_run_up(scene, rpm, duration_s, None)
 }
 
@@ -742,7 +742,7 @@ fn run_case(
 /// Runs the sweep: every case on `settings.jobs` threads, `on_case` called
 /// as each finishes (from its worker thread). Cases come back in speed order;
 /// cases that `stop` cut short or never started are left out.
-pub fn run_sweep(
+pub(crate) fn run_sweep(
     scene: &Scene,
     settings: &SweepSettings,
     stop: Option<&AtomicBool>,

@@ -14,7 +14,7 @@ use crate::scene::Scene;
 
 /// Which natural frequency of a span.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum SpanMode {
+pub(crate) enum SpanMode {
     /// The moving string's transverse mode n (1-based).
     Transverse(u32),
     /// The first axial mode.
@@ -23,7 +23,7 @@ pub enum SpanMode {
 
 impl SpanMode {
     /// `transverse n` or `axial`.
-    pub fn name(&self) -> String {
+    pub(crate) fn name(&self) -> String {
         match self {
             Self::Transverse(n) => format!("transverse {n}"),
             Self::Axial => "axial".to_owned(),
@@ -31,7 +31,7 @@ impl SpanMode {
     }
 
     /// The signal that responds to this mode in segment `segment` (1-based).
-    pub fn response_signal(&self, segment: usize) -> String {
+    pub(crate) fn response_signal(&self, segment: usize) -> String {
         match self {
             Self::Transverse(_) => format!("seg{segment}_transverse_m"),
             Self::Axial => format!("seg{segment}_link_force_n"),
@@ -53,7 +53,7 @@ impl SpanMode {
 /// Where an excitation order's frequency meets a span's predicted natural
 /// frequency between two swept speeds.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Crossing {
+pub(crate) struct Crossing {
     /// 1-based segment.
     pub segment: usize,
     /// The mode.
@@ -79,15 +79,15 @@ pub struct Crossing {
 
 /// How far the response at a crossing must exceed the median of the
 /// order's response over the sweep for a resonance.
-pub const PEAK_MEDIAN_FACTOR: f64 = 1.5;
+pub(crate) const PEAK_MEDIAN_FACTOR: f64 = 1.5;
 
 /// The coarsest grid that resolves a crossing: the speeds on either side of
 /// it at most this fraction of its rpm apart.
-pub const GRID_RESOLUTION: f64 = 0.05;
+pub(crate) const GRID_RESOLUTION: f64 = 0.05;
 
 /// Whether the response peaks at a crossing.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum PeakVerdict {
+pub(crate) enum PeakVerdict {
     /// A resonance: the larger response of the two speeds around the
     /// crossing is a local maximum over its neighbours and at least
     /// [`PEAK_MEDIAN_FACTOR`] × the median response over the sweep.
@@ -102,7 +102,7 @@ pub enum PeakVerdict {
 
 impl PeakVerdict {
     /// As written in the report.
-    pub fn describe(&self) -> &'static str {
+    pub(crate) fn describe(&self) -> &'static str {
         match self {
             Self::Peaks => "yes",
             Self::NoPeak => "no",
@@ -114,7 +114,7 @@ impl PeakVerdict {
 /// Judges the `response` at speeds `rpm` (ascending, one each) at a crossing
 /// at `crossing_rpm` ([`PeakVerdict`]); returns the verdict and the index
 /// of the larger response of the two speeds around the crossing.
-pub fn judge_peak(rpm: &[f64], response: &[f64], crossing_rpm: f64) -> (PeakVerdict, usize) {
+pub(crate) fn judge_peak(rpm: &[f64], response: &[f64], crossing_rpm: f64) -> (PeakVerdict, usize) {
     let n = rpm.len().min(response.len());
     if n < 2 {
         return (PeakVerdict::NotResolved, 0);
@@ -153,7 +153,7 @@ pub fn judge_peak(rpm: &[f64], response: &[f64], crossing_rpm: f64) -> (PeakVerd
 }
 
 /// The completed cases, in speed order.
-pub fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
+pub(crate) fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
     let mut done: Vec<&CaseResult> = cases
         .iter()
         .filter_map(|c| match c {
@@ -166,7 +166,7 @@ pub fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
 }
 
 /// The amplitude of `order` in `signal` of each case (0 where absent).
-pub fn order_cut(cases: &[&CaseResult], signal: &str, order: f64) -> Vec<f64> {
+pub(crate) fn order_cut(cases: &[&CaseResult], signal: &str, order: f64) -> Vec<f64> {
     cases
         .iter()
         .map(|c| {
@@ -180,7 +180,7 @@ pub fn order_cut(cases: &[&CaseResult], signal: &str, order: f64) -> Vec<f64> {
 /// Every crossing of an order in `orders` with a span's predicted natural
 /// frequency (transverse modes 1..=[`TRANSVERSE_MODES`] and axial) between
 /// consecutive completed cases, and whether the response peaks there.
-pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossing> {
+pub(crate) fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossing> {
     let done = completed(cases);
     let spans = done.first().map_or(0, |c| c.spans.len());
     let modes: Vec<SpanMode> = (1..=TRANSVERSE_MODES)
@@ -239,7 +239,7 @@ pub fn resonance_crossings(cases: &[CaseOutcome], orders: &[f64]) -> Vec<Crossin
 /// z_d/z_i times per driver revolution); a load table (or a governed
 /// driver's torque table) adds its largest harmonic among the first
 /// [`TABLE_HARMONICS`] and every other one at least half as large, so scaled.
-pub fn excitation_orders(scene: &Scene) -> Vec<f64> {
+pub(crate) fn excitation_orders(scene: &Scene) -> Vec<f64> {
     let sprockets = scene.sprockets();
     let driver_teeth = driver_of(scene)
         .map(|(i, _)| f64::from(sprockets[i].teeth))
@@ -268,7 +268,7 @@ pub fn excitation_orders(scene: &Scene) -> Vec<f64> {
 }
 
 /// Harmonics of a load table weighed by [`excitation_orders`].
-pub const TABLE_HARMONICS: u32 = 12;
+pub(crate) const TABLE_HARMONICS: u32 = 12;
 
 /// The orders (per revolution of its sprocket) of a periodic table's
 /// largest harmonic among the first [`TABLE_HARMONICS`] and of every other
@@ -317,7 +317,7 @@ fn table_orders(table: &crate::scene::LoadTable) -> Vec<f64> {
 
 /// `orders` split into those on `set`'s grid (a multiple of its step, up to
 /// its largest order), whose amplitudes the analysis gives, and the others.
-pub fn on_order_grid(orders: &[f64], set: &OrderSet) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn on_order_grid(orders: &[f64], set: &OrderSet) -> (Vec<f64>, Vec<f64>) {
     let d = f64::from(set.denominator());
     orders.iter().partition(|&&k| {
         let n = k * d;
@@ -327,7 +327,7 @@ pub fn on_order_grid(orders: &[f64], set: &OrderSet) -> (Vec<f64>, Vec<f64>) {
 
 /// A worst case: where a statistic of the sweep is at its extreme.
 #[derive(Clone, Debug, PartialEq)]
-pub struct WorstCase {
+pub(crate) struct WorstCase {
     /// What.
     pub statistic: String,
     /// The case's speed, rpm.
@@ -341,7 +341,7 @@ pub struct WorstCase {
 /// The speeds of the largest link force, the smallest link force, the
 /// largest contact force, the largest penetration and each sprocket's
 /// largest speed fluctuation (RMS).
-pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
+pub(crate) fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
     let done = completed(cases);
     let pick =
         |statistic: &str, unit: &'static str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
@@ -384,7 +384,7 @@ pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
 
 /// What a case's run says of its own numbers.
 #[derive(Clone, Debug, PartialEq)]
-pub struct CaseFlags {
+pub(crate) struct CaseFlags {
     /// The case's speed, rpm.
     pub rpm: f64,
     /// `ok`: its run finished with no warning and every segment
@@ -405,7 +405,7 @@ pub struct CaseFlags {
 
 impl CaseFlags {
     /// The flags of `case`.
-    pub fn of(case: &CaseOutcome) -> Self {
+    pub(crate) fn of(case: &CaseOutcome) -> Self {
         match case {
             CaseOutcome::Failed { rpm, message } => Self {
                 rpm: *rpm,
@@ -420,7 +420,7 @@ impl CaseFlags {
     }
 
     /// The flags of a complete case.
-    pub fn of_result(r: &CaseResult) -> Self {
+    pub(crate) fn of_result(r: &CaseResult) -> Self {
         let Some(summary) = &r.summary else {
             return Self {
                 rpm: r.rpm,
@@ -449,7 +449,7 @@ impl CaseFlags {
     }
 
     /// Whether the case's numbers are in doubt (`warned`).
-    pub fn warned(&self) -> bool {
+    pub(crate) fn warned(&self) -> bool {
         self.status == "warned"
     }
 }
@@ -457,7 +457,7 @@ impl CaseFlags {
 /// `## Runs to doubt` of a sweep's `report.md`: the speeds whose run warned
 /// or has a segment that is not stationary ([`CaseFlags`]), each with its
 /// warnings (Markdown); empty when no case has a run summary (a run-up).
-pub fn doubt_section(cases: &[CaseOutcome]) -> String {
+pub(crate) fn doubt_section(cases: &[CaseOutcome]) -> String {
     let mut s = String::new();
     let flagged: Vec<CaseFlags> = cases
         .iter()
@@ -515,7 +515,7 @@ pub fn doubt_section(cases: &[CaseOutcome]) -> String {
 /// `segment{k}.mean_link_force_n`, `.min_link_force_n`, `.max_link_force_n`,
 /// `sprocket{i}.speed_rms_rad_s`, `speed_change`, `revolutions`).
 /// Non-finite values are left out.
-pub fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
+pub(crate) fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     match &case.summary {
         Some(summary) => {

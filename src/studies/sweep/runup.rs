@@ -27,11 +27,11 @@ use crate::scene::{RunUpFile, Scene};
 use crate::sim::{Observer, Sample, Simulation};
 
 /// The default largest change of the target speed over one window.
-pub const DEFAULT_WINDOW_SPEED_CHANGE: f64 = 0.02;
+pub(crate) const DEFAULT_WINDOW_SPEED_CHANGE: f64 = 0.02;
 
 /// A run-up's settings.
 #[derive(Clone, Debug, PartialEq)]
-pub struct RunUpSettings {
+pub(crate) struct RunUpSettings {
     /// Driver speed at the start of the run-up, rpm (a magnitude; the
     /// scene's sense of rotation is kept).
     pub from_rpm: f64,
@@ -50,12 +50,12 @@ pub struct RunUpSettings {
 
 impl RunUpSettings {
     /// Ramp rate, rpm per second.
-    pub fn rate_rpm_s(&self) -> f64 {
+    pub(crate) fn rate_rpm_s(&self) -> f64 {
         (self.to_rpm - self.from_rpm) / self.duration_s
     }
 
     /// Revolutions per window starting at `rpm` (module docs).
-    pub fn window_revolutions(&self, rpm: f64) -> usize {
+    pub(crate) fn window_revolutions(&self, rpm: f64) -> usize {
         let d = self.orders.denominator() as usize;
         let fit = self.max_speed_change * rpm * rpm / (60.0 * self.rate_rpm_s());
         let n = if fit.is_finite() { fit.max(0.0) } else { 0.0 };
@@ -209,7 +209,7 @@ impl Observer for RunUpObserver<'_> {
 /// blow-up ends the run: the windows before it are kept and a failed case
 /// at the speed it reached closes the list. A run cut short by `stop`
 /// keeps its complete windows.
-pub fn run_up(
+pub(crate) fn run_up(
     scene: &Scene,
     settings: &RunUpSettings,
     stop: Option<&AtomicBool>,
