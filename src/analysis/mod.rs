@@ -73,7 +73,7 @@ pub struct SampleRow {
 
 /// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct ShoeSample {
+pub(crate) struct ShoeSample {
     /// Σ f_n over its contacts at the sample, N.
     pub normal_n: f64,
     /// Σ |f_t| at the sample, N.

@@ -119,7 +119,7 @@ use crate::sim::{
 use error::at_coupling_limit;
 
 /// How far a mount's body may sit from its sprocket's centre in the scene, m.
-pub const MOUNT_CENTRE_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const MOUNT_CENTRE_TOLERANCE_M: f64 = 1e-6;
 
 /// How far rapier's step may leave a roller body from the chain's roller, m
 /// (more means the world stepped by another dt than the drive's frame).

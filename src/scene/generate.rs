@@ -64,7 +64,7 @@ use crate::geometry::{
 
 /// Most sprockets a generated drive may have (the placement's own limit,
 /// well below the [`super::MAX_SPROCKETS`] any scene may have).
-pub const MAX_GENERATED_SPROCKETS: usize = 16;
+pub(crate) const MAX_GENERATED_SPROCKETS: usize = 16;
 
 /// Teeth, mass and inertia of the paper's 30-tooth counterweight, the
 /// reference the generated sprockets scale from.
@@ -307,7 +307,7 @@ struct Sag {
 /// Deepest sag, over its span, that a generated drive's strands are laid
 /// with: s / L = q⊥ L / (8 T₀). Deeper strands leave their wraps so steeply
 /// (4 s / L, above 11°) that the laid parabola is a poor start.
-pub const MAX_SAG_OVER_SPAN: f64 = 0.05;
+pub(crate) const MAX_SAG_OVER_SPAN: f64 = 0.05;
 
 impl Sag {
     /// Pitches of chain the strands of `path` hold in their sag beyond

@@ -40,10 +40,11 @@ pub use file::{ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, S
 pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec};
 pub use guides::GuideFile;
 pub(crate) use guides::Guide;
-pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap};
+pub use kinds::{ContactLaw, Integrator, PretensionRule, Stepping, Wrap};
+pub(crate) use kinds::RoleKind;
 pub use overrides::Overrides;
 pub(crate) use run_up::RunUpFile;
-pub use stability::StepLimits;
+pub(crate) use stability::StepLimits;
 pub(crate) use stability::{AUTO_GRID_S, step_note};
 pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};
 pub use threads::{Threads, ThreadsFile};
@@ -53,7 +54,7 @@ pub use types::{Chain, Contact, Equilibrium, JointFriction, Limits, Role, RunUp,
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit
 /// per sprocket.
-pub const MAX_SPROCKETS: usize = u64::BITS as usize;
+pub(crate) const MAX_SPROCKETS: usize = u64::BITS as usize;
 
 /// The paper's drive (MAN B&W L60MC camshaft chain), embedded as the default scene.
 pub const L60MC_TOML: &str = include_str!("../../assets/l60mc.toml");
@@ -86,9 +87,9 @@ pub struct Scene {
 pub(crate) const DEFAULT_MIN_APPROACH_SPEED_M_S: f64 = 0.05;
 
 /// Relative tolerance between a stated pitch radius and P / (2 sin(π/N)).
-pub const PITCH_RADIUS_TOLERANCE: f64 = 1e-5;
+pub(crate) const PITCH_RADIUS_TOLERANCE: f64 = 1e-5;
 /// Supported tooth counts.
-pub const TEETH_RANGE: std::ops::RangeInclusive<i64> = 5..=300;
+pub(crate) const TEETH_RANGE: std::ops::RangeInclusive<i64> = 5..=300;
 impl Scene {
     /// Parses and validates a TOML scene. All problems are reported at once.
     pub fn from_toml(text: &str) -> Result<Self, SceneError> {

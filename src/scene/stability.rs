@@ -31,7 +31,7 @@ pub(crate) const AUTO_GRID_S: f64 = 1e-3;
 
 /// Estimated largest stable steps of the explicit schemes (docs/model.md), s.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StepLimits {
+pub(crate) struct StepLimits {
     /// Links: 2 / ω_max with ω_max = 2 √(K / m_r) (symplectic Euler, velocity Verlet).
     pub links_s: f64,
     /// Contact damping at the approach-speed floor: 2 m_r / c with
@@ -48,7 +48,7 @@ pub struct StepLimits {
 
 impl StepLimits {
     /// The limits of a chain and its contact law.
-    pub fn of_parts(chain: &Chain, contact: &Contact) -> Self {
+    pub(crate) fn of_parts(chain: &Chain, contact: &Contact) -> Self {
         let m = chain.roller_mass_kg;
         let chi = contact.law.chi(contact.restitution);
         let c = chi * chain.pretension_n / contact.min_approach_speed_m_s;
@@ -73,7 +73,7 @@ impl StepLimits {
     }
 
     /// The smallest of them.
-    pub fn min_s(&self) -> f64 {
+    pub(crate) fn min_s(&self) -> f64 {
         self.links_s
             .min(self.contact_damping_s)
             .min(self.joint_friction_s)
@@ -81,7 +81,7 @@ impl StepLimits {
 
     /// The estimated largest stable step of `scheme`, s (∞ for the adaptive
     /// scheme, which chooses its own): the smallest of [`Self::bounds_for`].
-    pub fn for_integrator(&self, scheme: Integrator) -> f64 {
+    pub(crate) fn for_integrator(&self, scheme: Integrator) -> f64 {
         self.bounds_for(scheme)
             .iter()
             .map(|b| b.1)
@@ -95,7 +95,7 @@ impl StepLimits {
     /// scheme is not bound by the contact damping; its joint friction stays
     /// explicit (its limit is far from binding at the default ω_s,
     /// docs/model.md, “Joint friction”). The adaptive scheme has none.
-    pub fn bounds_for(&self, scheme: Integrator) -> Vec<(&'static str, f64)> {
+    pub(crate) fn bounds_for(&self, scheme: Integrator) -> Vec<(&'static str, f64)> {
         let (links, damping, contact) = match scheme {
             Integrator::SymplecticEuler | Integrator::VelocityVerlet => (1.0, 1.0, true),
             Integrator::Rk4 => (std::f64::consts::SQRT_2, 1.3925, true),
@@ -119,7 +119,7 @@ impl StepLimits {
     /// `impact_s` (∞ for none) caps it at 1/[`AUTO_STEPS_PER_IMPACT`] of a
     /// roller's impact on engagement, where stability alone leaves the
     /// deepest penetration unresolved.
-    pub fn auto_step_s(&self, scheme: Integrator, impact_s: f64, sample_period_s: f64) -> f64 {
+    pub(crate) fn auto_step_s(&self, scheme: Integrator, impact_s: f64, sample_period_s: f64) -> f64 {
         let limit = match scheme {
             Integrator::DormandPrince45 => self.min_s(),
             other => self.for_integrator(other),
@@ -138,7 +138,7 @@ impl StepLimits {
 
 impl StepLimits {
     /// The limits of a validated scene's chain and contact law.
-    pub fn of(scene: &Scene) -> Self {
+    pub(crate) fn of(scene: &Scene) -> Self {
         Self::of_parts(&scene.chain, &scene.contact)
     }
 }

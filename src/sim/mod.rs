@@ -226,8 +226,12 @@ pub trait Observer {
 }
 
 /// An observer that watches nothing.
-pub struct NoObserver;
+pub(crate) struct NoObserver;
 impl Observer for NoObserver {}
+
+/// `()` watches nothing: `sim.run(until_s, every, &mut (), None)` for a run
+/// whose end state is all that is wanted.
+impl Observer for () {}
 
 /// Where a run's wall time went (`Simulation::timings`), s.
 #[derive(Clone, Debug, Default, PartialEq)]
