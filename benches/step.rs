@@ -1,21 +1,17 @@
-//! Benchmarks: the contact law, the circular profile query, and one chain
-//! step of the paper's drive in both stepping modes (running at 120 rpm).
+//! Benchmarks: one chain step of the paper's drive in both stepping modes
+//! (running at 120 rpm), through the library's public API.
 //!
 //! ```text
 //! cargo bench --bench step
 //! ```
-//! Numbers and the machine: `benches/README.md`.
+//! Numbers and the machine: `benches/README.md`; the contact law and the
+//! profile queries are timed by `benches/kernels.rs`.
 
 // criterion_group! generates an undocumented public function.
 #![allow(missing_docs)]
 
-use std::hint::black_box;
-
-use chaindrive::forces::ContactLawParams;
-use chaindrive::geometry::asa::{AsaProfile, LocatedPatch};
-use chaindrive::geometry::{CircularProfile, Patch};
-use chaindrive::scene::{Overrides, ProfileKind, Scene, Stepping};
-use chaindrive::sim::{NoObserver, Simulation};
+use chaindrive::prelude::*;
+use chaindrive::scene::{ProfileKind, Stepping};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 /// The paper's drive, run to full speed (1.5 s), in the given stepping mode.
@@ -28,64 +24,8 @@ fn running_drive(stepping: Stepping, profile: ProfileKind) -> Simulation {
         })
         .expect("paper drive");
     let mut sim = Simulation::new(&scene).expect("paper drive");
-    sim.run(1.5, 1000, &mut NoObserver, None).expect("run");
+    sim.run(1.5, 1000, &mut (), None).expect("run");
     sim
-}
-
-fn kernels(c: &mut Criterion) {
-    let scene = Scene::l60mc();
-    let law = ContactLawParams::new(scene.contact());
-    c.bench_function("contact_law/lankarani_nikravesh", |b| {
-        b.iter(|| law.force_with(black_box(2e-4), black_box(0.3), black_box(15.0)))
-    });
-    let profile = CircularProfile::new(60, 0.0889, 0.027);
-    let p = [profile.pitch_radius_m - 2e-4, 1e-4];
-    c.bench_function("profile/circular_contacts", |b| {
-        let mut out = [Patch::default(); 2];
-        let mut hint = 0;
-        b.iter(|| profile.contacts(black_box(p), &mut hint, &mut out))
-    });
-    // The same seated roller against the real (ASA B29.1) profile, one deep on a flank
-    // (general path), one rocked onto the working curve just past the joint x (where the
-    // running drive's flank contacts are), one lifted 5 mm out of the seat (free), and one
-    // 0.1 mm off the flank (just outside).
-    let real = AsaProfile::new(60, 0.0889, 0.054).expect("profile");
-    let d = real.dimensions();
-    let g = real.gap_points();
-    let seated = [d.pitch_radius_m - d.clearance_m - 2e-4, 1e-4];
-    let flank = [d.pitch_radius_m + 0.01, 0.024];
-    // Gap 0's local (ξ, η) is the sprocket frame's (−y, x − Rs).
-    let from_local = |q: [f64; 2]| [d.pitch_radius_m + q[1], -q[0]];
-    let past_x = |depth: f64, sigma: f64| {
-        let u = [g.x_m[0] - g.c_m[0], g.x_m[1] - g.c_m[1]];
-        let len = u[0].hypot(u[1]);
-        let (s, c) = sigma.sin_cos();
-        let u = [(c * u[0] - s * u[1]) / len, (s * u[0] + c * u[1]) / len];
-        let rho = d.working_radius_m - 0.027 + depth;
-        from_local([g.c_m[0] + rho * u[0], g.c_m[1] + rho * u[1]])
-    };
-    let working = past_x(2e-4, 0.002);
-    let lifted = from_local([0.0, 5e-3]);
-    let just_outside = past_x(-1e-4, 0.05);
-    for (name, q) in [
-        ("profile/real_contacts_seated", seated),
-        ("profile/real_contacts_flank", flank),
-        ("profile/real_contacts_working_past_x", working),
-        ("profile/real_contacts_lifted", lifted),
-        ("profile/real_contacts_just_outside", just_outside),
-    ] {
-        c.bench_function(name, |b| {
-            let mut out = [LocatedPatch::default(); 2];
-            let mut hint = 0;
-            b.iter(|| real.contacts_hinted(black_box(q), 0.027, &mut hint, &mut out))
-        });
-    }
-    // The contact generator's call (own roller, no contact point) on the seated roller.
-    c.bench_function("profile/real_contacts_nominal_seated", |b| {
-        let mut out = [Patch::default(); 2];
-        let mut hint = 0;
-        b.iter(|| real.contacts_nominal(black_box(seated), &mut hint, &mut out))
-    });
 }
 
 fn steps(c: &mut Criterion) {
@@ -96,12 +36,12 @@ fn steps(c: &mut Criterion) {
         (Stepping::Rapier, ProfileKind::Circular),
     ] {
         let mut sim = running_drive(stepping, profile);
-        let dt = sim.scene.solver().dt_s;
+        let dt = sim.scene().solver().dt_s;
         let name = format!("{}_{}", stepping.name(), profile.name());
         group.bench_function(name, |b| b.iter(|| sim.step(dt).expect("stable")));
     }
     group.finish();
 }
 
-criterion_group!(benches, kernels, steps);
+criterion_group!(benches, steps);
 criterion_main!(benches);

@@ -32,9 +32,7 @@ struct Split {
 
 fn measure(s: &Sample<'_>, roller_r: f64) -> (f64, f64, f64, Vec<(f64, f64)>) {
     let (x, y) = (&s.state.x, &s.state.y);
-    let n = s.model.path.strands.len().max(1);
     let rollers = x.len().min(y.len());
-    let _ = n;
     // A roller is wrapped when its centre is within a roller radius of a
     // sprocket's pitch circle.
     let on = |i: usize| {
@@ -160,14 +158,12 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         (sp.chords / n - c0) * 1e6
     );
     for (k, ((sum, _), r_static)) in sp.wrap_radius.iter().zip(&r0).enumerate() {
-        let wrap = scene.sprockets().len();
-        let _ = wrap;
-        let angle = sim.model.path.wraps.get(k).map_or(0.0, |w| w.wrap_rad);
+        let angle = sim.model().wrap_rad(k).unwrap_or(0.0);
         println!(
             "sprocket {}: wrapped rollers' mean radius static {:.2} µm above pitch radius, running {:.2} µm; Δ × wrap angle = {:.1} µm",
             k + 1,
-            (r_static - sim.model.sprockets[k].pitch_radius_m) * 1e6,
-            (sum / n - sim.model.sprockets[k].pitch_radius_m) * 1e6,
+            (r_static - sim.model().sprockets[k].pitch_radius_m) * 1e6,
+            (sum / n - sim.model().sprockets[k].pitch_radius_m) * 1e6,
             (sum / n - r_static) * angle * 1e6
         );
     }

@@ -211,4 +211,15 @@ pub mod prelude;
 pub mod record;
 pub mod scene;
 pub mod sim;
+
+/// The contact law and the tooth-profile queries, for the criterion benches
+/// of `benches/kernels.rs` only (feature `bench-kernels`, off by default):
+/// not part of the library's API.
+#[cfg(feature = "bench-kernels")]
+#[doc(hidden)]
+pub mod kernels {
+    pub use crate::forces::ContactLawParams;
+    pub use crate::geometry::asa::{AsaDimensions, AsaProfile, GapPoints, LocatedPatch};
+    pub use crate::geometry::{CircularProfile, Patch};
+}
 mod studies;

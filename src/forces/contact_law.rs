@@ -23,7 +23,7 @@ use crate::scene::ContactLaw;
 
 /// A contact law ready to evaluate.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct ContactLawParams {
+pub struct ContactLawParams {
     /// K_g, N/m^n.
     pub stiffness: f64,
     /// n.
@@ -38,7 +38,7 @@ pub(crate) struct ContactLawParams {
 
 impl ContactLawParams {
     /// From the scene's contact settings.
-    pub(crate) fn new(contact: &Contact) -> Self {
+    pub fn new(contact: &Contact) -> Self {
         let chi = contact.law.chi(contact.restitution);
         Self {
             stiffness: contact.stiffness,
@@ -80,7 +80,7 @@ impl ContactLawParams {
     /// Normal force from a remembered damping factor χ / δ̇⁻ (see
     /// [`Self::damping_per_speed`]): a multiplication where [`Self::force`] divides.
     #[inline]
-    pub(crate) fn force_with(&self, depth_m: f64, depth_rate_m_s: f64, damping_per_speed: f64) -> f64 {
+    pub fn force_with(&self, depth_m: f64, depth_rate_m_s: f64, damping_per_speed: f64) -> f64 {
         (self.elastic(depth_m) * (1.0 + damping_per_speed * depth_rate_m_s)).max(0.0)
     }
 

@@ -70,7 +70,7 @@ mod split;
 mod tensioner;
 
 pub(crate) use contact::{Culling, ToothContact};
-pub(crate) use contact_law::ContactLawParams;
+pub use contact_law::ContactLawParams;
 pub(crate) use guide::{Guide, ShoeForces};
 pub(crate) use joint_friction::JointFriction;
 pub(crate) use links::Links;

@@ -11,7 +11,7 @@ use super::{MAX_PATCHES, OutlinePoint, Patch, pitch_radius, seating_radius};
 
 /// One seating arc per gap.
 #[derive(Clone, Debug)]
-pub(crate) struct CircularProfile {
+pub struct CircularProfile {
     /// Tooth count N.
     pub teeth: u32,
     /// Pitch radius R_s, m.
@@ -36,7 +36,7 @@ pub(crate) struct CircularProfile {
 impl CircularProfile {
     /// The profile of a sprocket with `teeth` teeth for a chain of pitch
     /// `pitch_m` and roller radius `roller_radius_m`.
-    pub(crate) fn new(teeth: u32, pitch_m: f64, roller_radius_m: f64) -> Self {
+    pub fn new(teeth: u32, pitch_m: f64, roller_radius_m: f64) -> Self {
         let pitch_angle = std::f64::consts::TAU / f64::from(teeth);
         let seating_radius_m = seating_radius(roller_radius_m);
         Self {
@@ -118,7 +118,7 @@ impl CircularProfile {
     /// `hint` is a gap the roller was recently in (any value works); it is
     /// updated to the gap found.
     #[inline(always)]
-    pub(crate) fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+    pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
         let gap = self.gap_near(p, *hint);
         *hint = gap;
         let u = self.gap_dirs[gap as usize];

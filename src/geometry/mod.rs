@@ -12,7 +12,7 @@
 //! the +x axis, gaps numbered counter-clockwise; gap j's centre at polar angle
 //! j·2π/N.
 
-pub(crate) mod asa;
+pub mod asa;
 mod circular;
 mod layout;
 mod path;
@@ -20,7 +20,7 @@ pub(crate) mod shoe;
 #[cfg(test)]
 mod testing;
 
-pub(crate) use circular::CircularProfile;
+pub use circular::CircularProfile;
 pub(crate) use layout::hang_excess;
 pub use layout::LayoutError;
 pub use path::PathError;
@@ -87,7 +87,7 @@ pub(crate) struct OutlinePoint {
 
 /// One contact patch between a roller and a tooth outline, in the sprocket frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct Patch {
+pub struct Patch {
     /// Penetration depth δ > 0, m.
     pub depth_m: f64,
     /// Unit normal from the closest outline point towards the roller centre

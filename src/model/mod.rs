@@ -497,6 +497,12 @@ impl DriveModel {
         Ok((model, state, layout))
     }
 
+    /// The angle the nominal chain path wraps sprocket `k` by, rad (`None`:
+    /// no sprocket `k`).
+    pub fn wrap_rad(&self, k: usize) -> Option<f64> {
+        self.path.wraps.get(k).map(|w| w.wrap_rad)
+    }
+
     /// Number of sprockets.
     pub fn sprocket_count(&self) -> usize {
         self.sprockets.len()

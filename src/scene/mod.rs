@@ -47,6 +47,8 @@ pub(crate) use run_up::RunUpFile;
 pub(crate) use stability::StepLimits;
 pub(crate) use stability::{AUTO_GRID_S, step_note};
 pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};
+#[cfg(test)]
+pub(crate) use tensioners::STANDARD_ATMOSPHERE_PA;
 pub use threads::{Threads, ThreadsFile};
 pub(crate) use threads::AUTO_MIN_ROLLERS;
 pub use types::{Chain, Contact, Equilibrium, JointFriction, Limits, Role, RunUp, Solver, SpeedLaw, Sprocket};
@@ -252,8 +254,8 @@ mod tests {
             msg.contains(&format!("{line}:9: sprockets[2].teeth")),
             "{msg}"
         );
-        assert_eq!(locate(&text, "chain.pitch_m").map(|l| l.1), Some(11));
-        assert_eq!(locate(&text, "sprockets[7].teeth"), None);
+        assert_eq!(error::locate(&text, "chain.pitch_m").map(|l| l.1), Some(11));
+        assert_eq!(error::locate(&text, "sprockets[7].teeth"), None);
     }
 
     #[test]

@@ -11,7 +11,7 @@ use super::{AsaError, IN_0_003_M, IN_0_0015_M, MAX_TEETH, MIN_TEETH};
 /// Symbols and formulas are those of docs/tooth-profile.md, “Constants”; points and angles of the
 /// construction are in [`GapPoints`].
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct AsaDimensions {
+pub struct AsaDimensions {
     /// Number of teeth N.
     pub teeth: u32,
     /// Chain pitch P.
@@ -65,7 +65,7 @@ pub(crate) struct AsaDimensions {
 /// measured from +ξ counter-clockwise, in the ranges of docs/tooth-profile.md,
 /// “Construction” (e.g. θ2a = 2π − A).
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct GapPoints {
+pub struct GapPoints {
     /// x: seating ↔ working joint, Rt (cos A, −sin A).
     pub x_m: [f64; 2],
     /// y = d: working ↔ straight joint.

@@ -90,7 +90,7 @@ use pieces::{Hit, Piece, gap_pieces, nearest_hit, neighbour_map};
 use query::{Reach, Shortcuts, SideGraph};
 use v2::{V2, atan2_approx, dot};
 
-pub(crate) use dimensions::{AsaDimensions, GapPoints};
+pub use dimensions::{AsaDimensions, GapPoints};
 
 use super::{MAX_PATCHES, OutlinePoint, Patch};
 
@@ -149,7 +149,7 @@ pub enum AsaError {
 /// A contact patch of [`AsaProfile::contacts`] with the place it touches: the closest
 /// outline point, in the sprocket frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) struct LocatedPatch {
+pub struct LocatedPatch {
     /// Depth, normal, area, gap and identity of the patch.
     pub patch: Patch,
     /// Closest outline point, metres.
@@ -159,7 +159,7 @@ pub(crate) struct LocatedPatch {
 /// Precomputed geometry of one ASA sprocket: the pieces of one gap in its local frame, the
 /// neighbouring toppings, and the gap rotations.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct AsaProfile {
+pub struct AsaProfile {
     /// Standard dimensions.
     dims: AsaDimensions,
     /// Construction points and angles.
@@ -202,7 +202,7 @@ impl AsaProfile {
     /// # Errors
     /// [`AsaError`] when the inputs are out of range or the standard construction
     /// degenerates (e.g. too few teeth for a positive straight portion).
-    pub(crate) fn new(teeth: u32, pitch_m: f64, roller_diameter_m: f64) -> Result<Self, AsaError> {
+    pub fn new(teeth: u32, pitch_m: f64, roller_diameter_m: f64) -> Result<Self, AsaError> {
         let dims = dimensions::dimensions(teeth, pitch_m, roller_diameter_m)?;
         let points = dimensions::gap_points(&dims)?;
         let own = gap_pieces(&dims, &points);
@@ -274,13 +274,13 @@ impl AsaProfile {
 
     /// The standard dimensions of this sprocket.
     #[must_use]
-    pub(crate) fn dimensions(&self) -> &AsaDimensions {
+    pub fn dimensions(&self) -> &AsaDimensions {
         &self.dims
     }
 
     /// The construction points and angles of one gap (gap-local frame).
     #[must_use]
-    pub(crate) fn gap_points(&self) -> &GapPoints {
+    pub fn gap_points(&self) -> &GapPoints {
         &self.points
     }
 
@@ -464,7 +464,7 @@ impl AsaProfile {
     /// roller was recently in; any value works, e.g. `u32::MAX` for none) and `hint` is
     /// updated to the gap of `p` whenever that gap is looked up (it is left unchanged when
     /// `p` is rejected before, e.g. beyond the tips or non-finite).
-    pub(crate) fn contacts_hinted(
+    pub fn contacts_hinted(
         &self,
         p: [f64; 2],
         roller_radius_m: f64,
@@ -492,7 +492,7 @@ impl AsaProfile {
     /// [`AsaProfile::contacts_hinted`] for the profile's own roller (radius Dr/2), without
     /// the contact point (the contact generator's call): the same patches.
     #[inline]
-    pub(crate) fn contacts_nominal(
+    pub fn contacts_nominal(
         &self,
         p: [f64; 2],
         hint: &mut u32,
