@@ -26,7 +26,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let window = StatsWindow::of(&scene, None)?;
         let mut signals = window.observe(&mut sim, sampling.rate_hz);
         let outcome = sim.run(duration_s, sampling.every, &mut signals, None)?;
-        summaries.push(RunSummary::of_run_in(&sim, &outcome, &signals, 0.0, &window));
+        summaries.push(RunSummary::of_run_in(
+            &sim, &outcome, &signals, 0.0, &window,
+        ));
     }
     let [circular, real] = &summaries[..] else {
         unreachable!("two runs")
@@ -36,12 +38,19 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for (c, r) in circular.segments.iter().zip(&real.segments) {
         println!(
             "{:>7}  {:>8.0} {:>8.0}       {:>8.0} {:>8.0}",
-            c.segment, c.mean_link_force_n, r.mean_link_force_n, c.link_force_rms_n, r.link_force_rms_n
+            c.segment,
+            c.mean_link_force_n,
+            r.mean_link_force_n,
+            c.link_force_rms_n,
+            r.link_force_rms_n
         );
     }
     println!("sprocket  mean chain torque, N·m");
     for (c, r) in circular.sprockets.iter().zip(&real.sprockets) {
-        println!("{:>8}  {:>8.0} {:>8.0}", c.sprocket, c.mean_torque_n_m, r.mean_torque_n_m);
+        println!(
+            "{:>8}  {:>8.0} {:>8.0}",
+            c.sprocket, c.mean_torque_n_m, r.mean_torque_n_m
+        );
     }
     Ok(())
 }

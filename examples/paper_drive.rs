@@ -16,7 +16,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut sim = Simulation::new(&scene)?;
     println!(
         "static tension {:.0} N with link rest length {:.6} m",
-        sim.equilibrium().tension_n, sim.model().rest_length_m
+        sim.equilibrium().tension_n,
+        sim.model().rest_length_m
     );
     let sampling = SampleRate::new(1000.0, scene.solver().dt_s)?;
     let mut signals = Signals::new(

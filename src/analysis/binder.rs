@@ -42,7 +42,11 @@ pub(crate) fn beta(teeth: u32) -> f64 {
 }
 
 /// Centrifugal tension q_c = m_r V² / P (50), N.
-pub(crate) fn centrifugal_tension_n(roller_mass_kg: f64, chain_speed_m_s: f64, pitch_m: f64) -> f64 {
+pub(crate) fn centrifugal_tension_n(
+    roller_mass_kg: f64,
+    chain_speed_m_s: f64,
+    pitch_m: f64,
+) -> f64 {
     if pitch_m > 0.0 {
         roller_mass_kg * chain_speed_m_s * chain_speed_m_s / pitch_m
     } else {
@@ -73,6 +77,7 @@ impl BinderInputs {
     }
 
     /// Link forces (47), consistent form: nb + 1 values for links i = 0 … nb, N.
+    #[cfg(test)]
     pub(crate) fn link_forces(&self) -> Vec<f64> {
         let (b, _, _, nb) = self.terms();
         let (qa, qb) = (self.q_a_n - self.q_c_n, self.q_b_n - self.q_c_n);
@@ -93,6 +98,7 @@ impl BinderInputs {
 
 /// Link forces as the paper prints (47): q_a β^i + q_b β^(nb−i+1) + q_c for
 /// i = 1 … nb, N.
+#[cfg(test)]
 pub(crate) fn printed_link_forces(inputs: &BinderInputs) -> Vec<f64> {
     let (b, _, _, nb) = inputs.terms();
     (1..=nb)

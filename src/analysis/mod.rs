@@ -12,15 +12,29 @@
 //! left of the strand's direction. Samples with no free link in
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
+#[cfg(test)]
+mod analysis_tests;
 pub(crate) mod binder;
 pub(crate) mod design;
 #[cfg(feature = "figures")]
 pub(crate) mod figures;
+#[cfg(all(test, feature = "cli"))]
+mod figures_tests;
 mod means;
+#[cfg(test)]
+mod means_tests;
 pub(crate) mod orders;
+#[cfg(test)]
+mod orders_tests;
+#[cfg(test)]
+mod rating_tests;
 #[cfg(feature = "record")]
 pub(crate) mod recorded;
+#[cfg(test)]
+mod running_tension_tests;
 pub(crate) mod spectrum;
+#[cfg(test)]
+mod statistics_tests;
 pub(crate) mod stats;
 pub(crate) mod study;
 mod summary;
@@ -30,10 +44,18 @@ mod warnings;
 mod window;
 
 pub(crate) use means::StepSums;
-pub(crate) use summary::segment_series;
-pub use summary::{GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, TensionerSummary};
 pub(crate) use summary::SummaryInputs;
+pub(crate) use summary::segment_series;
+pub use summary::{
+    GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
+    TensionerSummary,
+};
 pub(crate) use warnings::STATIC_RESIDUAL_TOLERANCE;
+#[cfg(test)]
+pub(crate) use warnings::{
+    ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION,
+    RUNNING_TENSION_RATIO,
+};
 pub use window::{StatsWindow, WindowError};
 
 use serde::{Deserialize, Serialize};

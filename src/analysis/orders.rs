@@ -121,18 +121,6 @@ impl OrderSet {
         (self.max_order * f64::from(self.denominator) + 1e-9).floor() as usize
     }
 
-    /// Never true for a set made by [`OrderSet::new`].
-    pub(crate) fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// The orders, ascending.
-    pub(crate) fn orders(&self) -> Vec<f64> {
-        (1..=self.len())
-            .map(|i| i as f64 / f64::from(self.denominator))
-            .collect()
-    }
-
     /// Resampled points per revolution: 8 × the largest order, at least 16.
     pub(crate) fn points_per_revolution(&self) -> usize {
         ((8.0 * self.max_order).ceil() as usize).max(16)
@@ -192,7 +180,11 @@ pub(crate) struct AngleWindow {
 impl AngleWindow {
     /// The whole revolutions of the driver's angle `theta_rad` sampled at
     /// `t_s` (module docs), for the orders in `orders`.
-    pub(crate) fn new(t_s: &[f64], theta_rad: &[f64], orders: OrderSet) -> Result<Self, OrderError> {
+    pub(crate) fn new(
+        t_s: &[f64],
+        theta_rad: &[f64],
+        orders: OrderSet,
+    ) -> Result<Self, OrderError> {
         if t_s.len() != theta_rad.len() || t_s.len() < 4 {
             return Err(OrderError::BadInput(format!(
                 "{} times and {} angles (at least 4 of each, as many of one as of the other)",
@@ -247,11 +239,6 @@ impl AngleWindow {
     /// Mean revolutions per second of the driver over them.
     pub(crate) fn rev_per_s(&self) -> f64 {
         self.rev_per_s
-    }
-
-    /// +1 if the driver turns counter-clockwise, −1 otherwise.
-    pub(crate) fn sign(&self) -> f64 {
-        self.sign
     }
 
     /// Time at which the whole revolutions start, s.

@@ -62,6 +62,10 @@ pub(crate) struct RecordedRun {
     /// Topics found in the file.
     pub topics: Vec<String>,
     /// The `chaindrive` metadata record.
+    #[allow(
+        dead_code,
+        reason = "the recording's own record, kept whole for a reader of this struct"
+    )]
     pub metadata: BTreeMap<String, String>,
     /// How the run ended (`chaindrive.end` status; `unknown` if absent).
     pub end_status: String,
@@ -494,7 +498,10 @@ impl RecordedRun {
     }
 
     /// Measures the recording (after [`Self::check`]).
-    pub(crate) fn analyze(&self, options: &AnalyzeOptions) -> Result<RecordedAnalysis, RecordedError> {
+    pub(crate) fn analyze(
+        &self,
+        options: &AnalyzeOptions,
+    ) -> Result<RecordedAnalysis, RecordedError> {
         self.check(options)?;
         let d = &self.data;
         let s = &d.summary;

@@ -97,6 +97,7 @@ impl Welch {
     }
 
     /// Whether no sample was taken.
+    #[cfg(test)]
     pub(crate) fn is_empty(&self) -> bool {
         self.segments == 0 && self.pending.is_empty()
     }
@@ -127,7 +128,12 @@ pub(crate) fn welch_spectrum(signal: &[f64], rate_hz: f64, segment: usize) -> (V
 
 /// The highest spectral peak of `signal` with frequency in [lo_hz, hi_hz],
 /// refined between bins: (frequency, amplitude). `None` if no bin lies in the band.
-pub(crate) fn main_peak(signal: &[f64], rate_hz: f64, lo_hz: f64, hi_hz: f64) -> Option<(f64, f64)> {
+pub(crate) fn main_peak(
+    signal: &[f64],
+    rate_hz: f64,
+    lo_hz: f64,
+    hi_hz: f64,
+) -> Option<(f64, f64)> {
     let (freqs, amps) = amplitude_spectrum(signal, rate_hz);
     peak_in(&freqs, &amps, lo_hz, hi_hz)
 }

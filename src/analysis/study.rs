@@ -150,16 +150,6 @@ impl Probes {
         self.rollers
     }
 
-    /// Samples taken.
-    pub(crate) fn len(&self) -> usize {
-        self.t_s.len()
-    }
-
-    /// Whether no sample was taken.
-    pub(crate) fn is_empty(&self) -> bool {
-        self.t_s.is_empty()
-    }
-
     fn check(&self, what: &'static str, index: usize) -> Result<(), AnalysisError> {
         if index < self.rollers {
             Ok(())

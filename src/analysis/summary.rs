@@ -542,7 +542,12 @@ impl RunSummary {
     /// Computes the summary of a run from its signals, statistics over the
     /// last `window_s` (the whole run if it is shorter; a window that is not
     /// a positive number is the default).
-    pub(crate) fn compute_over(inputs: &SummaryInputs<'_>, signals: &Signals, window_s: f64) -> Self {
+    #[cfg(test)]
+    pub(crate) fn compute_over(
+        inputs: &SummaryInputs<'_>,
+        signals: &Signals,
+        window_s: f64,
+    ) -> Self {
         Self::compute_full(inputs, signals, window_s, None)
     }
 
@@ -550,6 +555,7 @@ impl RunSummary {
     /// last `window_s` (a window that is not a positive number is the
     /// default), and, where it was counted, the window's power flow
     /// ([`crate::sim::PowerLedger`]).
+    #[cfg(test)]
     pub(crate) fn compute_full(
         inputs: &SummaryInputs<'_>,
         signals: &Signals,

@@ -10,10 +10,11 @@
 use rapier2d_f64::prelude::RigidBodyHandle;
 
 use super::{ChainDrive, CosimError, Coupling, FrameTimes};
+#[cfg(test)]
 use crate::forces::{Culling, ForceGenerator};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
-use crate::sim::{BlowUpLimits, StaticEquilibrium};
+use crate::sim::StaticEquilibrium;
 
 impl ChainDrive {
     /// The scene the drive was built from.
@@ -35,6 +36,7 @@ impl ChainDrive {
 
     /// The force generator, its forces at [`Self::state`]
     /// (`forces().output()`).
+    #[cfg(test)]
     pub(crate) fn forces(&self) -> &ForceGenerator {
         &self.forces
     }
@@ -42,11 +44,6 @@ impl ChainDrive {
     /// The static equilibrium the drive relaxed to before t = 0.
     pub fn equilibrium(&self) -> &StaticEquilibrium {
         &self.equilibrium
-    }
-
-    /// The blow-up limits the substeps are checked against.
-    pub(crate) fn limits(&self) -> &BlowUpLimits {
-        &self.limits
     }
 
     /// The roller bodies the drive added, in the chain's order.
@@ -91,14 +88,10 @@ impl ChainDrive {
         self.forces.forget_reach();
     }
 
-    /// Sets the blow-up limits checked in the substeps.
-    pub(crate) fn set_limits(&mut self, limits: BlowUpLimits) {
-        self.limits = limits;
-    }
-
     /// Sets the roller–tooth contact's reach caching (`None`: every pair is
     /// tested at every substep). It changes the cost, not the result, within
     /// the caching's safety margin.
+    #[cfg(test)]
     pub(crate) fn set_culling(&mut self, culling: Option<Culling>) {
         self.forces.contact.culling = culling;
         self.forces.forget_reach();

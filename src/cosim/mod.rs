@@ -84,6 +84,16 @@
 mod access;
 mod bodies;
 mod builder;
+#[cfg(test)]
+mod cosim_api_tests;
+#[cfg(test)]
+mod cosim_checks_tests;
+#[cfg(test)]
+mod cosim_mounts_tests;
+#[cfg(test)]
+mod cosim_parking_tests;
+#[cfg(test)]
+mod cosim_tests;
 mod error;
 mod frame;
 mod hooks;

@@ -89,6 +89,7 @@ impl ContactLawParams {
     /// `depth_rate_m_s` is δ̇ (positive while approaching), `onset_m_s` the
     /// remembered approach speed δ̇⁻ (already floored).
     #[inline]
+    #[cfg(test)]
     pub(crate) fn force(&self, depth_m: f64, depth_rate_m_s: f64, onset_m_s: f64) -> f64 {
         let f = self.elastic(depth_m) * (1.0 + self.chi * depth_rate_m_s / onset_m_s);
         f.max(0.0)

@@ -120,12 +120,8 @@ impl Guide {
         )
     }
 
-    /// Its parameters.
-    pub(crate) fn params(&self) -> &GuideParams {
-        &self.params
-    }
-
     /// The forces of the last evaluation.
+    #[cfg(test)]
     pub(crate) fn forces(&self) -> &ShoeForces {
         &self.last
     }

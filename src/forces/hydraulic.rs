@@ -117,6 +117,7 @@ impl Chamber {
 
     /// Effective bulk modulus at gauge pressure `p_pa`, Pa:
     /// 1/β_eff = −φ'(p)/φ(p), φ'(p) = −(1 − α)/β − α p_a/(p + p_a)².
+    #[cfg(test)]
     pub(crate) fn bulk_modulus_pa(&self, p_pa: f64) -> f64 {
         let h = &self.params;
         let pa = h.ambient_pressure_pa;

@@ -60,16 +60,26 @@
 mod buffer;
 mod contact;
 mod contact_law;
+#[cfg(test)]
+mod friction_tests;
 mod guide;
+#[cfg(test)]
+mod guides_tests;
 pub(crate) mod hydraulic;
 mod joint_friction;
 mod links;
 mod output;
 mod rows;
+#[cfg(test)]
+mod seam_tests;
 mod split;
 mod tensioner;
+#[cfg(test)]
+mod tensioners_tests;
 
-pub(crate) use contact::{Culling, ToothContact};
+#[cfg(test)]
+pub(crate) use contact::Culling;
+pub(crate) use contact::ToothContact;
 pub use contact_law::ContactLawParams;
 pub(crate) use guide::{Guide, ShoeForces};
 pub(crate) use joint_friction::JointFriction;
@@ -315,6 +325,7 @@ impl ForceGenerator {
     }
 
     /// The further element of type `T`, if the drive has one.
+    #[cfg(test)]
     pub(crate) fn element<T: ForceElement + 'static>(&self) -> Option<&T> {
         self.elements
             .iter()
@@ -330,11 +341,6 @@ impl ForceGenerator {
     /// co-simulation's user colliders act on the rollers between evaluations).
     pub(crate) fn output_mut(&mut self) -> &mut Forces {
         &mut self.output
-    }
-
-    /// The contact law in use.
-    pub(crate) fn law(&self) -> &ContactLawParams {
-        self.contact.law()
     }
 
     /// Forgets all history of every element (the contact's remembered onsets

@@ -133,37 +133,19 @@ impl TensionerArm {
         }
     }
 
-    /// The arm's name.
-    pub(crate) fn name_of_arm(&self) -> &str {
-        &self.params.name
-    }
-
-    /// The tensioner's parameters.
-    pub(crate) fn params(&self) -> &Tensioner {
-        &self.params
-    }
-
-    /// The arm's body coordinate index.
-    pub(crate) fn body(&self) -> usize {
-        self.body
-    }
-
     /// What the last evaluation found.
+    #[cfg(test)]
     pub(crate) fn reading(&self) -> &TensionerReading {
         &self.reading
     }
 
     /// The chamber state z that holds gauge pressure `p_pa` at arm angle
     /// `q` (hydraulic only; `None` for a spring tensioner).
+    #[cfg(test)]
     pub(crate) fn chamber_state_for(&self, p_pa: f64, q: f64) -> Option<f64> {
         let ch = self.chamber.as_ref()?;
         let (_, x) = self.lever_and_travel(q);
         Some(ch.reference_volume_m3(p_pa, x) - self.offset_m3)
-    }
-
-    /// The hydraulic chamber, if the tensioner is hydraulic.
-    pub(crate) fn chamber(&self) -> Option<&Chamber> {
-        self.chamber.as_ref()
     }
 
     /// The lever of the tensioner's line about the pivot at arm angle `q`,

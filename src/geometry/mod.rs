@@ -16,15 +16,17 @@ pub mod asa;
 mod circular;
 mod layout;
 mod path;
+#[cfg(test)]
+mod profile_tests;
 pub(crate) mod shoe;
 #[cfg(test)]
 mod testing;
 
 pub use circular::CircularProfile;
-pub(crate) use layout::hang_excess;
 pub use layout::LayoutError;
-pub use path::PathError;
+pub(crate) use layout::hang_excess;
 pub(crate) use layout::{Layout, layout_hanging, layout_rollers, needed_pitches};
+pub use path::PathError;
 pub(crate) use path::{ChainPath, PathCircle, Strand, chain_path};
 
 /// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two
@@ -184,7 +186,12 @@ impl ToothProfile {
     /// the count. `hint` is a gap the roller was recently in (any value
     /// works); it is updated to the gap found.
     #[inline]
-    pub(crate) fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+    pub(crate) fn contacts(
+        &self,
+        p: [f64; 2],
+        hint: &mut u32,
+        out: &mut [Patch; MAX_PATCHES],
+    ) -> usize {
         match self {
             Self::Circular(c) => Outline::contacts(c, p, hint, out),
             Self::Real(r) => Outline::contacts(&**r, p, hint, out),

@@ -64,7 +64,12 @@ impl ChainPath {
     /// weight per length q⊥ across it holds q⊥² L³ / (24 T²) (parabolic
     /// sag s = q⊥ L² / (8 T), arc − span = 8 s² / (3 L)). `mass_per_m_kg`:
     /// the chain's mass per length.
-    pub(crate) fn sag_take_up_m(&self, mass_per_m_kg: f64, gravity_m_s2: [f64; 2], tension_n: f64) -> f64 {
+    pub(crate) fn sag_take_up_m(
+        &self,
+        mass_per_m_kg: f64,
+        gravity_m_s2: [f64; 2],
+        tension_n: f64,
+    ) -> f64 {
         let [gx, gy] = gravity_m_s2;
         self.strands
             .iter()

@@ -201,6 +201,7 @@ impl Piece {
     }
 
     /// Length, m.
+    #[cfg(test)]
     pub(crate) fn length_m(&self) -> f64 {
         match *self {
             Self::Segment { a, b } => norm(sub(b, a)),
@@ -424,12 +425,6 @@ impl Face {
     /// The face's middle point (the body's), m.
     pub(crate) fn middle_m(&self) -> [f64; 2] {
         self.body.point_at(0.5)
-    }
-
-    /// The working normal at the body's middle.
-    pub(crate) fn middle_normal(&self) -> [f64; 2] {
-        let t = self.body.tangent_at(0.5);
-        [-self.side * t[1], self.side * t[0]]
     }
 }
 

@@ -7,14 +7,18 @@
 //! is stepping, [`crate::sim`]).
 
 mod excitation;
+#[cfg(test)]
+mod excitation_tests;
 mod governor;
+#[cfg(test)]
+mod governor_tests;
 pub(crate) mod rapier;
 mod segments;
+#[cfg(test)]
+mod strands_tests;
 
 pub(crate) use excitation::{AngleLoad, speed_factor};
-pub(crate) use governor::{
-    Governor, target_angle_rad,
-};
+pub(crate) use governor::{Governor, target_angle_rad};
 pub(crate) use segments::{Segments, StrandRuns};
 
 use crate::geometry::{

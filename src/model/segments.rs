@@ -169,11 +169,6 @@ impl Segments {
         self.lines.len()
     }
 
-    /// Whether there are none.
-    pub(crate) fn is_empty(&self) -> bool {
-        self.lines.is_empty()
-    }
-
     /// Every segment's free run, from the rollers' positions and which of
     /// them touch a sprocket: one pass over the chain, O(rollers), starting
     /// at a touching roller. A touching roller is engaged on the sprocket
@@ -234,7 +229,12 @@ impl Segments {
 
     /// Mean link force of each segment's free strand; NaN-free: a segment with
     /// no free link gets `None`.
-    pub(crate) fn mean_forces(&self, runs: &StrandRuns, link_force: &[f64], out: &mut [Option<f64>]) {
+    pub(crate) fn mean_forces(
+        &self,
+        runs: &StrandRuns,
+        link_force: &[f64],
+        out: &mut [Option<f64>],
+    ) {
         for (k, o) in out.iter_mut().enumerate().take(self.lines.len()) {
             let (sum, count) = runs.force_sum(k, link_force);
             *o = (count > 0).then(|| sum / count as f64);

@@ -62,16 +62,31 @@
 mod channels;
 mod messages;
 pub(crate) mod read;
+#[cfg(all(test, feature = "record"))]
+mod record_tests;
+#[cfg(all(test, feature = "record"))]
+mod recorded_settings_tests;
 pub(crate) mod recover;
+#[cfg(all(test, feature = "cli"))]
+mod recover_tests;
+#[cfg(all(test, feature = "record"))]
+mod rerun_view_tests;
 mod visual;
 mod writer;
 
-pub use channels::{Channel, Channels};
 pub(crate) use channels::STATIC_SCENE_TOPIC;
+pub use channels::{Channel, Channels};
 pub(crate) use writer::CHUNK_BYTES;
 use writer::{ChannelIds, Frame, Job, QUEUE_FRAMES, Sink, Writer};
 
-pub(crate) use messages::{ChainContactForces, ChainLinkForces, GuideSignals, SegmentSignal, SegmentSignals, SprocketSignals, TensionerSignal, TensionerSignals};
+pub(crate) use messages::{
+    ChainContactForces, ChainLinkForces, GuideSignals, SegmentSignal, SegmentSignals,
+    SprocketSignals, TensionerSignal, TensionerSignals,
+};
+#[cfg(test)]
+pub(crate) use visual::OUTLINE_SPACING_M;
+#[cfg(test)]
+pub(crate) use writer::FLUSH_INTERVAL_NS;
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;

@@ -346,6 +346,7 @@ pub(crate) struct Recording {
     /// Every `/tensioners` message, in time order, each with one entry per
     /// tensioner arm of the scene in arm order (empty: no arms, or the
     /// channel was not recorded).
+    #[cfg_attr(not(test), allow(dead_code))] // read by the tests
     pub tensioners: Vec<super::TensionerSignals>,
 }
 

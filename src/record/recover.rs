@@ -63,7 +63,10 @@ pub(crate) struct Recovered {
 /// Reads the MCAP file held in `bytes` up to its first missing or broken
 /// record and writes everything before it into `out` as a complete file
 /// (see the module documentation). Schema and channel ids are kept.
-pub(crate) fn recover<W: Write + Seek>(bytes: &[u8], out: W) -> Result<(W, Recovered), RecoverError> {
+pub(crate) fn recover<W: Write + Seek>(
+    bytes: &[u8],
+    out: W,
+) -> Result<(W, Recovered), RecoverError> {
     if !bytes.starts_with(b"\x89MCAP0\r\n") {
         return Err(RecoverError::NotMcap);
     }

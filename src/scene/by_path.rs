@@ -328,7 +328,10 @@ impl Scene {
     /// Parses a TOML scene, writes `assignments` into it in order and
     /// validates the result. Errors in the file carry their line and
     /// column; errors in an assigned field name its path without one.
-    pub(crate) fn from_toml_set(text: &str, assignments: &[Assignment]) -> Result<Self, SceneError> {
+    pub(crate) fn from_toml_set(
+        text: &str,
+        assignments: &[Assignment],
+    ) -> Result<Self, SceneError> {
         // The base must be a scene file before anything is written into it.
         let read = super::shape::read::<SceneFile>(text, super::file::required)?;
         if !read.errors.is_empty() {

@@ -10,9 +10,13 @@
 //! [`Scene`] cannot change behind the validator's back.
 //! This module knows nothing of rapier or of stepping.
 
+#[cfg(all(test, feature = "cli"))]
+mod auto_step_tests;
 mod builder;
 mod by_path;
 pub(crate) mod designations;
+#[cfg(test)]
+mod designations_tests;
 mod error;
 mod excitation;
 mod file;
@@ -23,6 +27,8 @@ mod kinds;
 pub(crate) mod mutate;
 mod overrides;
 mod run_up;
+#[cfg(test)]
+mod scene_errors_tests;
 mod shape;
 mod stability;
 mod tensioners;
@@ -33,25 +39,32 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub(crate) use by_path::{Assignment, ScenePath, set_in_table};
-pub use error::{FieldError, SceneError};
 pub(crate) use error::value_span;
+pub use error::{FieldError, SceneError};
 pub(crate) use excitation::{Harmonic, LoadTable};
-pub use file::{ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile, StepFile};
+pub use file::{
+    ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
+    StepFile,
+};
 pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec};
-pub use guides::GuideFile;
 pub(crate) use guides::Guide;
-pub use kinds::{ContactLaw, Integrator, PretensionRule, Stepping, Wrap};
+pub use guides::GuideFile;
 pub(crate) use kinds::RoleKind;
+pub use kinds::{ContactLaw, Integrator, PretensionRule, Stepping, Wrap};
 pub use overrides::Overrides;
 pub(crate) use run_up::RunUpFile;
 pub(crate) use stability::StepLimits;
 pub(crate) use stability::{AUTO_GRID_S, step_note};
-pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};
+#[cfg(test)]
+pub(crate) use stability::{AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, impact_duration_s};
 #[cfg(test)]
 pub(crate) use tensioners::STANDARD_ATMOSPHERE_PA;
-pub use threads::{Threads, ThreadsFile};
+pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};
 pub(crate) use threads::AUTO_MIN_ROLLERS;
-pub use types::{Chain, Contact, Equilibrium, JointFriction, Limits, Role, RunUp, Solver, SpeedLaw, Sprocket};
+pub use threads::{Threads, ThreadsFile};
+pub use types::{
+    Chain, Contact, Equilibrium, JointFriction, Limits, Role, RunUp, Solver, SpeedLaw, Sprocket,
+};
 
 /// The most sprockets a drive may have: the contact generator keeps each
 /// roller's set of sprockets within reach as a 64-bit mask (`u64`), one bit

@@ -119,7 +119,12 @@ impl StepLimits {
     /// `impact_s` (∞ for none) caps it at 1/[`AUTO_STEPS_PER_IMPACT`] of a
     /// roller's impact on engagement, where stability alone leaves the
     /// deepest penetration unresolved.
-    pub(crate) fn auto_step_s(&self, scheme: Integrator, impact_s: f64, sample_period_s: f64) -> f64 {
+    pub(crate) fn auto_step_s(
+        &self,
+        scheme: Integrator,
+        impact_s: f64,
+        sample_period_s: f64,
+    ) -> f64 {
         let limit = match scheme {
             Integrator::DormandPrince45 => self.min_s(),
             other => self.for_integrator(other),

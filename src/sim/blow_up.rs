@@ -63,12 +63,6 @@ impl GrowthWatch {
         }
     }
 
-    /// Forgets the past (after the state was changed from outside).
-    pub(crate) fn clear(&mut self) {
-        self.filled = 0;
-        self.ring.fill(0.0);
-    }
-
     /// Records this step's largest stretch; returns the value `steps` steps
     /// ago (0 before that many steps: growth is then judged against the
     /// floor, the static stretch, so a blow-up in the first steps is caught

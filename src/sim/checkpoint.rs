@@ -126,12 +126,7 @@ pub(crate) struct Snapshot {
     rest_length_m: f64,
 }
 
-impl Snapshot {
-    /// Simulated time, s.
-    pub(crate) fn t_s(&self) -> f64 {
-        self.state.t_s
-    }
-}
+impl Snapshot {}
 
 /// What a checkpoint file holds: the simulation and what the caller keeps
 /// of the run (its observers' accumulated signals, counters).

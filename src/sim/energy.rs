@@ -130,7 +130,11 @@ impl Powers {
 /// The energy a balance counts: the drive's mechanical energy less the
 /// kinetic energy of the speed-controlled sprockets (their speed is imposed,
 /// so the driver's power is measured at the chain), J.
-pub(crate) fn balance_energy_j(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> f64 {
+pub(crate) fn balance_energy_j(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+) -> f64 {
     let driven: f64 = model
         .sprockets
         .iter()
@@ -208,7 +212,12 @@ impl PowerLedger {
 
     /// Marks the end of the counted steps at `state`, the last one counted
     /// (the energy is measured at the window's ends only).
-    pub(crate) fn close(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
+    pub(crate) fn close(
+        &mut self,
+        model: &DriveModel,
+        state: &DriveState,
+        forces: &ForceGenerator,
+    ) {
         if self.last.is_some_and(|(t, _)| t == state.t_s) {
             self.end = Some((state.t_s, balance_energy_j(model, state, forces)));
         }

@@ -8,29 +8,57 @@
 //! What observers compute is their business ([`crate::analysis`]).
 
 mod blow_up;
+#[cfg(test)]
+mod catenary_tests;
 pub(crate) mod checkpoint;
+#[cfg(test)]
+mod checkpoint_tests;
+#[cfg(test)]
+mod detectors_tests;
 mod energy;
 mod equilibrium;
+#[cfg(test)]
+mod equilibrium_errors_tests;
+#[cfg(test)]
+mod equilibrium_sweep_tests;
+#[cfg(test)]
+mod equilibrium_tests;
 mod fanout;
 mod feasibility;
 mod fit;
+#[cfg(test)]
+mod fit_tests;
 pub(crate) mod integrate;
+#[cfg(test)]
+mod integrators_tests;
 mod newton;
+#[cfg(test)]
+mod paper_tests;
 pub(crate) mod parallel;
 mod sample_rate;
 mod stepper;
+#[cfg(test)]
+mod stepping_tests;
+#[cfg(test)]
+mod threads_tests;
+#[cfg(test)]
+mod users_tests;
 
-pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
-pub(crate) use energy::{PowerLedger, PowerMeans};
-pub use equilibrium::{BeyondSeatingArc, EquilibriumError, StaticEquilibrium};
-pub(crate) use equilibrium::{RelaxSettings, force_residual, free_strand_tension, relax, settle_rest_length};
 pub use crate::forces::ForceTimes;
 pub use crate::geometry::asa::AsaError;
 pub use crate::geometry::{LayoutError, PathError};
 pub use crate::model::BuildError;
+pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
+pub(crate) use energy::{PowerLedger, PowerMeans};
+pub use equilibrium::{BeyondSeatingArc, EquilibriumError, StaticEquilibrium};
+pub(crate) use equilibrium::{
+    RelaxSettings, force_residual, free_strand_tension, relax, settle_rest_length,
+};
 pub use fanout::Fanout;
 pub use fit::FitError;
-pub(crate) use fit::{FIT_TOLERANCE_M, default_direction, fit_sprocket, fitting_counts, needed_pitches_of};
+pub(crate) use fit::{
+    FIT_TOLERANCE_M, default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
+};
 pub(crate) use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
 pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
@@ -43,8 +71,7 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, Forces, Guide, JointFriction,
-    TensionerArm,
+    ContactLawParams, ForceElement, ForceGenerator, Forces, Guide, JointFriction, TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
@@ -164,6 +191,8 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
 }
 
 pub(crate) use crate::scene::StepLimits;
+#[cfg(test)]
+pub(crate) use energy::{Energy, Powers, balance_energy_j};
 
 /// Why a simulation could not be built or stopped early.
 #[derive(Debug, thiserror::Error)]

@@ -20,9 +20,17 @@
 
 pub(crate) mod convergence;
 pub(crate) mod fuzz;
+#[cfg(test)]
+mod fuzz_tests;
 pub(crate) mod reproduce;
 pub(crate) mod soak;
 pub(crate) mod stress;
+#[cfg(test)]
+mod stress_tests;
 pub(crate) mod study;
+#[cfg(all(test, feature = "cli"))]
+mod study_tests;
 pub(crate) mod sweep;
+#[cfg(test)]
+mod sweep_tests;
 pub(crate) mod work_precision;

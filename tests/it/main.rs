@@ -11,61 +11,31 @@ mod analysis;
 mod analyze;
 #[cfg(feature = "cli")]
 mod auto_step;
-mod catenary;
 mod checkpoint;
 #[cfg(feature = "cli")]
 mod cli;
 mod common;
-mod cosim;
-mod cosim_api;
-mod cosim_checks;
-mod cosim_mounts;
 mod cosim_multi;
-mod cosim_parking;
-mod designations;
 mod detectors;
 #[cfg(feature = "cli")]
 mod docs_drift;
-mod equilibrium;
-mod equilibrium_errors;
-mod equilibrium_sweep;
-mod excitation;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
-mod friction;
-mod fuzz;
-mod governor;
-mod guides;
 mod integrators;
 mod layering;
-mod means;
-mod orders;
 #[cfg(feature = "cli")]
 mod outputs;
-mod paper;
 mod profile;
-mod rating;
 #[cfg(feature = "record")]
 mod record;
-#[cfg(feature = "record")]
-mod recorded_settings;
 #[cfg(feature = "cli")]
 mod recover;
-#[cfg(feature = "record")]
-mod rerun_view;
-mod running_tension;
-mod scene_errors;
-mod seam;
 mod statistics;
 #[cfg(feature = "cli")]
 mod stderr_lines;
-mod stepping;
-mod strands;
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
 mod sweep;
-mod tensioners;
-mod threads;
 mod users;

@@ -2,14 +2,11 @@
 //! resume, a failed case kept and retried only when asked, bad plans refused
 //! before anything runs, and the collected table read back from Parquet.
 
-use std::path::{Path, PathBuf};
-
+use crate::common::{chaindrive, command, read_json, stderr};
 use chaindrive::scene::L60MC_TOML;
-use chaindrive::studies::study::{CaseOutcome, ColumnData, Study, StudyDir, Table};
 use parquet::file::reader::{FileReader, SerializedFileReader};
 use parquet::record::Field;
-
-use crate::common::{chaindrive, command, read_json, stderr};
+use std::path::{Path, PathBuf};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -172,196 +169,6 @@ fn assert_flags_match_summary(summary: &Path, names: &[String], row: &[Field]) {
     assert_eq!(col("status"), Field::Str(status.to_owned()));
 }
 
-/// A case whose rollers sink 36 % of their radius into the teeth (a soft
-/// contact, K = 5e6 N/m^1.5; the summary warns above 10 %) is `warned`,
-/// with its warning in the table; the stiff case beside it is whatever its
-/// own summary says. Found as: every finished case was "ok", warnings or not.
-#[test]
-fn a_case_with_a_warning_is_warned_in_the_table() {
-    let plan = r#"
-scene = "x"
-responses = ["max_penetration_m"]
-set = { "solver.duration_s" = 0.1 }
-[[factors]]
-path = "contact.stiffness"
-[design]
-kind = "explicit"
-cases = [[1e9], [5e6]]
-"#;
-    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
-    let dir = tempfile::tempdir().expect("temp dir");
-    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
-    sd.run_all(2, false, None, &|_| {}).expect("run");
-    let soft = sd.status(1).expect("read").expect("finished");
-    assert!(soft.ok, "{soft:?}");
-    assert!(
-        soft.warnings.iter().any(|w| w.starts_with("penetration")),
-        "status.json keeps the warnings: {soft:?}"
-    );
-    let table = Table::collect(&sd).expect("table");
-    let column = |name: &str| {
-        &table
-            .columns
-            .iter()
-            .find(|c| c.name == name)
-            .unwrap_or_else(|| panic!("no column {name}"))
-            .data
-    };
-    // The criterion, from the table's own response: deeper than 10 % of
-    // the paper's roller radius, 27 mm.
-    let ColumnData::Float(depth) = column("max_penetration_m") else {
-        panic!("max_penetration_m")
-    };
-    let depth = depth[1].expect("finished");
-    assert!(depth > 0.1 * 0.027, "{depth} m");
-    let ColumnData::Text(status) = column("status") else {
-        panic!("status")
-    };
-    assert_eq!(status[1].as_deref(), Some("warned"));
-    let ColumnData::Text(warnings) = column("warnings") else {
-        panic!("warnings")
-    };
-    assert!(
-        warnings[1]
-            .as_deref()
-            .is_some_and(|w| w.contains("penetration: a roller sank")),
-        "{warnings:?}"
-    );
-    let ColumnData::Count(count) = column("warning_count") else {
-        panic!("warning_count")
-    };
-    assert_eq!(count[1], Some(soft.warnings.len() as i64));
-    // The CSV says the same.
-    let csv = table.to_csv();
-    let row = csv.lines().nth(2).expect("case 1");
-    assert!(row.contains(",warned,"), "{row}");
-}
-
-/// A plan's `window_s` is each case's statistics window: the last 0.05 s
-/// of a 0.2 s run, as the summary and the table report it.
-#[test]
-fn a_plans_window_is_each_cases_statistics_window() {
-    let plan = r#"
-scene = "x"
-window_s = 0.05
-responses = ["window_s.0", "window_s.1"]
-set = { "solver.duration_s" = 0.2 }
-[[factors]]
-path = "chain.pretension_n"
-[design]
-kind = "explicit"
-cases = [[21000]]
-"#;
-    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
-    assert_eq!(study.window_s, Some(0.05));
-    let dir = tempfile::tempdir().expect("temp dir");
-    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
-    sd.run_all(1, false, None, &|_| {}).expect("run");
-    let summary = read_json(&sd.case_dir(0).join("summary.json"));
-    let window = [
-        summary["window_s"][0].as_f64().expect("start"),
-        summary["window_s"][1].as_f64().expect("end"),
-    ];
-    assert!((window[1] - 0.2).abs() < 1e-9, "{window:?}");
-    assert!((window[1] - window[0] - 0.05).abs() < 1e-9, "{window:?}");
-    let table = Table::collect(&sd).expect("table");
-    let start = table
-        .columns
-        .iter()
-        .find(|c| c.name == "window_s.0")
-        .expect("window_s.0");
-    assert_eq!(start.data, ColumnData::Float(vec![Some(window[0])]));
-}
-
-/// With `responses = "all"`, the summary's own `wall_s` (the stepping's)
-/// and the case's wall time are two columns with two names. Found as:
-/// both were `wall_s`, and pyarrow refused to read the file ("Multiple
-/// matches for FieldRef.Name(wall_s)").
-#[test]
-fn every_column_has_its_own_name_with_all_responses() {
-    let plan = r#"
-scene = "x"
-responses = "all"
-set = { "solver.duration_s" = 0.05 }
-[[factors]]
-path = "sprockets.0.speed_rpm"
-[design]
-kind = "explicit"
-cases = [[60]]
-"#;
-    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
-    let dir = tempfile::tempdir().expect("temp dir");
-    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
-    sd.run_all(1, false, None, &|_| {}).expect("run");
-    let table = Table::collect(&sd).expect("table");
-    let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
-    let mut unique = names.clone();
-    unique.sort_unstable();
-    unique.dedup();
-    assert_eq!(unique.len(), names.len(), "{names:?}");
-    for name in ["sprockets.0.speed_rpm", "wall_s", "case_wall_s", "status"] {
-        assert!(names.contains(&name), "{name}: {names:?}");
-    }
-}
-
-#[test]
-fn a_failed_case_is_kept_and_run_again_only_when_asked() {
-    // Case 1's step is 100 times the paper's: symplectic Euler on the
-    // links' 815 MN/m springs with 3 kg rollers is unstable above
-    // 2 √(m/K)/2 ≈ 6e-5 s, so the run blows up (or its layout fails).
-    let plan = r#"
-scene = "x"
-set = { "solver.duration_s" = 0.05 }
-[[factors]]
-path = "solver.dt_s"
-[design]
-kind = "explicit"
-cases = [[1e-5], [1e-3]]
-"#;
-    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
-    let dir = tempfile::tempdir().expect("temp dir");
-    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
-    let ran = |retry: bool| {
-        let outcomes = std::sync::Mutex::new(Vec::new());
-        sd.run_all(2, retry, None, &|o: &CaseOutcome| {
-            outcomes.lock().expect("lock").push(o.clone());
-        })
-        .expect("run");
-        let mut v: Vec<(usize, bool)> = outcomes
-            .into_inner()
-            .expect("lock")
-            .into_iter()
-            .filter_map(|o| match o {
-                CaseOutcome::Ran(s) => Some((s.case, s.ok)),
-                _ => None,
-            })
-            .collect();
-        v.sort_unstable();
-        v
-    };
-    assert_eq!(ran(false), [(0, true), (1, false)]);
-    let status = sd.status(1).expect("read").expect("finished");
-    assert!(
-        status.error.as_deref().is_some_and(|e| !e.is_empty()),
-        "{status:?}"
-    );
-    assert_eq!(status.factors, "solver.dt_s = 0.001");
-    assert_eq!(ran(false), []);
-    assert_eq!(ran(true), [(1, false)]);
-    let table = Table::collect(&sd).expect("table");
-    let status_col = table
-        .columns
-        .iter()
-        .find(|c| c.name == "status")
-        .expect("status");
-    // The case that ran ends inside the paper drive's ramp: it is warned
-    // (ramp in window), not failed.
-    assert_eq!(
-        status_col.data,
-        ColumnData::Text(vec![Some("warned".into()), Some("failed".into())])
-    );
-}
-
 #[test]
 fn bad_plans_are_refused_before_anything_runs() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -467,23 +274,36 @@ cases = [[21000]]
         )
     };
     let dir = tempfile::tempdir().expect("temp dir");
+    std::fs::write(dir.path().join("l60mc.toml"), L60MC_TOML).expect("scene written");
+    let write_plan = |name: &str, every: &str| {
+        let path = dir.path().join(name);
+        let text = plan(every).replace("scene = \"x\"", "scene = \"l60mc.toml\"");
+        std::fs::write(&path, text).expect("plan written");
+        path.to_str().expect("utf-8").to_owned()
+    };
     // The reference: the same case run at once, without checkpoints.
-    let whole = Study::from_texts(&plan(""), L60MC_TOML).expect("valid plan");
-    let whole = StudyDir::prepare(&dir.path().join("whole"), whole).expect("prepared");
-    assert!(matches!(
-        whole.run_case(0, false, None).expect("run"),
-        CaseOutcome::Ran(ref s) if s.ok
-    ));
+    let whole = dir.path().join("whole");
+    let whole_s = whole.to_str().expect("utf-8");
+    let o = chaindrive(&[
+        "study",
+        &write_plan("whole.toml", ""),
+        "--out",
+        whole_s,
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
 
     let every_s = 0.05;
-    let study = Study::from_texts(&plan("checkpoint_every_s = 0.05"), L60MC_TOML).expect("plan");
-    assert_eq!(study.checkpoint_every_s, Some(every_s));
     let out = dir.path().join("killed");
-    let sd = StudyDir::prepare(&out, study).expect("prepared");
     let out_s = out.to_str().expect("utf-8");
+    // Prepared as for a cluster (the job script is written, nothing runs).
+    let killed_plan = write_plan("killed.toml", "checkpoint_every_s = 0.05");
+    let o = chaindrive(&["study", "slurm", &killed_plan, "--out", out_s]);
+    assert!(o.status.success(), "{}", stderr(&o));
     // An array task killed outright (SIGKILL: no handler runs) after its
     // first checkpoint.
-    let ckpt = sd.case_dir(0).join("checkpoint.ckpt");
+    let case = out.join("cases").join("0");
+    let ckpt = case.join("checkpoint.ckpt");
     let mut task = command()
         .args(["study", "run-case", out_s, "0"])
         .stderr(std::process::Stdio::null())
@@ -500,9 +320,8 @@ cases = [[21000]]
     }
     task.kill().expect("SIGKILL");
     task.wait().expect("reaped");
-    assert_eq!(
-        sd.status(0).expect("read"),
-        None,
+    assert!(
+        !case.join("status.json").exists(),
         "the case is not finished"
     );
 
@@ -511,8 +330,8 @@ cases = [[21000]]
     let text = stderr(&again);
     assert!(again.status.success(), "{text}");
     assert!(text.contains("case 0: resuming from"), "{text}");
-    let status = sd.status(0).expect("read").expect("finished");
-    let t = status.resumed_from_s.expect("resumed");
+    let status = read_json(&case.join("status.json"));
+    let t = status["resumed_from_s"].as_f64().expect("resumed");
     // At a checkpoint: t = k·S with 0 < k < 6 (dt = 1e-5 s divides S).
     let k = (t / every_s).round();
     assert!(
@@ -521,6 +340,6 @@ cases = [[21000]]
     );
     assert!(text.contains(&format!("resumed at t = {t} s")), "{text}");
     assert!(!ckpt.exists(), "the finished case keeps no checkpoint");
-    let summary = |d: &StudyDir| without_wall_times(read_json(&d.case_dir(0).join("summary.json")));
-    assert_eq!(summary(&sd), summary(&whole));
+    let summary = |d: &Path| without_wall_times(read_json(&d.join("cases/0/summary.json")));
+    assert_eq!(summary(&out), summary(&whole));
 }

@@ -113,7 +113,12 @@ impl ChainClass {
 /// Link-plate fatigue limited rating H₁ = K N₁^1.08 n₁^0.9 p^(3.0 − 0.07 p),
 /// hp, one strand (`pitch_in` in inches, `speed_rpm` of the sprocket with
 /// `teeth`).
-pub(crate) fn link_plate_limited_hp(class: ChainClass, teeth: f64, speed_rpm: f64, pitch_in: f64) -> f64 {
+pub(crate) fn link_plate_limited_hp(
+    class: ChainClass,
+    teeth: f64,
+    speed_rpm: f64,
+    pitch_in: f64,
+) -> f64 {
     class.link_plate_k()
         * teeth.powf(1.08)
         * speed_rpm.powf(0.9)

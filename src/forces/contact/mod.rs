@@ -105,16 +105,6 @@ impl ToothContact {
         }
     }
 
-    /// The contact law in use.
-    pub(crate) fn law(&self) -> &ContactLawParams {
-        &self.law
-    }
-
-    /// Replaces the contact law.
-    pub(crate) fn set_law(&mut self, law: ContactLawParams) {
-        self.law = law;
-    }
-
     /// Forgets every kept reach set ([`Culling`]): the next evaluation
     /// measures every roller again. Call when a sprocket centre has moved
     /// other than at its `center_velocity_m_s` (a co-simulation frame's new
@@ -159,7 +149,11 @@ impl ToothContact {
     /// The roller of `state` that penetrates a tooth deepest, with its
     /// depth, m (a slow search of every roller against every sprocket, for
     /// reports).
-    pub(crate) fn deepest_roller(&self, model: &DriveModel, state: &DriveState) -> Option<(usize, f64)> {
+    pub(crate) fn deepest_roller(
+        &self,
+        model: &DriveModel,
+        state: &DriveState,
+    ) -> Option<(usize, f64)> {
         let mut patches = [Patch::default(); MAX_PATCHES];
         let mut deepest: Option<(usize, f64)> = None;
         for i in 0..state.rollers() {

@@ -86,7 +86,9 @@ mod v2;
 use std::f64::consts::PI;
 
 use fast::{FastPiece, Found, farthest_from};
-use pieces::{Hit, Piece, gap_pieces, nearest_hit, neighbour_map};
+#[cfg(test)]
+use pieces::{Hit, nearest_hit};
+use pieces::{Piece, gap_pieces, neighbour_map};
 use query::{Reach, Shortcuts, SideGraph};
 use v2::{V2, atan2_approx, dot};
 
@@ -149,6 +151,7 @@ pub enum AsaError {
 /// A contact patch of [`AsaProfile::contacts`] with the place it touches: the closest
 /// outline point, in the sprocket frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[cfg(any(test, feature = "bench-kernels"))]
 pub struct LocatedPatch {
     /// Depth, normal, area, gap and identity of the patch.
     pub patch: Patch,
@@ -280,18 +283,21 @@ impl AsaProfile {
 
     /// The construction points and angles of one gap (gap-local frame).
     #[must_use]
+    #[cfg(any(test, feature = "bench-kernels"))]
     pub fn gap_points(&self) -> &GapPoints {
         &self.points
     }
 
     /// Number of teeth N.
     #[must_use]
+    #[cfg(test)]
     pub(crate) fn teeth(&self) -> u32 {
         self.dims.teeth
     }
 
     /// Pitch angle Φ = 2π/N.
     #[must_use]
+    #[cfg(test)]
     pub(crate) fn pitch_angle_rad(&self) -> f64 {
         self.pitch_angle_rad
     }
@@ -450,6 +456,7 @@ impl AsaProfile {
     /// Not examined: the concave parts of the neighbouring gaps. A roller in free space
     /// could only reach them across a whole tooth, i.e. with a radius of the order of the
     /// tooth width.
+    #[cfg(test)]
     pub(crate) fn contacts(
         &self,
         p: [f64; 2],
@@ -464,6 +471,7 @@ impl AsaProfile {
     /// roller was recently in; any value works, e.g. `u32::MAX` for none) and `hint` is
     /// updated to the gap of `p` whenever that gap is looked up (it is left unchanged when
     /// `p` is rejected before, e.g. beyond the tips or non-finite).
+    #[cfg(any(test, feature = "bench-kernels"))]
     pub fn contacts_hinted(
         &self,
         p: [f64; 2],
@@ -521,6 +529,7 @@ impl AsaProfile {
     /// negative inside the material. Returns (distance, closest point, area, gap).
     /// Non-finite input returns (NaN, [NaN, NaN], 0, 0).
     #[must_use]
+    #[cfg(test)]
     pub(crate) fn signed_distance(&self, p: [f64; 2]) -> (f64, [f64; 2], u8, i64) {
         if !(p[0].is_finite() && p[1].is_finite()) {
             return (f64::NAN, [f64::NAN; 2], 0, 0);
@@ -539,6 +548,7 @@ impl AsaProfile {
     /// sector. The sector is a union of two mirror half-sectors of the dihedral symmetry,
     /// so the nearest outline point lies on this gap's own pieces (docs/tooth-profile.md,
     /// section “The nearest point lies in the roller's own gap”).
+    #[cfg(test)]
     fn nearest_own(&self, q: V2) -> Hit {
         nearest_hit(&self.own.map(|piece| piece.closest(q)))
     }

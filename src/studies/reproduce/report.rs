@@ -136,7 +136,11 @@ fn friction_section(md: &mut String, study: &Study, findings: &Findings) {
 /// The report (Markdown): the comparison table, the theory checks, the
 /// contact forces against (49), plain words on the differences, and the
 /// figures (`figures`: file stem and caption, drawn beside the report).
-pub(crate) fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, String)]) -> String {
+pub(crate) fn report_markdown(
+    study: &Study,
+    findings: &Findings,
+    figures: &[(String, String)],
+) -> String {
     let mut md = String::new();
     let d = study.settings.duration_s;
     let _ = writeln!(

@@ -66,8 +66,8 @@ use std::time::Instant;
 
 pub(crate) use cells::{default_matrix, quick_matrix};
 pub(crate) use output::{
-    BLOWUPS_CSV_HEADER, CSV_HEADER, LIMITS_CSV_HEADER,
-    blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, roller_costs,
+    BLOWUPS_CSV_HEADER, CSV_HEADER, LIMITS_CSV_HEADER, blowup_csv_rows, csv_rows, first_failure,
+    limits_csv_rows, roller_costs,
 };
 
 use crate::scene::generate::GenerateError;
@@ -318,6 +318,10 @@ pub(crate) struct CaseResult {
     /// Why the cell could not be settled (no run then).
     pub build_error: Option<String>,
     /// Wall time of the static equilibrium, s.
+    #[allow(
+        dead_code,
+        reason = "for a progress callback; the command's own ignores it"
+    )]
     pub settle_wall_s: f64,
     /// Every run, in the order taken.
     pub runs: Vec<RunRecord>,
@@ -401,7 +405,12 @@ fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Result<Simulati
 }
 
 /// Runs `base`'s drive with `integrator` at `dt_s` to the scene's horizon.
-pub(crate) fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s: f64) -> RunRecord {
+pub(crate) fn run_one(
+    base: &Simulation,
+    integrator: Integrator,
+    dt_s: f64,
+    max_wall_s: f64,
+) -> RunRecord {
     /// Simulated time between wall-budget checks, s.
     const CHUNK_S: f64 = 0.01;
     let horizon = base.scene.solver.duration_s;
@@ -601,8 +610,16 @@ pub(crate) enum Progress<'a> {
     /// One run finished.
     Run {
         /// The cell.
+        #[allow(
+            dead_code,
+            reason = "for a progress callback; the command's own ignores it"
+        )]
         info: &'a CaseInfo,
         /// The run.
+        #[allow(
+            dead_code,
+            reason = "for a progress callback; the command's own ignores it"
+        )]
         run: &'a RunRecord,
     },
     /// One integrator's ladder finished.

@@ -32,6 +32,8 @@ pub(crate) mod table;
 
 pub(crate) use cases::{CaseOutcome, CaseStatus, StudyDir};
 pub(crate) use plan::{Responses, Study};
+#[cfg(test)]
+pub(crate) use table::ColumnData;
 pub(crate) use table::{RowStatus, Table};
 
 /// Why a study could not be prepared, run or collected.

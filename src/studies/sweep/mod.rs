@@ -30,10 +30,11 @@ pub(crate) mod report;
 pub(crate) mod runup;
 
 pub(crate) use report::{
-    CaseFlags, PEAK_MEDIAN_FACTOR, completed,
-    doubt_section, excitation_orders, on_order_grid, order_cut, resonance_crossings,
-    summary_scalars, worst_cases,
+    CaseFlags, PEAK_MEDIAN_FACTOR, completed, doubt_section, excitation_orders, on_order_grid,
+    order_cut, resonance_crossings, summary_scalars, worst_cases,
 };
+#[cfg(test)]
+pub(crate) use report::{PeakVerdict, SpanMode, judge_peak};
 pub(crate) use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 
 use std::sync::Mutex;

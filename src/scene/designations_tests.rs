@@ -1,0 +1,227 @@
+//! Chains by designation: the table against dimensions typed in from the
+//! standards (not read from the table), the fields a designation fills and
+//! the ones a scene overrides, and a typo's error.
+
+use crate::scene::Scene;
+use crate::scene::designations::{DESIGNATIONS, find};
+
+const INCH_M: f64 = 0.0254;
+
+fn scene_text(file: &str) -> String {
+    let path = format!("{}/tests/data/{file}", env!("CARGO_MANIFEST_DIR"));
+    std::fs::read_to_string(&path).expect("the scene file exists")
+}
+
+/// The pitch follows from the name in both families: an ISO 606 B-series
+/// number is the pitch in sixteenths of an inch (16B: 16/16 in = 25.4 mm;
+/// 05B is the exception, a metric 8.00 mm),
+/// an ANSI number's leading digits are the pitch in eighths of an inch
+/// (80: 8/8 in; 25: 2/8 in; the trailing 0, 1 or 5 is the kind). Exact.
+#[test]
+fn every_pitch_follows_from_its_name() {
+    for d in DESIGNATIONS {
+        let expected = if let Some(rest) = d.name.strip_prefix("ISO 606 ") {
+            let n: f64 = rest.trim_end_matches("B-1").parse().expect("a number");
+            if n == 5.0 { 8.0e-3 } else { n / 16.0 * INCH_M }
+        } else {
+            let number = d.name.trim_start_matches("ANSI ");
+            let eighths: f64 = number[..number.len() - 1].parse().expect("a number");
+            eighths / 8.0 * INCH_M
+        };
+        approx::assert_relative_eq!(d.pitch_m, expected, max_relative = 1e-12);
+    }
+}
+
+/// ANSI rows against ASME B29.1's dimension table as printed by Engineers
+/// Edge ("Roller Chain Dimensions per ASME/ANSI B29.1M") and AmesWeb, in
+/// inches: pitch, roller diameter, width, pin diameter, link plate
+/// thickness, minimum ultimate tensile strength (lbf); and the weight per
+/// foot (lb/ft) of the "Standard Roller Chain Dimensions" table. Typed in
+/// here, converted here (1 in = 25.4 mm, 1 lbf = 4.448 222 N, 1 lb/ft =
+/// 1.488 164 kg/m); to the printed digits.
+#[test]
+fn ansi_rows_match_asme_b29_1() {
+    let typed = [
+        // name        P      Dr     W      Dp     LPT    MUTS     lb/ft
+        ("ANSI 40", 0.500, 0.312, 0.312, 0.156, 0.060, 3125.0, 0.41),
+        ("ANSI 60", 0.750, 0.469, 0.500, 0.234, 0.094, 7030.0, 1.00),
+        ("ANSI 80", 1.000, 0.625, 0.625, 0.312, 0.125, 12500.0, 1.69),
+        ("ANSI 160", 2.000, 1.125, 1.250, 0.562, 0.250, 50000.0, 6.43),
+        (
+            "ANSI 240", 3.000, 1.875, 1.875, 0.937, 0.375, 112500.0, 16.90,
+        ),
+    ];
+    for (name, p, dr, w, dp, lpt, muts, wt) in typed {
+        let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
+        let inch = |m: f64| m / INCH_M;
+        assert!((inch(d.pitch_m) - p).abs() < 5e-4, "{name} pitch");
+        assert!((inch(d.roller_diameter_m) - dr).abs() < 5e-4, "{name} Dr");
+        assert!((inch(d.inner_width_m) - w).abs() < 5e-4, "{name} W");
+        assert!((inch(d.pin_diameter_m) - dp).abs() < 5e-4, "{name} Dp");
+        assert!((inch(d.plate_thickness_m) - lpt).abs() < 5e-4, "{name} LPT");
+        assert!(
+            (d.tensile_strength_n / 4.448_222 - muts).abs() < 1.0,
+            "{name} MUTS"
+        );
+        assert!(
+            (d.mass_per_m_kg / 1.488_164 - wt).abs() < 5e-3,
+            "{name} weight"
+        );
+        assert!(d.sources.dimensions.contains("B29.1"), "{name}");
+    }
+}
+
+/// B-series rows against the Ametric catalogue table "Standard Metric
+/// Roller Chain (DIN 8180/8187 and BS 228)": pitch, inner width b₁, roller
+/// diameter d₁ (mm, printed to two decimals, 9.525 and 15.875 as 9.52 and
+/// 15.87), weight (kg/m) and, for 06B and 08B, breaking strength (N).
+#[test]
+fn iso_rows_match_the_ametric_catalogue() {
+    let typed = [
+        // name           P      b1     d1     kg/m   N (0: not printed)
+        ("ISO 606 06B-1", 9.52, 5.72, 6.35, 0.41, 9000.0),
+        ("ISO 606 08B-1", 12.70, 7.75, 8.51, 0.70, 18000.0),
+        ("ISO 606 10B-1", 15.87, 9.65, 10.16, 0.91, 0.0),
+        ("ISO 606 16B-1", 25.40, 17.02, 15.88, 2.68, 0.0),
+        ("ISO 606 32B-1", 50.80, 30.99, 29.21, 10.5, 0.0),
+        ("ISO 606 48B-1", 76.20, 45.72, 48.26, 25.0, 0.0),
+    ];
+    for (name, p, b1, d1, q, f) in typed {
+        let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
+        assert!((d.pitch_m * 1e3 - p).abs() < 0.01, "{name} pitch");
+        assert!((d.inner_width_m * 1e3 - b1).abs() < 0.005, "{name} b1");
+        assert!((d.roller_diameter_m * 1e3 - d1).abs() < 0.005, "{name} d1");
+        assert!((d.mass_per_m_kg - q).abs() < 0.005, "{name} mass");
+        if f > 0.0 {
+            assert!((d.tensile_strength_n - f).abs() < 1.0, "{name} strength");
+        }
+        assert!(d.sources.dimensions.contains("Ametric"), "{name}");
+        assert!(d.sources.mass.contains("Ametric"), "{name}");
+    }
+}
+
+/// What no source was found for says so: every B-series plate thickness
+/// and pin diameter, and the 56B to 72B masses.
+#[test]
+fn unchecked_values_are_marked_as_estimates() {
+    for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ISO")) {
+        assert!(d.sources.plate_thickness.contains("estimate"), "{}", d.name);
+        assert!(
+            d.sources.pin_and_plate_depth.contains("estimate"),
+            "{}",
+            d.name
+        );
+    }
+    for name in ["56B", "64B", "72B"] {
+        assert!(find(name).expect(name).sources.mass.contains("estimate"));
+    }
+    for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ANSI")) {
+        assert!(
+            !format!("{:?}", d.sources).contains("estimate"),
+            "{}",
+            d.name
+        );
+    }
+}
+
+/// Both families are covered from end to end: ISO 606 05B to 72B and
+/// ANSI 25 to 240; every row is a physical chain (pin inside the roller,
+/// roller inside the pitch, pin inside the plate) with a positive mass and
+/// stiffness, and its sources named.
+#[test]
+fn the_table_covers_both_families() {
+    for name in [
+        "05B", "06B", "08B", "10B", "12B", "16B", "20B", "24B", "28B", "32B", "40B", "48B", "56B",
+        "64B", "72B", "ANSI 25", "ANSI 35", "ANSI 40", "ANSI 41", "ANSI 50", "ANSI 60", "ANSI 80",
+        "ANSI 100", "ANSI 120", "ANSI 140", "ANSI 160", "ANSI 180", "ANSI 200", "ANSI 240",
+    ] {
+        assert!(find(name).is_some(), "{name}");
+    }
+    for d in DESIGNATIONS {
+        assert!(d.pin_diameter_m < d.roller_diameter_m, "{}", d.name);
+        assert!(d.roller_diameter_m < d.pitch_m, "{}", d.name);
+        assert!(d.pin_diameter_m < d.plate_depth_m, "{}", d.name);
+        assert!(
+            d.mass_per_m_kg > 0.0 && d.stiffness_n_m() > 0.0,
+            "{}",
+            d.name
+        );
+        assert!(!d.sources.dimensions.is_empty() && !d.sources.mass.is_empty());
+    }
+}
+
+/// The stiffness estimate η E A / P with A = 2 t (h₂ − d₂), recomputed by
+/// hand for 56B-1 (t = 12 mm, h₂ = 77.85 mm, d₂ = 34.32 mm, P = 88.9 mm,
+/// E = 206 GPa, η = 1/3): 2 · 12 · 43.53 mm² = 1044.72 mm²,
+/// E A / P = 206e3 · 1044.72 / 88.9 N/mm = 2.4208e9 N/m, η of it 806.9 MN/m
+/// — within 1 % of the paper's 815 MN/m for its chain of this size, on
+/// which η was calibrated.
+#[test]
+fn the_stiffness_estimate_is_the_documented_formula() {
+    let d = find("56B").expect("56B");
+    approx::assert_relative_eq!(d.stiffness_n_m(), 2.4208e9 / 3.0, max_relative = 1e-3);
+    approx::assert_relative_eq!(d.stiffness_n_m(), 815e6, max_relative = 0.01);
+}
+
+/// A designation fills pitch, roller radius, roller mass (mass per metre
+/// times the pitch) and pin radius; the stiffness written in the file wins
+/// over the table's.
+#[test]
+fn a_designation_fills_the_chain_and_written_fields_override() {
+    let scene = Scene::from_toml(&scene_text("designation_16b.toml")).expect("a valid scene");
+    let chain = scene.chain();
+    let d = find("ISO 606 16B-1").expect("16B");
+    assert_eq!(chain.designation, Some("ISO 606 16B-1"));
+    approx::assert_relative_eq!(chain.pitch_m, 0.0254, max_relative = 1e-12);
+    approx::assert_relative_eq!(chain.roller_radius_m, 0.5 * 15.88e-3, max_relative = 1e-12);
+    approx::assert_relative_eq!(
+        chain.roller_mass_kg,
+        d.mass_per_m_kg * 0.0254,
+        max_relative = 1e-12
+    );
+    assert_eq!(chain.stiffness_n_m, 2e8);
+    // Without the written stiffness, the table's estimate.
+    let text = scene_text("designation_16b.toml").replace("stiffness_n_m = 2e8\n", "");
+    let scene = Scene::from_toml(&text).expect("a valid scene");
+    approx::assert_relative_eq!(
+        scene.chain().stiffness_n_m,
+        d.stiffness_n_m(),
+        max_relative = 1e-12
+    );
+    // The pin radius reaches the joint friction.
+    let text = scene_text("designation_16b.toml").replace(
+        "pretension_n = 1000.0",
+        "pretension_n = 1000.0\njoint_friction = 0.1",
+    );
+    let scene = Scene::from_toml(&text).expect("a valid scene");
+    let joints = scene.chain().joint_friction.expect("joint friction on");
+    approx::assert_relative_eq!(joints.pin_radius_m, 0.5 * 8.28e-3, max_relative = 1e-12);
+}
+
+/// A typo is an error at chain.designation naming the nearest names; a
+/// chain with neither a designation nor a pitch names the missing field.
+#[test]
+fn a_typo_in_the_designation_suggests_the_nearest_names() {
+    let text = scene_text("designation_16b.toml").replace("ISO 606 16B-1", "ISO 606 16V-1");
+    let err = Scene::from_toml(&text)
+        .expect_err("unknown designation")
+        .to_string();
+    assert!(err.contains("chain.designation"), "{err}");
+    assert!(err.contains("\"ISO 606 16B-1\""), "{err}");
+    let text = scene_text("designation_16b.toml").replace("designation = \"ISO 606 16B-1\"\n", "");
+    let err = Scene::from_toml(&text).expect_err("no pitch").to_string();
+    assert!(
+        err.contains("chain.pitch_m") && err.contains("chain.designation"),
+        "{err}"
+    );
+    assert!(!err.contains("NaN"), "{err}");
+}
+
+/// The drive named by designation lays out, settles and runs briefly.
+#[test]
+fn a_drive_by_designation_runs() {
+    let scene = Scene::from_toml(&scene_text("designation_16b.toml")).expect("a valid scene");
+    let mut sim = crate::sim::Simulation::new(&scene).expect("a static equilibrium");
+    sim.run(0.02, u64::MAX, &mut crate::sim::NoObserver, None)
+        .expect("no blow-up");
+}

@@ -1,0 +1,46 @@
+//! The stress matrix's contract (`chaindrive bench stress`) and the scene
+//! generator it relies on.
+
+use crate::scene::generate::DriveSpec;
+use crate::sim::Simulation;
+
+/// Generated drives lay out, settle and reach the pretension; the closing
+/// link (last roller to first) is as long as every other.
+#[test]
+fn generated_drives_close_and_reach_their_pretension() {
+    for (rollers, sprockets) in [(122, 4), (1000, 2), (10_000, 2), (500, 10)] {
+        let mut spec = DriveSpec::new(rollers, sprockets).expect("spec");
+        // A 10,000-roller chain's slowest mode outlasts the default 2 s of
+        // relaxation; the pretension is reached long before.
+        spec.equilibrium.max_relax_s = 0.3;
+        let scene = spec.scene().expect("valid scene");
+        assert_eq!(scene.chain().rollers, rollers);
+        assert_eq!(scene.sprockets().len(), sprockets);
+        let sim = Simulation::new(&scene)
+            .unwrap_or_else(|e| panic!("{rollers} rollers, {sprockets} sprockets: {e}"));
+        let target = scene.chain().pretension_n;
+        let tension = sim.equilibrium.tension_n;
+        assert!(
+            ((tension - target) / target).abs() <= scene.equilibrium().tension_tolerance,
+            "{rollers}x{sprockets}: static tension {tension} N, target {target} N"
+        );
+        let st = &sim.state;
+        let n = st.rollers();
+        assert_eq!(n, rollers);
+        let forces = &sim.forces.output().link_force;
+        // Every link, the closing one included, carries a force within the
+        // pretension's order: none is a gap or an overlap.
+        for (i, f) in forces.iter().enumerate() {
+            assert!(
+                f.is_finite() && f.abs() < 3.0 * target,
+                "{rollers}x{sprockets}: link {i} carries {f} N"
+            );
+        }
+        let closing = (st.x[0] - st.x[n - 1]).hypot(st.y[0] - st.y[n - 1]);
+        let p = scene.chain().pitch_m;
+        assert!(
+            (closing - p).abs() < 1e-3 * p,
+            "{rollers}x{sprockets}: closing link {closing} m vs pitch {p} m"
+        );
+    }
+}
