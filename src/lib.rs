@@ -10,28 +10,40 @@
 //! continuous Hertzian penalty force (Lankarani–Nikravesh, or another law of
 //! the Hunt–Crossley family) against a circular seating profile or the real
 //! ASA B29.1 tooth form. Five integrators advance the chain
-//! ([`sim::integrate`]), from rapier's symplectic Euler to an adaptive
+//! ([`scene::Integrator`]), from rapier's symplectic Euler to an adaptive
 //! Dormand–Prince with located contact events.
 //! The model shows polygonal action, roller impacts, link-force fluctuation
 //! and the transverse vibration of the free strands.
 //!
+//! ## The front door
+//!
+//! `use chaindrive::prelude::*;` brings in what a user needs: the scene, a
+//! run, its observers and summary, the drive in your own rapier world, the
+//! recorder, their errors, and the seam for force elements of your own
+//! ([`prelude`]). Five modules hold the rest of what a user may name, each
+//! for one concept: [`scene`] (a scene's parts and its file form), [`sim`]
+//! (a run's outcome, its errors, observers composed), [`cosim`] (mounts,
+//! couplings, several drives in one world), [`analysis`] (the run summary's
+//! parts) and [`record`] (the recording's channels). Everything else is
+//! the crate's own (`docs/architecture.md`, "The public surface").
+//!
 //! ## Pipeline
 //!
 //! The data flows once, forward; each stage lives in one module and never
-//! imports a later one. [`geometry`] is plain arithmetic that imports nothing
+//! imports a later one (the stages without a link are the crate's own). `geometry` is plain arithmetic that imports nothing
 //! else of the crate, so it is the lowest stage: the scene uses it for the
 //! sprockets' pitch radii and to generate drives whose chain path closes.
 //!
 //! | stage | module | what it does |
 //! |---|---|---|
-//! | geometry | [`geometry`] | tooth profiles, chain path (plain/crossed tangents), roller layout |
+//! | geometry | `geometry` | tooth profiles, chain path (plain/crossed tangents), roller layout |
 //! | scene | [`scene`] | TOML → validated [`scene::Scene`], every error with its field path |
-//! | model | [`model`] | parameters, structure-of-arrays state, rapier bodies |
-//! | forces | [`forces`] | link spring-dampers, contact law, roller–tooth contact generator |
+//! | model | `model` | parameters, structure-of-arrays state, rapier bodies |
+//! | forces | `forces` | link spring-dampers, contact law, roller–tooth contact generator |
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |
 //! | co-simulation | [`cosim`] | the drive inside a user's rapier world, stepped at the user's dt |
 //! | analysis | [`analysis`] | sampled signals, spectra, run summary, analytical references |
-//! | studies | [`studies`] | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
+//! | studies | `studies` | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
 //!
 //! ## Quick start
 //!
@@ -186,8 +198,9 @@
 //!
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record` |
-//! | `figures` | yes | PNG and SVG figures of [`analysis`] (`plotters`, embedded font), `reproduce` |
+//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C; [`cli`]); enables `record` |
+//! | `figures` | yes | PNG and SVG figures (`plotters`, embedded font) for `reproduce`, `sweep` and `analyze` |
+//! | `bench-kernels` | no | `benches/kernels.rs`'s reach into the contact law and profile queries; not an API |
 //! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
 //!
 //! ## Reproducibility

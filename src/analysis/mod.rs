@@ -107,13 +107,13 @@ pub(crate) struct ShoeSample {
 }
 
 /// Samples a run's signals into memory, with the integrals and extremes of
-/// every step from `per_step_from_s` on ([`SampleRow::step_sums`]: no mean
+/// every step from `per_step_from_s` on (`SampleRow::step_sums`: no mean
 /// depends on the sample rate).
 ///
 /// By default every row is kept. [`Signals::keep_window`] bounds the memory
 /// whatever the run's length: only the rows of the statistics window are
 /// kept, and the transverse spectra are averaged as the samples arrive
-/// ([`spectrum::Welch`]); the summary is the same either way.
+/// (`spectrum::Welch`); the summary is the same either way.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Signals {
     /// Rows in time order (the last ones only, with [`Signals::keep_window`]).

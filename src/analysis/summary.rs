@@ -87,7 +87,7 @@ pub struct SegmentSummary {
     #[serde(default)]
     pub link_force_rms_n: f64,
     /// Whether the first and last thirds of the window agree within three
-    /// combined standard errors (see [`super::stats`]).
+    /// combined standard errors (see `super::stats`).
     #[serde(default = "stationary_by_default")]
     pub stationary: bool,
     /// Main peak of the transverse displacement's spectrum in 1–50 Hz, Hz (0 if none).
@@ -219,7 +219,7 @@ pub struct RunSummary {
     pub static_tension_n: f64,
     /// Largest roller force imbalance left at the static equilibrium, as a
     /// fraction of the pretension (absent where unknown: a summary of a
-    /// recording). Above [`super::STATIC_RESIDUAL_TOLERANCE`] the
+    /// recording). Above `super::STATIC_RESIDUAL_TOLERANCE` the
     /// run starts from a state that is not at rest, and says so in
     /// `warnings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]

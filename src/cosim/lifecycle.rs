@@ -12,7 +12,7 @@ impl ChainDrive {
     /// the user's body carries sprocket k (`None`, or no entry, where the
     /// drive owns the sprocket's body); more entries than sprockets is an error. A mount must be in `bodies`, carry one
     /// sprocket only, and sit at the sprocket's centre in the scene (within
-    /// [`MOUNT_CENTRE_TOLERANCE_M`]). A dynamic mount turns with the chain
+    /// `MOUNT_CENTRE_TOLERANCE_M`). A dynamic mount turns with the chain
     /// (its rotational inertia as the chain sees it is the body's, not the
     /// scene's `inertia_kg_m2`); a kinematic or fixed one turns its sprocket at its
     /// own angular speed. A mount already turning sets the chain moving with

@@ -102,7 +102,7 @@ use crate::model::{DriveModel, DriveState};
 ///
 /// Implementations write into [`Forces`] only what they add; they keep
 /// their own history and outputs as fields, reached through
-/// [`ForceGenerator::element`]. Nothing may be allocated per evaluation.
+/// `ForceGenerator::element`. Nothing may be allocated per evaluation.
 pub trait ForceElement: std::fmt::Debug + Send + Sync {
     /// Short name, for stage timings (`links`, `contacts`, …).
     fn name(&self) -> &'static str;
@@ -233,7 +233,7 @@ pub enum HistoryError {
 }
 
 /// Wall time spent in each force element, when timing is on
-/// ([`ForceGenerator::timing`]).
+/// (`ForceGenerator::timing`).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ForceTimes {
     /// Force evaluations timed.

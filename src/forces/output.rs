@@ -2,7 +2,7 @@
 //! observers, the blow-up detectors, the co-simulation and the rapier sync.
 
 /// The forces at one state, written by the force elements of a
-/// [`super::ForceGenerator`] and read by everything after them.
+/// `super::ForceGenerator` and read by everything after them.
 ///
 /// Roller forces include gravity. Per-sprocket sums hold the chain's action
 /// on each sprocket (its load torque is the model's, not added here).

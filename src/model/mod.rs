@@ -133,7 +133,7 @@ impl SprocketModel {
     /// while `t < t_r = load_ramp_s`, the full M(θ) after (and always when no
     /// ramp is set, so the load at rest is M(θ) exactly), plus the user's
     /// torque, which does not ramp, plus a torque-driven driver's torque
-    /// ([`Governor::torque_at`]; the only part that depends on the speed).
+    /// (`Governor::torque_at`; the only part that depends on the speed).
     #[inline]
     pub fn torque_at(&self, t_s: f64, theta_rad: f64, omega_rad_s: f64) -> f64 {
         let external = self.external_torque_at(t_s, theta_rad);
@@ -535,7 +535,7 @@ impl DriveModel {
     }
 
     /// Index of the sprocket that drives the chain: the kinematic driver or
-    /// a torque-driven one ([`SprocketModel::governor`]).
+    /// a torque-driven one (`SprocketModel::governor`).
     pub fn driving(&self) -> Option<usize> {
         self.sprockets.iter().position(SprocketModel::held_at_rest)
     }

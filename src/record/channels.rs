@@ -14,17 +14,17 @@ pub enum Channel {
     Rollers,
     /// `/outlines/sprocketN` once (`foxglove.PointCloud`).
     Outlines,
-    /// `/links` ([`ChainLinkForces`](super::ChainLinkForces)).
+    /// `/links` (`ChainLinkForces`).
     Links,
-    /// `/contacts` ([`ChainContactForces`](super::ChainContactForces)).
+    /// `/contacts` (`ChainContactForces`).
     Contacts,
-    /// `/sprockets` ([`SprocketSignals`](super::SprocketSignals)).
+    /// `/sprockets` (`SprocketSignals`).
     Sprockets,
-    /// `/segments` ([`SegmentSignals`](super::SegmentSignals)).
+    /// `/segments` (`SegmentSignals`).
     Segments,
-    /// `/guides` ([`GuideSignals`](super::GuideSignals)).
+    /// `/guides` (`GuideSignals`).
     Guides,
-    /// `/tensioners` ([`TensionerSignals`](super::TensionerSignals)).
+    /// `/tensioners` (`TensionerSignals`).
     Tensioners,
 }
 

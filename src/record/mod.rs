@@ -14,12 +14,12 @@
 //! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z; `world` → `tensionerN`: the arm's pivot and angle |
 //! | `outlines` | `/outlines/sprocketN` | `foxglove.PointCloud` | once: sprocket N's tooth outline as points 0.5 mm apart, in its frame `sprocketN`, one colour per sprocket (what Rerun draws) |
 //! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world`, coloured (u8 red, green, blue, alpha) by the mean force of the roller's two links on the links' scale |
-//! | `links` | `/links` | [`ChainLinkForces`] | every link's force, N, and every joint's friction moment, N·m |
-//! | `contacts` | `/contacts` | [`ChainContactForces`] | every roller's contact force, N |
-//! | `sprockets` | `/sprockets` | [`SprocketSignals`] | angles, speeds, chain torques |
-//! | `segments` | `/segments` | [`SegmentSignals`] | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
-//! | `guides` | `/guides` | [`GuideSignals`] | each guide's summed normal and friction forces, resultant and contacts (none without guides); the guides' faces are drawn in `/scene/static`, frame `world` |
-//! | `tensioners` | `/tensioners` | [`TensionerSignals`] | each tensioner arm's plunger travel, speed, chamber pressure, check-valve state, arm angle, shoe force and push (none without tensioner arms); the arms are drawn in `/scene/static`, each in its frame `tensionerN` (pivot, turned by the arm's angle), which `/tf` moves |
+//! | `links` | `/links` | `ChainLinkForces` | every link's force, N, and every joint's friction moment, N·m |
+//! | `contacts` | `/contacts` | `ChainContactForces` | every roller's contact force, N |
+//! | `sprockets` | `/sprockets` | `SprocketSignals` | angles, speeds, chain torques |
+//! | `segments` | `/segments` | `SegmentSignals` | each free strand's mean link force and transverse displacement ([`crate::analysis`]'s definitions) |
+//! | `guides` | `/guides` | `GuideSignals` | each guide's summed normal and friction forces, resultant and contacts (none without guides); the guides' faces are drawn in `/scene/static`, frame `world` |
+//! | `tensioners` | `/tensioners` | `TensionerSignals` | each tensioner arm's plunger travel, speed, chamber pressure, check-valve state, arm angle, shoe force and push (none without tensioner arms); the arms are drawn in `/scene/static`, each in its frame `tensionerN` (pivot, turned by the arm's angle), which `/tf` moves |
 //!
 //! Every file also holds a metadata record `chaindrive` (scene name, profile,
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
@@ -40,9 +40,9 @@
 //! that unwinds. A process killed outright (SIGKILL, an out-of-memory kill)
 //! loses the open chunk, the summary and the footer: so that the open chunk
 //! never holds much, it is closed and written to the file whenever it is
-//! full or [`FLUSH_INTERVAL_NS`] (0.1 s) of simulated time has passed since
+//! full or `FLUSH_INTERVAL_NS` (0.1 s) of simulated time has passed since
 //! the last one. Such a file streams up to its last chunk, but seeking
-//! readers (Foxglove, Rerun) need the index: [`recover`] rewrites it whole
+//! readers (Foxglove, Rerun) need the index: `recover` rewrites it whole
 //! (`chaindrive recover`).
 //!
 //! A run resumed from a checkpoint continues its recording
@@ -54,7 +54,7 @@
 //! those messages in the file) and goes on from there. The result holds the
 //! same messages as a recording of the run that never stopped.
 //!
-//! Reading a recording back is [`read`]'s job.
+//! Reading a recording back is `read`'s job.
 //!
 //! What it does not do: decimate on its own (it records every sample the run
 //! hands it) or stream to a live viewer.

@@ -247,11 +247,11 @@ pub struct SolverFile {
     #[serde(default)]
     pub limits: LimitsFile,
     /// Threads stepping the drive: 1, 2 or `"auto"` (the default: two from
-    /// [`super::AUTO_MIN_ROLLERS`] rollers on a machine with two cores).
+    /// `super::AUTO_MIN_ROLLERS` rollers on a machine with two cores).
     #[serde(default, skip_serializing_if = "ThreadsFile::is_auto")]
     pub threads: ThreadsFile,
     /// The sample period an automatic step is a whole fraction of, s
-    /// (`None`: [`super::AUTO_GRID_S`]). Not part of the TOML: the run's
+    /// (`None`: `super::AUTO_GRID_S`). Not part of the TOML: the run's
     /// sample rate sets it ([`super::Overrides::sample_rate_hz`]).
     #[serde(skip)]
     pub sample_period_s: Option<f64>,

@@ -1,5 +1,5 @@
 //! Generated drives: a closed chain of any length around 2 to
-//! [`MAX_GENERATED_SPROCKETS`] sprockets, placed so that the chain's path closes with
+//! `MAX_GENERATED_SPROCKETS` sprockets, placed so that the chain's path closes with
 //! exactly the requested roller count. Used by `chaindrive bench stress` and
 //! by tests that need a drive the paper does not have (1,000 or 10,000
 //! rollers, ten sprockets).
@@ -20,7 +20,7 @@
 //! The scale (d or ρ) is solved so that the path needs `rollers` pitches:
 //! the free strands' tangent lengths over P plus each wrap's angle over its
 //! pitch angle 2π/N. That continuous estimate is then checked against the
-//! roller layout of [`crate::geometry`] (the walk that seats the rollers),
+//! roller layout of `crate::geometry` (the walk that seats the rollers),
 //! and the scale corrected by the walk's own count of needed pitches until
 //! it lays out. Every sprocket keeps its full tooth count; no sprocket
 //! overlaps another (else the chain is too short for the sprocket count, and
@@ -40,14 +40,14 @@
 //! strands' sag holds at the pretension, q⊥² L³ / (24 T₀²) per strand
 //! (shallow cable, q⊥ the weight per length across it), so the chain is
 //! that much longer than its straight path and hangs
-//! ([`crate::geometry::layout_hanging`]): the drive is feasible at its
+//! (`crate::geometry::layout_hanging`): the drive is feasible at its
 //! pretension. Only while every strand sags by at most
-//! [`MAX_SAG_OVER_SPAN`] of its span: a deeper one leaves its wraps too
+//! `MAX_SAG_OVER_SPAN` of its span: a deeper one leaves its wraps too
 //! steeply for the laid parabola to be a good start, and the chain is
 //! closed on the straight path as without gravity (too short for its sag
 //! at the pretension, which the static equilibrium names).
 //!
-//! This module only writes scene data; it uses [`crate::geometry`]'s path and
+//! This module only writes scene data; it uses `crate::geometry`'s path and
 //! layout arithmetic to check the fit and knows nothing of the model or of
 //! stepping.
 

@@ -75,7 +75,7 @@ scene_enum! {
     /// (docs/model.md, “Laws of the family”).
     ///
     /// They differ only in the damping factor χ(e); the effective restitution of a
-    /// single Hertzian impact under each law is tabled in [`crate::forces`].
+    /// single Hertzian impact under each law is tabled in `crate::forces`.
     pub enum ContactLaw {
         /// χ = 3(1 − e²)/4 (Lankarani & Nikravesh 1990), the paper's law.
         LankaraniNikravesh,
@@ -164,7 +164,7 @@ scene_enum! {
 }
 
 scene_enum! {
-    /// Time integration scheme of the chain (see [`crate::sim::integrate`]).
+    /// Time integration scheme of the chain (see `crate::sim::integrate`).
     pub enum Integrator {
         /// v ← v + dt a(x, v); x ← x + dt v (rapier's own scheme). Order 1, one
         /// force evaluation per step.

@@ -14,7 +14,7 @@ pub(crate) const AUTO_MIN_ROLLERS: usize = 6000;
 /// update). The results are the same bits on one thread or two.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Threads {
-    /// Two threads from [`AUTO_MIN_ROLLERS`] rollers on a machine with two
+    /// Two threads from `AUTO_MIN_ROLLERS` rollers on a machine with two
     /// cores or more, else one (the default).
     #[default]
     Auto,

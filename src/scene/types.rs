@@ -221,7 +221,7 @@ pub struct Solver {
     pub sample_period_s: f64,
     /// The blow-up detectors' limits.
     pub limits: Limits,
-    /// Error tolerance of the adaptive scheme (see [`crate::sim::integrate`]).
+    /// Error tolerance of the adaptive scheme (see `crate::sim::integrate`).
     pub tolerance: f64,
     /// Simulated time, s.
     pub duration_s: f64,

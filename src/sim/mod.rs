@@ -295,7 +295,7 @@ pub struct RunOutcome {
     pub interrupted: bool,
     /// Largest penetration seen, m.
     pub max_penetration_m: f64,
-    /// Per-stage wall times, when [`Simulation::timings`] was on.
+    /// Per-stage wall times, when `Simulation::timings` was on.
     pub stage_times: Option<StageTimes>,
 }
 
@@ -579,7 +579,7 @@ impl Simulation {
         self.forces.evaluate(&self.model, &self.state);
     }
 
-    /// Counts every step's powers from `from_s` on ([`PowerLedger`]).
+    /// Counts every step's powers from `from_s` on (`PowerLedger`).
     pub fn track_power(&mut self, from_s: f64) {
         self.power = Some(PowerLedger::new(from_s));
     }

@@ -114,13 +114,13 @@ const TIE_M: f64 = 1e-15;
 /// Why a profile cannot be built.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum AsaError {
-    /// Fewer than [`MIN_TEETH`] teeth.
+    /// Fewer than `MIN_TEETH` teeth.
     #[error("ASA sprocket needs at least {} teeth, got {teeth}", MIN_TEETH)]
     TooFewTeeth {
         /// The requested tooth count.
         teeth: u32,
     },
-    /// More than [`MAX_TEETH`] teeth.
+    /// More than `MAX_TEETH` teeth.
     #[error("ASA sprocket supports at most {} teeth, got {teeth}", MAX_TEETH)]
     TooManyTeeth {
         /// The requested tooth count.

@@ -308,7 +308,7 @@ pub(super) fn steps(ratio: f64) -> usize {
 }
 
 /// The hit with the smallest distance (the first on a tie).
-#[cfg(test)]
+#[cfg(any(test, doc))]
 pub(super) fn nearest_hit(hits: &[Hit; 8]) -> Hit {
     let mut best = hits[0];
     for &h in &hits[1..] {
