@@ -5,7 +5,7 @@ use crate::analysis::binder::{
     BinderInputs, beta, centrifugal_tension_n, placement_times_s, pressure_angle_rad,
     printed_contact_forces, printed_link_forces,
 };
-use crate::analysis::study::{Series, spectrum_with_peaks};
+use crate::analysis::paper_probes::{Series, spectrum_with_peaks};
 use approx::{abs_diff_eq, assert_abs_diff_eq};
 use std::f64::consts::PI;
 
@@ -131,7 +131,7 @@ fn binder_formulas_match_hand_computed_values() {
 #[test]
 fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
     use crate::analysis::figures::{FigureChoice, Mark, Plot, Trace, paper_figures, save};
-    use crate::analysis::study::{
+    use crate::analysis::paper_probes::{
         AnalysisError, link_force_series, roller_contact_series, segment_force_series,
     };
     use crate::studies::reproduce::run_scene;

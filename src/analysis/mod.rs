@@ -26,6 +26,7 @@ mod means_tests;
 pub(crate) mod orders;
 #[cfg(test)]
 mod orders_tests;
+pub(crate) mod paper_probes;
 #[cfg(test)]
 mod rating_tests;
 #[cfg(feature = "record")]
@@ -36,7 +37,6 @@ pub(crate) mod spectrum;
 #[cfg(test)]
 mod statistics_tests;
 pub(crate) mod stats;
-pub(crate) mod study;
 mod summary;
 pub(crate) mod theory;
 pub(crate) mod units;

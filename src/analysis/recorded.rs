@@ -27,11 +27,11 @@ use std::path::Path;
 use serde::Serialize;
 
 use super::binder::{centrifugal_tension_n, polygonal_speed_variation};
-use super::spectrum::main_peak;
-use super::study::{
+use super::paper_probes::{
     AnalysisError, BinderComparison, DriveFacts, Probes, RunData, Series, binder_comparison,
     link_force_series, roller_contact_series, spectrum_with_peaks, window_indices,
 };
+use super::spectrum::main_peak;
 use super::theory::{moving_string_frequency_hz, string_frequency_hz};
 use super::{RunSummary, SampleRow, Signals, StepSums, StrandSummary, SummaryInputs};
 use crate::record::Channel;

@@ -27,7 +27,7 @@ pub(crate) struct Carrier {
     pub pivot_m: [f64; 2],
 }
 
-/// What a [`Guide`] is built from.
+/// What a [`GuideElement`] is built from.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct GuideParams {
     /// Name, for outputs.
@@ -79,7 +79,7 @@ pub(crate) struct ShoeForces {
 /// The friction reaches ±μ f_n smoothly over a few v_s and vanishes at zero
 /// slip (no stick: a roller at rest on a sloping shoe creeps).
 #[derive(Clone, Debug)]
-pub(crate) struct Guide {
+pub(crate) struct GuideElement {
     params: GuideParams,
     /// The law of the run, kept while the relaxation uses its own.
     run_law: Option<ContactLawParams>,
@@ -91,7 +91,7 @@ pub(crate) struct Guide {
     last: ShoeForces,
 }
 
-impl Guide {
+impl GuideElement {
     /// The element for a chain of `rollers` rollers of radius `roller_radius_m`.
     pub(crate) fn new(params: GuideParams, rollers: usize, roller_radius_m: f64) -> Self {
         Self {
@@ -141,7 +141,7 @@ impl Guide {
     }
 }
 
-impl ForceElement for Guide {
+impl ForceElement for GuideElement {
     fn name(&self) -> &'static str {
         "guides"
     }
@@ -193,11 +193,11 @@ impl ForceElement for Guide {
     }
 }
 
-impl Guide {
+impl GuideElement {
     /// The contact kernel: adds each touching roller's force to `out`, the
     /// contacts' energy and damping power, the moment on a carrier's body
     /// coordinate and the deepest penetration, and returns the shoe's sums
-    /// (without listing them in [`Forces::shoes`]: a [`Guide`] element does
+    /// (without listing them in [`Forces::shoes`]: a [`GuideElement`] element does
     /// that, a tensioner arm reports its shoe itself).
     pub(crate) fn contact(&mut self, s: &DriveState, out: &mut Forces) -> ShoeForces {
         let (cos_q, sin_q, pivot, omega) = self.pose(s);
@@ -322,7 +322,7 @@ mod tests {
         (model, state)
     }
 
-    fn flat(carrier: Option<Carrier>, mu: f64) -> Guide {
+    fn flat(carrier: Option<Carrier>, mu: f64) -> GuideElement {
         // Face y = 0, x ∈ [0, 1], working side above, ramps of 5 cm at 0.1 rad.
         let body = body_from_radius([0.0, 0.0], [1.0, 0.0], None).unwrap();
         let ramp = Ramp {
@@ -330,7 +330,7 @@ mod tests {
             angle_rad: 0.1,
         };
         let face = Face::new(body, 1.0, Some(ramp), Some(ramp));
-        Guide::new(
+        GuideElement::new(
             GuideParams {
                 name: "g".into(),
                 face,

@@ -21,13 +21,13 @@ use crate::scene::JointFriction as Params;
 /// unit normal n a moment m is the couple −(m/ℓ) n at its first roller and
 /// +(m/ℓ) n at its second: the forces sum to zero and their power is m ω.
 #[derive(Clone, Debug)]
-pub(crate) struct JointFriction {
+pub(crate) struct JointFrictionElement {
     params: Params,
     /// Scratch: each joint's relative angular velocity ω_rel, rad/s.
     rel: Vec<f64>,
 }
 
-impl JointFriction {
+impl JointFrictionElement {
     /// The element for a chain of `rollers` rollers (as many joints).
     pub(crate) fn new(params: Params, rollers: usize) -> Self {
         Self {
@@ -201,7 +201,7 @@ fn passes_body(law: Law, links: LinkRates, joints: Joints, fx: &mut [f64], fy: &
     power
 }
 
-impl ForceElement for JointFriction {
+impl ForceElement for JointFrictionElement {
     fn name(&self) -> &'static str {
         "joint friction"
     }
@@ -313,7 +313,7 @@ mod tests {
         // which the law makes ≤ 0 at every joint.
         let (model, state, base) = disturbed();
         for (mu, c) in [(0.1, 0.0), (0.0, 5.0), (0.15, 2.0)] {
-            let mut e = JointFriction::new(params(mu, c), state.rollers());
+            let mut e = JointFrictionElement::new(params(mu, c), state.rollers());
             let mut out = base.clone();
             e.evaluate(&model, &state, &mut out);
             let (mut sx, mut sy, mut largest, mut power) = (0.0, 0.0, 0.0f64, 0.0);
@@ -430,7 +430,7 @@ mod tests {
     fn joint_friction_moment_saturates_at_the_coulomb_value() {
         // M = −μ r F s(ω/ω_s): at ω = 10 ω_s, within 1e-8 of μ r F; at
         // ω = ω_s / 1000, the viscous slope μ r F / ω_s to 1e-6.
-        let e = JointFriction::new(params(0.1, 0.0), 4);
+        let e = JointFrictionElement::new(params(0.1, 0.0), 4);
         let coulomb = 0.1 * 0.017 * 30e3;
         assert!((e.law(10.0, 30e3) + coulomb).abs() < 1e-8 * coulomb);
         assert!((e.law(1e-3, 30e3) + coulomb * 1e-3).abs() < 1e-6 * coulomb * 1e-3);

@@ -81,8 +81,8 @@ mod tensioners_tests;
 pub(crate) use contact::Culling;
 pub(crate) use contact::ToothContact;
 pub use contact_law::ContactLawParams;
-pub(crate) use guide::{Guide, ShoeForces};
-pub(crate) use joint_friction::JointFriction;
+pub(crate) use guide::{GuideElement, ShoeForces};
+pub(crate) use joint_friction::JointFrictionElement;
 pub(crate) use links::Links;
 pub use output::Forces;
 

@@ -48,7 +48,7 @@ pub struct Forces {
     /// Each tensioner arm's reading, in scene order (empty without arms;
     /// an arm sizes it at its first evaluation).
     pub(crate) tensioners: Vec<super::TensionerReading>,
-    /// The forces on each shoe ([`super::Guide`]), one entry per shoe in the
+    /// The forces on each shoe ([`super::GuideElement`]), one entry per shoe in the
     /// order the elements are evaluated (the scene's guides in scene order);
     /// empty without shoes.
     pub(crate) shoes: Vec<super::ShoeForces>,

@@ -10,7 +10,7 @@
 //! to the arm kinematically, its mass is in the arm's inertia), so that
 //! x = (a(q) − a(0))·ê and v = u (r × ê), r = a − pivot.
 //!
-//! Roller–shoe contact is a guide's ([`Guide`]): the shoe is a carried
+//! Roller–shoe contact is a guide's ([`GuideElement`]): the shoe is a carried
 //! guide face (a circular arc working on its outside) turned with the arm,
 //! meeting the rollers with the scene's contact law and regularised Coulomb
 //! friction; its moment about the pivot goes into the arm's body force.
@@ -18,7 +18,7 @@
 use std::any::Any;
 
 use super::contact_law::ContactLawParams;
-use super::guide::{Carrier, Guide, GuideParams};
+use super::guide::{Carrier, GuideElement, GuideParams};
 use super::hydraulic::{Chamber, stops_n};
 use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::geometry::shoe::{Face, Piece};
@@ -62,7 +62,7 @@ pub(crate) struct TensionerArm {
     scalar: Option<usize>,
     chamber: Option<Chamber>,
     /// The shoe: a guide carried by the arm's body coordinate.
-    shoe: Guide,
+    shoe: GuideElement,
     /// The ratchet's furthest travel, committed (NaN: not yet known).
     peak_m: f64,
     /// What the chamber's state z adds up to with: V_ref = z + offset, m³
@@ -104,7 +104,7 @@ impl TensionerArm {
             None,
             None,
         );
-        let shoe = Guide::new(
+        let shoe = GuideElement::new(
             GuideParams {
                 name: params.name.clone(),
                 face,

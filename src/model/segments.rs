@@ -39,7 +39,7 @@ struct Line {
 /// `first − 1` is the last engaged on the segment's `from` sprocket, roller
 /// `first + rollers` the first engaged on its `to` sprocket.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub(crate) struct Run {
+pub(crate) struct StrandRun {
     /// First free roller.
     pub first: usize,
     /// Number of free rollers (links in the free strand: one fewer).
@@ -51,7 +51,7 @@ pub(crate) struct Run {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct StrandRuns {
     n: usize,
-    runs: [Option<Run>; MAX_SPROCKETS],
+    runs: [Option<StrandRun>; MAX_SPROCKETS],
 }
 
 /// As written (a checkpoint keeps a cache of runs): the roller count and the
@@ -59,7 +59,7 @@ pub(crate) struct StrandRuns {
 #[derive(serde::Serialize, serde::Deserialize)]
 struct RunsAsWritten {
     n: usize,
-    runs: Vec<Option<Run>>,
+    runs: Vec<Option<StrandRun>>,
 }
 
 impl serde::Serialize for StrandRuns {
@@ -95,7 +95,7 @@ impl<'de> serde::Deserialize<'de> for StrandRuns {
 impl StrandRuns {
     /// Segment `k`'s run; `None` when the contact state shows no passage from
     /// its `from` sprocket to its `to` sprocket (the chain off a sprocket).
-    pub(crate) fn get(&self, k: usize) -> Option<Run> {
+    pub(crate) fn get(&self, k: usize) -> Option<StrandRun> {
         self.runs.get(k).copied().flatten()
     }
 
@@ -217,7 +217,7 @@ impl Segments {
                 // on the last step: the whole loop back to it).
                 let between = wrap(i + n - last.0, n);
                 let rollers = if between == 0 { n - 1 } else { between - 1 };
-                out.runs[last.1] = Some(Run {
+                out.runs[last.1] = Some(StrandRun {
                     first: wrap(last.0 + 1, n),
                     rollers,
                 });
@@ -311,7 +311,7 @@ mod tests {
         // wrap), before 9.
         assert_eq!(
             runs.get(0),
-            Some(Run {
+            Some(StrandRun {
                 first: 7,
                 rollers: 2
             })
@@ -320,7 +320,7 @@ mod tests {
         // 1 -> 2: rollers 13, 14, 15.
         assert_eq!(
             runs.get(1),
-            Some(Run {
+            Some(StrandRun {
                 first: 13,
                 rollers: 3
             })
@@ -330,7 +330,7 @@ mod tests {
         // in index order.
         assert_eq!(
             runs.get(2),
-            Some(Run {
+            Some(StrandRun {
                 first: 19,
                 rollers: 3
             })
@@ -347,7 +347,7 @@ mod tests {
         assert_eq!(runs.get(1), None);
         assert_eq!(
             runs.get(2),
-            Some(Run {
+            Some(StrandRun {
                 first: 12,
                 rollers: 6
             })

@@ -5,7 +5,7 @@ use super::{Observer, Sample};
 /// Several observers fed the same run, in the order they were added: a
 /// recorder and a statistics collector, say. Each observer's
 /// [`Observer::step`] is called from its own [`Observer::per_step_from_s`]
-/// on. (`crate::analysis::study::Both` is the two-observer case.)
+/// on. (`crate::analysis::paper_probes::Both` is the two-observer case.)
 ///
 /// ```
 /// use chaindrive::sim::{Fanout, NoObserver, Observer};

@@ -71,7 +71,8 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, Forces, Guide, JointFriction, TensionerArm,
+    ContactLawParams, ForceElement, ForceGenerator, Forces, GuideElement, JointFrictionElement,
+    TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
@@ -87,7 +88,10 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     // The roller loops on two threads where the setting and size say so.
     forces.set_fork(Some(Box::new(parallel::Split::new(scene.solver.threads))));
     if let Some(joints) = scene.chain.joint_friction {
-        forces.add(Box::new(JointFriction::new(joints, scene.chain.rollers)));
+        forces.add(Box::new(JointFrictionElement::new(
+            joints,
+            scene.chain.rollers,
+        )));
     }
     let mut scalar = 0;
     for (k, t) in scene.tensioners.iter().enumerate() {
@@ -105,7 +109,7 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
         )));
     }
     for guide in &scene.guides {
-        forces.add(Box::new(Guide::fixed(guide, &scene.chain)));
+        forces.add(Box::new(GuideElement::fixed(guide, &scene.chain)));
     }
     forces
 }
@@ -190,7 +194,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
-pub(crate) use crate::scene::StepLimits;
+use crate::scene::StepLimits;
 #[cfg(test)]
 pub(crate) use energy::{Energy, Powers, balance_energy_j};
 

@@ -18,7 +18,7 @@ use plotters::chart::SeriesAnno;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use super::study::AnalysisError;
+use super::paper_probes::AnalysisError;
 use super::units::Prefix;
 
 mod campbell;

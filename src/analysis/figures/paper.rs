@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use super::{FigureError, Mark, Plot, Trace, save};
-use crate::analysis::study::{
+use crate::analysis::paper_probes::{
     AnalysisError, RunData, Series, binder_comparison, link_force_series, roller_contact_series,
     segment_force_series, spectrum_with_peaks, transverse_series,
 };

@@ -4,11 +4,11 @@
 use std::path::{Path, PathBuf};
 
 use crate::analysis::figures::{Mark, Plot, Trace, save};
-use crate::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
-use crate::analysis::study::{
+use crate::analysis::paper_probes::{
     Series, link_force_series, roller_contact_series, segment_force_series, spectrum_with_peaks,
     transverse_series,
 };
+use crate::analysis::recorded::{AnalyzeOptions, RecordedAnalysis, RecordedRun};
 use crate::analysis::units::si;
 
 /// Figures drawn: (file stem, caption).

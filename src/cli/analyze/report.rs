@@ -103,7 +103,7 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
     let _ = writeln!(
         md,
         "Contact forces against Binder's (49) (consistent form; q_a, q_b, q_c, nb, t_s, t_e \
-         from each complete contact, see `crate::analysis::study::binder_comparison`). \
+         from each complete contact, see `crate::analysis::paper_probes::binder_comparison`). \
          Polygonal action: the strand-speed variation 1 − cos(π/nt) at constant ω.\n"
     );
     let _ = writeln!(

@@ -25,16 +25,16 @@ use std::time::Instant;
 use serde::Serialize;
 
 use crate::analysis::binder::centrifugal_tension_n;
-use crate::analysis::spectrum::main_peak;
-use crate::analysis::study::{
-    AnalysisError, BinderComparison, Both, DriveFacts, Probes, RunData, binder_comparison,
+use crate::analysis::paper_probes::{
+    AnalysisError, BinderComparison, DriveFacts, Probes, RunData, binder_comparison,
     segment_force_series, spectrum_with_peaks, transverse_series,
 };
+use crate::analysis::spectrum::main_peak;
 use crate::analysis::theory::string_frequency_hz;
 use crate::analysis::{RunSummary, Signals};
 use crate::scene::{Integrator, Overrides, ProfileKind, Scene};
 use crate::sim::{
-    BlowUpLimits, EquilibriumError, RelaxSettings, SampleRate, SimError, Simulation,
+    BlowUpLimits, EquilibriumError, Fanout, RelaxSettings, SampleRate, SimError, Simulation,
     StaticEquilibrium, force_residual, free_strand_tension, relax,
 };
 
@@ -145,7 +145,12 @@ pub(crate) fn run_scene(
     let mut probes = Probes::new(&sim.model);
     sim.track_power((duration - 1.0).max(0.0));
     let outcome = sim
-        .run(duration, every, &mut Both(&mut signals, &mut probes), None)
+        .run(
+            duration,
+            every,
+            &mut Fanout::new().with(&mut signals).with(&mut probes),
+            None,
+        )
         .map_err(sim_err)?;
     let summary = RunSummary::of_run(&sim, &outcome, &signals, setup_wall_s);
     Ok(RunData {

@@ -70,9 +70,10 @@ pub(crate) use output::{
     limits_csv_rows, roller_costs,
 };
 
+use crate::scene::StepLimits;
 use crate::scene::generate::GenerateError;
 use crate::scene::{Integrator, Overrides, Scene, SceneError};
-use crate::sim::{Observer, Sample, SimError, Simulation, StepLimits};
+use crate::sim::{Observer, Sample, SimError, Simulation};
 
 /// Why the matrix cannot be set up.
 #[derive(Debug, thiserror::Error)]

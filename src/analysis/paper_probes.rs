@@ -1,5 +1,5 @@
-//! The paper's figure signals (Figs. 16–24) from a run, and their comparison
-//! with the analytical references.
+//! The paper's probes: the figure signals (Figs. 16–24) taken from a run,
+//! and their comparison with the analytical references.
 //!
 //! [`Probes`] is an observer that keeps, at every sample, each link's force,
 //! each roller's contact force and the sprocket it touches; together with
@@ -213,27 +213,6 @@ impl Observer for Probes {
             };
             self.on_sprocket.push(which);
         }
-    }
-}
-
-/// Two observers fed the same run (any number: [`crate::sim::Fanout`]).
-pub(crate) struct Both<'a, A: Observer, B: Observer>(pub &'a mut A, pub &'a mut B);
-
-impl<A: Observer, B: Observer> Observer for Both<'_, A, B> {
-    fn sample(&mut self, s: &Sample<'_>) {
-        self.0.sample(s);
-        self.1.sample(s);
-    }
-    fn step(&mut self, s: &Sample<'_>) {
-        if s.state.t_s >= self.0.per_step_from_s() {
-            self.0.step(s);
-        }
-        if s.state.t_s >= self.1.per_step_from_s() {
-            self.1.step(s);
-        }
-    }
-    fn per_step_from_s(&self) -> f64 {
-        self.0.per_step_from_s().min(self.1.per_step_from_s())
     }
 }
 
