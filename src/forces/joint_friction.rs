@@ -7,6 +7,7 @@
 //! is zero, so the static equilibrium is the frictionless one), the rollers'
 //! own rotation, or friction between plates.
 
+#[cfg(test)]
 use super::links::link_rates;
 use super::{ForceElement, Forces};
 use crate::model::{DriveModel, DriveState};
@@ -206,27 +207,22 @@ impl ForceElement for JointFrictionElement {
         "joint friction"
     }
 
-    /// Each link's ω and n/ℓ come from the links' pass (sized here at the
-    /// first evaluation, which computes them itself). Then two passes over
-    /// zipped slices, with no bounds checks and no branches, which the
-    /// compiler vectorises: each joint's moment, each roller's two couples.
+    /// Each link's ω and n/ℓ come from the links' pass, which computes them
+    /// because [`ForceElement::wants_link_rates`] asks for them. Then two
+    /// passes over zipped slices, with no bounds checks and no branches,
+    /// which the compiler vectorises: each joint's moment, each roller's
+    /// two couples.
     fn evaluate(&mut self, _model: &DriveModel, s: &DriveState, out: &mut Forces) {
         let n = s.x.len();
         if n < 2 {
             return;
         }
-        if out.link_omega.len() != n || out.link_normal_x.len() != n || out.link_normal_y.len() != n
-        {
-            // Sized once: from now on the links write them.
-            out.link_omega.resize(n, 0.0);
-            out.link_normal_x.resize(n, 0.0);
-            out.link_normal_y.resize(n, 0.0);
-            link_rates(
-                s,
-                &mut out.link_omega,
-                &mut out.link_normal_x,
-                &mut out.link_normal_y,
-            );
+        let sized = out.link_omega.len() == n
+            && out.link_normal_x.len() == n
+            && out.link_normal_y.len() == n;
+        debug_assert!(sized, "the links' rates were not requested");
+        if !sized {
+            return;
         }
         let p = self.params;
         // The pin load is the mean of the two links' forces: its ½ goes into
@@ -252,6 +248,10 @@ impl ForceElement for JointFrictionElement {
             moment: &mut out.joint_moment_n_m[..n],
         };
         out.joint_friction_power_w = passes(law, links, joints, &mut out.fx[..n], &mut out.fy[..n]);
+    }
+
+    fn wants_link_rates(&self) -> bool {
+        true
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {
@@ -296,7 +296,9 @@ mod tests {
         }
         let n = state.rollers();
         let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
-        Links::new(n).evaluate(&model, &state, &mut out);
+        let mut links = Links::new(n);
+        links.request_rates(&mut out);
+        links.evaluate(&model, &state, &mut out);
         for (i, f) in out.link_force.iter_mut().enumerate() {
             *f = 20e3 + 15e3 * next() * 2.0;
             if i == 7 {
@@ -304,6 +306,36 @@ mod tests {
             }
         }
         (model, state, out)
+    }
+
+    /// The links' pass writes each link's ω and n/ℓ only when asked, from
+    /// the first evaluation after the request, and then exactly what the
+    /// slow per-link reference computes; a generator asks for them when an
+    /// element that reads them is added.
+    #[test]
+    fn link_rates_are_computed_only_on_request() {
+        let (model, state, _) = disturbed();
+        let n = state.rollers();
+        let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
+        let mut links = Links::new(n);
+        links.evaluate(&model, &state, &mut out);
+        assert!(out.link_omega.is_empty(), "not asked for: not computed");
+        links.request_rates(&mut out);
+        links.evaluate(&model, &state, &mut out);
+        let (mut w, mut gx, mut gy) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        link_rates(&state, &mut w, &mut gx, &mut gy);
+        assert!(w.iter().any(|&v| v != 0.0), "a moving chain's links turn");
+        assert_eq!(out.link_omega, w);
+        assert_eq!(out.link_normal_x, gx);
+        assert_eq!(out.link_normal_y, gy);
+
+        let law = crate::forces::ContactLawParams::new(crate::scene::Scene::l60mc().contact());
+        let mut generator = crate::forces::ForceGenerator::new(law, &model, n);
+        generator.evaluate(&model, &state);
+        assert!(generator.output().link_omega.is_empty());
+        generator.add(Box::new(JointFrictionElement::new(params(0.1, 0.0), n)));
+        generator.evaluate(&model, &state);
+        assert_eq!(generator.output().link_omega, w);
     }
 
     #[test]

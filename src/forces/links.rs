@@ -37,8 +37,9 @@ fn rates(ux: f64, uy: f64, inv: f64, dvx: f64, dvy: f64) -> (f64, f64, f64) {
 }
 
 /// Each link's ω and n/ℓ (see [`rates`]) at state `s`, into slices of one
-/// slot per link: what the links write into [`Forces::link_omega`] and its
-/// normals when those are sized, for the evaluation that sizes them.
+/// slot per link: what the links' pass writes into [`Forces::link_omega`]
+/// and its normals when they were asked for (a test's slow reference).
+#[cfg(test)]
 pub(crate) fn link_rates(
     s: &DriveState,
     omega: &mut [f64],
@@ -171,6 +172,11 @@ pub(crate) struct Links {
     link_fy: Vec<f64>,
     /// l − rest length of link i at the last evaluation, m.
     stretch: Vec<f64>,
+    /// Whether the pass writes each link's ω and n/ℓ into
+    /// [`Forces::link_omega`] and its normals: set by
+    /// [`Links::request_rates`], which an element asks for through
+    /// [`super::ForceElement::wants_link_rates`].
+    rates: bool,
 }
 
 impl Links {
@@ -180,7 +186,18 @@ impl Links {
             link_fx: vec![0.0; rollers],
             link_fy: vec![0.0; rollers],
             stretch: vec![0.0; rollers],
+            rates: false,
         }
+    }
+
+    /// From now on, write each link's ω and n/ℓ into `out`'s
+    /// [`Forces::link_omega`] and normals, sized here (once, not per step).
+    pub(crate) fn request_rates(&mut self, out: &mut Forces) {
+        let n = self.stretch.len();
+        self.rates = true;
+        out.link_omega.resize(n, 0.0);
+        out.link_normal_x.resize(n, 0.0);
+        out.link_normal_y.resize(n, 0.0);
     }
 
     /// l − rest length of each link at the last evaluation, m.
@@ -210,7 +227,8 @@ impl Links {
             rest: model.rest_length_m,
         };
         let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
-        let with_rates = out.link_omega.len() == n
+        let with_rates = self.rates
+            && out.link_omega.len() == n
             && out.link_normal_x.len() == n
             && out.link_normal_y.len() == n;
         let force = Halves::new(&mut out.link_force[..n]);
@@ -333,7 +351,8 @@ impl ForceElement for Links {
         let stretch = &mut self.stretch[..n];
         // Links 0..n−1 join consecutive rollers; the closing link n−1 → 0
         // after them.
-        let with_rates = out.link_omega.len() == n
+        let with_rates = self.rates
+            && out.link_omega.len() == n
             && out.link_normal_x.len() == n
             && out.link_normal_y.len() == n;
         let link_rates = with_rates.then(|| Rates {

@@ -136,6 +136,14 @@ pub trait ForceElement: std::fmt::Debug + Send + Sync {
         Ok(())
     }
 
+    /// Whether the element reads each link's angular rate and normal
+    /// ([`Forces`]' `link_omega`, `link_normal_x`, `link_normal_y`): when it
+    /// does, the links' pass computes them before it from the first
+    /// evaluation on. The default asks for nothing (nothing is computed).
+    fn wants_link_rates(&self) -> bool {
+        false
+    }
+
     /// A boxed copy (a generator is cloned to fork a settled drive).
     fn clone_box(&self) -> Box<dyn ForceElement>;
 
@@ -315,6 +323,9 @@ impl ForceGenerator {
 
     /// Adds a further element, evaluated after those already present.
     pub(crate) fn add(&mut self, element: Box<dyn ForceElement>) {
+        if element.wants_link_rates() {
+            self.links.request_rates(&mut self.output);
+        }
         self.elements.push(element);
     }
 
