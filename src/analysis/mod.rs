@@ -45,7 +45,6 @@ mod window;
 
 pub(crate) use means::StepSums;
 pub(crate) use summary::SummaryInputs;
-pub(crate) use summary::segment_series;
 pub use summary::{
     GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
     TensionerSummary,
@@ -91,6 +90,14 @@ pub struct SampleRow {
     /// means are theirs.
     #[serde(default)]
     pub(crate) step_sums: StepSums,
+}
+
+/// Segment `k`'s average link force over `rows`, the samples with a free link.
+pub(crate) fn segment_series(rows: &[&SampleRow], k: usize) -> Vec<f64> {
+    rows.iter()
+        .filter_map(|r| r.segment_force_n[k])
+        .filter(|v| v.is_finite())
+        .collect()
 }
 
 /// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).

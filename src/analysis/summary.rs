@@ -303,20 +303,6 @@ pub(crate) struct SummaryInputs<'a> {
     pub max_penetration_m: f64,
 }
 
-/// What the warnings judge: the summary and the window's rows.
-pub(crate) struct Judged<'a> {
-    /// The scene.
-    pub scene: &'a Scene,
-    /// The summary, warnings not yet filled in.
-    pub summary: &'a RunSummary,
-    /// The samples of the statistics window.
-    pub window_rows: &'a [&'a SampleRow],
-    /// The mean chain speed over the window, m/s.
-    pub chain_speed_m_s: f64,
-    /// Why the static equilibrium's state is not at rest, where known.
-    pub unsettled_cause: Option<&'a str>,
-}
-
 /// Mean and (min, max) of the finite values of an iterator; zeros when empty.
 fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
     let (mut sum, mut n, mut lo, mut hi) = (0.0, 0usize, f64::INFINITY, f64::NEG_INFINITY);
@@ -331,14 +317,6 @@ fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
     } else {
         (sum / n as f64, lo, hi)
     }
-}
-
-/// Segment `k`'s average link force over `rows`, the samples with a free link.
-pub(crate) fn segment_series(rows: &[&SampleRow], k: usize) -> Vec<f64> {
-    rows.iter()
-        .filter_map(|r| r.segment_force_n[k])
-        .filter(|v| v.is_finite())
-        .collect()
 }
 
 /// The window's means: the rows' integrals over every step where each row
@@ -619,7 +597,7 @@ impl RunSummary {
             .enumerate()
             .map(|(k, strand)| {
                 let mean = means.segment_force_n(k);
-                let series = segment_series(&in_window, k);
+                let series = super::segment_series(&in_window, k);
                 let (_, lo, hi) = stats(series.iter().copied());
                 let (freqs, amps) = signals.transverse_spectrum(k, spectrum_window);
                 let peak = peak_in(&freqs, &amps, 1.0, 50.0).map_or(0.0, |p| p.0);
@@ -737,7 +715,7 @@ impl RunSummary {
             warnings: Vec::new(),
         };
         summary.rating = super::design::rating::of_run(scene, &summary);
-        summary.warnings = super::warnings::of_run(&Judged {
+        summary.warnings = super::warnings::of_run(&super::warnings::Judged {
             scene,
             summary: &summary,
             window_rows: &in_window,

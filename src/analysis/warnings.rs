@@ -7,8 +7,9 @@
 //! warning stops a run (the blow-up detectors do, [`crate::sim`]).
 
 use super::stats::{STATIONARITY_SE, stationarity as test_stationarity};
-use super::summary::{Judged, segment_series};
 use super::window::{DEFAULT_WINDOW_S, holds, last_ramp};
+use super::{RunSummary, SampleRow, segment_series};
+use crate::scene::Scene;
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
 /// is flagged (the paper's drive: 3 % at 120 rpm, 18 % at 600 rpm).
@@ -42,6 +43,20 @@ pub(crate) const ALIAS_HARMONICS: u32 = 3;
 /// sampled statistics read (the 1–50 Hz transverse peak, 20 batches of a
 /// 1 s window at 20 Hz, the thirds of the stationarity test).
 pub(crate) const ALIAS_BAND_HZ: f64 = 50.0;
+
+/// What the warnings judge: the summary and the window's rows.
+pub(crate) struct Judged<'a> {
+    /// The scene.
+    pub scene: &'a Scene,
+    /// The summary, warnings not yet filled in.
+    pub summary: &'a RunSummary,
+    /// The samples of the statistics window.
+    pub window_rows: &'a [&'a SampleRow],
+    /// The mean chain speed over the window, m/s.
+    pub chain_speed_m_s: f64,
+    /// Why the static equilibrium's state is not at rest, where known.
+    pub unsettled_cause: Option<&'a str>,
+}
 
 /// The warnings of a run, one sentence each.
 pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {

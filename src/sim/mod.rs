@@ -16,7 +16,6 @@ mod checkpoint_tests;
 #[cfg(test)]
 mod detectors_tests;
 mod energy;
-mod equilibrium;
 #[cfg(test)]
 mod equilibrium_errors_tests;
 #[cfg(test)]
@@ -24,18 +23,16 @@ mod equilibrium_sweep_tests;
 #[cfg(test)]
 mod equilibrium_tests;
 mod fanout;
-mod feasibility;
-mod fit;
 #[cfg(test)]
 mod fit_tests;
 pub(crate) mod integrate;
 #[cfg(test)]
 mod integrators_tests;
-mod newton;
 #[cfg(test)]
 mod paper_tests;
 pub(crate) mod parallel;
 mod sample_rate;
+mod statics;
 mod stepper;
 #[cfg(test)]
 mod stepping_tests;
@@ -50,17 +47,14 @@ pub use crate::geometry::{LayoutError, PathError};
 pub use crate::model::BuildError;
 pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub(crate) use energy::{PowerLedger, PowerMeans};
-pub use equilibrium::{BeyondSeatingArc, EquilibriumError, StaticEquilibrium};
-pub(crate) use equilibrium::{
-    RelaxSettings, force_residual, free_strand_tension, relax, settle_rest_length,
-};
 pub use fanout::Fanout;
-pub use fit::FitError;
-pub(crate) use fit::{
-    FIT_TOLERANCE_M, default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
-};
 pub(crate) use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
+pub use statics::{BeyondSeatingArc, EquilibriumError, FitError, StaticEquilibrium};
+pub(crate) use statics::{
+    FIT_TOLERANCE_M, RelaxSettings, default_direction, fit_sprocket, fitting_counts,
+    force_residual, free_strand_tension, needed_pitches_of, relax, settle_rest_length,
+};
 pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -372,8 +366,8 @@ impl Simulation {
         let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
                 let (mut model, mut state, layout) = DriveModel::build(scene)?;
-                feasibility::check_chain_length(scene, &layout, &model.path)?;
-                feasibility::check_load(scene, &layout)?;
+                statics::check_chain_length(scene, &layout, &model.path)?;
+                statics::check_load(scene, &layout)?;
                 let mut forces = new_forces(scene, &model);
                 let eq = settle_rest_length(
                     &mut model,
@@ -394,7 +388,7 @@ impl Simulation {
             PretensionRule::TensionerPreload => {
                 let (model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
-                let eq = equilibrium::settle_preload(
+                let eq = statics::settle_preload(
                     &model,
                     &mut state,
                     &mut forces,

@@ -27,6 +27,8 @@
 use crate::geometry::{PathCircle, ToothProfile, chain_path, needed_pitches};
 use crate::scene::Scene;
 
+use super::error::FitError;
+
 /// Samples of the scan on each side of the sprocket's position.
 const SCAN_STEPS: usize = 200;
 
@@ -57,76 +59,6 @@ pub(crate) struct Fit {
     pub slope_per_m: f64,
     /// Layouts evaluated.
     pub evaluations: usize,
-}
-
-/// Why no position fits.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum FitError {
-    /// The direction is zero or not finite.
-    #[error("the direction [{0}, {1}] is not a finite, non-zero vector")]
-    Direction(f64, f64),
-    /// The sprocket index is out of range.
-    #[error("there is no sprocket {0}")]
-    NoSprocket(usize),
-    /// The drive as it stands has no chain path.
-    #[error("the drive as written has no chain path: {0}")]
-    NoPath(String),
-    /// Moving along the direction does not change the path's length.
-    #[error(
-        "moving sprocket \"{sprocket}\" along [{dx:.4}, {dy:.4}] does not change the path's length (the direction is across it): choose another direction"
-    )]
-    Flat {
-        /// The moved sprocket's name.
-        sprocket: String,
-        /// Direction, x.
-        dx: f64,
-        /// Direction, y.
-        dy: f64,
-    },
-    /// The drive changes shape before the chain fits.
-    #[error(
-        "sprocket \"{sprocket}\" cannot move far enough along [{dx:.4}, {dy:.4}]: {reason} {offset_m:+.4} m from where it stands; there the path needs {reached:.3} pitches, and the chain's {rollers} are {:.3} pitches ({:.4} m) too {}",
-        gap_pitches.abs(),
-        gap_m.abs(),
-        if *gap_pitches > 0.0 { "many" } else { "few" }
-    )]
-    Unreachable {
-        /// The moved sprocket's name.
-        sprocket: String,
-        /// Direction, x.
-        dx: f64,
-        /// Direction, y.
-        dy: f64,
-        /// What stops the move.
-        reason: String,
-        /// How far it can move, m (signed along the direction).
-        offset_m: f64,
-        /// Pitches the path needs there.
-        reached: f64,
-        /// Pitches still missing (positive) or in excess (negative).
-        gap_pitches: f64,
-        /// The same as a length, m.
-        gap_m: f64,
-        /// The chain's roller count.
-        rollers: usize,
-    },
-    /// The path's need of chain jumps across N (a roller changes from a wrap
-    /// to a strand there): no position fits exactly.
-    #[error(
-        "the path's need of chain jumps from {below:.4} to {above:.4} pitches at {offset_m:.6} m along the direction, across the chain's {rollers}: no position of sprocket \"{sprocket}\" fits exactly"
-    )]
-    Jump {
-        /// The moved sprocket's name.
-        sprocket: String,
-        /// Where, m.
-        offset_m: f64,
-        /// Need on one side.
-        below: f64,
-        /// Need on the other.
-        above: f64,
-        /// The chain's roller count.
-        rollers: usize,
-    },
 }
 
 /// The seated-roller circles of a scene, their positions free.

@@ -50,7 +50,8 @@
 
 use rapier2d_f64::na::{DMatrix, DVector, Matrix2, Vector2};
 
-use super::equilibrium::{EquilibriumError, RelaxSettings, relax_until};
+use super::error::EquilibriumError;
+use super::relax::{RelaxSettings, relax_until};
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 

@@ -33,7 +33,7 @@
 //!   load T₀ holds (two equal strands: |M| ≤ 2 R T₀), several with the
 //!   strand. Exact for a weightless chain, a guide under gravity.
 
-use super::equilibrium::EquilibriumError;
+use super::error::EquilibriumError;
 use crate::forces::ForceGenerator;
 use crate::geometry::{ChainPath, Layout, ToothProfile};
 use crate::model::{DriveModel, DriveState};

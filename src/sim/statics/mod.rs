@@ -1,0 +1,24 @@
+//! The statics: the drive at rest before t = 0. The relaxation
+//! (`relax`), the pretension rule's iteration around it (`equilibrium`),
+//! Newton's settling of the last digits (`newton`), the circular profile's
+//! rim where no rest state exists (`feasibility`), and moving one sprocket
+//! until the chain fits its path (`fit`); their errors in `error`. Nothing
+//! here steps a run: that is the rest of `sim`.
+
+mod equilibrium;
+mod error;
+mod feasibility;
+mod fit;
+mod newton;
+mod relax;
+
+pub use equilibrium::StaticEquilibrium;
+pub(crate) use equilibrium::{
+    force_residual, free_strand_tension, settle_preload, settle_rest_length,
+};
+pub use error::{BeyondSeatingArc, EquilibriumError, FitError};
+pub(crate) use feasibility::{check_chain_length, check_load};
+pub(crate) use fit::{
+    FIT_TOLERANCE_M, default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
+};
+pub(crate) use relax::{RelaxSettings, relax};
