@@ -424,20 +424,65 @@ pub(crate) fn read_recording(path: &Path) -> Result<Recording, ReadError> {
 /// Messages of one topic: log time (ns) → payload.
 type Topic<'a> = BTreeMap<u64, Cow<'a, [u8]>>;
 
-/// Reads a recording held in memory; `name` is used in messages.
+/// Reads a recording held in memory; `name` is used in messages: its
+/// records, the scene it carries, the channels it needs, then its samples
+/// and the tensioner arms' states.
 pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadError> {
     if !bytes.starts_with(MCAP_MAGIC) {
         return Err(not_mcap(name, bytes));
     }
-    // Top-level records: metadata, attachments (outside chunks).
-    let mut metadata: BTreeMap<String, BTreeMap<String, String>> = BTreeMap::new();
-    let mut attachments: Vec<(String, String, Vec<u8>)> = Vec::new();
+    let (mut metadata, attachments) = top_level_records(name, bytes)?;
+    let topics = messages_by_topic(name, bytes)?;
+    let found: Vec<String> = topics.keys().cloned().collect();
+    let meta = metadata.remove("chaindrive").unwrap_or_default();
+    let end_status = metadata
+        .get("chaindrive.end")
+        .and_then(|m| m.get("status"))
+        .cloned()
+        .unwrap_or_else(|| "unknown (no end record)".to_owned());
+    let scene = attached_scene(&attachments, &meta)?;
+    require_channels(&topics, &found)?;
+    let has_links = topics.contains_key(Channel::Links.topic());
+    let has_contacts = topics.contains_key(Channel::Contacts.topic())
+        && topics.contains_key(Channel::Rollers.topic());
+    let reader = Samples {
+        topics: &topics,
+        rollers: scene.chain.rollers,
+        sprockets: scene.sprockets.len(),
+        has_links,
+        has_contacts,
+    };
+    let samples = reader.samples()?;
+    let tensioners = reader.tensioners(scene.tensioners.len())?;
+    Ok(Recording {
+        name: name.to_owned(),
+        scene,
+        topics: found,
+        metadata: meta,
+        end_status,
+        has_links,
+        has_contacts,
+        samples,
+        tensioners,
+    })
+}
+
+/// Metadata by name, and the attachments (name, media type, bytes).
+type TopLevel = (
+    BTreeMap<String, BTreeMap<String, String>>,
+    Vec<(String, String, Vec<u8>)>,
+);
+
+/// The records outside chunks: metadata and attachments. A file cut short
+/// (a killed run) still yields what precedes the damage.
+fn top_level_records(name: &str, bytes: &[u8]) -> Result<TopLevel, ReadError> {
+    let mut metadata = BTreeMap::new();
+    let mut attachments = Vec::new();
     let reader = mcap::read::LinearReader::new(bytes).map_err(|e| ReadError::NotMcap {
         path: name.to_owned(),
         found: e.to_string(),
     })?;
     for record in reader {
-        // A file cut short (a killed run) still yields what precedes the damage.
         let Ok(record) = record else { break };
         match record {
             mcap::records::Record::Metadata(m) => {
@@ -449,6 +494,14 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
             _ => {}
         }
     }
+    Ok((metadata, attachments))
+}
+
+/// Every message, by topic and log time (up to any damage).
+fn messages_by_topic<'a>(
+    name: &str,
+    bytes: &'a [u8],
+) -> Result<BTreeMap<String, Topic<'a>>, ReadError> {
     let mut topics: BTreeMap<String, Topic<'_>> = BTreeMap::new();
     let stream = mcap::MessageStream::new(bytes).map_err(|e| ReadError::NotMcap {
         path: name.to_owned(),
@@ -461,20 +514,15 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
             .or_default()
             .insert(m.log_time, m.data);
     }
-    let found: Vec<String> = topics.keys().cloned().collect();
-    let found_text = if found.is_empty() {
-        "no messages".to_owned()
-    } else {
-        found.join(", ")
-    };
-    let meta = metadata.remove("chaindrive").unwrap_or_default();
-    let end_status = metadata
-        .get("chaindrive.end")
-        .and_then(|m| m.get("status"))
-        .cloned()
-        .unwrap_or_else(|| "unknown (no end record)".to_owned());
+    Ok(topics)
+}
 
-    // The scene and its overrides.
+/// The attached scene with the run's own settings, where the recording's
+/// `chaindrive` metadata `meta` states them sensibly.
+fn attached_scene(
+    attachments: &[(String, String, Vec<u8>)],
+    meta: &BTreeMap<String, String>,
+) -> Result<Scene, ReadError> {
     let Some((scene_name, _, scene_bytes)) = attachments
         .iter()
         .find(|a| a.1 == "application/toml" || a.0.ends_with(".toml"))
@@ -492,7 +540,6 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
         });
     };
     let text = String::from_utf8_lossy(scene_bytes);
-    // The run's own settings, where the recording states them sensibly.
     let number = |key: &str| meta.get(key).and_then(|v| v.parse::<f64>().ok());
     let overrides = Overrides {
         profile: meta.get("profile").and_then(|p| ProfileKind::parse(p)),
@@ -507,96 +554,135 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
             .and_then(|s| ContactLaw::from_name(s)),
         ..Overrides::default()
     };
-    let scene = Scene::from_toml_with(&text, &overrides).map_err(|e| ReadError::Scene {
+    Scene::from_toml_with(&text, &overrides).map_err(|e| ReadError::Scene {
         name: scene_name.clone(),
         message: e.lines().join("; "),
-    })?;
+    })
+}
 
-    // Required channels.
+/// An error naming the channels the analysis cannot do without, if any
+/// is missing (`found`: the topics there are).
+fn require_channels(
+    topics: &BTreeMap<String, Topic<'_>>,
+    found: &[String],
+) -> Result<(), ReadError> {
     let required = [Channel::Segments, Channel::Sprockets];
     let missing: Vec<Channel> = required
         .iter()
         .copied()
         .filter(|c| !topics.contains_key(c.topic()))
         .collect();
-    if !missing.is_empty() {
-        return Err(ReadError::MissingChannels {
-            missing: missing
-                .iter()
-                .map(|c| c.topic())
-                .collect::<Vec<_>>()
-                .join(", "),
-            needed_for: "segment forces, transverse displacements and sprocket speeds".to_owned(),
-            found: found_text,
-            channels: missing
-                .iter()
-                .map(|c| c.name())
-                .collect::<Vec<_>>()
-                .join(","),
-        });
+    if missing.is_empty() {
+        return Ok(());
     }
-    let has_links = topics.contains_key(Channel::Links.topic());
-    let has_contacts = topics.contains_key(Channel::Contacts.topic())
-        && topics.contains_key(Channel::Rollers.topic());
+    Err(ReadError::MissingChannels {
+        missing: missing
+            .iter()
+            .map(|c| c.topic())
+            .collect::<Vec<_>>()
+            .join(", "),
+        needed_for: "segment forces, transverse displacements and sprocket speeds".to_owned(),
+        found: if found.is_empty() {
+            "no messages".to_owned()
+        } else {
+            found.join(", ")
+        },
+        channels: missing
+            .iter()
+            .map(|c| c.name())
+            .collect::<Vec<_>>()
+            .join(","),
+    })
+}
 
-    // Samples present on every channel read.
-    let rollers = scene.chain.rollers;
-    // One free strand per sprocket: strand k runs from sprocket k to the next.
-    let (n_seg, n_spr) = (scene.sprockets.len(), scene.sprockets.len());
-    let mut used = vec![Channel::Segments.topic(), Channel::Sprockets.topic()];
-    if has_links {
-        used.push(Channel::Links.topic());
+/// The messages read into samples, checked against the scene's shape.
+struct Samples<'t, 'a> {
+    topics: &'t BTreeMap<String, Topic<'a>>,
+    /// Rollers (and links) of the attached scene.
+    rollers: usize,
+    /// Sprockets (and free strands: strand k runs from sprocket k to the next).
+    sprockets: usize,
+    has_links: bool,
+    has_contacts: bool,
+}
+
+impl Samples<'_, '_> {
+    /// The messages of `topic` (none if absent).
+    fn get(&self, topic: &str) -> &Topic<'_> {
+        static EMPTY: Topic<'static> = Topic::new();
+        self.topics.get(topic).unwrap_or(&EMPTY)
     }
-    if has_contacts {
-        used.push(Channel::Contacts.topic());
-        used.push(Channel::Rollers.topic());
+
+    /// The decoding error of `topic`'s message at `t_ns`.
+    fn bad(topic: &str, t_ns: u64, message: String) -> ReadError {
+        ReadError::Decode {
+            topic: topic.to_owned(),
+            message: format!("message at t = {} s: {message}", t_ns as f64 * 1e-9),
+        }
     }
-    let empty = Topic::new();
-    let get = |t: &str| topics.get(t).unwrap_or(&empty);
-    let times: Vec<u64> = get(Channel::Segments.topic())
-        .keys()
-        .copied()
-        .filter(|t| used.iter().all(|u| get(u).contains_key(t)))
-        .collect();
-    if times.len() < 2 {
-        return Err(ReadError::TooFewSamples {
-            samples: times.len(),
-            topics: used.join(", "),
-        });
-    }
-    let bad = |topic: &str, t_ns: u64, message: String| ReadError::Decode {
-        topic: topic.to_owned(),
-        message: format!("message at t = {} s: {message}", t_ns as f64 * 1e-9),
-    };
-    let shape = |topic: &str, t_ns: u64, what: &str, got: usize, want: usize| {
-        bad(
+
+    /// A message whose count of `what` is `got` where the scene has `want`.
+    fn shape(topic: &str, t_ns: u64, what: &str, got: usize, want: usize) -> ReadError {
+        Self::bad(
             topic,
             t_ns,
             format!("{got} {what}, but the attached scene has {want}"),
         )
-    };
+    }
 
-    let mut samples = Vec::with_capacity(times.len());
-    for &t_ns in &times {
+    /// `topic`'s message at `t_ns` decoded by `decode` (the default when absent).
+    fn decoded<T: Default>(
+        &self,
+        topic: &str,
+        t_ns: u64,
+        decode: impl Fn(&[u8]) -> Result<T, String>,
+    ) -> Result<T, ReadError> {
+        Ok(self
+            .get(topic)
+            .get(&t_ns)
+            .map(|d| decode(d))
+            .transpose()
+            .map_err(|e| Self::bad(topic, t_ns, e))?
+            .unwrap_or_default())
+    }
+
+    /// The samples present on every channel read, in time order.
+    fn samples(&self) -> Result<Vec<RecordedSample>, ReadError> {
+        let mut used = vec![Channel::Segments.topic(), Channel::Sprockets.topic()];
+        if self.has_links {
+            used.push(Channel::Links.topic());
+        }
+        if self.has_contacts {
+            used.push(Channel::Contacts.topic());
+            used.push(Channel::Rollers.topic());
+        }
+        let times: Vec<u64> = self
+            .get(Channel::Segments.topic())
+            .keys()
+            .copied()
+            .filter(|t| used.iter().all(|u| self.get(u).contains_key(t)))
+            .collect();
+        if times.len() < 2 {
+            return Err(ReadError::TooFewSamples {
+                samples: times.len(),
+                topics: used.join(", "),
+            });
+        }
+        times.iter().map(|&t_ns| self.sample(t_ns)).collect()
+    }
+
+    /// The sample at `t_ns`.
+    fn sample(&self, t_ns: u64) -> Result<RecordedSample, ReadError> {
+        let (rollers, n_spr) = (self.rollers, self.sprockets);
         let seg_topic = Channel::Segments.topic();
         let spr_topic = Channel::Sprockets.topic();
-        let (t_s, force, transverse) = get(seg_topic)
-            .get(&t_ns)
-            .map(|d| decode_segments(d))
-            .transpose()
-            .map_err(|e| bad(seg_topic, t_ns, e))?
-            .unwrap_or_default();
-        if force.len() != n_seg {
-            return Err(shape(seg_topic, t_ns, "segments", force.len(), n_seg));
+        let (t_s, force, transverse) = self.decoded(seg_topic, t_ns, |d| decode_segments(d))?;
+        if force.len() != n_spr {
+            return Err(Self::shape(seg_topic, t_ns, "segments", force.len(), n_spr));
         }
-        let (_, speed, torque) = get(spr_topic)
-            .get(&t_ns)
-            .map(|d| decode_sprockets(d))
-            .transpose()
-            .map_err(|e| bad(spr_topic, t_ns, e))?
-            .unwrap_or_default();
+        let (_, speed, torque) = self.decoded(spr_topic, t_ns, |d| decode_sprockets(d))?;
         if speed.len() != n_spr || torque.len() != n_spr {
-            return Err(shape(
+            return Err(Self::shape(
                 spr_topic,
                 t_ns,
                 "sprocket values",
@@ -604,54 +690,40 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
                 n_spr,
             ));
         }
-        let links = if has_links {
+        let links = if self.has_links {
             let topic = Channel::Links.topic();
-            let (_, l) = get(topic)
-                .get(&t_ns)
-                .map(|d| decode_forces(d))
-                .transpose()
-                .map_err(|e| bad(topic, t_ns, e))?
-                .unwrap_or_default();
+            let (_, l) = self.decoded(topic, t_ns, |d| decode_forces(d))?;
             if l.len() != rollers {
-                return Err(shape(topic, t_ns, "link forces", l.len(), rollers));
+                return Err(Self::shape(topic, t_ns, "link forces", l.len(), rollers));
             }
             Some(l)
         } else {
             None
         };
-        let contacts = if has_contacts {
+        let contacts = if self.has_contacts {
             let topic = Channel::Contacts.topic();
-            let (_, c) = get(topic)
-                .get(&t_ns)
-                .map(|d| decode_forces(d))
-                .transpose()
-                .map_err(|e| bad(topic, t_ns, e))?
-                .unwrap_or_default();
+            let (_, c) = self.decoded(topic, t_ns, |d| decode_forces(d))?;
             if c.len() != rollers {
-                return Err(shape(topic, t_ns, "contact forces", c.len(), rollers));
+                return Err(Self::shape(topic, t_ns, "contact forces", c.len(), rollers));
             }
             let topic = Channel::Rollers.topic();
-            let xy = get(topic)
-                .get(&t_ns)
-                .map(|d| decode_cloud(d))
-                .transpose()
-                .map_err(|e| bad(topic, t_ns, e))?
-                .unwrap_or_default();
+            let xy = self.decoded(topic, t_ns, |d| decode_cloud(d))?;
             if xy.len() != rollers {
-                return Err(shape(topic, t_ns, "roller positions", xy.len(), rollers));
+                return Err(Self::shape(
+                    topic,
+                    t_ns,
+                    "roller positions",
+                    xy.len(),
+                    rollers,
+                ));
             }
             Some((c, xy))
         } else {
             None
         };
         let tf_topic = Channel::Transforms.topic();
-        let sprocket_centers_m = get(tf_topic)
-            .get(&t_ns)
-            .map(|d| decode_centers(d, n_spr))
-            .transpose()
-            .map_err(|e| bad(tf_topic, t_ns, e))?
-            .unwrap_or_default();
-        samples.push(RecordedSample {
+        let sprocket_centers_m = self.decoded(tf_topic, t_ns, |d| decode_centers(d, n_spr))?;
+        Ok(RecordedSample {
             sprocket_centers_m,
             t_s,
             segment_force_n: force,
@@ -660,39 +732,32 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
             chain_torque_n_m: torque,
             link_force_n: links,
             contacts,
-        });
-    }
-    // The tensioner arms' states, at whatever times they were written.
-    let arms = scene.tensioners.len();
-    let topic = Channel::Tensioners.topic();
-    let tensioners = get(topic)
-        .iter()
-        .map(|(&t_ns, d)| {
-            let m = decode_tensioners(d).map_err(|e| bad(topic, t_ns, e))?;
-            if m.tensioners.len() != arms {
-                return Err(shape(
-                    topic,
-                    t_ns,
-                    "tensioner arms",
-                    m.tensioners.len(),
-                    arms,
-                ));
-            }
-            Ok(m)
         })
-        .collect::<Result<Vec<_>, _>>()?;
-    Ok(Recording {
-        name: name.to_owned(),
-        scene,
-        topics: found,
-        metadata: meta,
-        end_status,
-        has_links,
-        has_contacts,
-        samples,
-        tensioners,
-    })
+    }
+
+    /// The tensioner arms' states, at whatever times they were written
+    /// (`arms`: the scene's).
+    fn tensioners(&self, arms: usize) -> Result<Vec<super::TensionerSignals>, ReadError> {
+        let topic = Channel::Tensioners.topic();
+        self.get(topic)
+            .iter()
+            .map(|(&t_ns, d)| {
+                let m = decode_tensioners(d).map_err(|e| Self::bad(topic, t_ns, e))?;
+                if m.tensioners.len() != arms {
+                    return Err(Self::shape(
+                        topic,
+                        t_ns,
+                        "tensioner arms",
+                        m.tensioners.len(),
+                        arms,
+                    ));
+                }
+                Ok(m)
+            })
+            .collect()
+    }
 }
+
 #[cfg(test)]
 mod tests {
     use super::*;
