@@ -676,11 +676,11 @@ impl Samples<'_, '_> {
         let (rollers, n_spr) = (self.rollers, self.sprockets);
         let seg_topic = Channel::Segments.topic();
         let spr_topic = Channel::Sprockets.topic();
-        let (t_s, force, transverse) = self.decoded(seg_topic, t_ns, |d| decode_segments(d))?;
+        let (t_s, force, transverse) = self.decoded(seg_topic, t_ns, decode_segments)?;
         if force.len() != n_spr {
             return Err(Self::shape(seg_topic, t_ns, "segments", force.len(), n_spr));
         }
-        let (_, speed, torque) = self.decoded(spr_topic, t_ns, |d| decode_sprockets(d))?;
+        let (_, speed, torque) = self.decoded(spr_topic, t_ns, decode_sprockets)?;
         if speed.len() != n_spr || torque.len() != n_spr {
             return Err(Self::shape(
                 spr_topic,
@@ -692,7 +692,7 @@ impl Samples<'_, '_> {
         }
         let links = if self.has_links {
             let topic = Channel::Links.topic();
-            let (_, l) = self.decoded(topic, t_ns, |d| decode_forces(d))?;
+            let (_, l) = self.decoded(topic, t_ns, decode_forces)?;
             if l.len() != rollers {
                 return Err(Self::shape(topic, t_ns, "link forces", l.len(), rollers));
             }
@@ -702,12 +702,12 @@ impl Samples<'_, '_> {
         };
         let contacts = if self.has_contacts {
             let topic = Channel::Contacts.topic();
-            let (_, c) = self.decoded(topic, t_ns, |d| decode_forces(d))?;
+            let (_, c) = self.decoded(topic, t_ns, decode_forces)?;
             if c.len() != rollers {
                 return Err(Self::shape(topic, t_ns, "contact forces", c.len(), rollers));
             }
             let topic = Channel::Rollers.topic();
-            let xy = self.decoded(topic, t_ns, |d| decode_cloud(d))?;
+            let xy = self.decoded(topic, t_ns, decode_cloud)?;
             if xy.len() != rollers {
                 return Err(Self::shape(
                     topic,
