@@ -518,13 +518,15 @@ mod tests {
             s.vy[i] += ((i * 5 % 13) as f64 - 6.0) * 0.2;
         }
         let mut out = Forces::new(n, model.sprockets.len(), 0, 0);
-        // Not sized: nothing written.
-        Links::new(n).evaluate(&model, &s, &mut out);
+        // Not asked for: nothing written.
+        let mut links = Links::new(n);
+        links.evaluate(&model, &s, &mut out);
         assert!(out.link_omega.is_empty());
-        out.link_omega = vec![f64::NAN; n];
-        out.link_normal_x = vec![f64::NAN; n];
-        out.link_normal_y = vec![f64::NAN; n];
-        Links::new(n).evaluate(&model, &s, &mut out);
+        links.request_rates(&mut out);
+        out.link_omega.fill(f64::NAN);
+        out.link_normal_x.fill(f64::NAN);
+        out.link_normal_y.fill(f64::NAN);
+        links.evaluate(&model, &s, &mut out);
         let mut worst = [0.0f64; 3];
         let mut largest_seen = [0.0f64; 3];
         for j in 0..n {
