@@ -5,11 +5,12 @@ use super::{Observer, Sample};
 /// Several observers fed the same run, in the order they were added: a
 /// recorder and a statistics collector, say. Each observer's
 /// [`Observer::step`] is called from its own [`Observer::per_step_from_s`]
-/// on. (`crate::analysis::paper_probes::Both` is the two-observer case.)
+/// on.
 ///
 /// ```
-/// use chaindrive::sim::{Fanout, NoObserver, Observer};
-/// let (mut a, mut b) = (NoObserver, NoObserver);
+/// use chaindrive::prelude::*;
+/// use chaindrive::sim::Fanout;
+/// let (mut a, mut b) = ((), ());
 /// let mut both = Fanout::new().with(&mut a).with(&mut b);
 /// assert_eq!(both.len(), 2);
 /// assert!(both.per_step_from_s().is_infinite());
