@@ -19,9 +19,11 @@ use crate::common::chaindrive_stdout;
 const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// Options of other tools that the docs show (cargo, its test harness,
-/// criterion, valgrind, rerun).
-const FOREIGN_OPTIONS: [&str; 16] = [
+/// criterion, valgrind, rerun, the public-name count `.ci/public-names`).
+const FOREIGN_OPTIONS: [&str; 18] = [
     "--release",
+    "--features",
+    "--list",
     "--example",
     "--bench",
     "--test",
