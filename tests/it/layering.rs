@@ -127,9 +127,10 @@ fn the_scan_opens_use_groups_and_skips_comments() {
 }
 
 /// The modules a user is documented to reach besides the prelude: each
-/// holds the parts of a concept the prelude names (a scene's parts, the
-/// co-simulation's details, the recording's options).
-const USER_MODULES: [&str; 6] = ["prelude", "scene", "cosim", "record", "analysis", "studies"];
+/// holds the parts of a concept the prelude names (a scene's parts, a run's
+/// outcome, the co-simulation's details, the summary's parts, the
+/// recording's options).
+const USER_MODULES: [&str; 6] = ["prelude", "scene", "sim", "cosim", "analysis", "record"];
 
 /// The top-level modules named by `chaindrive::…` paths in `code`.
 fn library_modules(code: &str) -> BTreeSet<String> {
