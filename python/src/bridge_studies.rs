@@ -19,7 +19,7 @@ use chaindrive::scene::designations::{self, DESIGNATIONS, Designation};
 use chaindrive::sim::Simulation;
 use chaindrive::studies::study::{ColumnData, Study, StudyDir, Table as StudyTable};
 use chaindrive::studies::sweep::{
-    CaseFlags, CaseOutcome, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
+    CaseFlags, CaseOutcome, SweepError, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
     run_sweep, summary_scalars,
 };
 use serde_json::{Value, json};
@@ -160,11 +160,24 @@ pub(crate) fn sweep(
         run_sweep(scene, &settings, Some(&stop), &|_| {
             done.fetch_add(1, Ordering::Relaxed);
         })
-        .map_err(|e| e.to_string())
+        .map_err(sweep_error)
     })?;
     let mut out = sweep_tables(&cases);
     out.interrupted = stop.load(Ordering::Relaxed) && cases.len() < total;
     Ok(out)
+}
+
+/// A sweep's error, its settings named as the Python keywords (`window`,
+/// not `--window`).
+fn sweep_error(e: SweepError) -> String {
+    let keyword = |what: &str| what.trim_start_matches('-').replace('-', "_");
+    match e {
+        SweepError::BadTime { what, value, why } => format!("{} {value}: {why}", keyword(what)),
+        SweepError::BadRange { what, text, why } => {
+            format!("{} {text:?}: {}", keyword(what), why.split("; write").next().unwrap_or(&why))
+        }
+        other => other.to_string(),
+    }
 }
 
 /// Runs `work` on a thread of its own while this one polls `hooks` with

@@ -1,0 +1,133 @@
+"""Ctrl-C, the GIL and progress: a run steps with the GIL released, looks
+at Python's signals about every 0.1 s, and a SIGINT stops it with the run
+so far kept on the exception."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+import chaindrive as cd
+
+# The child: the paper's drive for 10 s (about 20 s of wall time), stopped by
+# the SIGINT the test sends once the run reports progress.
+CHILD = r"""
+import json, sys
+import chaindrive as cd
+
+def progress(t_s, duration_s):
+    if t_s > 0.0:
+        print("running", flush=True)
+
+try:
+    cd.run(cd.Scene.l60mc(), duration=10.0, progress=progress)
+    print(json.dumps({"outcome": "finished"}))
+except cd.Interrupted as e:
+    r = e.result
+    print(json.dumps({
+        "outcome": "interrupted",
+        "is_keyboard_interrupt": isinstance(e, KeyboardInterrupt),
+        "interrupted": r.interrupted,
+        "summary_interrupted": r.summary["interrupted"],
+        "duration_s": r.summary["duration_s"],
+        "samples": len(r.series),
+        "last_t_s": float(r.series.t_s[-1]),
+        "summary": r.summary,
+    }))
+"""
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+def test_ctrl_c_stops_the_run_and_keeps_it_on_the_exception(root):
+    child = subprocess.Popen(
+        [sys.executable, "-c", CHILD],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    try:
+        line = child.stdout.readline()
+        assert line.strip() == "running", child.stderr.read()
+        sent = time.monotonic()
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=60)
+        stopped_after_s = time.monotonic() - sent
+    finally:
+        child.kill()
+    assert child.returncode == 0, err
+    r = json.loads(out.strip().splitlines()[-1])
+    assert r["outcome"] == "interrupted"
+    assert r["is_keyboard_interrupt"] and r["interrupted"] and r["summary_interrupted"]
+    # Stopped well before the end, at a sample: the series ends where the summary does.
+    assert 0.0 < r["duration_s"] < 9.0
+    assert r["samples"] == round(r["duration_s"] * 1000) + 1
+    assert r["last_t_s"] == pytest.approx(r["duration_s"])
+    # Within about a poll interval (0.1 s) and a sample of the signal.
+    assert stopped_after_s < 10.0
+    jsonschema = pytest.importorskip("jsonschema")
+    schema = json.loads((root / "tests" / "data" / "run-summary.schema.json").read_text())
+    jsonschema.validate(r["summary"], schema)
+
+
+def test_the_gil_is_released_while_simulating(data):
+    """Another Python thread counts while the run steps: with the GIL held
+    by the run it would not count at all (the run polls only ~every 0.1 s)."""
+    scene = cd.Scene.from_file(data / "designation_16b.toml")
+    counts = []
+    running = threading.Event()
+    done = threading.Event()
+
+    def count():
+        n = 0
+        running.set()
+        while not done.is_set():
+            n += 1
+        counts.append(n)
+
+    thread = threading.Thread(target=count)
+    thread.start()
+    running.wait()
+    started = time.perf_counter()
+    cd.run(scene, duration=1.0, series=False)
+    elapsed = time.perf_counter() - started
+    done.set()
+    thread.join()
+    assert elapsed > 0.2
+    # A bare Python loop counts millions per second; a held GIL lets it
+    # count only during the run's polls (a few switch intervals).
+    assert counts[0] > 100_000 * elapsed
+
+
+def test_the_progress_callback_sees_simulated_time(data):
+    seen = []
+    scene = cd.Scene.from_file(data / "designation_16b.toml")
+    cd.run(scene, duration=0.5, progress=lambda t, total: seen.append((t, total)))
+    assert seen and all(total == pytest.approx(0.5) for _, total in seen)
+    times = [t for t, _ in seen]
+    assert times == sorted(times) and times[-1] == pytest.approx(0.5)
+
+
+def test_an_exception_in_the_callback_stops_the_run_and_propagates(data):
+    scene = cd.Scene.from_file(data / "designation_16b.toml")
+
+    def fail(t, total):
+        raise RuntimeError("stop here")
+
+    started = time.perf_counter()
+    with pytest.raises(RuntimeError, match="stop here"):
+        cd.run(scene, duration=30.0, progress=fail)
+    assert time.perf_counter() - started < 10.0
+
+
+def test_progress_true_draws_a_bar(data, capsys):
+    scene = cd.Scene.from_file(data / "designation_16b.toml")
+    cd.run(scene, duration=0.3, progress=True)
+    err = capsys.readouterr().err
+    assert "0.3" in err
