@@ -108,7 +108,7 @@ class RunWarning(UserWarning):
 
 def _frame(columns: Mapping[str, Any], index: Optional[str] = None):
     try:
-        import pandas as pd
+        import pandas as pd  # type: ignore[import-untyped]
     except ImportError as e:  # pragma: no cover - depends on the environment
         raise ImportError(
             "to_pandas() needs pandas: pip install pandas"
@@ -310,12 +310,14 @@ class _Bar:
 
     def __init__(self, unit: str) -> None:
         self.unit = unit
-        self.bar = None
+        self.bar: Any = None
+        self.tqdm: Any
         try:
-            from tqdm.auto import tqdm
+            from tqdm.auto import tqdm  # type: ignore[import-untyped]
+
+            self.tqdm = tqdm
         except ImportError:
-            tqdm = None
-        self.tqdm = tqdm
+            self.tqdm = None
 
     def __call__(self, done: float, total: float) -> None:
         if self.tqdm is not None:

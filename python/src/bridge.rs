@@ -144,7 +144,10 @@ pub(crate) fn scene_with(
 /// radius written in the scene are dropped, so that the table's values
 /// apply; everything else stays (sprockets laid out for another pitch are
 /// the validator's to report).
-pub(crate) fn scene_with_designation(scene: &Scene, designation: &str) -> Result<Scene, SceneFailure> {
+pub(crate) fn scene_with_designation(
+    scene: &Scene,
+    designation: &str,
+) -> Result<Scene, SceneFailure> {
     let mut file = scene.file().clone();
     let chain = &mut file.chain;
     chain.designation = Some(designation.to_owned());
@@ -253,7 +256,8 @@ impl Series {
     fn push(&mut self, row: &SampleRow) {
         self.t_s.push(row.t_s);
         self.omega_rad_s.extend_from_slice(&row.omega_rad_s);
-        self.chain_torque_n_m.extend_from_slice(&row.chain_torque_n_m);
+        self.chain_torque_n_m
+            .extend_from_slice(&row.chain_torque_n_m);
         self.segment_force_n
             .extend(row.segment_force_n.iter().map(|f| f.unwrap_or(f64::NAN)));
         self.transverse_m.extend_from_slice(&row.transverse_m);
@@ -394,13 +398,15 @@ pub(crate) fn run(
         .map(|p| start_recording(p, settings, &scene, rate, resume.as_ref()))
         .transpose()?;
     let setup = Instant::now();
-    let mut sim =
-        Simulation::new(&scene).map_err(|e| RunError::Sim(format!("cannot start the simulation: {e}")))?;
+    let mut sim = Simulation::new(&scene)
+        .map_err(|e| RunError::Sim(format!("cannot start the simulation: {e}")))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration_s = scene.solver().duration_s;
     let (sprockets, segments) = (scene.sprockets().len(), sim.model.segments.len());
+    // Room for every sample up front (no reallocation while running), up
+    // to ten million rows; a longer series grows as it goes.
     let samples = if settings.keep_series {
-        (duration_s * rate.rate_hz).ceil().max(0.0).min(1e9) as usize + 1
+        (duration_s * rate.rate_hz).ceil().clamp(0.0, 1e7) as usize + 1
     } else {
         0
     };
@@ -437,7 +443,15 @@ pub(crate) fn run(
         .checkpoint
         .as_deref()
         .zip(settings.checkpoint_every_s);
-    let outcome = run_pieces(&mut sim, &mut observer, so_far, checkpoints, rate, window, &stop);
+    let outcome = run_pieces(
+        &mut sim,
+        &mut observer,
+        so_far,
+        checkpoints,
+        rate,
+        window,
+        &stop,
+    );
     if let Some(r) = observer.recorder.take() {
         let failure = outcome.as_ref().err().map(ToString::to_string);
         let end = match (&outcome, &failure) {
@@ -576,7 +590,9 @@ fn run_pieces(
                 None => None,
             };
             let ck = Checkpoint {
-                sim: sim.snapshot().map_err(|e| RunError::Setting(e.to_string()))?,
+                sim: sim
+                    .snapshot()
+                    .map_err(|e| RunError::Setting(e.to_string()))?,
                 run: RunState {
                     rate_hz: rate.rate_hz,
                     window_s: window.length_s(),

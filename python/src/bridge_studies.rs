@@ -174,7 +174,11 @@ fn sweep_error(e: SweepError) -> String {
     match e {
         SweepError::BadTime { what, value, why } => format!("{} {value}: {why}", keyword(what)),
         SweepError::BadRange { what, text, why } => {
-            format!("{} {text:?}: {}", keyword(what), why.split("; write").next().unwrap_or(&why))
+            format!(
+                "{} {text:?}: {}",
+                keyword(what),
+                why.split("; write").next().unwrap_or(&why)
+            )
         }
         other => other.to_string(),
     }
@@ -243,9 +247,9 @@ fn sweep_tables(cases: &[CaseOutcome]) -> SweepOutput {
     for r in &done {
         for s in &r.orders {
             for c in &s.spectrum.components {
-                for (col, v) in o
-                    .iter_mut()
-                    .zip([r.rpm, c.order, c.frequency_hz, c.amplitude, c.phase_rad])
+                for (col, v) in
+                    o.iter_mut()
+                        .zip([r.rpm, c.order, c.frequency_hz, c.amplitude, c.phase_rad])
                 {
                     col.push(v);
                 }
@@ -344,7 +348,10 @@ pub(crate) enum Plan {
     /// A plan file (its `scene` is read relative to it).
     File(PathBuf),
     /// A plan's TOML text and its base scene's.
-    Texts { plan_toml: String, scene_toml: String },
+    Texts {
+        plan_toml: String,
+        scene_toml: String,
+    },
 }
 
 /// A study's results table and whether it was stopped before its end.
@@ -442,7 +449,11 @@ fn study_table(t: &StudyTable) -> Table {
 
 /// The chain's catalogue rating at the scene's speeds, as `chaindrive rate
 /// --json` prints it.
-pub(crate) fn rate(scene: &Scene, service_factor: f64, power_w: Option<f64>) -> Result<Value, String> {
+pub(crate) fn rate(
+    scene: &Scene,
+    service_factor: f64,
+    power_w: Option<f64>,
+) -> Result<Value, String> {
     let settings = RatingSettings {
         service_factor,
         ..RatingSettings::default()

@@ -101,7 +101,7 @@ pub(crate) fn matrix<'py>(
     data: Vec<f64>,
     width: usize,
 ) -> PyResult<Bound<'py, PyAny>> {
-    let rows = if width == 0 { 0 } else { data.len() / width };
+    let rows = data.len().checked_div(width).unwrap_or(0);
     let array = Array2::from_shape_vec((rows, width), data)
         .map_err(|e| PyRuntimeError::new_err(format!("series of {width} columns: {e}")))?;
     Ok(array.into_pyarray(py).into_any())

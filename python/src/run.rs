@@ -132,7 +132,11 @@ pub(crate) fn run<'py>(
     };
     let mut hooks = PyHooks {
         progress,
-        every: Duration::from_secs_f64(if poll_s.is_finite() { poll_s.max(0.0) } else { 0.1 }),
+        every: Duration::from_secs_f64(if poll_s.is_finite() {
+            poll_s.max(0.0)
+        } else {
+            0.1
+        }),
         last: Instant::now(),
         error: None,
     };
@@ -176,8 +180,14 @@ fn output_to_py(
     let series = PyDict::new(py);
     series.set_item("t_s", vector(py, s.t_s))?;
     series.set_item("omega_rad_s", matrix(py, s.omega_rad_s, s.sprockets)?)?;
-    series.set_item("chain_torque_n_m", matrix(py, s.chain_torque_n_m, s.sprockets)?)?;
-    series.set_item("segment_force_n", matrix(py, s.segment_force_n, s.segments)?)?;
+    series.set_item(
+        "chain_torque_n_m",
+        matrix(py, s.chain_torque_n_m, s.sprockets)?,
+    )?;
+    series.set_item(
+        "segment_force_n",
+        matrix(py, s.segment_force_n, s.segments)?,
+    )?;
     series.set_item("transverse_m", matrix(py, s.transverse_m, s.segments)?)?;
     Ok((summary, series, output.interrupted))
 }

@@ -117,9 +117,9 @@ impl PyScene {
         let mut assignments = Vec::new();
         for dict in [values, more].into_iter().flatten() {
             for (k, v) in dict.iter() {
-                let path: String = k
-                    .extract()
-                    .map_err(|_| PyTypeError::new_err(format!("a path {k} that is not a string")))?;
+                let path: String = k.extract().map_err(|_| {
+                    PyTypeError::new_err(format!("a path {k} that is not a string"))
+                })?;
                 let value = py_to_toml(&v, &path)?;
                 assignments.push((path, value));
             }

@@ -207,8 +207,12 @@ fn rate<'py>(
         )));
     }
     let scene = &scene.get().inner;
-    let r = bridge_studies::rate(scene, service_factor, power_w)
-        .map_err(|e| PyValueError::new_err(format!("cannot rate {}: {e}", crate::bridge::scene_name(scene))))?;
+    let r = bridge_studies::rate(scene, service_factor, power_w).map_err(|e| {
+        PyValueError::new_err(format!(
+            "cannot rate {}: {e}",
+            crate::bridge::scene_name(scene)
+        ))
+    })?;
     json_to_py(py, &r)
 }
 
