@@ -456,7 +456,7 @@ def run(
 
 def sweep(
     scene: Scene,
-    rpm: Iterable[float],
+    rpm: Union[Iterable[float], str],
     *,
     settle: float = 1.0,
     window: float = 1.0,
@@ -476,7 +476,8 @@ def sweep(
 
     Args:
         scene: the drive; it needs a driver with a ``speed_rpm``.
-        rpm: the driver speeds, rpm (e.g. ``numpy.arange(60, 181, 30)``).
+        rpm: the driver speeds, rpm: a sequence (``numpy.arange(60, 181,
+            30)``) or the command line's ``"FROM:TO:STEP"`` (``"60:180:30"``).
         settle: time after the driver's ramp before the window, s.
         window: statistics and order window, s; it must hold whole driver
             revolutions at the slowest speed.
@@ -495,7 +496,7 @@ def sweep(
             without a driver, or a speed at which the scene is invalid.
     """
     callback = _progress(progress, "speeds")
-    speeds = [float(r) for r in rpm]
+    speeds: Union[List[float], str] = rpm if isinstance(rpm, str) else [float(r) for r in rpm]
     raw = _sweep(
         scene,
         speeds,
@@ -511,7 +512,7 @@ def sweep(
         if isinstance(callback, _Bar):
             callback.close()
         raise Interrupted("the sweep was interrupted; e.result holds the finished speeds", result)
-    _finish(callback, len(speeds), len(speeds))
+    _finish(callback, len(result.cases), len(result.cases))
     return result
 
 

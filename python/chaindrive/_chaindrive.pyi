@@ -86,7 +86,7 @@ def run(
 
 def sweep(
     scene: Scene,
-    rpm: Sequence[float],
+    rpm: Union[Sequence[float], str],
     *,
     settle: float = 1.0,
     window: float = 1.0,

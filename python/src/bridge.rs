@@ -169,6 +169,11 @@ pub(crate) fn scene_json(scene: &Scene) -> Result<serde_json::Value, String> {
     serde_json::to_value(scene.file()).map_err(|e| e.to_string())
 }
 
+/// Whether two scenes have the same file form (the same scene to run).
+pub(crate) fn same_scene(a: &Scene, b: &Scene) -> bool {
+    a.file() == b.file()
+}
+
 /// The scene's name.
 pub(crate) fn scene_name(scene: &Scene) -> &str {
     scene.name()

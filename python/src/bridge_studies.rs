@@ -20,7 +20,7 @@ use chaindrive::sim::Simulation;
 use chaindrive::studies::study::{ColumnData, Study, StudyDir, Table as StudyTable};
 use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, SweepError, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
-    run_sweep, summary_scalars,
+    parse_rpm_range, run_sweep, summary_scalars,
 };
 use serde_json::{Value, json};
 
@@ -165,6 +165,11 @@ pub(crate) fn sweep(
     let mut out = sweep_tables(&cases);
     out.interrupted = stop.load(Ordering::Relaxed) && cases.len() < total;
     Ok(out)
+}
+
+/// Speeds `FROM:TO:STEP` in rpm, as `chaindrive sweep --rpm` reads them.
+pub(crate) fn rpm_range(text: &str) -> Result<Vec<f64>, String> {
+    parse_rpm_range("rpm", text).map_err(sweep_error)
 }
 
 /// A sweep's error, its settings named as the Python keywords (`window`,

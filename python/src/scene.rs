@@ -170,9 +170,11 @@ impl PyScene {
         format!("Scene({:?})", bridge::scene_name(&self.inner))
     }
 
+    /// Scenes are equal when their scene files are (`to_dict()` equal, and
+    /// the same directory for the files they name).
     fn __eq__(&self, other: &Bound<'_, PyAny>) -> bool {
         other
             .cast::<PyScene>()
-            .is_ok_and(|o| o.get().inner == self.inner)
+            .is_ok_and(|o| bridge::same_scene(&o.get().inner, &self.inner))
     }
 }

@@ -106,7 +106,7 @@ fn check<'py>(py: Python<'py>, scene: &Bound<'py, PyScene>) -> PyResult<Bound<'p
 fn sweep<'py>(
     py: Python<'py>,
     scene: &Bound<'py, PyScene>,
-    rpm: Vec<f64>,
+    rpm: &Bound<'py, PyAny>,
     settle: f64,
     window: f64,
     jobs: Option<usize>,
@@ -114,6 +114,15 @@ fn sweep<'py>(
     order_step: f64,
     progress: Option<Py<PyAny>>,
 ) -> PyResult<Bound<'py, PyDict>> {
+    // The command line's `FROM:TO:STEP`, or the speeds themselves.
+    let rpm = match rpm.extract::<String>() {
+        Ok(text) => bridge_studies::rpm_range(&text).map_err(PyValueError::new_err)?,
+        Err(_) => rpm.extract::<Vec<f64>>().map_err(|_| {
+            PyValueError::new_err(
+                "rpm: the driver speeds, a sequence of numbers or \"FROM:TO:STEP\" (e.g. \"60:180:30\")",
+            )
+        })?,
+    };
     let request = SweepRequest {
         rpm,
         settle_s: settle,

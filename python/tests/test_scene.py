@@ -28,7 +28,8 @@ def test_from_file_reads_a_scene(data):
 def test_to_toml_reads_back_as_the_same_scene():
     scene = cd.Scene.l60mc().with_({"chain.pretension_n": 18000.0})
     again = cd.Scene.from_toml(scene.to_toml())
-    assert again.to_dict() == scene.to_dict()
+    assert again == scene and again.to_dict() == scene.to_dict()
+    assert again != cd.Scene.l60mc()
     assert again.to_dict()["chain"]["pretension_n"] == 18000.0
 
 

@@ -55,6 +55,14 @@ def test_sweep_returns_long_tables(data):
     assert len(result.spans) == 3 * 2 and "transverse_1_hz" in result.spans
 
 
+def test_sweep_takes_the_command_lines_range(data):
+    scene = cd.Scene.from_file(data / "designation_16b.toml")
+    result = cd.sweep(scene, "90:150:60", settle=0.1, window=0.7)
+    assert list(result.cases["rpm"]) == [90.0, 150.0]
+    with pytest.raises(ValueError, match="rpm"):
+        cd.sweep(scene, "90:150")
+
+
 def test_sweep_refuses_a_window_too_short_for_the_orders(data):
     scene = cd.Scene.from_file(data / "designation_16b.toml")
     with pytest.raises(ValueError) as e:
