@@ -14,7 +14,7 @@
    conversion to Python data and the series' handover to NumPy).
 
     cargo build --release && pip install ./python
-    python benches/python_vs_cli.py [--pairs 3] [--series-pairs 2] [--binary target/release/chaindrive]
+    python benches/python_vs_cli.py [PAIRS [SERIES_PAIRS [BINARY]]]    # 3, 2, target/release/chaindrive
 """
 
 from __future__ import annotations
@@ -65,13 +65,14 @@ def physics(summary: dict) -> str:
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--pairs", type=int, default=3)
-    ap.add_argument("--series-pairs", type=int, default=2)
-    ap.add_argument("--binary", default="target/release/chaindrive")
+    ap.add_argument("pairs", type=int, nargs="?", default=3)
+    ap.add_argument("series_pairs", type=int, nargs="?", default=2)
+    ap.add_argument("binary", nargs="?", default="target/release/chaindrive")
     a = ap.parse_args()
 
-    print("10 s of the paper's drive, ns per step (in-process, the stepping loop):")
     ratios = []
+    if a.pairs:
+        print("10 s of the paper's drive, ns per step (in-process, the stepping loop):")
     for i in range(a.pairs):
         cli = cli_run(a.binary)
         py = python_run(10.0, True)["summary"]
@@ -81,9 +82,11 @@ def main() -> None:
         print(f"  pair {i + 1}: CLI {cli['ns_per_step']:8.0f}  Python {py['ns_per_step']:8.0f}"
               f"  ratio {ratio:.3f}  ({same}; load {os.getloadavg()[0]:.1f})")
     ratios.sort()
-    print(f"  ratio Python / CLI: median {ratios[len(ratios) // 2]:.3f}, range {ratios[0]:.3f}-{ratios[-1]:.3f}")
+    if ratios:
+        print(f"  ratio Python / CLI: median {ratios[len(ratios) // 2]:.3f}, range {ratios[0]:.3f}-{ratios[-1]:.3f}")
 
-    print("60 s at 1 kHz through Python, with and without the series:")
+    if a.series_pairs:
+        print("60 s at 1 kHz through Python, with and without the series:")
     for i in range(a.series_pairs):
         for series in (True, False):
             r = python_run(60.0, series)
