@@ -147,3 +147,31 @@ def test_a_run_resumed_from_its_checkpoint_is_the_run_that_never_stopped(data, t
         cd.run(scene, resume=ck, duration=0.4, window=0.1)
     with pytest.raises(ValueError, match="go together"):
         cd.run(scene, checkpoint=ck)
+
+
+def test_checkpoints_cross_between_python_and_the_command_line(root, tmp_path):
+    """A Python run's checkpoint resumed by `chaindrive run --resume`, and the
+    command line's by `chaindrive.run(resume=)`: both summaries are the
+    uninterrupted run's (but for the wall times)."""
+    binary = root / "target" / "release" / "chaindrive"
+    if not binary.exists():
+        pytest.skip("no target/release/chaindrive (cargo build --release)")
+    import subprocess
+
+    scene = cd.Scene.l60mc()
+    settings = dict(duration=0.3, window=0.1)
+    skip = {"wall_s", "ns_per_step", "setup_wall_s"}
+    whole = {k: v for k, v in cd.run(scene, **settings).summary.items() if k not in skip}
+    options = ["--quiet", "--duration", "0.3", "--window", "0.1"]
+    py_ck, cli_ck, cli_json = tmp_path / "py.ckpt", tmp_path / "cli.ckpt", tmp_path / "cli.json"
+    cd.run(scene, checkpoint=py_ck, checkpoint_every=0.2, **settings)
+    subprocess.run([binary, "run", *options, "--resume", py_ck, "--summary", cli_json],
+                   check=True, capture_output=True)
+    by_cli = {k: v for k, v in json.loads(cli_json.read_text()).items() if k not in skip}
+    assert by_cli == whole
+    subprocess.run([binary, "run", *options, "--checkpoint", cli_ck, "--checkpoint-every", "0.2"],
+                   check=True, capture_output=True)
+    resumed = cd.run(scene, resume=cli_ck, **settings)
+    assert {k: v for k, v in resumed.summary.items() if k not in skip} == whole
+    # The command line's series is in its file: here it starts after the checkpoint.
+    assert resumed.series.t_s[0] == pytest.approx(0.201)
