@@ -134,3 +134,63 @@ def test_progress_true_draws_a_bar(data, capsys):
     cd.run(scene, duration=0.3, progress=True)
     err = capsys.readouterr().err
     assert "0.3" in err
+
+
+# A sweep and a study of the paper's drive long enough to be stopped: each
+# case runs 3.5 s simulated (several seconds of wall time), on one thread.
+SWEEP_CHILD = r"""
+import json
+import chaindrive as cd
+
+print("starting", flush=True)
+try:
+    cd.sweep(cd.Scene.l60mc(), [60, 90, 120, 150], settle=0.5, window=2.0, jobs=1)
+    print(json.dumps({"outcome": "finished"}))
+except cd.Interrupted as e:
+    print(json.dumps({"outcome": "interrupted", "speeds": len(e.result.cases),
+                      "flag": e.result.interrupted}))
+"""
+
+STUDY_CHILD = r"""
+import json, sys
+import chaindrive as cd
+
+plan = {"set": {"solver.duration_s": 3.5},
+        "factors": [{"path": "chain.pretension_n", "levels": [18000, 21000, 24000]}],
+        "design": {"kind": "full_factorial"}}
+print("starting", flush=True)
+try:
+    cd.study(plan, sys.argv[1], jobs=1)
+    print(json.dumps({"outcome": "finished"}))
+except cd.Interrupted as e:
+    print(json.dumps({"outcome": "interrupted", "status": list(e.result.table["status"])}))
+"""
+
+
+def interrupt_child(script: str, *args: str) -> dict:
+    child = subprocess.Popen([sys.executable, "-c", script, *args],
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        assert child.stdout.readline().strip() == "starting", child.stderr.read()
+        time.sleep(2.0)
+        child.send_signal(signal.SIGINT)
+        out, err = child.communicate(timeout=120)
+    finally:
+        child.kill()
+    assert child.returncode == 0, err
+    return json.loads(out.strip().splitlines()[-1])
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+def test_ctrl_c_stops_a_sweep_keeping_the_finished_speeds():
+    r = interrupt_child(SWEEP_CHILD)
+    assert r["outcome"] == "interrupted" and r["flag"]
+    assert r["speeds"] < 4
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
+def test_ctrl_c_stops_a_study_that_then_resumes(tmp_path):
+    r = interrupt_child(STUDY_CHILD, str(tmp_path / "study"))
+    assert r["outcome"] == "interrupted"
+    # The case that was running is not written: it runs again next time.
+    assert "missing" in r["status"] and len(r["status"]) == 3
