@@ -89,6 +89,127 @@ pub struct StaticEquilibrium {
     /// roller pulled beyond a circular seating arc. A run starts from it and
     /// warns (the summary's `warnings`); `check` names it.
     pub beyond_seating_arc: Option<BeyondSeatingArc>,
+    /// Where the chain's fit to its path, not the tensioner arms, sets the
+    /// static tension of a drive whose arms should set it (tensioner-preload
+    /// rule): every arm is on a stop or clear of the chain. A run warns.
+    pub misfit: Option<MisfitTension>,
+}
+
+impl StaticEquilibrium {
+    /// What sets the static tension, as the summary's
+    /// `static_tension_set_by` names it: the pretension rule of `scene`
+    /// (`rest_length`, `tensioner`, `tensioner_preload`), or `chain_misfit`
+    /// ([`Self::misfit`]).
+    pub fn tension_set_by(&self, scene: &crate::scene::Scene) -> &'static str {
+        if self.misfit.is_some() {
+            "chain_misfit"
+        } else {
+            scene.chain.pretension_by.name()
+        }
+    }
+}
+
+/// A static tension the chain's fit to its path sets, not the tensioner
+/// arms meant to: its numbers and why no arm holds the chain.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MisfitTension {
+    /// The static tension, N.
+    pub tension_n: f64,
+    /// The chain's length less the path's through the seated rollers as
+    /// laid out, m (negative: short).
+    pub excess_m: f64,
+    /// The free links' stretch as laid out, λ/P − 1.
+    pub stretch: f64,
+    /// Why each arm holds no chain (a phrase each).
+    pub arms: Vec<String>,
+}
+
+impl std::fmt::Display for MisfitTension {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the static tension {:.0} N is set by the chain's fit to its path, not by the tensioner arms",
+            self.tension_n
+        )?;
+        if self.excess_m.abs() > 1e-6 {
+            write!(
+                f,
+                ": the chain is {:.2} mm {} than the path through the seated rollers (its free links laid {:.2} % {} than the pitch)",
+                self.excess_m.abs() * 1e3,
+                if self.excess_m < 0.0 { "shorter" } else { "longer" },
+                self.stretch.abs() * 100.0,
+                if self.stretch > 0.0 { "longer" } else { "shorter" },
+            )?;
+        }
+        write!(
+            f,
+            ", and {}: fit the chain to its path (`chaindrive check` lists the roller counts that fit, `chaindrive fit` moves a sprocket) or move the arms onto it",
+            self.arms.join("; ")
+        )
+    }
+}
+
+/// Under the tensioner-preload rule, the static tension the chain's fit
+/// sets when no arm holds the chain within its travel: each arm's shoe
+/// touches no roller, or its tensioner is pushed onto a stop (the stop,
+/// not the tensioner, then balances the chain). `None` under the other
+/// rules, or when an arm holds the chain. `forces` evaluated at the rest
+/// state, whose static tension is `tension_n`.
+pub(crate) fn misfit_tension(
+    scene: &crate::scene::Scene,
+    layout: &crate::geometry::Layout,
+    forces: &ForceGenerator,
+    tension_n: f64,
+) -> Option<MisfitTension> {
+    use crate::scene::{PretensionRule, TensionerKind};
+    if scene.chain.pretension_by != PretensionRule::TensionerPreload {
+        return None;
+    }
+    let readings = &forces.output().tensioners;
+    let mut arms = Vec::with_capacity(scene.tensioners.len());
+    for (t, r) in scene.tensioners.iter().zip(readings) {
+        let (min_m, max_m) = t.travel_limits_m();
+        let stop_k = match &t.kind {
+            TensionerKind::Spring(s) => s.stop_stiffness_n_m,
+            TensionerKind::Hydraulic(h) => h.stop_stiffness_n_m,
+        };
+        let x = r.travel_m;
+        let stop_n = if x < min_m {
+            stop_k * (min_m - x)
+        } else if x > max_m {
+            -stop_k * (x - max_m)
+        } else {
+            0.0
+        };
+        let what = if r.shoe_rollers == 0 {
+            "its shoe touches no roller"
+        } else if stop_n > 0.0 {
+            "the chain pushes it onto its lower stop"
+        } else if stop_n < 0.0 {
+            "it stands on its upper stop"
+        } else {
+            return None;
+        };
+        arms.push(format!(
+            "tensioner \"{}\": {what} (travel {:.2} mm, stops {:.2} to {:.2} mm; its own push {:.0} N, the stop's {:.0} N)",
+            t.name,
+            x * 1e3,
+            min_m * 1e3,
+            max_m * 1e3,
+            r.plunger_force_n - stop_n,
+            stop_n
+        ));
+    }
+    if arms.is_empty() {
+        return None;
+    }
+    let pitch = scene.chain.pitch_m;
+    Some(MisfitTension {
+        tension_n,
+        excess_m: -layout.misfit_pitches * pitch,
+        stretch: layout.strand_stretch(pitch),
+        arms,
+    })
 }
 
 /// Why no equilibrium was found.
@@ -159,7 +280,8 @@ pub enum EquilibriumError {
     /// The chain is longer than its path by more than the strands' sag at
     /// the pretension takes up (see the feasibility module).
     #[error(
-        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m{}: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        arms_m.map(|a| format!(" and the tensioner arms' shoes at most {a:.2e} m over their travel")).unwrap_or_default(),
         match sag_tension_n {
             Some(t) => format!(", or lower chain.pretension_n to about {t:.0} N, where the strands sag by that much"),
             None => " (without gravity the strands cannot sag)".to_owned(),
@@ -176,6 +298,9 @@ pub enum EquilibriumError {
         pretension_n: f64,
         /// Pretension at which the sag takes up the excess, N (none without gravity).
         sag_tension_n: Option<f64>,
+        /// What the tensioner arms' shoes take up at most over their
+        /// travel, m (none without arms).
+        arms_m: Option<f64>,
     },
     /// The loads on several sprockets leave a free strand in compression.
     #[error(
@@ -596,6 +721,7 @@ pub(crate) fn settle_preload(
         residual_speed_m_s: residual,
         force_residual: force_residual(forces, scale_n),
         beyond_seating_arc: None,
+        misfit: None,
     })
 }
 
@@ -686,6 +812,7 @@ pub fn settle_rest_length(
                     residual_speed_m_s: residual,
                     force_residual: force_residual(forces, target_n),
                     beyond_seating_arc,
+                    misfit: None,
                 });
             }
             // Right tension, not yet at rest: relax on at this rest length.
@@ -722,6 +849,7 @@ pub fn settle_rest_length(
             residual_speed_m_s: last_speed,
             force_residual: force_residual(forces, target_n),
             beyond_seating_arc: Some(rim),
+            misfit: None,
         });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);

@@ -23,13 +23,13 @@ mod stepper;
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
 pub use equilibrium::{
-    BeyondSeatingArc, EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual,
-    free_strand_tension, relax, settle_rest_length,
+    BeyondSeatingArc, EquilibriumError, MisfitTension, RelaxSettings, StaticEquilibrium,
+    force_residual, free_strand_tension, relax, settle_rest_length,
 };
 pub use fanout::Fanout;
 pub use fit::{
-    FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
-    needed_pitches_of,
+    CountVerdict, FIT_TOLERANCE_M, Fit, FitError, arm_take_up_of, count_verdicts,
+    default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
 };
 pub use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
@@ -126,6 +126,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             residual_speed_m_s: residual,
             force_residual: force_residual(&forces, target),
             beyond_seating_arc: None,
+            misfit: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };
@@ -357,13 +358,14 @@ impl Simulation {
             PretensionRule::TensionerPreload => {
                 let (model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
-                let eq = equilibrium::settle_preload(
+                let mut eq = equilibrium::settle_preload(
                     &model,
                     &mut state,
                     &mut forces,
                     &settings,
                     scene.chain.pretension_n,
                 )?;
+                eq.misfit = equilibrium::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }
         };
