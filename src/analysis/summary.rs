@@ -402,7 +402,9 @@ impl RunSummary {
         );
         let eq = &sim.equilibrium;
         summary.static_tension_set_by = Some(eq.tension_set_by(&sim.scene).to_owned());
-        summary.warnings.extend(eq.misfit.as_ref().map(ToString::to_string));
+        summary
+            .warnings
+            .extend(eq.misfit.as_ref().map(ToString::to_string));
         summary
     }
 

@@ -103,10 +103,7 @@ impl ArmShoe {
             self.point_m[1] - self.pivot_m[1],
         ];
         let e = self.direction;
-        (
-            r0[0] * e[0] + r0[1] * e[1],
-            r0[0] * e[1] - r0[1] * e[0],
-        )
+        (r0[0] * e[0] + r0[1] * e[1], r0[0] * e[1] - r0[1] * e[0])
     }
 
     /// The shoe's centre and arc start with the arm turned by `angle_rad`.
@@ -530,19 +527,15 @@ pub fn layout_with_arms(
         .filter(|&c| ext.owner[c].is_ok())
         .map(|c| walk.seated[c] - 1)
         .sum();
-    let polygon_length_m = wrap_links as f64 * pitch_m
-        + free_links as f64 * walk.lambda_m
-        + walk.residual_m;
+    let polygon_length_m =
+        wrap_links as f64 * pitch_m + free_links as f64 * walk.lambda_m + walk.residual_m;
     let poses = arms
         .iter()
         .enumerate()
         .map(|(j, arm)| ArmPose {
             angle_rad: angles[j],
             travel_m: arm.travel_m(angles[j]),
-            strand: ext
-                .owner
-                .contains(&Err(j))
-                .then_some(drive.strand_of[j].0),
+            strand: ext.owner.contains(&Err(j)).then_some(drive.strand_of[j].0),
         })
         .collect();
     Ok(Layout {
@@ -716,7 +709,10 @@ mod tests {
         let rollers = needed.round() as usize + 1;
         let err = layout_with_arms(&path, &circles, &teeth, rollers, PITCH_M, &[arm])
             .expect_err("4.9 mm of take-up is less than the 6.6 mm of excess");
-        let LayoutError::ChainLength { arms: Some(reach), .. } = &err else {
+        let LayoutError::ChainLength {
+            arms: Some(reach), ..
+        } = &err
+        else {
             panic!("{err}");
         };
         assert!((reach.max_m - 4.93e-3).abs() < 0.05e-3);

@@ -15,7 +15,10 @@
 //! or shortened by the misfit shared among them ([`Layout::misfit_pitches`],
 //! [`Layout::strand_stretch`]); whether the pretension can then be reached is
 //! the equilibrium's question, not the layout's. A chain further off gets
-//! [`LayoutError::ChainLength`], which names the nearest count.
+//! [`LayoutError::ChainLength`], with what tensioner arms take up where the
+//! drive has them ([`super::layout_with_arms`]). It names no count: which
+//! counts the drive accepts is the equilibrium's question too
+//! (`sim::count_verdicts`).
 //!
 //! Under gravity a chain longer than that hangs ([`layout_hanging`]): the
 //! seated rollers and the strands' ends stay where the walk at λ = P puts
@@ -72,7 +75,8 @@ impl Layout {
 pub enum LayoutError {
     /// The chain's length and the path's differ by more than half a pitch.
     #[error(
-        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which}); the nearest count is {suggest} rollers{}",
+        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which} by {:.2} pitches, more than the half pitch its free links take up){}",
+        (needed - *rollers as f64).abs(),
         arms.as_ref().map(ToString::to_string).unwrap_or_default()
     )]
     ChainLength {
@@ -82,8 +86,10 @@ pub enum LayoutError {
         rollers: usize,
         /// "too short" or "too long".
         which: &'static str,
-        /// Nearest roller count: the layout accepts it (the equilibrium may
-        /// still find its misfit too large for the pretension).
+        /// Nearest roller count: the layout accepts it. The message does not
+        /// offer it: the equilibrium may still find its misfit too large for
+        /// the pretension, and only the counts `chaindrive check` lists
+        /// (`sim::count_verdicts`) are offered.
         suggest: usize,
         /// What the tensioner arms' shoes take up over their travel, where
         /// the drive has arms.
@@ -131,7 +137,11 @@ impl std::fmt::Display for ArmReach {
             self.max_m * 1e3,
             self.bound,
             self.excess_m.abs() * 1e3,
-            if self.excess_m > 0.0 { "longer" } else { "shorter" }
+            if self.excess_m > 0.0 {
+                "longer"
+            } else {
+                "shorter"
+            }
         )
     }
 }

@@ -278,8 +278,7 @@ impl Walker<'_> {
                 // reaches the circle without cutting into it.
                 let half = 0.5 * self.phi(next, lambda);
                 let aim = self.path.wraps[next].arrive_rad
-                    + self.circles[next].sense
-                        * if self.teeth[next] == 0 { -half } else { half };
+                    + self.circles[next].sense * if self.teeth[next] == 0 { -half } else { half };
                 let (links, angle) = match counts {
                     Some(c) => {
                         let l = c.strand_links[k];

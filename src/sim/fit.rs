@@ -24,7 +24,9 @@
 //! its `adjust_direction` until the chain fits, then on until the pretension
 //! is reached (`settle_tensioner`). Nothing here relaxes the chain.
 
-use crate::geometry::{ArmTakeUp, PathCircle, ToothProfile, arm_take_up, chain_path, needed_pitches};
+use crate::geometry::{
+    ArmTakeUp, PathCircle, ToothProfile, arm_take_up, chain_path, needed_pitches,
+};
 use crate::scene::Scene;
 
 /// Samples of the scan on each side of the sprocket's position.
@@ -596,9 +598,8 @@ pub fn count_verdicts(scene: &Scene) -> Vec<CountVerdict> {
     };
     let pitch = scene.chain.pitch_m;
     let reach = arm_take_up_of(scene).map_or(0.0, |t| t.max_m / pitch);
-    let mut candidates: Vec<usize> = (needed.floor().max(4.0) as usize
-        ..=(needed + reach).ceil().max(4.0) as usize)
-        .collect();
+    let mut candidates: Vec<usize> =
+        (needed.floor().max(4.0) as usize..=(needed + reach).ceil().max(4.0) as usize).collect();
     candidates.sort_by(|a, b| {
         (*a as f64 - needed)
             .abs()
@@ -622,13 +623,26 @@ fn count_refused(scene: &Scene, n: usize) -> Result<(), String> {
         crate::scene::PretensionRule::Tensioner => {
             let t = s.tensioner().ok_or("no sprocket is a tensioner")?;
             let d = default_direction(&s, t).ok_or("the tensioner has no direction to move in")?;
-            fit_sprocket(&s, t, d, n).map(|_| ()).map_err(|e| e.to_string())
+            fit_sprocket(&s, t, d, n)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
         }
         // The arms' preload: links at their rest length, as the rest-length rule lays them.
         crate::scene::PretensionRule::RestLength
         | crate::scene::PretensionRule::TensionerPreload => {
-            let (model, _, layout) =
-                crate::model::DriveModel::build(&s).map_err(|e| e.to_string())?;
+            let (model, _, layout) = crate::model::DriveModel::build(&s).map_err(|e| match e {
+                crate::model::BuildError::Layout(crate::geometry::LayoutError::ChainLength {
+                    needed,
+                    which,
+                    arms,
+                    ..
+                }) => format!(
+                    "{which} by {:.2} pitches, more than the half pitch its free links take up{}",
+                    (needed - n as f64).abs(),
+                    arms.map(|a| a.to_string()).unwrap_or_default()
+                ),
+                e => e.to_string(),
+            })?;
             super::feasibility::check_chain_length(&s, &layout, &model.path)
                 .map_err(|e| e.to_string())
         }

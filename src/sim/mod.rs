@@ -15,6 +15,7 @@ mod fanout;
 mod feasibility;
 mod fit;
 pub mod integrate;
+mod misfit;
 mod newton;
 pub mod parallel;
 mod sample_rate;
@@ -23,8 +24,8 @@ mod stepper;
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
 pub use equilibrium::{
-    BeyondSeatingArc, EquilibriumError, MisfitTension, RelaxSettings, StaticEquilibrium,
-    force_residual, free_strand_tension, relax, settle_rest_length,
+    BeyondSeatingArc, EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual,
+    free_strand_tension, relax, settle_rest_length,
 };
 pub use fanout::Fanout;
 pub use fit::{
@@ -32,6 +33,7 @@ pub use fit::{
     default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
 };
 pub use integrate::{Integration, IntegrationStats};
+pub use misfit::MisfitTension;
 pub use sample_rate::{SampleRate, SampleRateError};
 pub use stepper::{Relaxation, driver_speed, symplectic_euler};
 
@@ -365,7 +367,7 @@ impl Simulation {
                     &settings,
                     scene.chain.pretension_n,
                 )?;
-                eq.misfit = equilibrium::misfit_tension(scene, &layout, &forces, eq.tension_n);
+                eq.misfit = misfit::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }
         };

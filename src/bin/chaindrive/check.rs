@@ -120,6 +120,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             // Where the misfit, not the tensioner arms, sets the tension, it is a warning.
             if let Some(misfit) = &sim.equilibrium.misfit {
                 eprintln!("{name}: warning: {misfit}");
+                suggest_fit(&scene, &name);
             } else if !tensioner_rule {
                 misfit_notice(&name, &sim.scene, &sim.layout);
             }
@@ -214,6 +215,15 @@ fn print_layout(scene: &Scene, model: &DriveModel, layout: &Layout) {
         layout.polygon_length_m,
         scene.chain().rollers as f64 * scene.chain().pitch_m
     );
+    if let Some(t) = chaindrive::sim::arm_take_up_of(scene) {
+        println!(
+            "tensioner arms: their shoes take up {:.2} mm of chain at the scene's pose, {:.2} to {:.2} mm over their travel ({})",
+            t.pose_m * 1e3,
+            t.min_m * 1e3,
+            t.max_m * 1e3,
+            t.bound
+        );
+    }
     for (t, arm) in scene.tensioners().iter().zip(&layout.arms) {
         println!(
             "tensioner \"{}\": laid turned by {:.3}° (travel {:.2} mm) to take up the chain's length",
