@@ -13,8 +13,10 @@
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
 pub mod binder;
+pub mod design;
 #[cfg(feature = "figures")]
 pub mod figures;
+mod means;
 pub mod orders;
 #[cfg(feature = "record")]
 pub mod recorded;
@@ -23,22 +25,27 @@ pub mod stats;
 pub mod study;
 mod summary;
 pub mod theory;
+pub mod units;
 mod warnings;
+mod window;
 
+pub use means::{Extent, StepSums, TensionerSums};
 pub(crate) use summary::segment_series;
 pub use summary::{
-    DEFAULT_WINDOW_S, GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary,
-    StrandSummary, SummaryInputs, TensionerSummary,
+    GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
+    TensionerSummary,
 };
 pub use warnings::{
-    ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO,
-    STATIC_RESIDUAL_TOLERANCE,
+    ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION,
+    RUNNING_TENSION_RATIO, STATIC_RESIDUAL_TOLERANCE,
 };
+pub use window::{DEFAULT_WINDOW_S, Ramp, StatsWindow, WindowError, last_ramp};
 
 use serde::{Deserialize, Serialize};
 
 use crate::model::DriveModel;
 use crate::sim::{Observer, Sample};
+use means::StepCounter;
 use spectrum::{WELCH_SEGMENT, Welch};
 
 /// One sample of a run's signals.
@@ -62,6 +69,11 @@ pub struct SampleRow {
     pub tensioners: Vec<crate::forces::TensionerReading>,
     /// Each shoe's forces (the guides', in scene order); empty without.
     pub shoes: Vec<ShoeSample>,
+    /// Integrals over every step since the previous sample, where the steps
+    /// were followed ([`Signals::new`]'s `per_step_from_s`); the window's
+    /// means are theirs.
+    #[serde(default)]
+    pub step_sums: StepSums,
 }
 
 /// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).
@@ -77,7 +89,9 @@ pub struct ShoeSample {
     pub friction_max_n: f64,
 }
 
-/// Samples a run's signals into memory (and optionally hands each row on).
+/// Samples a run's signals into memory, with the integrals and extremes of
+/// every step from `per_step_from_s` on ([`SampleRow::step_sums`]: no mean
+/// depends on the sample rate).
 ///
 /// By default every row is kept. [`Signals::keep_window`] bounds the memory
 /// whatever the run's length: only the rows of the statistics window are
@@ -98,6 +112,9 @@ pub struct Signals {
     /// end + 0.5 s (see [`RunSummary`]).
     spectrum_from_s: f64,
     bounded: Option<Bounded>,
+    /// Integrals over every step from `per_step_from_s` on, handed to each row.
+    #[serde(default)]
+    counter: StepCounter,
 }
 
 /// What [`Signals`] keeps instead of every row.
@@ -116,7 +133,9 @@ struct Bounded {
 
 impl Signals {
     /// A sampler at `rate_hz` that also follows every step from `per_step_from_s`
-    /// on (for link-force extremes and bearing peaks that samples would miss).
+    /// on: the statistics window's means, and the link-force extremes and
+    /// bearing peaks that samples would miss ([`StatsWindow::observe`] makes
+    /// one for a window).
     pub fn new(model: &DriveModel, rate_hz: f64, per_step_from_s: f64) -> Self {
         Self {
             rows: Vec::new(),
@@ -134,6 +153,7 @@ impl Signals {
                 .fold(0.0, f64::max)
                 + 0.5,
             bounded: None,
+            counter: StepCounter::default(),
         }
     }
 
@@ -254,6 +274,7 @@ impl Observer for Signals {
                     ..*m
                 })
                 .collect(),
+            step_sums: self.counter.take(),
         });
         self.bound();
         self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
@@ -263,6 +284,7 @@ impl Observer for Signals {
 
     fn step(&mut self, s: &Sample<'_>) {
         self.track_extremes(s);
+        self.counter.step(s);
     }
 
     fn per_step_from_s(&self) -> f64 {

@@ -9,15 +9,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
+use chaindrive::analysis::{RunSummary, Signals, StatsWindow};
 use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
 use chaindrive::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
-use chaindrive::sim::{
-    Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
-};
+use chaindrive::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes};
 use serde::{Deserialize, Serialize};
 
 /// Arguments of `chaindrive run`.
@@ -60,8 +58,10 @@ pub struct RunArgs {
     /// or all.
     #[arg(long, value_name = "LIST", default_value = "all")]
     record_channels: String,
-    /// Statistics window: the last S seconds of the run (default 1 s, or the
-    /// whole run if shorter). Longer than --duration or not > 0 is an error.
+    /// Statistics window: the last S seconds of the run (default: the last
+    /// 1 s after the scene's ramps, or the whole run if shorter). Longer than
+    /// --duration or not > 0 is an error; a window that reaches into a ramp
+    /// is a warning.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     window: Option<f64>,
     /// Sampling rate of every sampled output, Hz.
@@ -222,6 +222,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         tolerance: args.tolerance,
         contact_law: args.contact_law,
         max_relax_s: None,
+        sample_rate_hz: Some(args.rate),
     };
     let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
@@ -230,7 +231,9 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
-    let window_s = statistics_window(args.window, scene.solver().duration_s)?;
+    let window =
+        StatsWindow::of(&scene, args.window).map_err(|e| anyhow::anyhow!("--window: {e}"))?;
+    let window_s = window.length_s();
     let sampling = SampleRate::new(args.rate, scene.solver().dt_s)
         .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
     // A checkpoint of another scene, version or set of options fails now,
@@ -277,7 +280,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         scene,
         Sampling {
             rate: sampling,
-            window_s,
+            window,
         },
         summary_file,
         csv,
@@ -382,27 +385,10 @@ fn start_recording(
     Ok(recorder)
 }
 
-/// The statistics window's length: `--window`, checked against the run's
-/// duration, or the default (clipped to the run).
-fn statistics_window(window: Option<f64>, duration_s: f64) -> anyhow::Result<f64> {
-    let Some(w) = window else {
-        return Ok(DEFAULT_WINDOW_S.min(duration_s));
-    };
-    anyhow::ensure!(
-        w.is_finite() && w > 0.0,
-        "--window {w}: the statistics window must be a number of seconds > 0"
-    );
-    anyhow::ensure!(
-        w <= duration_s * (1.0 + 1e-12),
-        "--window {w}: the statistics window must not be longer than the run (solver.duration_s = {duration_s} s)"
-    );
-    Ok(w.min(duration_s))
-}
-
 /// How the run is sampled and which window its statistics cover.
 struct Sampling {
     rate: SampleRate,
-    window_s: f64,
+    window: StatsWindow,
 }
 
 fn simulate(
@@ -422,26 +408,8 @@ fn simulate(
         // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
-    let limits = StepLimits::of(&scene);
-    let limit_s = limits.for_integrator(scene.solver().integrator);
-    if scene.solver().dt_auto && !args.quiet {
-        eprintln!(
-            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit, at most 1/{} of a roller's impact, a whole fraction of 1 ms)",
-            scene.solver().dt_s,
-            chaindrive::scene::AUTO_SAFETY,
-            scene.solver().integrator.name(),
-            chaindrive::scene::AUTO_STEPS_PER_IMPACT,
-        );
-    }
-    if scene.solver().dt_s > limit_s {
-        eprintln!(
-            "warning: dt = {:e} s exceeds {}'s estimated stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s, for symplectic Euler)",
-            scene.solver().dt_s,
-            scene.solver().integrator.name(),
-            limit_s,
-            limits.links_s,
-            limits.contact_damping_s
-        );
+    if !args.quiet {
+        eprintln!("{}", chaindrive::scene::step_note(&scene));
     }
     for w in scene.warnings() {
         eprintln!("warning: {w}");
@@ -453,8 +421,6 @@ fn simulate(
         Simulation::new(&scene).map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
-    // Where the power goes, over the summary's window.
-    sim.track_power((duration - sampling.window_s).max(0.0));
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
         let segments = 1..=sim.model.segments.len();
         let header = std::iter::once("t_s".to_owned())
@@ -486,14 +452,11 @@ fn simulate(
         );
         p
     });
-    let mut signals = Signals::new(
-        &sim.model,
-        sampling.rate.rate_hz,
-        (duration - sampling.window_s).max(0.0),
-    );
-    // Memory flat whatever the duration: the series goes to disk as it is
-    // taken, the summary needs the window's rows and the running spectra.
-    signals.keep_window(sampling.window_s);
+    // Where the power goes and the means, counted every step of the
+    // summary's window. Memory flat whatever the duration: the series goes
+    // to disk as it is taken, the summary needs the window's rows and the
+    // running spectra.
+    let mut signals = sampling.window.observe(&mut sim, sampling.rate.rate_hz);
     let mut so_far = RunOutcome {
         steps: 0,
         wall_s: 0.0,
@@ -547,12 +510,12 @@ fn simulate(
         r.finish(end).context("writing the recording failed")?;
     }
     let outcome = outcome?;
-    let summary = RunSummary::of_run_over(
+    let summary = RunSummary::of_run_in(
         &sim,
         &outcome,
         &observer.signals,
         setup_wall_s,
-        sampling.window_s,
+        &sampling.window,
     );
     if let Some(f) = summary_file.as_mut() {
         serde_json::to_writer_pretty(&mut *f, &summary)?;
@@ -612,7 +575,7 @@ fn run_with_checkpoints(
             };
             let run = CliRun {
                 rate_hz: sampling.rate.rate_hz,
-                window_s: sampling.window_s,
+                window_s: sampling.window.length_s(),
                 signals: observer.signals.clone(),
                 steps: so_far.steps,
                 wall_s: so_far.wall_s,
