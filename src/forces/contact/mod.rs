@@ -268,10 +268,10 @@ impl ToothContact {
             let frame = self.frames[run.sprocket];
             let (force, torque) = match (&sp.profile, run.shared) {
                 (ToothProfile::Circular(c), false) => {
-                    pass.run::<ROWS, false, MOVING, _>(c, &frame, run)
+                    pass.run::<ROWS, false, MOVING, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Circular(c), true) => {
-                    pass.run::<ROWS, true, MOVING, _>(c, &frame, run)
+                    pass.run::<ROWS, true, MOVING, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Real(r), false) => {
                     pass.run::<ROWS, false, MOVING, _>(&**r, &frame, run)

@@ -174,13 +174,16 @@ impl Reach {
         let (until, kept) = (&self.until_s[..n], &self.mask[..n]);
         let pending_until = &mut self.pending_until_s[..n];
         let pending_mask = &mut self.pending_mask[..n];
-        // Measure the rollers whose kept set has expired (a few per step).
+        // Measure the rollers whose kept set has expired (a few per step),
+        // four at a time: a chunk whose four sets are all kept (the common
+        // case) costs four comparisons, in packed form.
+        let t = s.t_s;
         let mut changed = false;
         let mut earliest = f64::INFINITY;
-        for i in 0..n {
-            if s.t_s < until[i] {
-                earliest = earlier(earliest, until[i]);
-                continue;
+        let mut measure = |i: usize, earliest: &mut f64| {
+            if t < until[i] {
+                *earliest = earlier(*earliest, until[i]);
+                return;
             }
             let mut mask = 0u64;
             let mut clearance = f64::INFINITY;
@@ -198,12 +201,29 @@ impl Reach {
             }
             pending_mask[i] = mask;
             pending_until[i] = match cull {
-                Some((speed_bound, max_skip)) => s.t_s + (clearance / speed_bound).min(max_skip),
+                Some((speed_bound, max_skip)) => t + (clearance / speed_bound).min(max_skip),
                 None => f64::NEG_INFINITY,
             };
-            earliest = earlier(earliest, pending_until[i]);
+            *earliest = earlier(*earliest, pending_until[i]);
             self.remeasured.push(i as u32);
             changed |= mask != kept[i];
+        };
+        let chunks = until.chunks_exact(4);
+        let tail = n - chunks.remainder().len();
+        for (c, u) in chunks.enumerate() {
+            let kept_all = (t < u[0]) & (t < u[1]) & (t < u[2]) & (t < u[3]);
+            if kept_all {
+                // All four are after t, none NaN: plain comparisons.
+                let first = |a: f64, b: f64| if b < a { b } else { a };
+                earliest = first(earliest, first(first(u[0], u[1]), first(u[2], u[3])));
+            } else {
+                for i in 4 * c..4 * c + 4 {
+                    measure(i, &mut earliest);
+                }
+            }
+        }
+        for i in tail..n {
+            measure(i, &mut earliest);
         }
         self.pending_earliest_s = earliest;
         // Runs are a function of the sets alone: with no set changed they
