@@ -220,14 +220,18 @@ impl CircularProfile {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Seats<'a> {
     profile: &'a CircularProfile,
-    dirs: &'a [[f64; 2]],
-    tan_half_pitch: f64,
+    /// Unit radial direction of each gap centre.
+    pub(crate) dirs: &'a [[f64; 2]],
+    /// tan(φ/2), the gaps' cone test.
+    pub(crate) tan_half_pitch: f64,
     /// R_s + ΔR: the seating circles' centres lie on it, m.
-    seat_radius_m: f64,
-    clearance_m: f64,
+    pub(crate) seat_radius_m: f64,
+    /// ΔR, m.
+    pub(crate) clearance_m: f64,
     /// ΔR², m².
-    clearance_sq_m2: f64,
-    tips: bool,
+    pub(crate) clearance_sq_m2: f64,
+    /// See [`CircularProfile::tips`].
+    pub(crate) tips: bool,
 }
 
 impl Seats<'_> {

@@ -21,6 +21,7 @@ pub mod shoe;
 mod testing;
 
 pub use circular::CircularProfile;
+pub(crate) use circular::Seats;
 pub(crate) use layout::hang_excess;
 pub use layout::{Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
 pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};

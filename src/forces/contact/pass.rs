@@ -4,6 +4,7 @@
 
 use super::super::rows::DampingRows;
 use super::reach::Run;
+use super::seats::SeatScratch;
 use super::{EMPTY, FREE, Memory};
 use crate::forces::ContactLawParams;
 use crate::geometry::{MAX_PATCHES, Outline, Patch};
@@ -12,13 +13,13 @@ use crate::model::{DriveState, SprocketModel};
 /// One sprocket's pose and speed, fixed for its contact pass.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Frame {
-    index: usize,
-    center: [f64; 2],
+    pub(super) index: usize,
+    pub(super) center: [f64; 2],
     /// Velocity of the centre (a moving mount), m/s.
-    velocity: [f64; 2],
-    sin: f64,
-    cos: f64,
-    omega: f64,
+    pub(super) velocity: [f64; 2],
+    pub(super) sin: f64,
+    pub(super) cos: f64,
+    pub(super) omega: f64,
 }
 
 impl Frame {
@@ -55,6 +56,10 @@ pub(super) struct ContactPass<'a> {
     /// Patches found for each roller of a shared run (its entries in `pending_memory`).
     pub(super) used: &'a mut [u8],
     pub(super) rows: Option<&'a mut DampingRows>,
+    /// Scratch of the circular seats' pass ([`super::seats`]).
+    pub(super) seat_scratch: &'a mut SeatScratch,
+    /// Whether the CPU has AVX2 and the pass may use it.
+    pub(super) avx2: bool,
     pub(super) energy_j: f64,
     /// Power of the contact forces' damping parts, −Σ (f − K δⁿ) δ̇, W (≤ 0
     /// but for the ≥ 0 clamp, which only lowers it).
@@ -215,20 +220,30 @@ impl ContactPass<'_> {
     }
 }
 
+/// One contact patch in the world frame.
+pub(super) struct WorldPatch {
+    pub(super) depth_m: f64,
+    pub(super) patch_id: u32,
+    /// Unit normal, the direction of the force on the roller.
+    pub(super) normal: [f64; 2],
+    /// δ̇, m/s (positive while approaching).
+    pub(super) depth_rate: f64,
+}
+
 /// What a run's loop sums over its contacts.
-struct Sums {
+pub(super) struct Sums {
     /// Reaction on the sprocket, N.
-    force: [f64; 2],
+    pub(super) force: [f64; 2],
     /// Its moment about the sprocket's centre, N·m.
-    torque: f64,
-    energy: f64,
-    damping_power: f64,
-    max_pen: f64,
+    pub(super) torque: f64,
+    pub(super) energy: f64,
+    pub(super) damping_power: f64,
+    pub(super) max_pen: f64,
 }
 
 /// Implicit damping row of one roller: C, C v_sp, elastic, explicit damping.
 #[derive(Clone, Copy, Default)]
-struct Row {
+pub(super) struct Row {
     c: [f64; 3],
     c_v_sprocket: [f64; 2],
     elastic: [f64; 2],
@@ -236,27 +251,27 @@ struct Row {
 }
 
 /// One roller's state while its patches are added.
-struct Roller {
+pub(super) struct Roller {
     /// Its advanced contact memory.
-    next: [Memory; MAX_PATCHES],
+    pub(super) next: [Memory; MAX_PATCHES],
     /// Entries of `next` in use.
-    used: usize,
+    pub(super) used: usize,
     /// Contact force on the roller, N.
-    total: [f64; 2],
-    row: Row,
+    pub(super) total: [f64; 2],
+    pub(super) row: Row,
     /// Force of the last patch, N.
-    last_force: f64,
+    pub(super) last_force: f64,
 }
 
 /// What every patch of a run reads: the law and the sprocket's frame.
-struct PatchContext {
-    law: ContactLawParams,
-    energy_factor: f64,
-    sin: f64,
-    cos: f64,
-    omega: f64,
-    velocity: [f64; 2],
-    index: usize,
+pub(super) struct PatchContext {
+    pub(super) law: ContactLawParams,
+    pub(super) energy_factor: f64,
+    pub(super) sin: f64,
+    pub(super) cos: f64,
+    pub(super) omega: f64,
+    pub(super) velocity: [f64; 2],
+    pub(super) index: usize,
 }
 
 impl PatchContext {
@@ -264,7 +279,7 @@ impl PatchContext {
     /// moving at `v_rel` relative to the sprocket's surface under it.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    fn patch<const ROWS: bool, const MOVING: bool, P: Outline>(
+    pub(super) fn patch<const ROWS: bool, const MOVING: bool, P: Outline>(
         &self,
         profile: &P,
         p: &Patch,
@@ -274,12 +289,36 @@ impl PatchContext {
         roller: &mut Roller,
         sums: &mut Sums,
     ) {
-        let (sin, cos, omega, law) = (self.sin, self.cos, self.omega, self.law);
-        let [rx, ry] = lever;
+        let (sin, cos) = (self.sin, self.cos);
         // Normal back to the world frame.
         let nx = cos * p.normal[0] - sin * p.normal[1];
         let ny = sin * p.normal[0] + cos * p.normal[1];
         let depth_rate = -(v_rel[0] * nx + v_rel[1] * ny);
+        let contact = WorldPatch {
+            depth_m: p.depth_m,
+            patch_id: p.patch_id,
+            normal: [nx, ny],
+            depth_rate,
+        };
+        self.world_patch::<ROWS, MOVING, P>(profile, &contact, lever, onsets, roller, sums);
+    }
+
+    /// [`Self::patch`] once the normal is in the world frame and the
+    /// approach speed known.
+    #[inline(always)]
+    pub(super) fn world_patch<const ROWS: bool, const MOVING: bool, P: Outline>(
+        &self,
+        profile: &P,
+        p: &WorldPatch,
+        lever: [f64; 2],
+        onsets: &[Memory; MAX_PATCHES],
+        roller: &mut Roller,
+        sums: &mut Sums,
+    ) {
+        let (omega, law) = (self.omega, self.law);
+        let [rx, ry] = lever;
+        let [nx, ny] = p.normal;
+        let depth_rate = p.depth_rate;
         let key = ((self.index as u64) << 32) | u64::from(p.patch_id);
         // The same patch, or (real profile) the one it slid over from.
         let damping = match onsets.iter().find(|mem| mem.key == key) {
