@@ -24,6 +24,7 @@ mod walk;
 
 pub use arms::{ArmPose, ArmShoe, ArmTakeUp, TakeUpBound, arm_take_up, layout_with_arms};
 pub use circular::CircularProfile;
+pub(crate) use circular::Seats;
 pub(crate) use layout::hang_excess;
 pub use layout::{ArmReach, Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
 pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
