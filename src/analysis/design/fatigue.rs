@@ -408,7 +408,7 @@ mod tests {
     /// 39.2^0.9 · 0.5^2.965 hp, v = 17 · 0.0127 · 39.2 / 60 m/s.
     #[test]
     fn the_derived_fatigue_limit_is_the_rated_tension_at_the_knee() {
-        let n1 = 5e6 * 120.0 / (15_000.0 * 60.0 * 17.0);
+        let n1: f64 = 5e6 * 120.0 / (15_000.0 * 60.0 * 17.0);
         let h1_w =
             745.699_871_582_270_2 * 0.004 * 17f64.powf(1.08) * n1.powf(0.9) * 0.5f64.powf(2.965);
         let v = 17.0 * 0.0127 * n1 / 60.0;
