@@ -279,6 +279,11 @@ pub struct RunSummary {
     /// not turn).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rating: Option<super::design::Rating>,
+    /// Link-plate fatigue from every link's force over the window
+    /// ([`super::design::fatigue`]; absent where the chain has no tensile
+    /// strength, or the steps were not counted).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fatigue: Option<super::design::Fatigue>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
@@ -742,9 +747,13 @@ impl RunSummary {
                 .map(|(k, t)| means.tensioner(&t.name, k))
                 .collect(),
             rating: None,
+            fatigue: None,
             warnings: Vec::new(),
         };
         summary.rating = super::design::rating::of_run(scene, &summary);
+        summary.fatigue = signals
+            .fatigue()
+            .and_then(|cycles| super::design::fatigue::of_run(scene, &summary, cycles));
         summary.warnings = super::warnings::of_run(&Judged {
             scene,
             summary: &summary,
