@@ -50,7 +50,7 @@ pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
         settings.grid_s
     );
     if args.quick {
-        for (_, ladder) in &mut settings.methods {
+        for (_, ladder) in &mut settings.ladder.methods {
             ladder.truncate(3);
             ladder.drain(..ladder.len().saturating_sub(2));
         }

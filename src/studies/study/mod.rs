@@ -35,7 +35,7 @@ pub use plan::{Case, PlanFile, Responses, Study};
 pub use table::{Column, ColumnData, RowStatus, Table, WARNING_SEPARATOR};
 
 /// Why a study could not be prepared, run or collected.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 pub enum StudyError {
     /// The plan is invalid: one `path: message` line per problem.
     #[error("invalid plan:\n{}", .0.join("\n"))]

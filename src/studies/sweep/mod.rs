@@ -36,10 +36,10 @@ pub use report::{
 };
 pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use super::queue::WorkQueue;
 use crate::analysis::orders::{AngleWindow, OrderError, OrderSet, OrderSpectrum};
 use crate::analysis::theory::moving_string_frequency_hz;
 use crate::analysis::{RunSummary, SampleRow, Signals};
@@ -739,9 +739,15 @@ fn run_case(
     }
 }
 
-/// Runs the sweep: every case on `settings.jobs` threads, `on_case` called
-/// as each finishes (from its worker thread). Cases come back in speed order;
-/// cases that `stop` cut short or never started are left out.
+/// Runs the sweep: every case on `settings.jobs` threads, the fastest
+/// speeds first (they take the longest: more tooth impacts per second of
+/// the same run), `on_case` called on the calling thread as each finishes.
+/// Cases come back in speed order; cases that `stop` cut short or never
+/// started are left out.
+///
+/// # Errors
+///
+/// A setting is not allowed or a case's scene is not valid (before anything runs).
 pub fn run_sweep(
     scene: &Scene,
     settings: &SweepSettings,
@@ -749,36 +755,12 @@ pub fn run_sweep(
     on_case: &(dyn Fn(&CaseOutcome) + Sync),
 ) -> Result<Vec<CaseOutcome>, SweepError> {
     let cases = prepare(scene, settings)?;
-    // The fastest speeds first (they take the longest: more tooth impacts
-    // per second of the same run), so that no long case starts last and
-    // leaves the other threads idle.
-    let mut queue: Vec<usize> = (0..cases.len()).collect();
-    queue.sort_by(|&a, &b| cases[b].rpm.total_cmp(&cases[a].rpm));
-    let next = AtomicUsize::new(0);
-    let done: Mutex<Vec<(usize, CaseOutcome)>> = Mutex::new(Vec::new());
-    let jobs = settings.jobs.clamp(1, cases.len().max(1));
-    std::thread::scope(|s| {
-        for _ in 0..jobs {
-            s.spawn(|| {
-                loop {
-                    if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
-                        break;
-                    }
-                    let Some(&i) = queue.get(next.fetch_add(1, Ordering::Relaxed)) else {
-                        break;
-                    };
-                    let Some(case) = cases.get(i) else { break };
-                    if let Some(outcome) = run_case(case, settings, stop) {
-                        on_case(&outcome);
-                        if let Ok(mut d) = done.lock() {
-                            d.push((i, outcome));
-                        }
-                    }
-                }
-            });
-        }
-    });
-    let mut done = done.into_inner().unwrap_or_else(|e| e.into_inner());
-    done.sort_by_key(|(i, _)| *i);
-    Ok(done.into_iter().map(|(_, o)| o).collect())
+    Ok(WorkQueue::new(&cases)
+        .threads(settings.jobs)
+        .stop(stop)
+        .costliest_first(|case| case.rpm)
+        .run(|_, case| run_case(case, settings, stop), |_, c| on_case(c))
+        .into_iter()
+        .flatten()
+        .collect())
 }
