@@ -210,6 +210,7 @@ pub mod geometry;
 pub mod model;
 #[cfg(feature = "record")]
 pub mod record;
+pub mod rng;
 pub mod scene;
 pub mod sim;
 #[cfg(feature = "lab")]

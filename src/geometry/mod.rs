@@ -17,8 +17,6 @@ mod circular;
 mod layout;
 mod path;
 pub mod shoe;
-#[cfg(test)]
-mod testing;
 
 pub use circular::CircularProfile;
 pub(crate) use layout::hang_excess;

@@ -27,6 +27,7 @@ mod rate;
 mod recover;
 mod reproduce;
 mod run;
+mod speeds;
 mod stress;
 mod study;
 mod sweep;

@@ -381,7 +381,7 @@ fn collect(dir: &Path) -> anyhow::Result<ExitCode> {
     let study = StudyDir::open(dir)?;
     let table = Table::collect(&study)?;
     let csv = dir.join("results.csv");
-    std::fs::write(&csv, table.to_csv())
+    std::fs::write(&csv, table.to_csv()?)
         .with_context(|| format!("cannot write {}", csv.display()))?;
     let parquet = dir.join("results.parquet");
     table.write_parquet(&parquet)?;

@@ -69,6 +69,9 @@ pub enum StudyError {
         /// The summary's numeric fields.
         allowed: String,
     },
+    /// The results table could not be written as CSV.
+    #[error("writing CSV: {0}")]
+    Csv(String),
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io {

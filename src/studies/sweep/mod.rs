@@ -46,9 +46,6 @@ use crate::analysis::{RunSummary, SampleRow, Signals};
 use crate::scene::{Overrides, Role, Scene, SceneError};
 use crate::sim::{Observer, Sample, SampleRate, Simulation};
 
-/// Most cases a sweep may have.
-pub const MAX_CASES: usize = 100_000;
-
 /// Samples per period of the largest order asked for (the cubic
 /// resampling then loses about 10⁻³ of that order's amplitude).
 pub const SAMPLES_PER_PERIOD: f64 = 16.0;
@@ -59,7 +56,7 @@ pub const TRANSVERSE_MODES: u32 = 3;
 /// Why a sweep cannot start.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
-    /// A range of speeds that is not `FROM:TO:STEP` with 0 < FROM ≤ TO and STEP > 0.
+    /// Speeds the sweep cannot run: none, or a run-up that does not go up.
     #[error("{what} {text:?}: {why}")]
     BadRange {
         /// The option (`--rpm`, `--run-up`).
@@ -96,66 +93,6 @@ pub enum SweepError {
     /// No sample rate is possible with the scene's step.
     #[error("sampling: {0}")]
     Sampling(String),
-}
-
-/// Speeds `FROM:TO:STEP` in rpm (both ends included when STEP divides the
-/// span; a last point beyond TO is not added). `what` names the option in errors.
-pub fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, SweepError> {
-    let bad = |why: &str| SweepError::BadRange {
-        what,
-        text: text.to_owned(),
-        why: format!(
-            "{why}; write FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100"
-        ),
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() != 3 {
-        return Err(bad("three numbers separated by ':' are needed"));
-    }
-    let nums: Vec<f64> = parts
-        .iter()
-        .map(|p| p.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad("not a number"))?;
-    let (from, to, step) = (nums[0], nums[1], nums[2]);
-    if !(from.is_finite() && to.is_finite() && step.is_finite()) {
-        return Err(bad("not finite"));
-    }
-    if !(from > 0.0) {
-        return Err(bad("FROM must be > 0"));
-    }
-    if !(to >= from) {
-        return Err(bad("TO must not be below FROM"));
-    }
-    if !(step > 0.0) {
-        return Err(bad("STEP must be > 0"));
-    }
-    let count = ((to - from) / step * (1.0 + 1e-12) + 1e-9).floor() + 1.0;
-    if count > MAX_CASES as f64 {
-        return Err(bad(&format!("more than {MAX_CASES} speeds")));
-    }
-    Ok((0..count as usize)
-        .map(|i| from + i as f64 * step)
-        .collect())
-}
-
-/// Two speeds `FROM:TO` in rpm with 0 < FROM < TO (a run-up).
-pub fn parse_run_up(text: &str) -> Result<(f64, f64), SweepError> {
-    let bad = |why: &str| SweepError::BadRange {
-        what: "--run-up",
-        text: text.to_owned(),
-        why: format!("{why}; write FROM:TO in rpm with 0 < FROM < TO, e.g. 300:3000"),
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() != 2 {
-        return Err(bad("two numbers separated by ':' are needed"));
-    }
-    let from: f64 = parts[0].trim().parse().map_err(|_| bad("not a number"))?;
-    let to: f64 = parts[1].trim().parse().map_err(|_| bad("not a number"))?;
-    if !(from.is_finite() && to.is_finite() && from > 0.0 && to > from) {
-        return Err(bad("out of range"));
-    }
-    Ok((from, to))
 }
 
 /// A sweep's settings.
