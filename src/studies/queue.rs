@@ -172,8 +172,8 @@ mod tests {
     use std::sync::Mutex;
     use std::time::Duration;
 
-    /// Job k sleeps `ms[k]` milliseconds and returns 10 k.
-    fn sleepy(ms: &[u64]) -> impl Fn(usize, &u64) -> Option<usize> + Sync + '_ {
+    /// A job that sleeps its milliseconds and returns 10 k (k its index).
+    fn sleepy() -> impl Fn(usize, &u64) -> Option<usize> + Sync {
         |k, &ms| {
             std::thread::sleep(Duration::from_millis(ms));
             Some(10 * k)
@@ -187,7 +187,7 @@ mod tests {
         let mut finished = Vec::new();
         let results = WorkQueue::new(&ms)
             .threads(3)
-            .run(sleepy(&ms), |k, _| finished.push(k));
+            .run(sleepy(), |k, _| finished.push(k));
         assert_eq!(results, (0..6).map(|k| Some(10 * k)).collect::<Vec<_>>());
         assert_eq!(finished.len(), 6);
         assert_eq!(finished.last(), Some(&0), "finish order {finished:?}");

@@ -16,17 +16,11 @@ use chaindrive::studies::ladder::{Ladder, Rung, Setting};
 /// Arguments of `chaindrive bench convergence`.
 #[derive(clap::Args)]
 pub struct ConvergenceArgs {
-    /// Scene file (TOML). Default: the paper's drive.
-    scene: Option<PathBuf>,
-    /// Tooth profile of every sprocket.
-    #[arg(long, value_enum)]
-    profile: Option<chaindrive::scene::ProfileKind>,
+    #[command(flatten)]
+    start: crate::WarmStartArgs,
     /// Simulated time of each run after the warm-up, s.
     #[arg(long, default_value_t = 10.0)]
     duration: f64,
-    /// Warm-up with the scene's own settings before every run, s.
-    #[arg(long, default_value_t = 1.2)]
-    warmup: f64,
     /// Output directory: convergence.csv, convergence.png/.svg.
     #[arg(long, default_value = "convergence")]
     out: PathBuf,
@@ -39,18 +33,13 @@ pub struct ConvergenceArgs {
 }
 
 pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
-    let overrides = chaindrive::scene::Overrides {
-        profile: args.profile,
-        ..Default::default()
-    };
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+    let Some(scene) = args.start.scene()? else {
         return Ok(ExitCode::FAILURE);
     };
     crate::ensure_positive("--duration", args.duration)?;
-    crate::ensure_non_negative("--warmup", args.warmup)?;
     anyhow::ensure!(args.jobs >= 1, "--jobs must be at least 1");
     let mut settings = Settings::default_for(args.duration);
-    settings.warmup_s = args.warmup;
+    settings.warmup_s = args.start.warmup_s;
     settings.threads = args.jobs;
     if args.quick {
         let euler = chaindrive::scene::Integrator::SymplecticEuler;

@@ -5,14 +5,16 @@
 /// Most speeds a stepped range may hold.
 pub const MAX_SPEEDS: usize = 100_000;
 
+/// How a stepped range is written.
+const RANGE_FORM: &str = "FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100";
+
+/// How a run-up is written.
+const RUN_UP_FORM: &str = "FROM:TO in rpm with 0 < FROM < TO, e.g. 300:3000";
+
 /// Speeds `FROM:TO:STEP` in rpm (both ends included when STEP divides the
 /// span; a last point beyond TO is not added). `what` names the option in errors.
 pub fn parse_rpm_range(what: &str, text: &str) -> anyhow::Result<Vec<f64>> {
-    let bad = |why: &str| {
-        anyhow::anyhow!(
-            "{what} {text:?}: {why}; write FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100"
-        )
-    };
+    let bad = |why: &str| refused(what, text, why, RANGE_FORM);
     let parts: Vec<&str> = text.split(':').collect();
     if parts.len() != 3 {
         return Err(bad("three numbers separated by ':' are needed"));
@@ -46,11 +48,7 @@ pub fn parse_rpm_range(what: &str, text: &str) -> anyhow::Result<Vec<f64>> {
 
 /// Two speeds `FROM:TO` in rpm with 0 < FROM < TO (a run-up).
 pub fn parse_run_up(text: &str) -> anyhow::Result<(f64, f64)> {
-    let bad = |why: &str| {
-        anyhow::anyhow!(
-            "--run-up {text:?}: {why}; write FROM:TO in rpm with 0 < FROM < TO, e.g. 300:3000"
-        )
-    };
+    let bad = |why: &str| refused("--run-up", text, why, RUN_UP_FORM);
     let parts: Vec<&str> = text.split(':').collect();
     if parts.len() != 2 {
         return Err(bad("two numbers separated by ':' are needed"));
@@ -61,6 +59,11 @@ pub fn parse_run_up(text: &str) -> anyhow::Result<(f64, f64)> {
         return Err(bad("out of range"));
     }
     Ok((from, to))
+}
+
+/// `OPTION "TEXT": WHY; write FORM`.
+fn refused(what: &str, text: &str, why: &str, form: &str) -> anyhow::Error {
+    anyhow::anyhow!("{what} {text:?}: {why}; write {form}")
 }
 
 #[cfg(test)]

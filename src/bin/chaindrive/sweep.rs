@@ -12,8 +12,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::Context;
@@ -182,19 +181,12 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new(settings.rpm.len() as u64);
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} speeds, eta {eta} {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        p
-    });
+    let stop = crate::stop_on_ctrl_c();
+    let progress = progress_bar(
+        args.quiet,
+        indicatif::ProgressBar::new(settings.rpm.len() as u64),
+        "{bar:40} {pos}/{len} speeds, eta {eta} {msg}",
+    );
     let started = Instant::now();
     let on_case = |c: &CaseOutcome| {
         if let Some(p) = &progress {
@@ -272,19 +264,12 @@ fn sweep_run_up(
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new_spinner();
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{spinner} {pos} windows, {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-        );
-        p
-    });
+    let stop = crate::stop_on_ctrl_c();
+    let progress = progress_bar(
+        args.quiet,
+        indicatif::ProgressBar::new_spinner(),
+        "{spinner} {pos} windows, {msg}",
+    );
     let started = Instant::now();
     let on_window = |c: &CaseOutcome| {
         if let Some(p) = &progress {
@@ -327,6 +312,21 @@ fn sweep_run_up(
         ExitCode::from(130)
     } else {
         ExitCode::SUCCESS
+    })
+}
+
+/// `bar` with the style `template`, unless `quiet` or stderr is not a terminal.
+fn progress_bar(
+    quiet: bool,
+    bar: indicatif::ProgressBar,
+    template: &str,
+) -> Option<indicatif::ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
     })
 }
 

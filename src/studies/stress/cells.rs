@@ -223,91 +223,35 @@ pub fn default_matrix() -> Result<Vec<Case>, StressError> {
             set_profile(f, profile);
         })?);
     }
+    // Generated drives: name prefix, rollers, sprockets, profile, how it is
+    // driven, the schemes run, whether it is in the roller-count series
+    // (the same conveyor driven the same way).
     let big = big_chain_integrators;
-    cases.push(generated_cell(
-        "gen",
-        122,
-        2,
-        Circular,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        1000,
-        2,
-        Circular,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        1000,
-        2,
-        Real,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    for k in [3, 6, 10] {
+    #[rustfmt::skip]
+    let generated: [(&str, usize, usize, ProfileKind, Drive, fn() -> Vec<Integrator>, bool); 11] = [
+        ("gen", 122, 2, Circular, Drive::Standard, all, false),
+        ("gen", 1000, 2, Circular, Drive::Standard, all, false),
+        ("gen", 1000, 2, Real, Drive::Standard, all, false),
+        ("gen", 500, 3, Circular, Drive::Standard, all, false),
+        ("gen", 500, 6, Circular, Drive::Standard, all, false),
+        ("gen", 500, 10, Circular, Drive::Standard, all, false),
+        ("gen", 500, 10, Real, Drive::Standard, all, false),
+        ("cost", 122, 2, Circular, Drive::Slow, big, true),
+        ("cost", 1000, 2, Circular, Drive::Slow, big, true),
+        ("gen", 10_000, 2, Circular, Drive::Slow, big, true),
+        ("gen", 10_000, 2, Real, Drive::Slow, big, false),
+    ];
+    for (prefix, rollers, sprockets, profile, drive, schemes, cost_series) in generated {
         cases.push(generated_cell(
-            "gen",
-            500,
-            k,
-            Circular,
-            Drive::Standard,
-            all(),
-            false,
+            prefix,
+            rollers,
+            sprockets,
+            profile,
+            drive,
+            schemes(),
+            cost_series,
         )?);
     }
-    cases.push(generated_cell(
-        "gen",
-        500,
-        10,
-        Real,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    // The roller-count series: the same conveyor, driven the same way.
-    cases.push(generated_cell(
-        "cost",
-        122,
-        2,
-        Circular,
-        Drive::Slow,
-        big(),
-        true,
-    )?);
-    cases.push(generated_cell(
-        "cost",
-        1000,
-        2,
-        Circular,
-        Drive::Slow,
-        big(),
-        true,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        10_000,
-        2,
-        Circular,
-        Drive::Slow,
-        big(),
-        true,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        10_000,
-        2,
-        Real,
-        Drive::Slow,
-        big(),
-        false,
-    )?);
     Ok(cases)
 }
 
