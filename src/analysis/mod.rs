@@ -30,6 +30,7 @@ mod warnings;
 mod window;
 
 pub use means::{Extent, StepSums, TensionerSums};
+#[cfg(feature = "lab")]
 pub(crate) use summary::segment_series;
 pub use summary::{
     GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,

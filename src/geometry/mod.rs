@@ -18,8 +18,6 @@ mod circular;
 mod layout;
 mod path;
 pub mod shoe;
-#[cfg(test)]
-mod testing;
 mod walk;
 
 pub use arms::{ArmPose, ArmShoe, ArmTakeUp, TakeUpBound, arm_take_up, layout_with_arms};

@@ -51,7 +51,7 @@ use crate::forces::{
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
-use crate::scene::{PretensionRule, Role, Scene, Stepping, TensionerKind};
+use crate::scene::{Overrides, PretensionRule, Role, Scene, SceneError, Stepping, TensionerKind};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
@@ -382,11 +382,34 @@ impl Simulation {
         ))
     }
 
+    /// A copy of this simulation, settled and at its present state, that
+    /// runs with `overrides` applied to its scene (another integrator, step
+    /// or tolerance): a fresh rapier world holding the bodies where they
+    /// are, the forces with their contact memory. A study that runs one
+    /// settled drive with several schemes starts each run from a fork, so
+    /// the runs differ only in what `overrides` changes.
+    ///
+    /// # Errors
+    ///
+    /// The scene with `overrides` applied is not valid (a step that is not
+    /// finite and positive, for one); the error names the field.
+    pub fn fork(&self, overrides: &Overrides) -> Result<Self, SceneError> {
+        let scene = self.scene.with(overrides)?;
+        Ok(Self::assemble(
+            scene,
+            self.model.clone(),
+            self.state.clone(),
+            self.forces.clone(),
+            self.layout.clone(),
+            self.equilibrium.clone(),
+            self.limits,
+        ))
+    }
+
     /// A simulation of a drive already settled: a fresh rapier world holding
     /// its bodies at `state`, and the scene's integrator. [`Simulation::new`]
-    /// ends here; a study that runs one settled drive with several schemes
-    /// starts each run here from a copy.
-    pub fn assemble(
+    /// and [`Simulation::fork`] end here.
+    fn assemble(
         scene: Scene,
         model: DriveModel,
         mut state: DriveState,

@@ -35,6 +35,7 @@ mod excitation;
 mod figures;
 mod fit;
 mod friction;
+#[cfg(feature = "lab")]
 mod fuzz;
 mod governor;
 mod guides;
@@ -63,9 +64,11 @@ mod statistics;
 mod stderr_lines;
 mod stepping;
 mod strands;
+#[cfg(feature = "lab")]
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
+#[cfg(feature = "lab")]
 mod sweep;
 mod tensioners;
 mod threads;
