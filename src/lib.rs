@@ -193,7 +193,7 @@
 //! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record`, `figures`, `parquet` and `lab` |
 //! | `lab` | yes | `studies`: experiments of many runs (sweeps, design studies, convergence, work-precision, stress, the paper's study) |
 //! | `figures` | yes | PNG and SVG figures of [`analysis`] (`plotters`, embedded font), `reproduce` |
-//! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
+//! | `record` | yes | `record`: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
 //!
 //! ## Reproducibility
 //!
