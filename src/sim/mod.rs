@@ -15,6 +15,7 @@ mod fanout;
 mod feasibility;
 mod fit;
 pub mod integrate;
+mod misfit;
 mod newton;
 pub mod parallel;
 mod sample_rate;
@@ -28,10 +29,11 @@ pub use equilibrium::{
 };
 pub use fanout::Fanout;
 pub use fit::{
-    FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
-    needed_pitches_of,
+    CountVerdict, FIT_TOLERANCE_M, Fit, FitError, arm_take_up_of, count_verdicts,
+    default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
 };
 pub use integrate::{Integration, IntegrationStats};
+pub use misfit::MisfitTension;
 pub use sample_rate::{SampleRate, SampleRateError};
 pub use stepper::{Relaxation, driver_speed, symplectic_euler};
 
@@ -126,6 +128,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             residual_speed_m_s: residual,
             force_residual: force_residual(&forces, target),
             beyond_seating_arc: None,
+            misfit: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };
@@ -357,13 +360,14 @@ impl Simulation {
             PretensionRule::TensionerPreload => {
                 let (model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
-                let eq = equilibrium::settle_preload(
+                let mut eq = equilibrium::settle_preload(
                     &model,
                     &mut state,
                     &mut forces,
                     &settings,
                     scene.chain.pretension_n,
                 )?;
+                eq.misfit = misfit::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }
         };

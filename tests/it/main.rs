@@ -9,6 +9,7 @@
 mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
+mod arms;
 #[cfg(feature = "cli")]
 mod auto_step;
 mod catenary;

@@ -137,6 +137,7 @@ pub fn run_scene(
             residual_speed_m_s: residual,
             force_residual: force_residual(&sim.forces, scene.chain.pretension_n),
             beyond_seating_arc: None,
+            misfit: None,
         };
         sim.sync_world();
     }
