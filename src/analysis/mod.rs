@@ -294,8 +294,14 @@ fn range_of(values: &[f64]) -> (f64, f64) {
             high[k] = larger(high[k], c[k]);
         }
     }
-    let low = rest.iter().chain(&low).fold(f64::INFINITY, |m, &v| smaller(m, v));
-    let high = rest.iter().chain(&high).fold(f64::NEG_INFINITY, |m, &v| larger(m, v));
+    let low = rest
+        .iter()
+        .chain(&low)
+        .fold(f64::INFINITY, |m, &v| smaller(m, v));
+    let high = rest
+        .iter()
+        .chain(&high)
+        .fold(f64::NEG_INFINITY, |m, &v| larger(m, v));
     (low, high)
 }
 

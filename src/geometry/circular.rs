@@ -291,7 +291,10 @@ impl Seats<'_> {
         }
         let gap = self.profile.gap_search(p, hint);
         // The search answers a gap of this profile (0..N).
-        (gap, self.dirs.get(gap as usize).copied().unwrap_or([1.0, 0.0]))
+        (
+            gap,
+            self.dirs.get(gap as usize).copied().unwrap_or([1.0, 0.0]),
+        )
     }
 }
 

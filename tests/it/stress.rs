@@ -136,9 +136,9 @@ fn a_fork_starts_from_the_settled_state_with_the_scheme_asked_for() {
         })
         .expect("a valid rung");
     assert_eq!(fork.state, base.state);
-    assert_eq!(fork.scene.solver.integrator, Integrator::Rk4);
-    assert_eq!(fork.scene.solver.dt_s, 2e-5);
-    assert_eq!(base.scene.solver.integrator, Integrator::VelocityVerlet);
+    assert_eq!(fork.scene.solver().integrator, Integrator::Rk4);
+    assert_eq!(fork.scene.solver().dt_s, 2e-5);
+    assert_eq!(base.scene.solver().integrator, Integrator::VelocityVerlet);
     let refused = base
         .fork(&Overrides {
             dt_s: Some(-1e-5),

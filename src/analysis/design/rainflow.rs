@@ -103,10 +103,7 @@ impl Reversals {
         Self {
             gate: gate.max(0.0),
             going: Going::Unknown,
-            candidate: Turn {
-                value: 0.0,
-                tag: 0,
-            },
+            candidate: Turn { value: 0.0, tag: 0 },
         }
     }
 
