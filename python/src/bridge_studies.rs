@@ -440,7 +440,7 @@ pub(crate) fn study(
     .map_err(failure)?;
     let table = StudyTable::collect(&study_dir).map_err(failure)?;
     let csv = dir.join("results.csv");
-    std::fs::write(&csv, table.to_csv())
+    std::fs::write(&csv, table.to_csv().map_err(failure)?)
         .map_err(|e| StudyFailure::Other(format!("{}: {e}", csv.display())))?;
     table
         .write_parquet(&dir.join("results.parquet"))
