@@ -43,7 +43,7 @@
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |
 //! | co-simulation | [`cosim`] | the drive inside a user's rapier world, stepped at the user's dt |
 //! | analysis | [`analysis`] | sampled signals, spectra, run summary, analytical references |
-//! | studies | `studies` | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
+//! | studies | [`lab`] (feature `lab`) | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
 //!
 //! ## Quick start
 //!
@@ -198,10 +198,12 @@
 //!
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C; [`cli`]); enables `record` |
+//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C; [`cli`]); enables `record`, `figures`, `parquet` and `lab` |
+//! | `lab` | yes | [`lab`]: experiments of many runs (speed sweeps, design studies), every batch through one work queue; `csv` |
 //! | `figures` | yes | PNG and SVG figures (`plotters`, embedded font) for `reproduce`, `sweep` and `analyze` |
-//! | `bench-kernels` | no | `benches/kernels.rs`'s reach into the contact law and profile queries; not an API |
 //! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
+//! | `parquet` | yes | a design study's results as a Parquet table (`study collect`); enables `lab` |
+//! | `bench-kernels` | no | `benches/kernels.rs`'s reach into the contact law and profile queries; not an API |
 //!
 //! ## Reproducibility
 //!
@@ -224,9 +226,12 @@ pub mod cosim;
 mod forces;
 mod geometry;
 mod model;
+#[cfg(feature = "lab")]
+pub mod lab;
 pub mod prelude;
 #[cfg(feature = "record")]
 pub mod record;
+mod rng;
 pub mod scene;
 pub mod sim;
 #[cfg(test)]
@@ -242,4 +247,5 @@ pub mod kernels {
     pub use crate::geometry::asa::{AsaDimensions, AsaProfile, GapPoints, LocatedPatch};
     pub use crate::geometry::{CircularProfile, Patch};
 }
+#[cfg(feature = "lab")]
 mod studies;

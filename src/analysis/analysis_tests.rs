@@ -127,7 +127,7 @@ fn binder_formulas_match_hand_computed_values() {
     }
 }
 
-#[cfg(feature = "figures")]
+#[cfg(all(feature = "figures", feature = "lab"))]
 #[test]
 fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
     use crate::analysis::figures::{FigureChoice, Mark, Plot, Trace, paper_figures, save};

@@ -12,6 +12,7 @@
 //! the +x axis, gaps numbered counter-clockwise; gap j's centre at polar angle
 //! j·2π/N.
 
+mod arms;
 pub mod asa;
 mod circular;
 mod layout;
@@ -19,12 +20,15 @@ mod path;
 #[cfg(test)]
 mod profile_tests;
 pub(crate) mod shoe;
-#[cfg(test)]
-mod testing;
+mod walk;
 
+pub use arms::TakeUpBound;
+pub(crate) use arms::{ArmShoe, ArmTakeUp, arm_take_up, layout_with_arms};
 pub use circular::CircularProfile;
+pub(crate) use circular::Seats;
 pub use layout::LayoutError;
 pub(crate) use layout::hang_excess;
+pub use layout::ArmReach;
 pub(crate) use layout::{Layout, layout_hanging, layout_rollers, needed_pitches};
 pub use path::PathError;
 pub(crate) use path::{ChainPath, PathCircle, Strand, chain_path};

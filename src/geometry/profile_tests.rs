@@ -4,7 +4,7 @@
 //! world, and the real profile running the paper's drive.
 
 use crate::geometry::ToothProfile;
-use crate::scene::mutate::Lcg;
+use crate::rng::SeededRng;
 use crate::scene::{Overrides, ProfileKind, Scene};
 use approx::{abs_diff_eq, assert_abs_diff_eq};
 use parry2d_f64::math::Vector;
@@ -23,7 +23,7 @@ fn exact_distance_agrees_with_parry_on_a_fine_tessellation() {
         .collect();
     let n = pts.len() as u32;
     let polyline = Polyline::new(pts, Some((0..n).map(|i| [i, (i + 1) % n]).collect()));
-    let mut rng = Lcg::new(7);
+    let mut rng = SeededRng::new(7);
     let mut next = || rng.unit();
     for _ in 0..2000 {
         let a = next() * std::f64::consts::TAU;
@@ -109,7 +109,7 @@ fn parry_projection_on_the_sprocket_collider_agrees_to_its_tessellation() {
         unreachable!()
     };
     let tolerance = 70.3731e-3 * (1.0 - 1f64.to_radians().cos()) + 1e-9;
-    let mut rng = Lcg::new(11);
+    let mut rng = SeededRng::new(11);
     let mut next = || rng.unit();
     for _ in 0..2000 {
         let a = next() * std::f64::consts::TAU;

@@ -14,6 +14,7 @@
 mod auto_step_tests;
 mod builder;
 mod by_path;
+mod checks;
 pub(crate) mod designations;
 #[cfg(test)]
 mod designations_tests;
@@ -39,6 +40,8 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub(crate) use by_path::{Assignment, ScenePath, set_in_table};
+pub(crate) use checks::Checks;
+pub use checks::ChecksFile;
 pub(crate) use error::value_span;
 pub use error::{FieldError, SceneError};
 pub(crate) use excitation::{Harmonic, LoadTable};
@@ -90,6 +93,8 @@ pub struct Scene {
     /// Tensioner arms with their tensioners.
     pub(crate) tensioners: Vec<Tensioner>,
     pub(crate) guides: Vec<Guide>,
+    /// Settings of the design checks.
+    pub(crate) checks: Checks,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
     pub(crate) source_toml: Option<String>,

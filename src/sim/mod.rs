@@ -10,9 +10,13 @@
 mod blow_up;
 #[cfg(test)]
 mod catenary_tests;
+#[cfg(test)]
+mod arms_tests;
 pub(crate) mod checkpoint;
 #[cfg(test)]
 mod checkpoint_tests;
+#[cfg(test)]
+mod contact_builds_tests;
 #[cfg(test)]
 mod detectors_tests;
 mod energy;
@@ -43,7 +47,7 @@ mod users_tests;
 
 pub use crate::forces::ForceTimes;
 pub use crate::geometry::asa::AsaError;
-pub use crate::geometry::{LayoutError, PathError};
+pub use crate::geometry::{ArmReach, LayoutError, PathError, TakeUpBound};
 pub use crate::model::BuildError;
 pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub(crate) use energy::{PowerLedger, PowerMeans};
@@ -51,10 +55,14 @@ pub use fanout::Fanout;
 pub(crate) use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
 pub use statics::{BeyondSeatingArc, EquilibriumError, FitError, StaticEquilibrium};
+pub use statics::MisfitTension;
 pub(crate) use statics::{
-    FIT_TOLERANCE_M, RelaxSettings, default_direction, fit_sprocket, fitting_counts,
-    force_residual, free_strand_tension, needed_pitches_of, relax, settle_rest_length,
+    FIT_TOLERANCE_M, RelaxSettings, arm_take_up_of, count_verdicts, default_direction,
+    fit_sprocket, force_residual, free_strand_tension,
+    needed_pitches_of, relax, settle_rest_length,
 };
+#[cfg(test)]
+pub(crate) use statics::fitting_counts;
 pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -71,7 +79,7 @@ use crate::forces::{
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, DriveModel, DriveState, ScalarModel};
-use crate::scene::{PretensionRule, Role, Scene, Stepping, TensionerKind};
+use crate::scene::{Overrides, PretensionRule, Role, Scene, SceneError, Stepping, TensionerKind};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
@@ -151,6 +159,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             residual_speed_m_s: residual,
             force_residual: force_residual(&forces, target),
             beyond_seating_arc: None,
+            misfit: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };
@@ -388,13 +397,14 @@ impl Simulation {
             PretensionRule::TensionerPreload => {
                 let (model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
-                let eq = statics::settle_preload(
+                let mut eq = statics::settle_preload(
                     &model,
                     &mut state,
                     &mut forces,
                     &settings,
                     scene.chain.pretension_n,
                 )?;
+                eq.misfit = statics::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }
         };
@@ -409,11 +419,34 @@ impl Simulation {
         ))
     }
 
+    /// A copy of this simulation, settled and at its present state, that
+    /// runs with `overrides` applied to its scene (another integrator, step
+    /// or tolerance): a fresh rapier world holding the bodies where they
+    /// are, the forces with their contact memory. A study that runs one
+    /// settled drive with several schemes starts each run from a fork, so
+    /// the runs differ only in what `overrides` changes.
+    ///
+    /// # Errors
+    ///
+    /// The scene with `overrides` applied is not valid (a step that is not
+    /// finite and positive, for one); the error names the field.
+    pub fn fork(&self, overrides: &Overrides) -> Result<Self, SceneError> {
+        let scene = self.scene.with(overrides)?;
+        Ok(Self::assemble(
+            scene,
+            self.model.clone(),
+            self.state.clone(),
+            self.forces.clone(),
+            self.layout.clone(),
+            self.equilibrium.clone(),
+            self.limits,
+        ))
+    }
+
     /// A simulation of a drive already settled: a fresh rapier world holding
     /// its bodies at `state`, and the scene's integrator. [`Simulation::new`]
-    /// ends here; a study that runs one settled drive with several schemes
-    /// starts each run here from a copy.
-    pub(crate) fn assemble(
+    /// and [`Simulation::fork`] end here.
+    fn assemble(
         scene: Scene,
         model: DriveModel,
         mut state: DriveState,

@@ -14,6 +14,11 @@
 //! - [`study`]: a design study (factors × levels of a scene) run here or as
 //!   a Slurm job array, its results merged into one table.
 //!
+//! Every batch of runs goes through one work queue ([`queue`]); the studies
+//! that compare integrators share their ladders of settings ([`ladder`]);
+//! a run that starts from a settled drive forks it
+//! ([`crate::sim::Simulation::fork`]).
+//!
 //! What a single run's signals mean and how they are measured is
 //! [`crate::analysis`]'s business; writing files and printing tables is the
 //! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
@@ -22,6 +27,8 @@ pub(crate) mod convergence;
 pub(crate) mod fuzz;
 #[cfg(test)]
 mod fuzz_tests;
+pub(crate) mod ladder;
+pub(crate) mod queue;
 pub(crate) mod reproduce;
 pub(crate) mod soak;
 pub(crate) mod stress;

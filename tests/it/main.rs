@@ -10,6 +10,8 @@ mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
 #[cfg(feature = "cli")]
+mod arms;
+#[cfg(feature = "cli")]
 mod auto_step;
 mod checkpoint;
 #[cfg(feature = "cli")]
@@ -37,5 +39,6 @@ mod stderr_lines;
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
+#[cfg(feature = "lab")]
 mod sweep;
 mod users;

@@ -29,6 +29,10 @@ pub struct StaticEquilibrium {
     /// roller pulled beyond a circular seating arc. A run starts from it and
     /// warns (the summary's `warnings`); `check` names it.
     pub beyond_seating_arc: Option<BeyondSeatingArc>,
+    /// Where the chain's fit to its path, not the tensioner arms, sets the
+    /// static tension of a drive whose arms should set it (tensioner-preload
+    /// rule; `sim::misfit`). A run warns.
+    pub misfit: Option<super::misfit::MisfitTension>,
 }
 
 /// Mean link force over the links of all free strands, pooled; `None` if
@@ -254,6 +258,7 @@ pub(crate) fn settle_preload(
         residual_speed_m_s: residual,
         force_residual: force_residual(forces, scale_n),
         beyond_seating_arc: None,
+        misfit: None,
     })
 }
 
@@ -344,6 +349,7 @@ pub(crate) fn settle_rest_length(
                     residual_speed_m_s: residual,
                     force_residual: force_residual(forces, target_n),
                     beyond_seating_arc,
+                    misfit: None,
                 });
             }
             // Right tension, not yet at rest: relax on at this rest length.
@@ -380,6 +386,7 @@ pub(crate) fn settle_rest_length(
             residual_speed_m_s: last_speed,
             force_residual: force_residual(forces, target_n),
             beyond_seating_arc: Some(rim),
+            misfit: None,
         });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);

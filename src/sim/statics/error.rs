@@ -131,7 +131,8 @@ pub enum EquilibriumError {
     /// The chain is longer than its path by more than the strands' sag at
     /// the pretension takes up (see the feasibility module).
     #[error(
-        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m{}: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        arms_m.map(|a| format!(" and the tensioner arms' shoes at most {a:.2e} m over their travel")).unwrap_or_default(),
         match sag_tension_n {
             Some(t) => format!(", or lower chain.pretension_n to about {t:.0} N, where the strands sag by that much"),
             None => " (without gravity the strands cannot sag)".to_owned(),
@@ -148,6 +149,9 @@ pub enum EquilibriumError {
         pretension_n: f64,
         /// Pretension at which the sag takes up the excess, N (none without gravity).
         sag_tension_n: Option<f64>,
+        /// What the tensioner arms' shoes take up at most over their
+        /// travel, m (none without arms).
+        arms_m: Option<f64>,
     },
     /// The loads on several sprockets leave a free strand in compression.
     #[error(

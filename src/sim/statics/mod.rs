@@ -9,6 +9,7 @@ mod equilibrium;
 mod error;
 mod feasibility;
 mod fit;
+mod misfit;
 mod newton;
 mod relax;
 
@@ -18,7 +19,12 @@ pub(crate) use equilibrium::{
 };
 pub use error::{BeyondSeatingArc, EquilibriumError, FitError};
 pub(crate) use feasibility::{check_chain_length, check_load};
+#[cfg(test)]
+pub(crate) use fit::fitting_counts;
 pub(crate) use fit::{
-    FIT_TOLERANCE_M, default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
+    FIT_TOLERANCE_M, arm_take_up_of, count_verdicts, default_direction, fit_sprocket,
+    needed_pitches_of,
 };
+pub use misfit::MisfitTension;
+pub(crate) use misfit::misfit_tension;
 pub(crate) use relax::{RelaxSettings, relax};

@@ -37,7 +37,7 @@ pub(crate) use table::ColumnData;
 pub(crate) use table::{RowStatus, Table};
 
 /// Why a study could not be prepared, run or collected.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 pub(crate) enum StudyError {
     /// The plan is invalid: one `path: message` line per problem.
     #[error("invalid plan:\n{}", .0.join("\n"))]
@@ -71,6 +71,9 @@ pub(crate) enum StudyError {
         /// The summary's numeric fields.
         allowed: String,
     },
+    /// The results table could not be written as CSV.
+    #[error("writing CSV: {0}")]
+    Csv(String),
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io {
