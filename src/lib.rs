@@ -225,9 +225,9 @@ pub mod cli;
 pub mod cosim;
 mod forces;
 mod geometry;
-mod model;
 #[cfg(feature = "lab")]
 pub mod lab;
+mod model;
 pub mod prelude;
 #[cfg(feature = "record")]
 pub mod record;

@@ -9,9 +9,7 @@ use std::process::ExitCode;
 use anyhow::Context;
 
 use crate::analysis::figures::{FigureError, Mark, Plot, Trace, save};
-use crate::studies::convergence::{
-    Convergence, REL_TOLERANCE, Run, SE_TOLERANCE, Settings, study,
-};
+use crate::studies::convergence::{Convergence, REL_TOLERANCE, Run, SE_TOLERANCE, Settings, study};
 use crate::studies::ladder::{Ladder, Rung, Setting};
 
 /// Arguments of `chaindrive bench convergence`.

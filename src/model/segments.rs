@@ -151,7 +151,7 @@ impl StrandRuns {
             runs: [None; MAX_SPROCKETS],
         };
         for (slot, &(first, rollers)) in out.runs.iter_mut().zip(runs) {
-            *slot = Some(Run { first, rollers });
+            *slot = Some(StrandRun { first, rollers });
         }
         out
     }

@@ -7,11 +7,11 @@
 //! [`Simulation::run`] advances it, calling an [`Observer`] at every sample.
 //! What observers compute is their business ([`crate::analysis`]).
 
+#[cfg(test)]
+mod arms_tests;
 mod blow_up;
 #[cfg(test)]
 mod catenary_tests;
-#[cfg(test)]
-mod arms_tests;
 pub(crate) mod checkpoint;
 #[cfg(test)]
 mod checkpoint_tests;
@@ -54,15 +54,15 @@ pub(crate) use energy::{PowerLedger, PowerMeans};
 pub use fanout::Fanout;
 pub(crate) use integrate::{Integration, IntegrationStats};
 pub use sample_rate::{SampleRate, SampleRateError};
-pub use statics::{BeyondSeatingArc, EquilibriumError, FitError, StaticEquilibrium};
 pub use statics::MisfitTension;
-pub(crate) use statics::{
-    FIT_TOLERANCE_M, RelaxSettings, arm_take_up_of, count_verdicts, default_direction,
-    fit_sprocket, force_residual, free_strand_tension,
-    needed_pitches_of, relax, settle_rest_length,
-};
 #[cfg(test)]
 pub(crate) use statics::fitting_counts;
+pub use statics::{BeyondSeatingArc, EquilibriumError, FitError, StaticEquilibrium};
+pub(crate) use statics::{
+    FIT_TOLERANCE_M, RelaxSettings, arm_take_up_of, count_verdicts, default_direction,
+    fit_sprocket, force_residual, free_strand_tension, needed_pitches_of, relax,
+    settle_rest_length,
+};
 pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};

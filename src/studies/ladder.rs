@@ -151,7 +151,6 @@ impl<T> LadderRun<T> {
             outcome: Err(why),
         }
     }
-
 }
 
 /// The warm start of a ladder: `scene` built, settled and run `warmup_s`

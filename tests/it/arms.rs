@@ -25,7 +25,6 @@ fn short_timing_drive() -> String {
     t.replace("0.370638]", "0.372938]")
 }
 
-
 /// The same drives through the binary: `check` warns (not a notice) and
 /// lists what fits; `run`'s summary names what set the tension; `check`
 /// accepts the chain the arm takes up and prints where it laid the arm.

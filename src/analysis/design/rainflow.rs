@@ -184,12 +184,6 @@ impl Rainflow {
         }
     }
 
-    /// Most turning points kept.
-    #[cfg(test)]
-    pub fn capacity(&self) -> usize {
-        self.capacity
-    }
-
     /// Times the stack was full and its oldest range was counted as half a
     /// cycle early.
     pub fn overflows(&self) -> u64 {

@@ -71,9 +71,9 @@ pub(crate) use output::{
 };
 
 use super::ladder::{Rung, Setting};
+use crate::scene::StepLimits;
 use crate::scene::generate::GenerateError;
 use crate::scene::{Integrator, Scene, SceneError};
-use crate::scene::StepLimits;
 use crate::sim::{Observer, Sample, SimError, Simulation};
 
 /// Why the matrix cannot be set up.

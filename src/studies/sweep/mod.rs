@@ -34,6 +34,8 @@ pub(crate) use report::{
     CaseFlags, PEAK_MEDIAN_FACTOR, completed, doubt_section, excitation_orders, on_order_grid,
     order_cut, resonance_crossings, summary_scalars, worst_cases,
 };
+#[cfg(test)]
+pub(crate) use report::{PeakVerdict, SpanMode, judge_peak};
 pub(crate) use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 pub(crate) use speeds::{parse_rpm_range, parse_run_up};
 
