@@ -43,7 +43,7 @@
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |
 //! | co-simulation | [`cosim`] | the drive inside a user's rapier world, stepped at the user's dt |
 //! | analysis | [`analysis`] | sampled signals, spectra, run summary, analytical references |
-//! | studies | [`lab`] (feature `lab`) | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
+//! | studies | `studies` (feature `lab`) | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
 //!
 //! ## Quick start
 //!
@@ -199,7 +199,7 @@
 //! | feature | default | what it adds |
 //! |---|---|---|
 //! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C; [`cli`]); enables `record`, `figures`, `parquet` and `lab` |
-//! | `lab` | yes | [`lab`]: experiments of many runs (speed sweeps, design studies), every batch through one work queue; `csv` |
+//! | `lab` | yes | `studies`: experiments of many runs (speed sweeps, design studies), every batch through one work queue; `csv` |
 //! | `figures` | yes | PNG and SVG figures (`plotters`, embedded font) for `reproduce`, `sweep` and `analyze` |
 //! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
 //! | `parquet` | yes | a design study's results as a Parquet table (`study collect`); enables `lab` |
@@ -225,8 +225,6 @@ pub mod cli;
 pub mod cosim;
 mod forces;
 mod geometry;
-#[cfg(feature = "lab")]
-pub mod lab;
 mod model;
 pub mod prelude;
 #[cfg(feature = "record")]

@@ -193,9 +193,9 @@ impl Signals {
         self.fatigue = Some(cycles);
     }
 
-    /// Counts every link's force for the fatigue check where `scene` has
-    /// an S–N curve ([`design::fatigue::curve_of_scene`]: a chain with a
-    /// designation); nothing otherwise. Call before the first step.
+    /// Counts every link's force for the fatigue check where `scene` gives
+    /// its link plates an S–N curve (a chain with a designation); nothing
+    /// otherwise. Call before the first step.
     pub fn count_fatigue_of(&mut self, scene: &crate::scene::Scene) {
         if let Ok((curve, _)) = design::fatigue::curve_of_scene(scene) {
             let links = scene.chain().rollers;

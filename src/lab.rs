@@ -1,1 +1,0 @@
-//! The lab: experiments of many runs of one drive (feature `lab`).
