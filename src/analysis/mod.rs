@@ -30,6 +30,7 @@ mod warnings;
 mod window;
 
 pub use means::{Extent, StepSums, TensionerSums};
+#[cfg(feature = "lab")]
 pub(crate) use summary::segment_series;
 pub use summary::{
     GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
@@ -115,6 +116,10 @@ pub struct Signals {
     /// Integrals over every step from `per_step_from_s` on, handed to each row.
     #[serde(default)]
     counter: StepCounter,
+    /// Every link's force rainflow-counted over the same steps, where asked
+    /// for ([`Signals::count_fatigue`]).
+    #[serde(default)]
+    fatigue: Option<design::LinkCycles>,
 }
 
 /// What [`Signals`] keeps instead of every row.
@@ -154,7 +159,30 @@ impl Signals {
                 + 0.5,
             bounded: None,
             counter: StepCounter::default(),
+            fatigue: None,
         }
+    }
+
+    /// Counts every link's force for the fatigue check over the steps
+    /// followed, on the S–N curve of `cycles` ([`design::link_cycles`]).
+    /// Call before the first step.
+    pub fn count_fatigue(&mut self, cycles: design::LinkCycles) {
+        self.fatigue = Some(cycles);
+    }
+
+    /// Counts every link's force for the fatigue check where `scene` has
+    /// an S–N curve ([`design::fatigue::curve_of_scene`]: a chain with a
+    /// designation); nothing otherwise. Call before the first step.
+    pub fn count_fatigue_of(&mut self, scene: &crate::scene::Scene) {
+        if let Ok((curve, _)) = design::fatigue::curve_of_scene(scene) {
+            let links = scene.chain().rollers;
+            self.count_fatigue(design::LinkCycles::new(curve, links));
+        }
+    }
+
+    /// The fatigue count, where asked for.
+    pub fn fatigue(&self) -> Option<&design::LinkCycles> {
+        self.fatigue.as_ref()
     }
 
     /// Keeps only the rows of the last `window_s` (and a few more), and
@@ -266,8 +294,14 @@ fn range_of(values: &[f64]) -> (f64, f64) {
             high[k] = larger(high[k], c[k]);
         }
     }
-    let low = rest.iter().chain(&low).fold(f64::INFINITY, |m, &v| smaller(m, v));
-    let high = rest.iter().chain(&high).fold(f64::NEG_INFINITY, |m, &v| larger(m, v));
+    let low = rest
+        .iter()
+        .chain(&low)
+        .fold(f64::INFINITY, |m, &v| smaller(m, v));
+    let high = rest
+        .iter()
+        .chain(&high)
+        .fold(f64::NEG_INFINITY, |m, &v| larger(m, v));
     (low, high)
 }
 
@@ -311,6 +345,14 @@ impl Observer for Signals {
     fn step(&mut self, s: &Sample<'_>) {
         self.track_extremes(s);
         self.counter.step(s);
+        if let Some(f) = &mut self.fatigue {
+            f.step(
+                s.state.t_s,
+                &s.forces.link_force,
+                self.counter.runs(),
+                s.model.segments.len(),
+            );
+        }
     }
 
     fn per_step_from_s(&self) -> f64 {

@@ -598,7 +598,11 @@ mod tests {
             };
             for i in 0..n {
                 state.x[i] = -0.6 + 2.2 * next();
-                state.y[i] = if i % 5 == 0 { 0.009 } else { -0.04 + 0.1 * next() };
+                state.y[i] = if i % 5 == 0 {
+                    0.009
+                } else {
+                    -0.04 + 0.1 * next()
+                };
                 // Some fast enough to cross the kept margin within the
                 // longest skip: the speed bound, not the margin, keeps them.
                 let top = if i % 7 == 0 { 60.0 } else { 3.0 };

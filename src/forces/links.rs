@@ -364,13 +364,8 @@ impl ForceElement for Links {
         let m = model.roller_mass_kg;
         let weight = [m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]];
         let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
-        let (nan, max_stretch, max_speed_sq) = roller_sums(
-            weight,
-            [&*lfx, &*lfy],
-            [fx, fy],
-            &*stretch,
-            [vx, vy],
-        );
+        let (nan, max_stretch, max_speed_sq) =
+            roller_sums(weight, [&*lfx, &*lfy], [fx, fy], &*stretch, [vx, vy]);
         out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
         out.max_roller_speed_m_s = max_speed_sq.sqrt();
     }

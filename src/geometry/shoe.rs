@@ -544,7 +544,10 @@ mod tests {
             for side in [1.0, -1.0] {
                 let face = Face::new(body, side, None, None);
                 let fast = face.straight().expect("a straight face without ramps");
-                let (ab, mid) = (sub(end, start), [0.5 * (start[0] + end[0]), 0.5 * (start[1] + end[1])]);
+                let (ab, mid) = (
+                    sub(end, start),
+                    [0.5 * (start[0] + end[0]), 0.5 * (start[1] + end[1])],
+                );
                 for i in -40..=40 {
                     for j in -40..=40 {
                         // Along the face from before its start to after its end,
@@ -560,7 +563,10 @@ mod tests {
                             assert_eq!(x.is_some(), y.is_some(), "{q:?}");
                             if let (Some(x), Some(y)) = (x, y) {
                                 assert_eq!(x.distance_m.to_bits(), y.distance_m.to_bits(), "{q:?}");
-                                assert_eq!(x.point_m.map(f64::to_bits), y.point_m.map(f64::to_bits));
+                                assert_eq!(
+                                    x.point_m.map(f64::to_bits),
+                                    y.point_m.map(f64::to_bits)
+                                );
                                 assert_eq!(x.normal.map(f64::to_bits), y.normal.map(f64::to_bits));
                                 assert_eq!(x.piece, y.piece);
                                 checked += 1;

@@ -302,7 +302,9 @@ impl PatchContext {
         };
         let law = self.law;
         let elastic = law.elastic(contact.depth_m);
-        self.world_patch::<ROWS, MOVING, P>(profile, &contact, elastic, lever, onsets, roller, sums);
+        self.world_patch::<ROWS, MOVING, P>(
+            profile, &contact, elastic, lever, onsets, roller, sums,
+        );
     }
 
     /// [`Self::patch`] once the normal is in the world frame, the approach

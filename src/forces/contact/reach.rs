@@ -123,7 +123,10 @@ impl Reach {
     pub(super) fn restore(&mut self, mask: &[u64], until_s: &[f64]) {
         self.mask.copy_from_slice(mask);
         self.until_s.copy_from_slice(until_s);
-        self.earliest_s = self.until_s.iter().fold(f64::INFINITY, |m, &t| earlier(m, t));
+        self.earliest_s = self
+            .until_s
+            .iter()
+            .fold(f64::INFINITY, |m, &t| earlier(m, t));
         self.remeasured.clear();
         self.runs.clear();
         let n = self.mask.len();

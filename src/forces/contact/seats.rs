@@ -12,9 +12,9 @@
 //! Not for the real profile (its query branches by area) nor for rollers
 //! within reach of two sprockets.
 
+use super::FREE;
 use super::pass::{ContactPass, Frame, PatchContext, Roller, Row, Sums, WorldPatch};
 use super::reach::Run;
-use super::FREE;
 use crate::geometry::{MAX_PATCHES, Patch, Seats};
 
 /// The geometry loop's outputs, one slot per roller (sized once: nothing is
@@ -168,7 +168,13 @@ impl ContactPass<'_> {
     /// per revolution), into the scratch: kept out of the law's loop, whose
     /// sums then stay in registers (a call would clobber them).
     #[inline(always)]
-    fn seat_queries<const MOVING: bool>(&mut self, seats: &Seats<'_>, frame: &Frame, a: usize, b: usize) {
+    fn seat_queries<const MOVING: bool>(
+        &mut self,
+        seats: &Seats<'_>,
+        frame: &Frame,
+        a: usize,
+        b: usize,
+    ) {
         let (sin, cos, omega) = (frame.sin, frame.cos, frame.omega);
         let s = self.state;
         let (vxs, vys) = (&s.vx[a..b], &s.vy[a..b]);
@@ -209,19 +215,37 @@ impl ContactPass<'_> {
     /// The geometry of rollers `a..b` against their hinted gaps, into the
     /// scratch (see [`seat_geometry`]).
     #[inline(always)]
-    fn seat_geometry<const MOVING: bool>(&mut self, seats: &Seats<'_>, frame: &Frame, a: usize, b: usize) {
+    fn seat_geometry<const MOVING: bool>(
+        &mut self,
+        seats: &Seats<'_>,
+        frame: &Frame,
+        a: usize,
+        b: usize,
+    ) {
         // A whole number of four-roller chunks where the chain has the
         // rollers (the vector loop then leaves no roller to a scalar
         // remainder): the rollers past `b` are computed into scratch slots
         // no one reads before their own run computes them again.
         let padded = a + (b - a).div_ceil(4) * 4;
-        let b = if padded <= self.gap_hint.len() { padded } else { b };
+        let b = if padded <= self.gap_hint.len() {
+            padded
+        } else {
+            b
+        };
         let sc = &mut *self.seat_scratch;
         // Each roller's hinted gap direction; a hint that is no gap of this
         // sprocket gives NaN, which fails the cone test.
         let (ux, uy) = (&mut sc.ux[a..b], &mut sc.uy[a..b]);
-        for ((h, ux), uy) in self.gap_hint[a..b].iter().zip(ux.iter_mut()).zip(uy.iter_mut()) {
-            let u = seats.dirs.get(*h as usize).copied().unwrap_or([f64::NAN; 2]);
+        for ((h, ux), uy) in self.gap_hint[a..b]
+            .iter()
+            .zip(ux.iter_mut())
+            .zip(uy.iter_mut())
+        {
+            let u = seats
+                .dirs
+                .get(*h as usize)
+                .copied()
+                .unwrap_or([f64::NAN; 2]);
             (*ux, *uy) = (u[0], u[1]);
         }
         let s = self.state;
@@ -335,7 +359,12 @@ fn seat_geometry<const MOVING: bool>(
     let n = xs.len();
     let (ys, vxs, vys, ux, uy) = (&ys[..n], &vxs[..n], &vys[..n], &ux[..n], &uy[..n]);
     let (rxs, rys, depth) = (&mut rxs[..n], &mut rys[..n], &mut depth[..n]);
-    let (nxs, nys, rate, status) = (&mut nxs[..n], &mut nys[..n], &mut rate[..n], &mut status[..n]);
+    let (nxs, nys, rate, status) = (
+        &mut nxs[..n],
+        &mut nys[..n],
+        &mut rate[..n],
+        &mut status[..n],
+    );
     let (sin, cos, omega) = (c.sin, c.cos, c.omega);
     let (rc, clearance) = (c.seat_radius_m, c.clearance_m);
     for k in 0..n {

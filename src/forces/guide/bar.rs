@@ -153,17 +153,49 @@ fn each_roller(
         // SAFETY: `avx2` is set only where the CPU has AVX2.
         unsafe {
             each_roller_avx2(
-                bar, elastic_of, r.x, r.y, r.vx, r.vy, r.onset, r.pending, r.fx, r.fy, &mut s.hit,
-                &mut s.fx, &mut s.fy, &mut s.moment, &mut s.normal, &mut s.friction, &mut s.depth,
-                &mut s.energy, &mut s.power,
+                bar,
+                elastic_of,
+                r.x,
+                r.y,
+                r.vx,
+                r.vy,
+                r.onset,
+                r.pending,
+                r.fx,
+                r.fy,
+                &mut s.hit,
+                &mut s.fx,
+                &mut s.fy,
+                &mut s.moment,
+                &mut s.normal,
+                &mut s.friction,
+                &mut s.depth,
+                &mut s.energy,
+                &mut s.power,
             );
         }
         return;
     }
     each_roller_body(
-        bar, elastic_of, r.x, r.y, r.vx, r.vy, r.onset, r.pending, r.fx, r.fy, &mut s.hit,
-        &mut s.fx, &mut s.fy, &mut s.moment, &mut s.normal, &mut s.friction, &mut s.depth,
-        &mut s.energy, &mut s.power,
+        bar,
+        elastic_of,
+        r.x,
+        r.y,
+        r.vx,
+        r.vy,
+        r.onset,
+        r.pending,
+        r.fx,
+        r.fy,
+        &mut s.hit,
+        &mut s.fx,
+        &mut s.fy,
+        &mut s.moment,
+        &mut s.normal,
+        &mut s.friction,
+        &mut s.depth,
+        &mut s.energy,
+        &mut s.power,
     );
 }
 
@@ -228,7 +260,12 @@ fn each_roller_body(
     let n = xs.len();
     let (ys, vxs, vys, onset) = (&ys[..n], &vxs[..n], &vys[..n], &onset[..n]);
     let (pending, fx_out, fy_out) = (&mut pending[..n], &mut fx_out[..n], &mut fy_out[..n]);
-    let (hit, fxs, fys, moment) = (&mut hit[..n], &mut fxs[..n], &mut fys[..n], &mut moment[..n]);
+    let (hit, fxs, fys, moment) = (
+        &mut hit[..n],
+        &mut fxs[..n],
+        &mut fys[..n],
+        &mut moment[..n],
+    );
     let (normal, friction, depth_out) = (&mut normal[..n], &mut friction[..n], &mut depth_out[..n]);
     let (energy, power) = (&mut energy[..n], &mut power[..n]);
     // The fixed pose: R(−q) = identity, pivot at the origin, ω = 0.

@@ -107,7 +107,11 @@ impl Near {
             bounds[2] + margin,
             bounds[3] + margin,
         ];
-        let n = xs.len().min(ys.len()).min(self.until_s.len()).min(pending.len());
+        let n = xs
+            .len()
+            .min(ys.len())
+            .min(self.until_s.len())
+            .min(pending.len());
         let mut earliest = f64::INFINITY;
         let mut changed = false;
         for i in 0..n {
