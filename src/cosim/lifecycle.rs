@@ -25,7 +25,9 @@ impl ChainDrive {
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
     ) -> Result<Self, CosimError> {
-        let sim = Simulation::new(scene)?;
+        // The mounted sprockets are held while the drive settles.
+        let held: Vec<bool> = mounts.iter().map(Option::is_some).collect();
+        let sim = Simulation::new_holding(scene, &held)?;
         let Simulation {
             scene,
             model,
