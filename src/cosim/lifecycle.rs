@@ -25,9 +25,7 @@ impl ChainDrive {
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
     ) -> Result<Self, CosimError> {
-        // The mounted sprockets are held while the drive settles.
-        let held: Vec<bool> = mounts.iter().map(Option::is_some).collect();
-        let sim = Simulation::new_holding(scene, &held)?;
+        let sim = Simulation::new(scene)?;
         let Simulation {
             scene,
             model,

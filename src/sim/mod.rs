@@ -363,10 +363,10 @@ impl Simulation {
     }
 
     /// [`Simulation::new`], the sprockets k with `held[k]` held at rest while
-    /// the drive settles (missing entries: not held). The co-simulation holds
-    /// the sprockets mounted on the user's bodies: their torques are the
-    /// bodies' business, and a drive with a held sprocket settles by Newton's
-    /// method instead of a long relaxation. The sprockets turn freely again
+    /// the drive settles (missing entries: not held): the statics' entry
+    /// point for a co-simulation whose mounted sprockets' torques are the
+    /// user's bodies' business. A drive with a held sprocket settles by
+    /// Newton's method instead of a long relaxation. The sprockets turn freely again
     /// afterwards. Only the rest-length and tensioner-preload rules hold
     /// them; the tensioner rule settles as [`Simulation::new`] does.
     pub(crate) fn new_holding(scene: &Scene, held: &[bool]) -> Result<Self, SimError> {

@@ -1,5 +1,6 @@
 //! The static equilibrium with sprockets held for the solve
-//! ([`Simulation::new_holding`], the co-simulation's entry point) and with
+//! ([`Simulation::new_holding`], the entry point for a co-simulation's
+//! mounted sprockets) and with
 //! a tensioner sprocket.
 
 use crate::scene::Scene;
