@@ -13,7 +13,7 @@ use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
 use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
 use chaindrive::sim::checkpoint::{
-    Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
+    Checkpoint, next_checkpoint_s, read_checkpoint_to_continue, run_is_done, write_checkpoint,
 };
 use chaindrive::sim::{
     Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
@@ -74,18 +74,19 @@ pub struct RunArgs {
     #[arg(long)]
     timings: bool,
     /// Write the run's complete state here every --checkpoint-every
-    /// simulated seconds, and when it is interrupted (written aside and
-    /// renamed: the file is always a whole checkpoint).
+    /// simulated seconds, when it is interrupted and at its end (written
+    /// aside and renamed: the file is always a whole checkpoint).
     #[arg(long, value_name = "PATH", requires = "checkpoint_every")]
     checkpoint: Option<PathBuf>,
     /// Simulated seconds between checkpoints (rounded to whole steps).
     #[arg(long, value_name = "S", requires = "checkpoint")]
     checkpoint_every: Option<f64>,
     /// Continue the run from this checkpoint. Give the scene and the options
-    /// the run was started with; --series continues that file (cut back to
-    /// the checkpoint's last row), --record continues that recording (a new
-    /// file with its messages up to the checkpoint), --summary is of the
-    /// whole run.
+    /// the run was started with; --duration may differ (a longer one
+    /// extends the run), not end before the checkpoint. --series continues
+    /// that file (cut back to the checkpoint's last row), --record continues
+    /// that recording (a new file with its messages up to the checkpoint),
+    /// --summary is of the whole run.
     #[arg(long, value_name = "PATH")]
     resume: Option<PathBuf>,
 }
@@ -94,7 +95,10 @@ pub struct RunArgs {
 #[derive(Clone, Serialize, Deserialize)]
 struct CliRun {
     rate_hz: f64,
-    window_s: f64,
+    /// `--window` as given (`None`: the default).
+    window: Option<f64>,
+    /// Where the statistics window started, s (its accumulators count from there).
+    window_from_s: f64,
     signals: Signals,
     /// Steps, wall time and largest penetration so far.
     steps: u64,
@@ -231,27 +235,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         }
     };
     let window_s = statistics_window(args.window, scene.solver().duration_s)?;
-    let sampling = SampleRate::new(args.rate, scene.solver().dt_s)
-        .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
+    let sampling = Sampling {
+        rate: SampleRate::new(args.rate, scene.solver().dt_s)
+            .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?,
+        window_s,
+        window_from_s: (scene.solver().duration_s - window_s).max(0.0),
+        window_option: args.window,
+    };
     // A checkpoint of another scene, version or set of options fails now,
     // before the static equilibrium.
     let resume = args
         .resume
         .as_ref()
-        .map(|p| -> anyhow::Result<Checkpoint<CliRun>> {
-            let ck: Checkpoint<CliRun> = read_checkpoint(p, &scene)?;
-            anyhow::ensure!(
-                ck.run.rate_hz.to_bits() == sampling.rate_hz.to_bits()
-                    && ck.run.window_s.to_bits() == window_s.to_bits(),
-                "checkpoint {}: the run was started with --rate {} and a statistics window of {} s, not {} and {} s: resume with the same options",
-                p.display(),
-                ck.run.rate_hz,
-                ck.run.window_s,
-                sampling.rate_hz,
-                window_s
-            );
-            Ok(ck)
-        })
+        .map(|p| take_up(p, &scene, &sampling))
         .transpose()?;
     // Outputs are opened before anything is simulated: an unwritable path fails now.
     let summary_file = args
@@ -264,21 +260,21 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let csv = match (&args.series, &resume) {
         (None, _) => None,
         (Some(p), None) => Some(create_file(p, "series")?),
-        (Some(p), Some(ck)) => Some(continue_series(p, ck.run.series_bytes)?),
+        (Some(p), Some(r)) => Some(continue_series(p, r.checkpoint.run.series_bytes)?),
     }
     .map(csv::Writer::from_writer);
     let recorder = args
         .record
         .as_ref()
-        .map(|p| start_recording(p, &args, &scene, sampling, resume.as_ref()))
+        .map(|p| {
+            let ck = resume.as_ref().map(|r| &r.checkpoint);
+            start_recording(p, &args, &scene, sampling.rate, ck)
+        })
         .transpose()?;
     let result = simulate(
         &args,
         scene,
-        Sampling {
-            rate: sampling,
-            window_s,
-        },
+        sampling,
         summary_file,
         csv,
         recorder,
@@ -291,6 +287,52 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         let _ = std::fs::remove_file(p);
     }
     result
+}
+
+/// A checkpoint taken up by a resumed run, and whether the statistics
+/// window's accumulators start anew (the run now ends elsewhere).
+struct Resume {
+    checkpoint: Checkpoint<CliRun>,
+    window_restarts: bool,
+}
+
+/// Reads the checkpoint at `path` for a run of `scene` sampled as `sampling`: the
+/// same scene and options, an end not before the checkpoint's time, and a
+/// statistics window that can be continued.
+fn take_up(
+    path: &Path,
+    scene: &chaindrive::scene::Scene,
+    sampling: &Sampling,
+) -> anyhow::Result<Resume> {
+    let ck: Checkpoint<CliRun> = read_checkpoint_to_continue(path, scene)?;
+    let shown = |w: Option<f64>| w.map_or_else(|| "without --window".to_owned(), |w| format!("--window {w}"));
+    anyhow::ensure!(
+        ck.run.rate_hz.to_bits() == sampling.rate.rate_hz.to_bits()
+            && ck.run.window.map(f64::to_bits) == sampling.window_option.map(f64::to_bits),
+        "checkpoint {}: the run was started with --rate {} and {}, not --rate {} and {}: resume with the same options",
+        path.display(),
+        ck.run.rate_hz,
+        shown(ck.run.window),
+        sampling.rate.rate_hz,
+        shown(sampling.window_option),
+    );
+    let t_s = ck.sim.t_s();
+    let window_restarts = ck
+        .sim
+        .window_restarts(ck.run.window_from_s, sampling.window_from_s)
+        .with_context(|| {
+            format!(
+                "--duration {}: the statistics window (the last {} s) cannot be continued from checkpoint {} (t = {t_s} s); a --duration above {} s puts it after the checkpoint",
+                scene.solver().duration_s,
+                sampling.window_s,
+                path.display(),
+                t_s + sampling.window_s
+            )
+        })?;
+    Ok(Resume {
+        checkpoint: ck,
+        window_restarts,
+    })
 }
 
 /// Opens the series of a run being resumed, cut back to its length at the
@@ -403,6 +445,10 @@ fn statistics_window(window: Option<f64>, duration_s: f64) -> anyhow::Result<f64
 struct Sampling {
     rate: SampleRate,
     window_s: f64,
+    /// Where the window starts, s (the end less its length, at least 0).
+    window_from_s: f64,
+    /// `--window` as given.
+    window_option: Option<f64>,
 }
 
 fn simulate(
@@ -412,7 +458,7 @@ fn simulate(
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<csv::Writer<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
-    resume: Option<Checkpoint<CliRun>>,
+    resume: Option<Resume>,
 ) -> anyhow::Result<ExitCode> {
     // Ctrl-C/SIGTERM from here on end the run cleanly (also during the static
     // equilibrium: the run then stops at t = 0 with everything written).
@@ -454,7 +500,7 @@ fn simulate(
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
     // Where the power goes, over the summary's window.
-    sim.track_power((duration - sampling.window_s).max(0.0));
+    sim.track_power(sampling.window_from_s);
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
         let segments = 1..=sim.model.segments.len();
         let header = std::iter::once("t_s".to_owned())
@@ -486,11 +532,7 @@ fn simulate(
         );
         p
     });
-    let mut signals = Signals::new(
-        &sim.model,
-        sampling.rate.rate_hz,
-        (duration - sampling.window_s).max(0.0),
-    );
+    let mut signals = Signals::new(&sim.model, sampling.rate.rate_hz, sampling.window_from_s);
     // Memory flat whatever the duration: the series goes to disk as it is
     // taken, the summary needs the window's rows and the running spectra.
     signals.keep_window(sampling.window_s);
@@ -501,10 +543,23 @@ fn simulate(
         max_penetration_m: 0.0,
         stage_times: None,
     };
-    if let Some(ck) = resume {
+    if let Some(Resume {
+        checkpoint: ck,
+        window_restarts,
+    }) = resume
+    {
         sim.restore(&ck.sim)
             .context("cannot resume from the checkpoint")?;
         signals = ck.run.signals;
+        // The run may now end elsewhere: its window moves with the end.
+        let last = sim
+            .last_step_sampled(sampling.rate.every)
+            .map(|sampled| (sim.sample(), sampled));
+        let last = last.as_ref().map(|(s, sampled)| (s, *sampled));
+        signals.continue_window(&sim.model, sampling.window_from_s, sampling.window_s, last);
+        if window_restarts {
+            sim.restart_power(&ck.sim, sampling.window_from_s);
+        }
         so_far.steps = ck.run.steps;
         so_far.wall_s = ck.run.wall_s;
         so_far.max_penetration_m = ck.run.max_penetration_m;
@@ -574,8 +629,8 @@ fn simulate(
 }
 
 /// Runs to the scene's end, in pieces between checkpoints when asked: every
-/// `S` simulated seconds (a whole number of steps, at least one) and when
-/// interrupted. The pieces step as one run would ([`Simulation::run`]'s
+/// `S` simulated seconds (a whole number of steps, at least one), when
+/// interrupted and at the end. The pieces step as one run would ([`Simulation::run`]'s
 /// clock counts the steps from the start).
 fn run_with_checkpoints(
     sim: &mut Simulation,
@@ -600,36 +655,51 @@ fn run_with_checkpoints(
         so_far.interrupted = piece.interrupted;
         merge_stage_times(&mut so_far.stage_times, piece.stage_times);
         let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
-        if let Some((path, _)) = checkpoints
-            && (piece.interrupted || !done)
-        {
-            let series_bytes = match observer.csv.as_mut() {
-                Some(csv) => {
-                    csv.flush().context("writing the series failed")?;
-                    Some(csv.get_ref().metadata()?.len())
-                }
-                None => None,
-            };
-            let run = CliRun {
-                rate_hz: sampling.rate.rate_hz,
-                window_s: sampling.window_s,
-                signals: observer.signals.clone(),
-                steps: so_far.steps,
-                wall_s: so_far.wall_s,
-                max_penetration_m: so_far.max_penetration_m,
-                series_bytes,
-                record: observer.recorder.as_mut().map(Recorder::mark).transpose()?,
-            };
-            let ck = Checkpoint {
-                sim: sim.snapshot()?,
-                run,
-            };
-            write_checkpoint(path, scene, &ck)?;
+        // At the end too: a finished run can be continued to a later end.
+        if let Some((path, _)) = checkpoints {
+            write_run_checkpoint(path, sim, scene, observer, &so_far, sampling)?;
         }
         if done {
             return Ok(so_far);
         }
     }
+}
+
+/// Writes the run's checkpoint to `path`, the series synced first (the
+/// checkpoint counts its bytes).
+fn write_run_checkpoint(
+    path: &Path,
+    sim: &Simulation,
+    scene: &chaindrive::scene::Scene,
+    observer: &mut CliObserver,
+    so_far: &RunOutcome,
+    sampling: &Sampling,
+) -> anyhow::Result<()> {
+    let series_bytes = match observer.csv.as_mut() {
+        Some(csv) => {
+            csv.flush().context("writing the series failed")?;
+            let file = csv.get_ref();
+            file.sync_data().context("writing the series failed")?;
+            Some(file.metadata()?.len())
+        }
+        None => None,
+    };
+    let run = CliRun {
+        rate_hz: sampling.rate.rate_hz,
+        window: sampling.window_option,
+        window_from_s: sampling.window_from_s,
+        signals: observer.signals.clone(),
+        steps: so_far.steps,
+        wall_s: so_far.wall_s,
+        max_penetration_m: so_far.max_penetration_m,
+        series_bytes,
+        record: observer.recorder.as_mut().map(Recorder::mark).transpose()?,
+    };
+    let ck = Checkpoint {
+        sim: sim.snapshot()?,
+        run,
+    };
+    Ok(write_checkpoint(path, scene, &ck)?)
 }
 
 /// Adds a piece's stage times to the run's.
