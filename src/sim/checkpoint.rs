@@ -63,10 +63,10 @@ use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
 use super::{Clock, GrowthWatch, IntegrationStats, PowerLedger, Simulation};
-use std::collections::BTreeMap;
 use crate::forces::{Forces, History};
 use crate::model::DriveState;
 use crate::scene::{Scene, Stepping};
+use std::collections::BTreeMap;
 
 /// The checkpoint file format's number; a change of what is kept raises it.
 pub const FORMAT: u32 = 2;
@@ -399,6 +399,7 @@ fn scene_fields(scene: &Scene) -> Vec<(String, String)> {
                     flatten(&format!("{path}[{i}]"), v, out);
                 }
             }
+            serde_json::Value::Null => out.push((path.to_owned(), "not set".to_owned())),
             leaf => out.push((path.to_owned(), leaf.to_string())),
         }
     }
@@ -420,7 +421,10 @@ fn differences(
     with_duration: bool,
 ) -> Vec<String> {
     const SHOWN: usize = 6;
-    let there: BTreeMap<_, _> = there.iter().map(|(p, v)| (p.as_str(), v.as_str())).collect();
+    let there: BTreeMap<_, _> = there
+        .iter()
+        .map(|(p, v)| (p.as_str(), v.as_str()))
+        .collect();
     let here: BTreeMap<_, _> = here.iter().map(|(p, v)| (p.as_str(), v.as_str())).collect();
     let mut paths: Vec<&str> = there.keys().chain(here.keys()).copied().collect();
     paths.sort_unstable();
@@ -443,7 +447,9 @@ fn differences(
     if found.is_empty() {
         // The same fields with other data behind them: a file the scene
         // reads (a load table), or a field the file form does not show.
-        found.push("the scene's fields are the same, but data it reads (a table file) differ".to_owned());
+        found.push(
+            "the scene's fields are the same, but data it reads (a table file) differ".to_owned(),
+        );
     }
     found
 }
@@ -702,7 +708,7 @@ mod tests {
         let err = read_checkpoint_to_continue::<()>(&path, &real).expect_err("another profile");
         let text = err.to_string();
         assert!(
-            text.contains(r#"sprockets[0].profile: "circular" there, "real" here"#),
+            text.contains(r#"sprockets[0].profile: not set there, "real" here"#),
             "{text}"
         );
         let longer = with(&crate::scene::Overrides {
@@ -712,7 +718,8 @@ mod tests {
         assert_eq!(scene_hash(&longer), scene_hash(&scene));
         let err = read_checkpoint::<()>(&path, &longer).expect_err("another end");
         assert!(
-            err.to_string().contains("solver.duration_s: 10.0 there, 20.0 here"),
+            err.to_string()
+                .contains("solver.duration_s: 10.0 there, 20.0 here"),
             "{err}"
         );
         // Continued, the header passes (the body here is not a checkpoint's).

@@ -271,15 +271,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             start_recording(p, &args, &scene, sampling.rate, ck)
         })
         .transpose()?;
-    let result = simulate(
-        &args,
-        scene,
-        sampling,
-        summary_file,
-        csv,
-        recorder,
-        resume,
-    );
+    let result = simulate(&args, scene, sampling, summary_file, csv, recorder, resume);
     if result.is_err()
         && let Some(p) = &args.summary
     {
@@ -305,7 +297,12 @@ fn take_up(
     sampling: &Sampling,
 ) -> anyhow::Result<Resume> {
     let ck: Checkpoint<CliRun> = read_checkpoint_to_continue(path, scene)?;
-    let shown = |w: Option<f64>| w.map_or_else(|| "without --window".to_owned(), |w| format!("--window {w}"));
+    let shown = |w: Option<f64>| {
+        w.map_or_else(
+            || "without --window".to_owned(),
+            |w| format!("--window {w}"),
+        )
+    };
     anyhow::ensure!(
         ck.run.rate_hz.to_bits() == sampling.rate.rate_hz.to_bits()
             && ck.run.window.map(f64::to_bits) == sampling.window_option.map(f64::to_bits),
@@ -322,11 +319,12 @@ fn take_up(
         .window_restarts(ck.run.window_from_s, sampling.window_from_s)
         .with_context(|| {
             format!(
-                "--duration {}: the statistics window (the last {} s) cannot be continued from checkpoint {} (t = {t_s} s); a --duration above {} s puts it after the checkpoint",
+                "--duration {}: the statistics window (the last {} s) cannot be continued from checkpoint {} (t = {t_s} s); a --duration of at least {} s puts it after the checkpoint",
                 scene.solver().duration_s,
                 sampling.window_s,
                 path.display(),
-                t_s + sampling.window_s
+                // To the nanosecond: 0.6, not 0.6000000000000001.
+                ((t_s + sampling.window_s) * 1e9).round() / 1e9
             )
         })?;
     Ok(Resume {
