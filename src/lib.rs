@@ -36,7 +36,7 @@
 //! ## Quick start
 //!
 //! ```no_run
-//! use chaindrive::analysis::{RunSummary, Signals};
+//! use chaindrive::analysis::{RunSummary, StatsWindow};
 //! use chaindrive::scene::{Overrides, Scene};
 //! use chaindrive::sim::{SampleRate, Simulation};
 //!
@@ -45,9 +45,12 @@
 //! let mut sim = Simulation::new(&scene)?; // layout + static equilibrium at 21 kN
 //! // 1 kHz: every 100 steps of 10 µs (a rate the step does not divide is an error).
 //! let sampling = SampleRate::new(1000.0, scene.solver().dt_s)?;
-//! let mut signals = Signals::new(&sim.model, sampling.rate_hz, 1.0);
+//! // Statistics over the last second after the 1 s ramp (`Some(s)`: the last s seconds),
+//! // their means counted every step of it.
+//! let window = StatsWindow::of(&scene, None)?;
+//! let mut signals = window.observe(&mut sim, sampling.rate_hz);
 //! let outcome = sim.run(scene.solver().duration_s, sampling.every, &mut signals, None)?;
-//! let summary = RunSummary::of_run(&sim, &outcome, &signals, 0.0);
+//! let summary = RunSummary::of_run_in(&sim, &outcome, &signals, 0.0, &window);
 //! println!("segment 1 mean link force: {:.0} N", summary.segments[0].mean_link_force_n);
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```

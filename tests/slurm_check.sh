@@ -3,8 +3,9 @@
 # slurmctld, slurmd with a minimal slurm.conf in a temporary directory),
 # the 4-case study tests/data/study_small.toml submitted with
 # `chaindrive study slurm --submit`, the job array waited for, the cases
-# collected, and results.parquet read with pyarrow: 4 rows, every case ok,
-# the same table as results.csv.
+# collected, and results.parquet read with pyarrow: 4 rows, every case
+# finished (ok, or warned where its summary warns), the same table as
+# results.csv.
 #
 #   bash tests/slurm_check.sh [BINARY]
 #

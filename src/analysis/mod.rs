@@ -13,8 +13,10 @@
 //! a segment carry no segment force and are skipped, never reported as NaN.
 
 pub mod binder;
+pub mod design;
 #[cfg(feature = "figures")]
 pub mod figures;
+mod means;
 pub mod orders;
 #[cfg(feature = "record")]
 pub mod recorded;
@@ -23,22 +25,27 @@ pub mod stats;
 pub mod study;
 mod summary;
 pub mod theory;
+pub mod units;
 mod warnings;
+mod window;
 
+pub use means::{Extent, StepSums, TensionerSums};
 pub(crate) use summary::segment_series;
 pub use summary::{
-    DEFAULT_WINDOW_S, GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary,
-    StrandSummary, SummaryInputs, TensionerSummary,
+    GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
+    TensionerSummary,
 };
 pub use warnings::{
-    ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION, RUNNING_TENSION_RATIO,
-    STATIC_RESIDUAL_TOLERANCE,
+    ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION,
+    RUNNING_TENSION_RATIO, STATIC_RESIDUAL_TOLERANCE,
 };
+pub use window::{DEFAULT_WINDOW_S, Ramp, StatsWindow, WindowError, last_ramp};
 
 use serde::{Deserialize, Serialize};
 
 use crate::model::DriveModel;
 use crate::sim::{Observer, Sample};
+use means::StepCounter;
 use spectrum::{WELCH_SEGMENT, Welch};
 
 /// One sample of a run's signals.
@@ -62,6 +69,11 @@ pub struct SampleRow {
     pub tensioners: Vec<crate::forces::TensionerReading>,
     /// Each shoe's forces (the guides', in scene order); empty without.
     pub shoes: Vec<ShoeSample>,
+    /// Integrals over every step since the previous sample, where the steps
+    /// were followed ([`Signals::new`]'s `per_step_from_s`); the window's
+    /// means are theirs.
+    #[serde(default)]
+    pub step_sums: StepSums,
 }
 
 /// One shoe's forces at a sample ([`crate::forces::ShoeForces`]).
@@ -77,7 +89,9 @@ pub struct ShoeSample {
     pub friction_max_n: f64,
 }
 
-/// Samples a run's signals into memory (and optionally hands each row on).
+/// Samples a run's signals into memory, with the integrals and extremes of
+/// every step from `per_step_from_s` on ([`SampleRow::step_sums`]: no mean
+/// depends on the sample rate).
 ///
 /// By default every row is kept. [`Signals::keep_window`] bounds the memory
 /// whatever the run's length: only the rows of the statistics window are
@@ -98,6 +112,9 @@ pub struct Signals {
     /// end + 0.5 s (see [`RunSummary`]).
     spectrum_from_s: f64,
     bounded: Option<Bounded>,
+    /// Integrals over every step from `per_step_from_s` on, handed to each row.
+    #[serde(default)]
+    counter: StepCounter,
 }
 
 /// What [`Signals`] keeps instead of every row.
@@ -116,7 +133,9 @@ struct Bounded {
 
 impl Signals {
     /// A sampler at `rate_hz` that also follows every step from `per_step_from_s`
-    /// on (for link-force extremes and bearing peaks that samples would miss).
+    /// on: the statistics window's means, and the link-force extremes and
+    /// bearing peaks that samples would miss ([`StatsWindow::observe`] makes
+    /// one for a window).
     pub fn new(model: &DriveModel, rate_hz: f64, per_step_from_s: f64) -> Self {
         Self {
             rows: Vec::new(),
@@ -134,6 +153,7 @@ impl Signals {
                 .fold(0.0, f64::max)
                 + 0.5,
             bounded: None,
+            counter: StepCounter::default(),
         }
     }
 
@@ -152,8 +172,8 @@ impl Signals {
     }
 
     /// These signals, continued in a run resumed from a checkpoint to
-    /// another end, whose statistics window is now the last `window_s`,
-    /// followed step by step from `per_step_from_s`. Rows and spectra are
+    /// another end, whose statistics window ([`StatsWindow`] of that end)
+    /// is `window_s` long, followed step by step from `per_step_from_s`. Rows and spectra are
     /// kept (the spectra do not depend on the end). If the window's start
     /// moved, what was tracked step by step starts anew, as in a run with
     /// this window from the start, which by the last step `last` (`None`
@@ -175,13 +195,17 @@ impl Signals {
         if per_step_from_s.to_bits() == self.per_step_from_s.to_bits() {
             return;
         }
-        // Every step-by-step accumulator as `new` makes it.
+        // Every step-by-step accumulator as `new` makes it; no row holds
+        // integrals yet (the steps before the window were not followed).
         let fresh = Self::new(model, self.rate_hz, per_step_from_s);
         *self = Self {
             rows: std::mem::take(&mut self.rows),
             bounded: self.bounded.take(),
             ..fresh
         };
+        for row in &mut self.rows {
+            row.step_sums = StepSums::default();
+        }
         let Some((s, sampled)) = last else {
             return;
         };
@@ -190,9 +214,11 @@ impl Signals {
         }
         if sampled {
             // The row taken at the last step holds what was tracked since
-            // the sample before it: in this window, that step alone.
+            // the sample before it: in this window, that step alone (and
+            // the integrals' start, where the window holds it).
             self.track_extremes(s);
             if let Some(row) = self.rows.last_mut() {
+                row.step_sums = self.counter.take();
                 row.link_range_n = self.link_range;
                 row.bearing_max_n.clone_from(&self.bearing_max);
                 for (r, m) in row.shoes.iter_mut().zip(&self.shoes) {
@@ -314,6 +340,7 @@ impl Observer for Signals {
                     ..*m
                 })
                 .collect(),
+            step_sums: self.counter.take(),
         });
         self.bound();
         self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
@@ -323,6 +350,7 @@ impl Observer for Signals {
 
     fn step(&mut self, s: &Sample<'_>) {
         self.track_extremes(s);
+        self.counter.step(s);
     }
 
     fn per_step_from_s(&self) -> f64 {

@@ -33,7 +33,7 @@ use super::study::{
     link_force_series, roller_contact_series, spectrum_with_peaks, window_indices,
 };
 use super::theory::{moving_string_frequency_hz, string_frequency_hz};
-use super::{RunSummary, SampleRow, Signals, StrandSummary, SummaryInputs};
+use super::{RunSummary, SampleRow, Signals, StepSums, StrandSummary, SummaryInputs};
 use crate::record::Channel;
 use crate::record::read::{ReadError, RecordedSample, Recording, read_recording};
 use crate::scene::Scene;
@@ -164,6 +164,8 @@ impl RecordedRun {
                 link_range_n,
                 tensioners: Vec::new(),
                 shoes: Vec::new(),
+                // A recording holds samples only: its means are theirs.
+                step_sums: StepSums::default(),
             });
             probe_rows.push((t_s, links, contacts, on));
         }

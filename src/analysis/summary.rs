@@ -1,12 +1,24 @@
 //! The run summary: the public contract of `chaindrive run --summary`
 //! (`contracts/run-summary.schema.json`). Field names stay; more may be added.
 //!
-//! - `window_s`: the last [`DEFAULT_WINDOW_S`] of the run, or the length
-//!   chosen ([`RunSummary::of_run_over`], `run --window`), the whole run when
-//!   it is shorter (force statistics, speeds, torques).
-//! - `mean_link_force_se_n`, `link_force_rms_n`, `stationary`, `speed_rms_rad_s`:
-//!   the estimators of [`super::stats`] over the window's samples (batch
-//!   means with 20 batches; first against last third at 3 standard errors).
+//! - `window_s`: the statistics window ([`StatsWindow`]): by default the
+//!   last [`super::DEFAULT_WINDOW_S`] of the run, not before the end of the
+//!   scene's last ramp, or the last W seconds chosen; of what ran, where the
+//!   run was interrupted.
+//! - **Means** (`mean_link_force_n`, `mean_speed_rad_s`, `mean_torque_n_m`,
+//!   `driver_mean_power_w`, the guides' and tensioners' means) are counted
+//!   every step of the window (`means_every_step`, [`super::means`]), so
+//!   they do not depend on the sample rate; a summary of samples alone (a
+//!   recording) takes the samples' means and says so (`means_every_step`
+//!   false). Extremes (`link_force_min_n`/`max_n`, `max_bearing_force_n`,
+//!   the guides' maxima, the tensioners' ranges) follow every step too.
+//! - **Sampled statistics**, at `sample_rate_hz`: `link_force_p2p_n`,
+//!   `speed_p2p_rad_s`, `mean_link_force_se_n`, `link_force_rms_n`,
+//!   `speed_rms_rad_s`, `stationary` (the estimators of [`super::stats`] over
+//!   the window's samples: batch means with 20 batches; first against last
+//!   third at 3 standard errors) and the spectra. A sample rate near a
+//!   multiple of the tooth-passing frequency aliases them, which a warning
+//!   says.
 //! - `spectrum_window_s`: from the driver's ramp end + 0.5 s to the end (spectra);
 //!   the whole run if that is empty. `transverse_peak_hz` is the main peak in
 //!   1–50 Hz of the spectrum averaged over segments of
@@ -18,9 +30,9 @@
 //! - `max_bearing_force_n`: largest resultant of the chain's contact forces
 //!   on the sprocket over the window (every step), i.e. the bearing reaction
 //!   without the sprocket's own weight.
-//! - `guides[]`: per guide, the mean over the window's samples and the
-//!   largest value (every step) of the sum of the rollers' normal forces on
-//!   the shoe and of the magnitudes of their friction forces.
+//! - `guides[]`: per guide, the mean and the largest value over the window
+//!   (every step) of the sum of the rollers' normal forces on the shoe and of
+//!   the magnitudes of their friction forces.
 //! - `driver_mean_power_w`: mean of −(chain moment on the driver) × ω_driver.
 //! - `string_f1_hz`: the moving-string estimate from the segment's own mean
 //!   link force, its nominal length, μ = m_r / P and the mean chain speed
@@ -28,16 +40,15 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::means::{Extent, StepSums};
 use super::spectrum::peak_in;
 use super::stats as estimators;
 use super::theory::moving_string_frequency_hz;
+use super::window::{StatsWindow, default_start_s};
 use super::{SampleRow, Signals};
 use crate::model::DriveModel;
 use crate::scene::Scene;
 use crate::sim::{PowerMeans, RunOutcome, Simulation};
-
-/// Length of the statistics window unless chosen, s.
-pub const DEFAULT_WINDOW_S: f64 = 1.0;
 
 fn stationary_by_default() -> bool {
     true
@@ -65,14 +76,14 @@ pub struct StrandSummary {
 pub struct SegmentSummary {
     /// 1-based segment number.
     pub segment: usize,
-    /// Mean of the segment's average link force, N.
+    /// Mean of the segment's average link force (every step with a free link), N.
     pub mean_link_force_n: f64,
-    /// Peak-to-peak of the segment's average link force, N.
+    /// Peak-to-peak of the segment's average link force (samples), N.
     pub link_force_p2p_n: f64,
     /// Standard error of `mean_link_force_n` by batch means (20 batches), N.
     #[serde(default)]
     pub mean_link_force_se_n: f64,
-    /// RMS of the segment's average link force about its mean, N.
+    /// RMS of the segment's average link force about its mean (samples), N.
     #[serde(default)]
     pub link_force_rms_n: f64,
     /// Whether the first and last thirds of the window agree within three
@@ -90,11 +101,11 @@ pub struct SegmentSummary {
 pub struct SprocketSummary {
     /// 1-based sprocket number.
     pub sprocket: usize,
-    /// Mean angular speed, rad/s (CCW positive).
+    /// Mean angular speed (every step), rad/s (CCW positive).
     pub mean_speed_rad_s: f64,
-    /// Peak-to-peak angular speed, rad/s.
+    /// Peak-to-peak angular speed (samples), rad/s.
     pub speed_p2p_rad_s: f64,
-    /// RMS of the angular speed about its mean, rad/s.
+    /// RMS of the angular speed about its mean (samples), rad/s.
     #[serde(default)]
     pub speed_rms_rad_s: f64,
     /// Mean chain moment on the sprocket, N·m.
@@ -137,9 +148,9 @@ pub struct TensionerSummary {
     pub plunger_force_n: Range,
     /// Chamber pressure (gauge), Pa (zeros for a spring tensioner).
     pub pressure_pa: Range,
-    /// Fraction of the window's samples with the check valve open.
+    /// Fraction of the window with the check valve open (every step).
     pub valve_open_fraction: f64,
-    /// Times the check valve opened within the window (samples).
+    /// Times the check valve opened within the window (every step).
     pub valve_openings: u64,
     /// The chain's resultant force on the shoe, N.
     pub shoe_force_n: Range,
@@ -152,11 +163,11 @@ pub struct GuideSummary {
     pub guide: usize,
     /// Its name.
     pub name: String,
-    /// Mean of Σ f_n, the rollers' normal forces on the shoe, N.
+    /// Mean of Σ f_n, the rollers' normal forces on the shoe (every step), N.
     pub normal_mean_n: f64,
     /// Largest Σ f_n (every step), N.
     pub normal_max_n: f64,
-    /// Mean of Σ |f_t|, the rollers' friction forces on the shoe, N.
+    /// Mean of Σ |f_t|, the rollers' friction forces on the shoe (every step), N.
     pub friction_mean_n: f64,
     /// Largest Σ |f_t| (every step), N.
     pub friction_max_n: f64,
@@ -188,9 +199,13 @@ pub struct RunSummary {
     pub interrupted: bool,
     /// Statistics window, s.
     pub window_s: [f64; 2],
+    /// Whether the window's means were counted every step (false: the
+    /// means of the samples, as in a summary of a recording).
+    #[serde(default)]
+    pub means_every_step: bool,
     /// Spectrum window, s.
     pub spectrum_window_s: [f64; 2],
-    /// Sample rate of the signals, Hz.
+    /// Sample rate of the signals (and of the sampled statistics), Hz.
     pub sample_rate_hz: f64,
     /// Wall time of the stepping loop, s.
     pub wall_s: f64,
@@ -252,6 +267,11 @@ pub struct RunSummary {
     /// Tensioner arms (absent from scenes without them).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tensioners: Vec<TensionerSummary>,
+    /// The catalogue rating and static safety factors
+    /// ([`super::design::rating`]; absent where the smallest sprocket did
+    /// not turn).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rating: Option<super::design::Rating>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
@@ -291,8 +311,6 @@ pub(crate) struct Judged<'a> {
     pub summary: &'a RunSummary,
     /// The samples of the statistics window.
     pub window_rows: &'a [&'a SampleRow],
-    /// The driver's ramp time, s.
-    pub ramp_s: f64,
     /// The mean chain speed over the window, m/s.
     pub chain_speed_m_s: f64,
     /// Why the static equilibrium's state is not at rest, where known.
@@ -315,8 +333,110 @@ fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
     }
 }
 
-/// Tensioner arm `k`'s statistics over `rows`.
-fn tensioner_summary(name: &str, k: usize, rows: &[&SampleRow]) -> TensionerSummary {
+/// Segment `k`'s average link force over `rows`, the samples with a free link.
+pub(crate) fn segment_series(rows: &[&SampleRow], k: usize) -> Vec<f64> {
+    rows.iter()
+        .filter_map(|r| r.segment_force_n[k])
+        .filter(|v| v.is_finite())
+        .collect()
+}
+
+/// The window's means: the rows' integrals over every step where each row
+/// of the window has them, else the samples' means (a recording's rows).
+struct WindowMeans<'a> {
+    rows: &'a [&'a SampleRow],
+    sums: Option<StepSums>,
+}
+
+impl<'a> WindowMeans<'a> {
+    fn of(rows: &'a [&'a SampleRow]) -> Self {
+        // The first row may hold the step where the counting began (its
+        // sums then start after it), or none where the window starts on it.
+        let every_step = rows.len() > 1 && rows[1..].iter().all(|r| r.step_sums.duration_s > 0.0);
+        let sums = every_step.then(|| {
+            let mut sums = StepSums::default();
+            for r in rows {
+                sums.merge(&r.step_sums);
+            }
+            sums
+        });
+        Self { rows, sums }
+    }
+
+    /// Integral over the counted time, or the samples' mean.
+    fn mean(&self, integral: impl Fn(&StepSums) -> f64, sample: impl Fn(&SampleRow) -> f64) -> f64 {
+        match &self.sums {
+            Some(s) => integral(s) / s.duration_s,
+            None => stats(self.rows.iter().map(|r| sample(r))).0,
+        }
+    }
+
+    fn speed_rad_s(&self, j: usize) -> f64 {
+        self.mean(|s| at(&s.omega_rad, j), |r| r.omega_rad_s[j])
+    }
+
+    fn torque_n_m(&self, j: usize) -> f64 {
+        self.mean(|s| at(&s.torque_n_m_s, j), |r| r.chain_torque_n_m[j])
+    }
+
+    fn driver_power_w(&self, driver: usize) -> f64 {
+        self.mean(
+            |s| s.driver_work_j,
+            |r| -r.chain_torque_n_m[driver] * r.omega_rad_s[driver],
+        )
+    }
+
+    /// Over the steps (samples) with a free link; 0 without any.
+    fn segment_force_n(&self, k: usize) -> f64 {
+        match &self.sums {
+            Some(s) if at(&s.segment_s, k) > 0.0 => at(&s.segment_n_s, k) / at(&s.segment_s, k),
+            Some(_) => 0.0,
+            None => stats(self.rows.iter().filter_map(|r| r.segment_force_n[k])).0,
+        }
+    }
+
+    /// Guide `k`'s mean Σ f_n and Σ |f_t|.
+    fn shoe_n(&self, k: usize) -> [f64; 2] {
+        let shoe = |s: &StepSums, i: usize| s.shoe_n_s.get(k).map_or(0.0, |f| f[i]);
+        let sample = |r: &SampleRow, i: usize| {
+            r.shoes
+                .get(k)
+                .map_or(f64::NAN, |f| [f.normal_n, f.friction_n][i])
+        };
+        [0, 1].map(|i| self.mean(|s| shoe(s, i), |r| sample(r, i)))
+    }
+
+    fn tensioner(&self, name: &str, k: usize) -> TensionerSummary {
+        let Some(sums) = &self.sums else {
+            return tensioner_of_samples(name, k, self.rows);
+        };
+        let arm = sums.tensioners.get(k).cloned().unwrap_or_default();
+        let d = sums.duration_s;
+        let range = |e: Extent| Range {
+            mean: e.integral / d,
+            min: e.min,
+            max: e.max,
+        };
+        TensionerSummary {
+            tensioner: name.to_owned(),
+            arm_angle_rad: range(arm.angle_rad),
+            travel_m: range(arm.travel_m),
+            plunger_speed_m_s: range(arm.plunger_speed_m_s),
+            plunger_force_n: range(arm.plunger_force_n),
+            pressure_pa: range(arm.pressure_pa),
+            valve_open_fraction: arm.open_s / d,
+            valve_openings: arm.openings,
+            shoe_force_n: range(arm.shoe_force_n),
+        }
+    }
+}
+
+fn at(v: &[f64], i: usize) -> f64 {
+    v.get(i).copied().unwrap_or(0.0)
+}
+
+/// Tensioner arm `k`'s statistics over the samples `rows`.
+fn tensioner_of_samples(name: &str, k: usize, rows: &[&SampleRow]) -> TensionerSummary {
     let readings: Vec<_> = rows.iter().filter_map(|r| r.tensioners.get(k)).collect();
     let range =
         |f: fn(&crate::forces::TensionerReading) -> f64| Range::of(readings.iter().map(|r| f(r)));
@@ -342,17 +462,10 @@ fn tensioner_summary(name: &str, k: usize, rows: &[&SampleRow]) -> TensionerSumm
     }
 }
 
-/// Segment `k`'s average link force over `rows`, the samples with a free link.
-pub(crate) fn segment_series(rows: &[&SampleRow], k: usize) -> Vec<f64> {
-    rows.iter()
-        .filter_map(|r| r.segment_force_n[k])
-        .filter(|v| v.is_finite())
-        .collect()
-}
-
 impl RunSummary {
     /// The summary of a run of `sim` that ended with `outcome`, from the
-    /// signals sampled along it; `setup_wall_s` is the wall time of
+    /// signals sampled along it, over the default window
+    /// ([`StatsWindow`]); `setup_wall_s` is the wall time of
     /// [`Simulation::new`].
     pub fn of_run(
         sim: &Simulation,
@@ -360,7 +473,22 @@ impl RunSummary {
         signals: &Signals,
         setup_wall_s: f64,
     ) -> Self {
-        Self::of_run_over(sim, outcome, signals, setup_wall_s, DEFAULT_WINDOW_S)
+        Self::summarise(sim, outcome, signals, setup_wall_s, None)
+    }
+
+    /// The summary of a run prepared by [`StatsWindow::observe`], over that
+    /// window (its last `length_s`; of what ran, where the run was
+    /// interrupted). A study or sweep that lets its plan set a window calls
+    /// [`StatsWindow::of`] with it (`None`: the default), `observe`, runs,
+    /// and calls this.
+    pub fn of_run_in(
+        sim: &Simulation,
+        outcome: &RunOutcome,
+        signals: &Signals,
+        setup_wall_s: f64,
+        window: &StatsWindow,
+    ) -> Self {
+        Self::summarise(sim, outcome, signals, setup_wall_s, Some(window.length_s()))
     }
 
     /// [`RunSummary::of_run`] with a statistics window of the last
@@ -372,7 +500,17 @@ impl RunSummary {
         setup_wall_s: f64,
         window_s: f64,
     ) -> Self {
-        Self::compute_full(
+        Self::summarise(sim, outcome, signals, setup_wall_s, Some(window_s))
+    }
+
+    fn summarise(
+        sim: &Simulation,
+        outcome: &RunOutcome,
+        signals: &Signals,
+        setup_wall_s: f64,
+        window_s: Option<f64>,
+    ) -> Self {
+        Self::compute_in(
             &SummaryInputs {
                 scene: &sim.scene,
                 model: &sim.model,
@@ -395,10 +533,10 @@ impl RunSummary {
         )
     }
 
-    /// Computes the summary of a run from its signals, statistics over the
-    /// last [`DEFAULT_WINDOW_S`].
+    /// Computes the summary of a run from its signals, over the default
+    /// window ([`StatsWindow`]).
     pub fn compute(inputs: &SummaryInputs<'_>, signals: &Signals) -> Self {
-        Self::compute_full(inputs, signals, DEFAULT_WINDOW_S, None)
+        Self::compute_in(inputs, signals, None, None)
     }
 
     /// Computes the summary of a run from its signals, statistics over the
@@ -409,7 +547,8 @@ impl RunSummary {
     }
 
     /// Computes the summary of a run from its signals, statistics over the
-    /// last `window_s`, and, where it was counted, the window's power flow
+    /// last `window_s` (a window that is not a positive number is the
+    /// default), and, where it was counted, the window's power flow
     /// ([`crate::sim::PowerLedger`]).
     pub fn compute_full(
         inputs: &SummaryInputs<'_>,
@@ -417,16 +556,25 @@ impl RunSummary {
         window_s: f64,
         flow: Option<PowerMeans>,
     ) -> Self {
+        let chosen = (window_s.is_finite() && window_s > 0.0).then_some(window_s);
+        Self::compute_in(inputs, signals, chosen, flow)
+    }
+
+    fn compute_in(
+        inputs: &SummaryInputs<'_>,
+        signals: &Signals,
+        window_s: Option<f64>,
+        flow: Option<PowerMeans>,
+    ) -> Self {
         let scene = inputs.scene;
         let model = inputs.model;
         let rows = &signals.rows;
         let t_end = rows.last().map_or(0.0, |r| r.t_s);
-        let length = if window_s.is_finite() && window_s > 0.0 {
-            window_s
-        } else {
-            DEFAULT_WINDOW_S
+        let start = match window_s {
+            Some(length) => (t_end - length).max(0.0),
+            None => default_start_s(scene, t_end),
         };
-        let window = [(t_end - length).max(0.0), t_end];
+        let window = [start, t_end];
         let ramp = scene
             .sprockets
             .iter()
@@ -438,19 +586,19 @@ impl RunSummary {
         } else {
             [0.0, t_end]
         };
-        // Rows in the window; the first row's extremes cover the steps before it, so skip it.
+        // Rows in the window; the first row's extremes and integrals cover
+        // the steps before it, so skip it.
         let in_window: Vec<&SampleRow> = rows
             .iter()
             .filter(|r| r.t_s > window[0] && r.t_s <= window[1])
             .collect();
+        let means = WindowMeans::of(&in_window);
         let (_, link_min, _) = stats(in_window.iter().map(|r| r.link_range_n.0));
         let (_, _, link_max) = stats(in_window.iter().map(|r| r.link_range_n.1));
         // The chain's speed from the driver; in a drive without one, the mean
         // over the sprockets (each passes the same chain length per unit time).
-        let chain_speed_at = |j: usize| {
-            let (omega, _, _) = stats(in_window.iter().map(|r| r.omega_rad_s[j]));
-            omega.abs() * model.sprockets[j].pitch_radius_m
-        };
+        let chain_speed_at =
+            |j: usize| means.speed_rad_s(j).abs() * model.sprockets[j].pitch_radius_m;
         let chain_speed = match model.driving() {
             Some(driver) => chain_speed_at(driver),
             None => {
@@ -458,27 +606,15 @@ impl RunSummary {
                 (0..count).map(chain_speed_at).sum::<f64>() / count as f64
             }
         };
+        let strands = strand_summaries(model);
         let mass_per_length = scene.chain.roller_mass_kg / scene.chain.pitch_m;
-        let strands: Vec<StrandSummary> = model
-            .path
-            .strands
-            .iter()
-            .enumerate()
-            .map(|(k, s)| StrandSummary {
-                segment: k + 1,
-                from: s.from + 1,
-                to: s.to + 1,
-                length_m: s.length_m,
-                angle_on_from_rad: s.angle_on_from_rad,
-                angle_on_to_rad: s.angle_on_to_rad,
-            })
-            .collect();
         let segments = strands
             .iter()
             .enumerate()
             .map(|(k, strand)| {
-                let (mean, lo, hi) = stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
+                let mean = means.segment_force_n(k);
                 let series = segment_series(&in_window, k);
+                let (_, lo, hi) = stats(series.iter().copied());
                 let (freqs, amps) = signals.transverse_spectrum(k, spectrum_window);
                 let peak = peak_in(&freqs, &amps, 1.0, 50.0).map_or(0.0, |p| p.0);
                 SegmentSummary {
@@ -501,20 +637,19 @@ impl RunSummary {
             .collect();
         let sprockets = (0..model.sprocket_count())
             .map(|s| {
-                let (mean_speed, lo, hi) = stats(in_window.iter().map(|r| r.omega_rad_s[s]));
                 let speeds: Vec<f64> = in_window
                     .iter()
                     .map(|r| r.omega_rad_s[s])
                     .filter(|v| v.is_finite())
                     .collect();
-                let (torque, _, _) = stats(in_window.iter().map(|r| r.chain_torque_n_m[s]));
+                let (_, lo, hi) = stats(speeds.iter().copied());
                 let (_, _, bearing) = stats(in_window.iter().map(|r| r.bearing_max_n[s]));
                 SprocketSummary {
                     sprocket: s + 1,
-                    mean_speed_rad_s: mean_speed,
+                    mean_speed_rad_s: means.speed_rad_s(s),
                     speed_p2p_rad_s: hi - lo,
                     speed_rms_rad_s: estimators::rms_about_mean(&speeds),
-                    mean_torque_n_m: torque,
+                    mean_torque_n_m: means.torque_n_m(s),
                     max_bearing_force_n: bearing,
                 }
             })
@@ -525,12 +660,11 @@ impl RunSummary {
             .enumerate()
             .map(|(k, g)| {
                 let at = |r: &&SampleRow| r.shoes.get(k).copied();
-                let (normal, _, _) = stats(in_window.iter().filter_map(at).map(|s| s.normal_n));
                 let (_, _, normal_max) =
                     stats(in_window.iter().filter_map(at).map(|s| s.normal_max_n));
-                let (friction, _, _) = stats(in_window.iter().filter_map(at).map(|s| s.friction_n));
                 let (_, _, friction_max) =
                     stats(in_window.iter().filter_map(at).map(|s| s.friction_max_n));
+                let [normal, friction] = means.shoe_n(k);
                 GuideSummary {
                     guide: k + 1,
                     name: g.name.clone(),
@@ -542,14 +676,9 @@ impl RunSummary {
             })
             .collect();
         // No driver, no driver power (the drive is moved by load torques only).
-        let power = model.driving().map_or(0.0, |driver| {
-            stats(
-                in_window
-                    .iter()
-                    .map(|r| -r.chain_torque_n_m[driver] * r.omega_rad_s[driver]),
-            )
-            .0
-        });
+        let power = model
+            .driving()
+            .map_or(0.0, |driver| means.driver_power_w(driver));
         let mut summary = RunSummary {
             scene: scene.name.clone(),
             profile: scene.profile_name().to_owned(),
@@ -562,6 +691,7 @@ impl RunSummary {
             duration_s: t_end,
             interrupted: inputs.interrupted,
             window_s: window,
+            means_every_step: means.sums.is_some(),
             spectrum_window_s: spectrum_window,
             sample_rate_hz: signals.rate_hz,
             wall_s: inputs.wall_s,
@@ -595,18 +725,37 @@ impl RunSummary {
                 .tensioners
                 .iter()
                 .enumerate()
-                .map(|(k, t)| tensioner_summary(&t.name, k, &in_window))
+                .map(|(k, t)| means.tensioner(&t.name, k))
                 .collect(),
+            rating: None,
             warnings: Vec::new(),
         };
+        summary.rating = super::design::rating::of_run(scene, &summary);
         summary.warnings = super::warnings::of_run(&Judged {
             scene,
             summary: &summary,
             window_rows: &in_window,
-            ramp_s: ramp,
             chain_speed_m_s: chain_speed,
             unsettled_cause: inputs.static_unsettled_cause.as_deref(),
         });
         summary
     }
+}
+
+/// The strands as laid out.
+fn strand_summaries(model: &DriveModel) -> Vec<StrandSummary> {
+    model
+        .path
+        .strands
+        .iter()
+        .enumerate()
+        .map(|(k, s)| StrandSummary {
+            segment: k + 1,
+            from: s.from + 1,
+            to: s.to + 1,
+            length_m: s.length_m,
+            angle_on_from_rad: s.angle_on_from_rad,
+            angle_on_to_rad: s.angle_on_to_rad,
+        })
+        .collect()
 }

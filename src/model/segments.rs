@@ -38,7 +38,7 @@ struct Line {
 /// from roller `first` on (chain order, modulo the roller count). Roller
 /// `first − 1` is the last engaged on the segment's `from` sprocket, roller
 /// `first + rollers` the first engaged on its `to` sprocket.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Run {
     /// First free roller.
     pub first: usize,
@@ -48,10 +48,48 @@ pub struct Run {
 
 /// Every segment's free run at one instant ([`Segments::runs`]); held on the
 /// stack, so finding them allocates nothing.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct StrandRuns {
     n: usize,
     runs: [Option<Run>; MAX_SPROCKETS],
+}
+
+/// As written (a checkpoint keeps a cache of runs): the roller count and the
+/// runs up to the last segment that has one.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct RunsAsWritten {
+    n: usize,
+    runs: Vec<Option<Run>>,
+}
+
+impl serde::Serialize for StrandRuns {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        let used = self
+            .runs
+            .iter()
+            .rposition(Option::is_some)
+            .map_or(0, |k| k + 1);
+        RunsAsWritten {
+            n: self.n,
+            runs: self.runs[..used].to_vec(),
+        }
+        .serialize(s)
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for StrandRuns {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let written = RunsAsWritten::deserialize(d)?;
+        if written.runs.len() > MAX_SPROCKETS {
+            return Err(serde::de::Error::custom(format!(
+                "{} strand runs, more than the {MAX_SPROCKETS} segments a drive may have",
+                written.runs.len()
+            )));
+        }
+        let mut runs = [None; MAX_SPROCKETS];
+        runs[..written.runs.len()].copy_from_slice(&written.runs);
+        Ok(Self { n: written.n, runs })
+    }
 }
 
 impl StrandRuns {
@@ -66,16 +104,40 @@ impl StrandRuns {
     /// from 0 first), so that sums over them do not depend on where the
     /// chain's numbering starts.
     pub fn links(&self, k: usize) -> impl Iterator<Item = usize> {
+        let [wrapped, rest] = self.link_ranges(k);
+        wrapped.chain(rest)
+    }
+
+    /// Segment `k`'s links as two index ranges in the order of
+    /// [`StrandRuns::links`]: those past the last roller (from 0), then the rest.
+    fn link_ranges(&self, k: usize) -> [std::ops::Range<usize>; 2] {
         let (first, links) = self
             .get(k)
             .map_or((0, 0), |r| (r.first, r.rollers.saturating_sub(1)));
         let end = first + links;
-        let (wrapped, end) = if end > self.n {
-            (end - self.n, self.n)
+        if end > self.n {
+            [0..end - self.n, first..self.n]
         } else {
-            (0, end)
-        };
-        (0..wrapped).chain(first..end)
+            [0..0, first..end]
+        }
+    }
+
+    /// The sum of `link_force` over segment `k`'s free strand, in the order
+    /// of [`StrandRuns::links`], and the number of links summed (links
+    /// beyond `link_force` left out): two slices, no bounds check per link.
+    pub fn force_sum(&self, k: usize, link_force: &[f64]) -> (f64, usize) {
+        let mut sum = 0.0;
+        let mut count = 0;
+        for range in self.link_ranges(k) {
+            let slice = link_force
+                .get(range.start.min(link_force.len())..range.end.min(link_force.len()))
+                .unwrap_or_default();
+            for f in slice {
+                sum += f;
+            }
+            count += slice.len();
+        }
+        (sum, count)
     }
 }
 
@@ -174,13 +236,7 @@ impl Segments {
     /// no free link gets `None`.
     pub fn mean_forces(&self, runs: &StrandRuns, link_force: &[f64], out: &mut [Option<f64>]) {
         for (k, o) in out.iter_mut().enumerate().take(self.lines.len()) {
-            let (mut sum, mut count) = (0.0, 0usize);
-            for i in runs.links(k) {
-                if let Some(f) = link_force.get(i) {
-                    sum += f;
-                    count += 1;
-                }
-            }
+            let (sum, count) = runs.force_sum(k, link_force);
             *o = (count > 0).then(|| sum / count as f64);
         }
     }

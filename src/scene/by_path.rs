@@ -330,7 +330,10 @@ impl Scene {
     /// column; errors in an assigned field name its path without one.
     pub fn from_toml_set(text: &str, assignments: &[Assignment]) -> Result<Self, SceneError> {
         // The base must be a scene file before anything is written into it.
-        let _: SceneFile = toml::from_str(text).map_err(SceneError::from_toml)?;
+        let read = super::shape::read::<SceneFile>(text, super::file::required)?;
+        if !read.errors.is_empty() {
+            return Err(SceneError::Invalid(read.errors));
+        }
         let mut table: toml::Table = text.parse().map_err(SceneError::from_toml)?;
         for a in assignments {
             set_in_table(&mut table, a)?;

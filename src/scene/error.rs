@@ -27,14 +27,7 @@ impl fmt::Display for FieldError {
 /// or has no such field. A path that stops at an array element or table
 /// points at that element or table.
 pub fn locate(text: &str, path: &str) -> Option<(usize, usize)> {
-    let span = value_span(text, path)?;
-    let before = text.get(..span.start)?;
-    let line = before.matches('\n').count() + 1;
-    let column = before
-        .rfind('\n')
-        .map_or(span.start, |n| span.start - n - 1)
-        + 1;
-    Some((line, column))
+    super::shape::line_column(text, value_span(text, path)?.start)
 }
 
 /// The byte range of the value at `path` (`sprockets[1].center_m`) in the
@@ -71,11 +64,11 @@ pub fn value_span(text: &str, path: &str) -> Option<std::ops::Range<usize>> {
 /// Why a scene was rejected.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum SceneError {
-    /// The text is not valid TOML, or does not have the scene's shape
-    /// (unknown, missing or mistyped field).
+    /// The text is not valid TOML (its first error).
     #[error("{}", .0)]
     Syntax(String),
-    /// The file parsed, but values are invalid. Every problem found is listed.
+    /// The file parsed, but fields are unknown, missing, mistyped or their
+    /// values invalid. Every problem found is listed.
     #[error("{}", lines(.0))]
     Invalid(Vec<FieldError>),
 }

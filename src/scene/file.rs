@@ -122,6 +122,27 @@ pub struct ContactFile {
     pub min_approach_speed_m_s: f64,
 }
 
+/// What a required field that a file leaves out needs, by its path, where
+/// "it is required here" says too little.
+pub(super) fn required(path: &str) -> Option<&'static str> {
+    Some(match path {
+        "contact" => {
+            "the roller–tooth contact has no defaults: give [contact] with stiffness (K_g, N/m^exponent; the paper's 56B chain: 1e9) and restitution (e, from 0 to 1; the paper: 0.0); law, exponent and min_approach_speed_m_s default to \"lankarani_nikravesh\", 1.5 and 0.05 m/s"
+        }
+        "contact.stiffness" => {
+            "K_g, N/m^exponent, has no default (the paper's 56B chain: 1e9 with exponent 1.5)"
+        }
+        "contact.restitution" => "e, from 0 to 1, has no default (the paper's drive: 0.0)",
+        "chain" => {
+            "give [chain] with rollers, damping_n_s_m, pretension_n and a designation or its dimensions"
+        }
+        "sprockets" => {
+            "give the sprockets as [[sprockets]] tables, in the order the chain visits them"
+        }
+        _ => return None,
+    })
+}
+
 fn default_law() -> String {
     "lankarani_nikravesh".to_owned()
 }
@@ -229,6 +250,11 @@ pub struct SolverFile {
     /// [`super::AUTO_MIN_ROLLERS`] rollers on a machine with two cores).
     #[serde(default, skip_serializing_if = "ThreadsFile::is_auto")]
     pub threads: ThreadsFile,
+    /// The sample period an automatic step is a whole fraction of, s
+    /// (`None`: [`super::AUTO_GRID_S`]). Not part of the TOML: the run's
+    /// sample rate sets it ([`super::Overrides::sample_rate_hz`]).
+    #[serde(skip)]
+    pub sample_period_s: Option<f64>,
 }
 
 /// `solver.dt_s` as written: a number of seconds or the word `"auto"`.
@@ -280,6 +306,7 @@ impl Default for SolverFile {
             duration_s: default_duration(),
             limits: LimitsFile::default(),
             threads: ThreadsFile::default(),
+            sample_period_s: None,
         }
     }
 }

@@ -23,6 +23,7 @@ mod kinds;
 pub mod mutate;
 mod overrides;
 mod run_up;
+mod shape;
 mod stability;
 mod tensioners;
 mod threads;
@@ -47,7 +48,7 @@ pub use kinds::{ContactLaw, Integrator, PretensionRule, RoleKind, Stepping, Wrap
 pub use overrides::Overrides;
 pub use run_up::RunUpFile;
 pub use stability::{
-    AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s,
+    AUTO_GRID_S, AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, StepLimits, impact_duration_s, step_note,
 };
 pub use tensioners::{
     DEFAULT_SHOE_FRICTION_SPEED_M_S, DEFAULT_STOP_STIFFNESS_N_M, HydraulicFile, HydraulicTensioner,
@@ -153,10 +154,14 @@ impl Scene {
         &self.guides
     }
 
-    /// What is valid but likely unintended, one sentence each: guides and
-    /// tensioner arms' shoes the chain's nominal path does not reach.
+    /// What is valid but likely unintended, one sentence each: a step above
+    /// its integrator's estimated stability limit, guides and tensioner
+    /// arms' shoes the chain's nominal path does not reach.
     pub fn warnings(&self) -> Vec<String> {
-        let mut w = guides::warnings(&self.guides);
+        let mut w: Vec<String> = stability::step_warning(&self.solver, &StepLimits::of(self))
+            .into_iter()
+            .collect();
+        w.extend(guides::warnings(&self.guides));
         w.extend(tensioners::warnings(
             &self.tensioners,
             &self.sprockets,
@@ -271,7 +276,14 @@ mod tests {
     fn unknown_field_is_rejected_with_position() {
         let text = L60MC_TOML.replace("[chain]", "[chain]\ncolour = \"red\"");
         let msg = Scene::from_toml(&text).expect_err("invalid").to_string();
-        assert!(msg.contains("colour"), "{msg}");
-        assert!(msg.contains("line"), "{msg}");
+        let line = text
+            .lines()
+            .position(|l| l.starts_with("colour"))
+            .expect("added")
+            + 1;
+        assert!(
+            msg.starts_with(&format!("{line}:1: chain.colour: unknown field")),
+            "{msg}"
+        );
     }
 }

@@ -25,7 +25,10 @@ pub struct Overrides {
     /// `solver.dt_s = "auto"`: the step chosen from the scene (takes
     /// precedence over `dt_s`).
     pub dt_auto: bool,
-    /// `solver.stepping`.
+    /// `solver.stepping`. Rapier's stepping without an `integrator`
+    /// override also sets `solver.integrator` to symplectic Euler, the
+    /// scheme rapier integrates with (whatever scheme the file names for
+    /// the substepped chain).
     pub stepping: Option<Stepping>,
     /// `solver.integrator`.
     pub integrator: Option<Integrator>,
@@ -35,6 +38,13 @@ pub struct Overrides {
     pub contact_law: Option<ContactLaw>,
     /// `equilibrium.max_relax_s`: largest relaxation time per iteration, s.
     pub max_relax_s: Option<f64>,
+    /// The rate the run samples at, Hz: an automatic step
+    /// (`solver.dt_s = "auto"`) is a whole fraction of its period, so that
+    /// every sample falls on a step (`None`: 1 kHz). Not a scene-file
+    /// field, and nothing to a scene that gives its step in seconds; a rate
+    /// that is not a finite number > 0 is left out here (the sampler
+    /// refuses it).
+    pub sample_rate_hz: Option<f64>,
 }
 
 impl Overrides {
@@ -70,6 +80,7 @@ impl SceneFile {
             tolerance,
             contact_law,
             max_relax_s,
+            sample_rate_hz,
         } = *overrides;
         if let Some(p) = profile {
             for s in &mut self.sprockets {
@@ -83,8 +94,19 @@ impl SceneFile {
         } else if let Some(dt) = dt_s {
             solver.dt_s = StepFile::Seconds(dt);
         }
+        // Only an automatic step depends on the rate: a scene with its own
+        // step stays the same scene at every rate.
+        if let Some(rate) = sample_rate_hz.filter(|r| r.is_finite() && *r > 0.0)
+            && matches!(solver.dt_s, StepFile::Word(_))
+        {
+            solver.sample_period_s = Some(1.0 / rate);
+        }
         set(&mut solver.tolerance, tolerance);
         set_name(&mut solver.stepping, stepping.map(Stepping::name));
+        let integrator = match (stepping, integrator) {
+            (Some(Stepping::Rapier), None) => Some(Integrator::SymplecticEuler),
+            _ => integrator,
+        };
         set_name(&mut solver.integrator, integrator.map(Integrator::name));
         set_name(&mut self.contact.law, contact_law.map(ContactLaw::name));
         set(&mut self.equilibrium.max_relax_s, max_relax_s);
@@ -139,12 +161,27 @@ impl Scene {
         base_dir: Option<&std::path::Path>,
         overrides: &Overrides,
     ) -> Result<Self, SceneError> {
-        let mut file: SceneFile = toml::from_str(text).map_err(SceneError::from_toml)?;
+        // Every problem at once: the shape's (unknown, mistyped, missing
+        // fields), and the values' when only unknown fields were wrong.
+        let read = super::shape::read::<SceneFile>(text, super::file::required)?;
+        let Some(mut file) = read.value else {
+            return Err(SceneError::Invalid(read.errors));
+        };
         file.base_dir = base_dir.map(std::path::Path::to_path_buf);
         file.apply(overrides);
-        let mut scene = Self::try_from(file).map_err(|e| e.located(text, &overrides.paths()))?;
-        scene.source_toml = Some(text.to_owned());
-        Ok(scene)
+        let mut errors = read.errors;
+        match Self::try_from(file).map_err(|e| e.located(text, &overrides.paths())) {
+            Ok(mut scene) if errors.is_empty() => {
+                scene.source_toml = Some(text.to_owned());
+                Ok(scene)
+            }
+            Ok(_) => Err(SceneError::Invalid(errors)),
+            Err(SceneError::Invalid(more)) => {
+                errors.extend(more);
+                Err(SceneError::Invalid(errors))
+            }
+            Err(other) => Err(other),
+        }
     }
 
     /// Parses a TOML scene, applies `overrides` and validates the result.
@@ -189,6 +226,18 @@ mod tests {
         };
         let err = Scene::from_toml_with(L60MC_TOML, &overrides).expect_err("invalid");
         assert_eq!(err.lines(), ["solver.dt_s: must be > 0, got -1"]);
+    }
+
+    #[test]
+    fn rapier_stepping_brings_its_own_scheme() {
+        // The paper's drive names velocity Verlet for its substepped chain;
+        // `--stepping rapier` alone runs it with rapier's symplectic Euler.
+        let overrides = Overrides {
+            stepping: Some(Stepping::Rapier),
+            ..Overrides::default()
+        };
+        let scene = Scene::l60mc().with(&overrides).expect("valid");
+        assert_eq!(scene.solver().integrator, Integrator::SymplecticEuler);
     }
 
     #[test]

@@ -1,8 +1,10 @@
 //! The explicit schemes' stability estimates (docs/model.md, “Time scales and stability”),
 //! from the validated chain and contact law alone; they also choose the step
-//! of a scene whose `solver.dt_s` is `"auto"`.
+//! of a scene whose `solver.dt_s` is `"auto"`, and say (one sentence for
+//! `check` and `run` alike) how a scene's step stands against its
+//! integrator's own estimate. Nothing here steps or measures a drive.
 
-use super::{Chain, Contact, Integrator, Role, Sprocket};
+use super::{Chain, Contact, Integrator, Role, Scene, Solver, Sprocket};
 
 /// Safety factor of `dt_s = "auto"`: the step is this fraction of the
 /// scheme's estimated largest stable step. The estimates are
@@ -22,8 +24,9 @@ pub const AUTO_SAFETY: f64 = 0.5;
 /// largest link force from 2.1 % to 0.2 % off the reference.
 pub const AUTO_STEPS_PER_IMPACT: f64 = 16.0;
 
-/// `dt_s = "auto"` chooses a whole fraction of this interval, s (1 ms: the
-/// default sample period).
+/// `dt_s = "auto"` chooses a whole fraction of the run's sample period; this
+/// one, s (1 ms, the default 1 kHz), where no rate is given
+/// ([`super::Overrides::sample_rate_hz`]).
 pub const AUTO_GRID_S: f64 = 1e-3;
 
 /// Estimated largest stable steps of the explicit schemes (docs/model.md), s.
@@ -77,33 +80,46 @@ impl StepLimits {
     }
 
     /// The estimated largest stable step of `scheme`, s (∞ for the adaptive
-    /// scheme, which chooses its own). RK4's stability region reaches 2√2 on
-    /// the imaginary axis (oscillating links) and 2.785 on the negative real
-    /// axis (damping), against 2 and 2 for symplectic Euler.
+    /// scheme, which chooses its own): the smallest of [`Self::bounds_for`].
     pub fn for_integrator(&self, scheme: Integrator) -> f64 {
-        match scheme {
-            Integrator::SymplecticEuler | Integrator::VelocityVerlet => self.min_s(),
-            Integrator::Rk4 => (self.links_s * std::f64::consts::SQRT_2)
-                .min(self.contact_damping_s * 1.3925)
-                .min(self.joint_friction_s * 1.3925),
-            Integrator::DormandPrince45 => f64::INFINITY,
-            // The joint friction stays explicit there (its limit is far from
-            // binding at the default ω_s, docs/model.md, “Joint friction”).
-            Integrator::ImplicitDamping => self.links_s.min(self.joint_friction_s),
+        self.bounds_for(scheme)
+            .iter()
+            .map(|b| b.1)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// The estimates that bound `scheme`'s step, each scaled to its
+    /// stability region, s. RK4's region reaches 2√2 on the imaginary axis
+    /// (oscillating links) and 2.785 on the negative real axis (damping),
+    /// against 2 and 2 for symplectic Euler and velocity Verlet. The implicit
+    /// scheme is not bound by the contact damping; its joint friction stays
+    /// explicit (its limit is far from binding at the default ω_s,
+    /// docs/model.md, “Joint friction”). The adaptive scheme has none.
+    pub fn bounds_for(&self, scheme: Integrator) -> Vec<(&'static str, f64)> {
+        let (links, damping, contact) = match scheme {
+            Integrator::SymplecticEuler | Integrator::VelocityVerlet => (1.0, 1.0, true),
+            Integrator::Rk4 => (std::f64::consts::SQRT_2, 1.3925, true),
+            Integrator::ImplicitDamping => (1.0, 1.0, false),
+            Integrator::DormandPrince45 => return Vec::new(),
+        };
+        let mut bounds = vec![("links", self.links_s * links)];
+        if contact {
+            bounds.push(("contact damping", self.contact_damping_s * damping));
         }
+        bounds.push(("joint friction", self.joint_friction_s * damping));
+        bounds
     }
 
     /// The step `dt_s = "auto"` chooses for `scheme`: [`AUTO_SAFETY`] times
     /// its estimated limit, rounded down to a whole fraction of
-    /// [`AUTO_GRID_S`] (so that the default 1 kHz sampling, and every rate
-    /// dividing it, is a whole number of steps). The adaptive scheme, which
-    /// needs no limit, gets the symplectic schemes' step as its largest (and
-    /// sample) step.
+    /// `sample_period_s` (so that the run's samples fall on whole numbers of
+    /// steps, whatever its rate). The adaptive scheme, which needs no limit,
+    /// gets the symplectic schemes' step as its largest (and sample) step.
     ///
     /// `impact_s` (∞ for none) caps it at 1/[`AUTO_STEPS_PER_IMPACT`] of a
     /// roller's impact on engagement, where stability alone leaves the
     /// deepest penetration unresolved.
-    pub fn auto_step_s(&self, scheme: Integrator, impact_s: f64) -> f64 {
+    pub fn auto_step_s(&self, scheme: Integrator, impact_s: f64, sample_period_s: f64) -> f64 {
         let limit = match scheme {
             Integrator::DormandPrince45 => self.min_s(),
             other => self.for_integrator(other),
@@ -112,17 +128,85 @@ impl StepLimits {
         if !(raw.is_finite() && raw > 0.0) {
             return raw;
         }
-        // The largest AUTO_GRID_S / n not above `raw`; the small tolerance
-        // keeps a step that is already a whole fraction from losing one.
-        let n = (AUTO_GRID_S / raw * (1.0 - 1e-12)).ceil().max(1.0);
-        AUTO_GRID_S / n
+        // The largest sample_period_s / n not above `raw`; the small
+        // tolerance keeps a step that is already a whole fraction from
+        // losing one.
+        let n = (sample_period_s / raw * (1.0 - 1e-12)).ceil().max(1.0);
+        sample_period_s / n
     }
 }
 
 impl StepLimits {
     /// The limits of a validated scene's chain and contact law.
-    pub fn of(scene: &super::Scene) -> Self {
+    pub fn of(scene: &Scene) -> Self {
         Self::of_parts(&scene.chain, &scene.contact)
+    }
+}
+
+/// How a validated scene's step was chosen, in one line for people (`check`
+/// and `run` print the same): the step, its integrator's own estimated limit
+/// and, for an automatic step, what bounded it.
+pub fn step_note(scene: &Scene) -> String {
+    let solver = &scene.solver;
+    let scheme = solver.integrator.name();
+    let limit_s = StepLimits::of(scene).for_integrator(solver.integrator);
+    let how = if solver.dt_auto {
+        let impact_s = impact_duration_s(&scene.chain, &scene.contact, &scene.sprockets);
+        // Nine digits: 1 ms, 0.2 ms, 0.333333333 ms.
+        let period_ms = (solver.sample_period_s * 1e12).round() / 1e9;
+        format!(
+            " (auto: at most {AUTO_SAFETY} x the estimated limit{} and 1/{AUTO_STEPS_PER_IMPACT} of a roller's impact{}, a whole fraction of the {period_ms} ms sample period)",
+            if limit_s.is_finite() {
+                ""
+            } else {
+                " of symplectic Euler"
+            },
+            if impact_s.is_finite() {
+                format!(" of {}", micro(impact_s))
+            } else {
+                String::new()
+            },
+        )
+    } else {
+        String::new()
+    };
+    let limit = if limit_s.is_finite() {
+        format!("{scheme}'s estimated stability limit {}", micro(limit_s))
+    } else {
+        format!("{scheme} has no fixed stability limit: this is its largest step")
+    };
+    format!("dt = {}{how}; {limit}", micro(solver.dt_s))
+}
+
+/// A warning when `solver`'s step exceeds its integrator's own estimated
+/// stability limit (the estimates that bound it listed), else `None`.
+pub(super) fn step_warning(solver: &Solver, limits: &StepLimits) -> Option<String> {
+    let limit_s = limits.for_integrator(solver.integrator);
+    // Negated: a NaN step is reported too.
+    if solver.dt_s <= limit_s {
+        return None;
+    }
+    let bounds: Vec<String> = limits
+        .bounds_for(solver.integrator)
+        .iter()
+        .filter(|b| b.1.is_finite())
+        .map(|(what, s)| format!("{what} {}", micro(*s)))
+        .collect();
+    Some(format!(
+        "solver.dt_s = {} exceeds {}'s estimated stability limit {} ({}; docs/model.md, “Time scales and stability”): a run may blow up; take a smaller step, or \"auto\"",
+        micro(solver.dt_s),
+        solver.integrator.name(),
+        micro(limit_s),
+        bounds.join(", ")
+    ))
+}
+
+/// A time in µs for people (∞ kept as such).
+fn micro(t_s: f64) -> String {
+    if t_s.is_finite() {
+        format!("{:.3} µs", t_s * 1e6)
+    } else {
+        format!("{t_s} s")
     }
 }
 
@@ -189,6 +273,32 @@ fn rebound_integral(p: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each scheme's limit, written out: symplectic Euler and velocity
+    /// Verlet min(links, damping, joints); RK4 min(√2 links, 1.3925 damping,
+    /// 1.3925 joints); the implicit scheme min(links, joints); the adaptive
+    /// one none.
+    #[test]
+    fn each_scheme_is_bound_by_its_own_estimates() {
+        let l = StepLimits {
+            links_s: 10e-6,
+            contact_damping_s: 3e-6,
+            joint_friction_s: 20e-6,
+        };
+        assert_eq!(l.for_integrator(Integrator::SymplecticEuler), 3e-6);
+        assert_eq!(l.for_integrator(Integrator::VelocityVerlet), 3e-6);
+        assert_eq!(l.for_integrator(Integrator::Rk4), 3e-6 * 1.3925);
+        assert_eq!(l.for_integrator(Integrator::ImplicitDamping), 10e-6);
+        assert_eq!(l.for_integrator(Integrator::DormandPrince45), f64::INFINITY);
+        let rk4_links = StepLimits {
+            contact_damping_s: 1.0,
+            ..l
+        };
+        assert_eq!(
+            rk4_links.for_integrator(Integrator::Rk4),
+            10e-6 * std::f64::consts::SQRT_2
+        );
+    }
 
     /// Closed forms: p = 2 (linear spring), ∫₀¹ (1 − x²)^(−½) dx = π/2;
     /// p = 2.5 (Hertz), B(2/5, 1/2)/(5/2) = 1.4716 (Γ(0.4) = 2.21816,

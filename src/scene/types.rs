@@ -216,6 +216,9 @@ pub struct Solver {
     pub dt_s: f64,
     /// Whether `dt_s` was chosen automatically (`dt_s = "auto"` or left out).
     pub dt_auto: bool,
+    /// The sample period an automatic step is a whole fraction of, s (the
+    /// run's, [`super::Overrides::sample_rate_hz`]; 1 ms where none is given).
+    pub sample_period_s: f64,
     /// The blow-up detectors' limits.
     pub limits: Limits,
     /// Error tolerance of the adaptive scheme (see [`crate::sim::integrate`]).

@@ -582,11 +582,24 @@ fn check_solver(
             format!("must be below 1 (a relative error), got {tolerance}"),
         );
     }
+    let sample_period_s = f.sample_period_s.unwrap_or(super::AUTO_GRID_S);
+    if !(sample_period_s.is_finite() && sample_period_s > 0.0) {
+        c.fail(
+            "solver.dt_s",
+            format!(
+                "the sample period an automatic step divides must be > 0 s, got {sample_period_s}"
+            ),
+        );
+    }
     let (dt_s, dt_auto) = match &f.dt_s {
         StepFile::Seconds(dt) => (c.positive("solver.dt_s", *dt), false),
         StepFile::Word(w) if w == AUTO => {
             let impact_s = super::stability::impact_duration_s(chain, contact, sprockets);
-            let dt = StepLimits::of_parts(chain, contact).auto_step_s(integrator, impact_s);
+            let dt = StepLimits::of_parts(chain, contact).auto_step_s(
+                integrator,
+                impact_s,
+                sample_period_s,
+            );
             // Only a chain or contact already reported invalid lands here.
             if !(dt.is_finite() && dt > 0.0) && c.errors.is_empty() {
                 c.fail(
@@ -609,6 +622,7 @@ fn check_solver(
         integrator,
         dt_s,
         dt_auto,
+        sample_period_s,
         tolerance,
         duration_s: c.non_negative("solver.duration_s", f.duration_s),
         limits: check_limits(c, &f.limits, chain),

@@ -26,8 +26,9 @@
 //! checkpoint read with [`read_checkpoint_to_continue`] goes on to any end
 //! not before its own time, and the result is the run of that duration
 //! done at once. What was planned from the end is the statistics window
-//! (the last second, or the length chosen): it moves with the end. Its
-//! accumulators (the power ledger, an observer's step-by-step extremes)
+//! (`crate::analysis::StatsWindow` of the new end: the last second after
+//! the ramps, or the length chosen). Its accumulators (the power ledger, an
+//! observer's integrals and extremes over every step)
 //! either go on, when the window starts where the run's did, or start anew,
 //! when the window now starts after the step before the checkpoint's last
 //! one ([`Snapshot::window_restarts`], [`Simulation::restart_power`]). A
@@ -68,8 +69,10 @@ use crate::model::DriveState;
 use crate::scene::{Scene, Stepping};
 use std::collections::BTreeMap;
 
-/// The checkpoint file format's number; a change of what is kept raises it.
-pub const FORMAT: u32 = 2;
+/// The checkpoint file format's number; a change of what is kept raises it
+/// (2: the header names the scene's fields and its end; 3: the observers'
+/// signals carry their integrals over every step).
+pub const FORMAT: u32 = 3;
 
 const MAGIC: &[u8; 16] = b"chaindrive-ckpt\n";
 
@@ -409,8 +412,17 @@ fn scene_fields(scene: &Scene) -> Vec<(String, String)> {
     if let Ok(value) = serde_json::to_value(&scene.file) {
         flatten("", &value, &mut out);
     }
+    // Not a field of the file: the run's rate, which an automatic step divides.
+    if let Some(period_s) = scene.file.solver.sample_period_s {
+        // To the micro-hertz: 21800, not 21799.999999999996.
+        let rate_hz = (1e6 / period_s).round() / 1e6;
+        out.push((SAMPLE_RATE_FIELD.to_owned(), format!("{rate_hz} Hz")));
+    }
     out
 }
+
+/// What [`scene_fields`] calls the sample rate an automatic step divides.
+const SAMPLE_RATE_FIELD: &str = "sample rate (--rate, which the automatic step divides)";
 
 /// What differs between the fields a checkpoint was written with (`there`)
 /// and `here`'s, at most a few, with how many more; the duration left out
@@ -657,7 +669,13 @@ mod tests {
         let dir = tempfile::tempdir().expect("tmp");
         let scene = Scene::l60mc();
         let version = env!("CARGO_PKG_VERSION");
-        for (format, v) in [(FORMAT, "0.0.1-other"), (FORMAT + 1, version)] {
+        // An earlier format (the signals without their step integrals) and a later one.
+        let others = [
+            (FORMAT, "0.0.1-other"),
+            (FORMAT - 1, version),
+            (FORMAT + 1, version),
+        ];
+        for (format, v) in others {
             let path = file_with(dir.path(), format, v, &scene);
             let err = read_checkpoint::<()>(&path, &scene).expect_err("refused");
             assert!(matches!(err, CheckpointError::OtherVersion { .. }), "{err}");

@@ -29,16 +29,16 @@ pub fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
     let scene = match Scene::from_toml(&text) {
         Ok(s) => s,
         Err(e) => {
-            for line in e.lines() {
-                let explained = match &e {
-                    SceneError::Syntax(_) => line.contains("line"),
-                    SceneError::Invalid(_) => {
-                        line.contains(": ") && (line.contains('.') || line.contains("sprockets"))
-                    }
-                };
-                if !explained {
-                    return Err(format!("seed {seed}: unexplained rejection: {line}"));
-                }
+            // A syntax error names its line; every other names its field.
+            let unexplained = match &e {
+                SceneError::Syntax(s) => (!s.contains("line")).then(|| s.clone()),
+                SceneError::Invalid(errors) => errors
+                    .iter()
+                    .find(|f| f.path.is_empty() || f.message.is_empty())
+                    .map(ToString::to_string),
+            };
+            if let Some(line) = unexplained {
+                return Err(format!("seed {seed}: unexplained rejection: {line}"));
             }
             return Ok(FuzzOutcome::Rejected);
         }

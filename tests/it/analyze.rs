@@ -86,20 +86,24 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
     {
         let k = &s["segment"];
         assert_eq!(&a["segment"], k);
-        for field in [
-            "mean_link_force_n",
-            "link_force_p2p_n",
-            "string_f1_hz",
-            "transverse_peak_hz",
-        ] {
+        // The samples' statistics are the run's samples'.
+        for field in ["link_force_p2p_n", "transverse_peak_hz"] {
             let (x, y) = (f(&a[field]), f(&s[field]));
             assert!(close(x, y, 1e-6), "segment {k} {field}: {x} vs {y}");
         }
-        // The report's segment table shows the same mean, to 0.1 N.
+        // The recording's mean is its samples', the run's is every step's:
+        // they agree within the mean's standard error (batch means), and
+        // the string frequency (∝ √mean) within half that, relatively.
+        let (x, y) = (f(&a["mean_link_force_n"]), f(&s["mean_link_force_n"]));
+        let se = f(&s["mean_link_force_se_n"]);
+        assert!((x - y).abs() < se, "segment {k}: {x} vs {y}, SE {se}");
+        let (fa, fs) = (f(&a["string_f1_hz"]), f(&s["string_f1_hz"]));
+        assert!(close(fa, fs, se / y), "segment {k}: {fa} vs {fs} Hz");
+        // The report's segment table shows the recording's mean, to 0.1 N.
         let row = format!(
             "| {k} | {:.4} | {:.1} |",
             f(&a["length_m"]),
-            f(&s["mean_link_force_n"])
+            f(&a["mean_link_force_n"])
         );
         assert!(report.contains(&row), "{row} not in the report");
     }
@@ -109,19 +113,18 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
         .iter()
         .zip(analysis["sprockets"].as_array().expect("sprockets"))
     {
-        for field in ["mean_speed_rad_s", "speed_p2p_rad_s", "mean_torque_n_m"] {
-            let (x, y) = (f(&a[field]), f(&s[field]));
-            assert!(
-                close(x, y, 1e-6),
-                "sprocket {} {field}: {x} vs {y}",
-                s["sprocket"]
-            );
-        }
+        let (x, y) = (f(&a["speed_p2p_rad_s"]), f(&s["speed_p2p_rad_s"]));
+        assert!(close(x, y, 1e-6), "sprocket {}: {x} vs {y}", s["sprocket"]);
+        // A smooth speed's samples meet its mean to 10⁻⁴ (the moments, which
+        // jump at every impact, are the samples' in the recording's summary
+        // and every step's in the run's: not compared).
+        let (x, y) = (f(&a["mean_speed_rad_s"]), f(&s["mean_speed_rad_s"]));
+        assert!(close(x, y, 1e-4), "sprocket {}: {x} vs {y}", s["sprocket"]);
         let row = format!(
             "| {} | {} | {:.4} |",
             s["sprocket"],
             a["teeth"],
-            f(&s["mean_speed_rad_s"])
+            f(&a["mean_speed_rad_s"])
         );
         assert!(report.contains(&row), "{row} not in the report");
     }

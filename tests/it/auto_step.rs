@@ -120,3 +120,138 @@ fn the_impact_caps_the_auto_step_of_a_fast_small_sprocket() {
     let links = (0.02f64 / 3e7).sqrt();
     assert!(scene.solver().dt_s < 0.6 * AUTO_SAFETY * links);
 }
+
+/// The automatic step divides the sample period of any rate. The flat drive's
+/// raw step, 4.5926 µs (above), is 43.55 steps in 0.2 ms: at 5 kHz it becomes
+/// 0.2 ms / 44 = 4.545 µs (1 ms / 218 = 4.587 µs would leave 43.6 steps per
+/// sample, which the sampler refuses).
+#[test]
+fn the_auto_step_divides_the_sample_period_of_any_rate() {
+    let at = |rate_hz: f64| {
+        Scene::from_toml_with(
+            FLAT,
+            &Overrides {
+                sample_rate_hz: Some(rate_hz),
+                ..Overrides::default()
+            },
+        )
+        .expect("valid")
+    };
+    approx::assert_relative_eq!(
+        at(5000.0).solver().dt_s,
+        0.2e-3 / 44.0,
+        max_relative = 1e-12
+    );
+    // A scene with its own step is the same scene at every rate.
+    let paper_at_5k = Scene::l60mc().with(&Overrides {
+        sample_rate_hz: Some(5000.0),
+        ..Overrides::default()
+    });
+    assert_eq!(paper_at_5k.expect("valid"), Scene::l60mc());
+    // The default rate keeps the step it always had.
+    assert_eq!(
+        at(1000.0).solver().dt_s,
+        Scene::from_toml(FLAT).expect("valid").solver().dt_s
+    );
+    for rate_hz in [
+        300.0, 1000.0, 3000.0, 4096.0, 5000.0, 7000.0, 44_100.0, 2e5, 1e6,
+    ] {
+        let dt = at(rate_hz).solver().dt_s;
+        assert!(dt <= 4.5926e-6, "{rate_hz} Hz: {dt}");
+        let sampling = chaindrive::sim::SampleRate::new(rate_hz, dt)
+            .unwrap_or_else(|e| panic!("{rate_hz} Hz: {e}"));
+        approx::assert_relative_eq!(sampling.rate_hz, rate_hz, max_relative = 1e-9);
+    }
+}
+
+/// `run --rate 5000` on a scene with the automatic step samples on whole
+/// steps instead of refusing the rate.
+#[test]
+fn run_with_an_auto_step_takes_any_rate() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let scene = dir.path().join("flat.toml");
+    std::fs::write(&scene, FLAT).expect("write");
+    let summary = dir.path().join("s.json");
+    let out = chaindrive(&[
+        "run",
+        scene.to_str().expect("utf8"),
+        "--quiet",
+        "--duration",
+        "0.004",
+        "--rate",
+        "5000",
+        "--summary",
+        summary.to_str().expect("utf8"),
+    ]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let json = read_json(&summary);
+    approx::assert_relative_eq!(
+        json["dt_s"].as_f64().expect("dt_s"),
+        0.2e-3 / 44.0,
+        max_relative = 1e-12
+    );
+    approx::assert_relative_eq!(
+        json["sample_rate_hz"].as_f64().expect("rate"),
+        5000.0,
+        max_relative = 1e-9
+    );
+}
+
+/// `check` and `run` print the same step and the same stability warnings,
+/// from the integrator's own estimate, for every integrator: automatic
+/// steps (never above their own limit) and an explicit 4 µs. The flat drive
+/// with a 0.02 m/s approach-speed floor: contact damping 2 m_r / c with
+/// c = 0.5625 · 300 / 0.02 = 8437.5 N·s/m, 1.837 µs; links 12.45 µs. 4 µs
+/// exceeds the explicit schemes' limits (RK4's 1.3925 · 1.837 = 2.56 µs),
+/// not the implicit scheme's (the links') nor the adaptive one's (none).
+#[test]
+fn check_and_run_agree_on_the_step_for_every_integrator() {
+    let dir = tempfile::tempdir().expect("tmp");
+    for integrator in [
+        "symplectic_euler",
+        "velocity_verlet",
+        "rk4",
+        "dormand_prince45",
+        "implicit_damping",
+    ] {
+        for dt in ["\"auto\"", "4e-6"] {
+            let text = FLAT
+                .replace(
+                    "min_approach_speed_m_s = 0.1",
+                    "min_approach_speed_m_s = 0.02",
+                )
+                .replace(
+                    "duration_s = 0.6",
+                    &format!("duration_s = 0.0005\nintegrator = \"{integrator}\"\ndt_s = {dt}"),
+                );
+            let path = dir.path().join(format!("{integrator}.toml"));
+            std::fs::write(&path, text).expect("write");
+            let p = path.to_str().expect("utf8");
+            let check = chaindrive(&["check", p]);
+            let run = chaindrive(&["run", p]);
+            let check_out = String::from_utf8_lossy(&check.stdout).into_owned();
+            let (check_err, run_err) = (stderr(&check), stderr(&run));
+            let note = |text: &str| {
+                text.lines()
+                    .find(|l| l.starts_with("dt = "))
+                    .map(str::to_owned)
+                    .unwrap_or_else(|| panic!("{integrator}, {dt}: no step in {text}"))
+            };
+            assert_eq!(note(&check_out), note(&run_err), "{integrator}, {dt}");
+            let exceeds = |text: &str| -> Vec<String> {
+                text.lines()
+                    .filter_map(|l| l.split_once("warning: solver.dt_s"))
+                    .map(|(_, w)| w.to_owned())
+                    .collect()
+            };
+            assert_eq!(exceeds(&check_err), exceeds(&run_err), "{integrator}, {dt}");
+            let expected =
+                dt == "4e-6" && !matches!(integrator, "implicit_damping" | "dormand_prince45");
+            assert_eq!(
+                exceeds(&check_err).len(),
+                usize::from(expected),
+                "{integrator}, {dt}: {check_err}"
+            );
+        }
+    }
+}

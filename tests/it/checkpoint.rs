@@ -225,12 +225,13 @@ fn at_once_and_continued(
     end_s: f64,
     window_s: f64,
     replay: bool,
-) -> ((DriveState, String), (DriveState, String)) {
+) -> (Ran, Ran) {
     let (_, mut whole, mut signals, every) = start_to(scene, end_s, window_s);
     let out = whole.run(end_s, every, &mut signals, None).expect("run");
     let at_once = (
         whole.state.clone(),
         summary_json(&whole, &out, &signals, window_s),
+        in_window(&signals, end_s - window_s),
     );
 
     let dir = tempfile::tempdir().expect("tmp");
@@ -271,8 +272,23 @@ fn at_once_and_continued(
     let continued = (
         sim.state.clone(),
         summary_json(&sim, &out, &signals, window_s),
+        in_window(&signals, end_s - window_s),
     );
     (at_once, continued)
+}
+
+/// A run's end state, summary and signals ([`in_window`]).
+type Ran = (DriveState, String, String);
+
+/// The debug form of `signals` (every accumulator and spectrum, numbers
+/// bit for bit) with the rows from `from_s` on, the window's (its first
+/// included, where the step integrals start): the rows before it hold the
+/// extremes of the steps the run followed, which a run whose window starts
+/// later did not follow (no summary reads them).
+fn in_window(signals: &Signals, from_s: f64) -> String {
+    let mut s = signals.clone();
+    s.rows.retain(|r| r.t_s >= from_s - 1e-9);
+    format!("{s:?}")
 }
 
 /// Continued to a later end, a run is the longer run at once, whether its
@@ -329,6 +345,10 @@ fn runs_continued_to_a_later_end_are_the_longer_runs() {
         let (at_once, continued) = at_once_and_continued(scene, stop_s, end_s, window_s, true);
         assert_eq!(at_once.0, continued.0, "{label}: state");
         assert_eq!(at_once.1, continued.1, "{label}: summary");
+        // The signals too (the window's rows with their step integrals,
+        // spectra, accumulators), so that a checkpoint written by the
+        // continued run holds what the run at once would.
+        assert!(at_once.2 == continued.2, "{label}: signals");
     }
 }
 

@@ -145,7 +145,7 @@ fn what_cannot_be_continued_is_refused_with_what_differs() {
     // take apart.
     refused(
         &resume("0.5", &["--window", "0.2"]),
-        "the statistics window (the last 0.2 s) cannot be continued",
+        "the statistics window (0.3 to 0.5 s) cannot be continued",
     );
     refused(
         &resume("0.5", &["--window", "0.2"]),
@@ -158,6 +158,12 @@ fn what_cannot_be_continued_is_refused_with_what_differs() {
     refused(
         &resume("0.8", &[]),
         "--window 0.2, not --rate 1000 and without --window",
+    );
+    // The scene's automatic step divides the sample period: another rate
+    // is another step, named as the option that sets it.
+    refused(
+        &resume("0.8", &["--window", "0.2", "--rate", "2000"]),
+        "sample rate (--rate, which the automatic step divides): 1000 Hz there, 2000 Hz here",
     );
     refused(
         &resume("0.8", &["--window", "0.2", "--profile", "real"]),
@@ -202,6 +208,8 @@ fn a_run_killed_at_any_moment_leaves_a_checkpoint_that_resumes() {
         &std::fs::read_to_string(flat()).expect("scene"),
         &Overrides {
             duration_s: Some(0.1),
+            // The automatic step divides the run's sample period.
+            sample_rate_hz: Some(21800.0),
             ..Overrides::default()
         },
     )

@@ -26,10 +26,14 @@ mod cosim_multi;
 mod cosim_parking;
 mod designations;
 mod detectors;
+#[cfg(feature = "cli")]
+mod docs_drift;
 mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
 mod excitation;
+#[cfg(feature = "cli")]
+mod figures;
 mod fit;
 mod friction;
 mod fuzz;
@@ -37,11 +41,13 @@ mod governor;
 mod guides;
 mod integrators;
 mod layering;
+mod means;
 mod orders;
 #[cfg(feature = "cli")]
 mod outputs;
 mod paper;
 mod profile;
+mod rating;
 #[cfg(feature = "record")]
 mod record;
 #[cfg(feature = "record")]
@@ -54,6 +60,8 @@ mod running_tension;
 mod scene_errors;
 mod seam;
 mod statistics;
+#[cfg(feature = "cli")]
+mod stderr_lines;
 mod stepping;
 mod strands;
 mod stress;

@@ -158,7 +158,8 @@ impl<W: std::io::Write + std::io::Seek + Send + 'static> Observer for Both<'_, W
 }
 
 /// Runs `scene` at `rate_hz`, recording `channels` in memory; returns the
-/// file's bytes and the run's summary.
+/// file's bytes and the summary of the run's samples (a recording holds
+/// samples: its means are theirs, not the steps', `means_every_step`).
 fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>, RunSummary) {
     let mut sim = Simulation::new(scene).expect("sim");
     let sampling = SampleRate::new(rate_hz, scene.solver().dt_s).expect("a whole number of steps");
@@ -184,6 +185,9 @@ fn record_in_memory(scene: &Scene, rate_hz: f64, channels: Channels) -> (Vec<u8>
         .finish(RunEnd::Completed)
         .expect("finish")
         .into_inner();
+    for row in &mut signals.rows {
+        row.step_sums = Default::default();
+    }
     let summary = RunSummary::compute(
         &SummaryInputs {
             scene,

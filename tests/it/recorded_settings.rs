@@ -15,9 +15,9 @@ use chaindrive::sim::{SampleRate, Simulation};
 /// hunt_crossley` read back as symplectic Euler with Lankarani–Nikravesh.
 #[test]
 fn a_recording_reads_back_with_its_integrator_and_contact_law() {
-    // The file says symplectic Euler, Lankarani–Nikravesh, circular, 10 µs.
+    // The file says velocity Verlet, Lankarani–Nikravesh, circular, 10 µs.
     let file = Scene::l60mc();
-    assert_eq!(file.solver().integrator, Integrator::SymplecticEuler);
+    assert_eq!(file.solver().integrator, Integrator::VelocityVerlet);
     assert_eq!(file.contact().law, ContactLaw::LankaraniNikravesh);
     let scene = file
         .with(&Overrides {

@@ -44,7 +44,7 @@ fn each_bad_input_names_its_field() {
         (
             L60MC_TOML
                 .replace("stepping = \"substepped\"", "stepping = \"rapier\"")
-                .replace("integrator = \"symplectic_euler\"", "integrator = \"rk4\""),
+                .replace("integrator = \"velocity_verlet\"", "integrator = \"rk4\""),
             "solver.integrator",
             "needs stepping = \"substepped\"",
         ),
@@ -246,5 +246,97 @@ fn a_roller_too_large_for_the_real_profile_names_the_chain_fields() {
     let circular = L60MC_TOML.replace("roller_radius_m = 0.027", "roller_radius_m = 0.0443");
     if let Err(e) = Scene::from_toml(&circular) {
         assert!(!e.to_string().contains("real tooth profile"), "{e}");
+    }
+}
+
+/// The 1-based line of the first line of `text` that starts with `start`.
+fn line_of(text: &str, start: &str) -> usize {
+    text.lines()
+        .position(|l| l.starts_with(start))
+        .unwrap_or_else(|| panic!("no line starts with {start}"))
+        + 1
+}
+
+/// Two unknown fields in two tables are both named with their lines (serde
+/// alone stops at the first), and an out-of-range value beside them too.
+#[test]
+fn every_unknown_field_is_named_with_the_bad_values() {
+    let text = L60MC_TOML
+        .replace("rollers = 122", "rollers = 122\nroller_count = 3")
+        .replace("exponent = 1.5", "exponent = 1.5\nstiffnes = 2e9")
+        .replace("dt_s = 1e-5", "dt_s = -1.0");
+    let lines = Scene::from_toml(&text).expect_err("invalid").lines();
+    let expect = [
+        format!(
+            "{}:1: chain.roller_count: unknown field, expected one of `rollers`",
+            line_of(&text, "roller_count")
+        ),
+        format!(
+            "{}:1: contact.stiffnes: unknown field, expected one of `law`",
+            line_of(&text, "stiffnes ")
+        ),
+        format!(
+            "{}:8: solver.dt_s: must be > 0, got -1",
+            line_of(&text, "dt_s")
+        ),
+    ];
+    assert_eq!(lines.len(), expect.len(), "{lines:#?}");
+    for (line, start) in lines.iter().zip(&expect) {
+        assert!(
+            line.starts_with(start.as_str()),
+            "{line}\nexpected: {start}…"
+        );
+    }
+}
+
+/// Missing and mistyped fields are all named, each once, in the order of
+/// the file: a missing field at its table's header, a mistyped one at its
+/// value; the values are not checked while the shape is wrong.
+#[test]
+fn every_missing_or_mistyped_field_is_named() {
+    let text = L60MC_TOML
+        .replacen("teeth = 60\n", "", 1)
+        .replace("duration_s = 10.0", "duration_s = \"ten\"")
+        .replace("center_m = [0.0, 0.0]", "center_m = 0.0")
+        .replace("pretension_n = 21000.0", "pretension_n = -1.0\nfoo = 1");
+    let lines = Scene::from_toml(&text).expect_err("invalid").lines();
+    let first = line_of(&text, "[[sprockets]]");
+    let expect = [
+        format!("{}:1: chain.foo: unknown field", line_of(&text, "foo")),
+        format!("{first}:1: sprockets[0].teeth: missing field: it is required here"),
+        format!(
+            "{}:12: sprockets[0].center_m: invalid type:",
+            line_of(&text, "center_m = 0.0")
+        ),
+        format!(
+            "{}:14: solver.duration_s: invalid type: string \"ten\", expected f64",
+            line_of(&text, "duration_s")
+        ),
+    ];
+    assert_eq!(lines.len(), expect.len(), "{lines:#?}");
+    for (line, start) in lines.iter().zip(&expect) {
+        assert!(
+            line.starts_with(start.as_str()),
+            "{line}\nexpected: {start}…"
+        );
+    }
+}
+
+/// A scene without `[contact]` is told what the section needs: it has no
+/// defaults for the stiffness and the restitution.
+#[test]
+fn a_missing_contact_section_says_what_it_needs() {
+    let start = L60MC_TOML.find("[contact]").expect("section");
+    let end = start + L60MC_TOML[start..].find("[[sprockets]]").expect("next");
+    let text = format!("{}{}", &L60MC_TOML[..start], &L60MC_TOML[end..]);
+    let lines = Scene::from_toml(&text).expect_err("invalid").lines();
+    assert_eq!(lines.len(), 1, "{lines:?}");
+    for needle in [
+        "contact: missing field",
+        "stiffness",
+        "restitution",
+        "no defaults",
+    ] {
+        assert!(lines[0].contains(needle), "{needle} not in {}", lines[0]);
     }
 }

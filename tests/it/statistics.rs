@@ -21,7 +21,9 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
     signals.rows = (0..=1500)
         .map(|k| {
             let t = k as f64 * 1e-3;
-            let omega = 628.3 + 3.0 * (std::f64::consts::TAU * 50.0 * t).sin();
+            // 600 rad/s: the 15T sprocket's tooth-passing frequency, 1432 Hz,
+            // and its harmonics keep away from multiples of the 1 kHz samples.
+            let omega = 600.0 + 3.0 * (std::f64::consts::TAU * 50.0 * t).sin();
             SampleRow {
                 t_s: t,
                 omega_rad_s: vec![omega, omega / 3.0],
@@ -32,6 +34,7 @@ fn synthetic(force: impl Fn(f64) -> f64, window_s: f64) -> RunSummary {
                 link_range_n: (100.0, 3000.0),
                 tensioners: Vec::new(),
                 shoes: Vec::new(),
+                step_sums: Default::default(),
             }
         })
         .collect();

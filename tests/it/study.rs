@@ -74,13 +74,21 @@ fn a_study_runs_resumes_and_collects() {
         names,
         [
             "case",
+            // As the plan wrote them.
             "chain.pretension_n",
-            "sprockets[0].speed_rpm",
+            "sprockets.0.speed_rpm",
             "static_tension_n",
             "max_penetration_m",
             "segments.0.mean_link_force_n",
+            "dt_auto",
+            "segments.0.stationary",
+            "segments.1.stationary",
+            "segments.2.stationary",
+            "segments.3.stationary",
+            "warning_count",
+            "warnings",
             "status",
-            "wall_s",
+            "case_wall_s",
             "error"
         ]
     );
@@ -101,8 +109,8 @@ fn a_study_runs_resumes_and_collects() {
             (tension / pretension - 1.0).abs() < 2e-3,
             "case {k}: {tension} N vs {pretension} N"
         );
-        assert_eq!(row[6], Field::Str("ok".to_owned()));
-        assert_eq!(row[8], Field::Null);
+        assert_flags_match_summary(&out.join(format!("cases/{k}/summary.json")), &names, row);
+        assert_eq!(row[15], Field::Null);
     }
     // The CSV holds the same columns and rows.
     let csv = std::fs::read_to_string(out.join("results.csv")).expect("results.csv");
@@ -119,6 +127,180 @@ fn a_study_runs_resumes_and_collects() {
                 .exists(),
             "{name}"
         );
+    }
+}
+
+/// The row's flags are the case's summary.json's: `dt_auto`, each
+/// segment's `stationary`, the warnings (count and text), and `status`
+/// `warned` exactly when a warning or a segment that is not stationary
+/// makes its numbers doubtful, else `ok`.
+fn assert_flags_match_summary(summary: &Path, names: &[String], row: &[Field]) {
+    let summary = read_json(summary);
+    let col = |name: &str| {
+        let i = names.iter().position(|n| n == name);
+        row[i.unwrap_or_else(|| panic!("no column {name}"))].clone()
+    };
+    assert_eq!(col("dt_auto"), Field::Bool(summary["dt_auto"] == true));
+    let segments = summary["segments"].as_array().expect("segments");
+    let mut drifting = false;
+    for (k, s) in segments.iter().enumerate() {
+        let stationary = s["stationary"].as_bool().expect("stationary");
+        drifting |= !stationary;
+        assert_eq!(
+            col(&format!("segments.{k}.stationary")),
+            Field::Bool(stationary)
+        );
+    }
+    let warnings: Vec<&str> = summary["warnings"]
+        .as_array()
+        .expect("warnings")
+        .iter()
+        .map(|w| w.as_str().expect("text"))
+        .collect();
+    assert_eq!(col("warning_count"), Field::Long(warnings.len() as i64));
+    let text = if warnings.is_empty() {
+        Field::Null
+    } else {
+        Field::Str(warnings.join(" | "))
+    };
+    assert_eq!(col("warnings"), text);
+    let status = if warnings.is_empty() && !drifting {
+        "ok"
+    } else {
+        "warned"
+    };
+    assert_eq!(col("status"), Field::Str(status.to_owned()));
+}
+
+/// A case whose rollers sink 36 % of their radius into the teeth (a soft
+/// contact, K = 5e6 N/m^1.5; the summary warns above 10 %) is `warned`,
+/// with its warning in the table; the stiff case beside it is whatever its
+/// own summary says. Found as: every finished case was "ok", warnings or not.
+#[test]
+fn a_case_with_a_warning_is_warned_in_the_table() {
+    let plan = r#"
+scene = "x"
+responses = ["max_penetration_m"]
+set = { "solver.duration_s" = 0.1 }
+[[factors]]
+path = "contact.stiffness"
+[design]
+kind = "explicit"
+cases = [[1e9], [5e6]]
+"#;
+    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
+    sd.run_all(2, false, None, &|_| {}).expect("run");
+    let soft = sd.status(1).expect("read").expect("finished");
+    assert!(soft.ok, "{soft:?}");
+    assert!(
+        soft.warnings.iter().any(|w| w.starts_with("penetration")),
+        "status.json keeps the warnings: {soft:?}"
+    );
+    let table = Table::collect(&sd).expect("table");
+    let column = |name: &str| {
+        &table
+            .columns
+            .iter()
+            .find(|c| c.name == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+            .data
+    };
+    // The criterion, from the table's own response: deeper than 10 % of
+    // the paper's roller radius, 27 mm.
+    let ColumnData::Float(depth) = column("max_penetration_m") else {
+        panic!("max_penetration_m")
+    };
+    let depth = depth[1].expect("finished");
+    assert!(depth > 0.1 * 0.027, "{depth} m");
+    let ColumnData::Text(status) = column("status") else {
+        panic!("status")
+    };
+    assert_eq!(status[1].as_deref(), Some("warned"));
+    let ColumnData::Text(warnings) = column("warnings") else {
+        panic!("warnings")
+    };
+    assert!(
+        warnings[1]
+            .as_deref()
+            .is_some_and(|w| w.contains("penetration: a roller sank")),
+        "{warnings:?}"
+    );
+    let ColumnData::Count(count) = column("warning_count") else {
+        panic!("warning_count")
+    };
+    assert_eq!(count[1], Some(soft.warnings.len() as i64));
+    // The CSV says the same.
+    let csv = table.to_csv();
+    let row = csv.lines().nth(2).expect("case 1");
+    assert!(row.contains(",warned,"), "{row}");
+}
+
+/// A plan's `window_s` is each case's statistics window: the last 0.05 s
+/// of a 0.2 s run, as the summary and the table report it.
+#[test]
+fn a_plans_window_is_each_cases_statistics_window() {
+    let plan = r#"
+scene = "x"
+window_s = 0.05
+responses = ["window_s.0", "window_s.1"]
+set = { "solver.duration_s" = 0.2 }
+[[factors]]
+path = "chain.pretension_n"
+[design]
+kind = "explicit"
+cases = [[21000]]
+"#;
+    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
+    assert_eq!(study.window_s, Some(0.05));
+    let dir = tempfile::tempdir().expect("temp dir");
+    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
+    sd.run_all(1, false, None, &|_| {}).expect("run");
+    let summary = read_json(&sd.case_dir(0).join("summary.json"));
+    let window = [
+        summary["window_s"][0].as_f64().expect("start"),
+        summary["window_s"][1].as_f64().expect("end"),
+    ];
+    assert!((window[1] - 0.2).abs() < 1e-9, "{window:?}");
+    assert!((window[1] - window[0] - 0.05).abs() < 1e-9, "{window:?}");
+    let table = Table::collect(&sd).expect("table");
+    let start = table
+        .columns
+        .iter()
+        .find(|c| c.name == "window_s.0")
+        .expect("window_s.0");
+    assert_eq!(start.data, ColumnData::Float(vec![Some(window[0])]));
+}
+
+/// With `responses = "all"`, the summary's own `wall_s` (the stepping's)
+/// and the case's wall time are two columns with two names. Found as:
+/// both were `wall_s`, and pyarrow refused to read the file ("Multiple
+/// matches for FieldRef.Name(wall_s)").
+#[test]
+fn every_column_has_its_own_name_with_all_responses() {
+    let plan = r#"
+scene = "x"
+responses = "all"
+set = { "solver.duration_s" = 0.05 }
+[[factors]]
+path = "sprockets.0.speed_rpm"
+[design]
+kind = "explicit"
+cases = [[60]]
+"#;
+    let study = Study::from_texts(plan, L60MC_TOML).expect("valid plan");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let sd = StudyDir::prepare(dir.path(), study).expect("prepared");
+    sd.run_all(1, false, None, &|_| {}).expect("run");
+    let table = Table::collect(&sd).expect("table");
+    let names: Vec<&str> = table.columns.iter().map(|c| c.name.as_str()).collect();
+    let mut unique = names.clone();
+    unique.sort_unstable();
+    unique.dedup();
+    assert_eq!(unique.len(), names.len(), "{names:?}");
+    for name in ["sprockets.0.speed_rpm", "wall_s", "case_wall_s", "status"] {
+        assert!(names.contains(&name), "{name}: {names:?}");
     }
 }
 
@@ -172,9 +354,11 @@ cases = [[1e-5], [1e-3]]
         .iter()
         .find(|c| c.name == "status")
         .expect("status");
+    // The case that ran ends inside the paper drive's ramp: it is warned
+    // (ramp in window), not failed.
     assert_eq!(
         status_col.data,
-        ColumnData::Text(vec![Some("ok".into()), Some("failed".into())])
+        ColumnData::Text(vec![Some("warned".into()), Some("failed".into())])
     );
 }
 
@@ -205,6 +389,26 @@ fn bad_plans_are_refused_before_anything_runs() {
             "bad_checkpoint_period",
             good.replace("set = {", "checkpoint_every_s = -1\nset = {"),
             "checkpoint_every_s: -1: allowed: a number of simulated seconds > 0",
+        ),
+        (
+            "negative_window",
+            good.replace("set = {", "window_s = -1\nset = {"),
+            "window_s: -1: allowed: a statistics window of simulated seconds > 0",
+        ),
+        (
+            "nan_window",
+            good.replace("set = {", "window_s = nan\nset = {"),
+            "window_s: nan: allowed: a statistics window of simulated seconds > 0",
+        ),
+        (
+            "text_window",
+            good.replace("set = {", "window_s = \"last\"\nset = {"),
+            "window_s: \"last\": allowed: a statistics window of simulated seconds > 0",
+        ),
+        (
+            "window_longer_than_the_run",
+            good.replace("set = {", "window_s = 0.5\nset = {"),
+            "case 0 (chain.pretension_n = 15000, sprockets.0.speed_rpm = 60): window_s = 0.5 s is longer than the run (solver.duration_s = 0.2 s)",
         ),
         (
             "empty_design",

@@ -7,8 +7,8 @@ use chaindrive::geometry::{Layout, LayoutError};
 use chaindrive::model::{BuildError, DriveModel};
 use chaindrive::scene::{PretensionRule, Role, Scene};
 use chaindrive::sim::{
-    EquilibriumError, SimError, Simulation, StepLimits, default_direction, fit_sprocket,
-    fitting_counts, needed_pitches_of,
+    EquilibriumError, SimError, Simulation, default_direction, fit_sprocket, fitting_counts,
+    needed_pitches_of,
 };
 
 /// Arguments of `chaindrive check`.
@@ -19,6 +19,10 @@ pub struct CheckArgs {
     /// The chain's integration step, s, or `auto` (overrides the scene).
     #[arg(long, value_name = "SECONDS|auto")]
     dt: Option<crate::DtArg>,
+    /// The sample rate `run --rate` would use, Hz: an automatic step is a
+    /// whole fraction of its period.
+    #[arg(long, default_value_t = 1000.0)]
+    rate: f64,
 }
 
 pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
@@ -26,6 +30,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     let overrides = chaindrive::scene::Overrides {
         dt_s,
         dt_auto,
+        sample_rate_hz: Some(args.rate),
         ..Default::default()
     };
     let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
@@ -60,29 +65,7 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     }
-    let limits = StepLimits::of(&scene);
-    println!(
-        "explicit step limits: links {:.1} µs, contact damping {:.1} µs; dt = {:.2} µs{}",
-        limits.links_s * 1e6,
-        limits.contact_damping_s * 1e6,
-        scene.solver().dt_s * 1e6,
-        if scene.solver().dt_auto {
-            format!(
-                " (auto: {} x the integrator's limit, at most 1/{} of a roller's impact)",
-                chaindrive::scene::AUTO_SAFETY,
-                chaindrive::scene::AUTO_STEPS_PER_IMPACT
-            )
-        } else {
-            String::new()
-        }
-    );
-    if scene.solver().dt_s > limits.min_s() {
-        eprintln!(
-            "{name}: warning: solver.dt_s = {:e} s exceeds the estimated stability limit {:.2e} s",
-            scene.solver().dt_s,
-            limits.min_s()
-        );
-    }
+    println!("{}", chaindrive::scene::step_note(&scene));
     for w in scene.warnings() {
         eprintln!("{name}: warning: {w}");
     }

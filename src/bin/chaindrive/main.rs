@@ -1,5 +1,20 @@
 //! The `chaindrive` command-line tool: one file per subcommand.
 
+/// `eprintln!` for this tool: the line, newline included, goes to stderr in
+/// one write (std's writes each piece of the format separately, so a line
+/// can be split by whatever else writes to the same pipe or file: another
+/// process, a progress bar). It shadows std's macro in every module of the
+/// binary (they are declared below it); a failed write is ignored, as a
+/// closed stderr leaves nowhere to report it.
+macro_rules! eprintln {
+    () => {
+        $crate::stderr_line(::std::format_args!(""))
+    };
+    ($($arg:tt)*) => {
+        $crate::stderr_line(::std::format_args!($($arg)*))
+    };
+}
+
 mod analyze;
 mod bench;
 mod chains;
@@ -8,12 +23,14 @@ mod convergence;
 mod fit;
 mod outputs;
 mod profile;
+mod rate;
 mod recover;
 mod reproduce;
 mod run;
 mod stress;
 mod study;
 mod sweep;
+mod sweep_figures;
 mod work_precision;
 
 use clap::{Parser, Subcommand};
@@ -42,6 +59,9 @@ enum Command {
     /// List the chains known by designation (ISO 606 B series, ANSI) with
     /// each value's source.
     Chains(chains::ChainsArgs),
+    /// The chain's catalogue power rating at the scene's speeds (ANSI
+    /// formulas), its lubrication, chain speed and the margin.
+    Rate(rate::RateArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
@@ -67,6 +87,7 @@ fn main() -> std::process::ExitCode {
         Command::Fit(args) => fit::fit(args),
         Command::Chains(args) => chains::chains(args),
         Command::Profile(args) => profile::profile(args),
+        Command::Rate(args) => rate::rate(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
         Command::Sweep(args) => sweep::sweep(args),
@@ -87,6 +108,18 @@ fn main() -> std::process::ExitCode {
             std::process::ExitCode::FAILURE
         }
     }
+}
+
+/// Writes one line to stderr in a single write: [`eprintln!`]'s body.
+pub(crate) fn stderr_line(args: std::fmt::Arguments<'_>) {
+    let _ = write_line(&mut std::io::stderr().lock(), args);
+}
+
+/// `args` and a newline, formatted first and written with one `write_all`.
+fn write_line(out: &mut impl std::io::Write, args: std::fmt::Arguments<'_>) -> std::io::Result<()> {
+    let mut line = args.to_string();
+    line.push('\n');
+    out.write_all(line.as_bytes())
 }
 
 /// Loads a scene file (or the embedded paper drive) with the command line's
@@ -211,5 +244,46 @@ impl DtArg {
             Some(Self::Auto) => (None, true),
             None => (None, false),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    /// Counts the writes a line takes.
+    #[derive(Default)]
+    struct Writes(Vec<Vec<u8>>);
+
+    impl std::io::Write for Writes {
+        fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+            self.0.push(buf.to_vec());
+            Ok(buf.len())
+        }
+        fn flush(&mut self) -> std::io::Result<()> {
+            Ok(())
+        }
+    }
+
+    /// A line with formatted numbers is one write ending in its newline;
+    /// written as std's `eprintln!` writes it, it takes one per piece.
+    #[test]
+    fn a_stderr_line_is_one_write() {
+        use std::io::Write;
+        let args = |out: &mut Writes, one: bool| {
+            let (name, depth) = ("x.toml", 337.0_f64);
+            if one {
+                super::write_line(out, format_args!("{name}: warning: depth {depth:.1} µm"))
+            } else {
+                writeln!(out, "{name}: warning: depth {depth:.1} µm")
+            }
+        };
+        let mut one = Writes::default();
+        args(&mut one, true).expect("write");
+        assert_eq!(
+            one.0,
+            [b"x.toml: warning: depth 337.0 \xc2\xb5m\n".to_vec()]
+        );
+        let mut pieces = Writes::default();
+        args(&mut pieces, false).expect("write");
+        assert!(pieces.0.len() > 1, "{:?}", pieces.0);
     }
 }

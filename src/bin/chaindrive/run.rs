@@ -9,13 +9,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use chaindrive::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
+use chaindrive::analysis::{RunSummary, Signals, StatsWindow};
 use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
 use chaindrive::sim::checkpoint::{Checkpoint, next_checkpoint_s, run_is_done};
-use chaindrive::sim::{
-    Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes, StepLimits,
-};
+use chaindrive::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes};
 
 mod resume;
 use resume::{CliRun, Resume, continue_series, take_up, write_run_checkpoint};
@@ -60,8 +58,10 @@ pub struct RunArgs {
     /// or all.
     #[arg(long, value_name = "LIST", default_value = "all")]
     record_channels: String,
-    /// Statistics window: the last S seconds of the run (default 1 s, or the
-    /// whole run if shorter). Longer than --duration or not > 0 is an error.
+    /// Statistics window: the last S seconds of the run (default: the last
+    /// 1 s after the scene's ramps, or the whole run if shorter). Longer than
+    /// --duration or not > 0 is an error; a window that reaches into a ramp
+    /// is a warning.
     #[arg(long, value_name = "S", allow_negative_numbers = true)]
     window: Option<f64>,
     /// Sampling rate of every sampled output, Hz.
@@ -206,6 +206,7 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         tolerance: args.tolerance,
         contact_law: args.contact_law,
         max_relax_s: None,
+        sample_rate_hz: Some(args.rate),
     };
     let scene = match crate::load_scene(args.scene.as_deref(), &overrides)? {
         Ok(s) => s,
@@ -214,12 +215,11 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
-    let window_s = statistics_window(args.window, scene.solver().duration_s)?;
     let sampling = Sampling {
         rate: SampleRate::new(args.rate, scene.solver().dt_s)
             .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?,
-        window_s,
-        window_from_s: (scene.solver().duration_s - window_s).max(0.0),
+        window: StatsWindow::of(&scene, args.window)
+            .map_err(|e| anyhow::anyhow!("--window: {e}"))?,
         window_option: args.window,
     };
     // A checkpoint of another scene, version or set of options fails now,
@@ -327,30 +327,11 @@ fn start_recording(
     Ok(recorder)
 }
 
-/// The statistics window's length: `--window`, checked against the run's
-/// duration, or the default (clipped to the run).
-fn statistics_window(window: Option<f64>, duration_s: f64) -> anyhow::Result<f64> {
-    let Some(w) = window else {
-        return Ok(DEFAULT_WINDOW_S.min(duration_s));
-    };
-    anyhow::ensure!(
-        w.is_finite() && w > 0.0,
-        "--window {w}: the statistics window must be a number of seconds > 0"
-    );
-    anyhow::ensure!(
-        w <= duration_s * (1.0 + 1e-12),
-        "--window {w}: the statistics window must not be longer than the run (solver.duration_s = {duration_s} s)"
-    );
-    Ok(w.min(duration_s))
-}
-
 /// How the run is sampled and which window its statistics cover.
 struct Sampling {
     rate: SampleRate,
-    window_s: f64,
-    /// Where the window starts, s (the end less its length, at least 0).
-    window_from_s: f64,
-    /// `--window` as given.
+    window: StatsWindow,
+    /// `--window` as given (`None`: the default window).
     window_option: Option<f64>,
 }
 
@@ -371,26 +352,8 @@ fn simulate(
         // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
     }
-    let limits = StepLimits::of(&scene);
-    let limit_s = limits.for_integrator(scene.solver().integrator);
-    if scene.solver().dt_auto && !args.quiet {
-        eprintln!(
-            "dt = {:.3e} s (auto: {} x {}'s estimated stability limit, at most 1/{} of a roller's impact, a whole fraction of 1 ms)",
-            scene.solver().dt_s,
-            chaindrive::scene::AUTO_SAFETY,
-            scene.solver().integrator.name(),
-            chaindrive::scene::AUTO_STEPS_PER_IMPACT,
-        );
-    }
-    if scene.solver().dt_s > limit_s {
-        eprintln!(
-            "warning: dt = {:e} s exceeds {}'s estimated stability limit {:.2e} s (links {:.2e} s, contact damping {:.2e} s, for symplectic Euler)",
-            scene.solver().dt_s,
-            scene.solver().integrator.name(),
-            limit_s,
-            limits.links_s,
-            limits.contact_damping_s
-        );
+    if !args.quiet {
+        eprintln!("{}", chaindrive::scene::step_note(&scene));
     }
     for w in scene.warnings() {
         eprintln!("warning: {w}");
@@ -402,8 +365,6 @@ fn simulate(
         Simulation::new(&scene).map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
-    // Where the power goes, over the summary's window.
-    sim.track_power(sampling.window_from_s);
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
         let segments = 1..=sim.model.segments.len();
         let header = std::iter::once("t_s".to_owned())
@@ -435,10 +396,11 @@ fn simulate(
         );
         p
     });
-    let mut signals = Signals::new(&sim.model, sampling.rate.rate_hz, sampling.window_from_s);
-    // Memory flat whatever the duration: the series goes to disk as it is
-    // taken, the summary needs the window's rows and the running spectra.
-    signals.keep_window(sampling.window_s);
+    // Where the power goes and the means, counted every step of the
+    // summary's window. Memory flat whatever the duration: the series goes
+    // to disk as it is taken, the summary needs the window's rows and the
+    // running spectra.
+    let mut signals = sampling.window.observe(&mut sim, sampling.rate.rate_hz);
     let mut so_far = RunOutcome {
         steps: 0,
         wall_s: 0.0,
@@ -459,9 +421,14 @@ fn simulate(
             .last_step_sampled(sampling.rate.every)
             .map(|sampled| (sim.sample(), sampled));
         let last = last.as_ref().map(|(s, sampled)| (s, *sampled));
-        signals.continue_window(&sim.model, sampling.window_from_s, sampling.window_s, last);
+        signals.continue_window(
+            &sim.model,
+            sampling.window.start_s(),
+            sampling.window.length_s(),
+            last,
+        );
         if window_restarts {
-            sim.restart_power(&ck.sim, sampling.window_from_s);
+            sim.restart_power(&ck.sim, sampling.window.start_s());
         }
         so_far.steps = ck.run.steps;
         so_far.wall_s = ck.run.wall_s;
@@ -505,12 +472,12 @@ fn simulate(
         r.finish(end).context("writing the recording failed")?;
     }
     let outcome = outcome?;
-    let summary = RunSummary::of_run_over(
+    let summary = RunSummary::of_run_in(
         &sim,
         &outcome,
         &observer.signals,
         setup_wall_s,
-        sampling.window_s,
+        &sampling.window,
     );
     if let Some(f) = summary_file.as_mut() {
         serde_json::to_writer_pretty(&mut *f, &summary)?;

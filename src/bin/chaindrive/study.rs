@@ -20,7 +20,7 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use anyhow::Context;
 use chaindrive::studies::study::cases::CHECKPOINT_FILE;
-use chaindrive::studies::study::{CaseOutcome, Study, StudyDir, Table};
+use chaindrive::studies::study::{CaseOutcome, CaseStatus, RowStatus, Study, StudyDir, Table};
 
 /// Arguments of `chaindrive study`.
 #[derive(clap::Args)]
@@ -182,7 +182,7 @@ fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode>
             None if !args.quiet => eprintln!(
                 "case {} {} in {:.1} s ({line})",
                 status.case,
-                if status.ok { "ok" } else { "failed" },
+                ended(status),
                 status.wall_s
             ),
             None => {}
@@ -235,14 +235,19 @@ fn run_case(dir: &Path, k: usize, retry_failed: bool) -> anyhow::Result<ExitCode
     }
     match outcome {
         CaseOutcome::Skipped(s) => {
-            eprintln!(
-                "case {k}: finished before ({})",
-                if s.ok { "ok" } else { "failed" }
-            );
+            eprintln!("case {k}: finished before ({})", ended(&s));
             Ok(ExitCode::SUCCESS)
         }
         CaseOutcome::Ran(s) if s.ok => {
-            eprintln!("case {k} ok in {:.1} s ({})", s.wall_s, s.factors);
+            eprintln!(
+                "case {k} {} in {:.1} s ({})",
+                ended(&s),
+                s.wall_s,
+                s.factors
+            );
+            for w in &s.warnings {
+                eprintln!("case {k}: warning: {w}");
+            }
             Ok(ExitCode::SUCCESS)
         }
         CaseOutcome::Ran(s) => {
@@ -264,6 +269,16 @@ fn run_case(dir: &Path, k: usize, retry_failed: bool) -> anyhow::Result<ExitCode
             eprintln!("case {k}: interrupted, nothing written; it runs again when resubmitted");
             Ok(ExitCode::from(130))
         }
+    }
+}
+
+/// How a case ended: `ok`, `ok with N warnings` or `failed`.
+fn ended(s: &CaseStatus) -> String {
+    match (s.ok, s.warnings.len()) {
+        (false, _) => "failed".to_owned(),
+        (true, 0) => "ok".to_owned(),
+        (true, 1) => "ok with 1 warning".to_owned(),
+        (true, n) => format!("ok with {n} warnings"),
     }
 }
 
@@ -371,22 +386,40 @@ fn collect(dir: &Path) -> anyhow::Result<ExitCode> {
     let parquet = dir.join("results.parquet");
     table.write_parquet(&parquet)?;
     let figures = table.main_effects_figures(&dir.join("main_effects"))?;
-    let (mut ok, mut failed, mut missing) = (0, 0, 0);
-    for k in 0..study.study.cases.len() {
-        match study.status(k)? {
-            Some(s) if s.ok => ok += 1,
-            Some(_) => failed += 1,
-            None => missing += 1,
-        }
-    }
+    let statuses = table.statuses();
+    let counts: Vec<String> = [
+        RowStatus::Ok,
+        RowStatus::Warned,
+        RowStatus::Failed,
+        RowStatus::Missing,
+    ]
+    .iter()
+    .map(|s| {
+        let n = statuses.iter().filter(|&&x| x == Some(s.name())).count();
+        format!("{n} {}", s.name())
+    })
+    .collect();
     eprintln!(
-        "{} rows ({ok} ok, {failed} failed, {missing} missing) x {} columns: {}, {}; {figures} main-effects figures in {}",
+        "{} rows ({}) x {} columns: {}, {}; {figures} main-effects figures in {}",
         table.rows(),
+        counts.join(", "),
         table.columns.len(),
         parquet.display(),
         csv.display(),
         dir.join("main_effects").display()
     );
+    let warned: Vec<String> = statuses
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| **s == Some(RowStatus::Warned.name()))
+        .map(|(k, _)| k.to_string())
+        .collect();
+    if !warned.is_empty() {
+        eprintln!(
+            "warned: case {} (their numbers are in doubt: see the columns warnings and segments.<k>.stationary)",
+            warned.join(", ")
+        );
+    }
     Ok(ExitCode::SUCCESS)
 }
 

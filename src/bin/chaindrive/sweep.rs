@@ -1,8 +1,10 @@
 //! `chaindrive sweep`: one steady run per driver speed, in parallel, and
 //! what a speed range is judged by: `sweep.csv` (every summary scalar per
-//! speed), `orders.csv` (order spectra), `spans.csv` (each span's predicted
+//! speed), `cases.csv` (each speed's status, stationarity and warnings),
+//! `orders.csv` (order spectra), `spans.csv` (each span's predicted
 //! natural frequencies), a Campbell diagram, order cuts, envelopes and
-//! `report.md` (resonance crossings, worst-case speeds). With `--run-up`,
+//! `report.md` (speeds whose runs warned, resonance crossings, worst-case
+//! speeds). With `--run-up`,
 //! one run whose driver speed ramps slowly, analysed in short windows, gives
 //! the same outputs at each window's mean speed.
 
@@ -15,14 +17,17 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
-use chaindrive::analysis::figures::{self, Campbell, Mark, Plot, Trace};
 use chaindrive::analysis::orders::{MAX_ORDER_DENOMINATOR, OrderSet};
+use chaindrive::analysis::units::si;
 use chaindrive::scene::{Assignment, Overrides, Scene};
+use chaindrive::studies::sweep::campbell::describe_signal;
 use chaindrive::studies::sweep::report::GRID_RESOLUTION;
+
+use crate::sweep_figures::{FigureSettings, draw_figures};
 use chaindrive::studies::sweep::{
-    CaseOutcome, CaseResult, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
-    SweepSettings, TRANSVERSE_MODES, completed, default_orders, excitation_orders, on_order_grid,
-    order_cut, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
+    CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
+    SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section, excitation_orders,
+    on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
     summary_scalars, worst_cases,
 };
 
@@ -94,6 +99,11 @@ pub struct SweepArgs {
     /// segK_transverse_m, omega_I_rad_s or max_contact_force_n.
     #[arg(long, default_value = "seg1_transverse_m")]
     signal: String,
+    /// Upper end of the Campbell diagram's frequency axis, Hz (default: a
+    /// little above the highest non-meshing order at the top speed and the
+    /// spans' transverse modes).
+    #[arg(long, value_name = "HZ", allow_negative_numbers = true)]
+    max_freq: Option<f64>,
     /// Any other scene value, the same in every case: PATH=VALUE by the
     /// scene file's path (repeatable), e.g. `--set chain.pretension_n=25000`.
     #[arg(long = "set", value_name = "PATH=VALUE")]
@@ -149,6 +159,12 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         }
     };
     check_signal(&args.signal, &scene)?;
+    if let Some(hz) = args.max_freq {
+        anyhow::ensure!(
+            hz.is_finite() && hz > 0.0,
+            "--max-freq {hz}: the frequency axis must end above 0 Hz; give a frequency in Hz, e.g. 2000"
+        );
+    }
     if let Some(text) = &args.run_up {
         return sweep_run_up(&args, &scene, text, orders);
     }
@@ -210,8 +226,9 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         .iter()
         .filter(|c| matches!(c, CaseOutcome::Failed { .. }))
         .count();
+    let warned = cases.iter().filter(|c| CaseFlags::of(c).warned()).count();
     println!(
-        "{} of {} speeds run in {:.1} s wall on {} thread(s) ({:.2} s per case){}{}; outputs in {}",
+        "{} of {} speeds run in {:.1} s wall on {} thread(s) ({:.2} s per case){}{}{}; outputs in {}",
         cases.len(),
         settings.rpm.len(),
         wall_s,
@@ -219,6 +236,11 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
         wall_s / cases.len().max(1) as f64,
         if failed > 0 {
             format!(", {failed} failed (see report.md)")
+        } else {
+            String::new()
+        },
+        if warned > 0 {
+            format!(", {warned} warned (see report.md, cases.csv)")
         } else {
             String::new()
         },
@@ -346,8 +368,13 @@ fn write_outputs(
 ) -> anyhow::Result<()> {
     // The figures are drawn on a thread of their own while the tables are written.
     let (excitation, off_grid) = on_order_grid(&excitation_orders(scene), &orders);
+    let settings = FigureSettings {
+        dir: &args.out,
+        signal: &args.signal,
+        max_hz: args.max_freq,
+    };
     let (figures, written) = std::thread::scope(|s| {
-        let drawing = s.spawn(|| draw_figures(args, &completed(cases), &excitation, orders));
+        let drawing = s.spawn(|| draw_figures(&settings, scene, &completed(cases), &excitation));
         let written = write_tables(&args.out, cases);
         let figures = drawing
             .join()
@@ -372,8 +399,42 @@ fn write_outputs(
     Ok(())
 }
 
-/// `sweep.csv`, `orders.csv` and `spans.csv`.
+/// `cases.csv`: one row per speed, `rpm,status,stationary,warning_count,warnings,error`
+/// ([`CaseFlags`]; the warnings joined by ` | `, empty cells where unknown).
+fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
+    let path = dir.join("cases.csv");
+    let mut w = csv::Writer::from_path(&path)
+        .with_context(|| format!("cannot write {}", path.display()))?;
+    w.write_record([
+        "rpm",
+        "status",
+        "stationary",
+        "warning_count",
+        "warnings",
+        "error",
+    ])?;
+    for case in cases {
+        let f = CaseFlags::of(case);
+        w.write_record([
+            f.rpm.to_string(),
+            f.status.to_owned(),
+            f.stationary.map_or_else(String::new, |s| s.to_string()),
+            f.warnings
+                .as_ref()
+                .map_or_else(String::new, |w| w.len().to_string()),
+            f.warnings
+                .as_ref()
+                .map_or_else(String::new, |w| w.join(" | ")),
+            f.error.unwrap_or_default(),
+        ])?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// `sweep.csv`, `cases.csv`, `orders.csv` and `spans.csv`.
 fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
+    write_case_flags(dir, cases)?;
     let mut sweep_csv = create(dir, "sweep.csv")?;
     writeln!(sweep_csv, "rpm,statistic,value")?;
     for case in cases {
@@ -425,174 +486,6 @@ fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Draws the figures; returns the stems written and the errors met (a figure
-/// that cannot be drawn is reported, the others are still drawn).
-fn draw_figures(
-    args: &SweepArgs,
-    done: &[&CaseResult],
-    excitation: &[f64],
-    orders: OrderSet,
-) -> Vec<Result<String, String>> {
-    let dir = &args.out;
-    let mut out = Vec::new();
-    let mut keep = |stem: &str, r: Result<Vec<PathBuf>, figures::FigureError>| {
-        out.push(r.map(|_| stem.to_owned()).map_err(|e| e.to_string()));
-    };
-    let rpm: Vec<f64> = done.iter().map(|c| c.rpm).collect();
-    // Campbell: the chosen signal's orders over order lines and the spans' frequencies.
-    let top = done
-        .iter()
-        .map(|c| orders.max_order() * c.rev_per_s)
-        .fold(0.0f64, f64::max);
-    let mut lines: Vec<Trace> = excitation
-        .iter()
-        .map(|&k| Trace {
-            label: format!("order {k}"),
-            points: done.iter().map(|c| (c.rpm, k * c.rev_per_s)).collect(),
-            mark: Mark::Line,
-            color: 5,
-        })
-        .collect();
-    let spans = done.first().map_or(0, |c| c.spans.len());
-    for k in 0..spans {
-        for n in 0..TRANSVERSE_MODES as usize {
-            lines.push(Trace {
-                label: format!("span {} transverse {}", k + 1, n + 1),
-                points: done
-                    .iter()
-                    .map(|c| (c.rpm, c.spans[k].transverse_hz[n]))
-                    .collect(),
-                mark: Mark::Dots,
-                color: k,
-            });
-        }
-        lines.push(Trace {
-            label: format!("span {} axial", k + 1),
-            points: done.iter().map(|c| (c.rpm, c.spans[k].axial_hz)).collect(),
-            mark: Mark::Crosses,
-            color: k,
-        });
-    }
-    let campbell = Campbell {
-        title: format!("Campbell diagram: {}", args.signal),
-        points: done
-            .iter()
-            .filter_map(|c| c.signal(&args.signal).map(|s| (c.rpm, s)))
-            .flat_map(|(rpm, s)| {
-                s.components
-                    .iter()
-                    .map(move |o| (rpm, o.frequency_hz, o.amplitude))
-            })
-            .collect(),
-        lines,
-        max_hz: top,
-    };
-    keep(
-        "campbell",
-        figures::save_campbell(&campbell, dir, "campbell"),
-    );
-    // Order cuts of the chosen signal at the excitation orders.
-    let cuts = Plot {
-        title: format!("Order cuts: {}", args.signal),
-        x_label: "driver speed, rpm".to_owned(),
-        y_label: format!("amplitude ({})", args.signal),
-        traces: excitation
-            .iter()
-            .enumerate()
-            .map(|(i, &k)| Trace {
-                label: format!("order {k}"),
-                points: rpm
-                    .iter()
-                    .copied()
-                    .zip(order_cut(done, &args.signal, k))
-                    .collect(),
-                mark: Mark::Line,
-                color: i,
-            })
-            .collect(),
-        notes: Vec::new(),
-    };
-    keep("order_cuts", figures::save(&cuts, dir, "order_cuts"));
-    // Envelopes: each segment's link force (smallest, mean, largest over the window's samples).
-    let mut traces = Vec::new();
-    for k in 0..spans {
-        let seg = |f: &dyn Fn(&CaseResult) -> f64| -> Vec<(f64, f64)> {
-            done.iter().map(|c| (c.rpm, f(c))).collect()
-        };
-        let mean = seg(&|c| c.segment_mean_n.get(k).copied().unwrap_or(f64::NAN));
-        let lo = seg(&|c| c.segment_range_n.get(k).map_or(f64::NAN, |r| r.0));
-        let hi = seg(&|c| c.segment_range_n.get(k).map_or(f64::NAN, |r| r.1));
-        traces.push(Trace {
-            label: format!("segment {} mean", k + 1),
-            points: mean,
-            mark: Mark::Line,
-            color: k,
-        });
-        traces.push(Trace {
-            label: format!("segment {} min", k + 1),
-            points: lo,
-            mark: Mark::Dots,
-            color: k,
-        });
-        traces.push(Trace {
-            label: format!("segment {} max", k + 1),
-            points: hi,
-            mark: Mark::Crosses,
-            color: k,
-        });
-    }
-    let envelope = Plot {
-        title: "Link force envelope per segment".to_owned(),
-        x_label: "driver speed, rpm".to_owned(),
-        y_label: "segment link force, N".to_owned(),
-        traces,
-        notes: Vec::new(),
-    };
-    keep(
-        "envelope_link_force",
-        figures::save(&envelope, dir, "envelope_link_force"),
-    );
-    let contact = Plot {
-        title: "Largest contact force".to_owned(),
-        x_label: "driver speed, rpm".to_owned(),
-        y_label: "contact force, N".to_owned(),
-        traces: vec![Trace {
-            label: "max contact force".to_owned(),
-            points: done
-                .iter()
-                .map(|c| (c.rpm, c.max_contact_force_n))
-                .collect(),
-            mark: Mark::Line,
-            color: 1,
-        }],
-        notes: Vec::new(),
-    };
-    keep(
-        "envelope_contact_force",
-        figures::save(&contact, dir, "envelope_contact_force"),
-    );
-    let penetration = Plot {
-        title: "Largest penetration".to_owned(),
-        x_label: "driver speed, rpm".to_owned(),
-        y_label: "penetration, µm".to_owned(),
-        traces: vec![Trace {
-            label: "max penetration".to_owned(),
-            points: done
-                .iter()
-                .map(|c| (c.rpm, c.max_penetration_m * 1e6))
-                .collect(),
-            mark: Mark::Line,
-            color: 2,
-        }],
-        notes: Vec::new(),
-    };
-    keep(
-        "envelope_penetration",
-        figures::save(&penetration, dir, "envelope_penetration"),
-    );
-    out
-}
-
 fn report_text(
     scene: &Scene,
     header: &str,
@@ -619,6 +512,7 @@ fn report_text(
         }
         let _ = writeln!(s);
     }
+    s.push_str(&doubt_section(cases));
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,
@@ -674,7 +568,7 @@ fn report_text(
         for c in &crossings {
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {:.1} | {:.2} | {} | {} | {:.4e} | {} |",
+                "| {} | {} | {} | {:.1} | {:.2} | {} | {} | {} | {} |",
                 c.segment,
                 c.mode.name(),
                 c.order,
@@ -682,21 +576,36 @@ fn report_text(
                 c.frequency_hz,
                 c.signal,
                 c.peak_rpm,
-                c.peak_amplitude,
+                si(c.peak_amplitude, describe_signal(&c.signal).1),
                 c.verdict.describe()
             );
         }
         let _ = writeln!(s);
     }
     let _ = writeln!(s, "## Worst-case speeds\n");
-    let _ = writeln!(s, "| statistic | rpm | value |\n|---|---|---|");
+    let _ = writeln!(s, "| statistic | rpm | value | run |\n|---|---|---|---|");
+    let flags: Vec<CaseFlags> = cases.iter().map(CaseFlags::of).collect();
     for w in worst_cases(cases) {
-        let _ = writeln!(s, "| {} | {} | {:.6e} |", w.statistic, w.rpm, w.value);
+        let run = flags
+            .iter()
+            .find(|f| f.rpm == w.rpm && f.status != "failed")
+            .map_or("", |f| f.status);
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {run} |",
+            w.statistic,
+            w.rpm,
+            si(w.value, w.unit)
+        );
     }
     let _ = writeln!(s, "\n## Files\n");
     let _ = writeln!(
         s,
-        "- `sweep.csv`: `rpm,statistic,value`, every scalar of each run's summary (`failed` = 1 for a case that blew up)"
+        "- `sweep.csv`: `rpm,statistic,value`, every scalar of each run's summary (`failed` = 1 for a case that blew up; `warned` = 1 for a run that warned or has a segment that is not stationary, `warning_count`)"
+    );
+    let _ = writeln!(
+        s,
+        "- `cases.csv`: `rpm,status,stationary,warning_count,warnings,error`, one row per speed (status `ok`, `warned`, `failed`, or `not judged` for a run-up's window)"
     );
     let _ = writeln!(
         s,

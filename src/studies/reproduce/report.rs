@@ -3,6 +3,7 @@
 use std::fmt::Write as _;
 
 use super::{Findings, RUN_LABELS, Study};
+use crate::analysis::units::si;
 
 /// The paper's value (docs/model.md, “The paper's values”) for a run: circular for `circular`, real
 /// otherwise.
@@ -22,8 +23,9 @@ fn pct(ours: f64, reference: f64) -> String {
     }
 }
 
+/// A force with the prefix and digits that show it: 25.3 kN, 350 N.
 fn kn(v: f64) -> String {
-    format!("{:.2} kN", v / 1000.0)
+    si(v, "N")
 }
 
 fn hz(v: f64) -> String {
@@ -54,7 +56,7 @@ fn friction_section(md: &mut String, study: &Study, findings: &Findings) {
         "| run | seg 1 mean | seg 1 amplitude | seg 4 mean | driver power | joint friction | link damping | contact damping | balance error |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
-    let w = |v: Option<f64>| v.map_or("—".to_owned(), |v| format!("{v:.0} W"));
+    let w = |v: Option<f64>| v.map_or("—".to_owned(), |v| si(v, "W"));
     for label in [RUN_LABELS[0], RUN_LABELS[3], RUN_LABELS[1], RUN_LABELS[4]] {
         let Some((r, data)) = find(label) else {
             continue;
@@ -63,11 +65,11 @@ fn friction_section(md: &mut String, study: &Study, findings: &Findings) {
         let s = &data.summary;
         let _ = writeln!(
             md,
-            "| {label} | {} | {} | {} | {:.0} W | {} | {} | {} | {} |",
+            "| {label} | {} | {} | {} | {} | {} | {} | {} | {} |",
             seg(1).map_or("—".to_owned(), |s| kn(s.mean_n)),
             seg(1).map_or("—".to_owned(), |s| kn(s.amplitude_n)),
             seg(4).map_or("—".to_owned(), |s| kn(s.mean_n)),
-            s.driver_mean_power_w,
+            si(s.driver_mean_power_w, "W"),
             w(s.joint_friction_power_w),
             w(s.link_damping_power_w),
             w(s.contact_damping_power_w),
@@ -303,7 +305,7 @@ pub fn report_markdown(study: &Study, findings: &Findings, figures: &[(String, S
             let list: Vec<String> = s
                 .peaks
                 .iter()
-                .map(|(f, a)| format!("{f:.1} Hz ({:.2} mm)", a * 1e3))
+                .map(|(f, a)| format!("{f:.1} Hz ({})", si(*a, "m")))
                 .collect();
             let _ = writeln!(md, "- {}: {}", r.label, list.join(", "));
         }

@@ -24,7 +24,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 
 use super::{Study, StudyError};
-use crate::analysis::{DEFAULT_WINDOW_S, RunSummary, Signals};
+use crate::analysis::{RunSummary, Signals, StatsWindow};
 use crate::scene::Scene;
 use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
@@ -49,7 +49,7 @@ pub struct CaseStatus {
     pub error: Option<String>,
     /// Wall time of the case (layout, equilibrium and run), s.
     pub wall_s: f64,
-    /// Factor values, `path = value`.
+    /// Factor values, `path = value` (paths as the plan wrote them).
     pub factors: String,
     /// Simulated time at which the case was resumed from its checkpoint, s
     /// (the last resume, if it was stopped more than once).
@@ -58,6 +58,9 @@ pub struct CaseStatus {
     /// Why a checkpoint found for the case was not taken up (it started over).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub checkpoint_discarded: Option<String>,
+    /// The run summary's warnings, a sentence each (none for a failed case).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
 }
 
 /// What [`StudyDir::run_case`] did.
@@ -188,12 +191,13 @@ impl StudyDir {
             }
         }
         let started = Instant::now();
-        let factors = case.describe(&self.study.factors);
+        let factors = case.describe(&self.study.factor_names);
         let scene = self.study.scene(k)?;
         let checkpoint = self
             .study
             .checkpoint_every_s
             .map(|every| (final_dir.join(CHECKPOINT_FILE), every));
+        let window_s = self.study.statistics_window_s();
         if checkpoint.is_some() {
             std::fs::create_dir_all(&final_dir).map_err(|e| StudyError::io(&final_dir, e))?;
         }
@@ -201,7 +205,7 @@ impl StudyDir {
         // A panic in a run is this case's failure, not the study's.
         let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
             let checkpoint = checkpoint.as_ref().map(|(p, s)| (p.as_path(), *s));
-            simulate(&scene, stop, checkpoint, &mut resume)
+            simulate(&scene, window_s, stop, checkpoint, &mut resume)
         }))
         .unwrap_or_else(|panic| {
             let what = panic
@@ -224,6 +228,10 @@ impl StudyDir {
             factors,
             resumed_from_s: resume.from_s,
             checkpoint_discarded: resume.discarded,
+            warnings: summary
+                .as_ref()
+                .map(|s| s.warnings.clone())
+                .unwrap_or_default(),
         };
         // Written aside, then renamed into place.
         let cases = self.dir.join("cases");
@@ -325,11 +333,14 @@ struct Resume {
     earlier_wall_s: f64,
 }
 
-/// Runs `scene` to its end; `Ok(None)` when stopped. With `checkpoint =
-/// (path, S)` it resumes from `path` when the file exists, and writes it at
-/// every multiple of S and when stopped.
+/// Runs `scene` to its end, its statistics over the last `window_s` (`None`:
+/// the default window after the ramps);
+/// `Ok(None)` when stopped. With `checkpoint = (path, S)` it resumes from
+/// `path` when the file exists, and writes it at every multiple of S and
+/// when stopped.
 fn simulate(
     scene: &Scene,
+    window_s: Option<f64>,
     stop: Option<&AtomicBool>,
     checkpoint: Option<(&Path, f64)>,
     resume: &mut Resume,
@@ -340,12 +351,10 @@ fn simulate(
     let sampling = SampleRate::new(RATE_HZ, scene.solver().dt_s).map_err(|e| e.to_string())?;
     let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
-    let window_s = DEFAULT_WINDOW_S.min(duration);
-    let from_s = (duration - window_s).max(0.0);
-    sim.track_power(from_s);
-    let mut signals = Signals::new(&sim.model, sampling.rate_hz, from_s);
-    // Only the window's rows are needed (and kept in a checkpoint).
-    signals.keep_window(window_s);
+    // The plan's statistics window, or the default after the scene's ramps;
+    // only its rows are kept (and in a checkpoint).
+    let window = StatsWindow::of(scene, window_s).map_err(|e| e.to_string())?;
+    let mut signals = window.observe(&mut sim, sampling.rate_hz);
     let mut so_far = RunOutcome {
         steps: 0,
         wall_s: 0.0,
@@ -371,7 +380,7 @@ fn simulate(
                 // scene (a fresh simulation, the restore may have begun).
                 resume.discarded = Some(e.to_string());
                 sim = Simulation::new(scene).map_err(|e| e.to_string())?;
-                sim.track_power(from_s);
+                signals = window.observe(&mut sim, sampling.rate_hz);
             }
         }
     }
@@ -411,11 +420,11 @@ fn simulate(
     if so_far.interrupted {
         return Ok(None);
     }
-    Ok(Some(RunSummary::of_run_over(
+    Ok(Some(RunSummary::of_run_in(
         &sim,
         &so_far,
         &signals,
         setup_wall_s,
-        window_s,
+        &window,
     )))
 }

@@ -11,9 +11,11 @@
 //! DIR/scene.toml        the base scene, as read
 //! DIR/cases/<k>/        one per finished case (k from 0), written aside and
 //!                       renamed into place: scene.toml, summary.json
-//!                       (when the run finished), status.json; while a
-//!                       checkpointed case runs, only checkpoint.ckpt
-//! DIR/results.parquet   `collect`: one row per case
+//!                       (when the run finished), status.json (with the
+//!                       summary's warnings); while a checkpointed case
+//!                       runs, only checkpoint.ckpt
+//! DIR/results.parquet   `collect`: one row per case (factors, responses,
+//!                       flags, status: ok, warned, failed or missing)
 //! DIR/results.csv
 //! DIR/main_effects/     `collect`: a main-effects figure per response
 //! ```
@@ -30,7 +32,7 @@ pub mod table;
 
 pub use cases::{CaseOutcome, CaseStatus, StudyDir};
 pub use plan::{Case, PlanFile, Responses, Study};
-pub use table::{Column, ColumnData, Table};
+pub use table::{Column, ColumnData, RowStatus, Table, WARNING_SEPARATOR};
 
 /// Why a study could not be prepared, run or collected.
 #[derive(Debug, thiserror::Error)]

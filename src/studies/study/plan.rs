@@ -5,6 +5,7 @@
 //! set = { "solver.duration_s" = 2.0 }   # the same in every case (optional)
 //! responses = ["max_penetration_m", "segments.0.mean_link_force_n"]   # or "all"
 //! checkpoint_every_s = 1.0              # optional: checkpoint each case every 1 s simulated
+//! window_s = 0.5                        # optional: statistics over each run's last 0.5 s
 //!
 //! [[factors]]
 //! path = "chain.pretension_n"
@@ -28,8 +29,13 @@
 //! ([`crate::sim::checkpoint`]) into its directory every so many simulated
 //! seconds, and a case that was stopped (a preempted or killed task)
 //! resumes from it: it loses at most that much simulated time.
-//! (`scene`, `set`, `responses` and `checkpoint_every_s` come before the first `[[factors]]`
-//! table: in TOML, a key after a table header belongs to that table.)
+//! With `window_s`, each case's summary takes its statistics over the run's
+//! last `window_s` seconds, as `chaindrive run --window` does (the default
+//! window otherwise); a window longer than a case's run is an error of that
+//! case, reported before anything runs.
+//! (`scene`, `set`, `responses`, `checkpoint_every_s` and `window_s` come
+//! before the first `[[factors]]` table: in TOML, a key after a table
+//! header belongs to that table.)
 
 use std::collections::BTreeSet;
 use std::path::Path;
@@ -59,6 +65,9 @@ pub struct PlanFile {
     /// Simulated seconds between a case's checkpoints (none if absent).
     #[serde(default)]
     pub checkpoint_every_s: Option<toml::Value>,
+    /// Length of each case's statistics window, s (the default if absent).
+    #[serde(default)]
+    pub window_s: Option<toml::Value>,
 }
 
 /// One factor as written.
@@ -127,8 +136,9 @@ pub struct Case {
 }
 
 impl Case {
-    /// `path = value, …` of the factors, for messages.
-    pub fn describe(&self, factors: &[ScenePath]) -> String {
+    /// `path = value, …` of the factors (their paths as the plan wrote
+    /// them), for messages and `status.json`.
+    pub fn describe(&self, factors: &[String]) -> String {
         factors
             .iter()
             .zip(&self.values)
@@ -148,12 +158,17 @@ pub struct Study {
     pub scene_toml: String,
     /// Factor paths, in the plan's order.
     pub factors: Vec<ScenePath>,
+    /// Factor paths as the plan wrote them (`sprockets.0.speed_rpm` stays
+    /// so): the results' column names.
+    pub factor_names: Vec<String>,
     /// The cases, case k at index k.
     pub cases: Vec<Case>,
     /// The responses.
     pub responses: Responses,
     /// Simulated seconds between a case's checkpoints (`None`: no checkpoints).
     pub checkpoint_every_s: Option<f64>,
+    /// Length of each case's statistics window, s (`None`: the default).
+    pub window_s: Option<f64>,
 }
 
 /// Collects `path: message` lines.
@@ -223,6 +238,7 @@ impl Study {
 
         // Factors: paths, and each level tried on the base scene.
         let mut factors = Vec::new();
+        let mut factor_names = Vec::new();
         let mut seen = BTreeSet::new();
         let kind = file.design.kind.as_str();
         let mut levels: Vec<Vec<toml::Value>> = Vec::new();
@@ -272,6 +288,7 @@ impl Study {
                 }
             }
             factors.push(path);
+            factor_names.push(f.path.clone());
             levels.push(values);
         }
 
@@ -369,19 +386,18 @@ impl Study {
                 Responses::All
             }
         };
-        let checkpoint_every_s = match &file.checkpoint_every_s {
-            None => None,
-            Some(v) => match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
-                Some(s) if s.is_finite() && s > 0.0 => Some(s),
-                _ => {
-                    p.add(
-                        "checkpoint_every_s",
-                        format!("{v}: allowed: a number of simulated seconds > 0"),
-                    );
-                    None
-                }
-            },
-        };
+        let checkpoint_every_s = positive_seconds(
+            &mut p,
+            "checkpoint_every_s",
+            file.checkpoint_every_s.as_ref(),
+            "a number of simulated seconds > 0",
+        );
+        let window_s = positive_seconds(
+            &mut p,
+            "window_s",
+            file.window_s.as_ref(),
+            "a statistics window of simulated seconds > 0",
+        );
         if !p.0.is_empty() {
             return Err(StudyError::Plan(p.0));
         }
@@ -403,7 +419,7 @@ impl Study {
             match Scene::from_toml_set(scene_toml, &case.assignments) {
                 Err(e) => failed.push(format!(
                     "case {k} ({}): {}",
-                    case.describe(&factors),
+                    case.describe(&factor_names),
                     e.lines().join("; ")
                 )),
                 // Rapier keeps solver state a checkpoint does not hold.
@@ -413,8 +429,18 @@ impl Study {
                 {
                     failed.push(format!(
                         "case {k} ({}): checkpoint_every_s needs solver.stepping = \"substepped\", the case steps with {}",
-                        case.describe(&factors),
+                        case.describe(&factor_names),
                         scene.solver().stepping.name()
+                    ));
+                }
+                Ok(scene)
+                    if window_s.is_some_and(|w| w > scene.solver().duration_s * (1.0 + 1e-12)) =>
+                {
+                    failed.push(format!(
+                        "case {k} ({}): window_s = {} s is longer than the run (solver.duration_s = {} s); allowed: a window within the run",
+                        case.describe(&factor_names),
+                        window_s.unwrap_or_default(),
+                        scene.solver().duration_s
                     ));
                 }
                 Ok(_) => {}
@@ -428,10 +454,20 @@ impl Study {
             plan_toml: plan_toml.to_owned(),
             scene_toml: scene_toml.to_owned(),
             factors,
+            factor_names,
             cases,
             responses,
             checkpoint_every_s,
+            window_s,
         })
+    }
+
+    /// The statistics window of a case's runs, s: the plan's `window_s`
+    /// (checked against every case's run when the plan was read), or `None`
+    /// for the default window after the scene's ramps
+    /// ([`crate::analysis::StatsWindow`]).
+    pub fn statistics_window_s(&self) -> Option<f64> {
+        self.window_s
     }
 
     /// The validated scene of case `k`.
@@ -443,10 +479,27 @@ impl Study {
         Scene::from_toml_set(&self.scene_toml, &case.assignments).map_err(|e| {
             StudyError::Cases(vec![format!(
                 "case {k} ({}): {}",
-                case.describe(&self.factors),
+                case.describe(&self.factor_names),
                 e.lines().join("; ")
             )])
         })
+    }
+}
+
+/// A plan key of simulated seconds: a finite number > 0, or absent.
+fn positive_seconds(
+    p: &mut Problems,
+    key: &str,
+    value: Option<&toml::Value>,
+    allowed: &str,
+) -> Option<f64> {
+    let v = value?;
+    match v.as_float().or_else(|| v.as_integer().map(|i| i as f64)) {
+        Some(s) if s.is_finite() && s > 0.0 => Some(s),
+        _ => {
+            p.add(key, format!("{v}: allowed: {allowed}"));
+            None
+        }
     }
 }
 
@@ -687,7 +740,7 @@ count = 8
         let l = lines(&PLAN.replace("[15000, 21000]", "[15000, -5]"));
         assert_eq!(l.len(), 3, "{l:?}");
         assert!(
-            l[0].starts_with("case 3 (chain.pretension_n = -5, sprockets[0].speed_rpm = 60.0): "),
+            l[0].starts_with("case 3 (chain.pretension_n = -5, sprockets.0.speed_rpm = 60.0): "),
             "{l:?}"
         );
         assert!(l[0].contains("chain.pretension_n"), "{l:?}");

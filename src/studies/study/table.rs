@@ -1,21 +1,33 @@
 //! A study's results as one table: a row per case with its number, the
-//! factors, the responses, its status and wall time. Written as CSV and
-//! (feature `parquet`) as Parquet, and drawn (feature `figures`) as a
-//! main-effects figure per response.
+//! factors, the responses, what the summary says of its own numbers
+//! (`dt_auto`, each segment's `stationary`, `warning_count`, `warnings`),
+//! its status, wall time and error. Written as CSV and (feature `parquet`)
+//! as Parquet, and drawn (feature `figures`) as a main-effects figure per
+//! response.
 //!
-//! Responses are the summary's numeric fields as dotted paths, arrays
-//! indexed from 0 (`segments.0.mean_link_force_n`). A case that failed or
-//! has not finished has no responses (null); its status says why.
+//! Factors are named as the plan wrote their paths (`sprockets.0.speed_rpm`
+//! stays so). Responses are the summary's numeric fields as dotted paths,
+//! arrays indexed from 0 (`segments.0.mean_link_force_n`). A case that
+//! failed or has not finished has no responses nor flags (null); its status
+//! says why. A finished case with a warning, or with a segment that is not
+//! stationary, is `warned`, not `ok`: `df[df.status == "ok"]` keeps the
+//! cases whose numbers stand as they are.
+//!
+//! This module reads the cases' files; it runs nothing.
 
 use std::fmt::Write as _;
 
-use super::{Responses, StudyDir, StudyError};
+use super::{CaseStatus, Responses, StudyDir, StudyError};
 
 /// A column's values; `None` is null.
 #[derive(Clone, Debug, PartialEq)]
 pub enum ColumnData {
-    /// 64-bit integers.
+    /// 64-bit integers, never null (the case number).
     Int(Vec<i64>),
+    /// Counts, 64-bit integers.
+    Count(Vec<Option<i64>>),
+    /// Booleans (`true`, `false` in the CSV).
+    Bool(Vec<Option<bool>>),
     /// Numbers.
     Float(Vec<Option<f64>>),
     /// Text.
@@ -25,8 +37,9 @@ pub enum ColumnData {
 /// A named column.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Column {
-    /// Its name: `case`, a factor's path, a response's path, `status`,
-    /// `wall_s`, `error`.
+    /// Its name: `case`, a factor's path as the plan wrote it, a
+    /// response's path, `dt_auto`, `segments.<k>.stationary`,
+    /// `warning_count`, `warnings`, `status`, `case_wall_s`, `error`.
     pub name: String,
     /// Its values, one per case.
     pub data: ColumnData,
@@ -78,124 +91,144 @@ pub fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
     out
 }
 
+/// What a case's row says of it (`status`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RowStatus {
+    /// Finished, no warning, every segment stationary.
+    Ok,
+    /// Finished with a warning or a segment that is not stationary: its
+    /// numbers are to be doubted (`warnings` says why).
+    Warned,
+    /// Did not finish (`error` says why).
+    Failed,
+    /// Not run yet.
+    Missing,
+}
+
+impl RowStatus {
+    /// As written in the table.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Ok => "ok",
+            Self::Warned => "warned",
+            Self::Failed => "failed",
+            Self::Missing => "missing",
+        }
+    }
+}
+
+/// Separates a case's warnings in the `warnings` column.
+pub const WARNING_SEPARATOR: &str = " | ";
+
+/// What the table reads of one case.
+struct CaseRow {
+    status: Option<CaseStatus>,
+    summary: Option<serde_json::Value>,
+    fields: Option<Vec<(String, f64)>>,
+}
+
+impl CaseRow {
+    fn warnings(&self) -> Option<Vec<String>> {
+        let list = self.summary.as_ref()?.get("warnings")?.as_array()?;
+        Some(
+            list.iter()
+                .filter_map(|w| w.as_str().map(str::to_owned))
+                .collect(),
+        )
+    }
+
+    /// Segment `k`'s `stationary`, where the summary has it.
+    fn stationary(&self, k: usize) -> Option<bool> {
+        self.summary
+            .as_ref()?
+            .get("segments")?
+            .get(k)?
+            .get("stationary")?
+            .as_bool()
+    }
+
+    fn segments(&self) -> usize {
+        self.summary
+            .as_ref()
+            .and_then(|s| s.get("segments")?.as_array().map(Vec::len))
+            .unwrap_or(0)
+    }
+
+    fn row_status(&self) -> RowStatus {
+        match &self.status {
+            None => RowStatus::Missing,
+            Some(s) if !s.ok || self.summary.is_none() => RowStatus::Failed,
+            Some(_) => {
+                let warned = self.warnings().is_some_and(|w| !w.is_empty())
+                    || (0..self.segments()).any(|k| self.stationary(k) == Some(false));
+                if warned {
+                    RowStatus::Warned
+                } else {
+                    RowStatus::Ok
+                }
+            }
+        }
+    }
+}
+
 impl Table {
-    /// Merges the cases in `dir`: finished ones with their responses,
-    /// failed ones with their error, the rest as `missing`.
+    /// Merges the cases in `dir`: finished ones with their responses and
+    /// flags, failed ones with their error, the rest as `missing`.
     pub fn collect(dir: &StudyDir) -> Result<Self, StudyError> {
         let study = &dir.study;
         let n = study.cases.len();
-        let mut statuses = Vec::with_capacity(n);
-        let mut fields: Vec<Option<Vec<(String, f64)>>> = Vec::with_capacity(n);
+        let mut rows = Vec::with_capacity(n);
         for k in 0..n {
             let status = dir.status(k)?;
             let summary = match &status {
                 Some(s) if s.ok => dir.summary(k)?,
                 _ => None,
             };
-            fields.push(summary.as_ref().map(numeric_fields));
-            statuses.push(status);
+            let fields = summary.as_ref().map(numeric_fields);
+            rows.push(CaseRow {
+                status,
+                summary,
+                fields,
+            });
         }
-        // Every numeric field of the finished cases, in first-seen order.
-        let mut available: Vec<String> = Vec::new();
-        for f in fields.iter().flatten() {
-            for (name, _) in f {
-                if !available.contains(name) {
-                    available.push(name.clone());
-                }
-            }
-        }
-        let names = match &study.responses {
-            Responses::All => available.clone(),
-            Responses::Fields(list) => {
-                let any_ok = fields.iter().any(Option::is_some);
-                for (index, name) in list.iter().enumerate() {
-                    if any_ok && !available.contains(name) {
-                        return Err(StudyError::UnknownResponse {
-                            index,
-                            name: name.clone(),
-                            allowed: available.join(", "),
-                        });
-                    }
-                }
-                list.clone()
-            }
-        };
+        let names = response_names(&study.responses, &rows)?;
 
         let mut columns = vec![Column {
             name: "case".to_owned(),
             data: ColumnData::Int((0..n as i64).collect()),
         }];
-        for (i, path) in study.factors.iter().enumerate() {
+        for (i, name) in study.factor_names.iter().enumerate() {
             let values: Vec<&toml::Value> = study.cases.iter().map(|c| &c.values[i]).collect();
-            let numbers: Option<Vec<Option<f64>>> = values
-                .iter()
-                .map(|v| match v {
-                    toml::Value::Float(x) => Some(Some(*x)),
-                    toml::Value::Integer(x) => Some(Some(*x as f64)),
-                    _ => None,
-                })
-                .collect();
-            let data = match numbers {
-                Some(x) => ColumnData::Float(x),
-                None => ColumnData::Text(
-                    values
-                        .iter()
-                        .map(|v| Some(v.as_str().map_or_else(|| v.to_string(), str::to_owned)))
-                        .collect(),
-                ),
-            };
-            columns.push(Column {
-                name: path.to_string(),
-                data,
-            });
+            columns.push(factor_column(name, &values));
         }
         for name in &names {
             columns.push(Column {
                 name: name.clone(),
                 data: ColumnData::Float(
-                    fields
-                        .iter()
-                        .map(|f| {
-                            f.as_ref()
+                    rows.iter()
+                        .map(|r| {
+                            r.fields
+                                .as_ref()
                                 .and_then(|f| f.iter().find(|(n, _)| n == name).map(|(_, x)| *x))
                         })
                         .collect(),
                 ),
             });
         }
+        columns.extend(flag_columns(&rows));
         columns.push(Column {
-            name: "status".to_owned(),
-            data: ColumnData::Text(
-                statuses
-                    .iter()
-                    .map(|s| {
-                        Some(
-                            match s {
-                                Some(s) if s.ok => "ok",
-                                Some(_) => "failed",
-                                None => "missing",
-                            }
-                            .to_owned(),
-                        )
-                    })
-                    .collect(),
-            ),
-        });
-        columns.push(Column {
-            name: "wall_s".to_owned(),
+            name: "case_wall_s".to_owned(),
             data: ColumnData::Float(
-                statuses
-                    .iter()
-                    .map(|s| s.as_ref().map(|s| s.wall_s))
+                rows.iter()
+                    .map(|r| r.status.as_ref().map(|s| s.wall_s))
                     .collect(),
             ),
         });
         columns.push(Column {
             name: "error".to_owned(),
             data: ColumnData::Text(
-                statuses
-                    .iter()
-                    .map(|s| s.as_ref().and_then(|s| s.error.clone()))
+                rows.iter()
+                    .map(|r| r.status.as_ref().and_then(|s| s.error.clone()))
                     .collect(),
             ),
         });
@@ -206,17 +239,32 @@ impl Table {
         })
     }
 
+    /// Each case's [`RowStatus`], from the `status` column.
+    pub fn statuses(&self) -> Vec<Option<&str>> {
+        match self
+            .columns
+            .iter()
+            .find(|c| c.name == "status")
+            .map(|c| &c.data)
+        {
+            Some(ColumnData::Text(v)) => v.iter().map(Option::as_deref).collect(),
+            _ => Vec::new(),
+        }
+    }
+
     /// Number of rows.
     pub fn rows(&self) -> usize {
         self.columns.first().map_or(0, |c| match &c.data {
             ColumnData::Int(v) => v.len(),
+            ColumnData::Count(v) => v.len(),
+            ColumnData::Bool(v) => v.len(),
             ColumnData::Float(v) => v.len(),
             ColumnData::Text(v) => v.len(),
         })
     }
 
     /// The table as CSV: a header of column names, empty cells for nulls,
-    /// numbers in Rust's shortest round-trip form.
+    /// numbers in Rust's shortest round-trip form, booleans `true`/`false`.
     pub fn to_csv(&self) -> String {
         fn quote(s: &str) -> String {
             if s.contains([',', '"', '\n', '\r']) {
@@ -235,6 +283,8 @@ impl Table {
                 .iter()
                 .map(|c| match &c.data {
                     ColumnData::Int(v) => v[r].to_string(),
+                    ColumnData::Count(v) => v[r].map_or_else(String::new, |x| x.to_string()),
+                    ColumnData::Bool(v) => v[r].map_or_else(String::new, |x| x.to_string()),
                     ColumnData::Float(v) => v[r].map_or_else(String::new, |x| {
                         let mut s = String::new();
                         let _ = write!(s, "{x:?}");
@@ -250,8 +300,9 @@ impl Table {
     }
 
     /// Writes the table as Parquet to `path` (through a file beside it and
-    /// a rename): `case` INT64, numbers DOUBLE, text BYTE_ARRAY (UTF-8),
-    /// every column but `case` optional; one row group, uncompressed.
+    /// a rename): `case` and counts INT64, numbers DOUBLE, flags BOOLEAN,
+    /// text BYTE_ARRAY (UTF-8), every column but `case` optional; one row
+    /// group, uncompressed.
     #[cfg(feature = "parquet")]
     pub fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
         let tmp = path.with_extension(format!("parquet.tmp.{}", std::process::id()));
@@ -365,12 +416,120 @@ impl Table {
     }
 }
 
+/// The responses' names: every numeric field of the finished cases in
+/// first-seen order, or the plan's list (each checked against them).
+fn response_names(responses: &Responses, rows: &[CaseRow]) -> Result<Vec<String>, StudyError> {
+    let mut available: Vec<String> = Vec::new();
+    for f in rows.iter().filter_map(|r| r.fields.as_ref()) {
+        for (name, _) in f {
+            if !available.contains(name) {
+                available.push(name.clone());
+            }
+        }
+    }
+    match responses {
+        Responses::All => Ok(available),
+        Responses::Fields(list) => {
+            let any_ok = rows.iter().any(|r| r.fields.is_some());
+            for (index, name) in list.iter().enumerate() {
+                if any_ok && !available.contains(name) {
+                    return Err(StudyError::UnknownResponse {
+                        index,
+                        name: name.clone(),
+                        allowed: available.join(", "),
+                    });
+                }
+            }
+            Ok(list.clone())
+        }
+    }
+}
+
+/// A factor's column: numbers where every level is one, else text.
+fn factor_column(name: &str, values: &[&toml::Value]) -> Column {
+    let numbers: Option<Vec<Option<f64>>> = values
+        .iter()
+        .map(|v| match v {
+            toml::Value::Float(x) => Some(Some(*x)),
+            toml::Value::Integer(x) => Some(Some(*x as f64)),
+            _ => None,
+        })
+        .collect();
+    let data = match numbers {
+        Some(x) => ColumnData::Float(x),
+        None => ColumnData::Text(
+            values
+                .iter()
+                .map(|v| Some(v.as_str().map_or_else(|| v.to_string(), str::to_owned)))
+                .collect(),
+        ),
+    };
+    Column {
+        name: name.to_owned(),
+        data,
+    }
+}
+
+/// What the summaries say of their own numbers, named as in the summary:
+/// `dt_auto`, each segment's `segments.<k>.stationary`, `warning_count`,
+/// `warnings` (joined by [`WARNING_SEPARATOR`]; null without any), and the
+/// case's `status` ([`RowStatus`]). Null for a case without a summary.
+fn flag_columns(rows: &[CaseRow]) -> Vec<Column> {
+    let segments = rows.iter().map(CaseRow::segments).max().unwrap_or(0);
+    let mut columns = vec![Column {
+        name: "dt_auto".to_owned(),
+        data: ColumnData::Bool(
+            rows.iter()
+                .map(|r| r.summary.as_ref()?.get("dt_auto")?.as_bool())
+                .collect(),
+        ),
+    }];
+    for k in 0..segments {
+        columns.push(Column {
+            name: format!("segments.{k}.stationary"),
+            data: ColumnData::Bool(rows.iter().map(|r| r.stationary(k)).collect()),
+        });
+    }
+    let warnings: Vec<Option<Vec<String>>> = rows.iter().map(CaseRow::warnings).collect();
+    columns.push(Column {
+        name: "warning_count".to_owned(),
+        data: ColumnData::Count(
+            warnings
+                .iter()
+                .map(|w| w.as_ref().map(|w| w.len() as i64))
+                .collect(),
+        ),
+    });
+    columns.push(Column {
+        name: "warnings".to_owned(),
+        data: ColumnData::Text(
+            warnings
+                .iter()
+                .map(|w| {
+                    w.as_ref()
+                        .filter(|w| !w.is_empty())
+                        .map(|w| w.join(WARNING_SEPARATOR))
+                })
+                .collect(),
+        ),
+    });
+    columns.push(Column {
+        name: "status".to_owned(),
+        data: ColumnData::Text(
+            rows.iter()
+                .map(|r| Some(r.row_status().name().to_owned()))
+                .collect(),
+        ),
+    });
+    columns
+}
+
 #[cfg(feature = "parquet")]
 mod parquet_writer {
     use std::sync::Arc;
 
     use parquet::basic::{ConvertedType, LogicalType, Repetition, Type as Physical};
-    use parquet::data_type::{ByteArray, ByteArrayType, DoubleType, Int64Type};
+    use parquet::data_type::{BoolType, ByteArray, ByteArrayType, DoubleType, Int64Type};
     use parquet::errors::ParquetError;
     use parquet::file::properties::WriterProperties;
     use parquet::file::writer::SerializedFileWriter;
@@ -378,11 +537,19 @@ mod parquet_writer {
 
     use super::{ColumnData, Table};
 
+    /// The values present and the definition levels (1 present, 0 null).
+    fn defined<T: Copy>(v: &[Option<T>]) -> (Vec<T>, Vec<i16>) {
+        let def = v.iter().map(|x| i16::from(x.is_some())).collect();
+        (v.iter().flatten().copied().collect(), def)
+    }
+
     pub(super) fn write(table: &Table, file: std::fs::File) -> Result<(), ParquetError> {
         let mut fields = Vec::new();
         for c in &table.columns {
             let (physical, repetition) = match c.data {
                 ColumnData::Int(_) => (Physical::INT64, Repetition::REQUIRED),
+                ColumnData::Count(_) => (Physical::INT64, Repetition::OPTIONAL),
+                ColumnData::Bool(_) => (Physical::BOOLEAN, Repetition::OPTIONAL),
                 ColumnData::Float(_) => (Physical::DOUBLE, Repetition::OPTIONAL),
                 ColumnData::Text(_) => (Physical::BYTE_ARRAY, Repetition::OPTIONAL),
             };
@@ -411,9 +578,18 @@ mod parquet_writer {
                 ColumnData::Int(v) => {
                     out.typed::<Int64Type>().write_batch(v, None, None)?;
                 }
+                ColumnData::Count(v) => {
+                    let (values, def) = defined(v);
+                    out.typed::<Int64Type>()
+                        .write_batch(&values, Some(&def), None)?;
+                }
+                ColumnData::Bool(v) => {
+                    let (values, def) = defined(v);
+                    out.typed::<BoolType>()
+                        .write_batch(&values, Some(&def), None)?;
+                }
                 ColumnData::Float(v) => {
-                    let def: Vec<i16> = v.iter().map(|x| i16::from(x.is_some())).collect();
-                    let values: Vec<f64> = v.iter().flatten().copied().collect();
+                    let (values, def) = defined(v);
                     out.typed::<DoubleType>()
                         .write_batch(&values, Some(&def), None)?;
                 }

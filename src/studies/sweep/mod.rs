@@ -17,18 +17,22 @@
 //! analysed as a case at its mean speed.
 //!
 //! This module runs and schedules the cases; [`report`]'s functions judge
-//! them (crossings, worst cases, scalars) and [`runup`] holds the run-up.
+//! them (crossings, worst cases, scalars), [`runup`] holds the run-up and
+//! `campbell` gathers a Campbell diagram's data (feature `figures`).
 //!
 //! What this module does not do: write files, draw figures or print (the
 //! command-line tool does), or define what a signal means
 //! ([`crate::analysis`]).
 
+#[cfg(feature = "figures")]
+pub mod campbell;
 pub mod report;
 pub mod runup;
 
 pub use report::{
-    Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed, excitation_orders,
-    judge_peak, on_order_grid, order_cut, resonance_crossings, summary_scalars, worst_cases,
+    CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
+    doubt_section, excitation_orders, judge_peak, on_order_grid, order_cut, resonance_crossings,
+    summary_scalars, worst_cases,
 };
 pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 

@@ -1,8 +1,12 @@
 //! What a sweep's cases are judged by: the resonance crossings (where an
 //! excitation order meets a span's predicted natural frequency, and whether
-//! the response peaks there), order cuts, the worst-case speeds and every
-//! scalar of a case for `sweep.csv`. Pure functions of the cases: nothing
-//! here runs a simulation or writes a file.
+//! the response peaks there), order cuts, the worst-case speeds, every
+//! scalar of a case for `sweep.csv`, and whether a case's run doubts its own
+//! numbers ([`CaseFlags`]: its summary's warnings, segments that are not
+//! stationary). Pure functions of the cases: nothing here runs a simulation
+//! or writes a file.
+
+use std::fmt::Write as _;
 
 use super::{CaseOutcome, CaseResult, SpanFrequencies, TRANSVERSE_MODES, driver_of};
 use crate::analysis::orders::OrderSet;
@@ -328,8 +332,10 @@ pub struct WorstCase {
     pub statistic: String,
     /// The case's speed, rpm.
     pub rpm: f64,
-    /// The value.
+    /// The value, in `unit`.
     pub value: f64,
+    /// Its SI unit: `N`, `m`, `rad/s`.
+    pub unit: &'static str,
 }
 
 /// The speeds of the largest link force, the smallest link force, the
@@ -337,30 +343,38 @@ pub struct WorstCase {
 /// largest speed fluctuation (RMS).
 pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
     let done = completed(cases);
-    let pick = |statistic: &str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
-        done.iter()
-            .map(|c| (c.rpm, value(c)))
-            .filter(|(_, v)| v.is_finite())
-            .reduce(|a, b| {
-                let better = if largest { b.1 > a.1 } else { b.1 < a.1 };
-                if better { b } else { a }
-            })
-            .map(|(rpm, value)| WorstCase {
-                statistic: statistic.to_owned(),
-                rpm,
-                value,
-            })
-    };
+    let pick =
+        |statistic: &str, unit: &'static str, value: &dyn Fn(&CaseResult) -> f64, largest: bool| {
+            done.iter()
+                .map(|c| (c.rpm, value(c)))
+                .filter(|(_, v)| v.is_finite())
+                .reduce(|a, b| {
+                    let better = if largest { b.1 > a.1 } else { b.1 < a.1 };
+                    if better { b } else { a }
+                })
+                .map(|(rpm, value)| WorstCase {
+                    statistic: statistic.to_owned(),
+                    rpm,
+                    value,
+                    unit,
+                })
+        };
     let mut out = vec![
-        pick("largest link force, N", &|c| c.link_force_max_n, true),
-        pick("smallest link force, N", &|c| c.link_force_min_n, false),
-        pick("largest contact force, N", &|c| c.max_contact_force_n, true),
-        pick("largest penetration, m", &|c| c.max_penetration_m, true),
+        pick("largest link force", "N", &|c| c.link_force_max_n, true),
+        pick("smallest link force", "N", &|c| c.link_force_min_n, false),
+        pick(
+            "largest contact force",
+            "N",
+            &|c| c.max_contact_force_n,
+            true,
+        ),
+        pick("largest penetration", "m", &|c| c.max_penetration_m, true),
     ];
     let sprockets = done.first().map_or(0, |c| c.speed_rms_rad_s.len());
     for s in 0..sprockets {
         out.push(pick(
-            &format!("sprocket {} speed RMS, rad/s", s + 1),
+            &format!("sprocket {} speed RMS", s + 1),
+            "rad/s",
             &|c| c.speed_rms_rad_s.get(s).copied().unwrap_or(f64::NAN),
             true,
         ));
@@ -368,10 +382,134 @@ pub fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
     out.into_iter().flatten().collect()
 }
 
+/// What a case's run says of its own numbers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseFlags {
+    /// The case's speed, rpm.
+    pub rpm: f64,
+    /// `ok`: its run finished with no warning and every segment
+    /// stationary; `warned`: a warning or a segment that is not stationary
+    /// (its numbers are in doubt); `failed`: it did not finish;
+    /// `not judged`: a run-up's window, which has no run summary.
+    pub status: &'static str,
+    /// Whether every segment's statistics are stationary (`None` without a
+    /// run summary).
+    pub stationary: Option<bool>,
+    /// The 1-based segments that are not stationary.
+    pub not_stationary: Vec<usize>,
+    /// The run summary's warnings (`None` without a run summary).
+    pub warnings: Option<Vec<String>>,
+    /// Why a failed case failed.
+    pub error: Option<String>,
+}
+
+impl CaseFlags {
+    /// The flags of `case`.
+    pub fn of(case: &CaseOutcome) -> Self {
+        match case {
+            CaseOutcome::Failed { rpm, message } => Self {
+                rpm: *rpm,
+                status: "failed",
+                stationary: None,
+                not_stationary: Vec::new(),
+                warnings: None,
+                error: Some(message.clone()),
+            },
+            CaseOutcome::Done(r) => Self::of_result(r),
+        }
+    }
+
+    /// The flags of a complete case.
+    pub fn of_result(r: &CaseResult) -> Self {
+        let Some(summary) = &r.summary else {
+            return Self {
+                rpm: r.rpm,
+                status: "not judged",
+                stationary: None,
+                not_stationary: Vec::new(),
+                warnings: None,
+                error: None,
+            };
+        };
+        let not_stationary: Vec<usize> = summary
+            .segments
+            .iter()
+            .filter(|s| !s.stationary)
+            .map(|s| s.segment)
+            .collect();
+        let warned = !(summary.warnings.is_empty() && not_stationary.is_empty());
+        Self {
+            rpm: r.rpm,
+            status: if warned { "warned" } else { "ok" },
+            stationary: Some(not_stationary.is_empty()),
+            not_stationary,
+            warnings: Some(summary.warnings.clone()),
+            error: None,
+        }
+    }
+
+    /// Whether the case's numbers are in doubt (`warned`).
+    pub fn warned(&self) -> bool {
+        self.status == "warned"
+    }
+}
+
+/// `## Runs to doubt` of a sweep's `report.md`: the speeds whose run warned
+/// or has a segment that is not stationary ([`CaseFlags`]), each with its
+/// warnings (Markdown); empty when no case has a run summary (a run-up).
+pub fn doubt_section(cases: &[CaseOutcome]) -> String {
+    let mut s = String::new();
+    let flagged: Vec<CaseFlags> = cases
+        .iter()
+        .map(CaseFlags::of)
+        .filter(CaseFlags::warned)
+        .collect();
+    if cases.iter().all(|c| CaseFlags::of(c).stationary.is_none()) {
+        return s;
+    }
+    let _ = writeln!(s, "## Runs to doubt\n");
+    if flagged.is_empty() {
+        let _ = writeln!(
+            s,
+            "Every run finished without a warning, each segment's statistics stationary over its window.\n"
+        );
+        return s;
+    }
+    let _ = writeln!(
+        s,
+        "{} of {} speeds ran with a warning or with a segment whose mean drifts over the window (not stationary): their numbers below, in the tables and in the figures are in doubt.\n",
+        flagged.len(),
+        cases.len()
+    );
+    let _ = writeln!(s, "| rpm | not stationary | warnings |\n|---|---|---|");
+    for f in &flagged {
+        let segments = if f.not_stationary.is_empty() {
+            "—".to_owned()
+        } else {
+            f.not_stationary
+                .iter()
+                .map(|k| format!("segment {k}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let warnings = f
+            .warnings
+            .as_deref()
+            .unwrap_or_default()
+            .join("<br>")
+            .replace('|', "\\|");
+        let _ = writeln!(s, "| {} | {segments} | {warnings} |", f.rpm);
+    }
+    let _ = writeln!(s);
+    s
+}
+
 /// Every scalar of a case's run summary as `(name, value)`: numbers as they
 /// are, booleans as 0/1, per-segment and per-sprocket fields as
 /// `segment{k}.field` / `sprocket{i}.field` (1-based), arrays of numbers as
-/// `field[i]`; then the sweep's own: `max_contact_force_n`, `rev_per_s`.
+/// `field[i]`; `warning_count` (the summary's warnings) and `warned` (1 when
+/// the run warned or a segment is not stationary, [`CaseFlags`]); then the
+/// sweep's own: `max_contact_force_n`, `rev_per_s`.
 /// A run-up's window has no run summary: its own statistics take its place
 /// (`link_force_min_n`, `link_force_max_n`, `max_penetration_m`,
 /// `segment{k}.mean_link_force_n`, `.min_link_force_n`, `.max_link_force_n`,
@@ -384,6 +522,9 @@ pub fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
             if let Ok(value) = serde_json::to_value(summary) {
                 flatten("", &value, &mut out);
             }
+            out.push(("warning_count".to_owned(), summary.warnings.len() as f64));
+            let warned = CaseFlags::of_result(case).warned();
+            out.push(("warned".to_owned(), f64::from(u8::from(warned))));
         }
         None => {
             out.push(("link_force_min_n".to_owned(), case.link_force_min_n));

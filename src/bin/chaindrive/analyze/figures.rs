@@ -9,6 +9,7 @@ use chaindrive::analysis::study::{
     Series, link_force_series, roller_contact_series, segment_force_series, spectrum_with_peaks,
     transverse_series,
 };
+use chaindrive::analysis::units::si;
 
 /// Figures drawn: (file stem, caption).
 pub(super) type FigureList = Vec<(String, String)>;
@@ -26,7 +27,12 @@ pub(super) fn recorded_figures(
     dir: &Path,
 ) -> anyhow::Result<(FigureList, Vec<PathBuf>)> {
     /// A plot of one signal over time, drawn as a line.
-    fn time_plot(title: String, y_label: &str, label: String, points: Vec<(f64, f64)>) -> Plot {
+    fn time_plot(
+        title: String,
+        (y_label, unit): (&str, &str),
+        label: String,
+        points: Vec<(f64, f64)>,
+    ) -> Plot {
         Plot {
             title,
             x_label: "t (s)".into(),
@@ -39,15 +45,17 @@ pub(super) fn recorded_figures(
             }],
             notes: Vec::new(),
         }
+        .with_y_unit(unit)
     }
     let d = &run.data;
     let mut out = Vec::new();
     let mut paths = Vec::new();
-    let pts = |s: &Series, scale: f64, t0: f64| -> Vec<(f64, f64)> {
+    // Points in SI units; each plot picks its prefix (`with_y_unit`).
+    let pts = |s: &Series, t0: f64| -> Vec<(f64, f64)> {
         s.t_s
             .iter()
             .zip(&s.value)
-            .map(|(t, v)| (t - t0, v * scale))
+            .map(|(t, v)| (t - t0, *v))
             .collect()
     };
     let mut emit = |plot: Plot, stem: String| -> anyhow::Result<()> {
@@ -60,9 +68,9 @@ pub(super) fn recorded_figures(
         emit(
             time_plot(
                 format!("force of link {}", l.link),
-                "link force (kN)",
+                ("link force", "N"),
                 d.label.clone(),
-                pts(&s, 1e-3, 0.0),
+                pts(&s, 0.0),
             ),
             format!("link{}_force", l.link),
         )?;
@@ -77,9 +85,9 @@ pub(super) fn recorded_figures(
             emit(
                 time_plot(
                     format!("average link force of segment {k}"),
-                    "average link force (kN)",
-                    format!("{} (mean {:.2} kN)", d.label, s.mean() * 1e-3),
-                    pts(&s, 1e-3, 0.0),
+                    ("average link force", "N"),
+                    format!("{} (mean {})", d.label, si(s.mean(), "N")),
+                    pts(&s, 0.0),
                 ),
                 format!("segment{k}_force"),
             )?;
@@ -88,9 +96,9 @@ pub(super) fn recorded_figures(
         emit(
             time_plot(
                 format!("transverse displacement of the middle of segment {k}"),
-                "displacement (mm)",
+                ("displacement", "m"),
                 d.label.clone(),
-                pts(&s, 1e3, 0.0),
+                pts(&s, 0.0),
             ),
             format!("segment{k}_transverse"),
         )?;
@@ -100,7 +108,7 @@ pub(super) fn recorded_figures(
             .iter()
             .zip(&picked.amplitude)
             .filter(|(f, _)| **f <= 200.0)
-            .map(|(f, amp)| (*f, amp * 1e3))
+            .map(|(f, amp)| (*f, *amp))
             .collect();
         if spectrum.len() >= 2 {
             let mut traces = vec![Trace {
@@ -112,21 +120,18 @@ pub(super) fn recorded_figures(
             if !picked.peaks.is_empty() {
                 traces.push(Trace {
                     label: "peaks".into(),
-                    points: picked
-                        .peaks
-                        .iter()
-                        .map(|(f, amp)| (*f, amp * 1e3))
-                        .collect(),
+                    points: picked.peaks.iter().map(|(f, amp)| (*f, *amp)).collect(),
                     mark: Mark::Dots,
                     color: 1,
                 });
             }
             if seg.string_f1_hz > 0.0 {
-                let top = picked.peaks.first().map_or(0.0, |p| p.1 * 1e3);
+                // A vertical line from 0 to the highest peak.
+                let top = picked.peaks.iter().map(|p| p.1).fold(0.0, f64::max);
                 traces.push(Trace {
                     label: format!("moving string f₁ = {:.2} Hz", seg.string_f1_hz),
                     points: vec![(seg.string_f1_hz, 0.0), (seg.string_f1_hz, top)],
-                    mark: Mark::Crosses,
+                    mark: Mark::Dashed,
                     color: 2,
                 });
             }
@@ -134,15 +139,16 @@ pub(super) fn recorded_figures(
                 Plot {
                     title: format!("amplitude spectrum of segment {k}'s transverse displacement"),
                     x_label: "frequency (Hz)".into(),
-                    y_label: "amplitude (mm)".into(),
+                    y_label: "amplitude".into(),
                     traces,
                     notes: picked
                         .peaks
                         .iter()
                         .take(3)
-                        .map(|(f, amp)| (*f + 1.5, amp * 1e3, format!("{f:.1} Hz")))
+                        .map(|(f, amp)| (*f, *amp, format!("{f:.1} Hz")))
                         .collect(),
-                },
+                }
+                .with_y_unit("m"),
                 format!("segment{k}_spectrum"),
             )?;
         }
@@ -152,9 +158,9 @@ pub(super) fn recorded_figures(
         emit(
             time_plot(
                 format!("contact force on roller {}", r.roller),
-                "contact force (kN)",
+                ("contact force", "N"),
                 d.label.clone(),
-                pts(&s, 1e-3, 0.0),
+                pts(&s, 0.0),
             ),
             format!("roller{}_contact", r.roller),
         )?;
@@ -168,13 +174,18 @@ pub(super) fn recorded_figures(
                     "contact force on a roller bedded on sprocket {}, and Binder's (49)",
                     k + 1
                 ),
-                x_label: "time since contact start (s)".into(),
-                y_label: "contact force (kN)".into(),
+                x_label: "time since contact start".into(),
+                y_label: "contact force".into(),
                 traces: vec![
                     Trace {
-                        label: format!("roller {}", ex.roller),
-                        points: pts(&ex.simulated, 1e-3, ex.t_start_s),
-                        mark: Mark::Line,
+                        label: format!("roller {} (simulated)", ex.roller),
+                        points: pts(&ex.simulated, ex.t_start_s),
+                        // A short contact holds few samples: mark each.
+                        mark: if ex.simulated.t_s.len() <= 60 {
+                            Mark::LineDots
+                        } else {
+                            Mark::Line
+                        },
                         color: 0,
                     },
                     Trace {
@@ -183,14 +194,16 @@ pub(super) fn recorded_figures(
                             .binder_t_s
                             .iter()
                             .zip(&ex.binder_n)
-                            .map(|(t, f)| (t - ex.t_start_s, f * 1e-3))
+                            .map(|(t, f)| (t - ex.t_start_s, *f))
                             .collect(),
                         mark: Mark::Dots,
                         color: 1,
                     },
                 ],
                 notes: Vec::new(),
-            },
+            }
+            .with_y_unit("N")
+            .with_x_unit("s"),
             format!("sprocket{}_contact_vs_binder", k + 1),
         )?;
     }

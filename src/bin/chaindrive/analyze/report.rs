@@ -5,6 +5,7 @@
 use std::fmt::Write as _;
 
 use chaindrive::analysis::recorded::RecordedAnalysis;
+use chaindrive::analysis::units::si;
 
 fn opt(v: Option<f64>, digits: usize) -> String {
     v.filter(|v| v.is_finite())
@@ -19,11 +20,11 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
     let _ = writeln!(md, "# Analysis of the recording `{}`\n", a.recording);
     let _ = writeln!(
         md,
-        "Scene **{}**, {} profile, dt = {} s, {} samples at {} Hz from {:.3} s to {:.3} s; \
+        "Scene **{}**, {} profile, dt = {}, {} samples at {} Hz from {:.3} s to {:.3} s; \
          the run ended: {}. Channels: {}.\n",
         a.scene,
         a.profile,
-        a.dt_s,
+        si(a.dt_s, "s"),
         a.samples,
         a.sample_rate_hz,
         a.run_s[0],
@@ -59,7 +60,7 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
     );
     let _ = writeln!(
         md,
-        "| segment | length (m) | mean link force (N) | peak-to-peak (N) | amplitude (N) | transverse peak 1–50 Hz (Hz) | moving string (Hz) | peak vs string | (52) (Hz) | transverse amplitude (mm) | spectral peaks 1–200 Hz |"
+        "| segment | length (m) | mean link force (N) | peak-to-peak (N) | amplitude (N) | transverse peak 1–50 Hz (Hz) | moving string (Hz) | peak vs string | (52) (Hz) | transverse amplitude | spectral peaks 1–200 Hz (amplitude) |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
     for s in &a.segments {
@@ -75,11 +76,11 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
             .peaks
             .iter()
             .take(4)
-            .map(|(f, amp)| format!("{f:.1} Hz ({:.2} mm)", amp * 1e3))
+            .map(|(f, amp)| format!("{f:.1} Hz ({})", si(*amp, "m")))
             .collect();
         let _ = writeln!(
             md,
-            "| {} | {:.4} | {} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {:.3} | {} |",
+            "| {} | {:.4} | {} | {} | {} | {:.2} | {:.2} | {} | {:.2} | {} | {} |",
             s.segment,
             s.length_m,
             opt(s.mean_link_force_n, 1),
@@ -89,7 +90,7 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
             s.string_f1_hz,
             vs,
             s.string_52_hz,
-            s.transverse_amplitude_m * 1e3,
+            si(s.transverse_amplitude_m, "m"),
             if peaks.is_empty() {
                 "none".to_owned()
             } else {
@@ -107,7 +108,7 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
     );
     let _ = writeln!(
         md,
-        "| sprocket | teeth | mean speed (rad/s) | speed p2p (rad/s) | mean chain moment (N·m) | polygonal 1 − cos(π/nt) | contacts | RMS vs (49) (N) | RMS of (49) (N) | relative | RMS vs printed (49) (N) | example nb, q_a, q_b, q_c (N) |"
+        "| sprocket | teeth | mean speed (rad/s) | speed p2p (rad/s) | mean chain moment | polygonal 1 − cos(π/nt) | contacts | RMS vs (49) (N) | RMS of (49) (N) | relative | RMS vs printed (49) (N) | example nb, q_a, q_b, q_c (N) |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|---|");
     for s in &a.sprockets {
@@ -131,12 +132,12 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {:.4} | {:.4} | {:.1} | {:.5} | {tail} |",
+            "| {} | {} | {:.4} | {:.4} | {} | {:.5} | {tail} |",
             s.sprocket,
             s.teeth,
             s.mean_speed_rad_s,
             s.speed_p2p_rad_s,
-            s.mean_torque_n_m,
+            si(s.mean_torque_n_m, "N·m"),
             s.polygonal_variation
         );
     }

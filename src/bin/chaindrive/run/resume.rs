@@ -7,7 +7,7 @@ use std::fs::File;
 use std::path::Path;
 
 use anyhow::Context;
-use chaindrive::analysis::Signals;
+use chaindrive::analysis::{DEFAULT_WINDOW_S, Signals};
 use chaindrive::record::{RecordMark, Recorder};
 use chaindrive::sim::checkpoint::{Checkpoint, read_checkpoint_to_continue, write_checkpoint};
 use chaindrive::sim::{RunOutcome, Simulation};
@@ -70,15 +70,18 @@ pub(super) fn take_up(
     let t_s = ck.sim.t_s();
     let window_restarts = ck
         .sim
-        .window_restarts(ck.run.window_from_s, sampling.window_from_s)
+        .window_restarts(ck.run.window_from_s, sampling.window.start_s())
         .with_context(|| {
+            // Any longer run's window, of this length, starts after the checkpoint.
+            let length_s = sampling.window_option.unwrap_or(DEFAULT_WINDOW_S);
             format!(
-                "--duration {}: the statistics window (the last {} s) cannot be continued from checkpoint {} (t = {t_s} s); a --duration of at least {} s puts it after the checkpoint",
+                "--duration {}: the statistics window ({} to {} s) cannot be continued from checkpoint {} (t = {t_s} s); a --duration of at least {} s puts it after the checkpoint",
                 scene.solver().duration_s,
-                sampling.window_s,
+                sampling.window.start_s(),
+                scene.solver().duration_s,
                 path.display(),
                 // To the nanosecond: 0.6, not 0.6000000000000001.
-                ((t_s + sampling.window_s) * 1e9).round() / 1e9
+                ((t_s + length_s) * 1e9).round() / 1e9
             )
         })?;
     Ok(Resume {
@@ -132,7 +135,7 @@ pub(super) fn write_run_checkpoint(
     let run = CliRun {
         rate_hz: sampling.rate.rate_hz,
         window: sampling.window_option,
-        window_from_s: sampling.window_from_s,
+        window_from_s: sampling.window.start_s(),
         signals: observer.signals.clone(),
         steps: so_far.steps,
         wall_s: so_far.wall_s,
