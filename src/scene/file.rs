@@ -47,6 +47,9 @@ pub struct SceneFile {
     /// Fixed guides on the strands (`[[guides]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub guides: Vec<super::GuideFile>,
+    /// Settings of the design checks (`[checks]`).
+    #[serde(default, skip_serializing_if = "super::ChecksFile::is_empty")]
+    pub checks: super::ChecksFile,
 }
 
 fn default_profile() -> String {

@@ -12,6 +12,7 @@
 
 mod builder;
 mod by_path;
+mod checks;
 pub mod designations;
 mod error;
 mod excitation;
@@ -33,6 +34,7 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
+pub use checks::{Checks, ChecksFile, SN_SLOPE_RANGE};
 pub use error::{FieldError, SceneError, locate, value_span};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
@@ -84,6 +86,8 @@ pub struct Scene {
     /// Tensioner arms with their tensioners.
     pub(crate) tensioners: Vec<Tensioner>,
     pub(crate) guides: Vec<Guide>,
+    /// Settings of the design checks.
+    pub(crate) checks: Checks,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
     pub(crate) source_toml: Option<String>,
@@ -152,6 +156,11 @@ impl Scene {
     /// Fixed guides on the strands.
     pub fn guides(&self) -> &[Guide] {
         &self.guides
+    }
+
+    /// Settings of the design checks (`[checks]`).
+    pub fn checks(&self) -> &Checks {
+        &self.checks
     }
 
     /// What is valid but likely unintended, one sentence each: a step above

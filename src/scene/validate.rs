@@ -103,6 +103,7 @@ impl TryFrom<SceneFile> for Scene {
             max_relax_s: c.positive("equilibrium.max_relax_s", file.equilibrium.max_relax_s),
         };
         let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
+        let checks = super::checks::check_checks(&mut c, &file.checks);
         if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
             c.fail(
                 "chain.pretension_by",
@@ -129,6 +130,7 @@ impl TryFrom<SceneFile> for Scene {
         }
         Ok(Scene {
             guides,
+            checks,
             name: file.name.clone(),
             gravity_m_s2: file.gravity_m_s2,
             chain,

@@ -71,7 +71,8 @@ use std::collections::BTreeMap;
 
 /// The checkpoint file format's number; a change of what is kept raises it
 /// (2: the header names the scene's fields and its end; 3: the observers'
-/// signals carry their integrals over every step).
+/// signals carry their integrals over every step and the links' fatigue
+/// count).
 pub const FORMAT: u32 = 3;
 
 const MAGIC: &[u8; 16] = b"chaindrive-ckpt\n";

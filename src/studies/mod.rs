@@ -14,12 +14,19 @@
 //! - [`study`]: a design study (factors × levels of a scene) run here or as
 //!   a Slurm job array, its results merged into one table.
 //!
+//! Every batch of runs goes through one work queue ([`queue`]); the studies
+//! that compare integrators share their ladders of settings ([`ladder`]);
+//! a run that starts from a settled drive forks it
+//! ([`crate::sim::Simulation::fork`]).
+//!
 //! What a single run's signals mean and how they are measured is
 //! [`crate::analysis`]'s business; writing files and printing tables is the
 //! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
 
 pub mod convergence;
 pub mod fuzz;
+pub mod ladder;
+pub mod queue;
 pub mod reproduce;
 pub mod soak;
 pub mod stress;

@@ -117,6 +117,54 @@ fn a_finished_run_continued_to_a_longer_duration_is_the_longer_run() {
     }
 }
 
+/// A chain with a designation has its links' fatigue counted over the
+/// window: a run continued to a later end whose window starts after the
+/// checkpoint counts it anew from there, as the longer run does.
+#[test]
+fn a_continued_run_counts_fatigue_over_its_new_window() {
+    let dir = tempfile::tempdir().expect("tmp");
+    let p = |n: &str| dir.path().join(n).display().to_string();
+    let text = std::fs::read_to_string(flat()).expect("scene");
+    let scene = p("flat_ansi40.toml");
+    std::fs::write(
+        &scene,
+        text.replace("[chain]\n", "[chain]\ndesignation = \"ANSI 40\"\n"),
+    )
+    .expect("scene written");
+    let args = |duration: &str, extra: &[&str]| -> Vec<String> {
+        [
+            "run",
+            "--quiet",
+            &scene,
+            "--duration",
+            duration,
+            "--window",
+            "0.1",
+        ]
+        .iter()
+        .chain(extra)
+        .map(|s| (*s).to_owned())
+        .collect()
+    };
+    let (a_json, b_json, ck) = (p("a.json"), p("b.json"), p("b.ckpt"));
+    run_ok(&args("0.8", &["--summary", &a_json]));
+    run_ok(&args(
+        "0.4",
+        &["--checkpoint", &ck, "--checkpoint-every", "1"],
+    ));
+    run_ok(&args("0.8", &["--summary", &b_json, "--resume", &ck]));
+    let (a, b) = (
+        without_wall_times(Path::new(&a_json)),
+        without_wall_times(Path::new(&b_json)),
+    );
+    assert!(
+        a["fatigue"].is_object(),
+        "a fatigue block: {}",
+        a["fatigue"]
+    );
+    assert_eq!(a, b, "summary");
+}
+
 /// What cannot be continued is refused, naming what differs: an end before
 /// the checkpoint, a window that would hold steps counted in another one,
 /// other options, another scene.

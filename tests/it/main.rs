@@ -9,6 +9,7 @@
 mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
+mod arms;
 #[cfg(feature = "cli")]
 mod auto_step;
 mod catenary;
@@ -36,6 +37,7 @@ mod excitation;
 mod figures;
 mod fit;
 mod friction;
+#[cfg(feature = "lab")]
 mod fuzz;
 mod governor;
 mod guides;
@@ -64,9 +66,11 @@ mod statistics;
 mod stderr_lines;
 mod stepping;
 mod strands;
+#[cfg(feature = "lab")]
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
+#[cfg(feature = "lab")]
 mod sweep;
 mod tensioners;
 mod threads;
