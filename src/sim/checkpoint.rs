@@ -362,8 +362,9 @@ pub fn run_is_done(t_s: f64, dt_s: f64, duration_s: f64) -> bool {
 }
 
 /// A hash of the validated scene (its every field, numbers bit for bit, its
-/// duration aside, and neither the scene file's text nor its directory: a
-/// comment or a path changes no result): 16 hex digits of FNV-1a (64 bit)
+/// tables' texts, its duration aside, and neither the scene file's text nor
+/// its directory nor where its tables were read from: a comment or a path
+/// changes no result): 16 hex digits of FNV-1a (64 bit)
 /// over its debug form. Stable for one version of the crate, which is all a
 /// checkpoint needs.
 pub fn scene_hash(scene: &Scene) -> String {
@@ -371,6 +372,7 @@ pub fn scene_hash(scene: &Scene) -> String {
     scene.solver.duration_s = 0.0;
     scene.file.solver.duration_s = 0.0;
     scene.file.base_dir = None;
+    scene.file.given_tables.clear();
     scene.source_toml = None;
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     for b in format!("{scene:?}").bytes() {

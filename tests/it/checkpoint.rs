@@ -781,3 +781,23 @@ pub(crate) mod cli {
         );
     }
 }
+
+/// A scene with a load table is the same scene however its file is named:
+/// by a relative or an absolute path, its checkpoints are its own (the
+/// table's text counts, not the folder it was read from).
+#[test]
+fn a_scene_with_a_load_table_is_the_same_by_any_path() {
+    let rel = std::path::Path::new("assets/timing-excited.toml");
+    let abs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
+    let read = |p: &std::path::Path| {
+        Scene::from_path_with(p, &Overrides::default())
+            .expect("readable")
+            .expect("valid")
+    };
+    let (by_rel, by_abs) = (read(rel), read(&abs));
+    assert!(
+        by_rel.sprockets()[1].excitation.load_table.is_some(),
+        "the scene has a table"
+    );
+    assert_eq!(scene_hash(&by_rel), scene_hash(&by_abs));
+}
