@@ -191,9 +191,10 @@
 //! | feature | default | what it adds |
 //! |---|---|---|
 //! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record`, `figures`, `parquet` and `lab` |
-//! | `lab` | yes | `studies`: experiments of many runs (sweeps, design studies, convergence, work-precision, stress, the paper's study) |
+//! | `lab` | yes | `studies`: experiments of many runs (sweeps, design studies, convergence, work-precision, stress, the paper's study), every batch through one work queue; `csv` |
 //! | `figures` | yes | PNG and SVG figures of [`analysis`] (`plotters`, embedded font), `reproduce` |
-//! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
+//! | `record` | yes | `record`: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
+//! | `parquet` | yes | a design study's results as a Parquet table (`study collect`); enables `lab` |
 //!
 //! ## Reproducibility
 //!

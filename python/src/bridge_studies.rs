@@ -20,7 +20,7 @@ use chaindrive::sim::Simulation;
 use chaindrive::studies::study::{ColumnData, Study, StudyDir, Table as StudyTable};
 use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, SweepError, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
-    parse_rpm_range, run_sweep, summary_scalars,
+    run_sweep, summary_scalars,
 };
 use serde_json::{Value, json};
 
@@ -169,7 +169,31 @@ pub(crate) fn sweep(
 
 /// Speeds `FROM:TO:STEP` in rpm, as `chaindrive sweep --rpm` reads them.
 pub(crate) fn rpm_range(text: &str) -> Result<Vec<f64>, String> {
-    parse_rpm_range("rpm", text).map_err(sweep_error)
+    let bad = |why: &str| {
+        format!(
+            "rpm = {text:?}: {why} (allowed: FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100)"
+        )
+    };
+    let nums = text
+        .split(':')
+        .map(|p| p.trim().parse::<f64>().map_err(|_| bad("not a number")))
+        .collect::<Result<Vec<f64>, String>>()?;
+    let [from, to, step] = nums[..] else {
+        return Err(bad("three numbers separated by ':' are needed"));
+    };
+    if !(from.is_finite() && to.is_finite() && step.is_finite()) {
+        return Err(bad("not finite"));
+    }
+    if !(from > 0.0 && to >= from && step > 0.0) {
+        return Err(bad("FROM must be > 0, TO not below FROM, STEP > 0"));
+    }
+    let count = ((to - from) / step * (1.0 + 1e-12) + 1e-9).floor() + 1.0;
+    if count > 100_000.0 {
+        return Err(bad("more than 100000 speeds"));
+    }
+    Ok((0..count as usize)
+        .map(|i| from + i as f64 * step)
+        .collect())
 }
 
 /// A sweep's error, its settings named as the Python keywords (`window`,
@@ -416,7 +440,7 @@ pub(crate) fn study(
     .map_err(failure)?;
     let table = StudyTable::collect(&study_dir).map_err(failure)?;
     let csv = dir.join("results.csv");
-    std::fs::write(&csv, table.to_csv())
+    std::fs::write(&csv, table.to_csv().map_err(failure)?)
         .map_err(|e| StudyFailure::Other(format!("{}: {e}", csv.display())))?;
     table
         .write_parquet(&dir.join("results.parquet"))

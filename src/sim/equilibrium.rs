@@ -91,7 +91,7 @@ pub struct StaticEquilibrium {
     pub beyond_seating_arc: Option<BeyondSeatingArc>,
     /// Where the chain's fit to its path, not the tensioner arms, sets the
     /// static tension of a drive whose arms should set it (tensioner-preload
-    /// rule; [`super::misfit`]). A run warns.
+    /// rule; `sim::misfit`). A run warns.
     pub misfit: Option<super::misfit::MisfitTension>,
 }
 

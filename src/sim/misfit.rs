@@ -173,7 +173,7 @@ pub(crate) fn misfit_tension(
     let idle = at_rest.iter().all(|a| matches!(a, ArmAtRest::Idle(_)));
     // The chain short of its straight path: free links laid longer than P.
     let shortfall_tension_n = (layout.misfit_pitches > 0.0 && !layout.hanging && stretch > 0.0)
-        .then(|| scene.chain.stiffness_n_m * pitch_m * stretch)
+        .then_some(scene.chain.stiffness_n_m * pitch_m * stretch)
         .filter(|&t| t >= SHORTFALL_SHARE * tension_n);
     if !idle && shortfall_tension_n.is_none() {
         return None;

@@ -9,6 +9,8 @@
 
 mod blow_up;
 pub mod checkpoint;
+#[cfg(test)]
+mod contact_builds_tests;
 mod energy;
 mod equilibrium;
 mod fanout;

@@ -27,7 +27,6 @@ mod rate;
 mod recover;
 mod reproduce;
 mod run;
-mod speeds;
 mod stress;
 mod study;
 mod sweep;

@@ -22,12 +22,12 @@ use chaindrive::scene::{Assignment, Overrides, Scene};
 use chaindrive::studies::sweep::campbell::describe_signal;
 use chaindrive::studies::sweep::report::GRID_RESOLUTION;
 
-use crate::speeds::{parse_rpm_range, parse_run_up};
 use crate::sweep_figures::{FigureSettings, draw_figures};
 use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
     SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section, excitation_orders,
-    on_order_grid, resonance_crossings, run_sweep, run_up, summary_scalars, worst_cases,
+    on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
+    summary_scalars, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.

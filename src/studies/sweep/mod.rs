@@ -28,6 +28,7 @@
 pub mod campbell;
 pub mod report;
 pub mod runup;
+pub mod speeds;
 
 pub use report::{
     CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
@@ -35,6 +36,7 @@ pub use report::{
     summary_scalars, worst_cases,
 };
 pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
+pub use speeds::{MAX_CASES, parse_rpm_range, parse_run_up};
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -56,7 +58,8 @@ pub const TRANSVERSE_MODES: u32 = 3;
 /// Why a sweep cannot start.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
-    /// Speeds the sweep cannot run: none, or a run-up that does not go up.
+    /// Speeds the sweep cannot run: not `FROM:TO:STEP` with 0 < FROM ≤ TO
+    /// and STEP > 0 ([`parse_rpm_range`]), none, or a run-up that does not go up.
     #[error("{what} {text:?}: {why}")]
     BadRange {
         /// The option (`--rpm`, `--run-up`).

@@ -1,20 +1,28 @@
-//! The command line's syntax for driver speeds: a stepped range
-//! `FROM:TO:STEP` (`sweep --rpm`) and a run-up `FROM:TO` (`sweep --run-up`),
-//! in rpm. What a sweep does with the speeds is `chaindrive::studies::sweep`'s.
+//! The text forms of driver speeds that the front ends read (the command
+//! line's `sweep --rpm` and `--run-up`, the Python bindings' `rpm`): a
+//! stepped range `FROM:TO:STEP` and a run-up `FROM:TO`, in rpm. Errors name
+//! the option they came from, so each front end can say it in its own terms.
+
+use super::SweepError;
 
 /// Most speeds a stepped range may hold.
-pub const MAX_SPEEDS: usize = 100_000;
-
-/// How a stepped range is written.
-const RANGE_FORM: &str = "FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100";
-
-/// How a run-up is written.
-const RUN_UP_FORM: &str = "FROM:TO in rpm with 0 < FROM < TO, e.g. 300:3000";
+pub const MAX_CASES: usize = 100_000;
 
 /// Speeds `FROM:TO:STEP` in rpm (both ends included when STEP divides the
 /// span; a last point beyond TO is not added). `what` names the option in errors.
-pub fn parse_rpm_range(what: &str, text: &str) -> anyhow::Result<Vec<f64>> {
-    let bad = |why: &str| refused(what, text, why, RANGE_FORM);
+///
+/// # Errors
+///
+/// Not three numbers, not finite, not 0 < FROM ≤ TO and STEP > 0, or more
+/// than [`MAX_CASES`] speeds; the error names `what`.
+pub fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, SweepError> {
+    let bad = |why: &str| SweepError::BadRange {
+        what,
+        text: text.to_owned(),
+        why: format!(
+            "{why}; write FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100"
+        ),
+    };
     let parts: Vec<&str> = text.split(':').collect();
     if parts.len() != 3 {
         return Err(bad("three numbers separated by ':' are needed"));
@@ -38,8 +46,8 @@ pub fn parse_rpm_range(what: &str, text: &str) -> anyhow::Result<Vec<f64>> {
         return Err(bad("STEP must be > 0"));
     }
     let count = ((to - from) / step * (1.0 + 1e-12) + 1e-9).floor() + 1.0;
-    if count > MAX_SPEEDS as f64 {
-        return Err(bad(&format!("more than {MAX_SPEEDS} speeds")));
+    if count > MAX_CASES as f64 {
+        return Err(bad(&format!("more than {MAX_CASES} speeds")));
     }
     Ok((0..count as usize)
         .map(|i| from + i as f64 * step)
@@ -47,8 +55,16 @@ pub fn parse_rpm_range(what: &str, text: &str) -> anyhow::Result<Vec<f64>> {
 }
 
 /// Two speeds `FROM:TO` in rpm with 0 < FROM < TO (a run-up).
-pub fn parse_run_up(text: &str) -> anyhow::Result<(f64, f64)> {
-    let bad = |why: &str| refused("--run-up", text, why, RUN_UP_FORM);
+///
+/// # Errors
+///
+/// Not two numbers, or not 0 < FROM < TO.
+pub fn parse_run_up(text: &str) -> Result<(f64, f64), SweepError> {
+    let bad = |why: &str| SweepError::BadRange {
+        what: "--run-up",
+        text: text.to_owned(),
+        why: format!("{why}; write FROM:TO in rpm with 0 < FROM < TO, e.g. 300:3000"),
+    };
     let parts: Vec<&str> = text.split(':').collect();
     if parts.len() != 2 {
         return Err(bad("two numbers separated by ':' are needed"));
@@ -59,11 +75,6 @@ pub fn parse_run_up(text: &str) -> anyhow::Result<(f64, f64)> {
         return Err(bad("out of range"));
     }
     Ok((from, to))
-}
-
-/// `OPTION "TEXT": WHY; write FORM`.
-fn refused(what: &str, text: &str, why: &str, form: &str) -> anyhow::Error {
-    anyhow::anyhow!("{what} {text:?}: {why}; write {form}")
 }
 
 #[cfg(test)]
