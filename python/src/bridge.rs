@@ -532,21 +532,7 @@ fn start_recording(
             path.display()
         )));
     };
-    // An MCAP file is not appended to: the earlier file is set aside and
-    // the new one starts with its messages up to the checkpoint.
-    let mut aside = path.as_os_str().to_owned();
-    aside.push(".before-resume");
-    let aside = PathBuf::from(aside);
-    if !aside.exists() {
-        std::fs::rename(path, &aside)
-            .map_err(|e| io("cannot continue the recording the run was writing", &e))?;
-    }
-    let earlier = std::fs::read(&aside).map_err(|e| io("cannot read the earlier recording", &e))?;
-    let file = create().map_err(|e| io("cannot create", &e))?;
-    let recorder = Recorder::continued(file, scene, &options, &earlier, &mark)
-        .map_err(|e| io("cannot continue", &e))?;
-    std::fs::remove_file(&aside).map_err(|e| io("cannot remove the earlier recording", &e))?;
-    Ok(recorder)
+    Recorder::continue_file(path, scene, &options, &mark).map_err(|e| io("cannot continue", &e))
 }
 
 impl std::fmt::Display for RunError {

@@ -10,6 +10,7 @@ mod convert;
 mod run;
 mod scene;
 mod studies;
+mod watch;
 
 use pyo3::prelude::*;
 

@@ -4,15 +4,16 @@
 //! with the partial result, a tqdm bar.
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
-use crate::bridge::{self, RunError, RunHooks, RunOutput, RunSettings};
+use crate::bridge::{self, RunError, RunOutput, RunSettings};
 use crate::convert::{json_to_py, matrix, vector};
 use crate::scene::{PyScene, scene_error};
+use crate::watch::Watch;
 
 pyo3::create_exception!(
     chaindrive,
@@ -22,45 +23,6 @@ pyo3::create_exception!(
      blew up; the message names the time, the body, the detector and the\n\
      possible causes, as the command line prints it."
 );
-
-/// The caller's side of a run: signals and the progress callback, looked
-/// at with the GIL taken back, at most every `every` of wall time.
-struct PyHooks {
-    progress: Option<Py<PyAny>>,
-    every: Duration,
-    last: Instant,
-    /// What stopped the run: a `KeyboardInterrupt` (or whatever a signal
-    /// handler raised), or the callback's exception.
-    error: Option<PyErr>,
-}
-
-impl RunHooks for PyHooks {
-    fn poll(&mut self, t_s: f64, duration_s: f64) -> bool {
-        if self.error.is_some() {
-            return true;
-        }
-        if self.last.elapsed() < self.every {
-            return false;
-        }
-        self.last = Instant::now();
-        let result = Python::attach(|py| -> PyResult<()> {
-            // Runs the Python-level signal handlers (SIGINT's raises
-            // KeyboardInterrupt); only the main thread has any.
-            py.check_signals()?;
-            if let Some(callback) = &self.progress {
-                callback.call1(py, (t_s, duration_s))?;
-            }
-            Ok(())
-        });
-        match result {
-            Ok(()) => false,
-            Err(e) => {
-                self.error = Some(e);
-                true
-            }
-        }
-    }
-}
 
 /// A step in seconds or `"auto"`.
 fn dt_setting(dt: Option<&Bound<'_, PyAny>>) -> PyResult<(Option<f64>, bool)> {
@@ -130,16 +92,12 @@ pub(crate) fn run<'py>(
         checkpoint_every_s: checkpoint_every,
         resume,
     };
-    let mut hooks = PyHooks {
-        progress,
-        every: Duration::from_secs_f64(if poll_s.is_finite() {
-            poll_s.max(0.0)
-        } else {
-            0.1
-        }),
-        last: Instant::now(),
-        error: None,
+    let every_s = if poll_s.is_finite() {
+        poll_s.max(0.0)
+    } else {
+        0.1
     };
+    let mut hooks = Watch::new(progress, Duration::from_secs_f64(every_s));
     let scene = &scene.get().inner;
     let result = py.detach(|| bridge::run(scene, &settings, &mut hooks));
     let mut output = result.map_err(|e| run_error(py, e))?;

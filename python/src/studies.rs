@@ -4,18 +4,18 @@
 //! `study` (tables with `to_pandas()`, `KeyboardInterrupt`).
 
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use numpy::IntoPyArray;
-use pyo3::exceptions::{PyKeyboardInterrupt, PyOSError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::bridge::RunHooks;
 use crate::bridge_studies::{self, Column, Plan, StudyFailure, SweepRequest, Table};
 use crate::convert::{json_to_py, vector};
 use crate::run::SimError;
 use crate::scene::PyScene;
+use crate::watch::Watch;
 
 pyo3::create_exception!(
     chaindrive,
@@ -24,55 +24,6 @@ pyo3::create_exception!(
     "A study's plan, or a case's scene, is invalid: one `path: message` line\n\
      per problem (paths in the plan, or the case's factor values)."
 );
-
-/// Ctrl-C and the progress callback, looked at every `every` of wall time
-/// with the GIL taken back (the work runs on other threads).
-struct Watch {
-    progress: Option<Py<PyAny>>,
-    every: Duration,
-    last: Instant,
-    error: Option<PyErr>,
-}
-
-impl Watch {
-    fn new(progress: Option<Py<PyAny>>) -> Self {
-        Self {
-            progress,
-            every: Duration::from_millis(100),
-            last: Instant::now(),
-            error: None,
-        }
-    }
-
-    /// The callback's (or a signal handler's) exception, unless it is a
-    /// `KeyboardInterrupt`: that one stops the work and the caller reports it.
-    fn raised(self, py: Python<'_>) -> PyResult<()> {
-        match self.error {
-            Some(e) if !e.is_instance_of::<PyKeyboardInterrupt>(py) => Err(e),
-            _ => Ok(()),
-        }
-    }
-}
-
-impl RunHooks for Watch {
-    fn poll(&mut self, done: f64, total: f64) -> bool {
-        if self.error.is_some() {
-            return true;
-        }
-        if self.last.elapsed() < self.every {
-            return false;
-        }
-        self.last = Instant::now();
-        let result = Python::attach(|py| -> PyResult<()> {
-            py.check_signals()?;
-            if let Some(callback) = &self.progress {
-                callback.call1(py, (done, total))?;
-            }
-            Ok(())
-        });
-        result.map_err(|e| self.error = Some(e)).is_err()
-    }
-}
 
 /// A table as a dict of columns: numbers as NumPy arrays (no copy), text
 /// and booleans with gaps as lists.
@@ -132,7 +83,7 @@ fn sweep<'py>(
         order_step,
     };
     let scene = &scene.get().inner;
-    let mut watch = Watch::new(progress);
+    let mut watch = Watch::new(progress, Duration::from_millis(100));
     let out = py.detach(|| bridge_studies::sweep(scene, &request, &mut watch));
     watch.raised(py)?;
     let out = out.map_err(PyValueError::new_err)?;
@@ -177,7 +128,7 @@ fn study<'py>(
             ));
         }
     };
-    let mut watch = Watch::new(progress);
+    let mut watch = Watch::new(progress, Duration::from_millis(100));
     let out = py.detach(|| bridge_studies::study(plan, &dir, jobs, retry_failed, &mut watch));
     watch.raised(py)?;
     let out = match out {

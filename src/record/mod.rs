@@ -23,7 +23,9 @@
 //!
 //! Every file also holds a metadata record `chaindrive` (scene name, profile,
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
-//! scene file as an attachment, and at the end a metadata record
+//! scene file as an attachment with the tables it read (a load table's
+//! CSV, attached under the name the scene gives it, media type
+//! `text/csv`), and at the end a metadata record
 //! `chaindrive.end` saying how the run ended. Channels not requested are
 //! neither computed nor written.
 //!
@@ -60,6 +62,7 @@
 //! hands it) or stream to a live viewer.
 
 mod channels;
+mod files;
 mod messages;
 pub mod read;
 pub mod recover;
@@ -67,6 +70,9 @@ mod visual;
 mod writer;
 
 pub use channels::{Channel, Channels, STATIC_SCENE_TOPIC};
+
+/// The media type of a table a scene read, attached beside it.
+pub(crate) const TABLE_MEDIA_TYPE: &str = "text/csv";
 pub(crate) use writer::CHUNK_BYTES;
 pub use writer::FLUSH_INTERVAL_NS;
 use writer::{ChannelIds, Frame, Job, QUEUE_FRAMES, Sink, Writer};
@@ -82,9 +88,7 @@ pub use visual::{
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::{BufWriter, Seek, Write};
-use std::path::Path;
+use std::io::{Seek, Write};
 
 use foxglove::Encode;
 use foxglove::schemas::{FrameTransforms, PointCloud, SceneUpdate};
@@ -280,19 +284,13 @@ fn time_ns(t_s: f64) -> u64 {
     (t_s * 1e9).round() as u64
 }
 
-impl Recorder<BufWriter<File>> {
-    /// Creates (or truncates) the file at `path` and starts recording into it.
-    pub fn create(
-        path: &Path,
-        scene: &Scene,
-        options: &RecordOptions,
-    ) -> Result<Self, RecordError> {
-        let file = File::create(path).map_err(|source| RecordError::Create {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::new(BufWriter::new(file), scene, options)
-    }
+/// The refusal of a resumed recording with other channels.
+fn other_channels(mark: &RecordMark, options: &RecordOptions) -> RecordError {
+    RecordError::Continue(format!(
+        "the run was recorded with other channels ({:?}, now {:?}): resume with the same --record-channels",
+        Channels::from_bits_truncate(mark.channels),
+        options.channels
+    ))
 }
 
 impl<W: Write + Seek + Send + 'static> Recorder<W> {
@@ -317,11 +315,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         mark: &RecordMark,
     ) -> Result<Self, RecordError> {
         if mark.channels != options.channels.bits() {
-            return Err(RecordError::Continue(format!(
-                "the run was recorded with other channels ({:?}, now {:?}): resume with the same --record-channels",
-                Channels::from_bits_truncate(mark.channels),
-                options.channels
-            )));
+            return Err(other_channels(mark, options));
         }
         Self::start(writer, scene, options, Some((earlier, mark)), None)
     }
@@ -391,6 +385,17 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 media_type: "application/toml".to_owned(),
                 data: Cow::Borrowed(data),
             })?;
+            // The tables it read, under the names it writes: the scene is
+            // rebuilt from the recording alone ([`read`]).
+            for (name, text) in scene.tables() {
+                w.attach(&mcap::Attachment {
+                    log_time: 0,
+                    create_time: 0,
+                    name: name.to_owned(),
+                    media_type: TABLE_MEDIA_TYPE.to_owned(),
+                    data: Cow::Borrowed(text.as_bytes()),
+                })?;
+            }
         }
         let channels = options.channels;
         let mut ids = ChannelIds::default();
