@@ -11,8 +11,6 @@ mod blow_up;
 pub mod checkpoint;
 #[cfg(test)]
 mod contact_builds_tests;
-#[cfg(test)]
-mod statics_tests;
 mod energy;
 mod equilibrium;
 mod fanout;
@@ -23,6 +21,8 @@ mod misfit;
 mod newton;
 pub mod parallel;
 mod sample_rate;
+#[cfg(test)]
+mod statics_tests;
 mod stepper;
 
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};

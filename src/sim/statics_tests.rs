@@ -26,7 +26,11 @@ fn a_held_sprocket_takes_the_load_of_a_free_one_at_rest() {
         (chain_n_m + load_n_m).abs() <= 1e-3 * load_n_m.abs(),
         "tail: chain torque {chain_n_m} N·m against a load of {load_n_m} N·m"
     );
-    assert!(sim.equilibrium.force_residual <= 1e-6, "{:?}", sim.equilibrium);
+    assert!(
+        sim.equilibrium.force_residual <= 1e-6,
+        "{:?}",
+        sim.equilibrium
+    );
     // The head turns freely again after the solve.
     assert!(sim.model.sprockets[0].inv_inertia > 0.0);
     assert_eq!(sim.state.omega[0], 0.0);
@@ -42,8 +46,8 @@ fn a_serpentine_with_a_tensioner_sprocket_settles_by_newton() {
     // scene's tolerance. Each of the rule's iterates is solved by Newton's
     // method, which ends with no roller speed left (a dynamic relaxation
     // leaves a small one: the drive settled that way needs seconds).
-    let scene = Scene::from_toml(include_str!("../../tests/data/serpentine_08b_5.toml"))
-        .expect("scene");
+    let scene =
+        Scene::from_toml(include_str!("../../tests/data/serpentine_08b_5.toml")).expect("scene");
     let sim = Simulation::new(&scene).expect("settles");
     let eq = &sim.equilibrium;
     assert!(
