@@ -484,6 +484,8 @@ impl Straight {
     pub fn query_parts(&self, p: [f64; 2]) -> (bool, FacePoint) {
         let (a, ab) = (self.a, self.ab);
         let t = dot(sub(p, a), ab) / self.len2;
+        // `&`, not `contains` (`&&`): no branch in the vectorised loop.
+        #[allow(clippy::manual_range_contains)]
         let inside = (0.0 <= t) & (t <= 1.0);
         let t = t.clamp(0.0, 1.0);
         let c = [a[0] + t * ab[0], a[1] + t * ab[1]];
