@@ -30,6 +30,7 @@ mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
 mod excitation;
+mod fatigue;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
