@@ -40,6 +40,8 @@ mod governor;
 mod guides;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod life;
 mod means;
 mod orders;
 #[cfg(feature = "cli")]
