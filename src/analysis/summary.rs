@@ -224,6 +224,13 @@ pub struct RunSummary {
     /// `warnings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub static_force_residual: Option<f64>,
+    /// What sets the static tension: the pretension rule (`rest_length`,
+    /// `tensioner`, `tensioner_preload`, as `chain.pretension_by`), or
+    /// `chain_misfit` where the tensioner arms meant to set it hold no chain
+    /// and the chain's fit to its path does (a warning says how). Absent
+    /// where unknown (a summary of a recording).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_tension_set_by: Option<String>,
     /// Links' rest length after the pretension rule, m.
     pub rest_length_m: f64,
     /// Smallest link force over the window, N.
@@ -515,7 +522,7 @@ impl RunSummary {
         setup_wall_s: f64,
         window_s: Option<f64>,
     ) -> Self {
-        Self::compute_in(
+        let mut summary = Self::compute_in(
             &SummaryInputs {
                 scene: &sim.scene,
                 model: &sim.model,
@@ -535,7 +542,13 @@ impl RunSummary {
             signals,
             window_s,
             sim.power.as_ref().and_then(|p| p.means()),
-        )
+        );
+        let eq = &sim.equilibrium;
+        summary.static_tension_set_by = Some(eq.tension_set_by(&sim.scene).to_owned());
+        summary
+            .warnings
+            .extend(eq.misfit.as_ref().map(ToString::to_string));
+        summary
     }
 
     /// Computes the summary of a run from its signals, over the default
@@ -709,6 +722,7 @@ impl RunSummary {
             },
             static_tension_n: inputs.static_tension_n,
             static_force_residual: inputs.static_force_residual,
+            static_tension_set_by: None,
             rest_length_m: model.rest_length_m,
             link_force_min_n: link_min,
             link_force_max_n: link_max,

@@ -16,6 +16,11 @@
 //! - [`duty`]: a duty cycle's operating points run as a study and combined
 //!   by hours into the chain's life.
 //!
+//! Every batch of runs goes through one work queue ([`queue`]); the studies
+//! that compare integrators share their ladders of settings ([`ladder`]);
+//! a run that starts from a settled drive forks it
+//! ([`crate::sim::Simulation::fork`]).
+//!
 //! What a single run's signals mean and how they are measured is
 //! [`crate::analysis`]'s business; writing files and printing tables is the
 //! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
@@ -23,6 +28,8 @@
 pub mod convergence;
 pub mod duty;
 pub mod fuzz;
+pub mod ladder;
+pub mod queue;
 pub mod reproduce;
 pub mod soak;
 pub mod stress;

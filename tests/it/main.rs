@@ -9,6 +9,7 @@
 mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
+mod arms;
 #[cfg(feature = "cli")]
 mod auto_step;
 mod catenary;
@@ -35,6 +36,7 @@ mod fatigue;
 mod figures;
 mod fit;
 mod friction;
+#[cfg(feature = "lab")]
 mod fuzz;
 mod governor;
 mod guides;
@@ -65,9 +67,11 @@ mod statistics;
 mod stderr_lines;
 mod stepping;
 mod strands;
+#[cfg(feature = "lab")]
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
+#[cfg(feature = "lab")]
 mod sweep;
 mod tensioners;
 mod threads;

@@ -7,8 +7,7 @@ use chaindrive::analysis::orders::OrderSet;
 use chaindrive::scene::Scene;
 use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PeakVerdict, RunUpSettings, SpanMode,
-    SweepError, SweepSettings, judge_peak, parse_rpm_range, parse_run_up, resonance_crossings,
-    run_sweep, run_up,
+    SweepError, SweepSettings, judge_peak, resonance_crossings, run_sweep, run_up,
 };
 
 fn resonance_scene() -> Scene {
@@ -18,35 +17,6 @@ fn resonance_scene() -> Scene {
     ))
     .expect("scene file");
     Scene::from_toml(&text).expect("valid scene")
-}
-
-#[test]
-fn a_speed_range_includes_both_ends() {
-    let rpm = parse_rpm_range("--rpm", "300:3000:100").expect("valid");
-    assert_eq!(rpm.len(), 28);
-    assert_eq!(rpm[0], 300.0);
-    assert_eq!(rpm[27], 3000.0);
-    assert_eq!(parse_rpm_range("--rpm", "100:100:5").expect("one").len(), 1);
-}
-
-#[test]
-fn bad_speed_ranges_are_errors_naming_the_option() {
-    for (text, why) in [
-        ("300:3000", "three numbers"),
-        ("0:3000:100", "FROM must be > 0"),
-        ("3000:300:100", "TO must not be below FROM"),
-        ("300:3000:0", "STEP must be > 0"),
-        ("300:3000:-5", "STEP must be > 0"),
-        ("a:3000:100", "not a number"),
-        ("1:1e9:1e-3", "more than"),
-    ] {
-        let e = parse_rpm_range("--rpm", text).expect_err(text);
-        let msg = e.to_string();
-        assert!(msg.starts_with("--rpm"), "{msg}");
-        assert!(msg.contains(why), "{text}: {msg}");
-    }
-    let e = parse_run_up("3000:300").expect_err("descending");
-    assert!(e.to_string().contains("--run-up"), "{e}");
 }
 
 fn settings(rpm: Vec<f64>, window_s: f64) -> SweepSettings {

@@ -257,11 +257,7 @@ fn place_of(packed: u32, strands: &[StrandSummary], damage_share: f64) -> Option
             sprocket: Some(strand.to),
             pitches,
             damage_share,
-            text: format!(
-                "on sprocket {}, {}",
-                strand.to,
-                after(pitches, "engaging")
-            ),
+            text: format!("on sprocket {}, {}", strand.to, after(pitches, "engaging")),
         }
     })
 }
@@ -278,7 +274,10 @@ pub(crate) fn of_run(scene: &Scene, summary: &RunSummary, cycles: &LinkCycles) -
     let damage_per_hour = if hours > 0.0 && sums.links > 0 {
         sums.damage / (sums.links as f64 * hours)
     } else {
-        notes.push("no step was counted: the window holds no step with the chain on its sprockets".to_owned());
+        notes.push(
+            "no step was counted: the window holds no step with the chain on its sprockets"
+                .to_owned(),
+        );
         0.0
     };
     let total = sums.damage;
@@ -292,9 +291,10 @@ pub(crate) fn of_run(scene: &Scene, summary: &RunSummary, cycles: &LinkCycles) -
         None => place_of(sums.largest_at, &summary.strands, 0.0),
     };
     let pitch_m = scene.chain.pitch_m;
-    let chain_circuits = summary.rating.as_ref().map(|r| {
-        r.chain_speed_m_s * sums.counted_s / (sums.links.max(1) as f64 * pitch_m)
-    });
+    let chain_circuits = summary
+        .rating
+        .as_ref()
+        .map(|r| r.chain_speed_m_s * sums.counted_s / (sums.links.max(1) as f64 * pitch_m));
     if let Some(c) = chain_circuits.filter(|&c| c < 1.0) {
         notes.push(format!(
             "the window holds {c:.2} circuits of the chain: each link's largest cycle (slack to tight strand and back) is counted from its halves, and the damage per hour is the mean over the links of what each saw; a window of a few circuits (--window) estimates it better"

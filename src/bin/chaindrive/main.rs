@@ -178,6 +178,45 @@ pub(crate) fn load_scene_or_report(
         .ok())
 }
 
+/// The warm start of the studies that compare integrators (`bench
+/// convergence`, `bench work-precision`): the scene, its profile and the
+/// warm-up every run starts after.
+#[derive(clap::Args)]
+pub(crate) struct WarmStartArgs {
+    /// Scene file (TOML). Default: the paper's drive.
+    scene: Option<std::path::PathBuf>,
+    /// Tooth profile of every sprocket.
+    #[arg(long, value_enum)]
+    profile: Option<chaindrive::scene::ProfileKind>,
+    /// Warm-up with the scene's own settings before the runs, s.
+    #[arg(long = "warmup", default_value_t = 1.2)]
+    pub(crate) warmup_s: f64,
+}
+
+impl WarmStartArgs {
+    /// The scene with the profile asked for (`None`: its field errors were
+    /// printed), after checking the warm-up.
+    pub(crate) fn scene(&self) -> anyhow::Result<Option<chaindrive::scene::Scene>> {
+        ensure_non_negative("--warmup", self.warmup_s)?;
+        let overrides = chaindrive::scene::Overrides {
+            profile: self.profile,
+            ..Default::default()
+        };
+        load_scene_or_report(self.scene.as_deref(), &overrides)
+    }
+}
+
+/// A flag that Ctrl-C (or SIGTERM) sets, for a batch of runs to start no
+/// more and stop the running ones at their next step.
+pub(crate) fn stop_on_ctrl_c() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let flag = std::sync::Arc::clone(&stop);
+    // A second handler cannot be installed (tests calling twice): ignore.
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    stop
+}
+
 /// An error unless the option `flag`'s value is a finite number > 0.
 pub(crate) fn ensure_positive(flag: &str, value: f64) -> anyhow::Result<()> {
     anyhow::ensure!(

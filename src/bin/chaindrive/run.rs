@@ -356,33 +356,8 @@ fn start_recording(
             path.display()
         );
     };
-    anyhow::ensure!(
-        mark.channels == options.channels.bits(),
-        "--record {}: the run was recorded with other channels; resume with the same --record-channels",
-        path.display()
-    );
-    // An MCAP file is not appended to: the earlier file is set aside, the
-    // new one starts with its messages up to the checkpoint, and the earlier
-    // file goes once they are written. If this run dies before that, the
-    // file set aside is still there for the next resume.
-    let mut aside = path.as_os_str().to_owned();
-    aside.push(".before-resume");
-    let aside = PathBuf::from(aside);
-    if !aside.exists() {
-        std::fs::rename(path, &aside).with_context(|| {
-            format!(
-                "--record {}: cannot continue the recording the run was writing",
-                path.display()
-            )
-        })?;
-    }
-    let earlier = std::fs::read(&aside)
-        .with_context(|| format!("cannot read the earlier recording {}", aside.display()))?;
-    let file = create(path, "recording")?;
-    let recorder = Recorder::continued(file, scene, &options, &earlier, &mark)
-        .with_context(|| format!("--record {}", path.display()))?;
-    std::fs::remove_file(&aside).with_context(|| format!("cannot remove {}", aside.display()))?;
-    Ok(recorder)
+    Recorder::continue_file(path, scene, &options, &mark)
+        .with_context(|| format!("--record {}", path.display()))
 }
 
 /// How the run is sampled and which window its statistics cover.

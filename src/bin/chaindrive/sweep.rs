@@ -12,8 +12,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::Context;
@@ -182,19 +181,12 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new(settings.rpm.len() as u64);
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} speeds, eta {eta} {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        p
-    });
+    let stop = crate::stop_on_ctrl_c();
+    let progress = progress_bar(
+        args.quiet,
+        indicatif::ProgressBar::new(settings.rpm.len() as u64),
+        "{bar:40} {pos}/{len} speeds, eta {eta} {msg}",
+    );
     let started = Instant::now();
     let on_case = |c: &CaseOutcome| {
         if let Some(p) = &progress {
@@ -272,19 +264,12 @@ fn sweep_run_up(
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new_spinner();
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{spinner} {pos} windows, {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-        );
-        p
-    });
+    let stop = crate::stop_on_ctrl_c();
+    let progress = progress_bar(
+        args.quiet,
+        indicatif::ProgressBar::new_spinner(),
+        "{spinner} {pos} windows, {msg}",
+    );
     let started = Instant::now();
     let on_window = |c: &CaseOutcome| {
         if let Some(p) = &progress {
@@ -327,6 +312,21 @@ fn sweep_run_up(
         ExitCode::from(130)
     } else {
         ExitCode::SUCCESS
+    })
+}
+
+/// `bar` with the style `template`, unless `quiet` or stderr is not a terminal.
+fn progress_bar(
+    quiet: bool,
+    bar: indicatif::ProgressBar,
+    template: &str,
+) -> Option<indicatif::ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
     })
 }
 
@@ -402,9 +402,7 @@ fn write_outputs(
 /// `cases.csv`: one row per speed, `rpm,status,stationary,warning_count,warnings,error`
 /// ([`CaseFlags`]; the warnings joined by ` | `, empty cells where unknown).
 fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
-    let path = dir.join("cases.csv");
-    let mut w = csv::Writer::from_path(&path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    let mut w = csv_writer(dir, "cases.csv")?;
     w.write_record([
         "rpm",
         "status",
@@ -432,54 +430,77 @@ fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `sweep.csv`, `cases.csv`, `orders.csv` and `spans.csv`.
+/// A CSV file in `dir`.
+fn csv_writer(dir: &Path, name: &str) -> anyhow::Result<csv::Writer<std::fs::File>> {
+    let path = dir.join(name);
+    csv::Writer::from_path(&path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// `sweep.csv`, `cases.csv`, `orders.csv` and `spans.csv` (numbers as Rust
+/// writes them: the shortest text that reads back to the same bits).
 fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     write_case_flags(dir, cases)?;
-    let mut sweep_csv = create(dir, "sweep.csv")?;
-    writeln!(sweep_csv, "rpm,statistic,value")?;
+    let mut sweep_csv = csv_writer(dir, "sweep.csv")?;
+    sweep_csv.write_record(["rpm", "statistic", "value"])?;
     for case in cases {
         match case {
             CaseOutcome::Done(r) => {
-                writeln!(sweep_csv, "{},failed,0", r.rpm)?;
+                let rpm = r.rpm.to_string();
+                sweep_csv.write_record([rpm.as_str(), "failed", "0"])?;
                 for (name, value) in summary_scalars(r) {
-                    writeln!(sweep_csv, "{},{name},{value}", r.rpm)?;
+                    sweep_csv.write_record([rpm.clone(), name, value.to_string()])?;
                 }
             }
-            CaseOutcome::Failed { rpm, .. } => writeln!(sweep_csv, "{rpm},failed,1")?,
+            CaseOutcome::Failed { rpm, .. } => {
+                sweep_csv.write_record([rpm.to_string().as_str(), "failed", "1"])?;
+            }
         }
     }
     sweep_csv.flush()?;
     let done = completed(cases);
-    let mut orders_csv = create(dir, "orders.csv")?;
-    writeln!(
-        orders_csv,
-        "rpm,signal,order,frequency_hz,amplitude,phase_rad"
-    )?;
+    let mut orders_csv = csv_writer(dir, "orders.csv")?;
+    orders_csv.write_record([
+        "rpm",
+        "signal",
+        "order",
+        "frequency_hz",
+        "amplitude",
+        "phase_rad",
+    ])?;
     for r in &done {
         for s in &r.orders {
             for c in &s.spectrum.components {
-                writeln!(
-                    orders_csv,
-                    "{},{},{},{},{},{}",
-                    r.rpm, s.signal, c.order, c.frequency_hz, c.amplitude, c.phase_rad
-                )?;
+                orders_csv.write_record([
+                    r.rpm.to_string(),
+                    s.signal.clone(),
+                    c.order.to_string(),
+                    c.frequency_hz.to_string(),
+                    c.amplitude.to_string(),
+                    c.phase_rad.to_string(),
+                ])?;
             }
         }
     }
     orders_csv.flush()?;
-    let mut spans_csv = create(dir, "spans.csv")?;
-    let modes: String = (1..=TRANSVERSE_MODES)
-        .map(|n| format!(",transverse_{n}_hz"))
-        .collect();
-    writeln!(spans_csv, "rpm,segment,tension_n{modes},axial_hz")?;
+    let mut spans_csv = csv_writer(dir, "spans.csv")?;
+    let mut header = vec![
+        "rpm".to_owned(),
+        "segment".to_owned(),
+        "tension_n".to_owned(),
+    ];
+    header.extend((1..=TRANSVERSE_MODES).map(|n| format!("transverse_{n}_hz")));
+    header.push("axial_hz".to_owned());
+    spans_csv.write_record(&header)?;
     for r in &done {
         for s in &r.spans {
-            let f: String = s.transverse_hz.iter().map(|f| format!(",{f}")).collect();
-            writeln!(
-                spans_csv,
-                "{},{},{}{f},{}",
-                r.rpm, s.segment, s.tension_n, s.axial_hz
-            )?;
+            let mut row = vec![
+                r.rpm.to_string(),
+                s.segment.to_string(),
+                s.tension_n.to_string(),
+            ];
+            row.extend(s.transverse_hz.iter().map(f64::to_string));
+            row.push(s.axial_hz.to_string());
+            spans_csv.write_record(&row)?;
         }
     }
     spans_csv.flush()?;
