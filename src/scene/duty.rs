@@ -96,7 +96,10 @@ pub(super) fn check_duty(c: &mut Checker, points: &[DutyPointFile]) {
         if let Some(name) = &p.name
             && points[..i].iter().any(|q| q.name.as_ref() == Some(name))
         {
-            c.fail(format!("{at}.name"), format!("\"{name}\" names an earlier point too"));
+            c.fail(
+                format!("{at}.name"),
+                format!("\"{name}\" names an earlier point too"),
+            );
         }
     }
     if hours > 0 && fractions > 0 {

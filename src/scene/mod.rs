@@ -13,8 +13,8 @@
 mod builder;
 mod by_path;
 mod checks;
-mod duty;
 pub mod designations;
+mod duty;
 mod error;
 mod excitation;
 mod file;

@@ -51,6 +51,20 @@ fn the_papers_drive_at_120_rpm_has_an_infinite_fatigue_life() {
     assert_eq!(f.life_h, Life::Infinite);
     assert_eq!(f.damage_per_hour, 0.0);
     assert_eq!(f.links, 122);
+    // The fatigue limit by hand: the link-plate rating H₁ = 0.004 N₁^1.08
+    // n₁^0.9 p^(3 − 0.07 p) hp (p = 3.5 in) on the 28-tooth tightener at
+    // the speed n₁ = 5·10⁶ · 120 / (15,000 · 60 · 28) = 23.8 rpm that gives
+    // a link 5·10⁶ pulsating cycles in 15,000 h, over the chain speed
+    // v = N₁ p n₁ / 60: 59.6 kW / 0.988 m/s = 60.4 kN.
+    let n1: f64 = 5e6 * 120.0 / (15_000.0 * 60.0 * 28.0);
+    let h1_w = 745.699_871_582_270_2
+        * 0.004
+        * 28f64.powf(1.08)
+        * n1.powf(0.9)
+        * 3.5f64.powf(3.0 - 0.07 * 3.5);
+    let v_m_s = 28.0 * 0.0889 * n1 / 60.0;
+    approx::assert_relative_eq!(f.fatigue_limit_n, h1_w / v_m_s, max_relative = 1e-9);
+    approx::assert_relative_eq!(f.fatigue_limit_n, 60_370.0, max_relative = 1e-3);
     approx::assert_relative_eq!(f.counted_s, 0.5, max_relative = 1e-3);
     let (lo, hi) = (s.link_force_min_n.max(0.0), s.link_force_max_n);
     let fu = f.tensile_strength_n;
@@ -85,9 +99,13 @@ fn a_chain_without_designation_gets_no_fatigue_block() {
 const MOTO: &str = include_str!("../data/moto_10b_15_44_560nm.toml");
 
 /// The motorcycle drive at 4000 rpm and 560 N·m (80 kW on a 22.2 kN
-/// chain): tight-strand tension alone 560 N·m / 0.2225 m = 2.5 kN, above
-/// the 10B's derived fatigue limit of 2.39 kN, so a finite life, a
-/// warning, and the place of the damage named.
+/// chain): tight-strand tension alone 560 N·m over the 44-tooth wheel's
+/// pitch radius 0.015875 / (2 sin(π/44)) = 0.1113 m, 5.03 kN, twice the
+/// 10B's derived fatigue limit of 2.39 kN, so a finite life, a warning,
+/// and the place of the damage named. Its largest cycle (impacts on the
+/// engine sprocket add to the tension) is far above the limit, where the
+/// S–N line lasts fewer than 10³ cycles: a note says the life is a sign
+/// of overload, not an estimate.
 #[test]
 fn the_overloaded_motorcycle_drive_has_a_finite_life_and_a_warning() {
     let s = run(MOTO, 0.45, 0.2);
@@ -96,6 +114,14 @@ fn the_overloaded_motorcycle_drive_has_a_finite_life_and_a_warning() {
     assert!(hours > 0.0 && hours < 15_000.0, "{hours}");
     approx::assert_relative_eq!(hours * f.damage_per_hour, 1.0, max_relative = 1e-12);
     assert!(f.largest_cycle_n > f.fatigue_limit_n);
+    let lasts = f.knee_cycles * (f.fatigue_limit_n / f.largest_cycle_n).powf(f.sn_slope);
+    assert!(lasts < 1e3, "{lasts}");
+    assert_eq!(
+        lasts < 1e3,
+        f.notes.iter().any(|n| n.contains("far overloaded")),
+        "{lasts} cycles: {:?}",
+        f.notes
+    );
     let at = f.least_life_at.as_ref().expect("a place");
     assert!(at.damage_share > 0.0 && at.damage_share <= 1.0);
     assert!(at.segment.is_some() != at.sprocket.is_some(), "{at:?}");
@@ -120,5 +146,8 @@ fn the_scenes_checks_give_their_own_curve_or_a_clear_error() {
     assert_eq!(f.life_h, Life::Infinite);
     let bad = format!("{MOTO}\n[checks]\nsn_slope = 50.0\n");
     let e = Scene::from_toml(&bad).expect_err("refused").to_string();
-    assert!(e.contains("checks.sn_slope") && e.contains("2 to 30"), "{e}");
+    assert!(
+        e.contains("checks.sn_slope") && e.contains("2 to 30"),
+        "{e}"
+    );
 }

@@ -6,7 +6,10 @@
 
 use crate::common::{chaindrive, read_json, stderr};
 
-const MOTO: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/moto_10b_15_44_560nm.toml");
+const MOTO: &str = concat!(
+    env!("CARGO_MANIFEST_DIR"),
+    "/tests/data/moto_10b_15_44_560nm.toml"
+);
 const MOTO_DUTY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/duty_moto_10b.toml");
 const PAPER_DUTY: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/l60mc-duty.toml");
 
@@ -23,8 +26,18 @@ fn a_motorcycle_duty_cycle_runs_in_parallel_resumably_and_combines_by_miner() {
     let out = dir.path().join("life");
     let out_s = out.to_str().expect("utf-8");
     let args = [
-        "life", MOTO, "--duty", MOTO_DUTY, "--out", out_s, "--jobs", "2", "--duration", "0.4",
-        "--window", "0.15",
+        "life",
+        MOTO,
+        "--duty",
+        MOTO_DUTY,
+        "--out",
+        out_s,
+        "--jobs",
+        "2",
+        "--duration",
+        "0.4",
+        "--window",
+        "0.15",
     ];
     let first = chaindrive(&args);
     assert!(first.status.success(), "{}", stderr(&first));
@@ -56,13 +69,25 @@ fn a_motorcycle_duty_cycle_runs_in_parallel_resumably_and_combines_by_miner() {
     let csv = std::fs::read_to_string(out.join("life.csv")).expect("csv");
     assert_eq!(csv.lines().count(), 4, "{csv}");
     assert!(csv.starts_with("point,fraction,time_share,"), "{csv}");
+    // Each point's fatigue life alone: a number of hours, 1 / its damage
+    // per hour (the column's name carries the unit, the cells none).
+    for (line, d) in csv.lines().skip(1).zip(&damage) {
+        let cells: Vec<&str> = line.rsplitn(3, ',').collect();
+        let life: f64 = cells[1]
+            .parse()
+            .unwrap_or_else(|_| panic!("fatigue_life_h {:?} in {line}", cells[1]));
+        approx::assert_relative_eq!(life * d, 1.0, max_relative = 1e-12);
+    }
     assert!(out.join("damage.png").exists());
 
     // Again: every point is finished, nothing runs, the same life.
     let again = chaindrive(&args);
     assert!(again.status.success(), "{}", stderr(&again));
     assert!(stderr(&again).contains("0 to run"), "{}", stderr(&again));
-    assert_eq!(read_json(&out.join("life.json"))["life_h"], report["life_h"]);
+    assert_eq!(
+        read_json(&out.join("life.json"))["life_h"],
+        report["life_h"]
+    );
 
     // A point lost (a killed task) runs again, alone.
     std::fs::remove_dir_all(out.join("cases").join("1")).expect("remove");
@@ -103,7 +128,10 @@ fn the_papers_duty_cycle_has_an_infinite_life() {
         assert!(f(&p["fatigue_safety_factor"]) > 1.0, "{p}");
     }
     let text = String::from_utf8_lossy(&run.stdout);
-    assert!(text.contains("life: infinite, governed by fatigue"), "{text}");
+    assert!(
+        text.contains("life: infinite, governed by fatigue"),
+        "{text}"
+    );
 }
 
 /// Points that cannot be run are refused before anything runs, each
@@ -144,6 +172,9 @@ fn a_bad_duty_cycle_is_refused_with_its_paths() {
     ]);
     assert!(!run.status.success());
     let e = stderr(&run);
-    assert!(e.contains("duty[0].set:") && e.contains("sprockets[7]"), "{e}");
+    assert!(
+        e.contains("duty[0].set:") && e.contains("sprockets[7]"),
+        "{e}"
+    );
     assert!(!out.join("cases").join("0").join("status.json").exists());
 }

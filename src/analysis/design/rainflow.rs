@@ -98,10 +98,7 @@ impl Reversals {
             gate: gate.max(0.0),
             going: 0.0,
             started: false,
-            candidate: Turn {
-                value: 0.0,
-                tag: 0,
-            },
+            candidate: Turn { value: 0.0, tag: 0 },
         }
     }
 

@@ -110,8 +110,7 @@ where
         let y = v.filter(|v| v.is_finite()).unwrap_or(0.0);
         chart
             .draw_series(std::iter::once(
-                EmptyElement::at((x, y))
-                    + Text::new(text, (-18, -20), ("sans-serif", 14)),
+                EmptyElement::at((x, y)) + Text::new(text, (-18, -20), ("sans-serif", 14)),
             ))
             .map_err(e)?;
     }
@@ -157,7 +156,15 @@ pub fn save_bars(bars: &Bars, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, Fi
         stem: stem.to_owned(),
         message,
     };
-    draw(BitMapBackend::new(&png, (SIZE.0, height)).into_drawing_area(), bars).map_err(fail)?;
-    draw(SVGBackend::new(&svg, (SIZE.0, height)).into_drawing_area(), bars).map_err(fail)?;
+    draw(
+        BitMapBackend::new(&png, (SIZE.0, height)).into_drawing_area(),
+        bars,
+    )
+    .map_err(fail)?;
+    draw(
+        SVGBackend::new(&svg, (SIZE.0, height)).into_drawing_area(),
+        bars,
+    )
+    .map_err(fail)?;
     Ok(vec![png, svg])
 }

@@ -240,7 +240,13 @@ fn write_outputs(r: &DutyLife, out: &Path) -> anyhow::Result<()> {
             num(p.static_safety_factor),
             num(p.fatigue_safety_factor),
             num(p.damage_per_hour),
-            p.fatigue_life_h.map(|l| l.to_string()).unwrap_or_default(),
+            // A number of hours (no unit: the column's name has it), or `infinite`.
+            p.fatigue_life_h
+                .map(|l| {
+                    l.hours()
+                        .map_or_else(|| "infinite".to_owned(), |h| h.to_string())
+                })
+                .unwrap_or_default(),
             num(p.damage_share),
         ])?;
     }

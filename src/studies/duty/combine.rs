@@ -100,9 +100,9 @@ fn point_result(
 ) -> Result<PointResult, StudyError> {
     let status = dir.status(k)?;
     let summary: Option<RunSummary> = match dir.summary(k)? {
-        Some(v) => Some(
-            serde_json::from_value(v).map_err(|e| StudyError::io(&dir.case_dir(k), e))?,
-        ),
+        Some(v) => {
+            Some(serde_json::from_value(v).map_err(|e| StudyError::io(&dir.case_dir(k), e))?)
+        }
         None => None,
     };
     let state = match (&status, &summary) {
@@ -116,7 +116,11 @@ fn point_result(
     Ok(PointResult {
         name: point.name.clone(),
         hours: point.hours,
-        time_share: if block > 0.0 { point.hours / block } else { 0.0 },
+        time_share: if block > 0.0 {
+            point.hours / block
+        } else {
+            0.0
+        },
         set: point
             .set
             .iter()
@@ -192,14 +196,15 @@ pub fn combine(cycle: &DutyCycle, dir: &StudyDir) -> Result<DutyLife, StudyError
             dominated_by,
         });
     } else {
-        notes.push(format!(
-            "no fatigue life: {}",
-            lacking.join("; ")
-        ));
+        notes.push(format!("no fatigue life: {}", lacking.join("; ")));
     }
-    let shortest = limits
-        .iter()
-        .reduce(|a, b| if b.life_h.is_shorter_than(a.life_h) { b } else { a });
+    let shortest = limits.iter().reduce(|a, b| {
+        if b.life_h.is_shorter_than(a.life_h) {
+            b
+        } else {
+            a
+        }
+    });
     Ok(DutyLife {
         block_hours: block,
         by_fraction: cycle.by_fraction,
