@@ -14,6 +14,7 @@ mod builder;
 mod by_path;
 mod checks;
 pub mod designations;
+mod duty;
 mod error;
 mod excitation;
 mod file;
@@ -35,6 +36,7 @@ pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
 pub use checks::{Checks, ChecksFile, SN_SLOPE_RANGE};
+pub use duty::{DutyFile, DutyPointFile, FRACTION_SUM_TOLERANCE, check_points};
 pub use error::{FieldError, SceneError, locate, value_span};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,

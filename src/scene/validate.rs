@@ -22,7 +22,7 @@ pub(super) struct Checker {
 }
 
 impl Checker {
-    fn new() -> Self {
+    pub(super) fn new() -> Self {
         Self { errors: Vec::new() }
     }
 
@@ -107,6 +107,7 @@ impl TryFrom<SceneFile> for Scene {
         };
         let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
         let checks = super::checks::check_checks(&mut c, &file.checks);
+        super::duty::check_duty(&mut c, &file.duty);
         if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
             c.fail(
                 "chain.pretension_by",

@@ -33,6 +33,7 @@ mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
 mod excitation;
+mod fatigue;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
@@ -43,6 +44,8 @@ mod governor;
 mod guides;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod life;
 mod means;
 mod orders;
 #[cfg(feature = "cli")]

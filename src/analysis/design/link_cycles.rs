@@ -199,9 +199,11 @@ impl LinkCycles {
             sums,
             ..
         } = self;
-        let each = links.iter_mut().zip(link_force_n).zip(places.iter());
-        for ((link, &f), &place) in each {
-            if let Some(turn) = link.turns.push(f.max(0.0), place) {
+        let n = links.len().min(link_force_n.len()).min(places.len());
+        let (links, forces, places) = (&mut links[..n], &link_force_n[..n], &places[..n]);
+        for i in 0..n {
+            let link = &mut links[i];
+            if let Some(turn) = link.turns.push(forces[i].max(0.0), places[i]) {
                 link.flow.push(turn, &mut |c| sums.add(curve, c));
             }
         }

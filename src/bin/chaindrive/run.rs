@@ -619,6 +619,33 @@ fn print_summary(s: &RunSummary) {
         s.driver_mean_power_w,
         s.max_penetration_m * 1e6
     );
+    if let Some(f) = &s.fatigue {
+        println!("{}", fatigue_line(f));
+    }
+}
+
+/// The fatigue life in one line: the life, the largest cycle against the
+/// limit, where the damage is largest.
+fn fatigue_line(f: &chaindrive::analysis::design::Fatigue) -> String {
+    let rate = if f.damage_per_hour > 0.0 {
+        format!(" ({:.3e} damage per hour)", f.damage_per_hour)
+    } else {
+        String::new()
+    };
+    let place = f.least_life_at.as_ref().map_or(String::new(), |p| {
+        if p.damage_share > 0.0 {
+            format!("; most damage {} ({:.0} %)", p.text, 100.0 * p.damage_share)
+        } else {
+            format!("; largest cycle {}", p.text)
+        }
+    });
+    format!(
+        "fatigue life {}{rate}: largest cycle {:.2} kN as a pulsating one, {:.2} of the fatigue limit {:.2} kN{place}",
+        f.life_h,
+        f.largest_cycle_n * 1e-3,
+        f.largest_cycle_n / f.fatigue_limit_n,
+        f.fatigue_limit_n * 1e-3
+    )
 }
 
 /// Runs `setup` (building the drive and settling it to static equilibrium),
