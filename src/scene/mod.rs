@@ -18,6 +18,7 @@ mod checks;
 pub(crate) mod designations;
 #[cfg(test)]
 mod designations_tests;
+mod duty;
 mod error;
 mod excitation;
 mod file;
@@ -39,9 +40,11 @@ mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
-pub(crate) use by_path::{Assignment, ScenePath, set_in_table};
+pub(crate) use by_path::{Assignment, PathPart, ScenePath, set_in_table};
 pub(crate) use checks::Checks;
 pub use checks::ChecksFile;
+pub use duty::DutyPointFile;
+pub(crate) use duty::{DutyFile, check_points};
 pub(crate) use error::value_span;
 pub use error::{FieldError, SceneError};
 pub(crate) use excitation::{Harmonic, LoadTable};
@@ -195,6 +198,23 @@ impl Scene {
     /// was parsed (for recordings and reports).
     pub fn source_toml(&self) -> Option<&str> {
         self.source_toml.as_deref()
+    }
+
+    /// The tables the scene read (load tables, governors' drive tables):
+    /// each name as the scene writes it, once, with the text read.
+    pub(crate) fn tables(&self) -> std::collections::BTreeMap<&str, &str> {
+        self.sprockets
+            .iter()
+            .flat_map(|s| {
+                let drive = s.excitation.governor.as_ref();
+                [
+                    s.excitation.load_table.as_ref(),
+                    drive.and_then(|g| g.drive_table.as_ref()),
+                ]
+            })
+            .flatten()
+            .map(|t| (t.file.as_str(), t.text.as_str()))
+            .collect()
     }
 
     /// Index of the driver.

@@ -304,3 +304,52 @@ fn a_failed_analysis_leaves_the_outputs_of_an_earlier_one_alone() {
         "only the blocking directory besides the earlier files"
     );
 }
+
+/// A recording of a scene whose load table is a file beside it holds the
+/// table: `analyze` reads it from any working directory, and after the file
+/// is gone, the table the run used: the file's text, attached under the
+/// name the scene gives it.
+#[cfg(feature = "record")]
+#[test]
+fn a_recording_holds_the_load_table_its_scene_read() {
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let dir = tmp.path();
+    let (scenes, elsewhere) = (dir.join("scenes"), dir.join("elsewhere"));
+    for d in [&scenes, &elsewhere] {
+        std::fs::create_dir(d).expect("dir");
+    }
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    for name in ["timing-excited.toml", "cam-torque.csv"] {
+        std::fs::copy(assets.join(name), scenes.join(name)).expect("copied");
+    }
+    // Run from `dir`: the scene names its table relative to its own folder.
+    let run = chaindrive_in(
+        dir,
+        &[
+            "run",
+            "scenes/timing-excited.toml",
+            "--duration",
+            "0.05",
+            "--record",
+            "x.mcap",
+            "--quiet",
+        ],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let analyze = |out: &str| {
+        let o = chaindrive_in(&elsewhere, &["analyze", "../x.mcap", "--out", out]);
+        assert!(o.status.success(), "analyze ({out}): {}", stderr(&o));
+    };
+    analyze("from_another_folder");
+    std::fs::remove_file(scenes.join("cam-torque.csv")).expect("removed");
+    analyze("without_the_file");
+    let csv = std::fs::read(assets.join("cam-torque.csv")).expect("table");
+    let top = crate::common::mcap_top_level(&dir.join("x.mcap"));
+    let tables: Vec<_> = top
+        .attachments
+        .iter()
+        .filter(|a| a.1 == "text/csv")
+        .map(|a| (a.0.as_str(), a.2.as_slice()))
+        .collect();
+    assert_eq!(tables, [("cam-torque.csv", csv.as_slice())]);
+}

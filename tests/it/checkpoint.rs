@@ -1,13 +1,14 @@
-//! Checkpoints: a run stopped at a checkpoint and resumed from the file, in
-//! a fresh simulation built from the scene, ends in the same bits as the run
-//! that never stopped (state, summary, series); a checkpoint of another
-//! scene, version or set of options is refused.
+//! Checkpoints from the command line: a recorded run stopped after a
+//! checkpoint and resumed, a run resumed from a later checkpoint, and the
+//! refusals of what cannot be resumed. The library's side (runs stopped,
+//! written, read and resumed in a fresh simulation, continued to a later
+//! end) is tested next to the code (`src/sim/checkpoint_tests.rs`).
 //!
 //! The reference is the uninterrupted run itself: bit identity leaves no
 //! tolerance to choose.
 
 #[cfg(feature = "cli")]
-mod cli {
+pub(crate) mod cli {
     use crate::common::{chaindrive, stderr};
 
     fn without_wall_times(path: &std::path::Path) -> serde_json::Value {
@@ -32,7 +33,7 @@ mod cli {
             "--window",
             "0.05",
             "--checkpoint",
-            &p("run.ckpt"),
+            &p("end.ckpt"),
             "--checkpoint-every",
             "0.07",
             "--summary",
@@ -41,7 +42,23 @@ mod cli {
             &p("a.csv"),
         ]);
         assert!(out.status.success(), "{}", stderr(&out));
-        // The last checkpoint is at 0.14 s: a run killed after it resumes there.
+        // A run that ends at 0.14 s, its checkpoint there; its series went on
+        // to 0.2 s (as a run killed after its checkpoint leaves it).
+        let out = chaindrive(&[
+            "run",
+            "--quiet",
+            "--duration",
+            "0.14",
+            "--window",
+            "0.05",
+            "--checkpoint",
+            &p("run.ckpt"),
+            "--checkpoint-every",
+            "0.07",
+            "--series",
+            &p("b.csv"),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
         std::fs::copy(p("a.csv"), p("b.csv")).expect("copy");
         let out = chaindrive(&[
             "run",
@@ -160,7 +177,8 @@ mod cli {
     /// Every message of an MCAP file by topic: log time → payload (a file
     /// cut short read up to its damage).
     #[cfg(feature = "record")]
-    type Topics = std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>;
+    pub(crate) type Topics =
+        std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>;
 
     /// The end status a complete recording's `chaindrive.end` metadata holds
     /// (`None`: the file has no summary section, so it was cut short, or no
@@ -175,7 +193,7 @@ mod cli {
     }
 
     #[cfg(feature = "record")]
-    fn messages(path: &std::path::Path) -> Topics {
+    pub(crate) fn messages(path: &std::path::Path) -> Topics {
         let bytes = std::fs::read(path).expect("recording");
         let mut topics: std::collections::BTreeMap<_, std::collections::BTreeMap<_, _>> =
             std::collections::BTreeMap::new();

@@ -49,3 +49,34 @@ pub fn read_json(path: &Path) -> serde_json::Value {
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
     serde_json::from_str(&text).expect("JSON")
 }
+
+/// An MCAP file's records outside its chunks: metadata by name, and the
+/// attachments (name, media type, bytes), read with the `mcap` crate.
+#[cfg(feature = "record")]
+pub fn mcap_top_level(path: &Path) -> McapTopLevel {
+    let bytes = std::fs::read(path).expect("recording");
+    let mut top = McapTopLevel::default();
+    for record in mcap::read::LinearReader::new(&bytes).expect("an MCAP file") {
+        match record.expect("a record") {
+            mcap::records::Record::Metadata(m) => {
+                top.metadata.insert(m.name, m.metadata);
+            }
+            mcap::records::Record::Attachment { header, data, .. } => {
+                top.attachments
+                    .push((header.name, header.media_type, data.into_owned()));
+            }
+            _ => {}
+        }
+    }
+    top
+}
+
+/// What [`mcap_top_level`] reads.
+#[cfg(feature = "record")]
+#[derive(Default)]
+pub struct McapTopLevel {
+    /// Metadata records by name.
+    pub metadata: std::collections::BTreeMap<String, std::collections::BTreeMap<String, String>>,
+    /// Attachments: name, media type, bytes.
+    pub attachments: Vec<(String, String, Vec<u8>)>,
+}

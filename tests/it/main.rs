@@ -15,6 +15,8 @@ mod arms;
 mod auto_step;
 mod checkpoint;
 #[cfg(feature = "cli")]
+mod checkpoint_cli;
+#[cfg(feature = "cli")]
 mod cli;
 mod common;
 mod cosim_multi;
@@ -26,6 +28,8 @@ mod figures;
 mod fit;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod life;
 #[cfg(feature = "cli")]
 mod outputs;
 mod profile;

@@ -30,8 +30,15 @@ impl Life {
         }
     }
 
+    /// The hours, `None` when infinite.
+    pub fn hours(self) -> Option<f64> {
+        match self {
+            Self::Hours(h) => Some(h),
+            Self::Infinite => None,
+        }
+    }
+
     /// Whether `self` is shorter than `other`.
-    #[cfg(test)]
     pub fn is_shorter_than(self, other: Self) -> bool {
         match (self, other) {
             (Self::Hours(a), Self::Hours(b)) => a < b,
@@ -42,13 +49,14 @@ impl Life {
 }
 
 impl std::fmt::Display for Life {
-    /// `12 345 h` with four significant digits at least, or `infinite`.
+    /// `12345 h`, `2.500 h`, `2.335e-4 h` (four significant digits at least), or `infinite`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::Infinite => f.write_str("infinite"),
             Self::Hours(h) if *h >= 1e7 => write!(f, "{h:.3e} h"),
             Self::Hours(h) if *h >= 100.0 => write!(f, "{h:.0} h"),
-            Self::Hours(h) => write!(f, "{h:.3} h"),
+            Self::Hours(h) if *h >= 0.01 => write!(f, "{h:.3} h"),
+            Self::Hours(h) => write!(f, "{h:.3e} h"),
         }
     }
 }

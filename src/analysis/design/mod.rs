@@ -24,5 +24,6 @@ pub(crate) mod rainflow;
 pub(crate) mod rating;
 
 pub(crate) use fatigue::Fatigue;
+pub(crate) use life::Life;
 pub(crate) use link_cycles::LinkCycles;
 pub(crate) use rating::Rating;

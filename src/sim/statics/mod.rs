@@ -15,7 +15,7 @@ mod relax;
 
 pub use equilibrium::StaticEquilibrium;
 pub(crate) use equilibrium::{
-    force_residual, free_strand_tension, settle_preload, settle_rest_length,
+    REST_FORCE, force_residual, free_strand_tension, settle_preload, settle_rest_length,
 };
 pub use error::{BeyondSeatingArc, EquilibriumError, FitError};
 pub(crate) use feasibility::{check_chain_length, check_load};
@@ -27,4 +27,5 @@ pub(crate) use fit::{
 };
 pub use misfit::MisfitTension;
 pub(crate) use misfit::misfit_tension;
+pub(crate) use newton::settle;
 pub(crate) use relax::{RelaxSettings, relax};

@@ -118,7 +118,7 @@ pub(super) fn worst_sprocket(model: &DriveModel, forces: &ForceGenerator) -> Opt
         .sprockets
         .iter()
         .enumerate()
-        .filter(|(_, sp)| !sp.held_at_rest())
+        .filter(|(_, sp)| !sp.still_in_statics())
         .map(|(s, sp)| (s, out.chain_torque[s] + sp.load_at_rest_n_m()))
         .max_by(|a, b| {
             let ra = a.1.abs() / model.sprockets[a.0].pitch_radius_m;
