@@ -272,9 +272,61 @@ pub struct RunSummary {
     /// not turn).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rating: Option<super::design::Rating>,
+    /// The wear check ([`super::design::wear`]; absent where the scene
+    /// does not ask for it, `checks.wear = true`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear: Option<super::design::Wear>,
+    /// A worn chain (`chain.elongation_pct` > 0; absent for a new chain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub worn_chain: Option<WornChain>,
+    /// Every tooth jump of the run, in order (absent without any).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub tooth_jumps: Vec<ToothJumpSummary>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
+}
+
+/// A worn chain as laid out (docs/model.md, "A worn chain").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WornChain {
+    /// Wear elongation of every pitch, %.
+    pub elongation_pct: f64,
+    /// The worn pitch P (1 + e), m.
+    pub worn_pitch_m: f64,
+    /// On fixed centres (the rest-length rule): the length the chain gained
+    /// over the new chain that had the pretension, N l₀ e, m; absent where a
+    /// tensioner takes it up.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extra_slack_m: Option<f64>,
+}
+
+/// One tooth jump (docs/model.md, "Tooth jump").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToothJumpSummary {
+    /// When it was seen, s (to a sample period).
+    pub t_s: f64,
+    /// 1-based sprocket number.
+    pub sprocket: usize,
+    /// The roller, 0-based.
+    pub roller: usize,
+    /// Gaps moved, counter-clockwise positive.
+    pub gaps: i32,
+    /// `"ahead"` (in the sprocket's sense of rotation: the chain slipped
+    /// forward on it) or `"behind"`.
+    pub direction: String,
+}
+
+impl From<&crate::sim::ToothJump> for ToothJumpSummary {
+    fn from(j: &crate::sim::ToothJump) -> Self {
+        Self {
+            t_s: j.t_s,
+            sprocket: j.sprocket + 1,
+            roller: j.roller,
+            gaps: j.gaps,
+            direction: if j.ahead { "ahead" } else { "behind" }.to_owned(),
+        }
+    }
 }
 
 /// What the summary needs besides the signals.
@@ -510,7 +562,7 @@ impl RunSummary {
         setup_wall_s: f64,
         window_s: Option<f64>,
     ) -> Self {
-        Self::compute_in(
+        let mut summary = Self::compute_in(
             &SummaryInputs {
                 scene: &sim.scene,
                 model: &sim.model,
@@ -530,7 +582,17 @@ impl RunSummary {
             signals,
             window_s,
             sim.power.as_ref().and_then(|p| p.means()),
-        )
+        );
+        summary.wear = sim
+            .sliding
+            .as_ref()
+            .and_then(|s| super::design::Wear::of_run(&sim.scene, s));
+        summary.worn_chain = worn_chain(&sim.scene, &sim.model);
+        summary.tooth_jumps = sim.jumps.jumps().iter().map(Into::into).collect();
+        if let Some(w) = super::warnings::tooth_jumps(&summary.tooth_jumps) {
+            summary.warnings.push(w);
+        }
+        summary
     }
 
     /// Computes the summary of a run from its signals, over the default
@@ -728,6 +790,9 @@ impl RunSummary {
                 .map(|(k, t)| means.tensioner(&t.name, k))
                 .collect(),
             rating: None,
+            wear: None,
+            worn_chain: None,
+            tooth_jumps: Vec::new(),
             warnings: Vec::new(),
         };
         summary.rating = super::design::rating::of_run(scene, &summary);
@@ -740,6 +805,19 @@ impl RunSummary {
         });
         summary
     }
+}
+
+/// A worn chain's block: its elongation, pitch and, on fixed centres, the
+/// slack it gained (N l₀ e with l₀ = l / (1 + e), l the worn rest length).
+fn worn_chain(scene: &Scene, model: &DriveModel) -> Option<WornChain> {
+    let chain = &scene.chain;
+    let e = chain.elongation;
+    (e > 0.0).then(|| WornChain {
+        elongation_pct: 100.0 * e,
+        worn_pitch_m: chain.worn_pitch_m(),
+        extra_slack_m: (chain.pretension_by == crate::scene::PretensionRule::RestLength)
+            .then(|| chain.rollers as f64 * model.rest_length_m * e / (1.0 + e)),
+    })
 }
 
 /// The strands as laid out.

@@ -129,6 +129,7 @@ impl SceneBuilder {
                 base_dir: None,
                 tensioners: Vec::new(),
                 guides: self.guides,
+                checks: super::ChecksFile::default(),
             }),
             (chain, contact) => Err(SceneError::Invalid(
                 [

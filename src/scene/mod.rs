@@ -12,6 +12,7 @@
 
 mod builder;
 mod by_path;
+mod checks;
 pub mod designations;
 mod error;
 mod excitation;
@@ -33,6 +34,10 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
+pub use checks::{
+    Checks, ChecksFile, DEFAULT_WEAR_COEFFICIENT, DEFAULT_WEAR_HARDNESS_PA,
+    ELONGATION_LIMIT_CAP_PCT, JumpAction, WearSettings,
+};
 pub use error::{FieldError, SceneError, locate, value_span};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
@@ -84,6 +89,8 @@ pub struct Scene {
     /// Tensioner arms with their tensioners.
     pub(crate) tensioners: Vec<Tensioner>,
     pub(crate) guides: Vec<Guide>,
+    /// The design checks' settings (`[checks]`).
+    pub(crate) checks: Checks,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
     pub(crate) source_toml: Option<String>,
@@ -170,6 +177,11 @@ impl Scene {
         w
     }
 
+    /// The design checks' settings (`[checks]`).
+    pub fn checks(&self) -> &Checks {
+        &self.checks
+    }
+
     /// Static-equilibrium settings.
     pub fn equilibrium(&self) -> &Equilibrium {
         &self.equilibrium
@@ -184,6 +196,17 @@ impl Scene {
     /// was parsed (for recordings and reports).
     pub fn source_toml(&self) -> Option<&str> {
         self.source_toml.as_deref()
+    }
+
+    /// The same drive with a new chain (no wear elongation), or `None`
+    /// when its chain is new. Only the validated form changes: a worn
+    /// chain's static equilibrium starts from the new chain's.
+    pub(crate) fn as_new_chain(&self) -> Option<Self> {
+        (self.chain.elongation != 0.0).then(|| {
+            let mut new = self.clone();
+            new.chain.elongation = 0.0;
+            new
+        })
     }
 
     /// Index of the driver.

@@ -124,6 +124,13 @@ pub struct Snapshot {
     growth: GrowthWatch,
     power: Option<PowerLedger>,
     rest_length_m: f64,
+    /// The joints' sliding (absent from checkpoints written before it).
+    #[serde(default)]
+    sliding: Option<super::JointSliding>,
+    /// The tooth-jump detector's state (absent from older checkpoints: a
+    /// resumed run then starts watching afresh).
+    #[serde(default)]
+    jumps: Option<super::JumpWatch>,
 }
 
 impl Snapshot {
@@ -168,6 +175,8 @@ impl Simulation {
             growth: self.growth.clone(),
             power: self.power.clone(),
             rest_length_m: self.model.rest_length_m,
+            sliding: self.sliding.clone(),
+            jumps: Some(self.jumps.clone()),
         })
     }
 
@@ -216,6 +225,12 @@ impl Simulation {
         self.integration.carry(snapshot.next_step_s, snapshot.stats);
         self.growth = snapshot.growth.clone();
         self.power.clone_from(&snapshot.power);
+        if snapshot.sliding.is_some() {
+            self.sliding.clone_from(&snapshot.sliding);
+        }
+        if let Some(jumps) = &snapshot.jumps {
+            self.jumps.clone_from(jumps);
+        }
         self.sync_world();
         Ok(())
     }

@@ -15,10 +15,13 @@ mod fanout;
 mod feasibility;
 mod fit;
 pub mod integrate;
+mod jumps;
 mod newton;
 pub mod parallel;
 mod sample_rate;
+mod sliding;
 mod stepper;
+mod worn;
 
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};
@@ -32,7 +35,9 @@ pub use fit::{
     needed_pitches_of,
 };
 pub use integrate::{Integration, IntegrationStats};
+pub use jumps::{JumpWatch, ToothJump};
 pub use sample_rate::{SampleRate, SampleRateError};
+pub use sliding::JointSliding;
 pub use stepper::{Relaxation, driver_speed, symplectic_euler};
 
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -49,7 +54,7 @@ use crate::forces::{
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
-use crate::scene::{PretensionRule, Role, Scene, Stepping, TensionerKind};
+use crate::scene::{JumpAction, PretensionRule, Role, Scene, Stepping, TensionerKind};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
@@ -139,7 +144,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
         }
     })?;
     let first_step_m = (target / scene.chain.stiffness_n_m) * scene.chain.rollers as f64
-        / (fit.slope_per_m * scene.chain.pitch_m);
+        / (fit.slope_per_m * scene.chain.worn_pitch_m());
     // At the fit the unstretched chain carries no tension (nothing to relax:
     // no roller presses on a tooth, so no strand could be told from a wrap).
     let (mut s0, mut t0) = (fit.offset_m, 0.0);
@@ -193,6 +198,13 @@ pub enum SimError {
         /// with "; " (or empty).
         detail: String,
     },
+    /// A roller jumped a tooth in a run set to stop there
+    /// (`checks.tooth_jump = "stop"`).
+    #[error(
+        "tooth jump at t = {:.4} s: roller {} moved {} gap(s) {} on sprocket {} (checks.tooth_jump = \"stop\")",
+        .0.t_s, .0.roller, .0.gaps.abs(), if .0.ahead { "ahead" } else { "behind" }, .0.sprocket + 1
+    )]
+    ToothJump(ToothJump),
 }
 
 impl From<EquilibriumError> for SimError {
@@ -209,6 +221,8 @@ pub struct Sample<'a> {
     pub state: &'a DriveState,
     /// Forces at the state (as evaluated for the step that led here).
     pub forces: &'a Forces,
+    /// Every tooth jump seen so far, in order ([`JumpWatch`]).
+    pub jumps: &'a [ToothJump],
 }
 
 /// Watches a run. Every method has a no-op default.
@@ -296,6 +310,11 @@ pub struct Simulation {
     /// Where the power goes, counted every step from a chosen time
     /// ([`Simulation::track_power`]; off by default).
     pub power: Option<PowerLedger>,
+    /// Every joint's sliding, counted every step from a chosen time for the
+    /// wear check ([`Simulation::track_sliding`]; off by default).
+    pub sliding: Option<JointSliding>,
+    /// The tooth-jump detector, looking at every sample.
+    pub jumps: JumpWatch,
     /// The run's clock (see [`Clock`]).
     clock: Clock,
 }
@@ -334,9 +353,13 @@ impl Simulation {
         };
         let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
-                let (mut model, mut state, layout) = DriveModel::build(scene)?;
-                feasibility::check_chain_length(scene, &layout, &model.path)?;
-                feasibility::check_load(scene, &layout)?;
+                // A worn chain on fixed centres: the new chain first, at its
+                // pretension; its links are then lengthened (worn::wear_in).
+                let new_chain = scene.as_new_chain();
+                let new_chain = new_chain.as_ref().unwrap_or(scene);
+                let (mut model, mut state, layout) = DriveModel::build(new_chain)?;
+                feasibility::check_chain_length(new_chain, &layout, &model.path)?;
+                feasibility::check_load(new_chain, &layout)?;
                 let mut forces = new_forces(scene, &model);
                 let eq = settle_rest_length(
                     &mut model,
@@ -351,6 +374,19 @@ impl Simulation {
                         .map(|s| s.name.as_str())
                         .collect::<Vec<_>>(),
                 )?;
+                let e = scene.chain.elongation;
+                let eq = if e == 0.0 {
+                    eq
+                } else {
+                    worn::wear_in(
+                        &mut model,
+                        &mut state,
+                        &mut forces,
+                        &settings,
+                        e,
+                        scene.chain.pretension_n,
+                    )?
+                };
                 (scene.clone(), model, state, forces, layout, eq)
             }
             PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
@@ -420,6 +456,7 @@ impl Simulation {
             &mut forces,
             scene.chain.pretension_n / model.stiffness_n_m,
         );
+        let jumps = JumpWatch::new(&model, scene.chain.rollers);
         let bodies = ChainBodies::insert(
             &model,
             &state,
@@ -442,6 +479,8 @@ impl Simulation {
             integration,
             timings: false,
             power: None,
+            sliding: None,
+            jumps,
             clock: Clock::default(),
         }
     }
@@ -551,6 +590,13 @@ impl Simulation {
         self.power = Some(PowerLedger::new(from_s));
     }
 
+    /// Counts every joint's sliding from `from_s` on ([`JointSliding`]): the
+    /// links' pass writes each link's angular velocity from now on.
+    pub fn track_sliding(&mut self, from_s: f64) {
+        self.forces.want_link_rates(self.state.rollers());
+        self.sliding = Some(JointSliding::new(from_s, self.state.rollers()));
+    }
+
     /// Writes the drive's state into its rapier bodies.
     pub fn sync_world(&mut self) {
         self.bodies.write_state(&self.state, &mut self.world.bodies);
@@ -596,8 +642,10 @@ impl Simulation {
         let started = Instant::now();
         let mut interrupted = false;
         if self.state.t_s == 0.0 {
+            self.jumps.look(&self.model, &self.state);
             observer.sample(&self.sample());
         }
+        let stop_at_jump = self.scene.checks.tooth_jump == JumpAction::Stop;
         let mut steps = 0;
         let mut times = self.timings.then(StageTimes::default);
         if times.is_some() {
@@ -620,13 +668,23 @@ impl Simulation {
             if let Some(ledger) = &mut self.power {
                 ledger.step(&self.model, &self.state, &self.forces);
             }
+            if let Some(sliding) = &mut self.sliding {
+                sliding.step(self.state.t_s, self.forces.output());
+            }
             let t = clock(timed);
             if self.state.t_s >= per_step_from {
                 observer.step(&self.sample());
             }
             let sampled = self.clock.steps % sample_every == 0;
             if sampled {
+                let found = self.jumps.look(&self.model, &self.state);
                 observer.sample(&self.sample());
+                if found > 0
+                    && stop_at_jump
+                    && let Some(first) = self.jumps.jumps().get(self.jumps.jumps().len() - found)
+                {
+                    return Err(SimError::ToothJump(*first));
+                }
             }
             if let Some(times) = &mut times {
                 times.steps += 1;
@@ -661,6 +719,7 @@ impl Simulation {
             model: &self.model,
             state: &self.state,
             forces: self.forces.output(),
+            jumps: self.jumps.jumps(),
         }
     }
 }

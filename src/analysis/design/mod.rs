@@ -7,11 +7,20 @@
 //!   the static safety factors of a run's link forces against the chain's
 //!   tensile strength.
 //!
-//! These are pure functions of a scene and, for a run, of its summary: they
-//! step nothing and read no signals. Fatigue (rainflow counting of every
-//! link's force, an S–N model, Miner's rule), wear and duty cycles are not
-//! here yet.
+//! - [`wear`]: Archard's wear at every joint from the sliding counted every
+//!   step of a run, the chain's elongation rate (% per 1000 h) and its life
+//!   to the allowable elongation.
+//! - [`life`]: a life in hours, or infinite.
+//!
+//! These are pure functions of a scene and, for a run, of its summary and
+//! of what was counted during it: they step nothing and read no sampled
+//! signals. Fatigue (rainflow counting of every link's force, an S–N model,
+//! Miner's rule) and duty cycles are not here yet.
 
+pub mod life;
 pub mod rating;
+pub mod wear;
 
+pub use life::Life;
 pub use rating::{Lubrication, Rating, RatingError, RatingSettings};
+pub use wear::{Wear, WearModel};
