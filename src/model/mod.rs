@@ -33,7 +33,7 @@ use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 /// (under gravity), within a tenth of a pitch.
 fn sag_holds(scene: &Scene, path: &ChainPath, needed: f64) -> bool {
     let chain = &scene.chain;
-    let excess_m = (chain.rollers as f64 - needed) * chain.worn_pitch_m();
+    let excess_m = (chain.rollers as f64 - needed) * chain.pitch_m;
     let sag_m = path.sag_take_up_m(
         chain.roller_mass_kg / chain.pitch_m,
         scene.gravity_m_s2,
@@ -73,16 +73,6 @@ fn tensioner_states(scene: &Scene) -> (Vec<BodyModel>, Vec<ScalarModel>) {
         })
         .collect();
     (bodies, scalars)
-}
-
-/// How much further out than a new chain's a worn chain's rollers lie when
-/// each sits in its own gap `pitch_m` (= P (1 + e)) from the next on a
-/// sprocket of `teeth` teeth cut for pitch radius `pitch_radius_m`, m: the
-/// radius of the circle on which chords of `pitch_m` span 2π/z, less the
-/// pitch radius.
-pub fn worn_lift_m(pitch_m: f64, teeth: u32, pitch_radius_m: f64) -> f64 {
-    let half_angle = std::f64::consts::PI / f64::from(teeth);
-    pitch_m / (2.0 * half_angle.sin()) - pitch_radius_m
 }
 
 /// Constant data of one sprocket.
@@ -388,20 +378,11 @@ impl DriveModel {
             })
             .collect();
         let path = chain_path(&pitch_circles)?;
-        // A worn chain's rollers, P (1 + e) apart, one to a gap, lie on a
-        // circle larger by R_w − R_s, R_w = P (1 + e) / (2 sin(π/z)): the
-        // static equilibrium then moves them onto the teeth's flanks.
-        let pitch_m = chain.worn_pitch_m();
         let seat_circles: Vec<PathCircle> = pitch_circles
             .iter()
             .zip(&profiles)
-            .zip(&scene.sprockets)
-            .map(|((c, p), s)| PathCircle {
-                radius_m: if chain.elongation == 0.0 {
-                    p.seated_radius_m()
-                } else {
-                    p.seated_radius_m() + worn_lift_m(pitch_m, s.teeth, s.pitch_radius_m)
-                },
+            .map(|(c, p)| PathCircle {
+                radius_m: p.seated_radius_m(),
                 ..*c
             })
             .collect();
@@ -416,7 +397,7 @@ impl DriveModel {
             &seat_circles,
             &teeth,
             chain.rollers,
-            pitch_m,
+            chain.pitch_m,
         ) {
             Err(LayoutError::ChainLength { needed, .. })
                 if sag_holds(scene, &seat_path, needed) =>
@@ -426,7 +407,7 @@ impl DriveModel {
                     &seat_circles,
                     &teeth,
                     chain.rollers,
-                    pitch_m,
+                    chain.pitch_m,
                     scene.gravity_m_s2,
                     needed,
                 )?
@@ -506,7 +487,7 @@ impl DriveModel {
             roller_mass_kg: chain.roller_mass_kg,
             stiffness_n_m: chain.stiffness_n_m,
             damping_n_s_m: chain.damping_n_s_m,
-            rest_length_m: pitch_m,
+            rest_length_m: chain.pitch_m,
             gravity_m_s2: scene.gravity_m_s2,
             sprockets,
             path,
@@ -515,6 +496,28 @@ impl DriveModel {
             scalars,
         };
         Ok((model, state, layout))
+    }
+
+    /// Moves sprocket `k`'s centre to `scene`'s (a tensioner moved after
+    /// the layout: a worn chain taken up) and traces the nominal path and
+    /// its strands anew from `scene`'s sprockets. The state is not touched.
+    pub(crate) fn retrace(&mut self, scene: &Scene, k: usize) -> Result<(), BuildError> {
+        let circles: Vec<PathCircle> = scene
+            .sprockets
+            .iter()
+            .map(|s| PathCircle {
+                center_m: s.center_m,
+                radius_m: s.pitch_radius_m,
+                sense: s.wrap.sign(),
+            })
+            .collect();
+        let path = chain_path(&circles)?;
+        if let (Some(sp), Some(s)) = (self.sprockets.get_mut(k), scene.sprockets.get(k)) {
+            sp.center_m = s.center_m;
+        }
+        self.segments = Segments::new(&path);
+        self.path = path;
+        Ok(())
     }
 
     /// Number of sprockets.

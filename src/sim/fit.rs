@@ -151,19 +151,7 @@ impl<'a> Fitter<'a> {
             .iter()
             .map(|s| {
                 ToothProfile::new(s.profile, s.teeth, chain.pitch_m, chain.roller_radius_m)
-                    .map(|p| {
-                        // A worn chain's rollers lie further out (DriveModel::build).
-                        if chain.elongation == 0.0 {
-                            p.seated_radius_m()
-                        } else {
-                            p.seated_radius_m()
-                                + crate::model::worn_lift_m(
-                                    chain.worn_pitch_m(),
-                                    s.teeth,
-                                    s.pitch_radius_m,
-                                )
-                        }
-                    })
+                    .map(|p| p.seated_radius_m())
                     .map_err(|e| FitError::NoPath(e.to_string()))
             })
             .collect::<Result<_, _>>()?;
@@ -231,7 +219,7 @@ impl<'a> Fitter<'a> {
                 }
             }
         }
-        let needed = needed_pitches(&path, &circles, &self.teeth, self.scene.chain.worn_pitch_m())
+        let needed = needed_pitches(&path, &circles, &self.teeth, self.scene.chain.pitch_m)
             .map_err(|e| e.to_string())?;
         if !needed.is_finite() {
             return Err("the layout found no length".to_owned());
@@ -260,7 +248,7 @@ impl<'a> Fitter<'a> {
             return Err(FitError::Direction(direction[0], direction[1]));
         }
         let u = [direction[0] / norm, direction[1] / norm];
-        let pitch = self.scene.chain.worn_pitch_m();
+        let pitch = self.scene.chain.pitch_m;
         let target = rollers as f64;
         let evaluations = std::cell::Cell::new(0usize);
         let eval = |s: f64| {

@@ -144,7 +144,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
         }
     })?;
     let first_step_m = (target / scene.chain.stiffness_n_m) * scene.chain.rollers as f64
-        / (fit.slope_per_m * scene.chain.worn_pitch_m());
+        / (fit.slope_per_m * scene.chain.pitch_m);
     // At the fit the unstretched chain carries no tension (nothing to relax:
     // no roller presses on a tooth, so no strand could be told from a wrap).
     let (mut s0, mut t0) = (fit.offset_m, 0.0);
@@ -166,6 +166,57 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
         target_n: target,
         iterations: MAX_ITERATIONS,
     }))
+}
+
+/// Lengthens the links of a drive `settled` with its chain new to `worn`'s
+/// elongation ([`worn::wear_in`]); the tensioner rule's sprocket moves on
+/// to keep the pretension. Returns the worn drive, its scene `worn`'s with
+/// the tensioner where it ended.
+fn wear_settled(
+    worn: &Scene,
+    settled: Settled,
+    settings: &RelaxSettings,
+) -> Result<Settled, SimError> {
+    let (mut scene, mut model, mut state, mut forces, layout, _) = settled;
+    let e = worn.chain.elongation;
+    let chain = &worn.chain;
+    let take_up = match (chain.pretension_by, scene.tensioner()) {
+        (PretensionRule::Tensioner, Some(t)) => {
+            let Role::Tensioner { direction, .. } = scene.sprockets[t].role else {
+                return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
+            };
+            // The path's gain per metre the sprocket moves, from the fit's
+            // slope (pitches per metre) where the new chain sits.
+            let fit = fit_sprocket(&scene, t, direction, chain.rollers).map_err(|reason| {
+                EquilibriumError::TensionerFit {
+                    sprocket: scene.sprockets[t].name.clone(),
+                    reason: Box::new(reason),
+                }
+            })?;
+            let norm = direction[0].hypot(direction[1]);
+            Some((t, [direction[0] / norm, direction[1] / norm], 1.0 / (fit.slope_per_m * chain.pitch_m)))
+        }
+        _ => None,
+    };
+    let mut taken = scene.clone();
+    let eq = worn::wear_in(
+        &mut model,
+        &mut state,
+        &mut forces,
+        settings,
+        e,
+        chain.pretension_n,
+        take_up.map(|(sprocket, direction, travel_per_length)| worn::TakeUp {
+            scene: &mut taken,
+            sprocket,
+            direction,
+            travel_per_length,
+            tolerance: worn.equilibrium.tension_tolerance,
+        }),
+    )?;
+    scene = taken;
+    scene.chain.elongation = e;
+    Ok((scene, model, state, forces, layout, eq))
 }
 
 pub use crate::scene::StepLimits;
@@ -351,15 +402,16 @@ impl Simulation {
             rest_speed_m_s: 1e-6,
             max_stretch_m: limits.max_stretch_m,
         };
-        let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
+        // A worn chain: the drive with the chain new first, at its
+        // pretension; its links are then lengthened (`worn`).
+        let worn = scene;
+        let new_chain = worn.as_new_chain();
+        let scene = new_chain.as_ref().unwrap_or(worn);
+        let settled = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
-                // A worn chain on fixed centres: the new chain first, at its
-                // pretension; its links are then lengthened (worn::wear_in).
-                let new_chain = scene.as_new_chain();
-                let new_chain = new_chain.as_ref().unwrap_or(scene);
-                let (mut model, mut state, layout) = DriveModel::build(new_chain)?;
-                feasibility::check_chain_length(new_chain, &layout, &model.path)?;
-                feasibility::check_load(new_chain, &layout)?;
+                let (mut model, mut state, layout) = DriveModel::build(scene)?;
+                feasibility::check_chain_length(scene, &layout, &model.path)?;
+                feasibility::check_load(scene, &layout)?;
                 let mut forces = new_forces(scene, &model);
                 let eq = settle_rest_length(
                     &mut model,
@@ -374,19 +426,6 @@ impl Simulation {
                         .map(|s| s.name.as_str())
                         .collect::<Vec<_>>(),
                 )?;
-                let e = scene.chain.elongation;
-                let eq = if e == 0.0 {
-                    eq
-                } else {
-                    worn::wear_in(
-                        &mut model,
-                        &mut state,
-                        &mut forces,
-                        &settings,
-                        e,
-                        scene.chain.pretension_n,
-                    )?
-                };
                 (scene.clone(), model, state, forces, layout, eq)
             }
             PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
@@ -402,6 +441,11 @@ impl Simulation {
                 )?;
                 (scene.clone(), model, state, forces, layout, eq)
             }
+        };
+        let (scene, model, state, forces, layout, equilibrium) = if new_chain.is_some() {
+            wear_settled(worn, settled, &settings)?
+        } else {
+            settled
         };
         Ok(Self::assemble(
             scene,

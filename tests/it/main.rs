@@ -69,3 +69,5 @@ mod sweep;
 mod tensioners;
 mod threads;
 mod users;
+mod wear;
+mod worn;
