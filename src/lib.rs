@@ -31,7 +31,7 @@
 //! | stepping | [`sim`] | static equilibrium, substepped or rapier-integrated steps, blow-up detection, observers |
 //! | co-simulation | [`cosim`] | the drive inside a user's rapier world, stepped at the user's dt |
 //! | analysis | [`analysis`] | sampled signals, spectra, run summary, analytical references |
-//! | studies | [`studies`] | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
+//! | studies | `studies` (feature `lab`) | experiments of many runs: the paper's study, stress matrix, work-precision, soak, fuzz |
 //!
 //! ## Quick start
 //!
@@ -190,9 +190,11 @@
 //!
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record` |
+//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C); enables `record`, `figures`, `parquet` and `lab` |
+//! | `lab` | yes | `studies`: experiments of many runs (sweeps, design studies, convergence, work-precision, stress, the paper's study), every batch through one work queue; `csv` |
 //! | `figures` | yes | PNG and SVG figures of [`analysis`] (`plotters`, embedded font), `reproduce` |
-//! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
+//! | `record` | yes | `record`: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
+//! | `parquet` | yes | a design study's results as a Parquet table (`study collect`); enables `lab` |
 //!
 //! ## Reproducibility
 //!
@@ -209,6 +211,8 @@ pub mod geometry;
 pub mod model;
 #[cfg(feature = "record")]
 pub mod record;
+pub mod rng;
 pub mod scene;
 pub mod sim;
+#[cfg(feature = "lab")]
 pub mod studies;

@@ -208,6 +208,9 @@ pub(crate) struct StepCounter {
     /// The segments' free runs and the contact state they were found for.
     touching: Vec<bool>,
     runs: Option<StrandRuns>,
+    /// How many times the runs were found (a reader's cue that they changed).
+    #[serde(default)]
+    runs_found: u64,
 }
 
 impl StepCounter {
@@ -250,6 +253,7 @@ impl StepCounter {
         if self.runs.is_none() || self.touching != *touching {
             let segments = &s.model.segments;
             self.runs = Some(segments.runs(&s.model.sprockets, &s.state.x, &s.state.y, touching));
+            self.runs_found += 1;
             self.touching.clone_from(touching);
         }
         let Some(runs) = &self.runs else {
@@ -267,6 +271,13 @@ impl StepCounter {
                 *time += h;
             }
         }
+    }
+
+    /// The segments' free runs at the last step followed (`None` before
+    /// the second), with the number of times they were found so far (which
+    /// changes when they may have).
+    pub fn runs(&self) -> Option<(u64, &StrandRuns)> {
+        self.runs.as_ref().map(|r| (self.runs_found, r))
     }
 
     /// The sums since the last call, for a sample row (empty before the

@@ -30,6 +30,7 @@ mod warnings;
 mod window;
 
 pub use means::{Extent, StepSums, TensionerSums};
+#[cfg(feature = "lab")]
 pub(crate) use summary::segment_series;
 pub use summary::{
     GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
@@ -115,6 +116,10 @@ pub struct Signals {
     /// Integrals over every step from `per_step_from_s` on, handed to each row.
     #[serde(default)]
     counter: StepCounter,
+    /// Every link's force rainflow-counted over the same steps, where asked
+    /// for ([`Signals::count_fatigue`]).
+    #[serde(default)]
+    fatigue: Option<design::LinkCycles>,
 }
 
 /// What [`Signals`] keeps instead of every row.
@@ -154,7 +159,30 @@ impl Signals {
                 + 0.5,
             bounded: None,
             counter: StepCounter::default(),
+            fatigue: None,
         }
+    }
+
+    /// Counts every link's force for the fatigue check over the steps
+    /// followed, on the S–N curve of `cycles` ([`design::link_cycles`]).
+    /// Call before the first step.
+    pub fn count_fatigue(&mut self, cycles: design::LinkCycles) {
+        self.fatigue = Some(cycles);
+    }
+
+    /// Counts every link's force for the fatigue check where `scene` has
+    /// an S–N curve ([`design::fatigue::curve_of_scene`]: a chain with a
+    /// designation); nothing otherwise. Call before the first step.
+    pub fn count_fatigue_of(&mut self, scene: &crate::scene::Scene) {
+        if let Ok((curve, _)) = design::fatigue::curve_of_scene(scene) {
+            let links = scene.chain().rollers;
+            self.count_fatigue(design::LinkCycles::new(curve, links));
+        }
+    }
+
+    /// The fatigue count, where asked for.
+    pub fn fatigue(&self) -> Option<&design::LinkCycles> {
+        self.fatigue.as_ref()
     }
 
     /// Keeps only the rows of the last `window_s` (and a few more), and
@@ -229,12 +257,17 @@ impl Signals {
     }
 
     fn track_extremes(&mut self, s: &Sample<'_>) {
-        for &f in &s.forces.link_force {
-            self.link_range.0 = self.link_range.0.min(f);
-            self.link_range.1 = self.link_range.1.max(f);
-        }
+        let (low, high) = range_of(&s.forces.link_force);
+        self.link_range.0 = self.link_range.0.min(low);
+        self.link_range.1 = self.link_range.1.max(high);
         for (m, f) in self.bearing_max.iter_mut().zip(&s.forces.chain_force) {
-            *m = m.max(f[0].hypot(f[1]));
+            // `hypot` only where the force may exceed the maximum: the plain
+            // square sum is within a few ulps of |f|², and a force 10⁻⁹ below
+            // the maximum cannot raise it.
+            let square = f[0] * f[0] + f[1] * f[1];
+            if !(square < *m * *m * (1.0 - 1e-9)) {
+                *m = m.max(f[0].hypot(f[1]));
+            }
         }
         self.shoes
             .resize(s.forces.shoes.len(), ShoeSample::default());
@@ -243,6 +276,33 @@ impl Signals {
             m.friction_max_n = m.friction_max_n.max(f.friction_n);
         }
     }
+}
+
+/// The smallest and largest of `values` ((∞, −∞) when empty), in four
+/// independent lanes of plain comparisons, which the compiler turns into
+/// packed `min` and `max`. A NaN is dropped, as by `f64::min`/`f64::max`.
+fn range_of(values: &[f64]) -> (f64, f64) {
+    let smaller = |m: f64, v: f64| if v < m { v } else { m };
+    let larger = |m: f64, v: f64| if v > m { v } else { m };
+    let mut low = [f64::INFINITY; 4];
+    let mut high = [f64::NEG_INFINITY; 4];
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for k in 0..4 {
+            low[k] = smaller(low[k], c[k]);
+            high[k] = larger(high[k], c[k]);
+        }
+    }
+    let low = rest
+        .iter()
+        .chain(&low)
+        .fold(f64::INFINITY, |m, &v| smaller(m, v));
+    let high = rest
+        .iter()
+        .chain(&high)
+        .fold(f64::NEG_INFINITY, |m, &v| larger(m, v));
+    (low, high)
 }
 
 impl Observer for Signals {
@@ -285,6 +345,14 @@ impl Observer for Signals {
     fn step(&mut self, s: &Sample<'_>) {
         self.track_extremes(s);
         self.counter.step(s);
+        if let Some(f) = &mut self.fatigue {
+            f.step(
+                s.state.t_s,
+                &s.forces.link_force,
+                self.counter.runs(),
+                s.model.segments.len(),
+            );
+        }
     }
 
     fn per_step_from_s(&self) -> f64 {

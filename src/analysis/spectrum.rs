@@ -175,22 +175,10 @@ mod tests {
         assert!((a - 3e-3).abs() < 0.1 * 3e-3, "{a}");
     }
 
-    /// SplitMix64 and Box–Muller: reproducible Gaussian noise.
+    /// Reproducible Gaussian noise of standard deviation `sigma`.
     fn noise(seed: u64, n: usize, sigma: f64) -> Vec<f64> {
-        let mut state = seed;
-        let mut uniform = || {
-            state = state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            let mut z = state;
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64 + f64::EPSILON
-        };
-        (0..n)
-            .map(|_| {
-                let (u, v) = (uniform(), uniform());
-                sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
-            })
-            .collect()
+        let mut rng = crate::rng::SeededRng::new(seed);
+        (0..n).map(|_| sigma * rng.normal()).collect()
     }
 
     #[test]

@@ -17,7 +17,7 @@
 //! Indices: links and rollers count from 0 (link i joins roller i and i + 1),
 //! segments and sprockets from 1, as in every output. Every function checks
 //! its indices and window and returns an [`AnalysisError`] rather than an
-//! empty series. It does not run simulations or draw ([`crate::studies::reproduce`],
+//! empty series. It does not run simulations or draw (`studies::reproduce`, feature `lab`;
 //! `figures`).
 
 use super::binder::{BinderInputs, centrifugal_tension_n, placement_times_s};

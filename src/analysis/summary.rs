@@ -224,6 +224,13 @@ pub struct RunSummary {
     /// `warnings`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub static_force_residual: Option<f64>,
+    /// What sets the static tension: the pretension rule (`rest_length`,
+    /// `tensioner`, `tensioner_preload`, as `chain.pretension_by`), or
+    /// `chain_misfit` where the tensioner arms meant to set it hold no chain
+    /// and the chain's fit to its path does (a warning says how). Absent
+    /// where unknown (a summary of a recording).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub static_tension_set_by: Option<String>,
     /// Links' rest length after the pretension rule, m.
     pub rest_length_m: f64,
     /// Smallest link force over the window, N.
@@ -272,6 +279,11 @@ pub struct RunSummary {
     /// not turn).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub rating: Option<super::design::Rating>,
+    /// Link-plate fatigue from every link's force over the window
+    /// ([`super::design::fatigue`]; absent where the chain has no tensile
+    /// strength, or the steps were not counted).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fatigue: Option<super::design::Fatigue>,
     /// The wear check ([`super::design::wear`]; absent where the scene
     /// does not ask for it, `checks.wear = true`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -583,6 +595,11 @@ impl RunSummary {
             window_s,
             sim.power.as_ref().and_then(|p| p.means()),
         );
+        let eq = &sim.equilibrium;
+        summary.static_tension_set_by = Some(eq.tension_set_by(&sim.scene).to_owned());
+        summary
+            .warnings
+            .extend(eq.misfit.as_ref().map(ToString::to_string));
         summary.wear = sim
             .sliding
             .as_ref()
@@ -766,6 +783,7 @@ impl RunSummary {
             },
             static_tension_n: inputs.static_tension_n,
             static_force_residual: inputs.static_force_residual,
+            static_tension_set_by: None,
             rest_length_m: model.rest_length_m,
             link_force_min_n: link_min,
             link_force_max_n: link_max,
@@ -790,12 +808,16 @@ impl RunSummary {
                 .map(|(k, t)| means.tensioner(&t.name, k))
                 .collect(),
             rating: None,
+            fatigue: None,
             wear: None,
             worn_chain: None,
             tooth_jumps: Vec::new(),
             warnings: Vec::new(),
         };
         summary.rating = super::design::rating::of_run(scene, &summary);
+        summary.fatigue = signals
+            .fatigue()
+            .and_then(|cycles| super::design::fatigue::of_run(scene, &summary, cycles));
         summary.warnings = super::warnings::of_run(&Judged {
             scene,
             summary: &summary,

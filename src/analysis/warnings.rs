@@ -63,6 +63,12 @@ pub(crate) fn of_run(j: &Judged<'_>) -> Vec<String> {
             .iter()
             .flat_map(|r| super::design::rating::warnings(j.scene, r, j.summary.link_force_max_n)),
     )
+    .chain(
+        j.summary
+            .fatigue
+            .iter()
+            .flat_map(super::design::fatigue::warnings),
+    )
     .collect()
 }
 

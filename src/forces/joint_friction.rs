@@ -283,13 +283,8 @@ mod tests {
     fn disturbed() -> (DriveModel, DriveState, Forces) {
         let scene = crate::scene::Scene::l60mc();
         let (model, mut state, _) = DriveModel::build(&scene).expect("paper's drive lays out");
-        let mut seed = 12345u64;
-        let mut next = || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            ((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5
-        };
+        let mut rng = crate::rng::SeededRng::new(12345);
+        let mut next = || rng.unit() - 0.5;
         for i in 0..state.rollers() {
             state.vx[i] += 2.0 * next();
             state.vy[i] += 2.0 * next();

@@ -361,19 +361,11 @@ impl ForceElement for Links {
                 out.link_normal_y[n - 1],
             ) = rates(ux, uy, inv, dvx, dvy);
         }
-        // `max` drops a NaN: keep it visible to the blow-up check.
-        let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
-        let max_stretch = largest(stretch, stretch, |s, _| s.abs());
-        let max_speed_sq = largest(vx, vy, |a, b| a * a + b * b);
         let m = model.roller_mass_kg;
-        let (gx, gy) = (m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]);
+        let weight = [m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]];
         let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
-        fx[0] = gx + (lfx[0] - lfx[n - 1]);
-        fy[0] = gy + (lfy[0] - lfy[n - 1]);
-        for i in 1..n {
-            fx[i] = gx + (lfx[i] - lfx[i - 1]);
-            fy[i] = gy + (lfy[i] - lfy[i - 1]);
-        }
+        let (nan, max_stretch, max_speed_sq) =
+            roller_sums(weight, [&*lfx, &*lfy], [fx, fy], &*stretch, [vx, vy]);
         out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
         out.max_roller_speed_m_s = max_speed_sq.sqrt();
     }
@@ -396,6 +388,62 @@ impl ForceElement for Links {
     fn as_any(&self) -> &dyn std::any::Any {
         self
     }
+}
+
+/// Each roller's force, its weight plus its two links, and the links'
+/// checks: whether a stretch is NaN, the largest |stretch| and the largest
+/// squared roller speed. Compiled for AVX2 where the CPU has it, as
+/// [`open_links`] is (element-wise sums and maxima: the same bits).
+fn roller_sums(
+    weight: [f64; 2],
+    link_f: [&[f64]; 2],
+    roller_f: [&mut [f64]; 2],
+    stretch: &[f64],
+    v: [&[f64]; 2],
+) -> (bool, f64, f64) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked on the line above.
+        return unsafe { roller_sums_avx2(weight, link_f, roller_f, stretch, v) };
+    }
+    roller_sums_body(weight, link_f, roller_f, stretch, v)
+}
+
+/// [`roller_sums_body`] compiled with AVX2 (no FMA).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn roller_sums_avx2(
+    weight: [f64; 2],
+    link_f: [&[f64]; 2],
+    roller_f: [&mut [f64]; 2],
+    stretch: &[f64],
+    v: [&[f64]; 2],
+) -> (bool, f64, f64) {
+    roller_sums_body(weight, link_f, roller_f, stretch, v)
+}
+
+#[inline(always)]
+fn roller_sums_body(
+    weight: [f64; 2],
+    link_f: [&[f64]; 2],
+    roller_f: [&mut [f64]; 2],
+    stretch: &[f64],
+    v: [&[f64]; 2],
+) -> (bool, f64, f64) {
+    // `max` drops a NaN: keep it visible to the blow-up check.
+    let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
+    let max_stretch = largest(stretch, stretch, |s, _| s.abs());
+    let max_speed_sq = largest(v[0], v[1], |a, b| a * a + b * b);
+    for ((f, l), g) in roller_f.into_iter().zip(link_f).zip(weight) {
+        let n = f.len().min(l.len());
+        let (f, l) = (&mut f[..n], &l[..n]);
+        f[0] = g + (l[0] - l[n - 1]);
+        // Roller i between links i − 1 and i.
+        for ((f, l1), l0) in f[1..].iter_mut().zip(&l[1..]).zip(&l[..n - 1]) {
+            *f = g + (l1 - l0);
+        }
+    }
+    (nan, max_stretch, max_speed_sq)
 }
 
 /// The largest `f(a_i, b_i)`, at least 0, in four independent lanes of plain

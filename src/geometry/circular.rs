@@ -119,36 +119,22 @@ impl CircularProfile {
     /// updated to the gap found.
     #[inline(always)]
     pub fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
-        let gap = self.gap_near(p, *hint);
-        *hint = gap;
-        let u = self.gap_dirs[gap as usize];
-        let rc = self.pitch_radius_m + self.clearance_m;
-        let e = [p[0] - rc * u[0], p[1] - rc * u[1]];
-        // Only the half facing the sprocket centre holds the roller (e·u ≤ 0).
-        if e[0] * u[0] + e[1] * u[1] > 0.0 {
-            return if self.tips {
-                self.tip_contact(e, u, gap, out)
-            } else {
-                0
-            };
+        self.seats().contacts(p, hint, out)
+    }
+
+    /// What a contact query reads, taken out of the profile once (for a
+    /// loop over many rollers).
+    #[inline(always)]
+    pub(crate) fn seats(&self) -> Seats<'_> {
+        Seats {
+            profile: self,
+            dirs: &self.gap_dirs,
+            tan_half_pitch: self.tan_half_pitch,
+            seat_radius_m: self.pitch_radius_m + self.clearance_m,
+            clearance_m: self.clearance_m,
+            clearance_sq_m2: self.clearance_m * self.clearance_m,
+            tips: self.tips,
         }
-        // Cheap rejection before the square root: |e| ≤ ΔR means no contact.
-        let len_sq = e[0] * e[0] + e[1] * e[1];
-        if !(len_sq > self.clearance_m * self.clearance_m) {
-            return 0;
-        }
-        let len = len_sq.sqrt();
-        let depth_m = len - self.clearance_m;
-        // len > ΔR > 0 here, so the normalisation is safe (one division).
-        let inv_len = 1.0 / len;
-        out[0] = Patch {
-            depth_m,
-            normal: [-e[0] * inv_len, -e[1] * inv_len],
-            area: 4,
-            gap,
-            patch_id: gap,
-        };
-        1
     }
 
     /// With [`Self::tips`]: contact of a roller radially outside its seat's centre (`e`: from the
@@ -160,13 +146,7 @@ impl CircularProfile {
     /// does not appear at a depth (|e| − ΔR) as the roller crosses the
     /// seat's diameter.
     #[inline(never)]
-    fn tip_contact(
-        &self,
-        e: [f64; 2],
-        u: [f64; 2],
-        gap: u32,
-        out: &mut [Patch; MAX_PATCHES],
-    ) -> usize {
+    fn tip_contact(&self, e: [f64; 2], u: [f64; 2], gap: u32) -> Option<Patch> {
         let t = [-u[1], u[0]];
         let side = if e[0] * t[0] + e[1] * t[1] >= 0.0 {
             1.0
@@ -177,18 +157,17 @@ impl CircularProfile {
         let d = [e[0] - r * t[0], e[1] - r * t[1]];
         let len_sq = d[0] * d[0] + d[1] * d[1];
         if !(len_sq < self.roller_radius_m * self.roller_radius_m) || len_sq == 0.0 {
-            return 0;
+            return None;
         }
         let len = len_sq.sqrt();
         let inv_len = 1.0 / len;
-        out[0] = Patch {
+        Some(Patch {
             depth_m: self.roller_radius_m - len,
             normal: [d[0] * inv_len, d[1] * inv_len],
             area: 4,
             gap,
             patch_id: gap,
-        };
-        1
+        })
     }
 
     /// The whole outline in the sprocket frame, counter-clockwise: each gap's
@@ -235,10 +214,106 @@ impl CircularProfile {
     }
 }
 
+/// A [`CircularProfile`]'s data for contact queries, read out of it once:
+/// the gaps' directions and the seat's radii. Answers exactly as
+/// [`CircularProfile::contacts`] (which goes through it).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Seats<'a> {
+    profile: &'a CircularProfile,
+    /// Unit radial direction of each gap centre.
+    pub(crate) dirs: &'a [[f64; 2]],
+    /// tan(φ/2), the gaps' cone test.
+    pub(crate) tan_half_pitch: f64,
+    /// R_s + ΔR: the seating circles' centres lie on it, m.
+    pub(crate) seat_radius_m: f64,
+    /// ΔR, m.
+    pub(crate) clearance_m: f64,
+    /// ΔR², m².
+    pub(crate) clearance_sq_m2: f64,
+    /// See [`CircularProfile::tips`].
+    pub(crate) tips: bool,
+}
+
+impl Seats<'_> {
+    /// See [`CircularProfile::contacts`].
+    #[inline(always)]
+    pub(crate) fn contacts(
+        &self,
+        p: [f64; 2],
+        hint: &mut u32,
+        out: &mut [Patch; MAX_PATCHES],
+    ) -> usize {
+        let (gap, u) = self.gap_near(p, *hint);
+        *hint = gap;
+        let rc = self.seat_radius_m;
+        let e = [p[0] - rc * u[0], p[1] - rc * u[1]];
+        // Only the half facing the sprocket centre holds the roller (e·u ≤ 0).
+        if e[0] * u[0] + e[1] * u[1] > 0.0 {
+            if !self.tips {
+                return 0;
+            }
+            return match self.profile.tip_contact(e, u, gap) {
+                Some(patch) => {
+                    out[0] = patch;
+                    1
+                }
+                None => 0,
+            };
+        }
+        // Cheap rejection before the square root: |e| ≤ ΔR means no contact.
+        let len_sq = e[0] * e[0] + e[1] * e[1];
+        if !(len_sq > self.clearance_sq_m2) {
+            return 0;
+        }
+        let len = len_sq.sqrt();
+        let depth_m = len - self.clearance_m;
+        // len > ΔR > 0 here, so the normalisation is safe (one division).
+        let inv_len = 1.0 / len;
+        out[0] = Patch {
+            depth_m,
+            normal: [-e[0] * inv_len, -e[1] * inv_len],
+            area: 4,
+            gap,
+            patch_id: gap,
+        };
+        1
+    }
+
+    /// [`CircularProfile::gap_near`], with the gap's direction.
+    #[inline(always)]
+    fn gap_near(&self, p: [f64; 2], hint: u32) -> (u32, [f64; 2]) {
+        if let Some(&u) = self.dirs.get(hint as usize) {
+            let along = u[0] * p[0] + u[1] * p[1];
+            let across = u[0] * p[1] - u[1] * p[0];
+            if along > 0.0 && across.abs() <= self.tan_half_pitch * along {
+                return (hint, u);
+            }
+        }
+        let gap = self.profile.gap_search(p, hint);
+        // The search answers a gap of this profile (0..N).
+        (
+            gap,
+            self.dirs.get(gap as usize).copied().unwrap_or([1.0, 0.0]),
+        )
+    }
+}
+
+impl super::Outline for Seats<'_> {
+    #[inline(always)]
+    fn contacts(&self, p: [f64; 2], hint: &mut u32, out: &mut [Patch; MAX_PATCHES]) -> usize {
+        Seats::contacts(self, p, hint, out)
+    }
+
+    #[inline(always)]
+    fn continues(&self, _: u32, _: u32) -> bool {
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::super::testing::Lcg;
     use super::*;
+    use crate::rng::SeededRng;
 
     const P: f64 = 0.0889;
     const RR: f64 = 0.027;
@@ -338,7 +413,7 @@ mod tests {
     fn hinted_gap_equals_atan2_gap() {
         // Oracle: the hint path must agree with the plain atan2 rule everywhere.
         let c = CircularProfile::new(28, P, RR);
-        let mut rng = Lcg(12345);
+        let mut rng = SeededRng::new(12345);
         for _ in 0..20000 {
             let a = rng.range(0.0, std::f64::consts::TAU);
             let r = rng.range(0.3, 0.5);

@@ -15,7 +15,10 @@
 //! or shortened by the misfit shared among them ([`Layout::misfit_pitches`],
 //! [`Layout::strand_stretch`]); whether the pretension can then be reached is
 //! the equilibrium's question, not the layout's. A chain further off gets
-//! [`LayoutError::ChainLength`], which names the nearest count.
+//! [`LayoutError::ChainLength`], with what tensioner arms take up where the
+//! drive has them ([`super::layout_with_arms`]). It names no count: which
+//! counts the drive accepts is the equilibrium's question too
+//! (`sim::count_verdicts`).
 //!
 //! Under gravity a chain longer than that hangs ([`layout_hanging`]): the
 //! seated rollers and the strands' ends stay where the walk at λ = P puts
@@ -25,9 +28,9 @@
 //! the parabola of that arc length, sagging towards gravity. The static
 //! equilibrium starts from there.
 
-use std::f64::consts::{PI, TAU};
-
+use super::arms::{ArmPose, TakeUpBound};
 use super::path::{ChainPath, PathCircle};
+use super::walk::{Walk, Walker};
 
 /// Where every roller starts and how the sprockets are turned to receive them.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,6 +56,10 @@ pub struct Layout {
     /// excess hangs in the strands' sag ([`layout_hanging`]): the strand
     /// links are one pitch long, laid on parabolas.
     pub hanging: bool,
+    /// Where each tensioner arm stands, in scene order, when the arms'
+    /// shoes take up the chain's excess ([`super::layout_with_arms`]);
+    /// empty when the arms stand at the scene's pose.
+    pub arms: Vec<ArmPose>,
 }
 
 impl Layout {
@@ -68,7 +75,9 @@ impl Layout {
 pub enum LayoutError {
     /// The chain's length and the path's differ by more than half a pitch.
     #[error(
-        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which}); the nearest count is {suggest} rollers"
+        "the path through the seated rollers needs {needed:.2} pitches of chain but the chain has {rollers} links ({which} by {:.2} pitches, more than the half pitch its free links take up){}",
+        (needed - *rollers as f64).abs(),
+        arms.as_ref().map(ToString::to_string).unwrap_or_default()
     )]
     ChainLength {
         /// Pitches the path needs.
@@ -77,9 +86,14 @@ pub enum LayoutError {
         rollers: usize,
         /// "too short" or "too long".
         which: &'static str,
-        /// Nearest roller count: the layout accepts it (the equilibrium may
-        /// still find its misfit too large for the pretension).
+        /// Nearest roller count: the layout accepts it. The message does not
+        /// offer it: the equilibrium may still find its misfit too large for
+        /// the pretension, and only the counts `chaindrive check` lists
+        /// (`sim::count_verdicts`) are offered.
         suggest: usize,
+        /// What the tensioner arms' shoes take up over their travel, where
+        /// the drive has arms.
+        arms: Option<ArmReach>,
     },
     /// A wrap holds no roller.
     #[error(
@@ -101,6 +115,37 @@ pub enum LayoutError {
     },
 }
 
+/// The chain the tensioner arms take up, beside a chain they do not fit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ArmReach {
+    /// Take-up with the arms as far back as they go, m.
+    pub min_m: f64,
+    /// With the arms as far in as they go, m.
+    pub max_m: f64,
+    /// The chain's length less the straight path's, m.
+    pub excess_m: f64,
+    /// What bounds `max_m`.
+    pub bound: TakeUpBound,
+}
+
+impl std::fmt::Display for ArmReach {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "; over their travel the tensioner arms' shoes take up {:.2} to {:.2} mm of chain ({}), and the chain is {:.2} mm {} than the path with straight strands",
+            self.min_m * 1e3,
+            self.max_m * 1e3,
+            self.bound,
+            self.excess_m.abs() * 1e3,
+            if self.excess_m > 0.0 {
+                "longer"
+            } else {
+                "shorter"
+            }
+        )
+    }
+}
+
 /// Largest mismatch, in pitches, between the chain and the path: half a
 /// pitch, so that the nearest roller count always lays out.
 pub const MAX_LENGTH_MISMATCH_PITCHES: f64 = 0.5;
@@ -115,34 +160,7 @@ pub fn layout_rollers(
     rollers: usize,
     pitch_m: f64,
 ) -> Result<Layout, LayoutError> {
-    let walker = Walker::engaged(path, circles, teeth)?;
-    // The first walk, at λ = P, decides the roller counts.
-    let first = walker.walk(pitch_m, None)?;
-    let used = first.rollers_m.len() - first.strand_links[first.strand_links.len() - 1] + 1;
-    let needed = first.needed_links(pitch_m);
-    if (needed - rollers as f64).abs() > MAX_LENGTH_MISMATCH_PITCHES || used > rollers {
-        return Err(length_error(needed, rollers));
-    }
-    // Give the closing strand the links the chain has left, then close the loop by λ.
-    let mut counts = first.counts();
-    let last = counts.strand_links.len() - 1;
-    counts.strand_links[last] = rollers + 1 - used;
-    let total_strand: usize = counts.strand_links.iter().sum();
-    let residual = |lambda: f64| walker.walk(lambda, Some(&counts)).map(|w| w.residual_m);
-    let (mut l0, mut r0) = (pitch_m, residual(pitch_m)?);
-    let mut l1 = pitch_m + r0 / total_strand as f64;
-    for _ in 0..50 {
-        let r1 = residual(l1)?;
-        if r1.abs() < 1e-13 || r1 == r0 {
-            break;
-        }
-        let l2 = l1 - r1 * (l1 - l0) / (r1 - r0);
-        (l0, r0, l1) = (l1, r1, l2);
-    }
-    let walk = walker.walk(l1, Some(&counts))?;
-    if walk.rollers_m.len() != rollers {
-        return Err(length_error(needed, rollers));
-    }
+    let (walk, needed) = Walker::engaged(path, circles, teeth)?.close(rollers, pitch_m)?;
     Ok(walk.into_layout(pitch_m, needed - rollers as f64))
 }
 
@@ -245,6 +263,7 @@ pub(crate) fn hang_excess(
         polygon_length_m: needed * pitch_m,
         misfit_pitches: needed - rollers as f64,
         hanging: true,
+        arms: Vec::new(),
     })
 }
 
@@ -430,7 +449,7 @@ fn hang(
         .collect()
 }
 
-fn length_error(needed: f64, rollers: usize) -> LayoutError {
+pub(super) fn length_error(needed: f64, rollers: usize) -> LayoutError {
     LayoutError::ChainLength {
         needed,
         rollers,
@@ -440,258 +459,7 @@ fn length_error(needed: f64, rollers: usize) -> LayoutError {
             "too long"
         },
         suggest: needed.round().max(1.0) as usize,
-    }
-}
-
-/// Roller counts of a walk.
-#[derive(Clone, Debug)]
-struct Counts {
-    /// Seated rollers per sprocket.
-    seated: Vec<usize>,
-    /// Links per strand.
-    strand_links: Vec<usize>,
-}
-
-/// One walk's result.
-struct Walk {
-    rollers_m: Vec<[f64; 2]>,
-    seats: Vec<Option<(usize, u32)>>,
-    sprocket_angles_rad: Vec<f64>,
-    seated: Vec<usize>,
-    strand_links: Vec<usize>,
-    /// Chord of the closing strand minus its links × λ, m.
-    residual_m: f64,
-    /// Strand link length, m.
-    lambda_m: f64,
-}
-
-impl Walk {
-    fn counts(&self) -> Counts {
-        Counts {
-            seated: self.seated.clone(),
-            strand_links: self.strand_links.clone(),
-        }
-    }
-
-    /// Pitches of chain the path needs.
-    fn needed_links(&self, pitch_m: f64) -> f64 {
-        let links: usize = self.strand_links.iter().sum::<usize>()
-            + self.seated.iter().map(|m| m - 1).sum::<usize>();
-        links as f64 + self.residual_m / pitch_m
-    }
-
-    /// Strand `k`'s ends: the last roller seated on sprocket k and the
-    /// first on the next.
-    fn strand_ends(&self, k: usize) -> ([f64; 2], [f64; 2]) {
-        let offset = |j: usize| -> usize {
-            (0..j)
-                .map(|i| self.seated[i] + self.strand_links[i] - 1)
-                .sum()
-        };
-        let next = if k + 1 == self.seated.len() {
-            0
-        } else {
-            offset(k + 1)
-        };
-        (
-            self.rollers_m[offset(k) + self.seated[k] - 1],
-            self.rollers_m[next],
-        )
-    }
-
-    fn into_layout(self, pitch_m: f64, misfit_pitches: f64) -> Layout {
-        let wrap_links: usize = self.seated.iter().map(|m| m - 1).sum();
-        let strand: usize = self.strand_links.iter().sum();
-        Layout {
-            polygon_length_m: wrap_links as f64 * pitch_m
-                + strand as f64 * self.lambda_m
-                + self.residual_m,
-            rollers_m: self.rollers_m,
-            sprocket_angles_rad: self.sprocket_angles_rad,
-            seats: self.seats,
-            strand_links: self.strand_links,
-            strand_link_m: self.lambda_m,
-            misfit_pitches,
-            hanging: false,
-        }
-    }
-}
-
-/// Angle a − b folded into (−π, π].
-fn angle_diff(a: f64, b: f64) -> f64 {
-    let d = (a - b).rem_euclid(TAU);
-    if d > PI { d - TAU } else { d }
-}
-
-struct Walker<'a> {
-    path: &'a ChainPath,
-    circles: &'a [PathCircle],
-    teeth: &'a [u32],
-}
-
-impl<'a> Walker<'a> {
-    /// A walker over `path`, once every sprocket is wrapped: a sprocket the
-    /// path only touches engages no roller.
-    fn engaged(
-        path: &'a ChainPath,
-        circles: &'a [PathCircle],
-        teeth: &'a [u32],
-    ) -> Result<Self, LayoutError> {
-        for (k, w) in path.wraps.iter().enumerate() {
-            if w.wrap_rad < 1e-9 {
-                return Err(LayoutError::NoEngagement {
-                    sprocket: k + 1,
-                    wrap_deg: w.wrap_rad.to_degrees(),
-                });
-            }
-        }
-        Ok(Self {
-            path,
-            circles,
-            teeth,
-        })
-    }
-}
-
-impl Walker<'_> {
-    fn point(&self, k: usize, angle: f64) -> [f64; 2] {
-        let c = &self.circles[k];
-        [
-            c.center_m[0] + c.radius_m * angle.cos(),
-            c.center_m[1] + c.radius_m * angle.sin(),
-        ]
-    }
-
-    fn phi(&self, k: usize) -> f64 {
-        TAU / f64::from(self.teeth[k])
-    }
-
-    /// Where a strand of `links` links of length λ from `from` meets circle
-    /// `k`: the polar angle nearest `near`.
-    fn landing(
-        &self,
-        from: [f64; 2],
-        links: usize,
-        lambda: f64,
-        k: usize,
-        near: f64,
-    ) -> Option<f64> {
-        let c = &self.circles[k];
-        let rho = links as f64 * lambda;
-        let d = [c.center_m[0] - from[0], c.center_m[1] - from[1]];
-        let dist = d[0].hypot(d[1]);
-        if !(dist > 0.0) {
-            return None;
-        }
-        let a = (rho * rho - c.radius_m * c.radius_m + dist * dist) / (2.0 * dist);
-        let h2 = rho * rho - a * a;
-        if !(h2 >= 0.0) {
-            return None;
-        }
-        let h = h2.sqrt();
-        let e = [d[0] / dist, d[1] / dist];
-        [h, -h]
-            .iter()
-            .map(|s| {
-                let p = [from[0] + a * e[0] - s * e[1], from[1] + a * e[1] + s * e[0]];
-                (p[1] - c.center_m[1]).atan2(p[0] - c.center_m[0])
-            })
-            .min_by(|x, y| {
-                angle_diff(*x, near)
-                    .abs()
-                    .total_cmp(&angle_diff(*y, near).abs())
-            })
-    }
-
-    /// Walks the loop with strand links of length `lambda`; with `counts`, the
-    /// roller counts are imposed, otherwise chosen.
-    fn walk(&self, lambda: f64, counts: Option<&Counts>) -> Result<Walk, LayoutError> {
-        let n = self.circles.len();
-        let mut out = Walk {
-            rollers_m: Vec::new(),
-            seats: Vec::new(),
-            sprocket_angles_rad: Vec::with_capacity(n),
-            seated: Vec::with_capacity(n),
-            strand_links: Vec::with_capacity(n),
-            residual_m: 0.0,
-            lambda_m: lambda,
-        };
-        // The first roller of sprocket 0 sits half a pitch after the arrival point.
-        let mut first = self.path.wraps[0].arrive_rad + self.circles[0].sense * 0.5 * self.phi(0);
-        let start = self.point(0, first);
-        for k in 0..n {
-            let (s, phi) = (self.circles[k].sense, self.phi(k));
-            let w = &self.path.wraps[k];
-            let seated = match counts {
-                Some(c) => c.seated[k],
-                None => {
-                    let into = s * angle_diff(first, w.arrive_rad);
-                    ((w.wrap_rad - into) / phi + 0.5).floor().max(0.0) as usize + 1
-                }
-            };
-            out.sprocket_angles_rad.push(first);
-            for m in 0..seated {
-                out.rollers_m
-                    .push(self.point(k, first + s * m as f64 * phi));
-                let gap = (s * m as f64).rem_euclid(f64::from(self.teeth[k])) as u32;
-                out.seats.push(Some((k, gap)));
-            }
-            out.seated.push(seated);
-            let last = self.point(k, first + s * (seated - 1) as f64 * phi);
-            let next = (k + 1) % n;
-            let no_landing = LayoutError::NoLanding {
-                from: k + 1,
-                to: next + 1,
-            };
-            let (links, target) = if next == 0 {
-                let chord = (start[0] - last[0]).hypot(start[1] - last[1]);
-                let links = match counts {
-                    Some(c) => c.strand_links[k],
-                    None => ((chord / lambda).round() as usize).max(1),
-                };
-                out.residual_m = chord - links as f64 * lambda;
-                (links, start)
-            } else {
-                let aim = self.path.wraps[next].arrive_rad
-                    + self.circles[next].sense * 0.5 * self.phi(next);
-                let (links, angle) = match counts {
-                    Some(c) => {
-                        let l = c.strand_links[k];
-                        (
-                            l,
-                            self.landing(last, l, lambda, next, aim).ok_or(no_landing)?,
-                        )
-                    }
-                    None => {
-                        let t = self.path.strands[k].end_m;
-                        let guess =
-                            ((t[0] - last[0]).hypot(t[1] - last[1]) / lambda).round() as usize;
-                        (guess.saturating_sub(1).max(1)..=guess + 1)
-                            .filter_map(|l| {
-                                self.landing(last, l, lambda, next, aim).map(|a| (l, a))
-                            })
-                            .min_by(|x, y| {
-                                angle_diff(x.1, aim)
-                                    .abs()
-                                    .total_cmp(&angle_diff(y.1, aim).abs())
-                            })
-                            .ok_or(no_landing)?
-                    }
-                };
-                first = angle;
-                (links, self.point(next, angle))
-            };
-            out.strand_links.push(links);
-            for q in 1..links {
-                let t = q as f64 / links as f64;
-                out.rollers_m.push([
-                    last[0] + t * (target[0] - last[0]),
-                    last[1] + t * (target[1] - last[1]),
-                ]);
-                out.seats.push(None);
-            }
-        }
-        Ok(out)
+        arms: None,
     }
 }
 

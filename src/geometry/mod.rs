@@ -12,17 +12,19 @@
 //! the +x axis, gaps numbered counter-clockwise; gap j's centre at polar angle
 //! j·2π/N.
 
+mod arms;
 pub mod asa;
 mod circular;
 mod layout;
 mod path;
 pub mod shoe;
-#[cfg(test)]
-mod testing;
+mod walk;
 
+pub use arms::{ArmPose, ArmShoe, ArmTakeUp, TakeUpBound, arm_take_up, layout_with_arms};
 pub use circular::CircularProfile;
+pub(crate) use circular::Seats;
 pub(crate) use layout::hang_excess;
-pub use layout::{Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
+pub use layout::{ArmReach, Layout, LayoutError, layout_hanging, layout_rollers, needed_pitches};
 pub use path::{ChainPath, PathCircle, PathError, Strand, WrapArc, chain_path, wrap_angle};
 
 /// Pitch radius of a sprocket: P / (2 sin(π/N)), so that the chord between two

@@ -20,7 +20,7 @@ pub use segments::{Run, Segments, StrandRuns};
 
 use crate::geometry::{
     ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
-    hang_excess, layout_rollers,
+    hang_excess, layout_rollers, layout_with_arms,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 
@@ -392,13 +392,31 @@ impl DriveModel {
         // its strands' sag where that sag, at the pretension, holds the
         // excess (within a tenth of a pitch); otherwise the layout's error
         // stands (and `check` offers the counts and moves that fit).
-        let layout = match layout_rollers(
+        // Tensioner arms take up a long chain first: their shoes swing into
+        // the strands until the path needs the chain's length.
+        let arms: Vec<_> = scene
+            .tensioners
+            .iter()
+            .map(|t| t.arm_shoe(chain.roller_radius_m))
+            .collect();
+        let laid = match layout_rollers(
             &seat_path,
             &seat_circles,
             &teeth,
             chain.rollers,
             chain.pitch_m,
         ) {
+            Err(LayoutError::ChainLength { .. }) if !arms.is_empty() => layout_with_arms(
+                &seat_path,
+                &seat_circles,
+                &teeth,
+                chain.rollers,
+                chain.pitch_m,
+                &arms,
+            ),
+            laid => laid,
+        };
+        let layout = match laid {
             Err(LayoutError::ChainLength { needed, .. })
                 if sag_holds(scene, &seat_path, needed) =>
             {
@@ -470,7 +488,11 @@ impl DriveModel {
         let segments = Segments::new(&path);
         let (bodies, scalars) = tensioner_states(scene);
         let mut state = state;
-        state.q = vec![0.0; bodies.len()];
+        state.q = if layout.arms.len() == bodies.len() {
+            layout.arms.iter().map(|a| a.angle_rad).collect()
+        } else {
+            vec![0.0; bodies.len()]
+        };
         state.u = vec![0.0; bodies.len()];
         state.z = scene
             .tensioners

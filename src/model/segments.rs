@@ -141,6 +141,22 @@ impl StrandRuns {
     }
 }
 
+#[cfg(test)]
+impl StrandRuns {
+    /// The runs `(first, rollers)` of segments 0, 1, … on a chain of `n`
+    /// rollers, as given (tests of what reads runs).
+    pub(crate) fn of(n: usize, runs: &[(usize, usize)]) -> Self {
+        let mut out = Self {
+            n,
+            runs: [None; MAX_SPROCKETS],
+        };
+        for (slot, &(first, rollers)) in out.runs.iter_mut().zip(runs) {
+            *slot = Some(Run { first, rollers });
+        }
+        out
+    }
+}
+
 /// `i` modulo `n` for `i < 2n`.
 fn wrap(i: usize, n: usize) -> usize {
     if i >= n { i - n } else { i }

@@ -62,6 +62,7 @@
 //! hands it) or stream to a live viewer.
 
 mod channels;
+mod files;
 mod messages;
 pub mod read;
 pub mod recover;
@@ -84,9 +85,7 @@ pub use visual::{
 
 use std::borrow::Cow;
 use std::collections::BTreeMap;
-use std::fs::File;
-use std::io::{BufWriter, Seek, Write};
-use std::path::Path;
+use std::io::{Seek, Write};
 
 use foxglove::Encode;
 use foxglove::schemas::{FrameTransforms, PointCloud, SceneUpdate};
@@ -313,19 +312,13 @@ fn time_ns(t_s: f64) -> u64 {
     (t_s * 1e9).round() as u64
 }
 
-impl Recorder<BufWriter<File>> {
-    /// Creates (or truncates) the file at `path` and starts recording into it.
-    pub fn create(
-        path: &Path,
-        scene: &Scene,
-        options: &RecordOptions,
-    ) -> Result<Self, RecordError> {
-        let file = File::create(path).map_err(|source| RecordError::Create {
-            path: path.display().to_string(),
-            source,
-        })?;
-        Self::new(BufWriter::new(file), scene, options)
-    }
+/// The refusal of a resumed recording with other channels.
+fn other_channels(mark: &RecordMark, options: &RecordOptions) -> RecordError {
+    RecordError::Continue(format!(
+        "the run was recorded with other channels ({:?}, now {:?}): resume with the same --record-channels",
+        Channels::from_bits_truncate(mark.channels),
+        options.channels
+    ))
 }
 
 impl<W: Write + Seek + Send + 'static> Recorder<W> {
@@ -350,11 +343,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         mark: &RecordMark,
     ) -> Result<Self, RecordError> {
         if mark.channels != options.channels.bits() {
-            return Err(RecordError::Continue(format!(
-                "the run was recorded with other channels ({:?}, now {:?}): resume with the same --record-channels",
-                Channels::from_bits_truncate(mark.channels),
-                options.channels
-            )));
+            return Err(other_channels(mark, options));
         }
         Self::start(writer, scene, options, Some((earlier, mark)), None)
     }

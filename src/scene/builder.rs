@@ -130,6 +130,7 @@ impl SceneBuilder {
                 tensioners: Vec::new(),
                 guides: self.guides,
                 checks: super::ChecksFile::default(),
+                duty: Vec::new(),
             }),
             (chain, contact) => Err(SceneError::Invalid(
                 [

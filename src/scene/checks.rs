@@ -1,9 +1,12 @@
-//! The design checks' settings, `[checks]` (docs/design-checks.md): which
-//! checks a run measures for and the constants of their models, and what a
-//! tooth jump does to a run.
+//! A scene's `[checks]` section: settings of the design checks
+//! (docs/design-checks.md, "Settings"), all optional: which checks a run
+//! measures for, the constants of their models where a user has better data
+//! than the defaults, and what a tooth jump does to a run.
 //!
 //! ```toml
 //! [checks]
+//! fatigue_limit_n = 9000.0     # the fatigue check's own S-N curve
+//! sn_slope = 10.0
 //! wear = true                  # count every joint's sliding (the wear check)
 //! wear_coefficient = 1e-6      # Archard's k, dimensionless (the default)
 //! wear_hardness_pa = 6.9e9     # H of the pin and bushing surfaces (the default)
@@ -11,14 +14,19 @@
 //! tooth_jump = "count"         # or "stop": the run ends at the first jump
 //! ```
 //!
-//! Every key is optional. The wear check needs the chain's pin diameter and
-//! bushing length (from `chain.designation`, or `chain.pin_radius_m` and
-//! `chain.bushing_length_m`); asking for it without them is an error naming
-//! the fields. This module checks the values; it computes nothing.
+//! The wear check needs the chain's pin diameter and bushing length (from
+//! `chain.designation`, or `chain.pin_radius_m` and `chain.bushing_length_m`);
+//! asking for it without them is an error naming the fields.
+//!
+//! It checks the values; what they mean is [`crate::analysis::design`]'s.
 
 use serde::{Deserialize, Serialize};
 
 use super::validate::Checker;
+
+/// Slopes allowed for an S–N curve: steels' lie within (welded joints near
+/// 3, plain and notched plates 5 to 15).
+pub const SN_SLOPE_RANGE: std::ops::RangeInclusive<f64> = 2.0..=30.0;
 
 /// Archard's dimensionless wear coefficient k when the scene gives none: the
 /// order of magnitude of mild wear of lubricated steel on steel
@@ -39,6 +47,13 @@ pub const ELONGATION_LIMIT_CAP_PCT: f64 = 3.0;
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]
 #[serde(deny_unknown_fields)]
 pub struct ChecksFile {
+    /// The chain's fatigue limit: the peak force of a pulsating (0 → F)
+    /// cycle it endures for ever, N (default: derived from the rating).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fatigue_limit_n: Option<f64>,
+    /// The S–N curve's slope m (default 10, from the rating).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sn_slope: Option<f64>,
     /// Count every joint's sliding for the wear check (default false).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub wear: Option<bool>,
@@ -57,8 +72,7 @@ pub struct ChecksFile {
 }
 
 impl ChecksFile {
-    /// Whether nothing is written (the section is then left out of a
-    /// written scene).
+    /// Whether nothing is set (the section is then not written).
     pub fn is_empty(&self) -> bool {
         *self == Self::default()
     }
@@ -98,6 +112,10 @@ pub struct WearSettings {
 /// Validated `[checks]`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Checks {
+    /// The fatigue limit given, N.
+    pub fatigue_limit_n: Option<f64>,
+    /// The S–N slope given.
+    pub sn_slope: Option<f64>,
     /// The wear check's constants where the scene asks for it.
     pub wear: Option<WearSettings>,
     /// What a tooth jump does.
@@ -107,6 +125,31 @@ pub struct Checks {
 /// Checks `[checks]`. `bearing` is whether the chain has a pin diameter and
 /// a bushing length (the wear check's bearing area).
 pub(super) fn check_checks(c: &mut Checker, f: &ChecksFile, bearing: bool) -> Checks {
+    let fatigue_limit_n = f
+        .fatigue_limit_n
+        .map(|v| c.positive("checks.fatigue_limit_n", v));
+    let sn_slope = f.sn_slope.inspect(|&m| {
+        if !SN_SLOPE_RANGE.contains(&m) {
+            c.fail(
+                "checks.sn_slope",
+                format!(
+                    "must be from {} to {} (steels: 3 for welded joints, about 10 for chain plates), got {m}",
+                    SN_SLOPE_RANGE.start(),
+                    SN_SLOPE_RANGE.end()
+                ),
+            );
+        }
+    });
+    Checks {
+        fatigue_limit_n,
+        sn_slope,
+        wear: check_wear(c, f, bearing),
+        tooth_jump: check_tooth_jump(c, f),
+    }
+}
+
+/// The wear check's settings, where `[checks]` asks for it.
+fn check_wear(c: &mut Checker, f: &ChecksFile, bearing: bool) -> Option<WearSettings> {
     let coefficient = f
         .wear_coefficient
         .map(|k| c.positive("checks.wear_coefficient", k));
@@ -134,7 +177,23 @@ pub(super) fn check_checks(c: &mut Checker, f: &ChecksFile, bearing: bool) -> Ch
             format!("must lie in (0, 100) % (catalogues: at most 3 %), got {e}"),
         );
     }
-    let tooth_jump = match f.tooth_jump.as_deref() {
+    let wanted = f.wear.unwrap_or(false);
+    if wanted && !bearing {
+        c.fail(
+            "checks.wear",
+            "needs the chain's bearing area: give chain.designation, or chain.pin_radius_m and chain.bushing_length_m",
+        );
+    }
+    wanted.then(|| WearSettings {
+        coefficient: coefficient.unwrap_or(DEFAULT_WEAR_COEFFICIENT),
+        hardness_pa: hardness.unwrap_or(DEFAULT_WEAR_HARDNESS_PA),
+        elongation_limit_pct: limit,
+    })
+}
+
+/// What a tooth jump does, from `checks.tooth_jump`.
+fn check_tooth_jump(c: &mut Checker, f: &ChecksFile) -> JumpAction {
+    match f.tooth_jump.as_deref() {
         None | Some("count") => JumpAction::Count,
         Some("stop") => JumpAction::Stop,
         Some(other) => {
@@ -144,20 +203,5 @@ pub(super) fn check_checks(c: &mut Checker, f: &ChecksFile, bearing: bool) -> Ch
             );
             JumpAction::Count
         }
-    };
-    let wanted = f.wear.unwrap_or(false);
-    if wanted && !bearing {
-        c.fail(
-            "checks.wear",
-            "needs the chain's bearing area: give chain.designation, or chain.pin_radius_m and chain.bushing_length_m",
-        );
-    }
-    Checks {
-        wear: wanted.then(|| WearSettings {
-            coefficient: coefficient.unwrap_or(DEFAULT_WEAR_COEFFICIENT),
-            hardness_pa: hardness.unwrap_or(DEFAULT_WEAR_HARDNESS_PA),
-            elongation_limit_pct: limit,
-        }),
-        tooth_jump,
     }
 }

@@ -47,9 +47,12 @@ pub struct SceneFile {
     /// Fixed guides on the strands (`[[guides]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub guides: Vec<super::GuideFile>,
-    /// The design checks' settings (`[checks]`).
+    /// Settings of the design checks (`[checks]`).
     #[serde(default, skip_serializing_if = "super::ChecksFile::is_empty")]
     pub checks: super::ChecksFile,
+    /// A duty cycle's operating points (`[[duty]]`; `chaindrive life`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub duty: Vec<super::DutyPointFile>,
 }
 
 fn default_profile() -> String {

@@ -14,6 +14,7 @@ mod builder;
 mod by_path;
 mod checks;
 pub mod designations;
+mod duty;
 mod error;
 mod excitation;
 mod file;
@@ -36,8 +37,9 @@ pub use builder::SceneBuilder;
 pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
 pub use checks::{
     Checks, ChecksFile, DEFAULT_WEAR_COEFFICIENT, DEFAULT_WEAR_HARDNESS_PA,
-    ELONGATION_LIMIT_CAP_PCT, JumpAction, WearSettings,
+    ELONGATION_LIMIT_CAP_PCT, JumpAction, SN_SLOPE_RANGE, WearSettings,
 };
+pub use duty::{DutyFile, DutyPointFile, FRACTION_SUM_TOLERANCE, check_points};
 pub use error::{FieldError, SceneError, locate, value_span};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
@@ -89,7 +91,7 @@ pub struct Scene {
     /// Tensioner arms with their tensioners.
     pub(crate) tensioners: Vec<Tensioner>,
     pub(crate) guides: Vec<Guide>,
-    /// The design checks' settings (`[checks]`).
+    /// Settings of the design checks.
     pub(crate) checks: Checks,
     /// The file form it was validated from (for [`Scene::with`]).
     pub(crate) file: SceneFile,
@@ -159,6 +161,11 @@ impl Scene {
     /// Fixed guides on the strands.
     pub fn guides(&self) -> &[Guide] {
         &self.guides
+    }
+
+    /// Settings of the design checks (`[checks]`).
+    pub fn checks(&self) -> &Checks {
+        &self.checks
     }
 
     /// What is valid but likely unintended, one sentence each: a step above

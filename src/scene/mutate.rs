@@ -1,40 +1,12 @@
 //! Scene-file mutations for property and fuzz testing: the mistakes people
 //! make in hand-written scenes (a sign, a zero, NaN, a wrong unit, a deleted
 //! or duplicated line, a typo in a key or a value), generated from a seed so
-//! that every case can be replayed.
+//! that every case can be replayed ([`crate::rng::SeededRng`]).
 
-/// A small deterministic generator (64-bit LCG, Knuth's constants).
-#[derive(Clone, Debug)]
-pub struct Lcg(u64);
-
-impl Lcg {
-    /// A generator from a seed.
-    pub fn new(seed: u64) -> Self {
-        Self(seed ^ 0x9E37_79B9_7F4A_7C15)
-    }
-
-    /// The next 64 random bits.
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        self.0 ^ (self.0 >> 29)
-    }
-
-    /// Uniform in [0, n).
-    pub fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n.max(1) as u64) as usize
-    }
-
-    /// Uniform in [0, 1).
-    pub fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use crate::rng::SeededRng;
 
 /// Applies 1–3 random mutations to a scene file's text.
-pub fn mutate(text: &str, rng: &mut Lcg) -> String {
+pub fn mutate(text: &str, rng: &mut SeededRng) -> String {
     let mut lines: Vec<String> = text.lines().map(str::to_owned).collect();
     for _ in 0..1 + rng.below(3) {
         let assignments: Vec<usize> = lines
@@ -76,7 +48,7 @@ pub fn mutate(text: &str, rng: &mut Lcg) -> String {
 }
 
 /// Deletes line `i` or duplicates it; returns the new content of line `i`.
-fn continue_with(lines: &mut [String], i: usize, rng: &mut Lcg) -> String {
+fn continue_with(lines: &mut [String], i: usize, rng: &mut SeededRng) -> String {
     if rng.below(2) == 0 {
         String::new()
     } else {

@@ -236,6 +236,33 @@ pub struct HydraulicTensioner {
     pub ambient_pressure_pa: f64,
 }
 
+impl Tensioner {
+    /// The travel at the tensioner's lower and upper stops, m.
+    pub fn travel_limits_m(&self) -> (f64, f64) {
+        match &self.kind {
+            TensionerKind::Spring(s) => (s.min_travel_m, s.max_travel_m),
+            TensionerKind::Hydraulic(h) => (h.min_travel_m, h.max_travel_m),
+        }
+    }
+
+    /// The arm as the layout sees it, with rollers of `roller_radius_m`
+    /// riding on its shoe.
+    pub fn arm_shoe(&self, roller_radius_m: f64) -> crate::geometry::ArmShoe {
+        let (min_travel_m, max_travel_m) = self.travel_limits_m();
+        crate::geometry::ArmShoe {
+            pivot_m: self.pivot_m,
+            center_m: self.shoe_center_m,
+            radius_m: self.shoe_radius_m + roller_radius_m,
+            start_rad: self.shoe_start_rad,
+            span_rad: self.shoe_span_rad,
+            point_m: self.point_m,
+            direction: self.direction,
+            min_travel_m,
+            max_travel_m,
+        }
+    }
+}
+
 fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }

@@ -22,7 +22,7 @@ pub(super) struct Checker {
 }
 
 impl Checker {
-    fn new() -> Self {
+    pub(super) fn new() -> Self {
         Self { errors: Vec::new() }
     }
 
@@ -103,6 +103,7 @@ impl TryFrom<SceneFile> for Scene {
             max_relax_s: c.positive("equilibrium.max_relax_s", file.equilibrium.max_relax_s),
         };
         let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
+        super::duty::check_duty(&mut c, &file.duty);
         if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
             c.fail(
                 "chain.pretension_by",

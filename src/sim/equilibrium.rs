@@ -89,6 +89,10 @@ pub struct StaticEquilibrium {
     /// roller pulled beyond a circular seating arc. A run starts from it and
     /// warns (the summary's `warnings`); `check` names it.
     pub beyond_seating_arc: Option<BeyondSeatingArc>,
+    /// Where the chain's fit to its path, not the tensioner arms, sets the
+    /// static tension of a drive whose arms should set it (tensioner-preload
+    /// rule; `sim::misfit`). A run warns.
+    pub misfit: Option<super::misfit::MisfitTension>,
 }
 
 /// Why no equilibrium was found.
@@ -159,7 +163,8 @@ pub enum EquilibriumError {
     /// The chain is longer than its path by more than the strands' sag at
     /// the pretension takes up (see the feasibility module).
     #[error(
-        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        "the chain is {long_m:.4} m ({long_pitches:.2} pitches) longer than the path through the seated rollers, but at chain.pretension_n = {pretension_n:.1} N the strands' sag takes up only {sag_m:.2e} m{}: a chain longer than its path has no equilibrium at the pretension; remove rollers or move the sprockets apart{}",
+        arms_m.map(|a| format!(" and the tensioner arms' shoes at most {a:.2e} m over their travel")).unwrap_or_default(),
         match sag_tension_n {
             Some(t) => format!(", or lower chain.pretension_n to about {t:.0} N, where the strands sag by that much"),
             None => " (without gravity the strands cannot sag)".to_owned(),
@@ -176,6 +181,9 @@ pub enum EquilibriumError {
         pretension_n: f64,
         /// Pretension at which the sag takes up the excess, N (none without gravity).
         sag_tension_n: Option<f64>,
+        /// What the tensioner arms' shoes take up at most over their
+        /// travel, m (none without arms).
+        arms_m: Option<f64>,
     },
     /// The loads on several sprockets leave a free strand in compression.
     #[error(
@@ -596,6 +604,7 @@ pub(crate) fn settle_preload(
         residual_speed_m_s: residual,
         force_residual: force_residual(forces, scale_n),
         beyond_seating_arc: None,
+        misfit: None,
     })
 }
 
@@ -686,6 +695,7 @@ pub fn settle_rest_length(
                     residual_speed_m_s: residual,
                     force_residual: force_residual(forces, target_n),
                     beyond_seating_arc,
+                    misfit: None,
                 });
             }
             // Right tension, not yet at rest: relax on at this rest length.
@@ -722,6 +732,7 @@ pub fn settle_rest_length(
             residual_speed_m_s: last_speed,
             force_residual: force_residual(forces, target_n),
             beyond_seating_arc: Some(rim),
+            misfit: None,
         });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);

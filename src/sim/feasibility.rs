@@ -21,7 +21,9 @@
 //!   path must hold the excess in the strands' sag at T₀. Without gravity
 //!   nothing sags, and a too-long chain has no equilibrium at the
 //!   pretension: the wrap links would carry K·excess/n_free more than the
-//!   strands. The same margin applies.
+//!   strands. The same margin applies. Tensioner arms turned into their
+//!   strands take up as much more as their shoes add to the path over
+//!   their travel ([`crate::geometry::arm_take_up`]).
 //! - **Load beyond the pretension** (any number of sprockets). With the
 //!   driver held, a free sprocket's torque balance (chain torque
 //!   w R (T_out − T_in), w = +1 for a counter-clockwise wrap, plus its load
@@ -80,6 +82,12 @@ pub(crate) fn check_chain_length(
     }
     let long_m = chain_m - layout.polygon_length_m;
     if long_m > sag_m + margin_m {
+        // Tensioner arms turned into their strands take up what their
+        // shoes add to the path (asked only here: no cost where the chain fits).
+        let arms_m = super::fit::arm_take_up_of(scene).map(|t| t.max_m);
+        if long_m <= sag_m + arms_m.unwrap_or(0.0) + margin_m {
+            return Ok(());
+        }
         // The pretension at which the sag takes up the excess: Σ q⊥² L³ / (24 T²) = excess.
         let sag_at_1n = sag_take_up_m(scene, path, 1.0);
         return Err(EquilibriumError::ChainTooLong {
@@ -88,6 +96,7 @@ pub(crate) fn check_chain_length(
             sag_m,
             pretension_n: chain.pretension_n,
             sag_tension_n: (sag_at_1n > 0.0).then(|| (sag_at_1n / long_m).sqrt()),
+            arms_m,
         });
     }
     Ok(())

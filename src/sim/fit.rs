@@ -24,7 +24,9 @@
 //! its `adjust_direction` until the chain fits, then on until the pretension
 //! is reached (`settle_tensioner`). Nothing here relaxes the chain.
 
-use crate::geometry::{PathCircle, ToothProfile, chain_path, needed_pitches};
+use crate::geometry::{
+    ArmTakeUp, PathCircle, ToothProfile, arm_take_up, chain_path, needed_pitches,
+};
 use crate::scene::Scene;
 
 /// Samples of the scan on each side of the sprocket's position.
@@ -162,10 +164,10 @@ impl<'a> Fitter<'a> {
         })
     }
 
-    /// The path's need of chain with sprocket `k` moved by `offset` along `u`.
-    fn probe(&self, k: usize, u: [f64; 2], offset: f64) -> Result<Probe, String> {
-        let sp = &self.scene.sprockets;
-        let mut circles: Vec<PathCircle> = sp
+    /// The seated-roller circles with the sprockets where the scene has them.
+    fn circles(&self) -> Vec<PathCircle> {
+        self.scene
+            .sprockets
             .iter()
             .zip(&self.seat_radii_m)
             .map(|(s, &r)| PathCircle {
@@ -173,7 +175,27 @@ impl<'a> Fitter<'a> {
                 radius_m: r,
                 sense: s.wrap.sign(),
             })
+            .collect()
+    }
+
+    /// The chain the scene's tensioner arms take up over their travel, as
+    /// the sprockets stand ([`crate::geometry::arm_take_up`]).
+    fn arm_take_up(&self) -> Option<ArmTakeUp> {
+        let scene = self.scene;
+        let arms: Vec<_> = scene
+            .tensioners
+            .iter()
+            .map(|t| t.arm_shoe(scene.chain.roller_radius_m))
             .collect();
+        let circles = self.circles();
+        let path = chain_path(&circles).ok()?;
+        arm_take_up(&path, &circles, &self.teeth, &arms, scene.chain.pitch_m)
+    }
+
+    /// The path's need of chain with sprocket `k` moved by `offset` along `u`.
+    fn probe(&self, k: usize, u: [f64; 2], offset: f64) -> Result<Probe, String> {
+        let sp = &self.scene.sprockets;
+        let mut circles = self.circles();
         circles[k].center_m[0] += offset * u[0];
         circles[k].center_m[1] += offset * u[1];
         // Two sprockets whose tip circles meet cannot both turn (the scene's rule).
@@ -541,21 +563,43 @@ pub fn default_direction(scene: &Scene, k: usize) -> Option<[f64; 2]> {
     (norm > 0.0).then(|| [d[0] / norm, d[1] / norm])
 }
 
-/// The roller counts the drive accepts as it stands, nearest the path's
-/// need first: a count is accepted when the layout lays it out and, under
-/// the rest-length rule, the pretension can take up its misfit
-/// (`feasibility::check_chain_length`); under the tensioner rule, when the
-/// tensioner's travel makes it fit. Tried: the two counts either side of
-/// the need. Empty when neither is accepted (then only a move fits).
-pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
+/// The chain the scene's tensioner arms take up over their travel on the
+/// path through the seated rollers as the sprockets stand (`None` without
+/// arms, or where they cannot stand at the scene's pose): a chain longer
+/// than that path by `min_m` to `max_m` is laid with the arms turned into
+/// it (docs/model.md, “Tensioner arms”).
+pub fn arm_take_up_of(scene: &Scene) -> Option<ArmTakeUp> {
+    if scene.tensioners.is_empty() {
+        return None;
+    }
+    Fitter::new(scene).ok()?.arm_take_up()
+}
+
+/// Whether a roller count fits the drive as it stands, and if not, why.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CountVerdict {
+    /// The roller count.
+    pub rollers: usize,
+    /// `None`: it fits; else why not (a sentence).
+    pub refused: Option<String>,
+}
+
+/// The roller counts nearest the path's need, each with whether the drive
+/// accepts it as it stands, nearest the need first: a count is accepted
+/// when the layout lays it out and, under the rest-length and the
+/// tensioner-preload rules, the pretension, the strands' sag or the
+/// tensioner arms take up its misfit (`feasibility::check_chain_length`);
+/// under the tensioner rule, when the tensioner's travel makes it fit.
+/// Tried: the two counts either side of the need, and those the arms'
+/// take-up reaches. Empty when the path has no need (no layout).
+pub fn count_verdicts(scene: &Scene) -> Vec<CountVerdict> {
     let Ok(needed) = needed_pitches_of(scene) else {
         return Vec::new();
     };
-    let mut candidates = vec![
-        needed.floor().max(4.0) as usize,
-        needed.ceil().max(4.0) as usize,
-    ];
-    candidates.dedup();
+    let pitch = scene.chain.pitch_m;
+    let reach = arm_take_up_of(scene).map_or(0.0, |t| t.max_m / pitch);
+    let mut candidates: Vec<usize> =
+        (needed.floor().max(4.0) as usize..=(needed + reach).ceil().max(4.0) as usize).collect();
     candidates.sort_by(|a, b| {
         (*a as f64 - needed)
             .abs()
@@ -563,21 +607,55 @@ pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
     });
     candidates
         .into_iter()
-        .filter(|&n| {
-            let mut s = scene.clone();
-            s.chain.rollers = n;
-            match s.chain.pretension_by {
-                crate::scene::PretensionRule::Tensioner => s.tensioner().is_some_and(|t| {
-                    default_direction(&s, t).is_some_and(|d| fit_sprocket(&s, t, d, n).is_ok())
-                }),
-                // The arms' preload: links at their rest length, as the rest-length rule lays them.
-                crate::scene::PretensionRule::RestLength
-                | crate::scene::PretensionRule::TensionerPreload => {
-                    crate::model::DriveModel::build(&s).is_ok_and(|(model, _, layout)| {
-                        super::feasibility::check_chain_length(&s, &layout, &model.path).is_ok()
-                    })
-                }
-            }
+        .map(|n| CountVerdict {
+            rollers: n,
+            refused: count_refused(scene, n).err(),
         })
+        .collect()
+}
+
+/// Why `scene` with `n` rollers does not fit as it stands (see
+/// [`count_verdicts`]).
+fn count_refused(scene: &Scene, n: usize) -> Result<(), String> {
+    let mut s = scene.clone();
+    s.chain.rollers = n;
+    match s.chain.pretension_by {
+        crate::scene::PretensionRule::Tensioner => {
+            let t = s.tensioner().ok_or("no sprocket is a tensioner")?;
+            let d = default_direction(&s, t).ok_or("the tensioner has no direction to move in")?;
+            fit_sprocket(&s, t, d, n)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        }
+        // The arms' preload: links at their rest length, as the rest-length rule lays them.
+        crate::scene::PretensionRule::RestLength
+        | crate::scene::PretensionRule::TensionerPreload => {
+            let (model, _, layout) = crate::model::DriveModel::build(&s).map_err(|e| match e {
+                crate::model::BuildError::Layout(crate::geometry::LayoutError::ChainLength {
+                    needed,
+                    which,
+                    arms,
+                    ..
+                }) => format!(
+                    "{which} by {:.2} pitches, more than the half pitch its free links take up{}",
+                    (needed - n as f64).abs(),
+                    arms.map(|a| a.to_string()).unwrap_or_default()
+                ),
+                e => e.to_string(),
+            })?;
+            super::feasibility::check_chain_length(&s, &layout, &model.path)
+                .map_err(|e| e.to_string())
+        }
+    }
+}
+
+/// The roller counts the drive accepts as it stands, nearest the path's
+/// need first ([`count_verdicts`]). Empty when none is accepted (then only
+/// a move fits).
+pub fn fitting_counts(scene: &Scene) -> Vec<usize> {
+    count_verdicts(scene)
+        .into_iter()
+        .filter(|v| v.refused.is_none())
+        .map(|v| v.rollers)
         .collect()
 }

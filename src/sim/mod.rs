@@ -9,6 +9,8 @@
 
 mod blow_up;
 pub mod checkpoint;
+#[cfg(test)]
+mod contact_builds_tests;
 mod energy;
 mod equilibrium;
 mod fanout;
@@ -16,6 +18,7 @@ mod feasibility;
 mod fit;
 pub mod integrate;
 mod jumps;
+mod misfit;
 mod newton;
 pub mod parallel;
 mod sample_rate;
@@ -31,11 +34,12 @@ pub use equilibrium::{
 };
 pub use fanout::Fanout;
 pub use fit::{
-    FIT_TOLERANCE_M, Fit, FitError, default_direction, fit_sprocket, fitting_counts,
-    needed_pitches_of,
+    CountVerdict, FIT_TOLERANCE_M, Fit, FitError, arm_take_up_of, count_verdicts,
+    default_direction, fit_sprocket, fitting_counts, needed_pitches_of,
 };
 pub use integrate::{Integration, IntegrationStats};
 pub use jumps::{JumpWatch, ToothJump};
+pub use misfit::MisfitTension;
 pub use sample_rate::{SampleRate, SampleRateError};
 pub use sliding::JointSliding;
 pub use stepper::{Relaxation, driver_speed, symplectic_euler};
@@ -54,7 +58,9 @@ use crate::forces::{
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, BuildError, DriveModel, DriveState, ScalarModel};
-use crate::scene::{JumpAction, PretensionRule, Role, Scene, Stepping, TensionerKind};
+use crate::scene::{
+    JumpAction, Overrides, PretensionRule, Role, Scene, SceneError, Stepping, TensionerKind,
+};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
@@ -131,6 +137,7 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
             residual_speed_m_s: residual,
             force_residual: force_residual(&forces, target),
             beyond_seating_arc: None,
+            misfit: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };
@@ -432,13 +439,14 @@ impl Simulation {
             PretensionRule::TensionerPreload => {
                 let (model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
-                let eq = equilibrium::settle_preload(
+                let mut eq = equilibrium::settle_preload(
                     &model,
                     &mut state,
                     &mut forces,
                     &settings,
                     scene.chain.pretension_n,
                 )?;
+                eq.misfit = misfit::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }
         };
@@ -458,11 +466,34 @@ impl Simulation {
         ))
     }
 
+    /// A copy of this simulation, settled and at its present state, that
+    /// runs with `overrides` applied to its scene (another integrator, step
+    /// or tolerance): a fresh rapier world holding the bodies where they
+    /// are, the forces with their contact memory. A study that runs one
+    /// settled drive with several schemes starts each run from a fork, so
+    /// the runs differ only in what `overrides` changes.
+    ///
+    /// # Errors
+    ///
+    /// The scene with `overrides` applied is not valid (a step that is not
+    /// finite and positive, for one); the error names the field.
+    pub fn fork(&self, overrides: &Overrides) -> Result<Self, SceneError> {
+        let scene = self.scene.with(overrides)?;
+        Ok(Self::assemble(
+            scene,
+            self.model.clone(),
+            self.state.clone(),
+            self.forces.clone(),
+            self.layout.clone(),
+            self.equilibrium.clone(),
+            self.limits,
+        ))
+    }
+
     /// A simulation of a drive already settled: a fresh rapier world holding
     /// its bodies at `state`, and the scene's integrator. [`Simulation::new`]
-    /// ends here; a study that runs one settled drive with several schemes
-    /// starts each run here from a copy.
-    pub fn assemble(
+    /// and [`Simulation::fork`] end here.
+    fn assemble(
         scene: Scene,
         model: DriveModel,
         mut state: DriveState,

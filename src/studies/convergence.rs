@@ -31,14 +31,14 @@
 //!
 //! Symplectic Euler at 1 µs by default, below every step of the ladders.
 
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use super::work_precision::Setting;
+use super::ladder::{Ladder, LadderError, LadderRun, Rung, Setting, warm};
+use super::queue::WorkQueue;
 use crate::analysis::stats::{rms_about_mean, rms_standard_error, standard_error};
 use crate::analysis::{RunSummary, SampleRow, Signals};
-use crate::scene::{Integrator, Overrides, Scene};
-use crate::sim::{NoObserver, SampleRate, SimError, Simulation};
+use crate::scene::{Integrator, Scene};
+use crate::sim::{SampleRate, Simulation};
 
 /// Relative tolerance of a converged statistic.
 pub const REL_TOLERANCE: f64 = 0.01;
@@ -55,10 +55,10 @@ pub struct Settings {
     pub duration_s: f64,
     /// Sampling rate, Hz.
     pub rate_hz: f64,
-    /// Methods and their ladders.
-    pub methods: Vec<(Integrator, Vec<Setting>)>,
+    /// Methods and their settings.
+    pub ladder: Ladder,
     /// The reference's method and setting.
-    pub reference: (Integrator, Setting),
+    pub reference: Rung,
     /// Runs in parallel.
     pub threads: usize,
 }
@@ -68,26 +68,15 @@ impl Settings {
     /// that divide the 1 ms sampling interval), the adaptive scheme from
     /// tolerance 10⁻² to 10⁻⁴; symplectic Euler at 1 µs as the reference.
     pub fn default_for(duration_s: f64) -> Self {
-        let steps = |list: &[f64]| list.iter().map(|&d| Setting::Step(d)).collect::<Vec<_>>();
-        let fixed = [5e-6, 1e-5, 2e-5, 4e-5, 5e-5];
         Self {
             warmup_s: 1.2,
             duration_s,
             rate_hz: 1000.0,
-            methods: vec![
-                (Integrator::SymplecticEuler, steps(&fixed)),
-                (Integrator::ImplicitDamping, steps(&fixed)),
-                (Integrator::VelocityVerlet, steps(&fixed)),
-                (Integrator::Rk4, steps(&fixed)),
-                (
-                    Integrator::DormandPrince45,
-                    [1e-2, 1e-3, 1e-4]
-                        .iter()
-                        .map(|&t| Setting::Tolerance(t))
-                        .collect(),
-                ),
-            ],
-            reference: (Integrator::SymplecticEuler, Setting::Step(1e-6)),
+            ladder: Ladder::every_scheme(&[5e-6, 1e-5, 2e-5, 4e-5, 5e-5], &[1e-2, 1e-3, 1e-4]),
+            reference: Rung {
+                integrator: Integrator::SymplecticEuler,
+                setting: Setting::Step(1e-6),
+            },
             threads: 2,
         }
     }
@@ -214,22 +203,8 @@ pub fn statistics(m: &Measured<'_>) -> Vec<Statistic> {
     out
 }
 
-/// One run of one method.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Run {
-    /// The method.
-    pub integrator: Integrator,
-    /// Its setting.
-    pub setting: Setting,
-    /// Step (fixed) or mean accepted step (adaptive), s.
-    pub dt_s: f64,
-    /// Wall time of the run, s.
-    pub wall_s: f64,
-    /// Simulated time, s.
-    pub duration_s: f64,
-    /// The statistics, or why the run stopped.
-    pub outcome: Result<Vec<Statistic>, String>,
-}
+/// One run of one method: its statistics, or why it stopped.
+pub type Run = LadderRun<Vec<Statistic>>;
 
 /// One statistic of a run against the reference.
 #[derive(Clone, Debug, PartialEq)]
@@ -321,11 +296,7 @@ impl Convergence {
     /// tolerance, same method) are all converged too: a converged coarse
     /// run between failing finer ones agrees by chance, not by convergence.
     pub fn robust_verdict(&self) -> Option<&Run> {
-        let finer = |a: &Run, b: &Run| match (a.setting, b.setting) {
-            (Setting::Step(x), Setting::Step(y))
-            | (Setting::Tolerance(x), Setting::Tolerance(y)) => x < y,
-            _ => false,
-        };
+        let finer = |a: &Run, b: &Run| a.setting.finer_than(b.setting);
         self.runs
             .iter()
             .filter(|r| {
@@ -366,76 +337,17 @@ fn compare_one(r: &Statistic, value: Option<f64>) -> Compared {
     }
 }
 
-/// Why the study could not be made.
-#[derive(Debug, thiserror::Error)]
-pub enum ConvergenceError {
-    /// The warm start could not be built or run.
-    #[error(transparent)]
-    Start(#[from] SimError),
-    /// The reference run itself failed.
-    #[error("the reference run failed: {0}")]
-    Reference(String),
-}
-
-/// A copy of `base` (settled, warm) with another method.
-fn fork(
-    base: &Simulation,
-    integrator: Integrator,
-    setting: Setting,
-    rate_hz: f64,
-) -> Result<Simulation, String> {
-    let overrides = match setting {
-        Setting::Step(dt) => Overrides {
-            integrator: Some(integrator),
-            dt_s: Some(dt),
-            ..Overrides::default()
-        },
-        // The adaptive scheme's largest step is the sampling interval.
-        Setting::Tolerance(tol) => Overrides {
-            integrator: Some(integrator),
-            dt_s: Some(1.0 / rate_hz),
-            tolerance: Some(tol),
-            ..Overrides::default()
-        },
-    };
-    let scene = base.scene.with(&overrides).map_err(|e| e.to_string())?;
-    Ok(Simulation::assemble(
-        scene,
-        base.model.clone(),
-        base.state.clone(),
-        base.forces.clone(),
-        base.layout.clone(),
-        base.equilibrium.clone(),
-        base.limits,
-    ))
-}
-
 /// Runs `duration_s` from the warm `base` with one method.
-pub fn run_one(
-    base: &Simulation,
-    integrator: Integrator,
-    setting: Setting,
-    settings: &Settings,
-) -> Run {
-    let failed = |dt_s: f64, e: String| Run {
-        integrator,
-        setting,
-        dt_s,
-        wall_s: 0.0,
-        duration_s: 0.0,
-        outcome: Err(e),
-    };
-    let nominal_dt = match setting {
-        Setting::Step(dt) => dt,
-        Setting::Tolerance(_) => 1.0 / settings.rate_hz,
-    };
-    let mut sim = match fork(base, integrator, setting, settings.rate_hz) {
+pub fn run_one(base: &Simulation, rung: Rung, settings: &Settings) -> Run {
+    let max_step_s = 1.0 / settings.rate_hz;
+    let nominal_dt = rung.setting.step_s(max_step_s);
+    let mut sim = match base.fork(&rung.overrides(max_step_s)) {
         Ok(sim) => sim,
-        Err(e) => return failed(nominal_dt, e),
+        Err(e) => return Run::failed(rung, nominal_dt, e.to_string()),
     };
     let sampling = match SampleRate::new(settings.rate_hz, sim.scene.solver.dt_s) {
         Ok(s) => s,
-        Err(e) => return failed(nominal_dt, e.to_string()),
+        Err(e) => return Run::failed(rung, nominal_dt, e.to_string()),
     };
     let t0 = sim.state.t_s;
     let mut signals = Signals::new(&sim.model, sampling.rate_hz, t0);
@@ -447,9 +359,9 @@ pub fn run_one(
     let outcome = match outcome {
         Ok(o) => o,
         Err(e) => {
-            let mut run = failed(nominal_dt, e.to_string());
+            let mut run = Run::failed(rung, nominal_dt, e.to_string());
             run.wall_s = wall_s;
-            run.duration_s = sim.state.t_s - t0;
+            run.sim_s = sim.state.t_s - t0;
             return run;
         }
     };
@@ -464,67 +376,47 @@ pub fn run_one(
         rows: &rows,
         driver: sim.model.driver(),
     });
-    let dt_s = match setting {
-        Setting::Step(dt) => dt,
-        Setting::Tolerance(_) => settings.duration_s / sim.integration.stats.steps.max(1) as f64,
-    };
+    let work = sim.integration.stats;
     Run {
-        integrator,
-        setting,
-        dt_s,
+        integrator: rung.integrator,
+        setting: rung.setting,
+        dt_s: rung.setting.mean_step_s(settings.duration_s, work.steps),
         wall_s,
-        duration_s: sim.state.t_s - t0,
+        sim_s: sim.state.t_s - t0,
+        stats: work,
         outcome: Ok(stats),
     }
 }
 
 /// Runs the study on `settings.threads` threads. `progress` is called with
 /// each finished run (from the calling thread).
+///
+/// # Errors
+///
+/// The warm start cannot be made, or the reference run fails.
 pub fn study(
     scene: &Scene,
     settings: &Settings,
     mut progress: impl FnMut(&Run),
-) -> Result<Convergence, ConvergenceError> {
-    let mut base = Simulation::new(scene)?;
-    base.run(settings.warmup_s, u64::MAX, &mut NoObserver, None)?;
+) -> Result<Convergence, LadderError> {
+    let base = warm(scene, settings.warmup_s)?;
     // The reference first: it is the longest.
-    let jobs: Vec<(Integrator, Setting)> = std::iter::once(settings.reference)
-        .chain(
-            settings
-                .methods
-                .iter()
-                .flat_map(|(m, ladder)| ladder.iter().map(move |s| (*m, *s))),
-        )
+    let rungs: Vec<Rung> = std::iter::once(settings.reference)
+        .chain(settings.ladder.rungs())
         .collect();
-    let next = AtomicUsize::new(0);
-    let (tx, rx) = std::sync::mpsc::channel::<(usize, Run)>();
-    let mut slots: Vec<Option<Run>> = vec![None; jobs.len()];
-    std::thread::scope(|scope| {
-        for _ in 0..settings.threads.clamp(1, jobs.len().max(1)) {
-            let tx = tx.clone();
-            let (jobs, next, base) = (&jobs, &next, &base);
-            scope.spawn(move || {
-                loop {
-                    let k = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(&(m, s)) = jobs.get(k) else { break };
-                    if tx.send((k, run_one(base, m, s, settings))).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        drop(tx);
-        for (k, run) in rx {
-            progress(&run);
-            slots[k] = Some(run);
-        }
-    });
-    let mut runs = slots.into_iter().flatten();
+    let mut runs = WorkQueue::new(&rungs)
+        .threads(settings.threads)
+        .run(
+            |_, &rung| Some(run_one(&base, rung, settings)),
+            |_, run| progress(run),
+        )
+        .into_iter()
+        .flatten();
     let reference = runs
         .next()
-        .ok_or_else(|| ConvergenceError::Reference("not run".to_owned()))?;
+        .ok_or_else(|| LadderError::reference(settings.reference, "not run".to_owned()))?;
     if let Err(e) = &reference.outcome {
-        return Err(ConvergenceError::Reference(e.clone()));
+        return Err(LadderError::reference(settings.reference, e.clone()));
     }
     Ok(Convergence {
         reference,
@@ -577,7 +469,8 @@ mod tests {
             setting: Setting::Step(dt),
             dt_s: dt,
             wall_s,
-            duration_s: 1.0,
+            sim_s: 1.0,
+            stats: Default::default(),
             outcome: Ok(vec![stat("a", value, None)]),
         };
         let mut reference = run(1e-6, 100.0, 10.0);

@@ -4,7 +4,8 @@
 //! syntax error), no NaN in an accepted run. Used by the property test and by
 //! `chaindrive bench fuzz`.
 
-use crate::scene::mutate::{Lcg, mutate};
+use crate::rng::SeededRng;
+use crate::scene::mutate::mutate;
 use crate::scene::{Overrides, Scene, SceneError};
 use crate::sim::{NoObserver, Simulation};
 
@@ -24,7 +25,7 @@ pub enum FuzzOutcome {
 /// Mutates `base` with the generator seeded by `seed` and checks the
 /// promises. `Err` describes a broken promise.
 pub fn run_case(base: &str, seed: u64) -> Result<FuzzOutcome, String> {
-    let mut rng = Lcg::new(seed);
+    let mut rng = SeededRng::new(seed);
     let text = mutate(base, &mut rng);
     let scene = match Scene::from_toml(&text) {
         Ok(s) => s,

@@ -37,31 +37,12 @@
 
 use std::time::Instant;
 
+use super::ladder::{Ladder, LadderError, LadderRun, Rung, Setting, warm};
+use super::queue::WorkQueue;
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Integrator, Scene};
-use crate::sim::{
-    BlowUpLimits, Integration, IntegrationStats, NoObserver, SimError, Simulation, check_blow_up,
-};
-
-/// A step size or, for the adaptive scheme, a tolerance.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Setting {
-    /// A fixed step, s.
-    Step(f64),
-    /// An error tolerance (the adaptive scheme; its largest step is the grid step).
-    Tolerance(f64),
-}
-
-impl Setting {
-    /// `dt=…` or `tol=…`.
-    pub fn label(&self) -> String {
-        match self {
-            Self::Step(dt) => format!("dt={dt:e}"),
-            Self::Tolerance(tol) => format!("tol={tol:e}"),
-        }
-    }
-}
+use crate::sim::{BlowUpLimits, Integration, SimError, check_blow_up};
 
 /// What to study.
 #[derive(Clone, Debug, PartialEq)]
@@ -76,8 +57,8 @@ pub struct Settings {
     pub link: Option<usize>,
     /// The roller whose contact force is compared (`None`: chosen from the reference).
     pub roller: Option<usize>,
-    /// Methods and their ladders.
-    pub methods: Vec<(Integrator, Vec<Setting>)>,
+    /// Methods and their settings.
+    pub ladder: Ladder,
     /// Reference: the adaptive scheme's tolerance.
     pub reference_tolerance: f64,
     /// Check of the reference: RK4's step, s.
@@ -88,27 +69,16 @@ impl Settings {
     /// The default study for a scene: every scheme over a ladder of steps
     /// from 1 µs up to past the explicit limits.
     pub fn default_for(horizon_s: f64) -> Self {
-        let steps = |list: &[f64]| list.iter().map(|&d| Setting::Step(d)).collect::<Vec<_>>();
-        let fixed = [1e-6, 2e-6, 4e-6, 5e-6, 1e-5, 2e-5, 2.5e-5, 4e-5, 5e-5];
         Self {
             warmup_s: 1.2,
             horizon_s,
             grid_s: 2e-4,
             link: None,
             roller: None,
-            methods: vec![
-                (Integrator::SymplecticEuler, steps(&fixed)),
-                (Integrator::ImplicitDamping, steps(&fixed)),
-                (Integrator::VelocityVerlet, steps(&fixed)),
-                (Integrator::Rk4, steps(&fixed)),
-                (
-                    Integrator::DormandPrince45,
-                    [1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4]
-                        .iter()
-                        .map(|&t| Setting::Tolerance(t))
-                        .collect(),
-                ),
-            ],
+            ladder: Ladder::every_scheme(
+                &[1e-6, 2e-6, 4e-6, 5e-6, 1e-5, 2e-5, 2.5e-5, 4e-5, 5e-5],
+                &[1e-1, 3e-2, 1e-2, 3e-3, 1e-3, 3e-4, 1e-4],
+            ),
             reference_tolerance: 1e-6,
             reference_rk4_step_s: 5e-7,
         }
@@ -232,10 +202,14 @@ pub struct Start {
 }
 
 impl Start {
-    /// Builds the scene, settles it and runs `warmup_s` with its own settings.
+    /// Builds the scene, settles it and runs `warmup_s` with its own
+    /// settings ([`warm`]).
+    ///
+    /// # Errors
+    ///
+    /// The drive cannot be laid out or settled, or the warm-up blows up.
     pub fn warm(scene: &Scene, warmup_s: f64) -> Result<Self, SimError> {
-        let mut sim = Simulation::new(scene)?;
-        sim.run(warmup_s, u64::MAX, &mut NoObserver, None)?;
+        let sim = warm(scene, warmup_s)?;
         let mut forces = sim.forces.clone();
         // GridSignals compare from the horizon's start: forget nothing, but
         // re-evaluate so every method starts from identical buffers.
@@ -250,39 +224,22 @@ impl Start {
     }
 }
 
-/// One run of one method.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Run {
-    /// The method.
-    pub integrator: Integrator,
-    /// Its setting.
-    pub setting: Setting,
-    /// Step (fixed) or mean accepted step (adaptive), s.
-    pub dt_s: f64,
-    /// Wall time of the integration, s.
-    pub wall_s: f64,
-    /// Work counters.
-    pub stats: IntegrationStats,
-    /// GridSignals, or why the run stopped.
-    pub outcome: Result<GridSignals, String>,
-}
+/// One run of one method: the sampled signals, or why it stopped (its
+/// wall time is the integration's).
+pub type Run = LadderRun<GridSignals>;
 
 /// Integrates `horizon_s` from `start` with one method.
-pub fn integrate(
-    start: &Start,
-    integrator: Integrator,
-    setting: Setting,
-    settings: &Settings,
-) -> Run {
+pub fn integrate(start: &Start, rung: Rung, settings: &Settings) -> Run {
     let model = &start.model;
     let mut state = start.state.clone();
     let mut forces = start.forces.clone();
-    let (dt, tolerance) = match setting {
-        Setting::Step(dt) => (dt, start.scene.solver.tolerance),
-        Setting::Tolerance(tol) => (settings.grid_s, tol),
+    let dt = rung.setting.step_s(settings.grid_s);
+    let tolerance = match rung.setting {
+        Setting::Step(_) => start.scene.solver.tolerance,
+        Setting::Tolerance(tol) => tol,
     };
     let mut integration = Integration::new(
-        integrator,
+        rung.integrator,
         tolerance,
         model,
         &state,
@@ -323,15 +280,12 @@ pub fn integrate(
     }
     let wall_s = started.elapsed().as_secs_f64();
     let stats = integration.stats;
-    let dt_s = match setting {
-        Setting::Step(dt) => dt,
-        Setting::Tolerance(_) => settings.horizon_s / (stats.steps.max(1) as f64),
-    };
     Run {
-        integrator,
-        setting,
-        dt_s,
+        integrator: rung.integrator,
+        setting: rung.setting,
+        dt_s: rung.setting.mean_step_s(settings.horizon_s, stats.steps),
         wall_s,
+        sim_s: state.t_s - t0,
         stats,
         outcome: failure.map_or(Ok(signals), Err),
     }
@@ -396,37 +350,31 @@ pub fn observed_order(points: &[(f64, f64)], floor: f64) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
-/// Why the study could not be made.
-#[derive(Debug, thiserror::Error)]
-pub enum WorkPrecisionError {
-    /// The warm start could not be built or run.
-    #[error(transparent)]
-    Start(#[from] SimError),
-    /// The reference run itself failed.
-    #[error("the adaptive reference run failed: {0}")]
-    Reference(String),
-}
-
-/// Runs the study. `progress` is called with each finished run.
+/// Runs the study, one run at a time (so that each wall time is measured
+/// alone). `progress` is called with each finished run and its errors.
+///
+/// # Errors
+///
+/// The warm start cannot be made, or the reference run fails.
 pub fn study(
     scene: &Scene,
     settings: &Settings,
     mut progress: impl FnMut(&Run, [f64; 3]),
-) -> Result<WorkPrecision, WorkPrecisionError> {
+) -> Result<WorkPrecision, LadderError> {
     let start = Start::warm(scene, settings.warmup_s)?;
-    let reference = integrate(
-        &start,
-        Integrator::DormandPrince45,
-        Setting::Tolerance(settings.reference_tolerance),
-        settings,
-    );
-    let reference_signals = reference.outcome.map_err(WorkPrecisionError::Reference)?;
-    let check = integrate(
-        &start,
-        Integrator::Rk4,
-        Setting::Step(settings.reference_rk4_step_s),
-        settings,
-    );
+    let reference_rung = Rung {
+        integrator: Integrator::DormandPrince45,
+        setting: Setting::Tolerance(settings.reference_tolerance),
+    };
+    let reference = integrate(&start, reference_rung, settings);
+    let reference_signals = reference
+        .outcome
+        .map_err(|e| LadderError::reference(reference_rung, e))?;
+    let check_rung = Rung {
+        integrator: Integrator::Rk4,
+        setting: Setting::Step(settings.reference_rk4_step_s),
+    };
+    let check = integrate(&start, check_rung, settings);
     let suggested = reference_signals.suggest_probe();
     let n = reference_signals.rollers.max(1);
     let probe = Probe {
@@ -438,36 +386,40 @@ pub fn study(
     });
     let mut moved = start.clone();
     moved.state.x[probe.roller] += 1e-9;
-    let perturbed = integrate(
-        &moved,
-        Integrator::DormandPrince45,
-        Setting::Tolerance(settings.reference_tolerance),
-        settings,
-    );
+    let perturbed = integrate(&moved, reference_rung, settings);
     let perturbation_growth = perturbed.outcome.as_ref().map_or(f64::INFINITY, |s| {
         s.error_against(&reference_signals, probe)
     });
-    let mut rows = Vec::new();
-    for (integrator, ladder) in &settings.methods {
-        let first = rows.len();
-        for setting in ladder {
-            let run = integrate(&start, *integrator, *setting, settings);
-            let errors = run.outcome.as_ref().map_or([f64::INFINITY; 3], |s| {
-                s.errors_against(&reference_signals, probe)
-            });
-            let error = errors[0].max(errors[1]).max(errors[2]);
-            progress(&run, errors);
-            rows.push(Row {
+    let errors_of = |run: &Run| {
+        run.outcome.as_ref().map_or([f64::INFINITY; 3], |s| {
+            s.errors_against(&reference_signals, probe)
+        })
+    };
+    let rungs: Vec<Rung> = settings.ladder.rungs().collect();
+    let runs = WorkQueue::new(&rungs).run(
+        |_, &rung| Some(integrate(&start, rung, settings)),
+        |_, run| progress(run, errors_of(run)),
+    );
+    let mut rows: Vec<Row> = runs
+        .into_iter()
+        .flatten()
+        .map(|run| {
+            let errors = errors_of(&run);
+            Row {
                 run,
-                error,
+                error: errors[0].max(errors[1]).max(errors[2]),
                 errors,
                 order: None,
                 pareto: false,
-            });
-        }
+            }
+        })
+        .collect();
+    let mut first = 0;
+    for (_, ladder) in &settings.ladder.methods {
+        let first_of_next = first + ladder.len();
         // Fixed steps: error against dt. Adaptive: error against the
         // tolerance (its "order" is then the tolerance proportionality, 1 ideally).
-        let points: Vec<(f64, f64)> = rows[first..]
+        let points: Vec<(f64, f64)> = rows[first..first_of_next]
             .iter()
             .map(|r| match r.run.setting {
                 Setting::Step(dt) => (dt, r.error),
@@ -476,9 +428,10 @@ pub fn study(
             .collect();
         let floor = 10.0 * reference_agreement.max(perturbation_growth);
         let order = observed_order(&points, floor);
-        for r in &mut rows[first..] {
+        for r in &mut rows[first..first_of_next] {
             r.order = order;
         }
+        first = first_of_next;
     }
     for i in 0..rows.len() {
         let (w, e) = (rows[i].run.wall_s, rows[i].error);

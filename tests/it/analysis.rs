@@ -226,7 +226,7 @@ fn reproduce_rejects_bad_indices_and_durations_before_running() {
     }
 }
 
-#[cfg(feature = "figures")]
+#[cfg(all(feature = "figures", feature = "lab"))]
 #[test]
 fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
     use chaindrive::analysis::figures::{FigureChoice, Mark, Plot, Trace, paper_figures, save};

@@ -17,6 +17,7 @@
 //! The in-CI test runs a seeded sample of the grid; the full grid is
 //! `cargo test --release --test it equilibrium_sweep_full -- --ignored --nocapture`.
 
+use chaindrive::rng::SeededRng;
 use chaindrive::scene::generate::DriveSpec;
 use chaindrive::scene::{ProfileKind, Scene};
 use chaindrive::sim::{EquilibriumError, SimError, Simulation};
@@ -47,22 +48,6 @@ fn pitch_radius_m(pitch_m: f64, teeth: i64) -> f64 {
     pitch_m / (2.0 * (std::f64::consts::PI / teeth as f64).sin())
 }
 
-/// A small deterministic generator (xorshift64*), so the sample is seeded.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 fn scene_of(case: &Case, seed: u64) -> Scene {
     let mut spec = DriveSpec::new(case.rollers, case.sprockets).expect("a generated drive");
     spec.profile = case.profile;
@@ -78,7 +63,7 @@ fn scene_of(case: &Case, seed: u64) -> Scene {
         .pitch_m
         .expect("the paper's chain gives its pitch");
     let free = file.sprockets.len() - 1;
-    let mut rng = Rng(seed.max(1));
+    let mut rng = SeededRng::new(seed);
     if case.load > 1.0 {
         // One free sprocket k: its jump J = |M|/R raises the strands from k
         // on to the driver (n_a links) over the others (n_b), or lowers them,
@@ -90,7 +75,7 @@ fn scene_of(case: &Case, seed: u64) -> Scene {
             .expect("a valid scene");
         let (_, _, layout) = chaindrive::model::DriveModel::build(&plain).expect("lays out");
         let links = &layout.strand_links;
-        let k = 1 + (rng.next() as usize) % free;
+        let k = 1 + rng.below(free);
         let n_a: usize = links[k..].iter().sum();
         let n_b: usize = links[..k].iter().sum();
         let jump = 2.0 * t0 * (n_a + n_b) as f64 / n_a.min(n_b).max(1) as f64;
@@ -236,10 +221,10 @@ fn sweep(cases: &[(usize, Case)]) {
 #[test]
 fn equilibrium_sweep_sample() {
     let all = grid();
-    let mut rng = Rng(20);
+    let mut rng = SeededRng::new(20);
     let mut picked: Vec<(usize, Case)> = Vec::new();
     while picked.len() < 8 {
-        let i = (rng.next() as usize) % all.len();
+        let i = rng.below(all.len());
         // Keep the sample fast: drives up to 400 rollers.
         if all[i].rollers <= 400 && !picked.iter().any(|(j, _)| *j == i) {
             picked.push((i, all[i]));

@@ -225,7 +225,8 @@ fn a_tensioner_that_cannot_close_the_gap_says_by_how_much() {
 
 /// Regression: `run` printed the layout's message twice (once as the
 /// error, once as its source). It is printed once, and `check` on the same
-/// scene offers no count (none fits) but the move, which `fit` then makes:
+/// scene offers no count (none fits: each is listed with why) but the move,
+/// which `fit` then makes:
 /// the fitted scene lays out with strand links of one pitch.
 #[cfg(feature = "cli")]
 #[test]
@@ -249,6 +250,13 @@ fn run_says_it_once_and_check_offers_the_move() {
     assert!(err.contains("no roller count fits"), "{err}");
     assert!(
         !err.contains("rollers fits as the sprockets stand"),
+        "{err}"
+    );
+    // One answer: the layout's message offered "the nearest count is 110
+    // rollers" before the list refused 110. Only the list names counts.
+    assert!(!err.contains("nearest count"), "{err}");
+    assert!(
+        err.contains("  110 rollers: the chain is 0.0032 m"),
         "{err}"
     );
     assert!(err.contains("chaindrive fit"), "{err}");

@@ -5,7 +5,9 @@
 use chaindrive::analysis::{RunSummary, Signals};
 use chaindrive::scene::{Integrator, L60MC_TOML, Overrides, Scene, Stepping};
 use chaindrive::sim::{PowerMeans, SampleRate, Simulation};
-use chaindrive::studies::reproduce::L60MC_FRICTION_TOML;
+
+/// The paper's drive with pin–bushing friction (`assets/l60mc-friction.toml`).
+const L60MC_FRICTION_TOML: &str = include_str!("../../assets/l60mc-friction.toml");
 
 fn error_of(text: &str) -> String {
     match Scene::from_toml(text) {

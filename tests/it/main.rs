@@ -9,6 +9,7 @@
 mod analysis;
 #[cfg(feature = "cli")]
 mod analyze;
+mod arms;
 #[cfg(feature = "cli")]
 mod auto_step;
 mod catenary;
@@ -30,15 +31,19 @@ mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
 mod excitation;
+mod fatigue;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
 mod friction;
+#[cfg(feature = "lab")]
 mod fuzz;
 mod governor;
 mod guides;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod life;
 mod means;
 mod orders;
 #[cfg(feature = "cli")]
@@ -62,9 +67,11 @@ mod statistics;
 mod stderr_lines;
 mod stepping;
 mod strands;
+#[cfg(feature = "lab")]
 mod stress;
 #[cfg(feature = "cli")]
 mod study;
+#[cfg(feature = "lab")]
 mod sweep;
 mod tensioners;
 mod threads;

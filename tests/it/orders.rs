@@ -113,6 +113,7 @@ fn a_driver_standing_still_is_an_error() {
 /// the cosine form (a sin u = a cos(u − π/2)); the driven sprocket follows
 /// at the kinematic ratio z₁/z₂ = 20/40, so its order 2 is a ω̄ z₁/z₂.
 /// Tolerances: 1 % on the driver's amplitude, 2 % on the driven one's.
+#[cfg(feature = "lab")]
 #[test]
 fn an_order_2_speed_harmonic_is_recovered_at_the_driver_and_at_the_kinematic_ratio() {
     use chaindrive::scene::Scene;

@@ -5,7 +5,7 @@
 
 use approx::{abs_diff_eq, assert_abs_diff_eq};
 use chaindrive::geometry::ToothProfile;
-use chaindrive::scene::mutate::Lcg;
+use chaindrive::rng::SeededRng;
 use chaindrive::scene::{Overrides, ProfileKind, Scene};
 use parry2d_f64::math::Vector;
 use parry2d_f64::query::PointQuery;
@@ -173,7 +173,7 @@ fn exact_distance_agrees_with_parry_on_a_fine_tessellation() {
         .collect();
     let n = pts.len() as u32;
     let polyline = Polyline::new(pts, Some((0..n).map(|i| [i, (i + 1) % n]).collect()));
-    let mut rng = Lcg::new(7);
+    let mut rng = SeededRng::new(7);
     let mut next = || rng.unit();
     for _ in 0..2000 {
         let a = next() * std::f64::consts::TAU;
@@ -259,7 +259,7 @@ fn parry_projection_on_the_sprocket_collider_agrees_to_its_tessellation() {
         unreachable!()
     };
     let tolerance = 70.3731e-3 * (1.0 - 1f64.to_radians().cos()) + 1e-9;
-    let mut rng = Lcg::new(11);
+    let mut rng = SeededRng::new(11);
     let mut next = || rng.unit();
     for _ in 0..2000 {
         let a = next() * std::f64::consts::TAU;

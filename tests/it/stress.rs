@@ -121,3 +121,31 @@ fn generated_drives_close_and_reach_their_pretension() {
         );
     }
 }
+
+/// A fork of a settled drive starts where the drive is, with the scheme and
+/// step asked for; a step the scene refuses is an error naming its field.
+#[test]
+fn a_fork_starts_from_the_settled_state_with_the_scheme_asked_for() {
+    use chaindrive::scene::{Integrator, Overrides, Scene};
+    let base = Simulation::new(&Scene::l60mc()).expect("the paper's drive settles");
+    let fork = base
+        .fork(&Overrides {
+            integrator: Some(Integrator::Rk4),
+            dt_s: Some(2e-5),
+            ..Overrides::default()
+        })
+        .expect("a valid rung");
+    assert_eq!(fork.state, base.state);
+    assert_eq!(fork.scene.solver().integrator, Integrator::Rk4);
+    assert_eq!(fork.scene.solver().dt_s, 2e-5);
+    assert_eq!(base.scene.solver().integrator, Integrator::VelocityVerlet);
+    let refused = base
+        .fork(&Overrides {
+            dt_s: Some(-1e-5),
+            ..Overrides::default()
+        })
+        .err()
+        .map(|e| e.to_string())
+        .unwrap_or_default();
+    assert!(refused.contains("dt_s"), "{refused}");
+}

@@ -6,6 +6,7 @@
 
 use chaindrive::scene::designations::find;
 use chaindrive::scene::{Overrides, Scene};
+#[cfg(feature = "lab")]
 use chaindrive::studies::sweep::excitation_orders;
 
 fn data(file: &str) -> std::path::PathBuf {
@@ -81,6 +82,7 @@ fn a_typo_in_the_designation_is_one_error() {
 /// engine revolution) and the cam table's four lobes (assets/cam-torque.csv:
 /// "lobes 90 deg apart", 4 × 15/42 = 10/7). Before, only 1, 2, 15 and 30
 /// were searched, whatever the scene's excitation. Exact.
+#[cfg(feature = "lab")]
 #[test]
 fn a_sweep_searches_the_scenes_own_excitation_orders() {
     let orders = excitation_orders(&scene("user_moto_10b_sweep.toml"));

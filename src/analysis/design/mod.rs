@@ -1,4 +1,5 @@
-//! Design checks: is the chain big enough for the drive? (docs/design-checks.md)
+//! Design checks: is the chain big enough for the drive, and for how many
+//! hours? (docs/design-checks.md)
 //!
 //! - [`rating`]: the catalogue power rating of the chain at the smallest
 //!   sprocket's teeth and speed (the formulas behind the ANSI horsepower
@@ -6,21 +7,28 @@
 //!   tooth-passing frequency, the rigid-chain polygonal speed variation, and
 //!   the static safety factors of a run's link forces against the chain's
 //!   tensile strength.
-//!
+//! - [`fatigue`]: the link plates' S–N curve (derived from the rating, or
+//!   the scene's own), Goodman's mean-stress correction, Miner's damage per
+//!   hour and the life; [`link_cycles`] counts every link's force by
+//!   [`rainflow`] as the steps come.
 //! - [`wear`]: Archard's wear at every joint from the sliding counted every
 //!   step of a run, the chain's elongation rate (% per 1000 h) and its life
 //!   to the allowable elongation.
 //! - [`life`]: a life in hours, or infinite.
 //!
-//! These are pure functions of a scene and, for a run, of its summary and
-//! of what was counted during it: they step nothing and read no sampled
-//! signals. Fatigue (rainflow counting of every link's force, an S–N model,
-//! Miner's rule) and duty cycles are not here yet.
+//! The checks are pure functions of a scene and, for a run, of its summary
+//! and of what was counted during it (link cycles, joint sliding): they
+//! step nothing and read no sampled signals. Duty cycles are run by `studies::duty`.
 
+pub mod fatigue;
 pub mod life;
+pub mod link_cycles;
+pub mod rainflow;
 pub mod rating;
 pub mod wear;
 
+pub use fatigue::{Fatigue, Place, SnCurve};
 pub use life::Life;
+pub use link_cycles::{CycleSums, LinkCycles};
 pub use rating::{Lubrication, Rating, RatingError, RatingSettings};
 pub use wear::{Wear, WearModel};

@@ -18,7 +18,7 @@ use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
-use super::{FigureError, register_font, tick};
+use super::{Drawing, FigureError, tick, write_png_svg};
 use crate::analysis::units::si;
 
 const SIZE: (u32, u32) = (1280, 720);
@@ -595,16 +595,16 @@ pub fn save_campbell(
     {
         return Err(FigureError::Empty(stem.to_owned()));
     }
-    register_font();
-    let png = dir.join(format!("{stem}.png"));
-    let svg = dir.join(format!("{stem}.svg"));
-    let fail = |message: String| FigureError::Draw {
-        stem: stem.to_owned(),
-        message,
-    };
-    draw_campbell(BitMapBackend::new(&png, SIZE).into_drawing_area(), campbell).map_err(fail)?;
-    draw_campbell(SVGBackend::new(&svg, SIZE).into_drawing_area(), campbell).map_err(fail)?;
-    Ok(vec![png, svg])
+    write_png_svg(campbell, dir, stem)
+}
+
+impl Drawing for Campbell {
+    fn draw_on<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        draw_campbell(root, self)
+    }
 }
 
 #[cfg(test)]

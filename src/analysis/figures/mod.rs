@@ -1,6 +1,7 @@
 //! Figures (PNG and SVG, `plotters`) of the analysis: line plots with markers
 //! and labelled points ([`Plot`]), the paper's Figs. 16–24 from runs
-//! ([`paper_figures`]) and Campbell diagrams ([`Campbell`]).
+//! ([`paper_figures`]), Campbell diagrams ([`Campbell`]) and bar charts
+//! ([`Bars`]).
 //!
 //! Every figure reads on its own: axis titles carry their units, tick labels
 //! carry the digits their spacing needs and no more, a legend's glyph is what
@@ -21,9 +22,11 @@ use plotters::prelude::*;
 use super::study::AnalysisError;
 use super::units::Prefix;
 
+mod bars;
 mod campbell;
 mod paper;
 
+pub use bars::{BarPanel, Bars, save_bars};
 pub use campbell::{Campbell, OrderLine, SpanLines, save_campbell};
 pub use paper::{FigureChoice, paper_figures};
 
@@ -401,6 +404,33 @@ pub fn save(plot: &Plot, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, FigureE
     if bounds(plot).is_none() {
         return Err(FigureError::Empty(stem.to_owned()));
     }
+    write_png_svg(plot, dir, stem)
+}
+
+/// A figure drawn the same way into any plotters backend.
+pub(crate) trait Drawing {
+    /// Draws the figure on `root`; the error is plotters' message.
+    fn draw_on<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static;
+}
+
+impl Drawing for Plot {
+    fn draw_on<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
+    where
+        DB::ErrorType: 'static,
+    {
+        draw(root, self)
+    }
+}
+
+/// Writes `figure` as `dir/stem.png` and `dir/stem.svg`, both `SIZE`;
+/// returns the paths.
+pub(crate) fn write_png_svg(
+    figure: &impl Drawing,
+    dir: &Path,
+    stem: &str,
+) -> Result<Vec<PathBuf>, FigureError> {
     register_font();
     let png = dir.join(format!("{stem}.png"));
     let svg = dir.join(format!("{stem}.svg"));
@@ -408,7 +438,11 @@ pub fn save(plot: &Plot, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, FigureE
         stem: stem.to_owned(),
         message,
     };
-    draw(BitMapBackend::new(&png, SIZE).into_drawing_area(), plot).map_err(fail)?;
-    draw(SVGBackend::new(&svg, SIZE).into_drawing_area(), plot).map_err(fail)?;
+    figure
+        .draw_on(BitMapBackend::new(&png, SIZE).into_drawing_area())
+        .map_err(fail)?;
+    figure
+        .draw_on(SVGBackend::new(&svg, SIZE).into_drawing_area())
+        .map_err(fail)?;
     Ok(vec![png, svg])
 }

@@ -7,7 +7,7 @@ use chaindrive::geometry::{Layout, LayoutError};
 use chaindrive::model::{BuildError, DriveModel};
 use chaindrive::scene::{PretensionRule, Role, Scene};
 use chaindrive::sim::{
-    EquilibriumError, SimError, Simulation, default_direction, fit_sprocket, fitting_counts,
+    EquilibriumError, SimError, Simulation, count_verdicts, default_direction, fit_sprocket,
     needed_pitches_of,
 };
 
@@ -100,7 +100,11 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             // A tensioner moved until the pretension is reached leaves a
             // path longer than the unstretched chain by the links' elastic
             // stretch: that is the pretension, not a misfit to fit away.
-            if !tensioner_rule {
+            // Where the misfit, not the tensioner arms, sets the tension, it is a warning.
+            if let Some(misfit) = &sim.equilibrium.misfit {
+                eprintln!("{name}: warning: {misfit}");
+                suggest_fit(&scene, &name);
+            } else if !tensioner_rule {
                 misfit_notice(&name, &sim.scene, &sim.layout);
             }
             println!(
@@ -112,7 +116,9 @@ pub fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
                 sim.equilibrium.force_residual,
                 started.elapsed().as_secs_f64()
             );
-            idle_tensioners(&name, &sim);
+            if sim.equilibrium.misfit.is_none() {
+                idle_tensioners(&name, &sim);
+            }
             let residual = sim.equilibrium.force_residual;
             if residual > chaindrive::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
                 eprintln!(
@@ -192,6 +198,23 @@ fn print_layout(scene: &Scene, model: &DriveModel, layout: &Layout) {
         layout.polygon_length_m,
         scene.chain().rollers as f64 * scene.chain().pitch_m
     );
+    if let Some(t) = chaindrive::sim::arm_take_up_of(scene) {
+        println!(
+            "tensioner arms: their shoes take up {:.2} mm of chain at the scene's pose, {:.2} to {:.2} mm over their travel ({})",
+            t.pose_m * 1e3,
+            t.min_m * 1e3,
+            t.max_m * 1e3,
+            t.bound
+        );
+    }
+    for (t, arm) in scene.tensioners().iter().zip(&layout.arms) {
+        println!(
+            "tensioner \"{}\": laid turned by {:.3}° (travel {:.2} mm) to take up the chain's length",
+            t.name,
+            arm.angle_rad.to_degrees(),
+            arm.travel_m * 1e3
+        );
+    }
 }
 
 /// A notice when the layout took up a misfit by laying the strand links
@@ -248,12 +271,25 @@ fn idle_tensioners(name: &str, sim: &Simulation) {
 /// the drive stands, and the move of one sprocket (`chaindrive fit`) that
 /// makes the nearest count fit exactly.
 fn suggest_fit(scene: &Scene, name: &str) {
-    let counts = fitting_counts(scene);
+    let verdicts = count_verdicts(scene);
+    let counts: Vec<usize> = verdicts
+        .iter()
+        .filter(|v| v.refused.is_none())
+        .map(|v| v.rollers)
+        .collect();
     let needed = needed_pitches_of(scene).ok();
     match (&counts[..], needed) {
-        ([], Some(n)) => eprintln!(
-            "{name}: no roller count fits as the sprockets stand (the path needs {n:.3} pitches); move a sprocket instead:"
-        ),
+        ([], Some(n)) => {
+            eprintln!(
+                "{name}: no roller count fits as the sprockets stand (the path needs {n:.3} pitches):"
+            );
+            for v in &verdicts {
+                if let Some(why) = &v.refused {
+                    eprintln!("{name}:   {} rollers: {why}", v.rollers);
+                }
+            }
+            eprintln!("{name}: move a sprocket instead:");
+        }
         ([], None) => {}
         (c, _) => eprintln!(
             "{name}: a chain of {} rollers fits as the sprockets stand (chain.rollers); or move a sprocket:",

@@ -11,22 +11,16 @@ use chaindrive::analysis::figures::{FigureError, Mark, Plot, Trace, save};
 use chaindrive::studies::convergence::{
     Convergence, REL_TOLERANCE, Run, SE_TOLERANCE, Settings, study,
 };
-use chaindrive::studies::work_precision::Setting;
+use chaindrive::studies::ladder::{Ladder, Rung, Setting};
 
 /// Arguments of `chaindrive bench convergence`.
 #[derive(clap::Args)]
 pub struct ConvergenceArgs {
-    /// Scene file (TOML). Default: the paper's drive.
-    scene: Option<PathBuf>,
-    /// Tooth profile of every sprocket.
-    #[arg(long, value_enum)]
-    profile: Option<chaindrive::scene::ProfileKind>,
+    #[command(flatten)]
+    start: crate::WarmStartArgs,
     /// Simulated time of each run after the warm-up, s.
     #[arg(long, default_value_t = 10.0)]
     duration: f64,
-    /// Warm-up with the scene's own settings before every run, s.
-    #[arg(long, default_value_t = 1.2)]
-    warmup: f64,
     /// Output directory: convergence.csv, convergence.png/.svg.
     #[arg(long, default_value = "convergence")]
     out: PathBuf,
@@ -39,28 +33,23 @@ pub struct ConvergenceArgs {
 }
 
 pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
-    let overrides = chaindrive::scene::Overrides {
-        profile: args.profile,
-        ..Default::default()
-    };
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+    let Some(scene) = args.start.scene()? else {
         return Ok(ExitCode::FAILURE);
     };
     crate::ensure_positive("--duration", args.duration)?;
-    crate::ensure_non_negative("--warmup", args.warmup)?;
     anyhow::ensure!(args.jobs >= 1, "--jobs must be at least 1");
     let mut settings = Settings::default_for(args.duration);
-    settings.warmup_s = args.warmup;
+    settings.warmup_s = args.start.warmup_s;
     settings.threads = args.jobs;
     if args.quick {
-        settings.methods = vec![(
-            chaindrive::scene::Integrator::SymplecticEuler,
-            vec![Setting::Step(1e-5), Setting::Step(2e-5)],
-        )];
-        settings.reference = (
-            chaindrive::scene::Integrator::SymplecticEuler,
-            Setting::Step(5e-6),
-        );
+        let euler = chaindrive::scene::Integrator::SymplecticEuler;
+        settings.ladder = Ladder {
+            methods: vec![(euler, vec![Setting::Step(1e-5), Setting::Step(2e-5)])],
+        };
+        settings.reference = Rung {
+            integrator: euler,
+            setting: Setting::Step(5e-6),
+        };
     }
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
@@ -70,8 +59,8 @@ pub fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
         scene.profile_name(),
         settings.warmup_s,
         settings.duration_s,
-        settings.reference.0.name(),
-        settings.reference.1.label()
+        settings.reference.integrator.name(),
+        settings.reference.setting.label()
     );
     let result = study(&scene, &settings, |run| {
         eprintln!(
@@ -146,7 +135,7 @@ fn to_csv(c: &Convergence) -> anyhow::Result<Vec<u8>> {
                 run.setting.label(),
                 num(Some(run.dt_s)),
                 num(Some(run.wall_s)),
-                num(Some(run.duration_s)),
+                num(Some(run.sim_s)),
                 s.name.clone(),
                 num(s.value),
                 num(Some(s.reference)),
@@ -178,7 +167,7 @@ fn table(c: &Convergence) -> String {
         c.reference.integrator.name(),
         c.reference.setting.label(),
         c.reference.wall_s,
-        c.reference.duration_s
+        c.reference.sim_s
     );
     let _ = writeln!(s, "{:<30} {:>14} {:>12}", "statistic", "reference", "±se");
     for r in &reference {
@@ -226,7 +215,7 @@ fn table(c: &Convergence) -> String {
             run.integrator.name(),
             run.setting.label(),
             run.dt_s,
-            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE),
+            run.wall_s / run.sim_s.max(f64::MIN_POSITIVE),
             rel,
             worst_se,
             norm,
@@ -249,7 +238,7 @@ fn verdict(c: &Convergence) -> String {
             "\nconverged with every finer setting of its method: {} at {}, {:.2} s wall per simulated second",
             run.integrator.name(),
             run.setting.label(),
-            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE)
+            run.wall_s / run.sim_s.max(f64::MIN_POSITIVE)
         ),
         None => "\nno setting is converged with every finer setting of its method".to_owned(),
     };
@@ -260,7 +249,7 @@ fn verdict(c: &Convergence) -> String {
             run.setting.label(),
             100.0 * REL_TOLERANCE,
             SE_TOLERANCE,
-            run.wall_s / run.duration_s.max(f64::MIN_POSITIVE)
+            run.wall_s / run.sim_s.max(f64::MIN_POSITIVE)
         ),
         None => format!(
             "verdict: no setting has every statistic within {:.0} % of the reference or {:.0} standard errors",
@@ -286,7 +275,7 @@ fn plot(c: &Convergence) -> Plot {
                 .map(|r| {
                     let (_, norm) = worst(c, r);
                     (
-                        (r.wall_s / r.duration_s.max(f64::MIN_POSITIVE)).log10(),
+                        (r.wall_s / r.sim_s.max(f64::MIN_POSITIVE)).log10(),
                         norm.max(1e-6).log10(),
                     )
                 })
@@ -298,8 +287,8 @@ fn plot(c: &Convergence) -> Plot {
     let walls: Vec<f64> = c
         .runs
         .iter()
-        .filter(|r| r.outcome.is_ok() && r.duration_s > 0.0)
-        .map(|r| (r.wall_s / r.duration_s).log10())
+        .filter(|r| r.outcome.is_ok() && r.sim_s > 0.0)
+        .map(|r| (r.wall_s / r.sim_s).log10())
         .filter(|v| v.is_finite())
         .collect();
     if let (Some(lo), Some(hi)) = (
@@ -316,7 +305,7 @@ fn plot(c: &Convergence) -> Plot {
     Plot {
         title: format!(
             "Convergence of the summary statistics, {} s per run",
-            c.reference.duration_s
+            c.reference.sim_s
         ),
         x_label: "log10 wall time per simulated second (s)".to_owned(),
         y_label: format!(

@@ -21,6 +21,7 @@ mod chains;
 mod check;
 mod convergence;
 mod fit;
+mod life;
 mod outputs;
 mod profile;
 mod rate;
@@ -62,6 +63,9 @@ enum Command {
     /// The chain's catalogue power rating at the scene's speeds (ANSI
     /// formulas), its lubrication, chain speed and the margin.
     Rate(rate::RateArgs),
+    /// The chain's life over a duty cycle (`[[duty]]` points): each point run
+    /// in parallel and resumably, fatigue damage combined by hours.
+    Life(life::LifeArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
@@ -88,6 +92,7 @@ fn main() -> std::process::ExitCode {
         Command::Chains(args) => chains::chains(args),
         Command::Profile(args) => profile::profile(args),
         Command::Rate(args) => rate::rate(args),
+        Command::Life(args) => life::life(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
         Command::Sweep(args) => sweep::sweep(args),
@@ -171,6 +176,45 @@ pub(crate) fn load_scene_or_report(
     Ok(load_scene(path, overrides)?
         .map_err(|lines| eprintln!("{lines}"))
         .ok())
+}
+
+/// The warm start of the studies that compare integrators (`bench
+/// convergence`, `bench work-precision`): the scene, its profile and the
+/// warm-up every run starts after.
+#[derive(clap::Args)]
+pub(crate) struct WarmStartArgs {
+    /// Scene file (TOML). Default: the paper's drive.
+    scene: Option<std::path::PathBuf>,
+    /// Tooth profile of every sprocket.
+    #[arg(long, value_enum)]
+    profile: Option<chaindrive::scene::ProfileKind>,
+    /// Warm-up with the scene's own settings before the runs, s.
+    #[arg(long = "warmup", default_value_t = 1.2)]
+    pub(crate) warmup_s: f64,
+}
+
+impl WarmStartArgs {
+    /// The scene with the profile asked for (`None`: its field errors were
+    /// printed), after checking the warm-up.
+    pub(crate) fn scene(&self) -> anyhow::Result<Option<chaindrive::scene::Scene>> {
+        ensure_non_negative("--warmup", self.warmup_s)?;
+        let overrides = chaindrive::scene::Overrides {
+            profile: self.profile,
+            ..Default::default()
+        };
+        load_scene_or_report(self.scene.as_deref(), &overrides)
+    }
+}
+
+/// A flag that Ctrl-C (or SIGTERM) sets, for a batch of runs to start no
+/// more and stop the running ones at their next step.
+pub(crate) fn stop_on_ctrl_c() -> std::sync::Arc<std::sync::atomic::AtomicBool> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let stop = std::sync::Arc::new(AtomicBool::new(false));
+    let flag = std::sync::Arc::clone(&stop);
+    // A second handler cannot be installed (tests calling twice): ignore.
+    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
+    stop
 }
 
 /// An error unless the option `flag`'s value is a finite number > 0.

@@ -10,7 +10,7 @@ use std::io::Write;
 use std::process::ExitCode;
 
 use chaindrive::geometry::asa::AsaProfile;
-use chaindrive::geometry::{CircularProfile, ProfileKind};
+use chaindrive::geometry::{CircularProfile, OutlinePoint, ProfileKind};
 
 /// Arguments of `chaindrive profile`.
 #[derive(clap::Args)]
@@ -54,10 +54,7 @@ pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
         );
         let c = CircularProfile::new(args.teeth, args.pitch, args.roller_diameter / 2.0);
         if args.csv {
-            writeln!(out, "x_m,y_m,gap,area")?;
-            for p in c.outline(STEP_RAD) {
-                writeln!(out, "{},{},{},{}", p.x_m, p.y_m, p.gap, p.area)?;
-            }
+            write_outline(&mut out, &c.outline(STEP_RAD))?;
         } else {
             writeln!(
                 out,
@@ -82,10 +79,7 @@ pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
     let asa = AsaProfile::new(args.teeth, args.pitch, args.roller_diameter)
         .map_err(|e| anyhow::anyhow!("no ASA B29.1 profile for these dimensions: {e}"))?;
     if args.csv {
-        writeln!(out, "x_m,y_m,gap,area")?;
-        for p in asa.outline(STEP_RAD) {
-            writeln!(out, "{},{},{},{}", p.x_m, p.y_m, p.gap, p.area)?;
-        }
+        write_outline(&mut out, &asa.outline(STEP_RAD))?;
     } else {
         let d = asa.dimensions();
         let (mm, deg) = (|v: f64| v * 1e3, |v: f64| v.to_degrees());
@@ -121,4 +115,20 @@ pub fn profile(args: ProfileArgs) -> anyhow::Result<ExitCode> {
     }
     out.flush()?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The outline as CSV, `x_m,y_m,gap,area`.
+fn write_outline(out: impl Write, points: &[OutlinePoint]) -> anyhow::Result<()> {
+    let mut w = csv::Writer::from_writer(out);
+    w.write_record(["x_m", "y_m", "gap", "area"])?;
+    for p in points {
+        w.write_record([
+            p.x_m.to_string(),
+            p.y_m.to_string(),
+            p.gap.to_string(),
+            p.area.to_string(),
+        ])?;
+    }
+    w.flush()?;
+    Ok(())
 }

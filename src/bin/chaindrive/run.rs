@@ -356,33 +356,8 @@ fn start_recording(
             path.display()
         );
     };
-    anyhow::ensure!(
-        mark.channels == options.channels.bits(),
-        "--record {}: the run was recorded with other channels; resume with the same --record-channels",
-        path.display()
-    );
-    // An MCAP file is not appended to: the earlier file is set aside, the
-    // new one starts with its messages up to the checkpoint, and the earlier
-    // file goes once they are written. If this run dies before that, the
-    // file set aside is still there for the next resume.
-    let mut aside = path.as_os_str().to_owned();
-    aside.push(".before-resume");
-    let aside = PathBuf::from(aside);
-    if !aside.exists() {
-        std::fs::rename(path, &aside).with_context(|| {
-            format!(
-                "--record {}: cannot continue the recording the run was writing",
-                path.display()
-            )
-        })?;
-    }
-    let earlier = std::fs::read(&aside)
-        .with_context(|| format!("cannot read the earlier recording {}", aside.display()))?;
-    let file = create(path, "recording")?;
-    let recorder = Recorder::continued(file, scene, &options, &earlier, &mark)
-        .with_context(|| format!("--record {}", path.display()))?;
-    std::fs::remove_file(&aside).with_context(|| format!("cannot remove {}", aside.display()))?;
-    Ok(recorder)
+    Recorder::continue_file(path, scene, &options, &mark)
+        .with_context(|| format!("--record {}", path.display()))
 }
 
 /// How the run is sampled and which window its statistics cover.
@@ -726,4 +701,31 @@ fn print_summary(s: &RunSummary) {
             w.life_h
         );
     }
+    if let Some(f) = &s.fatigue {
+        println!("{}", fatigue_line(f));
+    }
+}
+
+/// The fatigue life in one line: the life, the largest cycle against the
+/// limit, where the damage is largest.
+fn fatigue_line(f: &chaindrive::analysis::design::Fatigue) -> String {
+    let rate = if f.damage_per_hour > 0.0 {
+        format!(" ({:.3e} damage per hour)", f.damage_per_hour)
+    } else {
+        String::new()
+    };
+    let place = f.least_life_at.as_ref().map_or(String::new(), |p| {
+        if p.damage_share > 0.0 {
+            format!("; most damage {} ({:.0} %)", p.text, 100.0 * p.damage_share)
+        } else {
+            format!("; largest cycle {}", p.text)
+        }
+    });
+    format!(
+        "fatigue life {}{rate}: largest cycle {:.2} kN as a pulsating one, {:.2} of the fatigue limit {:.2} kN{place}",
+        f.life_h,
+        f.largest_cycle_n * 1e-3,
+        f.largest_cycle_n / f.fatigue_limit_n,
+        f.fatigue_limit_n * 1e-3
+    )
 }

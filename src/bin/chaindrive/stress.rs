@@ -9,11 +9,10 @@
 use std::fs::File;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::sync::mpsc;
 use std::time::Instant;
 
 use anyhow::Context;
+use chaindrive::studies::queue::WorkQueue;
 use chaindrive::studies::stress::{
     BLOWUPS_CSV_HEADER, CSV_HEADER, CaseResult, LIMITS_CSV_HEADER, Ladder, Progress,
     blowup_csv_rows, csv_rows, default_matrix, first_failure, limits_csv_rows, quick_matrix,
@@ -148,33 +147,20 @@ pub fn stress(args: StressArgs) -> anyhow::Result<ExitCode> {
         ladder.past_failure
     );
     let n = cases.len();
-    let next = AtomicUsize::new(0);
-    let (tx, rx) = mpsc::channel::<(usize, CaseResult)>();
-    let mut slots: Vec<Option<CaseResult>> = (0..n).map(|_| None).collect();
-    let written = std::thread::scope(|scope| -> anyhow::Result<()> {
-        for _ in 0..args.jobs.clamp(1, n.max(1)) {
-            let tx = tx.clone();
-            let (cases, next, ladder) = (&cases, &next, &ladder);
-            scope.spawn(move || {
-                loop {
-                    let k = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(case) = cases.get(k) else { break };
-                    let r = run_case(case, ladder, &mut |p| progress(k, n, started, p));
-                    if tx.send((k, r)).is_err() {
-                        break;
-                    }
-                }
-            });
-        }
-        drop(tx);
-        for (k, r) in rx {
-            out.append(&r)?;
-            slots[k] = Some(r);
-        }
-        Ok(())
-    });
-    written?;
-    let results: Vec<CaseResult> = slots.into_iter().flatten().collect();
+    // Each cell's rows are written as it finishes.
+    let results: Vec<CaseResult> = WorkQueue::new(&cases)
+        .threads(args.jobs)
+        .try_run(
+            |k, case| {
+                Some(run_case(case, &ladder, &mut |p| {
+                    progress(k, n, started, p);
+                }))
+            },
+            |_, r| out.append(r),
+        )?
+        .into_iter()
+        .flatten()
+        .collect();
     let broken = report(&results);
     println!(
         "\nwall time of the matrix: {:.1} s; outputs in {}",

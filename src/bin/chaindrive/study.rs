@@ -15,8 +15,7 @@ use std::fmt::Write as _;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use anyhow::Context;
 use chaindrive::studies::study::cases::CHECKPOINT_FILE;
@@ -125,14 +124,6 @@ fn prepare(plan: &Path, out: &Path) -> anyhow::Result<StudyDir> {
     Ok(StudyDir::prepare(out, study)?)
 }
 
-fn stop_flag() -> Arc<AtomicBool> {
-    let stop = Arc::new(AtomicBool::new(false));
-    let flag = Arc::clone(&stop);
-    // A second handler cannot be installed (tests calling twice): ignore.
-    let _ = ctrlc::set_handler(move || flag.store(true, Ordering::Relaxed));
-    stop
-}
-
 fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode> {
     let dir = prepare(plan, out)?;
     let total = dir.study.cases.len();
@@ -147,7 +138,7 @@ fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode>
         pending.len(),
         args.jobs.max(1)
     );
-    let stop = stop_flag();
+    let stop = crate::stop_on_ctrl_c();
     let ran = AtomicUsize::new(0);
     let failed = AtomicUsize::new(0);
     let left = pending.len();
@@ -219,7 +210,7 @@ fn run_here(plan: &Path, out: &Path, args: &RunArgs) -> anyhow::Result<ExitCode>
 
 fn run_case(dir: &Path, k: usize, retry_failed: bool) -> anyhow::Result<ExitCode> {
     let study = StudyDir::open(dir)?;
-    let stop = stop_flag();
+    let stop = crate::stop_on_ctrl_c();
     let checkpoint = study.case_dir(k).join(CHECKPOINT_FILE);
     if study.status(k)?.is_none() && checkpoint.exists() {
         eprintln!("case {k}: resuming from {}", checkpoint.display());
@@ -381,7 +372,7 @@ fn collect(dir: &Path) -> anyhow::Result<ExitCode> {
     let study = StudyDir::open(dir)?;
     let table = Table::collect(&study)?;
     let csv = dir.join("results.csv");
-    std::fs::write(&csv, table.to_csv())
+    std::fs::write(&csv, table.to_csv()?)
         .with_context(|| format!("cannot write {}", csv.display()))?;
     let parquet = dir.join("results.parquet");
     table.write_parquet(&parquet)?;

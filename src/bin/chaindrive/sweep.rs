@@ -1,10 +1,12 @@
 //! `chaindrive sweep`: one steady run per driver speed, in parallel, and
 //! what a speed range is judged by: `sweep.csv` (every summary scalar per
 //! speed), `cases.csv` (each speed's status, stationarity and warnings),
+//! `verdict.csv` (each speed's static safety factor, rating margin and
+//! fatigue damage per hour and life),
 //! `orders.csv` (order spectra), `spans.csv` (each span's predicted
 //! natural frequencies), a Campbell diagram, order cuts, envelopes and
-//! `report.md` (speeds whose runs warned, resonance crossings, worst-case
-//! speeds). With `--run-up`,
+//! `report.md` (speeds whose runs warned, the design checks per speed and
+//! the weakest speed, resonance crossings, worst-case speeds). With `--run-up`,
 //! one run whose driver speed ramps slowly, analysed in short windows, gives
 //! the same outputs at each window's mean speed.
 
@@ -12,8 +14,7 @@ use std::fmt::Write as _;
 use std::io::{IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::Ordering;
 use std::time::Instant;
 
 use anyhow::Context;
@@ -28,7 +29,7 @@ use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
     SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section, excitation_orders,
     on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
-    summary_scalars, worst_cases,
+    summary_scalars, verdicts, weakest, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -182,19 +183,12 @@ pub fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new(settings.rpm.len() as u64);
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} speeds, eta {eta} {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        p
-    });
+    let stop = crate::stop_on_ctrl_c();
+    let progress = progress_bar(
+        args.quiet,
+        indicatif::ProgressBar::new(settings.rpm.len() as u64),
+        "{bar:40} {pos}/{len} speeds, eta {eta} {msg}",
+    );
     let started = Instant::now();
     let on_case = |c: &CaseOutcome| {
         if let Some(p) = &progress {
@@ -272,19 +266,12 @@ fn sweep_run_up(
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create the output folder {}", args.out.display()))?;
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new_spinner();
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{spinner} {pos} windows, {msg}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner()),
-        );
-        p
-    });
+    let stop = crate::stop_on_ctrl_c();
+    let progress = progress_bar(
+        args.quiet,
+        indicatif::ProgressBar::new_spinner(),
+        "{spinner} {pos} windows, {msg}",
+    );
     let started = Instant::now();
     let on_window = |c: &CaseOutcome| {
         if let Some(p) = &progress {
@@ -327,6 +314,21 @@ fn sweep_run_up(
         ExitCode::from(130)
     } else {
         ExitCode::SUCCESS
+    })
+}
+
+/// `bar` with the style `template`, unless `quiet` or stderr is not a terminal.
+fn progress_bar(
+    quiet: bool,
+    bar: indicatif::ProgressBar,
+    template: &str,
+) -> Option<indicatif::ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        bar.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        bar
     })
 }
 
@@ -402,9 +404,7 @@ fn write_outputs(
 /// `cases.csv`: one row per speed, `rpm,status,stationary,warning_count,warnings,error`
 /// ([`CaseFlags`]; the warnings joined by ` | `, empty cells where unknown).
 fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
-    let path = dir.join("cases.csv");
-    let mut w = csv::Writer::from_path(&path)
-        .with_context(|| format!("cannot write {}", path.display()))?;
+    let mut w = csv_writer(dir, "cases.csv")?;
     w.write_record([
         "rpm",
         "status",
@@ -432,54 +432,164 @@ fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `sweep.csv`, `cases.csv`, `orders.csv` and `spans.csv`.
+/// `verdict.csv`: one row per completed speed, `rpm,static_safety_factor,
+/// mean_static_safety_factor,rating_margin,design_power_w,
+/// transmitted_power_w,damage_per_hour,fatigue_life_h,
+/// fatigue_safety_factor` (empty cells where a check has no data; an
+/// infinite life `infinite`).
+fn write_verdicts(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
+    let mut w = csv_writer(dir, "verdict.csv")?;
+    w.write_record([
+        "rpm",
+        "static_safety_factor",
+        "mean_static_safety_factor",
+        "rating_margin",
+        "design_power_w",
+        "transmitted_power_w",
+        "damage_per_hour",
+        "fatigue_life_h",
+        "fatigue_safety_factor",
+    ])?;
+    let cell = |x: Option<f64>| x.map_or_else(String::new, |x| x.to_string());
+    for v in verdicts(cases) {
+        w.write_record([
+            v.rpm.to_string(),
+            cell(v.static_safety_factor),
+            cell(v.mean_static_safety_factor),
+            cell(v.rating_margin),
+            cell(v.design_power_w),
+            cell(v.transmitted_power_w),
+            cell(v.damage_per_hour),
+            v.fatigue_life_h
+                .map_or_else(String::new, |l| match l.hours() {
+                    Some(h) => h.to_string(),
+                    None => "infinite".to_owned(),
+                }),
+            cell(v.fatigue_safety_factor),
+        ])?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// The report's "Will it last?" section: the design checks per speed and
+/// the weakest speed by each; empty where no speed has a check's data.
+fn verdict_section(cases: &[CaseOutcome]) -> String {
+    let v = verdicts(cases);
+    let mut s = String::new();
+    if v.iter().all(|v| {
+        v.static_safety_factor.is_none() && v.rating_margin.is_none() && v.damage_per_hour.is_none()
+    }) {
+        return s;
+    }
+    let _ = writeln!(s, "## Will it last?\n");
+    let _ = writeln!(
+        s,
+        "Each speed's design checks (docs/design-checks.md): the static safety factor (tensile strength over the largest link force), the catalogue rating's margin (design power over the run's transmitted power), and the link plates' fatigue damage per hour and life at that speed alone; — where the run has no data for a check.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| rpm | static safety factor | rating margin | fatigue damage per hour | fatigue life |\n|---|---|---|---|---|"
+    );
+    let num =
+        |x: Option<f64>, digits: usize| x.map_or("—".to_owned(), |x| format!("{x:.digits$}"));
+    for r in &v {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            r.rpm,
+            num(r.static_safety_factor, 2),
+            num(r.rating_margin, 3),
+            r.damage_per_hour
+                .map_or("—".to_owned(), |d| format!("{d:.3e}")),
+            r.fatigue_life_h.map_or("—".to_owned(), |l| l.to_string())
+        );
+    }
+    let _ = writeln!(s, "\nThe weakest speed by each check:\n");
+    for w in weakest(&v) {
+        let value = if w.check.contains("damage") {
+            format!("{:.3e} per hour", w.value)
+        } else {
+            format!("{:.3}", w.value)
+        };
+        let _ = writeln!(s, "- {}: {} at {} rpm", w.check, value, w.rpm);
+    }
+    let _ = writeln!(s);
+    s
+}
+
+/// A CSV file in `dir`.
+fn csv_writer(dir: &Path, name: &str) -> anyhow::Result<csv::Writer<std::fs::File>> {
+    let path = dir.join(name);
+    csv::Writer::from_path(&path).with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// `sweep.csv`, `cases.csv`, `orders.csv` and `spans.csv` (numbers as Rust
+/// writes them: the shortest text that reads back to the same bits).
 fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     write_case_flags(dir, cases)?;
-    let mut sweep_csv = create(dir, "sweep.csv")?;
-    writeln!(sweep_csv, "rpm,statistic,value")?;
+    write_verdicts(dir, cases)?;
+    let mut sweep_csv = csv_writer(dir, "sweep.csv")?;
+    sweep_csv.write_record(["rpm", "statistic", "value"])?;
     for case in cases {
         match case {
             CaseOutcome::Done(r) => {
-                writeln!(sweep_csv, "{},failed,0", r.rpm)?;
+                let rpm = r.rpm.to_string();
+                sweep_csv.write_record([rpm.as_str(), "failed", "0"])?;
                 for (name, value) in summary_scalars(r) {
-                    writeln!(sweep_csv, "{},{name},{value}", r.rpm)?;
+                    sweep_csv.write_record([rpm.clone(), name, value.to_string()])?;
                 }
             }
-            CaseOutcome::Failed { rpm, .. } => writeln!(sweep_csv, "{rpm},failed,1")?,
+            CaseOutcome::Failed { rpm, .. } => {
+                sweep_csv.write_record([rpm.to_string().as_str(), "failed", "1"])?;
+            }
         }
     }
     sweep_csv.flush()?;
     let done = completed(cases);
-    let mut orders_csv = create(dir, "orders.csv")?;
-    writeln!(
-        orders_csv,
-        "rpm,signal,order,frequency_hz,amplitude,phase_rad"
-    )?;
+    let mut orders_csv = csv_writer(dir, "orders.csv")?;
+    orders_csv.write_record([
+        "rpm",
+        "signal",
+        "order",
+        "frequency_hz",
+        "amplitude",
+        "phase_rad",
+    ])?;
     for r in &done {
         for s in &r.orders {
             for c in &s.spectrum.components {
-                writeln!(
-                    orders_csv,
-                    "{},{},{},{},{},{}",
-                    r.rpm, s.signal, c.order, c.frequency_hz, c.amplitude, c.phase_rad
-                )?;
+                orders_csv.write_record([
+                    r.rpm.to_string(),
+                    s.signal.clone(),
+                    c.order.to_string(),
+                    c.frequency_hz.to_string(),
+                    c.amplitude.to_string(),
+                    c.phase_rad.to_string(),
+                ])?;
             }
         }
     }
     orders_csv.flush()?;
-    let mut spans_csv = create(dir, "spans.csv")?;
-    let modes: String = (1..=TRANSVERSE_MODES)
-        .map(|n| format!(",transverse_{n}_hz"))
-        .collect();
-    writeln!(spans_csv, "rpm,segment,tension_n{modes},axial_hz")?;
+    let mut spans_csv = csv_writer(dir, "spans.csv")?;
+    let mut header = vec![
+        "rpm".to_owned(),
+        "segment".to_owned(),
+        "tension_n".to_owned(),
+    ];
+    header.extend((1..=TRANSVERSE_MODES).map(|n| format!("transverse_{n}_hz")));
+    header.push("axial_hz".to_owned());
+    spans_csv.write_record(&header)?;
     for r in &done {
         for s in &r.spans {
-            let f: String = s.transverse_hz.iter().map(|f| format!(",{f}")).collect();
-            writeln!(
-                spans_csv,
-                "{},{},{}{f},{}",
-                r.rpm, s.segment, s.tension_n, s.axial_hz
-            )?;
+            let mut row = vec![
+                r.rpm.to_string(),
+                s.segment.to_string(),
+                s.tension_n.to_string(),
+            ];
+            row.extend(s.transverse_hz.iter().map(f64::to_string));
+            row.push(s.axial_hz.to_string());
+            spans_csv.write_record(&row)?;
         }
     }
     spans_csv.flush()?;
@@ -513,6 +623,7 @@ fn report_text(
         let _ = writeln!(s);
     }
     s.push_str(&doubt_section(cases));
+    s.push_str(&verdict_section(cases));
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,
@@ -606,6 +717,10 @@ fn report_text(
     let _ = writeln!(
         s,
         "- `cases.csv`: `rpm,status,stationary,warning_count,warnings,error`, one row per speed (status `ok`, `warned`, `failed`, or `not judged` for a run-up's window)"
+    );
+    let _ = writeln!(
+        s,
+        "- `verdict.csv`: `rpm,static_safety_factor,mean_static_safety_factor,rating_margin,design_power_w,transmitted_power_w,damage_per_hour,fatigue_life_h,fatigue_safety_factor`, one row per completed speed (empty where a check has no data; an infinite life `infinite`)"
     );
     let _ = writeln!(
         s,

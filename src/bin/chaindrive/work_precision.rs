@@ -13,17 +13,11 @@ use chaindrive::studies::work_precision::{Settings, WorkPrecision, study};
 /// Arguments of `chaindrive bench work-precision`.
 #[derive(clap::Args)]
 pub struct WorkPrecisionArgs {
-    /// Scene file (TOML). Default: the paper's drive.
-    scene: Option<PathBuf>,
+    #[command(flatten)]
+    start: crate::WarmStartArgs,
     /// Horizon after the warm-up, s.
     #[arg(long, default_value_t = 0.02)]
     horizon: f64,
-    /// Warm-up with the scene's own settings before the horizon, s.
-    #[arg(long, default_value_t = 1.2)]
-    warmup: f64,
-    /// Tooth profile of every sprocket.
-    #[arg(long, value_enum)]
-    profile: Option<chaindrive::scene::ProfileKind>,
     /// Output directory: work_precision.csv, work_precision.md, work_precision.png/.svg.
     #[arg(long, default_value = "work-precision")]
     out: PathBuf,
@@ -33,24 +27,19 @@ pub struct WorkPrecisionArgs {
 }
 
 pub fn work_precision(args: WorkPrecisionArgs) -> anyhow::Result<ExitCode> {
-    let overrides = chaindrive::scene::Overrides {
-        profile: args.profile,
-        ..Default::default()
-    };
-    let Some(scene) = crate::load_scene_or_report(args.scene.as_deref(), &overrides)? else {
+    let Some(scene) = args.start.scene()? else {
         return Ok(ExitCode::FAILURE);
     };
     crate::ensure_positive("--horizon", args.horizon)?;
-    crate::ensure_non_negative("--warmup", args.warmup)?;
     let mut settings = Settings::default_for(args.horizon);
-    settings.warmup_s = args.warmup;
+    settings.warmup_s = args.start.warmup_s;
     anyhow::ensure!(
         args.horizon >= settings.grid_s,
         "--horizon must be at least the sample grid step {} s",
         settings.grid_s
     );
     if args.quick {
-        for (_, ladder) in &mut settings.methods {
+        for (_, ladder) in &mut settings.ladder.methods {
             ladder.truncate(3);
             ladder.drain(..ladder.len().saturating_sub(2));
         }

@@ -20,11 +20,13 @@
 
 mod pass;
 mod reach;
+mod seats;
 
 pub use reach::Culling;
 
 use pass::{ContactPass, Frame};
 use reach::{Reach, shared_stretches};
+use seats::SeatScratch;
 
 use super::rows::DampingRows;
 use super::{ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader};
@@ -55,6 +57,18 @@ pub(super) const FREE: Memory = Memory {
 /// stretch guard trips.
 const RELAXATION_CHI: f64 = 0.75;
 
+/// Whether the CPU has AVX2 (the check is cached by the standard library).
+fn cpu_has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
 /// The roller–tooth contact element.
 #[derive(Clone, Debug)]
 pub struct ToothContact {
@@ -79,6 +93,11 @@ pub struct ToothContact {
     contact_sum: Vec<[f64; 2]>,
     /// Scratch: patches found for each roller of a shared stretch.
     patches_used: Vec<u8>,
+    /// Scratch of the circular seats' pass.
+    seat_scratch: SeatScratch,
+    /// Use the AVX2 build of the pass where the CPU has it (off: the
+    /// baseline build, for the test that compares the two).
+    pub(crate) avx2: bool,
 }
 
 impl ToothContact {
@@ -102,6 +121,8 @@ impl ToothContact {
             frames: vec![Frame::default(); sprockets],
             contact_sum: vec![[0.0; 2]; rollers],
             patches_used: vec![0; rollers],
+            seat_scratch: SeatScratch::new(rollers),
+            avx2: true,
         }
     }
 
@@ -200,7 +221,40 @@ impl ToothContact {
         sp.profile.contacts(local, &mut hint, patches)
     }
 
+    /// The contact pass for the CPU: built for AVX2 where the CPU has it
+    /// (three-operand instructions, fewer register copies), for the
+    /// baseline target otherwise. The same operations in the same order and
+    /// no FMA, so the same bits (test `avx2_and_baseline_contacts_agree_to_the_bit`).
+    fn contacts_on_cpu<const ROWS: bool, const MOVING: bool>(
+        &mut self,
+        model: &DriveModel,
+        s: &DriveState,
+        out: &mut Forces,
+        centre_speed: f64,
+    ) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 && cpu_has_avx2() {
+            // SAFETY: the CPU has AVX2, checked on the line above.
+            return unsafe { self.contacts_avx2::<ROWS, MOVING>(model, s, out, centre_speed) };
+        }
+        self.contacts::<ROWS, MOVING>(model, s, out, centre_speed);
+    }
+
+    /// [`Self::contacts`] compiled with AVX2 (no FMA).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn contacts_avx2<const ROWS: bool, const MOVING: bool>(
+        &mut self,
+        model: &DriveModel,
+        s: &DriveState,
+        out: &mut Forces,
+        centre_speed: f64,
+    ) {
+        self.contacts::<ROWS, MOVING>(model, s, out, centre_speed);
+    }
+
     /// The contact pass, compiled per (damping rows, moving centres).
+    #[inline(always)]
     fn contacts<const ROWS: bool, const MOVING: bool>(
         &mut self,
         model: &DriveModel,
@@ -250,6 +304,8 @@ impl ToothContact {
             } else {
                 None
             },
+            seat_scratch: &mut self.seat_scratch,
+            avx2: self.avx2 && cpu_has_avx2(),
             energy_j: 0.0,
             damping_power_w: 0.0,
             max_penetration_m: 0.0,
@@ -267,11 +323,15 @@ impl ToothContact {
             let sp = &model.sprockets[run.sprocket];
             let frame = self.frames[run.sprocket];
             let (force, torque) = match (&sp.profile, run.shared) {
+                // The branch-free seats' pass where it applies.
+                (ToothProfile::Circular(c), false) if !ROWS && !c.tips => {
+                    pass.run_seats::<MOVING>(&c.seats(), &frame, run)
+                }
                 (ToothProfile::Circular(c), false) => {
-                    pass.run::<ROWS, false, MOVING, _>(c, &frame, run)
+                    pass.run::<ROWS, false, MOVING, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Circular(c), true) => {
-                    pass.run::<ROWS, true, MOVING, _>(c, &frame, run)
+                    pass.run::<ROWS, true, MOVING, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Real(r), false) => {
                     pass.run::<ROWS, false, MOVING, _>(&**r, &frame, run)
@@ -317,10 +377,10 @@ impl ForceElement for ToothContact {
         let centres = model.moving_centres_speed_m_s();
         let centre_speed = centres.unwrap_or(0.0);
         match (self.damping_rows.is_some(), centres.is_some()) {
-            (true, true) => self.contacts::<true, true>(model, state, out, centre_speed),
-            (true, false) => self.contacts::<true, false>(model, state, out, centre_speed),
-            (false, true) => self.contacts::<false, true>(model, state, out, centre_speed),
-            (false, false) => self.contacts::<false, false>(model, state, out, centre_speed),
+            (true, true) => self.contacts_on_cpu::<true, true>(model, state, out, centre_speed),
+            (true, false) => self.contacts_on_cpu::<true, false>(model, state, out, centre_speed),
+            (false, true) => self.contacts_on_cpu::<false, true>(model, state, out, centre_speed),
+            (false, false) => self.contacts_on_cpu::<false, false>(model, state, out, centre_speed),
         }
     }
 

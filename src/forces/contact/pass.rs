@@ -4,6 +4,7 @@
 
 use super::super::rows::DampingRows;
 use super::reach::Run;
+use super::seats::SeatScratch;
 use super::{EMPTY, FREE, Memory};
 use crate::forces::ContactLawParams;
 use crate::geometry::{MAX_PATCHES, Outline, Patch};
@@ -12,13 +13,13 @@ use crate::model::{DriveState, SprocketModel};
 /// One sprocket's pose and speed, fixed for its contact pass.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Frame {
-    index: usize,
-    center: [f64; 2],
+    pub(super) index: usize,
+    pub(super) center: [f64; 2],
     /// Velocity of the centre (a moving mount), m/s.
-    velocity: [f64; 2],
-    sin: f64,
-    cos: f64,
-    omega: f64,
+    pub(super) velocity: [f64; 2],
+    pub(super) sin: f64,
+    pub(super) cos: f64,
+    pub(super) omega: f64,
 }
 
 impl Frame {
@@ -55,6 +56,10 @@ pub(super) struct ContactPass<'a> {
     /// Patches found for each roller of a shared run (its entries in `pending_memory`).
     pub(super) used: &'a mut [u8],
     pub(super) rows: Option<&'a mut DampingRows>,
+    /// Scratch of the circular seats' pass ([`super::seats`]).
+    pub(super) seat_scratch: &'a mut SeatScratch,
+    /// Whether the CPU has AVX2 and the pass may use it.
+    pub(super) avx2: bool,
     pub(super) energy_j: f64,
     /// Power of the contact forces' damping parts, −Σ (f − K δⁿ) δ̇, W (≤ 0
     /// but for the ≥ 0 clamp, which only lowers it).
@@ -66,6 +71,11 @@ impl ContactPass<'_> {
     /// Contacts of one run's rollers; returns the chain's resultant force and
     /// moment on its sprocket. A shared run adds to the rollers' sums (the
     /// caller finishes them); any other writes each roller's outputs.
+    ///
+    /// The patches are taken by constant index (the first, then a rare
+    /// second), so that a profile which writes its one patch by constant
+    /// index (the circular seat) keeps it in registers; the sums run in the
+    /// same order as a loop over the patches would.
     #[inline(always)]
     pub(super) fn run<const ROWS: bool, const SHARED: bool, const MOVING: bool, P: Outline>(
         &mut self,
@@ -76,7 +86,6 @@ impl ContactPass<'_> {
         let law = self.law;
         let energy_factor = 1.0 / (law.exponent + 1.0);
         let (sin, cos, omega) = (frame.sin, frame.cos, frame.omega);
-        let sprocket_key = (frame.index as u64) << 32;
         let (a, b) = (run.start, run.end);
         let s = self.state;
         let (xs, ys, vxs, vys) = (&s.x[a..b], &s.y[a..b], &s.vx[a..b], &s.vy[a..b]);
@@ -88,15 +97,28 @@ impl ContactPass<'_> {
         let touching = &mut self.touching[a..b];
         let contact_force = &mut self.contact_force[a..b];
         let (sums, used_by) = (&mut self.sum[a..b], &mut self.used[a..b]);
-        let mut patches = [Patch::default(); MAX_PATCHES];
-        let (mut force, mut torque) = ([0.0f64; 2], 0.0f64);
-        let (mut energy, mut max_pen) = (0.0, self.max_penetration_m);
-        let mut damping_power = 0.0;
+        let mut sprocket = Sums {
+            force: [0.0; 2],
+            torque: 0.0,
+            energy: 0.0,
+            damping_power: 0.0,
+            max_pen: self.max_penetration_m,
+        };
+        let ctx = PatchContext {
+            law,
+            energy_factor,
+            sin,
+            cos,
+            omega,
+            velocity: frame.velocity,
+            index: frame.index,
+        };
         for k in 0..b - a {
             let rx = xs[k] - frame.center[0];
             let ry = ys[k] - frame.center[1];
             // World → sprocket frame: rotate by −θ.
             let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+            let mut patches = [Patch::default(); MAX_PATCHES];
             let count = profile.contacts(local, &mut gap_hint[k], &mut patches);
             if count == 0 {
                 if !SHARED {
@@ -106,86 +128,63 @@ impl ContactPass<'_> {
             }
             // Velocity of the roller relative to the sprocket point under it
             // (16)–(18), v − v_c − ω × r (v_c: a moving mount's centre).
-            let (vrx, vry) = if MOVING {
-                (
+            let v_rel = if MOVING {
+                [
                     vxs[k] - frame.velocity[0] + omega * ry,
                     vys[k] - frame.velocity[1] - omega * rx,
-                )
+                ]
             } else {
-                (vxs[k] + omega * ry, vys[k] - omega * rx)
+                [vxs[k] + omega * ry, vys[k] - omega * rx]
             };
             // A roller that was within no reach circle at the committed
             // evaluation left its memory behind there.
             let onsets = if remembered[k] != 0 {
-                memory[k]
+                &memory[k]
             } else {
-                [FREE; MAX_PATCHES]
+                &[FREE; MAX_PATCHES]
             };
-            let (mut next, mut used, mut total) = if SHARED {
-                (pending_memory[k], usize::from(used_by[k]), sums[k])
+            let mut roller = if SHARED {
+                Roller {
+                    next: pending_memory[k],
+                    used: usize::from(used_by[k]),
+                    total: sums[k],
+                    row: Row::default(),
+                    last_force: 0.0,
+                }
             } else {
-                ([FREE; MAX_PATCHES], 0, [0.0; 2])
+                Roller {
+                    next: [FREE; MAX_PATCHES],
+                    used: 0,
+                    total: [0.0; 2],
+                    row: Row::default(),
+                    last_force: 0.0,
+                }
             };
-            // Implicit damping row: (C, C v_sp, elastic, explicit damping).
-            let mut row = ([0.0f64; 3], [0.0f64; 2], [0.0f64; 2], [0.0f64; 2]);
-            let mut last_force = 0.0;
-            for p in &patches[..count] {
-                // Normal back to the world frame.
-                let nx = cos * p.normal[0] - sin * p.normal[1];
-                let ny = sin * p.normal[0] + cos * p.normal[1];
-                let depth_rate = -(vrx * nx + vry * ny);
-                let key = sprocket_key | u64::from(p.patch_id);
-                // The same patch, or (real profile) the one it slid over from.
-                let damping = match onsets.iter().find(|mem| mem.key == key) {
-                    Some(mem) => mem.damping_per_speed,
-                    None => slid_from(profile, &onsets, frame.index, p.patch_id)
-                        .unwrap_or_else(|| law.damping_per_speed(depth_rate)),
-                };
-                if used < MAX_PATCHES {
-                    next[used] = Memory {
-                        key,
-                        damping_per_speed: damping,
-                    };
-                    used += 1;
-                }
-                let elastic = law.elastic(p.depth_m);
-                let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
-                energy += elastic * p.depth_m * energy_factor;
-                damping_power -= (f - elastic) * depth_rate;
-                if ROWS {
-                    let c = elastic * damping;
-                    // Surface velocity of the sprocket under the roller: v_c + ω × r.
-                    let v_sp_n = if MOVING {
-                        (frame.velocity[0] - omega * ry) * nx
-                            + (frame.velocity[1] + omega * rx) * ny
-                    } else {
-                        -omega * ry * nx + omega * rx * ny
-                    };
-                    row.0[0] += c * nx * nx;
-                    row.0[1] += c * nx * ny;
-                    row.0[2] += c * ny * ny;
-                    row.1[0] += c * v_sp_n * nx;
-                    row.1[1] += c * v_sp_n * ny;
-                    row.2[0] += elastic * nx;
-                    row.2[1] += elastic * ny;
-                    row.3[0] += (f - elastic) * nx;
-                    row.3[1] += (f - elastic) * ny;
-                }
-                last_force = f;
-                let (fx, fy) = (f * nx, f * ny);
-                total[0] += fx;
-                total[1] += fy;
-                // Reaction −f on the sprocket, moment (r_r − r_s) × (−f) (19).
-                force[0] -= fx;
-                force[1] -= fy;
-                torque -= rx * fy - ry * fx;
-                if !(p.depth_m <= max_pen) {
-                    max_pen = p.depth_m;
-                }
+            let lever = [rx, ry];
+            ctx.patch::<ROWS, MOVING, P>(
+                profile,
+                &patches[0],
+                lever,
+                v_rel,
+                onsets,
+                &mut roller,
+                &mut sprocket,
+            );
+            if count > 1 {
+                ctx.patch::<ROWS, MOVING, P>(
+                    profile,
+                    &patches[1],
+                    lever,
+                    v_rel,
+                    onsets,
+                    &mut roller,
+                    &mut sprocket,
+                );
             }
-            pending_memory[k] = next;
+            pending_memory[k] = roller.next;
+            let total = roller.total;
             if SHARED {
-                used_by[k] = used as u8;
+                used_by[k] = roller.used as u8;
                 sums[k] = total;
             } else {
                 fx_out[k] += total[0];
@@ -193,7 +192,7 @@ impl ContactPass<'_> {
                 touching[k] = true;
                 // One patch (the rule): its force is the magnitude, no square root.
                 contact_force[k] = if count == 1 {
-                    last_force
+                    roller.last_force
                 } else {
                     (total[0] * total[0] + total[1] * total[1]).sqrt()
                 };
@@ -205,18 +204,169 @@ impl ContactPass<'_> {
                 && let Some(rows) = &mut self.rows
                 && rows.sprocket[i] == u32::MAX
             {
+                let row = roller.row;
                 rows.sprocket[i] = frame.index as u32;
-                rows.c[i] = row.0;
-                rows.c_v_sprocket[i] = row.1;
-                rows.elastic[i] = row.2;
-                rows.explicit[i] = row.3;
-                rows.lever[i] = [rx, ry];
+                rows.c[i] = row.c;
+                rows.c_v_sprocket[i] = row.c_v_sprocket;
+                rows.elastic[i] = row.elastic;
+                rows.explicit[i] = row.explicit;
+                rows.lever[i] = lever;
             }
         }
-        self.energy_j += energy;
-        self.damping_power_w += damping_power;
-        self.max_penetration_m = max_pen;
-        (force, torque)
+        self.energy_j += sprocket.energy;
+        self.damping_power_w += sprocket.damping_power;
+        self.max_penetration_m = sprocket.max_pen;
+        (sprocket.force, sprocket.torque)
+    }
+}
+
+/// One contact patch in the world frame.
+pub(super) struct WorldPatch {
+    pub(super) depth_m: f64,
+    pub(super) patch_id: u32,
+    /// Unit normal, the direction of the force on the roller.
+    pub(super) normal: [f64; 2],
+    /// δ̇, m/s (positive while approaching).
+    pub(super) depth_rate: f64,
+}
+
+/// What a run's loop sums over its contacts.
+pub(super) struct Sums {
+    /// Reaction on the sprocket, N.
+    pub(super) force: [f64; 2],
+    /// Its moment about the sprocket's centre, N·m.
+    pub(super) torque: f64,
+    pub(super) energy: f64,
+    pub(super) damping_power: f64,
+    pub(super) max_pen: f64,
+}
+
+/// Implicit damping row of one roller: C, C v_sp, elastic, explicit damping.
+#[derive(Clone, Copy, Default)]
+pub(super) struct Row {
+    c: [f64; 3],
+    c_v_sprocket: [f64; 2],
+    elastic: [f64; 2],
+    explicit: [f64; 2],
+}
+
+/// One roller's state while its patches are added.
+pub(super) struct Roller {
+    /// Its advanced contact memory.
+    pub(super) next: [Memory; MAX_PATCHES],
+    /// Entries of `next` in use.
+    pub(super) used: usize,
+    /// Contact force on the roller, N.
+    pub(super) total: [f64; 2],
+    pub(super) row: Row,
+    /// Force of the last patch, N.
+    pub(super) last_force: f64,
+}
+
+/// What every patch of a run reads: the law and the sprocket's frame.
+pub(super) struct PatchContext {
+    pub(super) law: ContactLawParams,
+    pub(super) energy_factor: f64,
+    pub(super) sin: f64,
+    pub(super) cos: f64,
+    pub(super) omega: f64,
+    pub(super) velocity: [f64; 2],
+    pub(super) index: usize,
+}
+
+impl PatchContext {
+    /// Adds one patch of a roller at `lever` from the sprocket's centre,
+    /// moving at `v_rel` relative to the sprocket's surface under it.
+    #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
+    pub(super) fn patch<const ROWS: bool, const MOVING: bool, P: Outline>(
+        &self,
+        profile: &P,
+        p: &Patch,
+        lever: [f64; 2],
+        v_rel: [f64; 2],
+        onsets: &[Memory; MAX_PATCHES],
+        roller: &mut Roller,
+        sums: &mut Sums,
+    ) {
+        let (sin, cos) = (self.sin, self.cos);
+        // Normal back to the world frame.
+        let nx = cos * p.normal[0] - sin * p.normal[1];
+        let ny = sin * p.normal[0] + cos * p.normal[1];
+        let depth_rate = -(v_rel[0] * nx + v_rel[1] * ny);
+        let contact = WorldPatch {
+            depth_m: p.depth_m,
+            patch_id: p.patch_id,
+            normal: [nx, ny],
+            depth_rate,
+        };
+        self.world_patch::<ROWS, MOVING, P>(profile, &contact, lever, onsets, roller, sums);
+    }
+
+    /// [`Self::patch`] once the normal is in the world frame and the
+    /// approach speed known.
+    #[inline(always)]
+    pub(super) fn world_patch<const ROWS: bool, const MOVING: bool, P: Outline>(
+        &self,
+        profile: &P,
+        p: &WorldPatch,
+        lever: [f64; 2],
+        onsets: &[Memory; MAX_PATCHES],
+        roller: &mut Roller,
+        sums: &mut Sums,
+    ) {
+        let (omega, law) = (self.omega, self.law);
+        let [rx, ry] = lever;
+        let [nx, ny] = p.normal;
+        let depth_rate = p.depth_rate;
+        let key = ((self.index as u64) << 32) | u64::from(p.patch_id);
+        // The same patch, or (real profile) the one it slid over from.
+        let damping = match onsets.iter().find(|mem| mem.key == key) {
+            Some(mem) => mem.damping_per_speed,
+            None => slid_from(profile, onsets, self.index, p.patch_id)
+                .unwrap_or_else(|| law.damping_per_speed(depth_rate)),
+        };
+        if roller.used < MAX_PATCHES {
+            roller.next[roller.used] = Memory {
+                key,
+                damping_per_speed: damping,
+            };
+            roller.used += 1;
+        }
+        let elastic = law.elastic(p.depth_m);
+        let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
+        sums.energy += elastic * p.depth_m * self.energy_factor;
+        sums.damping_power -= (f - elastic) * depth_rate;
+        if ROWS {
+            let c = elastic * damping;
+            // Surface velocity of the sprocket under the roller: v_c + ω × r.
+            let v_sp_n = if MOVING {
+                (self.velocity[0] - omega * ry) * nx + (self.velocity[1] + omega * rx) * ny
+            } else {
+                -omega * ry * nx + omega * rx * ny
+            };
+            let row = &mut roller.row;
+            row.c[0] += c * nx * nx;
+            row.c[1] += c * nx * ny;
+            row.c[2] += c * ny * ny;
+            row.c_v_sprocket[0] += c * v_sp_n * nx;
+            row.c_v_sprocket[1] += c * v_sp_n * ny;
+            row.elastic[0] += elastic * nx;
+            row.elastic[1] += elastic * ny;
+            row.explicit[0] += (f - elastic) * nx;
+            row.explicit[1] += (f - elastic) * ny;
+        }
+        roller.last_force = f;
+        let (fx, fy) = (f * nx, f * ny);
+        roller.total[0] += fx;
+        roller.total[1] += fy;
+        // Reaction −f on the sprocket, moment (r_r − r_s) × (−f) (19).
+        sums.force[0] -= fx;
+        sums.force[1] -= fy;
+        sums.torque -= rx * fy - ry * fx;
+        if !(p.depth_m <= sums.max_pen) {
+            sums.max_pen = p.depth_m;
+        }
     }
 }
 

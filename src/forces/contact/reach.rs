@@ -73,6 +73,11 @@ pub(super) struct Reach {
     pending_until_s: Vec<f64>,
     /// See `remeasured`.
     pending_mask: Vec<u64>,
+    /// The earliest of `until_s`: before it no kept set expires, and the
+    /// pass skips the rollers' loop.
+    earliest_s: f64,
+    /// The earliest time in effect after the last pass (adopted on commit).
+    pending_earliest_s: f64,
     /// The last evaluation's stretches of rollers within reach.
     pub(super) runs: Buffer<Run>,
     /// The runs of the committed sets (`mask`).
@@ -87,6 +92,8 @@ impl Reach {
             remeasured: Buffer::with_capacity(rollers),
             pending_until_s: vec![f64::NEG_INFINITY; rollers],
             pending_mask: vec![0; rollers],
+            earliest_s: f64::NEG_INFINITY,
+            pending_earliest_s: f64::NEG_INFINITY,
             // Room for a run per roller and sprocket pair in reach twice over:
             // the step loop does not allocate.
             runs: Buffer::with_capacity(2 * rollers + sprockets),
@@ -97,6 +104,7 @@ impl Reach {
     /// Forgets every kept set and the committed runs.
     pub(super) fn reset(&mut self) {
         self.until_s.fill(f64::NEG_INFINITY);
+        self.earliest_s = f64::NEG_INFINITY;
         self.mask.fill(0);
         self.remeasured.clear();
         self.committed_runs.clear();
@@ -115,6 +123,10 @@ impl Reach {
     pub(super) fn restore(&mut self, mask: &[u64], until_s: &[f64]) {
         self.mask.copy_from_slice(mask);
         self.until_s.copy_from_slice(until_s);
+        self.earliest_s = self
+            .until_s
+            .iter()
+            .fold(f64::INFINITY, |m, &t| earlier(m, t));
         self.remeasured.clear();
         self.runs.clear();
         let n = self.mask.len();
@@ -132,6 +144,7 @@ impl Reach {
     /// Expires every kept set: the next pass measures every roller again.
     pub(super) fn expire(&mut self) {
         self.until_s.fill(f64::NEG_INFINITY);
+        self.earliest_s = f64::NEG_INFINITY;
     }
 
     /// Adopts the last pass's measurements.
@@ -141,6 +154,7 @@ impl Reach {
             self.until_s[i] = self.pending_until_s[i];
             self.mask[i] = self.pending_mask[i];
         }
+        self.earliest_s = self.pending_earliest_s;
         self.remeasured.clear();
         self.committed_runs.clone_from(&self.runs);
     }
@@ -150,17 +164,29 @@ impl Reach {
     /// measures every roller.
     pub(super) fn measure(&mut self, model: &DriveModel, s: &DriveState, cull: Option<(f64, f64)>) {
         self.remeasured.clear();
+        // No kept set has expired (two evaluations in three): the runs are
+        // the committed ones.
+        if s.t_s < self.earliest_s {
+            self.pending_earliest_s = self.earliest_s;
+            self.runs.clone_from(&self.committed_runs);
+            return;
+        }
         // Slices of one length: the compiler drops the bounds checks on `[i]`.
         let n = s.x.len();
         let (xs, ys) = (&s.x[..n], &s.y[..n]);
         let (until, kept) = (&self.until_s[..n], &self.mask[..n]);
         let pending_until = &mut self.pending_until_s[..n];
         let pending_mask = &mut self.pending_mask[..n];
-        // Measure the rollers whose kept set has expired (a few per step).
+        // Measure the rollers whose kept set has expired (a few per step),
+        // four at a time: a chunk whose four sets are all kept (the common
+        // case) costs four comparisons, in packed form.
+        let t = s.t_s;
         let mut changed = false;
-        for i in 0..n {
-            if s.t_s < until[i] {
-                continue;
+        let mut earliest = f64::INFINITY;
+        let mut measure = |i: usize, earliest: &mut f64| {
+            if t < until[i] {
+                *earliest = earlier(*earliest, until[i]);
+                return;
             }
             let mut mask = 0u64;
             let mut clearance = f64::INFINITY;
@@ -178,12 +204,31 @@ impl Reach {
             }
             pending_mask[i] = mask;
             pending_until[i] = match cull {
-                Some((speed_bound, max_skip)) => s.t_s + (clearance / speed_bound).min(max_skip),
+                Some((speed_bound, max_skip)) => t + (clearance / speed_bound).min(max_skip),
                 None => f64::NEG_INFINITY,
             };
+            *earliest = earlier(*earliest, pending_until[i]);
             self.remeasured.push(i as u32);
             changed |= mask != kept[i];
+        };
+        let chunks = until.chunks_exact(4);
+        let tail = n - chunks.remainder().len();
+        for (c, u) in chunks.enumerate() {
+            let kept_all = (t < u[0]) & (t < u[1]) & (t < u[2]) & (t < u[3]);
+            if kept_all {
+                // All four are after t, none NaN: plain comparisons.
+                let first = |a: f64, b: f64| if b < a { b } else { a };
+                earliest = first(earliest, first(first(u[0], u[1]), first(u[2], u[3])));
+            } else {
+                for i in 4 * c..4 * c + 4 {
+                    measure(i, &mut earliest);
+                }
+            }
         }
+        for i in tail..n {
+            measure(i, &mut earliest);
+        }
+        self.pending_earliest_s = earliest;
         // Runs are a function of the sets alone: with no set changed they
         // are the committed ones.
         if !changed {
@@ -204,6 +249,20 @@ impl Reach {
             }
         }
         stretch.close(n, &mut self.runs);
+    }
+}
+
+/// The earlier of a running earliest time and `t`; a NaN `t` (a roller
+/// measured at a non-finite position) makes it −∞, so that every roller is
+/// measured again at the next pass, as that roller would be.
+#[inline(always)]
+fn earlier(earliest: f64, t: f64) -> f64 {
+    if t >= earliest {
+        earliest
+    } else if t.is_nan() {
+        f64::NEG_INFINITY
+    } else {
+        t
     }
 }
 

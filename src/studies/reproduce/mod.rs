@@ -20,10 +20,12 @@
 //! by `figures` (feature `figures`). Nothing here is tuned toward the paper's
 //! values: every number is measured from the runs.
 
+use std::panic::AssertUnwindSafe;
 use std::time::Instant;
 
 use serde::Serialize;
 
+use super::queue::WorkQueue;
 use crate::analysis::binder::centrifugal_tension_n;
 use crate::analysis::spectrum::main_peak;
 use crate::analysis::study::{
@@ -86,8 +88,8 @@ pub enum StudyError {
         /// Why.
         source: SimError,
     },
-    /// A run's thread panicked.
-    #[error("{0} run: its thread panicked")]
+    /// A run panicked.
+    #[error("{0} run: it panicked")]
     Panicked(String),
     /// A requested series could not be cut.
     #[error(transparent)]
@@ -135,6 +137,7 @@ pub fn run_scene(
             residual_speed_m_s: residual,
             force_residual: force_residual(&sim.forces, scene.chain.pretension_n),
             beyond_seating_arc: None,
+            misfit: None,
         };
         sim.sync_world();
     }
@@ -218,31 +221,21 @@ pub fn run_paper_study(settings: &StudySettings) -> Result<Study, StudyError> {
         (RUN_LABELS[4], &real_friction, None),
     ];
     let rate = settings.rate_hz;
-    let results: Vec<Result<RunData, StudyError>> = if settings.parallel {
-        std::thread::scope(|scope| {
-            let handles: Vec<_> = jobs
-                .iter()
-                .map(|&(label, scene, rest)| {
-                    (
-                        label,
-                        scope.spawn(move || run_scene(label, scene, rate, rest)),
-                    )
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|(label, h)| {
-                    h.join()
-                        .unwrap_or_else(|_| Err(StudyError::Panicked(label.to_owned())))
-                })
-                .collect()
-        })
-    } else {
-        jobs.iter()
-            .map(|&(label, scene, rest)| run_scene(label, scene, rate, rest))
-            .collect()
-    };
-    let runs = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    // In parallel, all five at once; a run that panics is that run's error.
+    let results = WorkQueue::new(&jobs)
+        .threads(if settings.parallel { jobs.len() } else { 1 })
+        .run(
+            |_, &(label, scene, rest)| {
+                let run = AssertUnwindSafe(|| run_scene(label, scene, rate, rest));
+                Some(
+                    std::panic::catch_unwind(run)
+                        .unwrap_or_else(|_| Err(StudyError::Panicked(label.to_owned()))),
+                )
+            },
+            |_, _| {},
+        );
+    let results = results.into_iter().flatten();
+    let runs = results.collect::<Result<Vec<_>, _>>()?;
     Ok(Study {
         settings: *settings,
         runs,

@@ -119,15 +119,14 @@ enum Drive {
     Slow,
 }
 
-/// A generated drive.
+/// A generated cell: name prefix, rollers, sprockets, profile, how it is
+/// driven, whether it is in the roller-count series.
+type GeneratedRow = (&'static str, usize, usize, ProfileKind, Drive, bool);
+
+/// A generated drive, run by every scheme when driven at the standard
+/// speed, by the cheaper ones when slow (the large drives).
 fn generated_cell(
-    prefix: &str,
-    rollers: usize,
-    sprockets: usize,
-    profile: ProfileKind,
-    drive: Drive,
-    integrators: Vec<Integrator>,
-    cost_series: bool,
+    (prefix, rollers, sprockets, profile, drive, cost_series): GeneratedRow,
 ) -> Result<Case, StressError> {
     let name = match profile {
         ProfileKind::Circular => format!("{prefix}-{rollers}x{sprockets}"),
@@ -146,10 +145,16 @@ fn generated_cell(
         spec.equilibrium.max_relax_s = 0.5;
     }
     let mut file = spec.scene_file().map_err(generate)?;
-    match drive {
-        Drive::Standard => set_speed(&mut file, 120.0, ramp_for(120.0), HOLD_S),
-        Drive::Slow => set_speed(&mut file, 12.0, 0.05, 0.05),
-    }
+    let integrators = match drive {
+        Drive::Standard => {
+            set_speed(&mut file, 120.0, ramp_for(120.0), HOLD_S);
+            all_integrators()
+        }
+        Drive::Slow => {
+            set_speed(&mut file, 12.0, 0.05, 0.05);
+            big_chain_integrators()
+        }
+    };
     cell(&name, file, integrators, cost_series)
 }
 
@@ -171,7 +176,6 @@ fn set_damping_ratio(file: &mut SceneFile, ratio: f64) {
 /// The full matrix (see the module docs).
 pub fn default_matrix() -> Result<Vec<Case>, StressError> {
     use ProfileKind::{Circular, Real};
-    let all = all_integrators;
     let mut cases = vec![
         paper_cell("baseline", 120.0, |_| {})?,
         paper_cell("baseline-real", 120.0, |f| set_profile(f, Real))?,
@@ -223,91 +227,26 @@ pub fn default_matrix() -> Result<Vec<Case>, StressError> {
             set_profile(f, profile);
         })?);
     }
-    let big = big_chain_integrators;
-    cases.push(generated_cell(
-        "gen",
-        122,
-        2,
-        Circular,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        1000,
-        2,
-        Circular,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        1000,
-        2,
-        Real,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    for k in [3, 6, 10] {
-        cases.push(generated_cell(
-            "gen",
-            500,
-            k,
-            Circular,
-            Drive::Standard,
-            all(),
-            false,
-        )?);
+    // Generated drives: name prefix, rollers, sprockets, profile, how it is
+    // driven, whether it is in the roller-count series (the same conveyor
+    // driven the same way).
+    #[rustfmt::skip]
+    let generated: [GeneratedRow; 11] = [
+        ("gen", 122, 2, Circular, Drive::Standard, false),
+        ("gen", 1000, 2, Circular, Drive::Standard, false),
+        ("gen", 1000, 2, Real, Drive::Standard, false),
+        ("gen", 500, 3, Circular, Drive::Standard, false),
+        ("gen", 500, 6, Circular, Drive::Standard, false),
+        ("gen", 500, 10, Circular, Drive::Standard, false),
+        ("gen", 500, 10, Real, Drive::Standard, false),
+        ("cost", 122, 2, Circular, Drive::Slow, true),
+        ("cost", 1000, 2, Circular, Drive::Slow, true),
+        ("gen", 10_000, 2, Circular, Drive::Slow, true),
+        ("gen", 10_000, 2, Real, Drive::Slow, false),
+    ];
+    for row in generated {
+        cases.push(generated_cell(row)?);
     }
-    cases.push(generated_cell(
-        "gen",
-        500,
-        10,
-        Real,
-        Drive::Standard,
-        all(),
-        false,
-    )?);
-    // The roller-count series: the same conveyor, driven the same way.
-    cases.push(generated_cell(
-        "cost",
-        122,
-        2,
-        Circular,
-        Drive::Slow,
-        big(),
-        true,
-    )?);
-    cases.push(generated_cell(
-        "cost",
-        1000,
-        2,
-        Circular,
-        Drive::Slow,
-        big(),
-        true,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        10_000,
-        2,
-        Circular,
-        Drive::Slow,
-        big(),
-        true,
-    )?);
-    cases.push(generated_cell(
-        "gen",
-        10_000,
-        2,
-        Real,
-        Drive::Slow,
-        big(),
-        false,
-    )?);
     Ok(cases)
 }
 

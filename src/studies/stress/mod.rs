@@ -70,8 +70,9 @@ pub use output::{
     blowup_csv_rows, csv_rows, first_failure, limits_csv_rows, roller_costs,
 };
 
+use super::ladder::{Rung, Setting};
 use crate::scene::generate::GenerateError;
-use crate::scene::{Integrator, Overrides, Scene, SceneError};
+use crate::scene::{Integrator, Scene, SceneError};
 use crate::sim::{Observer, Sample, SimError, Simulation, StepLimits};
 
 /// Why the matrix cannot be set up.
@@ -382,30 +383,17 @@ impl Observer for NanWatch {
     }
 }
 
-/// A fresh simulation of `base`'s settled drive with another scheme and step.
-fn fork(base: &Simulation, integrator: Integrator, dt_s: f64) -> Result<Simulation, SceneError> {
-    let scene = base.scene.with(&Overrides {
-        integrator: Some(integrator),
-        dt_s: Some(dt_s),
-        ..Overrides::default()
-    })?;
-    Ok(Simulation::assemble(
-        scene,
-        base.model.clone(),
-        base.state.clone(),
-        base.forces.clone(),
-        base.layout.clone(),
-        base.equilibrium.clone(),
-        base.limits,
-    ))
-}
-
 /// Runs `base`'s drive with `integrator` at `dt_s` to the scene's horizon.
 pub fn run_one(base: &Simulation, integrator: Integrator, dt_s: f64, max_wall_s: f64) -> RunRecord {
     /// Simulated time between wall-budget checks, s.
     const CHUNK_S: f64 = 0.01;
     let horizon = base.scene.solver.duration_s;
-    let mut sim = match fork(base, integrator, dt_s) {
+    let rung = Rung {
+        integrator,
+        setting: Setting::Step(dt_s),
+    };
+    // The adaptive scheme's `dt_s` is its cap: the step it is given.
+    let mut sim = match base.fork(&rung.overrides(dt_s)) {
         Ok(sim) => sim,
         // Only a step the scene refuses (not finite, not positive) lands here.
         Err(e) => {

@@ -17,8 +17,7 @@
 
 use std::panic::AssertUnwindSafe;
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use serde::{Deserialize, Serialize};
@@ -30,6 +29,7 @@ use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
 use crate::sim::{RunOutcome, SampleRate, Simulation};
+use crate::studies::queue::WorkQueue;
 
 /// Sampling rate of a case's signals, Hz (as `chaindrive run`'s default).
 pub const RATE_HZ: f64 = 1000.0;
@@ -272,7 +272,12 @@ impl StudyDir {
     }
 
     /// Runs every pending case on `jobs` threads; `on_done` is called after
-    /// each case. Stops taking cases when `stop` is set.
+    /// each case (on the calling thread). Stops taking cases when `stop` is
+    /// set, or after the first case that could not be written.
+    ///
+    /// # Errors
+    ///
+    /// The study's files cannot be read, or a case's cannot be written.
     pub fn run_all(
         &self,
         jobs: usize,
@@ -281,34 +286,20 @@ impl StudyDir {
         on_done: &(dyn Fn(&CaseOutcome) + Sync),
     ) -> Result<(), StudyError> {
         let pending = self.pending(retry_failed)?;
-        let next = AtomicUsize::new(0);
-        let first_error: Mutex<Option<StudyError>> = Mutex::new(None);
-        std::thread::scope(|scope| {
-            for _ in 0..jobs.max(1).min(pending.len().max(1)) {
-                scope.spawn(|| {
-                    loop {
-                        if stop.is_some_and(|s| s.load(Ordering::Relaxed)) {
-                            return;
-                        }
-                        let i = next.fetch_add(1, Ordering::Relaxed);
-                        let Some(&k) = pending.get(i) else { return };
-                        match self.run_case(k, retry_failed, stop) {
-                            Ok(outcome) => on_done(&outcome),
-                            Err(e) => {
-                                if let Ok(mut slot) = first_error.lock() {
-                                    slot.get_or_insert(e);
-                                }
-                                return;
-                            }
-                        }
+        WorkQueue::new(&pending)
+            .threads(jobs)
+            .stop(stop)
+            .try_run(
+                |_, &k| Some(self.run_case(k, retry_failed, stop)),
+                |_, outcome| match outcome {
+                    Ok(outcome) => {
+                        on_done(outcome);
+                        Ok(())
                     }
-                });
-            }
-        });
-        match first_error.into_inner() {
-            Ok(Some(e)) => Err(e),
-            _ => Ok(()),
-        }
+                    Err(e) => Err(e.clone()),
+                },
+            )
+            .map(|_| ())
     }
 }
 

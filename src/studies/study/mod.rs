@@ -35,7 +35,7 @@ pub use plan::{Case, PlanFile, Responses, Study};
 pub use table::{Column, ColumnData, RowStatus, Table, WARNING_SEPARATOR};
 
 /// Why a study could not be prepared, run or collected.
-#[derive(Debug, thiserror::Error)]
+#[derive(Clone, Debug, thiserror::Error)]
 pub enum StudyError {
     /// The plan is invalid: one `path: message` line per problem.
     #[error("invalid plan:\n{}", .0.join("\n"))]
@@ -69,6 +69,9 @@ pub enum StudyError {
         /// The summary's numeric fields.
         allowed: String,
     },
+    /// The results table could not be written as CSV.
+    #[error("writing CSV: {0}")]
+    Csv(String),
     /// Reading or writing a file failed.
     #[error("{path}: {message}")]
     Io {

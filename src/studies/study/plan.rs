@@ -43,6 +43,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::StudyError;
+use crate::rng::SeededRng;
 use crate::scene::{Assignment, Scene, ScenePath, Stepping, set_in_table};
 
 /// A plan file as written (nothing checked beyond its TOML shape).
@@ -519,7 +520,7 @@ fn is_summary_path(s: &str) -> bool {
 
 /// The plan's `set` table as (dotted path, value) pairs; nested tables are
 /// joined by dots (`[set.chain] pretension_n = 1` is `chain.pretension_n`).
-fn flatten_set(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value)>) {
+pub(crate) fn flatten_set(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value)>) {
     for (key, value) in table {
         let path = if prefix.is_empty() {
             key.clone()
@@ -577,30 +578,6 @@ fn full_factorial(levels: &[Vec<toml::Value>]) -> Vec<Vec<toml::Value>> {
     rows
 }
 
-/// SplitMix64 (Steele, Lea, Flood 2014): a small, fixed, seeded generator,
-/// so a plan's Latin hypercube is the same on every machine and version.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    /// Uniform in 0..n (n ≥ 1).
-    fn below(&mut self, n: usize) -> usize {
-        ((self.unit() * n as f64) as usize).min(n - 1)
-    }
-}
-
 /// `count` cases: for each factor a random permutation of the strata
 /// 0..count; case i takes stratum s = perm[i] and the point (s + u)/count
 /// of the unit interval, u uniform in [0, 1), mapped onto the range
@@ -614,7 +591,8 @@ fn latin_hypercube(
     if count == 0 || levels.iter().any(Vec::is_empty) {
         return Vec::new();
     }
-    let mut rng = SplitMix64(seed);
+    // A fixed generator, so a plan's cases are the same on every machine and version.
+    let mut rng = SeededRng::new(seed);
     let mut rows = vec![Vec::with_capacity(factors.len()); count];
     for (f, values) in factors.iter().zip(levels) {
         let mut perm: Vec<usize> = (0..count).collect();

@@ -15,8 +15,6 @@
 //!
 //! This module reads the cases' files; it runs nothing.
 
-use std::fmt::Write as _;
-
 use super::{CaseStatus, Responses, StudyDir, StudyError};
 
 /// A column's values; `None` is null.
@@ -265,38 +263,27 @@ impl Table {
 
     /// The table as CSV: a header of column names, empty cells for nulls,
     /// numbers in Rust's shortest round-trip form, booleans `true`/`false`.
-    pub fn to_csv(&self) -> String {
-        fn quote(s: &str) -> String {
-            if s.contains([',', '"', '\n', '\r']) {
-                format!("\"{}\"", s.replace('"', "\"\""))
-            } else {
-                s.to_owned()
-            }
-        }
-        let mut out = String::new();
-        let header: Vec<String> = self.columns.iter().map(|c| quote(&c.name)).collect();
-        out.push_str(&header.join(","));
-        out.push('\n');
+    ///
+    /// # Errors
+    ///
+    /// Only if the CSV writer fails, which writing to memory does not.
+    pub fn to_csv(&self) -> Result<String, StudyError> {
+        let failed = |e: &dyn std::fmt::Display| StudyError::Csv(e.to_string());
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.write_record(self.columns.iter().map(|c| c.name.as_str()))
+            .map_err(|e| failed(&e))?;
         for r in 0..self.rows() {
-            let cells: Vec<String> = self
-                .columns
-                .iter()
-                .map(|c| match &c.data {
-                    ColumnData::Int(v) => v[r].to_string(),
-                    ColumnData::Count(v) => v[r].map_or_else(String::new, |x| x.to_string()),
-                    ColumnData::Bool(v) => v[r].map_or_else(String::new, |x| x.to_string()),
-                    ColumnData::Float(v) => v[r].map_or_else(String::new, |x| {
-                        let mut s = String::new();
-                        let _ = write!(s, "{x:?}");
-                        s
-                    }),
-                    ColumnData::Text(v) => v[r].as_deref().map_or_else(String::new, quote),
-                })
-                .collect();
-            out.push_str(&cells.join(","));
-            out.push('\n');
+            let cells = self.columns.iter().map(|c| match &c.data {
+                ColumnData::Int(v) => v[r].to_string(),
+                ColumnData::Count(v) => v[r].map_or_else(String::new, |x| x.to_string()),
+                ColumnData::Bool(v) => v[r].map_or_else(String::new, |x| x.to_string()),
+                ColumnData::Float(v) => v[r].map_or_else(String::new, |x| format!("{x:?}")),
+                ColumnData::Text(v) => v[r].clone().unwrap_or_default(),
+            });
+            w.write_record(cells).map_err(|e| failed(&e))?;
         }
-        out
+        let bytes = w.into_inner().map_err(|e| failed(&e))?;
+        String::from_utf8(bytes).map_err(|e| failed(&e))
     }
 
     /// Writes the table as Parquet to `path` (through a file beside it and

@@ -17,7 +17,8 @@
 //! analysed as a case at its mean speed.
 //!
 //! This module runs and schedules the cases; [`report`]'s functions judge
-//! them (crossings, worst cases, scalars), [`runup`] holds the run-up and
+//! them (crossings, worst cases, scalars), [`verdict`] reads each speed's
+//! design checks (safety factor, rating margin, fatigue damage), [`runup`] holds the run-up and
 //! `campbell` gathers a Campbell diagram's data (feature `figures`).
 //!
 //! What this module does not do: write files, draw figures or print (the
@@ -28,6 +29,8 @@
 pub mod campbell;
 pub mod report;
 pub mod runup;
+pub mod speeds;
+pub mod verdict;
 
 pub use report::{
     CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
@@ -35,19 +38,18 @@ pub use report::{
     summary_scalars, worst_cases,
 };
 pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
+pub use speeds::{MAX_CASES, parse_rpm_range, parse_run_up};
+pub use verdict::{Verdict, Weakest, verdicts, weakest};
 
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
+use super::queue::WorkQueue;
 use crate::analysis::orders::{AngleWindow, OrderError, OrderSet, OrderSpectrum};
 use crate::analysis::theory::moving_string_frequency_hz;
 use crate::analysis::{RunSummary, SampleRow, Signals};
 use crate::scene::{Overrides, Role, Scene, SceneError};
 use crate::sim::{Observer, Sample, SampleRate, Simulation};
-
-/// Most cases a sweep may have.
-pub const MAX_CASES: usize = 100_000;
 
 /// Samples per period of the largest order asked for (the cubic
 /// resampling then loses about 10⁻³ of that order's amplitude).
@@ -59,7 +61,8 @@ pub const TRANSVERSE_MODES: u32 = 3;
 /// Why a sweep cannot start.
 #[derive(Debug, thiserror::Error)]
 pub enum SweepError {
-    /// A range of speeds that is not `FROM:TO:STEP` with 0 < FROM ≤ TO and STEP > 0.
+    /// Speeds the sweep cannot run: not `FROM:TO:STEP` with 0 < FROM ≤ TO
+    /// and STEP > 0 ([`parse_rpm_range`]), none, or a run-up that does not go up.
     #[error("{what} {text:?}: {why}")]
     BadRange {
         /// The option (`--rpm`, `--run-up`).
@@ -96,66 +99,6 @@ pub enum SweepError {
     /// No sample rate is possible with the scene's step.
     #[error("sampling: {0}")]
     Sampling(String),
-}
-
-/// Speeds `FROM:TO:STEP` in rpm (both ends included when STEP divides the
-/// span; a last point beyond TO is not added). `what` names the option in errors.
-pub fn parse_rpm_range(what: &'static str, text: &str) -> Result<Vec<f64>, SweepError> {
-    let bad = |why: &str| SweepError::BadRange {
-        what,
-        text: text.to_owned(),
-        why: format!(
-            "{why}; write FROM:TO:STEP in rpm with 0 < FROM ≤ TO and STEP > 0, e.g. 300:3000:100"
-        ),
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() != 3 {
-        return Err(bad("three numbers separated by ':' are needed"));
-    }
-    let nums: Vec<f64> = parts
-        .iter()
-        .map(|p| p.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad("not a number"))?;
-    let (from, to, step) = (nums[0], nums[1], nums[2]);
-    if !(from.is_finite() && to.is_finite() && step.is_finite()) {
-        return Err(bad("not finite"));
-    }
-    if !(from > 0.0) {
-        return Err(bad("FROM must be > 0"));
-    }
-    if !(to >= from) {
-        return Err(bad("TO must not be below FROM"));
-    }
-    if !(step > 0.0) {
-        return Err(bad("STEP must be > 0"));
-    }
-    let count = ((to - from) / step * (1.0 + 1e-12) + 1e-9).floor() + 1.0;
-    if count > MAX_CASES as f64 {
-        return Err(bad(&format!("more than {MAX_CASES} speeds")));
-    }
-    Ok((0..count as usize)
-        .map(|i| from + i as f64 * step)
-        .collect())
-}
-
-/// Two speeds `FROM:TO` in rpm with 0 < FROM < TO (a run-up).
-pub fn parse_run_up(text: &str) -> Result<(f64, f64), SweepError> {
-    let bad = |why: &str| SweepError::BadRange {
-        what: "--run-up",
-        text: text.to_owned(),
-        why: format!("{why}; write FROM:TO in rpm with 0 < FROM < TO, e.g. 300:3000"),
-    };
-    let parts: Vec<&str> = text.split(':').collect();
-    if parts.len() != 2 {
-        return Err(bad("two numbers separated by ':' are needed"));
-    }
-    let from: f64 = parts[0].trim().parse().map_err(|_| bad("not a number"))?;
-    let to: f64 = parts[1].trim().parse().map_err(|_| bad("not a number"))?;
-    if !(from.is_finite() && to.is_finite() && from > 0.0 && to > from) {
-        return Err(bad("out of range"));
-    }
-    Ok((from, to))
 }
 
 /// A sweep's settings.
@@ -681,6 +624,8 @@ fn run_case(
     let mut signals = Signals::new(&sim.model, case.sampling.rate_hz, window_start);
     // Memory bounded by the window, whatever the settling time and speed.
     signals.keep_window(settings.window_s);
+    // The fatigue check's count, where the chain has the data it needs.
+    signals.count_fatigue_of(&case.scene);
     let mut observer = CaseObserver {
         signals,
         driver: info.driver,
@@ -739,9 +684,15 @@ fn run_case(
     }
 }
 
-/// Runs the sweep: every case on `settings.jobs` threads, `on_case` called
-/// as each finishes (from its worker thread). Cases come back in speed order;
-/// cases that `stop` cut short or never started are left out.
+/// Runs the sweep: every case on `settings.jobs` threads, the fastest
+/// speeds first (they take the longest: more tooth impacts per second of
+/// the same run), `on_case` called on the calling thread as each finishes.
+/// Cases come back in speed order; cases that `stop` cut short or never
+/// started are left out.
+///
+/// # Errors
+///
+/// A setting is not allowed or a case's scene is not valid (before anything runs).
 pub fn run_sweep(
     scene: &Scene,
     settings: &SweepSettings,
@@ -749,36 +700,12 @@ pub fn run_sweep(
     on_case: &(dyn Fn(&CaseOutcome) + Sync),
 ) -> Result<Vec<CaseOutcome>, SweepError> {
     let cases = prepare(scene, settings)?;
-    // The fastest speeds first (they take the longest: more tooth impacts
-    // per second of the same run), so that no long case starts last and
-    // leaves the other threads idle.
-    let mut queue: Vec<usize> = (0..cases.len()).collect();
-    queue.sort_by(|&a, &b| cases[b].rpm.total_cmp(&cases[a].rpm));
-    let next = AtomicUsize::new(0);
-    let done: Mutex<Vec<(usize, CaseOutcome)>> = Mutex::new(Vec::new());
-    let jobs = settings.jobs.clamp(1, cases.len().max(1));
-    std::thread::scope(|s| {
-        for _ in 0..jobs {
-            s.spawn(|| {
-                loop {
-                    if stop.is_some_and(|f| f.load(Ordering::Relaxed)) {
-                        break;
-                    }
-                    let Some(&i) = queue.get(next.fetch_add(1, Ordering::Relaxed)) else {
-                        break;
-                    };
-                    let Some(case) = cases.get(i) else { break };
-                    if let Some(outcome) = run_case(case, settings, stop) {
-                        on_case(&outcome);
-                        if let Ok(mut d) = done.lock() {
-                            d.push((i, outcome));
-                        }
-                    }
-                }
-            });
-        }
-    });
-    let mut done = done.into_inner().unwrap_or_else(|e| e.into_inner());
-    done.sort_by_key(|(i, _)| *i);
-    Ok(done.into_iter().map(|(_, o)| o).collect())
+    Ok(WorkQueue::new(&cases)
+        .threads(settings.jobs)
+        .stop(stop)
+        .costliest_first(|case| case.rpm)
+        .run(|_, case| run_case(case, settings, stop), |_, c| on_case(c))
+        .into_iter()
+        .flatten()
+        .collect())
 }

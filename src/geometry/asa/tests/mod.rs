@@ -5,7 +5,7 @@ use super::pieces::{Piece, Shape};
 use super::query::SKIP_MARGIN_M;
 use super::v2::{add, dot, mirror, norm, polar, scale, sub, unit_or};
 use super::*;
-use crate::geometry::testing::Lcg;
+use crate::rng::SeededRng;
 
 mod contacts;
 
@@ -427,7 +427,7 @@ fn signed_distance_matches_brute_force_oracle() {
     // Chord sag of the coarsest arc (RE) bounds the polyline error.
     let tol = pr.dimensions().working_radius_m * step * step / 8.0 * 1.5 + 1e-12;
     let d = pr.dimensions();
-    let mut rng = Lcg(12345);
+    let mut rng = SeededRng::new(12345);
     for _ in 0..300 {
         let r = rng.range(d.root_radius_m - 0.03, d.tip_radius_m + 0.03);
         let a = rng.range(-PI, PI);

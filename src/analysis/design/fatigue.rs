@@ -1,0 +1,479 @@
+//! Link-plate fatigue from the computed link forces (docs/design-checks.md,
+//! "Fatigue"): an S–N curve per chain, the mean-stress correction, Miner's
+//! damage per hour and the life, and the summary's `fatigue` block.
+//!
+//! **The S–N curve** is written for the chain's own load cycle, the
+//! pulsating one (0 → F → 0, a link passing from the slack strand to the
+//! tight one and back): a cycle of peak F lasts N = N_D (F_D / F)^m cycles
+//! above the fatigue limit F_D and for ever below it (Miner's rule in its
+//! original form: cycles below the limit do no damage). Unless the scene
+//! gives its own (`[checks]` `fatigue_limit_n`, `sn_slope`), it is derived
+//! from the link-plate limited rating of the ANSI tables
+//! ([`super::rating::link_plate_limited_hp`]), which at the smallest
+//! sprocket's N₁ teeth and speed n₁ allows the chain tension
+//! F₁ = H₁ / v ∝ N₁^0.08 n₁^−0.1 for the tables' 15,000 h on a chain of
+//! 120 pitches, that is C = 15,000 · 60 · N₁ n₁ / 120 pulsating cycles per
+//! link: F₁ ∝ C^−0.1 at fixed N₁, an S–N slope m = 10; the fatigue limit is
+//! that line's force at the knee N_D = 5·10⁶ cycles, the count at which
+//! chain makers determine a chain's fatigue limit (its "maximum allowable
+//! load", after JIS B 1801).
+//!
+//! **Mean stress**, by Goodman's line through the tensile strength F_u: a
+//! cycle of amplitude F_a about the mean F_m is as damaging as the fully
+//! reversed amplitude F_a / (1 − F_m / F_u), and as the pulsating cycle of
+//! peak F₀ = 2 F_ar / (1 + F_ar / F_u) on the same line
+//! ([`SnCurve::pulsating_equivalent_n`]); a pulsating cycle is its own
+//! equivalent.
+//!
+//! It does not count cycles (the streaming count is
+//! [`super::link_cycles`]) and knows no wear, no corrosion, no fretting at
+//! the pin holes, no scatter (the curve is the rating's, a design curve,
+//! not a probability of failure).
+
+use serde::{Deserialize, Serialize};
+
+use super::life::Life;
+use super::link_cycles::{LinkCycles, unpack};
+use super::rating::{ChainClass, HP_W, link_plate_limited_hp};
+use crate::analysis::{RunSummary, StrandSummary};
+use crate::scene::Scene;
+use crate::scene::designations;
+
+/// The life the ANSI ratings are set for, h.
+pub const RATING_LIFE_H: f64 = 15_000.0;
+/// The chain length, in pitches, of the drives the ratings were tested on.
+pub const RATING_CHAIN_PITCHES: f64 = 120.0;
+/// Cycles at the knee of the S–N curve, where its fatigue limit is taken.
+pub const KNEE_CYCLES: f64 = 5e6;
+/// The S–N slope of the link-plate rating: H₁ ∝ n₁^0.9, so the tension
+/// F₁ = H₁ / v ∝ n₁^−0.1 ∝ C^−0.1, and m = 1 / 0.1.
+pub const RATING_SN_SLOPE: f64 = 10.0;
+/// The turning points of a link's force are found with a gate of this
+/// fraction of the fatigue limit: a reversal pair smaller than the gate
+/// does no damage at any mean below 7/8 of the tensile strength.
+pub const GATE_FRACTION: f64 = 0.125;
+
+/// Cycles below which the S–N line is not a chain's: the high-cycle
+/// region of steels' S–N curves begins at about 10³ cycles, and the
+/// rating's line, extended below it, reaches half the tensile strength at
+/// a few cycles. A cycle that lasts fewer on the curve gets a note.
+pub const LOW_CYCLE_LIMIT: f64 = 1e3;
+
+/// Metres per inch.
+const INCH_M: f64 = 0.0254;
+
+/// An S–N curve of pulsating cycles with Goodman's mean-stress correction
+/// ([module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SnCurve {
+    /// Slope m of N = N_D (F_D / F)^m.
+    pub slope: f64,
+    /// Fatigue limit F_D: the peak of a pulsating cycle lasting
+    /// `knee_cycles`, and for ever below, N.
+    pub fatigue_limit_n: f64,
+    /// N_D.
+    pub knee_cycles: f64,
+    /// Tensile strength F_u (the Goodman line's end), N.
+    pub tensile_strength_n: f64,
+}
+
+impl SnCurve {
+    /// The peak of the pulsating cycle as damaging as a cycle of `range_n`
+    /// about `mean_n` (Goodman; a compressive mean counts as zero); at most
+    /// 2 F_u, which a mean at the strength reaches.
+    pub fn pulsating_equivalent_n(&self, range_n: f64, mean_n: f64) -> f64 {
+        let fu = self.tensile_strength_n;
+        let amplitude = 0.5 * range_n.abs();
+        let left = 1.0 - mean_n.max(0.0) / fu;
+        if left <= 0.0 {
+            return 2.0 * fu;
+        }
+        let reversed = amplitude / left;
+        2.0 * reversed / (1.0 + reversed / fu)
+    }
+
+    /// Miner's damage of one cycle of peak `pulsating_n` (a pulsating
+    /// equivalent): 1 / N, zero below the fatigue limit, at most 1.
+    pub fn damage_of_pulsating(&self, pulsating_n: f64) -> f64 {
+        if !(pulsating_n >= self.fatigue_limit_n) {
+            return 0.0;
+        }
+        ((pulsating_n / self.fatigue_limit_n).powf(self.slope) / self.knee_cycles).min(1.0)
+    }
+
+    /// The cycles a pulsating cycle of peak `pulsating_n` lasts on the
+    /// curve, N_D (F_D / F)^m; infinite at or below the fatigue limit.
+    pub fn cycles_to_failure(&self, pulsating_n: f64) -> f64 {
+        if !(pulsating_n > self.fatigue_limit_n) {
+            return f64::INFINITY;
+        }
+        self.knee_cycles * (self.fatigue_limit_n / pulsating_n).powf(self.slope)
+    }
+
+    /// Miner's damage of one cycle of `range_n` about `mean_n`.
+    pub fn damage(&self, range_n: f64, mean_n: f64) -> f64 {
+        self.damage_of_pulsating(self.pulsating_equivalent_n(range_n, mean_n))
+    }
+}
+
+/// The chain tension at which the ANSI link-plate rating is reached, N,
+/// for a chain of `class` and `pitch_m` on a smallest sprocket of `teeth`
+/// whose links see `cycles` pulsating cycles in the rating's life:
+/// F = H₁ / v with n₁ = C · 120 / (15,000 · 60 · N₁).
+pub fn rated_tension_n(class: ChainClass, pitch_m: f64, teeth: f64, cycles: f64) -> f64 {
+    let speed_rpm = cycles * RATING_CHAIN_PITCHES / (RATING_LIFE_H * 60.0 * teeth);
+    let power_w = HP_W * link_plate_limited_hp(class, teeth, speed_rpm, pitch_m / INCH_M);
+    let chain_speed_m_s = teeth * pitch_m * speed_rpm / 60.0;
+    power_w / chain_speed_m_s
+}
+
+/// The S–N curve derived from the link-plate rating ([module docs](self)).
+pub fn curve_from_rating(
+    class: ChainClass,
+    pitch_m: f64,
+    teeth: f64,
+    tensile_strength_n: f64,
+) -> SnCurve {
+    SnCurve {
+        slope: RATING_SN_SLOPE,
+        fatigue_limit_n: rated_tension_n(class, pitch_m, teeth, KNEE_CYCLES),
+        knee_cycles: KNEE_CYCLES,
+        tensile_strength_n,
+    }
+}
+
+/// A scene's S–N curve and where it comes from; `Err` names the field that
+/// would enable the check.
+pub fn curve_of_scene(scene: &Scene) -> Result<(SnCurve, String), String> {
+    let designation = scene.chain.designation.and_then(designations::find);
+    let Some(strength) = designation.map(|d| d.tensile_strength_n) else {
+        return Err("no fatigue check: the chain's tensile strength, which the mean-stress correction needs, comes from chain.designation (`chaindrive chains` lists them)".to_owned());
+    };
+    let Some(teeth) = scene.sprockets.iter().map(|s| s.teeth).min() else {
+        return Err("no fatigue check: the scene has no sprocket".to_owned());
+    };
+    let class = ChainClass::of(designation.map(|d| d.name));
+    let pitch_m = scene.chain.pitch_m;
+    let derived = curve_from_rating(class, pitch_m, f64::from(teeth), strength);
+    let checks = &scene.checks;
+    let curve = SnCurve {
+        slope: checks.sn_slope.unwrap_or(derived.slope),
+        fatigue_limit_n: checks.fatigue_limit_n.unwrap_or(derived.fatigue_limit_n),
+        ..derived
+    };
+    let limit = match checks.fatigue_limit_n {
+        Some(f) => format!("fatigue limit {:.3} kN (checks.fatigue_limit_n)", f * 1e-3),
+        None => format!(
+            "fatigue limit {:.3} kN: the tension of the ANSI link-plate rating (K = {}) on the {teeth}-tooth smallest sprocket at {KNEE_CYCLES:.0e} pulsating cycles, its {RATING_LIFE_H:.0} h on a chain of {RATING_CHAIN_PITCHES:.0} pitches",
+            curve.fatigue_limit_n * 1e-3,
+            class.link_plate_k()
+        ),
+    };
+    let slope = match checks.sn_slope {
+        Some(m) => format!("slope {m} (checks.sn_slope)"),
+        None => "slope 10 (the rating's n1^0.9: tension ∝ cycles^-0.1)".to_owned(),
+    };
+    let basis = format!(
+        "pulsating S-N curve, {limit}, {slope}, knee at {:.0e} cycles; Goodman's mean-stress correction to the tensile strength {:.1} kN; Miner's rule, no damage below the limit",
+        curve.knee_cycles,
+        strength * 1e-3
+    );
+    Ok((curve, basis))
+}
+
+/// Where the fatigue damage is largest: a free strand or a sprocket's wrap,
+/// and how many pitches into it.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Place {
+    /// 1-based segment (free strand), if the place is one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub segment: Option<usize>,
+    /// 1-based sprocket whose wrap it is, if the place is one.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sprocket: Option<usize>,
+    /// Pitches from the place's start (a strand's: leaving its first
+    /// sprocket; a wrap's: engaging), counted at the link.
+    pub pitches: usize,
+    /// Share of the window's damage there (0 when there is none: then the
+    /// place of the largest cycle).
+    pub damage_share: f64,
+    /// In words.
+    pub text: String,
+}
+
+/// The summary's `fatigue` block.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Fatigue {
+    /// The S–N curve's source, the mean-stress correction and the damage rule.
+    pub basis: String,
+    /// The S–N curve.
+    pub sn_slope: f64,
+    /// Its fatigue limit: the peak of the pulsating cycle endured for
+    /// ever, N.
+    pub fatigue_limit_n: f64,
+    /// Its knee, cycles.
+    pub knee_cycles: f64,
+    /// The tensile strength of the mean-stress correction, N.
+    pub tensile_strength_n: f64,
+    /// Miner's damage per hour of operation at this point, per link (the
+    /// mean over the chain's links: each runs through the whole loop).
+    pub damage_per_hour: f64,
+    /// Hours to a damage of 1: a number, or `"infinite"`.
+    pub life_h: Life,
+    /// The largest counted cycle as its pulsating equivalent, N (0: none).
+    pub largest_cycle_n: f64,
+    /// Fatigue limit over the largest cycle (absent without cycles).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fatigue_safety_factor: Option<f64>,
+    /// Where the damage is largest (or the largest cycle was).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub least_life_at: Option<Place>,
+    /// Links counted.
+    pub links: usize,
+    /// Time counted (the statistics window), s.
+    pub counted_s: f64,
+    /// Cycles counted, over all links (half cycles as ½).
+    pub cycles: f64,
+    /// Passes of the chain round its loop in the counted time.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub chain_circuits: Option<f64>,
+    /// What limits these numbers.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
+}
+
+/// The place packed by [`super::link_cycles`] in words, with the strands
+/// `strands` (1-based sprockets).
+fn place_of(packed: u32, strands: &[StrandSummary], damage_share: f64) -> Option<Place> {
+    let (index, pitches) = unpack(packed)?;
+    let strand = strands.get(index / 2)?;
+    let after = |n: usize, what: &str| match n {
+        0 => format!("at {what}"),
+        1 => format!("1 pitch after {what}"),
+        n => format!("{n} pitches after {what}"),
+    };
+    Some(if index % 2 == 0 {
+        Place {
+            segment: Some(strand.segment),
+            sprocket: None,
+            pitches,
+            damage_share,
+            text: format!(
+                "segment {} (sprocket {} to {}), {}",
+                strand.segment,
+                strand.from,
+                strand.to,
+                after(pitches, &format!("leaving sprocket {}", strand.from))
+            ),
+        }
+    } else {
+        Place {
+            segment: None,
+            sprocket: Some(strand.to),
+            pitches,
+            damage_share,
+            text: format!("on sprocket {}, {}", strand.to, after(pitches, "engaging")),
+        }
+    })
+}
+
+/// The `fatigue` block of a run whose links `cycles` counted, with the
+/// summary's strands and rating (its chain speed); `None` where the scene
+/// has no S–N curve.
+pub(crate) fn of_run(scene: &Scene, summary: &RunSummary, cycles: &LinkCycles) -> Option<Fatigue> {
+    let (_, basis) = curve_of_scene(scene).ok()?;
+    let curve = *cycles.curve();
+    let sums = cycles.sums();
+    let mut notes = Vec::new();
+    let hours = sums.counted_s / 3600.0;
+    let damage_per_hour = if hours > 0.0 && sums.links > 0 {
+        sums.damage / (sums.links as f64 * hours)
+    } else {
+        notes.push(
+            "no step was counted: the window holds no step with the chain on its sprockets"
+                .to_owned(),
+        );
+        0.0
+    };
+    let total = sums.damage;
+    let most = sums
+        .by_place
+        .iter()
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(&p, &d)| (p, d / total));
+    let least_life_at = match most {
+        Some((p, share)) => place_of(p, &summary.strands, share),
+        None => place_of(sums.largest_at, &summary.strands, 0.0),
+    };
+    let pitch_m = scene.chain.pitch_m;
+    let chain_circuits = summary
+        .rating
+        .as_ref()
+        .map(|r| r.chain_speed_m_s * sums.counted_s / (sums.links.max(1) as f64 * pitch_m));
+    if let Some(c) = chain_circuits.filter(|&c| c < 1.0) {
+        notes.push(format!(
+            "the window holds {c:.2} circuits of the chain: each link's largest cycle (slack to tight strand and back) is counted from its halves, and the damage per hour is the mean over the links of what each saw; a window of a few circuits (--window) estimates it better"
+        ));
+    }
+    let largest_lasts = curve.cycles_to_failure(sums.largest_n);
+    if largest_lasts < LOW_CYCLE_LIMIT {
+        notes.push(format!(
+            "the largest cycle, {:.2} kN as a pulsating one ({:.0} % of the tensile strength), lasts {largest_lasts:.3} cycles on the S-N line: below {LOW_CYCLE_LIMIT:.0} cycles the line is the rating's extended beyond what a chain's fatigue tests cover (it reaches half the tensile strength at a few cycles), so the life says the chain is far overloaded, not how long it lasts",
+            sums.largest_n * 1e-3,
+            100.0 * sums.largest_n / curve.tensile_strength_n
+        ));
+    }
+    if sums.overflows > 0 {
+        notes.push(format!(
+            "{} times a link's open turning points filled its stack ({} points): its oldest range was counted as half a cycle early",
+            sums.overflows,
+            super::rainflow::DEFAULT_CAPACITY
+        ));
+    }
+    Some(Fatigue {
+        basis,
+        sn_slope: curve.slope,
+        fatigue_limit_n: curve.fatigue_limit_n,
+        knee_cycles: curve.knee_cycles,
+        tensile_strength_n: curve.tensile_strength_n,
+        damage_per_hour,
+        life_h: Life::of_rate_per_hour(damage_per_hour),
+        largest_cycle_n: sums.largest_n,
+        fatigue_safety_factor: (sums.largest_n > 0.0)
+            .then(|| curve.fatigue_limit_n / sums.largest_n),
+        least_life_at,
+        links: sums.links,
+        counted_s: sums.counted_s,
+        cycles: sums.cycles,
+        chain_circuits,
+        notes,
+    })
+}
+
+/// The fatigue check's warning: a life shorter than the ratings' 15,000 h.
+pub(crate) fn warnings(f: &Fatigue) -> Vec<String> {
+    match f.life_h {
+        Life::Hours(h) if h < RATING_LIFE_H => vec![format!(
+            "fatigue: the link plates' fatigue life at this operating point is {} (below the {RATING_LIFE_H:.0} h the catalogue ratings are set for): the largest cycle, {:.2} kN as a pulsating one, is {:.2} times the fatigue limit of {:.2} kN{}; a larger chain, a lower load, or a smoother drive",
+            f.life_h,
+            f.largest_cycle_n * 1e-3,
+            f.largest_cycle_n / f.fatigue_limit_n,
+            f.fatigue_limit_n * 1e-3,
+            f.least_life_at
+                .as_ref()
+                .map(|p| format!(", most damage {}", p.text))
+                .unwrap_or_default()
+        )],
+        _ => Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn curve() -> SnCurve {
+        SnCurve {
+            slope: 10.0,
+            fatigue_limit_n: 2000.0,
+            knee_cycles: 5e6,
+            tensile_strength_n: 20_000.0,
+        }
+    }
+
+    /// A pulsating cycle (mean = amplitude) is its own equivalent.
+    #[test]
+    fn a_pulsating_cycle_is_its_own_equivalent() {
+        let c = curve();
+        for peak in [100.0, 2500.0, 9000.0] {
+            approx::assert_relative_eq!(
+                c.pulsating_equivalent_n(peak, 0.5 * peak),
+                peak,
+                max_relative = 1e-14
+            );
+        }
+    }
+
+    /// By hand: range 2 kN about 5 kN on F_u = 20 kN: F_ar = 1 / (1 − 0.25)
+    /// = 4/3 kN; F₀ = 2 · (4/3) / (1 + (4/3)/20) = (8/3) / (16/15) = 2.5 kN.
+    #[test]
+    fn goodman_maps_a_cycle_onto_the_pulsating_line() {
+        approx::assert_relative_eq!(
+            curve().pulsating_equivalent_n(2000.0, 5000.0),
+            2500.0,
+            max_relative = 1e-14
+        );
+        assert_eq!(curve().pulsating_equivalent_n(10.0, 25_000.0), 40_000.0);
+    }
+
+    /// The pulsating equivalent is the correction JIS B 1811 applies to a
+    /// fatigue test whose smallest load is not zero:
+    /// F_d = F_u (F_max − F_min) / (F_u − F_min).
+    #[test]
+    fn goodman_is_the_jis_correction_to_a_zero_minimum() {
+        let c = curve();
+        for (lo, hi) in [(0.0, 3000.0), (4000.0, 6000.0), (1500.0, 12_000.0)] {
+            let jis = 20_000.0 * (hi - lo) / (20_000.0 - lo);
+            approx::assert_relative_eq!(
+                c.pulsating_equivalent_n(hi - lo, 0.5 * (hi + lo)),
+                jis,
+                max_relative = 1e-13
+            );
+        }
+    }
+
+    /// N = N_D (F_D / F)^m: twice the limit lasts 5e6 / 1024 cycles.
+    #[test]
+    fn cycles_to_failure_follow_the_line_and_never_end_below_the_limit() {
+        let c = curve();
+        approx::assert_relative_eq!(c.cycles_to_failure(4000.0), 5e6 / 1024.0);
+        assert_eq!(c.cycles_to_failure(2000.0), f64::INFINITY);
+        assert_eq!(c.cycles_to_failure(f64::NAN), f64::INFINITY);
+    }
+
+    #[test]
+    fn below_the_fatigue_limit_a_cycle_does_no_damage() {
+        let c = curve();
+        assert_eq!(c.damage_of_pulsating(1999.0), 0.0);
+        approx::assert_relative_eq!(c.damage_of_pulsating(2000.0), 1.0 / 5e6);
+        assert_eq!(c.damage_of_pulsating(f64::NAN), 0.0);
+        assert_eq!(c.damage_of_pulsating(1e9), 1.0);
+    }
+
+    /// Pulsating cycles of twice the peak do 2^m times the damage.
+    #[test]
+    fn damage_scales_as_the_slope_says_when_the_peak_doubles() {
+        let c = curve();
+        let one = c.damage(3000.0, 1500.0);
+        let two = c.damage(6000.0, 3000.0);
+        approx::assert_relative_eq!(two / one, 2f64.powi(10), max_relative = 1e-12);
+    }
+
+    /// The derived curve reproduces the rating: at the knee, the tension
+    /// F₁ = H₁ / v of the link-plate rating at n₁ = N_D · 120 / (15,000 ·
+    /// 60 · N₁); ANSI 40 (K = 0.004, p = 0.5 in) on 17 teeth:
+    /// n₁ = 5e6 · 120 / (9e5 · 17) = 39.2 rpm, H₁ = 0.004 · 17^1.08 ·
+    /// 39.2^0.9 · 0.5^2.965 hp, v = 17 · 0.0127 · 39.2 / 60 m/s.
+    #[test]
+    fn the_derived_fatigue_limit_is_the_rated_tension_at_the_knee() {
+        let n1: f64 = 5e6 * 120.0 / (15_000.0 * 60.0 * 17.0);
+        let h1_w =
+            745.699_871_582_270_2 * 0.004 * 17f64.powf(1.08) * n1.powf(0.9) * 0.5f64.powf(2.965);
+        let v = 17.0 * 0.0127 * n1 / 60.0;
+        let c = curve_from_rating(ChainClass::Standard, 0.0127, 17.0, 13_900.0);
+        approx::assert_relative_eq!(c.fatigue_limit_n, h1_w / v, max_relative = 1e-12);
+        assert_eq!(c.slope, 10.0);
+        // The rating's own point 1000 rpm: 7500 · 17 · 1000 cycles in
+        // 15,000 h at the tension H₁ / v = 5.475 hp / 3.598 m/s.
+        let cycles = 7500.0 * 17.0 * 1000.0;
+        let f = rated_tension_n(ChainClass::Standard, 0.0127, 17.0, cycles);
+        let expected = 745.699_871_582_270_2 * 5.475 / (17.0 * 0.0127 * 1000.0 / 60.0);
+        approx::assert_relative_eq!(f, expected, max_relative = 2e-4);
+        // On the S-N line: N = N_D (F_D / F)^10.
+        approx::assert_relative_eq!(
+            c.knee_cycles * (c.fatigue_limit_n / f).powf(10.0),
+            cycles,
+            max_relative = 1e-9
+        );
+    }
+}

@@ -1,0 +1,355 @@
+//! The contact pass of a run of rollers on a circular-profile sprocket
+//! (without damping rows, tips or shared rollers), in two loops:
+//!
+//! 1. **Geometry**, branch-free over the whole run, which the compiler
+//!    vectorises: each roller in the sprocket frame, the cone test of its
+//!    hinted gap, its seat's depth and normal, and its approach speed.
+//! 2. **Law**, in roller order: the contact memory, the force and the sums
+//!    — the same operations in the same order as the general pass
+//!    ([`super::pass`]), so the same bits. A roller that has left its hinted
+//!    gap's cone (a few per revolution) takes the full query there.
+//!
+//! Not for the real profile (its query branches by area) nor for rollers
+//! within reach of two sprockets.
+
+use super::FREE;
+use super::pass::{ContactPass, Frame, PatchContext, Roller, Row, Sums, WorldPatch};
+use super::reach::Run;
+use crate::geometry::{MAX_PATCHES, Patch, Seats};
+
+/// The geometry loop's outputs, one slot per roller (sized once: nothing is
+/// allocated per evaluation).
+#[derive(Clone, Debug, Default)]
+pub(super) struct SeatScratch {
+    ux: Vec<f64>,
+    uy: Vec<f64>,
+    rx: Vec<f64>,
+    ry: Vec<f64>,
+    depth: Vec<f64>,
+    nx: Vec<f64>,
+    ny: Vec<f64>,
+    rate: Vec<f64>,
+    /// Bit 0: inside its hinted gap's cone; bit 1: touching its seat.
+    status: Vec<u8>,
+}
+
+impl SeatScratch {
+    pub(super) fn new(rollers: usize) -> Self {
+        let zeros = || vec![0.0; rollers];
+        Self {
+            ux: zeros(),
+            uy: zeros(),
+            rx: zeros(),
+            ry: zeros(),
+            depth: zeros(),
+            nx: zeros(),
+            ny: zeros(),
+            rate: zeros(),
+            status: vec![0; rollers],
+        }
+    }
+}
+
+const IN_CONE: u8 = 1;
+const TOUCHING: u8 = 2;
+
+impl ContactPass<'_> {
+    /// Contacts of one unshared run on a circular-profile sprocket; returns
+    /// the chain's resultant force and moment on the sprocket, as
+    /// [`ContactPass::run`] does.
+    #[inline(always)]
+    pub(super) fn run_seats<const MOVING: bool>(
+        &mut self,
+        seats: &Seats<'_>,
+        frame: &Frame,
+        run: &Run,
+    ) -> ([f64; 2], f64) {
+        let (a, b) = (run.start, run.end);
+        self.seat_geometry::<MOVING>(seats, frame, a, b);
+        let law = self.law;
+        let ctx = PatchContext {
+            law,
+            energy_factor: 1.0 / (law.exponent + 1.0),
+            sin: frame.sin,
+            cos: frame.cos,
+            omega: frame.omega,
+            velocity: frame.velocity,
+            index: frame.index,
+        };
+        let (sin, cos, omega) = (frame.sin, frame.cos, frame.omega);
+        let s = self.state;
+        let (vxs, vys) = (&s.vx[a..b], &s.vy[a..b]);
+        let sc = &*self.seat_scratch;
+        let (rxs, rys, status) = (&sc.rx[a..b], &sc.ry[a..b], &sc.status[a..b]);
+        let (depth, nxs, nys, rate) = (&sc.depth[a..b], &sc.nx[a..b], &sc.ny[a..b], &sc.rate[a..b]);
+        let memory = &self.memory[a..b];
+        let remembered = &self.remembered[a..b];
+        let pending_memory = &mut self.pending_memory[a..b];
+        let gap_hint = &mut self.gap_hint[a..b];
+        let (fx_out, fy_out) = (&mut self.fx[a..b], &mut self.fy[a..b]);
+        let touching = &mut self.touching[a..b];
+        let contact_force = &mut self.contact_force[a..b];
+        let mut sums = Sums {
+            force: [0.0; 2],
+            torque: 0.0,
+            energy: 0.0,
+            damping_power: 0.0,
+            max_pen: self.max_penetration_m,
+        };
+        for k in 0..b - a {
+            let (rx, ry) = (rxs[k], rys[k]);
+            let contact = if status[k] & IN_CONE != 0 {
+                if status[k] & TOUCHING == 0 {
+                    pending_memory[k] = [FREE; MAX_PATCHES];
+                    continue;
+                }
+                WorldPatch {
+                    depth_m: depth[k],
+                    patch_id: gap_hint[k],
+                    normal: [nxs[k], nys[k]],
+                    depth_rate: rate[k],
+                }
+            } else {
+                // Out of its hinted gap's cone: the full query, as the
+                // general pass makes it.
+                let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+                let mut patches = [Patch::default(); MAX_PATCHES];
+                if seats.contacts(local, &mut gap_hint[k], &mut patches) == 0 {
+                    pending_memory[k] = [FREE; MAX_PATCHES];
+                    continue;
+                }
+                let p = &patches[0];
+                let v_rel = if MOVING {
+                    [
+                        vxs[k] - frame.velocity[0] + omega * ry,
+                        vys[k] - frame.velocity[1] - omega * rx,
+                    ]
+                } else {
+                    [vxs[k] + omega * ry, vys[k] - omega * rx]
+                };
+                let nx = cos * p.normal[0] - sin * p.normal[1];
+                let ny = sin * p.normal[0] + cos * p.normal[1];
+                WorldPatch {
+                    depth_m: p.depth_m,
+                    patch_id: p.patch_id,
+                    normal: [nx, ny],
+                    depth_rate: -(v_rel[0] * nx + v_rel[1] * ny),
+                }
+            };
+            let onsets = if remembered[k] != 0 {
+                &memory[k]
+            } else {
+                &[FREE; MAX_PATCHES]
+            };
+            let mut roller = Roller {
+                next: [FREE; MAX_PATCHES],
+                used: 0,
+                total: [0.0; 2],
+                row: Row::default(),
+                last_force: 0.0,
+            };
+            ctx.world_patch::<false, MOVING, _>(
+                seats,
+                &contact,
+                [rx, ry],
+                onsets,
+                &mut roller,
+                &mut sums,
+            );
+            pending_memory[k] = roller.next;
+            fx_out[k] += roller.total[0];
+            fy_out[k] += roller.total[1];
+            touching[k] = true;
+            // One patch: its force is the magnitude.
+            contact_force[k] = roller.last_force;
+        }
+        self.energy_j += sums.energy;
+        self.damping_power_w += sums.damping_power;
+        self.max_penetration_m = sums.max_pen;
+        (sums.force, sums.torque)
+    }
+
+    /// The geometry of rollers `a..b` against their hinted gaps, into the
+    /// scratch (see [`seat_geometry`]).
+    #[inline(always)]
+    fn seat_geometry<const MOVING: bool>(
+        &mut self,
+        seats: &Seats<'_>,
+        frame: &Frame,
+        a: usize,
+        b: usize,
+    ) {
+        let sc = &mut *self.seat_scratch;
+        // Each roller's hinted gap direction; a hint that is no gap of this
+        // sprocket gives NaN, which fails the cone test.
+        let (ux, uy) = (&mut sc.ux[a..b], &mut sc.uy[a..b]);
+        for ((h, ux), uy) in self.gap_hint[a..b]
+            .iter()
+            .zip(ux.iter_mut())
+            .zip(uy.iter_mut())
+        {
+            let u = seats
+                .dirs
+                .get(*h as usize)
+                .copied()
+                .unwrap_or([f64::NAN; 2]);
+            (*ux, *uy) = (u[0], u[1]);
+        }
+        let s = self.state;
+        let c = Consts {
+            center: frame.center,
+            velocity: frame.velocity,
+            sin: frame.sin,
+            cos: frame.cos,
+            omega: frame.omega,
+            tan_half_pitch: seats.tan_half_pitch,
+            seat_radius_m: seats.seat_radius_m,
+            clearance_m: seats.clearance_m,
+            clearance_sq_m2: seats.clearance_sq_m2,
+        };
+        let args = (
+            &s.x[a..b],
+            &s.y[a..b],
+            &s.vx[a..b],
+            &s.vy[a..b],
+            &sc.ux[a..b],
+            &sc.uy[a..b],
+        );
+        let outs = (
+            &mut sc.rx[a..b],
+            &mut sc.ry[a..b],
+            &mut sc.depth[a..b],
+            &mut sc.nx[a..b],
+            &mut sc.ny[a..b],
+            &mut sc.rate[a..b],
+            &mut sc.status[a..b],
+        );
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only where the CPU has AVX2.
+            unsafe {
+                seat_geometry_avx2::<MOVING>(
+                    &c, args.0, args.1, args.2, args.3, args.4, args.5, outs.0, outs.1, outs.2,
+                    outs.3, outs.4, outs.5, outs.6,
+                );
+            }
+            return;
+        }
+        seat_geometry::<MOVING>(
+            &c, args.0, args.1, args.2, args.3, args.4, args.5, outs.0, outs.1, outs.2, outs.3,
+            outs.4, outs.5, outs.6,
+        );
+    }
+}
+
+/// What the geometry loop reads besides the rollers: the sprocket's frame
+/// and its seats.
+struct Consts {
+    center: [f64; 2],
+    velocity: [f64; 2],
+    sin: f64,
+    cos: f64,
+    omega: f64,
+    tan_half_pitch: f64,
+    seat_radius_m: f64,
+    clearance_m: f64,
+    clearance_sq_m2: f64,
+}
+
+/// [`seat_geometry`] compiled with AVX2 (no FMA: the same roundings).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[allow(clippy::too_many_arguments)]
+fn seat_geometry_avx2<const MOVING: bool>(
+    c: &Consts,
+    xs: &[f64],
+    ys: &[f64],
+    vxs: &[f64],
+    vys: &[f64],
+    ux: &[f64],
+    uy: &[f64],
+    rxs: &mut [f64],
+    rys: &mut [f64],
+    depth: &mut [f64],
+    nxs: &mut [f64],
+    nys: &mut [f64],
+    rate: &mut [f64],
+    status: &mut [u8],
+) {
+    seat_geometry::<MOVING>(
+        c, xs, ys, vxs, vys, ux, uy, rxs, rys, depth, nxs, nys, rate, status,
+    );
+}
+
+/// Each roller against its hinted gap, without branches: the same
+/// expressions as [`Seats::contacts`] and the general pass. Slices as
+/// arguments tell the compiler they do not overlap, so it vectorises the
+/// loop.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn seat_geometry<const MOVING: bool>(
+    c: &Consts,
+    xs: &[f64],
+    ys: &[f64],
+    vxs: &[f64],
+    vys: &[f64],
+    ux: &[f64],
+    uy: &[f64],
+    rxs: &mut [f64],
+    rys: &mut [f64],
+    depth: &mut [f64],
+    nxs: &mut [f64],
+    nys: &mut [f64],
+    rate: &mut [f64],
+    status: &mut [u8],
+) {
+    let n = xs.len();
+    let (ys, vxs, vys, ux, uy) = (&ys[..n], &vxs[..n], &vys[..n], &ux[..n], &uy[..n]);
+    let (rxs, rys, depth) = (&mut rxs[..n], &mut rys[..n], &mut depth[..n]);
+    let (nxs, nys, rate, status) = (
+        &mut nxs[..n],
+        &mut nys[..n],
+        &mut rate[..n],
+        &mut status[..n],
+    );
+    let (sin, cos, omega) = (c.sin, c.cos, c.omega);
+    let (rc, clearance) = (c.seat_radius_m, c.clearance_m);
+    for k in 0..n {
+        let rx = xs[k] - c.center[0];
+        let ry = ys[k] - c.center[1];
+        // World → sprocket frame: rotate by −θ.
+        let p = [cos * rx + sin * ry, -sin * rx + cos * ry];
+        let u = [ux[k], uy[k]];
+        let along = u[0] * p[0] + u[1] * p[1];
+        let across = u[0] * p[1] - u[1] * p[0];
+        let in_cone = (along > 0.0) & (across.abs() <= c.tan_half_pitch * along);
+        let e = [p[0] - rc * u[0], p[1] - rc * u[1]];
+        // Only the half facing the sprocket centre holds the roller, and
+        // only beyond the clearance.
+        let facing = !(e[0] * u[0] + e[1] * u[1] > 0.0);
+        let len_sq = e[0] * e[0] + e[1] * e[1];
+        let touch = facing & (len_sq > c.clearance_sq_m2);
+        let len = len_sq.sqrt();
+        let inv_len = 1.0 / len;
+        let normal = [-e[0] * inv_len, -e[1] * inv_len];
+        // Normal back to the world frame.
+        let nx = cos * normal[0] - sin * normal[1];
+        let ny = sin * normal[0] + cos * normal[1];
+        // Velocity relative to the sprocket point under the roller.
+        let v_rel = if MOVING {
+            [
+                vxs[k] - c.velocity[0] + omega * ry,
+                vys[k] - c.velocity[1] - omega * rx,
+            ]
+        } else {
+            [vxs[k] + omega * ry, vys[k] - omega * rx]
+        };
+        rxs[k] = rx;
+        rys[k] = ry;
+        depth[k] = len - clearance;
+        nxs[k] = nx;
+        nys[k] = ny;
+        rate[k] = -(v_rel[0] * nx + v_rel[1] * ny);
+        status[k] = u8::from(in_cone) | (u8::from(touch) << 1);
+    }
+}
