@@ -603,7 +603,17 @@ impl RunSummary {
         summary.wear = sim
             .sliding
             .as_ref()
-            .and_then(|s| super::design::Wear::of_run(&sim.scene, s));
+            .and_then(|s| {
+                let speeds: Vec<f64> = summary.sprockets.iter().map(|p| p.mean_speed_rad_s).collect();
+                super::design::Wear::of_run(&sim.scene, s, &speeds)
+            });
+        if let Some(w) = summary
+            .wear
+            .as_ref()
+            .and_then(|w| w.vibration_warning(sim.scene.chain.joint_friction.is_some()))
+        {
+            summary.warnings.push(w);
+        }
         summary.worn_chain = worn_chain(&sim.scene, &sim.model);
         summary.tooth_jumps = sim.jumps.jumps().iter().map(Into::into).collect();
         if let Some(w) = super::warnings::tooth_jumps(&summary.tooth_jumps) {

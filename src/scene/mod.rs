@@ -192,11 +192,6 @@ impl Scene {
         w
     }
 
-    /// The design checks' settings (`[checks]`).
-    pub fn checks(&self) -> &Checks {
-        &self.checks
-    }
-
     /// Static-equilibrium settings.
     pub fn equilibrium(&self) -> &Equilibrium {
         &self.equilibrium

@@ -182,5 +182,6 @@ pub(crate) fn wear_in(
         residual_speed_m_s: residual,
         force_residual: force_residual(forces, pretension_n),
         beyond_seating_arc: None,
+        misfit: None,
     })
 }

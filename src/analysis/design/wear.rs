@@ -129,13 +129,46 @@ pub struct Wear {
     /// window shorter than a circuit of the chain leaves joints that passed
     /// no sprocket, so only the mean is the chain's.
     pub largest_joint_rate_ratio: f64,
+    /// The quasi-static articulation of a joint, rad/s: 2π/z where it
+    /// enters and again where it leaves each wrap of z teeth, Σ 4π/z_k per
+    /// circuit of the chain, at the run's mean chain speed (absent where
+    /// no sprocket turned). The run's `articulation_rad_s` exceeds it by
+    /// what the strands' vibration adds.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub quasi_static_articulation_rad_s: Option<f64>,
+}
+
+/// Articulation beyond which a run's joints are taken to be turned mostly
+/// by vibration rather than by the wraps, as a multiple of the quasi-static
+/// one (a drive with joint friction runs about 1.2 times it).
+pub const VIBRATION_ARTICULATION_RATIO: f64 = 2.0;
+
+/// The quasi-static articulation of a joint of `scene`'s chain, rad/s, at
+/// the sprockets' mean speeds `speeds_rad_s` (as the summary lists them):
+/// Σ_k 4π/z_k per circuit, circuits per second |ω_k| z_k / (2π N) (the
+/// largest over the sprockets: a tensioner's idler may stand); `None`
+/// where none turned.
+pub fn quasi_static_articulation_rad_s(scene: &Scene, speeds_rad_s: &[f64]) -> Option<f64> {
+    let rollers = scene.chain.rollers as f64;
+    let circuits_per_s = scene
+        .sprockets
+        .iter()
+        .zip(speeds_rad_s)
+        .map(|(s, w)| w.abs() * f64::from(s.teeth) / (std::f64::consts::TAU * rollers))
+        .fold(0.0, f64::max);
+    let per_circuit: f64 = scene
+        .sprockets
+        .iter()
+        .map(|s| 2.0 * std::f64::consts::TAU / f64::from(s.teeth))
+        .sum();
+    (circuits_per_s > 0.0).then_some(per_circuit * circuits_per_s)
 }
 
 impl Wear {
-    /// The wear of a run of `scene` whose joints slid as `sliding` counted;
-    /// `None` where the scene did not ask for the check or nothing was
-    /// counted.
-    pub fn of_run(scene: &Scene, sliding: &JointSliding) -> Option<Self> {
+    /// The wear of a run of `scene` whose joints slid as `sliding` counted,
+    /// its sprockets turning at `speeds_rad_s` on average; `None` where the
+    /// scene did not ask for the check or nothing was counted.
+    pub fn of_run(scene: &Scene, sliding: &JointSliding, speeds_rad_s: &[f64]) -> Option<Self> {
         let model = WearModel::of_scene(scene)?;
         let duration_s = sliding.duration_s();
         let joints = sliding.load_angle_n_rad();
@@ -166,6 +199,27 @@ impl Wear {
             } else {
                 0.0
             },
+            quasi_static_articulation_rad_s: quasi_static_articulation_rad_s(scene, speeds_rad_s),
+        })
+    }
+
+    /// A warning where the joints turned more than
+    /// [`VIBRATION_ARTICULATION_RATIO`] times the quasi-static articulation:
+    /// the wear then counts the strands' vibration, which a chain without
+    /// joint friction overstates (nothing damps its link-scale zig-zag).
+    pub fn vibration_warning(&self, joint_friction: bool) -> Option<String> {
+        let quasi = self.quasi_static_articulation_rad_s?;
+        let ratio = self.articulation_rad_s / quasi;
+        (ratio > VIBRATION_ARTICULATION_RATIO).then(|| {
+            let why = if joint_friction {
+                "the strands' vibration turns them back and forth"
+            } else {
+                "without joint friction nothing damps the strands' link-scale zig-zag, which turns them back and forth; give chain.joint_friction (lubricated steel: about 0.1) for a wear rate of a real chain"
+            };
+            format!(
+                "wear from vibration: the joints articulated {:.2} rad/s, {ratio:.1} times the {quasi:.2} rad/s of passing the wraps alone (allowed: {VIBRATION_ARTICULATION_RATIO}); {why}; the wear rate {:.3} % per 1000 h counts it all",
+                self.articulation_rad_s, self.elongation_pct_per_1000h
+            )
         })
     }
 }
