@@ -41,6 +41,7 @@ mod fuzz;
 mod governor;
 mod guides;
 mod integrators;
+mod jumps;
 mod layering;
 #[cfg(feature = "cli")]
 mod life;

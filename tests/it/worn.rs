@@ -214,6 +214,26 @@ fn a_worn_chains_rollers_seat_further_out_as_the_asa_working_curve_and_statics_g
             push[k] / f0
         );
     }
+    // The limit of the climb, in closed form: rollers that have climbed as
+    // far as they go each sit the same way in their gaps, so they lie on one
+    // circle, successive ones 2π/z apart round it and P (1 + e) apart: the
+    // chord 2 R sin(π/z) = P (1 + e) gives R∞ = R_p (1 + e). It lies on the
+    // working curve while e is below where that curve ends (2.56 % for 30
+    // teeth, docs/model.md), so no roller of the wrap lies further out than
+    // R∞ (pressed into its flank, a little less), and the climb reaches a
+    // good part of e R_p before the wrap ends.
+    let r_inf = geo.rs * 1.02;
+    let radii: Vec<f64> = touching.iter().map(|&i| radius(at(i))).collect();
+    let highest = radii.iter().copied().fold(0.0, f64::max);
+    assert!(
+        highest <= r_inf + 1e-6,
+        "highest roller at {highest} m, beyond R∞ = {r_inf} m: {radii:?}"
+    );
+    assert!(
+        highest - geo.rs > 0.5 * (r_inf - geo.rs),
+        "highest roller {highest} m climbs less than half of e R_p above {} m: {radii:?}",
+        geo.rs
+    );
 }
 
 #[test]
