@@ -105,9 +105,9 @@ fn meet(a: [f64; 2], ra: f64, b: [f64; 2], rb: f64, near: [f64; 2]) -> [f64; 2] 
 
 #[test]
 fn a_worn_chains_rollers_seat_further_out_as_the_asa_working_curve_and_statics_give() {
-    // Closed form (module docs of the worn chain; docs/model.md). On the
-    // loaded sprocket the tight strand pulls each roller back towards the
-    // roller before it; a worn chain's rollers, P (1 + e) apart where the
+    // Closed form (docs/model.md, "A worn chain"). On the driven sprocket
+    // at rest (the pretension alone) the strand pulls each roller of the
+    // wrap back towards the roller before it; a worn chain's rollers, P (1 + e) apart where the
     // gaps are P apart, cannot all sit in their seats: from the first roller
     // of the wrap on, each next one lies on the working curve of its gap on
     // the side of the roller before, i.e. on the circle of radius
