@@ -23,10 +23,12 @@
 //!
 //! Every file also holds a metadata record `chaindrive` (scene name, profile,
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
-//! scene file as an attachment, and at the end a metadata record
-//! `chaindrive.end` saying how the run ended, and where the chain jumped
-//! teeth a record `chaindrive.tooth_jumps` listing every jump
-//! ([`JUMPS_RECORD`]). Channels not requested are
+//! scene file as an attachment with the tables it read (a load table's
+//! CSV, attached under the name the scene gives it, media type
+//! `text/csv`), at the end a metadata record `chaindrive.end` saying how
+//! the run ended, and where the chain jumped teeth a record
+//! `chaindrive.tooth_jumps` listing every jump ([`JUMPS_RECORD`]). Channels
+//! not requested are
 //! neither computed nor written.
 //!
 //! Cost: the stepping loop only copies the arrays the requested channels
@@ -70,6 +72,9 @@ mod visual;
 mod writer;
 
 pub use channels::{Channel, Channels, STATIC_SCENE_TOPIC};
+
+/// The media type of a table a scene read, attached beside it.
+pub(crate) const TABLE_MEDIA_TYPE: &str = "text/csv";
 pub(crate) use writer::CHUNK_BYTES;
 pub use writer::FLUSH_INTERVAL_NS;
 use writer::{ChannelIds, Frame, Job, QUEUE_FRAMES, Sink, Writer};
@@ -413,6 +418,17 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 media_type: "application/toml".to_owned(),
                 data: Cow::Borrowed(data),
             })?;
+            // The tables it read, under the names it writes: the scene is
+            // rebuilt from the recording alone ([`read`]).
+            for (name, text) in scene.tables() {
+                w.attach(&mcap::Attachment {
+                    log_time: 0,
+                    create_time: 0,
+                    name: name.to_owned(),
+                    media_type: TABLE_MEDIA_TYPE.to_owned(),
+                    data: Cow::Borrowed(text.as_bytes()),
+                })?;
+            }
         }
         let channels = options.channels;
         let mut ids = ChannelIds::default();

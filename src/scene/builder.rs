@@ -127,6 +127,7 @@ impl SceneBuilder {
                 solver: self.solver,
                 equilibrium: self.equilibrium,
                 base_dir: None,
+                given_tables: std::collections::BTreeMap::new(),
                 tensioners: Vec::new(),
                 guides: self.guides,
                 checks: super::ChecksFile::default(),

@@ -219,6 +219,23 @@ impl Scene {
         })
     }
 
+    /// The tables the scene read (load tables, governors' drive tables):
+    /// each name as the scene writes it, once, with the text read.
+    pub(crate) fn tables(&self) -> std::collections::BTreeMap<&str, &str> {
+        self.sprockets
+            .iter()
+            .flat_map(|s| {
+                let drive = s.excitation.governor.as_ref();
+                [
+                    s.excitation.load_table.as_ref(),
+                    drive.and_then(|g| g.drive_table.as_ref()),
+                ]
+            })
+            .flatten()
+            .map(|t| (t.file.as_str(), t.text.as_str()))
+            .collect()
+    }
+
     /// Index of the driver.
     pub fn driver(&self) -> usize {
         self.sprockets

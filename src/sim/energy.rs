@@ -219,6 +219,14 @@ impl PowerLedger {
         }
     }
 
+    /// This ledger, counting from `from_s` on instead: for a ledger that
+    /// started at a step that a later-starting window also holds (a run
+    /// resumed to another end, [`crate::sim::checkpoint`]).
+    pub(crate) fn counting_from(mut self, from_s: f64) -> Self {
+        self.from_s = from_s;
+        self
+    }
+
     /// Counts the step that ended at `state` (forces evaluated at it).
     pub fn step(&mut self, model: &DriveModel, state: &DriveState, forces: &ForceGenerator) {
         let t = state.t_s;

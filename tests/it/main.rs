@@ -15,6 +15,8 @@ mod auto_step;
 mod catenary;
 mod checkpoint;
 #[cfg(feature = "cli")]
+mod checkpoint_cli;
+#[cfg(feature = "cli")]
 mod cli;
 mod common;
 mod cosim;

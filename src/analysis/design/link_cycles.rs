@@ -161,6 +161,12 @@ impl LinkCycles {
         }
     }
 
+    /// A count of the same links on the same curve, from nothing (a
+    /// statistics window that starts anew).
+    pub(crate) fn anew(&self) -> Self {
+        Self::new(self.curve, self.links.len())
+    }
+
     /// The curve counted on.
     pub fn curve(&self) -> &SnCurve {
         &self.curve
