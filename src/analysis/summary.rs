@@ -600,13 +600,14 @@ impl RunSummary {
         summary
             .warnings
             .extend(eq.misfit.as_ref().map(ToString::to_string));
-        summary.wear = sim
-            .sliding
-            .as_ref()
-            .and_then(|s| {
-                let speeds: Vec<f64> = summary.sprockets.iter().map(|p| p.mean_speed_rad_s).collect();
-                super::design::Wear::of_run(&sim.scene, s, &speeds)
-            });
+        summary.wear = sim.sliding.as_ref().and_then(|s| {
+            let speeds: Vec<f64> = summary
+                .sprockets
+                .iter()
+                .map(|p| p.mean_speed_rad_s)
+                .collect();
+            super::design::Wear::of_run(&sim.scene, s, &speeds)
+        });
         if let Some(w) = summary
             .wear
             .as_ref()

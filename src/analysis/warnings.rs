@@ -299,4 +299,3 @@ pub(crate) fn tooth_jumps(jumps: &[super::ToothJumpSummary]) -> Option<String> {
         first.sprocket
     ))
 }
-

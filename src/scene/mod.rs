@@ -182,7 +182,10 @@ impl Scene {
             &self.chain,
         ));
         if self.chain.elongation > 0.0
-            && self.sprockets.iter().any(|s| s.profile == ProfileKind::Circular)
+            && self
+                .sprockets
+                .iter()
+                .any(|s| s.profile == ProfileKind::Circular)
         {
             w.push(format!(
                 "chain.elongation_pct = {}: a worn chain's rollers ride up their teeth's flanks, which the circular profile does not have (its seats hold no roller above the pitch circle): use profile = \"real\" for a worn chain",

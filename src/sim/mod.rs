@@ -201,7 +201,11 @@ fn wear_settled(
                 }
             })?;
             let norm = direction[0].hypot(direction[1]);
-            Some((t, [direction[0] / norm, direction[1] / norm], 1.0 / (fit.slope_per_m * chain.pitch_m)))
+            Some((
+                t,
+                [direction[0] / norm, direction[1] / norm],
+                1.0 / (fit.slope_per_m * chain.pitch_m),
+            ))
         }
         _ => None,
     };

@@ -129,11 +129,7 @@ mod tests {
         let expected_load = [0.0, 2.0, 0.5, 0.0];
         for j in 0..4 {
             approx::assert_relative_eq!(s.angle_rad()[j], expected_angle[j], epsilon = 1e-15);
-            approx::assert_relative_eq!(
-                s.load_angle_n_rad()[j],
-                expected_load[j],
-                epsilon = 1e-12
-            );
+            approx::assert_relative_eq!(s.load_angle_n_rad()[j], expected_load[j], epsilon = 1e-12);
         }
     }
 

@@ -78,10 +78,15 @@ impl TakeUp<'_> {
 
 /// Links of the free strands at `state` (as the static tension counts them).
 fn free_links(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> usize {
-    let runs = model
-        .segments
-        .runs(&model.sprockets, &state.x, &state.y, &forces.output().touching);
-    (0..model.segments.len()).map(|k| runs.links(k).count()).sum()
+    let runs = model.segments.runs(
+        &model.sprockets,
+        &state.x,
+        &state.y,
+        &forces.output().touching,
+    );
+    (0..model.segments.len())
+        .map(|k| runs.links(k).count())
+        .sum()
 }
 
 /// Lengthens the links of `model`, settled as a new chain at `pretension_n`,
@@ -99,8 +104,8 @@ pub(crate) fn wear_in(
 ) -> Result<StaticEquilibrium, EquilibriumError> {
     let new_rest_m = model.rest_length_m;
     let worn_rest_m = new_rest_m * (1.0 + elongation);
-    let step_m = (STEP_OF_STRETCH * pretension_n / model.stiffness_n_m)
-        .max(STEP_OF_PITCH * new_rest_m);
+    let step_m =
+        (STEP_OF_STRETCH * pretension_n / model.stiffness_n_m).max(STEP_OF_PITCH * new_rest_m);
     let steps = ((worn_rest_m - new_rest_m) / step_m)
         .ceil()
         .clamp(1.0, MAX_STEPS as f64) as usize;
@@ -135,7 +140,10 @@ pub(crate) fn wear_in(
             let free = free_links(model, state, forces).max(1) as f64;
             let per_n = free * t.travel_per_length / model.stiffness_n_m;
             let gained_m = free * (rest - model.rest_length_m);
-            t.shift(model, gained_m * t.travel_per_length + (pretension_n - t_now) * per_n)?;
+            t.shift(
+                model,
+                gained_m * t.travel_per_length + (pretension_n - t_now) * per_n,
+            )?;
             // The contact's kept reach sets assume the centres stood still.
             forces.forget_reach();
         }

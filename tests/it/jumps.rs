@@ -70,7 +70,12 @@ fn run(text: &str) -> Result<RunSummary, SimError> {
     let mut sim = Simulation::new(&scene).expect("equilibrium");
     let sampling = SampleRate::new(1000.0, scene.solver().dt_s).expect("rate");
     let mut signals = window.observe(&mut sim, sampling.rate_hz);
-    let out = sim.run(scene.solver().duration_s, sampling.every, &mut signals, None)?;
+    let out = sim.run(
+        scene.solver().duration_s,
+        sampling.every,
+        &mut signals,
+        None,
+    )?;
     Ok(RunSummary::of_run_in(&sim, &out, &signals, 0.0, &window))
 }
 
@@ -90,12 +95,18 @@ fn a_worn_chain_on_fixed_centres_jumps_teeth_and_the_new_chain_does_not() {
         .iter()
         .find(|w| w.starts_with("tooth jump"))
         .expect("the tooth-jump warning");
-    assert!(warning.contains(&format!("roller {}", first.roller)), "{warning}");
+    assert!(
+        warning.contains(&format!("roller {}", first.roller)),
+        "{warning}"
+    );
     let slack = worn.worn_chain.as_ref().and_then(|c| c.extra_slack_m);
     // N l₀ e: 111 links of (about) the pitch, 2 %: 56 mm.
     let expected = 111.0 * 0.0254 * 0.02;
     let slack = slack.expect("the slack on fixed centres");
-    assert!((slack / expected - 1.0).abs() < 0.01, "{slack} m against {expected} m");
+    assert!(
+        (slack / expected - 1.0).abs() < 0.01,
+        "{slack} m against {expected} m"
+    );
 }
 
 #[test]

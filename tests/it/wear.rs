@@ -34,7 +34,12 @@ fn run(text: &str, window_s: f64) -> RunSummary {
     let sampling = SampleRate::new(1000.0, scene.solver().dt_s).expect("rate");
     let mut signals = window.observe(&mut sim, sampling.rate_hz);
     let out = sim
-        .run(scene.solver().duration_s, sampling.every, &mut signals, None)
+        .run(
+            scene.solver().duration_s,
+            sampling.every,
+            &mut signals,
+            None,
+        )
         .expect("run");
     RunSummary::of_run_in(&sim, &out, &signals, 0.0, &window)
 }
@@ -112,8 +117,7 @@ fn wear_without_joint_friction_counts_the_strands_link_scale_vibration() {
     let wear = s.wear.as_ref().expect("the wear block");
     let omega_1 = s.sprockets[0].mean_speed_rad_s.abs();
     let circuits_per_s = 19.0 * omega_1 / (std::f64::consts::TAU * 92.0);
-    let kinematic_rad_s =
-        2.0 * std::f64::consts::TAU * (1.0 / 19.0 + 1.0 / 38.0) * circuits_per_s;
+    let kinematic_rad_s = 2.0 * std::f64::consts::TAU * (1.0 / 19.0 + 1.0 / 38.0) * circuits_per_s;
     assert!(
         wear.articulation_rad_s > 3.0 * kinematic_rad_s,
         "{} rad/s against {kinematic_rad_s}",

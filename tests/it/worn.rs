@@ -57,7 +57,11 @@ load_ramp_s = 1.0
 [solver]
 duration_s = 0.01
 "#,
-        role = if rule == "tensioner" { "tensioner" } else { "free" },
+        role = if rule == "tensioner" {
+            "tensioner"
+        } else {
+            "free"
+        },
         centre = 1.0291,
         adjust = if rule == "tensioner" {
             "adjust_direction = [1.0, 0.0]"
@@ -135,9 +139,7 @@ fn a_worn_chains_rollers_seat_further_out_as_the_asa_working_curve_and_statics_g
     let n = sim.state.rollers();
     let at = |i: usize| [sim.state.x[i % n], sim.state.y[i % n]];
     let radius = |q: [f64; 2]| (q[0] - centre[0]).hypot(q[1] - centre[1]);
-    let gap_of = |q: [f64; 2]| {
-        ((q[1] - centre[1]).atan2(q[0] - centre[0]) - theta) / pitch_angle
-    };
+    let gap_of = |q: [f64; 2]| ((q[1] - centre[1]).atan2(q[0] - centre[0]) - theta) / pitch_angle;
     let out = sim.forces.output();
     // The wrap's first roller from the tight strand (segment 1 arrives here).
     let touching: Vec<usize> = (0..n)
