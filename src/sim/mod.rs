@@ -25,6 +25,8 @@ mod sample_rate;
 mod sliding;
 mod stepper;
 mod worn;
+#[cfg(test)]
+mod worn_tests;
 
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub use energy::{Energy, PowerLedger, PowerMeans, Powers, balance_energy_j};

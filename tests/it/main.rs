@@ -80,4 +80,3 @@ mod tensioners;
 mod threads;
 mod users;
 mod wear;
-mod worn;

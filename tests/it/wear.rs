@@ -92,12 +92,12 @@ fn two_sprocket_wear_matches_the_quasi_static_closed_form() {
         "Σ F|Δφ| {simulated} N·rad/s against {load_angle_per_s}"
     );
     // The elongation rate from the closed form's Σ F |Δφ| by Archard, with
-    // the 16B-1's pin (d = 8.28 mm: r_pin from the designation table) and
-    // bushing (b₁ + 2 t = 17.02 + 2 × 4.0 mm): the same ratio to the run's.
-    let d = chaindrive::scene::designations::find("ISO 606 16B-1").expect("16B-1");
-    let area = d.pin_diameter_m * (d.inner_width_m + 2.0 * d.plate_thickness_m);
-    let depth_per_s = 1e-6 * d.pin_radius_m() * load_angle_per_s / (6.9e9 * area);
-    let rate_pct_per_1000h = 100.0 * depth_per_s / d.pitch_m * 3.6e6;
+    // the 16B-1's pin (d₂ = 8.28 mm) and bushing (b₁ + 2 t = 17.02 + 2 ×
+    // 3.10 mm), pitch 25.4 mm, as `chaindrive chains` lists them, and the
+    // defaults k = 10⁻⁶, H = 6.9 GPa: the same ratio to the run's.
+    let (pin_d_m, bushing_m, pitch_m) = (8.28e-3, (17.02 + 2.0 * 3.10) * 1e-3, 25.4e-3);
+    let depth_per_s = 1e-6 * (pin_d_m / 2.0) * load_angle_per_s / (6.9e9 * pin_d_m * bushing_m);
+    let rate_pct_per_1000h = 100.0 * depth_per_s / pitch_m * 3.6e6;
     approx::assert_relative_eq!(
         wear.elongation_pct_per_1000h / rate_pct_per_1000h,
         load_ratio,

@@ -3,8 +3,8 @@
 //! ASA geometry, the slack it gains on fixed centres, its take-up by a
 //! tensioner.
 
-use chaindrive::scene::Scene;
-use chaindrive::sim::Simulation;
+use crate::scene::Scene;
+use crate::sim::Simulation;
 
 /// A 30T/30T ANSI 80 drive on the real profile, no gravity, the chain
 /// `elongation_pct` worn, at 1 kN by `rule`: under "tensioner" the driven
