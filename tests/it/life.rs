@@ -70,9 +70,14 @@ fn a_motorcycle_duty_cycle_runs_in_parallel_resumably_and_combines_by_miner() {
     assert_eq!(csv.lines().count(), 4, "{csv}");
     assert!(csv.starts_with("point,fraction,time_share,"), "{csv}");
     // Each point's fatigue life alone: a number of hours, 1 / its damage
-    // per hour (the column's name carries the unit, the cells none).
-    for (line, d) in csv.lines().skip(1).zip(&damage) {
+    // per hour (the column's name carries the unit, the cells none), or
+    // `infinite` where there is no damage.
+    for (line, &d) in csv.lines().skip(1).zip(&damage) {
         let cells: Vec<&str> = line.rsplitn(3, ',').collect();
+        if d == 0.0 {
+            assert_eq!(cells[1], "infinite", "{line}");
+            continue;
+        }
         let life: f64 = cells[1]
             .parse()
             .unwrap_or_else(|_| panic!("fatigue_life_h {:?} in {line}", cells[1]));
