@@ -273,3 +273,59 @@ fn wear_limit(points: &[PointResult], block: f64, notes: &mut Vec<String>) -> Op
         dominated_by,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(name: &str, hours: f64, rate: Option<f64>) -> PointResult {
+        PointResult {
+            name: name.to_owned(),
+            hours,
+            time_share: 0.0,
+            set: String::new(),
+            status: "ok".to_owned(),
+            error: None,
+            driver_power_w: None,
+            rating_margin: None,
+            static_safety_factor: None,
+            fatigue_safety_factor: None,
+            damage_per_hour: None,
+            fatigue_life_h: None,
+            damage_share: None,
+            elongation_pct_per_1000h: rate,
+            elongation_limit_pct: rate.map(|_| 3.0),
+            wear_life_h: None,
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_cycles_wear_life_is_the_limit_over_the_hour_weighted_rate() {
+        // 1 % per 1000 h for 3 h and 3 % per 1000 h for 1 h: 6 % per 1000 h
+        // over 4 h, 1.5e-3 % per hour; to 3 %: 2000 h.
+        let mut notes = Vec::new();
+        let points = [point("a", 3.0, Some(1.0)), point("b", 1.0, Some(3.0))];
+        let l = wear_limit(&points, 4.0, &mut notes).expect("a wear life");
+        approx::assert_relative_eq!(l.rate_per_hour, 1.5e-3, max_relative = 1e-12);
+        approx::assert_relative_eq!(
+            l.life_h.hours().unwrap_or(0.0),
+            2000.0,
+            max_relative = 1e-12
+        );
+        assert_eq!(l.limit, 3.0);
+        assert!(notes.is_empty());
+        // A point without a wear block: no life, a note naming it.
+        let points = [point("a", 3.0, Some(1.0)), point("b", 1.0, None)];
+        assert!(wear_limit(&points, 4.0, &mut notes).is_none());
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("no wear life") && n.contains('b'))
+        );
+        // No point with one: nothing said.
+        let mut quiet = Vec::new();
+        assert!(wear_limit(&[point("a", 1.0, None)], 1.0, &mut quiet).is_none());
+        assert!(quiet.is_empty());
+    }
+}
