@@ -336,8 +336,8 @@ fn simulate(
     let setup = Instant::now();
     // The error's own message holds its causes: printed once, not again as
     // a chain of sources.
-    let mut sim =
-        Simulation::new(&scene).map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
+    let mut sim = note_slow_setup(args.quiet, || Simulation::new(&scene))
+        .map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
@@ -668,4 +668,31 @@ fn fatigue_line(f: &chaindrive::analysis::design::Fatigue) -> String {
         f.largest_cycle_n / f.fatigue_limit_n,
         f.fatigue_limit_n * 1e-3
     )
+}
+
+/// Runs `setup` (building the drive and settling it to static equilibrium),
+/// printing one line to stderr if it takes longer than a second, so that a
+/// slow settle is not silent; nothing with `quiet`.
+fn note_slow_setup<T>(quiet: bool, setup: impl FnOnce() -> T) -> T {
+    if quiet {
+        return setup();
+    }
+    let (done, wait) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|s| {
+        s.spawn(move || {
+            let started = Instant::now();
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                wait.recv_timeout(std::time::Duration::from_secs(1))
+            {
+                eprintln!(
+                    "settling the drive to static equilibrium (still at it after {:.1} s)…",
+                    started.elapsed().as_secs_f64()
+                );
+            }
+        });
+        let out = setup();
+        // The note's thread may have ended already: nothing to tell it then.
+        let _ = done.send(());
+        out
+    })
 }
