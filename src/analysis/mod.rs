@@ -191,17 +191,75 @@ impl Signals {
     pub fn keep_window(&mut self, window_s: f64) {
         let segments = self.scratch.len();
         let welch = || vec![Welch::new(self.rate_hz, WELCH_SEGMENT); segments];
-        let rows = (window_s.max(0.0) * self.rate_hz).ceil();
         self.bounded = Some(Bounded {
-            rows: if rows.is_finite() {
-                rows as usize + 8
-            } else {
-                8
-            },
+            rows: rows_kept(window_s, self.rate_hz),
             trimmed: false,
             transverse: welch(),
             early: Some(welch()),
         });
+    }
+
+    /// These signals, continued in a run resumed from a checkpoint to
+    /// another end, whose statistics window ([`StatsWindow`] of that end)
+    /// is `window_s` long, followed step by step from `per_step_from_s`. Rows and spectra are
+    /// kept (the spectra do not depend on the end). If the window's start
+    /// moved, what was tracked step by step starts anew, as in a run with
+    /// this window from the start, which by the last step `last` (`None`
+    /// before the first) has tracked at most that step: the window must
+    /// start after the step before it
+    /// ([`crate::sim::checkpoint::Snapshot::window_restarts`]). `last`
+    /// comes with whether it was sampled (its row's extremes are then its
+    /// own).
+    pub fn continue_window(
+        &mut self,
+        model: &DriveModel,
+        per_step_from_s: f64,
+        window_s: f64,
+        last: Option<(&Sample<'_>, bool)>,
+    ) {
+        if let Some(b) = &mut self.bounded {
+            b.rows = rows_kept(window_s, self.rate_hz);
+        }
+        if per_step_from_s.to_bits() == self.per_step_from_s.to_bits() {
+            return;
+        }
+        // Every step-by-step accumulator as `new` makes it (a fatigue count
+        // from nothing); no row holds integrals yet (the steps before the
+        // window were not followed).
+        let fresh = Self::new(model, self.rate_hz, per_step_from_s);
+        *self = Self {
+            rows: std::mem::take(&mut self.rows),
+            bounded: self.bounded.take(),
+            fatigue: self.fatigue.as_ref().map(design::LinkCycles::anew),
+            ..fresh
+        };
+        for row in &mut self.rows {
+            row.step_sums = StepSums::default();
+        }
+        let Some((s, sampled)) = last else {
+            return;
+        };
+        if s.state.t_s >= per_step_from_s {
+            self.step(s);
+        }
+        if sampled {
+            // The row taken at the last step holds what was tracked since
+            // the sample before it: in this window, that step alone (and
+            // the integrals' start, where the window holds it).
+            self.track_extremes(s);
+            if let Some(row) = self.rows.last_mut() {
+                row.step_sums = self.counter.take();
+                row.link_range_n = self.link_range;
+                row.bearing_max_n.clone_from(&self.bearing_max);
+                for (r, m) in row.shoes.iter_mut().zip(&self.shoes) {
+                    r.normal_max_n = m.normal_max_n;
+                    r.friction_max_n = m.friction_max_n;
+                }
+            }
+            self.link_range = (f64::INFINITY, f64::NEG_INFINITY);
+            self.bearing_max.fill(0.0);
+            self.shoes.fill(ShoeSample::default());
+        }
     }
 
     /// The amplitude spectrum of segment `k`'s transverse displacement over
@@ -275,6 +333,16 @@ impl Signals {
             m.normal_max_n = m.normal_max_n.max(f.normal_n);
             m.friction_max_n = m.friction_max_n.max(f.friction_n);
         }
+    }
+}
+
+/// Rows kept for a statistics window of `window_s` at `rate_hz` (and a few more).
+fn rows_kept(window_s: f64, rate_hz: f64) -> usize {
+    let rows = (window_s.max(0.0) * rate_hz).ceil();
+    if rows.is_finite() {
+        rows as usize + 8
+    } else {
+        8
     }
 }
 

@@ -60,6 +60,12 @@ impl ContactLawParams {
         approach_speed_m_s.max(self.min_approach_speed_m_s)
     }
 
+    /// Whether n is 3/2 exactly, where [`Self::elastic`] is K δ √δ.
+    #[inline]
+    pub(crate) fn hertz(&self) -> bool {
+        self.hertz
+    }
+
     /// Elastic part K_g δⁿ, N.
     #[inline]
     pub fn elastic(&self, depth_m: f64) -> f64 {

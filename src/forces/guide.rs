@@ -7,10 +7,18 @@
 //! low μ stands for rolling), wear, or contact between the shoe and the
 //! link plates.
 
+mod bar;
+mod near;
+
 use std::any::Any;
 
-use super::{ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader};
-use crate::geometry::shoe::Face;
+use bar::{Bar, BarScratch, Rollers, Totals};
+use near::Near;
+
+use super::{
+    ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader, cpu_has_avx2,
+};
+use crate::geometry::shoe::{Face, FacePoint, Straight};
 use crate::model::{DriveModel, DriveState};
 
 /// χ of the guide contact during the static equilibrium's relaxation (the
@@ -89,12 +97,27 @@ pub struct Guide {
     /// The same, advanced by the last evaluation (adopted at commit).
     pending: Vec<f64>,
     last: ShoeForces,
+    /// The face's fast query, for a straight face without ramps.
+    straight: Option<Straight>,
+    /// The rollers near a fixed guide (`None` for a carried shoe: every
+    /// roller is tested).
+    near: Option<Near>,
+    /// Scratch of the fixed straight guide's kernel ([`bar`]), sized where
+    /// it applies.
+    bar: BarScratch,
 }
 
 impl Guide {
     /// The element for a chain of `rollers` rollers of radius `roller_radius_m`.
     pub fn new(params: GuideParams, rollers: usize, roller_radius_m: f64) -> Self {
         Self {
+            straight: params.face.straight(),
+            near: params.carrier.is_none().then(|| Near::new(rollers)),
+            bar: if params.carrier.is_none() && params.face.straight().is_some() {
+                BarScratch::new(rollers)
+            } else {
+                BarScratch::default()
+            },
             params,
             run_law: None,
             roller_radius_m,
@@ -102,6 +125,13 @@ impl Guide {
             pending: vec![-1.0; rollers],
             last: ShoeForces::default(),
         }
+    }
+
+    /// Tests every roller at every evaluation (no kept candidates): the
+    /// oracle of the culling test.
+    pub fn without_culling(mut self) -> Self {
+        self.near = None;
+        self
     }
 
     /// A fixed guide of the scene, on `chain`'s rollers.
@@ -128,6 +158,12 @@ impl Guide {
     /// The forces of the last evaluation.
     pub fn forces(&self) -> &ShoeForces {
         &self.last
+    }
+
+    fn expire_near(&mut self) {
+        if let Some(near) = &mut self.near {
+            near.expire();
+        }
     }
 
     /// The shoe's pose at `state`: its rotation (cos, sin) about the pivot,
@@ -157,6 +193,9 @@ impl ForceElement for Guide {
 
     fn commit(&mut self) {
         self.onset.copy_from_slice(&self.pending);
+        if let Some(near) = &mut self.near {
+            near.commit();
+        }
     }
 
     fn save_history(&self, history: &mut History) {
@@ -169,23 +208,31 @@ impl ForceElement for Guide {
         self.onset.copy_from_slice(onset);
         let pending = history.floats(self.pending.len())?;
         self.pending.copy_from_slice(pending);
+        self.expire_near();
         Ok(())
     }
 
     fn reset(&mut self) {
         self.onset.fill(-1.0);
         self.pending.fill(-1.0);
+        self.expire_near();
+    }
+
+    fn forget_kept(&mut self) {
+        self.expire_near();
     }
 
     fn begin_equilibrium(&mut self) {
         let run = *self.run_law.get_or_insert(self.params.law);
         self.params.law = run.with_chi(RELAXATION_CHI);
+        self.expire_near();
     }
 
     fn end_equilibrium(&mut self) {
         if let Some(law) = self.run_law.take() {
             self.params.law = law;
         }
+        self.expire_near();
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {
@@ -225,21 +272,69 @@ impl Guide {
         let (xs, ys, vxs, vys) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
         let (onset, pending) = (&self.onset[..n], &mut self.pending[..n]);
         let (fxs, fys) = (&mut out.fx[..n], &mut out.fy[..n]);
-        for i in 0..n {
+        // A fixed guide looks at the rollers near it only, in roller order.
+        let candidates = match &mut self.near {
+            Some(near) => {
+                let bounds = [x0 - r, y0 - r, x1 + r, y1 + r];
+                let v_max = out.max_roller_speed_m_s;
+                Some(near.candidates(s.t_s, xs, ys, bounds, r, v_max, pending))
+            }
+            None => None,
+        };
+        // A fixed straight guide: the branch-free kernel, run by run.
+        if let (Some(runs), Some(face)) = (candidates, self.straight)
+            && self.bar.hit.len() == n
+        {
+            let bar = Bar {
+                face,
+                law,
+                friction: (mu, v_s),
+                radius_m: r,
+                bounds_m: [x0, y0, x1, y1],
+            };
+            let avx2 = cpu_has_avx2();
+            for &[a, b] in runs {
+                let rollers = Rollers {
+                    x: &xs[a..b],
+                    y: &ys[a..b],
+                    vx: &vxs[a..b],
+                    vy: &vys[a..b],
+                    onset: &onset[a..b],
+                    pending: &mut pending[a..b],
+                    fx: &mut fxs[a..b],
+                    fy: &mut fys[a..b],
+                };
+                let totals = Totals {
+                    sums: &mut sums,
+                    energy: &mut energy,
+                    damping_power: &mut damping_power,
+                };
+                bar::run(&bar, rollers, &mut self.bar, avx2, totals);
+            }
+            return self.finish(out, sums, energy, damping_power);
+        }
+        let straight = self.straight;
+        let query = |p: [f64; 2]| -> Option<FacePoint> {
+            match &straight {
+                Some(f) => f.query(p),
+                None => face.query(p),
+            }
+        };
+        let mut roller = |i: usize| {
             pending[i] = -1.0;
             // Into the shoe's frame: p_l = pivot + R(−q)(p − pivot).
             let (dx, dy) = (xs[i] - pivot[0], ys[i] - pivot[1]);
             let px = pivot[0] + cos_q * dx + sin_q * dy;
             let py = pivot[1] - sin_q * dx + cos_q * dy;
             if px < x0 - r || px > x1 + r || py < y0 - r || py > y1 + r {
-                continue;
+                return;
             }
-            let Some(hit) = face.query([px, py]) else {
-                continue;
+            let Some(hit) = query([px, py]) else {
+                return;
             };
             let depth = r - hit.distance_m;
             if !(depth > 0.0) || depth >= 2.0 * r {
-                continue;
+                return;
             }
             // The roller's velocity relative to the shoe, in the shoe's frame:
             // R(−q)(v − ω × (p − pivot)).
@@ -254,7 +349,9 @@ impl Guide {
                 law.damping_per_speed(rate)
             };
             pending[i] = damping;
-            let f_n = law.force_with(depth, rate, damping);
+            // The law's `force_with`, its elastic part kept for the energy.
+            let elastic = law.elastic(depth);
+            let f_n = (elastic * (1.0 + damping * rate)).max(0.0);
             let v_t = -vx * ny + vy * nx;
             let f_t = -mu * f_n * v_t / (v_t * v_t + v_s * v_s).sqrt();
             // Force on the roller in the shoe's frame, then in the world.
@@ -273,10 +370,24 @@ impl Guide {
             sums.friction_n += f_t.abs();
             sums.contacts += 1;
             sums.max_penetration_m = sums.max_penetration_m.max(depth);
-            let elastic = law.elastic(depth);
             energy += elastic * depth / (law.exponent + 1.0);
             damping_power += (f_n - elastic) * -rate + f_t * v_t;
+        };
+        match candidates {
+            Some(runs) => runs.iter().flat_map(|&[a, b]| a..b).for_each(roller),
+            None => (0..n).for_each(&mut roller),
         }
+        self.finish(out, sums, energy, damping_power)
+    }
+
+    /// Adds the shoe's sums to `out` and keeps them as the last forces.
+    fn finish(
+        &mut self,
+        out: &mut Forces,
+        mut sums: ShoeForces,
+        energy: f64,
+        damping_power: f64,
+    ) -> ShoeForces {
         out.contact_energy_j += energy;
         out.contact_damping_power_w += damping_power;
         match self.params.carrier {
@@ -443,5 +554,110 @@ mod tests {
         g.evaluate(&model, &state, &mut out);
         g.commit();
         assert!(g.onset[1] < 0.0);
+    }
+
+    #[test]
+    fn guide_culling_changes_nothing() {
+        // Oracle: a fixed guide that tests only the rollers kept near it
+        // gives the bits of one that tests every roller, for a straight
+        // face (its fast query) and one with ramps (the general query).
+        // 300 rollers drift across the face's box and back at up to 3 m/s
+        // (one in seven at up to 60 m/s),
+        // some resting on it, with trial evaluations between the committed
+        // ones; the fastest speed is the links' report, as in a run.
+        let n = 300;
+        let (model, mut state) = drive(3);
+        for v in [&mut state.x, &mut state.y, &mut state.vx, &mut state.vy] {
+            v.resize(n, 0.0);
+        }
+        let ramp = Ramp {
+            length_m: 0.05,
+            angle_rad: 0.1,
+        };
+        let bar = body_from_radius([0.0, 0.0], [1.0, 0.0], None).unwrap();
+        for ramps in [None, Some(ramp)] {
+            let face = Face::new(bar, 1.0, ramps, ramps);
+            assert_eq!(face.straight().is_some(), ramps.is_none());
+            let params = GuideParams {
+                name: "g".into(),
+                face,
+                law: law(1e9, 0.5),
+                friction: 0.3,
+                slip_speed_m_s: 0.01,
+                carrier: None,
+            };
+            let mut culled = Guide::new(params.clone(), n, 0.01);
+            let mut every = Guide::new(params, n, 0.01).without_culling();
+            // Deterministic scatter: x ∈ [−0.6, 1.6], y ∈ [−0.04, 0.06].
+            let mut seed = 0x2545_f491_4f6c_dd1du64;
+            let mut next = || {
+                seed ^= seed << 13;
+                seed ^= seed >> 7;
+                seed ^= seed << 17;
+                (seed >> 11) as f64 / (1u64 << 53) as f64
+            };
+            for i in 0..n {
+                state.x[i] = -0.6 + 2.2 * next();
+                state.y[i] = if i % 5 == 0 {
+                    0.009
+                } else {
+                    -0.04 + 0.1 * next()
+                };
+                // Some fast enough to cross the kept margin within the
+                // longest skip: the speed bound, not the margin, keeps them.
+                let top = if i % 7 == 0 { 60.0 } else { 3.0 };
+                let (speed, angle) = (top * next(), std::f64::consts::TAU * next());
+                (state.vx[i], state.vy[i]) = (speed * angle.cos(), speed * angle.sin());
+            }
+            state.t_s = 0.0;
+            let dt = 2e-5;
+            let mut in_contact = 0;
+            for step in 0..3000 {
+                let v_max = (0..n)
+                    .map(|i| state.vx[i].hypot(state.vy[i]))
+                    .fold(0.0, f64::max);
+                let evaluate = |g: &mut Guide, state: &DriveState| {
+                    let mut out = Forces::new(n, 0, 0, 0);
+                    out.max_roller_speed_m_s = v_max;
+                    g.evaluate(&model, state, &mut out);
+                    out
+                };
+                if step % 3 == 0 {
+                    // A trial stage half a step on, not committed.
+                    let mut trial = state.clone();
+                    trial.t_s += 0.5 * dt;
+                    for i in 0..n {
+                        trial.x[i] += 0.5 * dt * trial.vx[i];
+                        trial.y[i] += 0.5 * dt * trial.vy[i];
+                    }
+                    let (a, b) = (evaluate(&mut culled, &trial), evaluate(&mut every, &trial));
+                    assert_eq!(a.fx, b.fx);
+                    assert_eq!(a.fy, b.fy);
+                }
+                let (a, b) = (evaluate(&mut culled, &state), evaluate(&mut every, &state));
+                assert_eq!(a.fx, b.fx, "step {step}");
+                assert_eq!(a.fy, b.fy, "step {step}");
+                assert_eq!(a.contact_energy_j, b.contact_energy_j);
+                assert_eq!(a.contact_damping_power_w, b.contact_damping_power_w);
+                assert_eq!(culled.forces(), every.forces());
+                in_contact += culled.forces().contacts;
+                culled.commit();
+                every.commit();
+                assert_eq!(culled.onset, every.onset);
+                // Drift on; turn back at the scatter's edges.
+                state.t_s += dt;
+                for i in 0..n {
+                    if !(-0.6..=1.6).contains(&state.x[i]) {
+                        state.vx[i] = -state.vx[i];
+                    }
+                    if !(-0.04..=0.06).contains(&state.y[i]) {
+                        state.vy[i] = -state.vy[i];
+                    }
+                    state.x[i] += dt * state.vx[i];
+                    state.y[i] += dt * state.vy[i];
+                }
+            }
+            assert!(in_contact > 10_000, "{in_contact} contacts seen");
+        }
     }
 }

@@ -431,8 +431,7 @@ fn roller_sums_body(
     v: [&[f64]; 2],
 ) -> (bool, f64, f64) {
     // `max` drops a NaN: keep it visible to the blow-up check.
-    let nan = stretch.iter().fold(false, |b, s| b | s.is_nan());
-    let max_stretch = largest(stretch, stretch, |s, _| s.abs());
+    let (nan, max_stretch) = largest_abs(stretch);
     let max_speed_sq = largest(v[0], v[1], |a, b| a * a + b * b);
     for ((f, l), g) in roller_f.into_iter().zip(link_f).zip(weight) {
         let n = f.len().min(l.len());
@@ -444,6 +443,29 @@ fn roller_sums_body(
         }
     }
     (nan, max_stretch, max_speed_sq)
+}
+
+/// Whether `values` holds a NaN, and the largest |value| (at least 0, NaN
+/// dropped, as [`largest`] takes it), in one pass of four lanes.
+#[inline(always)]
+fn largest_abs(values: &[f64]) -> (bool, f64) {
+    let larger = |m: f64, v: f64| if v > m { v } else { m };
+    let mut lanes = [0.0f64; 4];
+    let mut nan = [false; 4];
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    for c in chunks {
+        for k in 0..4 {
+            nan[k] |= c[k].is_nan();
+            lanes[k] = larger(lanes[k], c[k].abs());
+        }
+    }
+    let tail_nan = rest.iter().any(|v| v.is_nan());
+    let tail = rest.iter().fold(0.0f64, |m, v| larger(m, v.abs()));
+    (
+        tail_nan | nan.into_iter().any(|b| b),
+        lanes.into_iter().fold(tail, larger),
+    )
 }
 
 /// The largest `f(a_i, b_i)`, at least 0, in four independent lanes of plain

@@ -88,6 +88,19 @@ use serde::{Deserialize, Serialize};
 
 use crate::model::{DriveModel, DriveState};
 
+/// Whether the CPU has AVX2, where the kernels built for it may run (the
+/// check is cached by the standard library).
+pub(crate) fn cpu_has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    {
+        std::arch::is_x86_feature_detected!("avx2")
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        false
+    }
+}
+
 /// A force element: one kind of force acting in the drive.
 ///
 /// Implementations write into [`Forces`] only what they add; they keep
@@ -107,6 +120,12 @@ pub trait ForceElement: std::fmt::Debug + Send + Sync {
 
     /// Forgets all history (the static equilibrium's end, a restart).
     fn reset(&mut self) {}
+
+    /// Forgets what the element keeps only to skip work (a guide's rollers
+    /// kept far from it): the next evaluation looks at everything. Called
+    /// when the state may have moved other than in time (a Newton iterate,
+    /// a co-simulation frame's new mount positions). History stays.
+    fn forget_kept(&mut self) {}
 
     /// The static equilibrium's relaxation begins: switch to what it needs.
     fn begin_equilibrium(&mut self) {}
@@ -346,9 +365,13 @@ impl ForceGenerator {
         }
     }
 
-    /// See [`ToothContact::forget_reach`].
+    /// See [`ToothContact::forget_reach`]; every further element forgets
+    /// what it keeps to skip work too ([`ForceElement::forget_kept`]).
     pub fn forget_reach(&mut self) {
         self.contact.forget_reach();
+        for e in &mut self.elements {
+            e.forget_kept();
+        }
     }
 
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).

@@ -308,6 +308,8 @@ impl super::Outline for Seats<'_> {
     fn continues(&self, _: u32, _: u32) -> bool {
         false
     }
+
+    const SLIDES: bool = false;
 }
 
 #[cfg(test)]

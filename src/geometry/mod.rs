@@ -121,6 +121,10 @@ pub trait Outline {
     /// continuous contact (the real profile's flank → topping joint), so its
     /// remembered onset carries over.
     fn continues(&self, a: u32, b: u32) -> bool;
+
+    /// Whether [`Self::continues`] can ever be true (false: no patch
+    /// continues another, and the contact loop need not ask).
+    const SLIDES: bool = true;
 }
 
 impl Outline for CircularProfile {
@@ -133,6 +137,8 @@ impl Outline for CircularProfile {
     fn continues(&self, _: u32, _: u32) -> bool {
         false
     }
+
+    const SLIDES: bool = false;
 }
 
 impl Outline for asa::AsaProfile {

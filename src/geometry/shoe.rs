@@ -421,6 +421,27 @@ impl Face {
         outside.or(behind)
     }
 
+    /// The face as a [`Straight`] (a segment body without ramps), whose
+    /// query answers as [`Self::query`] with the segment's constants
+    /// computed once; `None` for any other face.
+    pub fn straight(&self) -> Option<Straight> {
+        let (Piece::Segment { a, b }, None, None) = (self.body, self.start_ramp, self.end_ramp)
+        else {
+            return None;
+        };
+        // The constants exactly as `Piece::closest` computes them.
+        let ab = sub(b, a);
+        let len2 = dot(ab, ab);
+        let len = len2.sqrt();
+        let side = self.side;
+        Some(Straight {
+            a,
+            ab,
+            len2,
+            normal: [-side * ab[1] / len, side * ab[0] / len],
+        })
+    }
+
     /// The face's middle point (the body's), m.
     pub fn middle_m(&self) -> [f64; 2] {
         self.body.point_at(0.5)
@@ -430,6 +451,63 @@ impl Face {
     pub fn middle_normal(&self) -> [f64; 2] {
         let t = self.body.tangent_at(0.5);
         [-self.side * t[1], self.side * t[0]]
+    }
+}
+
+/// A straight face without ramps, its constants computed once
+/// ([`Face::straight`]): the query of a guide bar, for every roller at every
+/// evaluation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Straight {
+    a: [f64; 2],
+    /// b − a.
+    ab: [f64; 2],
+    /// |b − a|².
+    len2: f64,
+    /// The working normal.
+    normal: [f64; 2],
+}
+
+impl Straight {
+    /// [`Face::query`] of the face it was made from: the same operations on
+    /// the same numbers, so the same bits.
+    #[inline]
+    pub fn query(&self, p: [f64; 2]) -> Option<FacePoint> {
+        let (some, hit) = self.query_parts(p);
+        some.then_some(hit)
+    }
+
+    /// [`Self::query`] without branches (for a loop the compiler
+    /// vectorises): whether there is a point, and the point (meaningless
+    /// where there is none).
+    #[inline(always)]
+    pub fn query_parts(&self, p: [f64; 2]) -> (bool, FacePoint) {
+        let (a, ab) = (self.a, self.ab);
+        let t = dot(sub(p, a), ab) / self.len2;
+        // `&`, not `contains` (`&&`): no branch in the vectorised loop.
+        #[allow(clippy::manual_range_contains)]
+        let inside = (0.0 <= t) & (t <= 1.0);
+        let t = t.clamp(0.0, 1.0);
+        let c = [a[0] + t * ab[0], a[1] + t * ab[1]];
+        let n = self.normal;
+        let distance = dot(sub(p, c), n);
+        // On the working side: the distance to the closest point, the
+        // normal from it (the face normal where the point is on the face).
+        let above = distance >= 0.0;
+        let d = norm(sub(p, c));
+        let apart = d > 0.0;
+        let from = [(p[0] - c[0]) / d, (p[1] - c[1]) / d];
+        let normal = [
+            if above & apart { from[0] } else { n[0] },
+            if above & apart { from[1] } else { n[1] },
+        ];
+        let hit = FacePoint {
+            distance_m: if above { d } else { distance },
+            point_m: c,
+            normal,
+            piece: 0,
+        };
+        (above | inside, hit)
     }
 }
 
@@ -449,6 +527,67 @@ mod tests {
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() < 1e-12
+    }
+
+    #[test]
+    fn straight_query_matches_the_face_query_to_the_bit() {
+        // The guide's fast query against the general one: points on both
+        // sides, beyond both ends, on the face, at its ends and corners, for
+        // faces in several directions and both working sides.
+        let faces = [
+            ([-0.6038, 0.041329], [-9.4038, 0.041329]),
+            ([0.0, 0.0], [1.0, 0.0]),
+            ([0.3, -0.2], [-0.1, 0.7]),
+            ([1e-3, 2e-3], [1e-3, 5.0]),
+        ];
+        let mut checked = 0;
+        for (start, end) in faces {
+            let body = body_from_radius(start, end, None).unwrap();
+            for side in [1.0, -1.0] {
+                let face = Face::new(body, side, None, None);
+                let fast = face.straight().expect("a straight face without ramps");
+                let (ab, mid) = (
+                    sub(end, start),
+                    [0.5 * (start[0] + end[0]), 0.5 * (start[1] + end[1])],
+                );
+                for i in -40..=40 {
+                    for j in -40..=40 {
+                        // Along the face from before its start to after its end,
+                        // across it within a few roller radii, and exact points.
+                        let s = f64::from(i) / 30.0;
+                        let off = f64::from(j) * 1e-3 * if j % 7 == 0 { 1e-6 } else { 1.0 };
+                        let p = [
+                            start[0] + s * ab[0] - off * ab[1],
+                            start[1] + s * ab[1] + off * ab[0],
+                        ];
+                        for q in [p, start, end, mid] {
+                            let (x, y) = (face.query(q), fast.query(q));
+                            assert_eq!(x.is_some(), y.is_some(), "{q:?}");
+                            if let (Some(x), Some(y)) = (x, y) {
+                                assert_eq!(x.distance_m.to_bits(), y.distance_m.to_bits(), "{q:?}");
+                                assert_eq!(
+                                    x.point_m.map(f64::to_bits),
+                                    y.point_m.map(f64::to_bits)
+                                );
+                                assert_eq!(x.normal.map(f64::to_bits), y.normal.map(f64::to_bits));
+                                assert_eq!(x.piece, y.piece);
+                                checked += 1;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(checked > 100_000, "{checked}");
+        // Faces with ramps or an arc have no fast query.
+        let arc = body_from_radius([0.0, 0.0], [1.0, 0.0], Some(2.0)).unwrap();
+        assert!(Face::new(arc, 1.0, None, None).straight().is_none());
+        let bar = body_from_radius([0.0, 0.0], [1.0, 0.0], None).unwrap();
+        let ramp = Ramp {
+            length_m: 0.05,
+            angle_rad: 0.1,
+        };
+        assert!(Face::new(bar, 1.0, Some(ramp), None).straight().is_none());
     }
 
     #[test]

@@ -147,6 +147,14 @@ impl SprocketModel {
         self.speed_law.is_some() || self.governor.is_some()
     }
 
+    /// Whether the static equilibrium keeps the sprocket where it is: held
+    /// at rest ([`Self::held_at_rest`]) or without rotational freedom (no
+    /// inverse inertia: a sprocket the co-simulation holds for the solve).
+    #[inline]
+    pub(crate) fn still_in_statics(&self) -> bool {
+        self.held_at_rest() || !(self.inv_inertia > 0.0)
+    }
+
     /// The load and the user's torque of [`Self::torque_at`], without a
     /// governor's torque, N·m.
     #[inline]

@@ -23,7 +23,9 @@
 //!
 //! Every file also holds a metadata record `chaindrive` (scene name, profile,
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
-//! scene file as an attachment, and at the end a metadata record
+//! scene file as an attachment with the tables it read (a load table's
+//! CSV, attached under the name the scene gives it, media type
+//! `text/csv`), and at the end a metadata record
 //! `chaindrive.end` saying how the run ended. Channels not requested are
 //! neither computed nor written.
 //!
@@ -68,6 +70,9 @@ mod visual;
 mod writer;
 
 pub use channels::{Channel, Channels, STATIC_SCENE_TOPIC};
+
+/// The media type of a table a scene read, attached beside it.
+pub(crate) const TABLE_MEDIA_TYPE: &str = "text/csv";
 pub(crate) use writer::CHUNK_BYTES;
 pub use writer::FLUSH_INTERVAL_NS;
 use writer::{ChannelIds, Frame, Job, QUEUE_FRAMES, Sink, Writer};
@@ -380,6 +385,17 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 media_type: "application/toml".to_owned(),
                 data: Cow::Borrowed(data),
             })?;
+            // The tables it read, under the names it writes: the scene is
+            // rebuilt from the recording alone ([`read`]).
+            for (name, text) in scene.tables() {
+                w.attach(&mcap::Attachment {
+                    log_time: 0,
+                    create_time: 0,
+                    name: name.to_owned(),
+                    media_type: TABLE_MEDIA_TYPE.to_owned(),
+                    data: Cow::Borrowed(text.as_bytes()),
+                })?;
+            }
         }
         let channels = options.channels;
         let mut ids = ChannelIds::default();

@@ -3,10 +3,12 @@
 //!
 //! What is read, and from where:
 //!
-//! - the scene: the attached scene file (`Scene::from_toml`), with the run's
-//!   overrides taken from the `chaindrive` metadata (profile, dt, stepping,
-//!   integrator, contact law, duration): the scene as it was run, not as
-//!   its file reads;
+//! - the scene: the attached scene file (`Scene::from_toml_given`), with
+//!   the tables it read attached beside it (a recording made before they
+//!   were reads them from files, relative to the working directory) and the
+//!   run's overrides taken from the `chaindrive` metadata (profile, dt,
+//!   stepping, integrator, contact law, duration): the scene as it was run,
+//!   not as its file reads;
 //! - `/segments` and `/sprockets` (required): each segment's average link
 //!   force and transverse displacement, each sprocket's speed and chain
 //!   moment;
@@ -491,6 +493,14 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         });
     };
     let text = String::from_utf8_lossy(scene_bytes);
+    // The tables the scene read, as the run read them (not the files, which
+    // are relative to a folder the recording does not know and may have
+    // changed since).
+    let tables = attachments
+        .iter()
+        .filter(|a| a.1 == super::TABLE_MEDIA_TYPE)
+        .map(|a| (a.0.clone(), String::from_utf8_lossy(&a.2).into_owned()))
+        .collect();
     // The run's own settings, where the recording states them sensibly.
     let number = |key: &str| meta.get(key).and_then(|v| v.parse::<f64>().ok());
     let overrides = Overrides {
@@ -506,10 +516,11 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
             .and_then(|s| ContactLaw::from_name(s)),
         ..Overrides::default()
     };
-    let scene = Scene::from_toml_with(&text, &overrides).map_err(|e| ReadError::Scene {
-        name: scene_name.clone(),
-        message: e.lines().join("; "),
-    })?;
+    let scene =
+        Scene::from_toml_given(&text, tables, &overrides).map_err(|e| ReadError::Scene {
+            name: scene_name.clone(),
+            message: e.lines().join("; "),
+        })?;
 
     // Required channels.
     let required = [Channel::Segments, Channel::Sprockets];

@@ -127,9 +127,11 @@ impl SceneBuilder {
                 solver: self.solver,
                 equilibrium: self.equilibrium,
                 base_dir: None,
+                given_tables: std::collections::BTreeMap::new(),
                 tensioners: Vec::new(),
                 guides: self.guides,
                 checks: super::ChecksFile::default(),
+                duty: Vec::new(),
             }),
             (chain, contact) => Err(SceneError::Invalid(
                 [

@@ -8,6 +8,7 @@
 //! them (the periodic spline through a table, the governor's torque) is the
 //! model's ([`crate::model`]).
 
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use serde::{Deserialize, Serialize};
@@ -91,8 +92,12 @@ impl Harmonic {
 /// dropped), angles in radians from the first, scale applied.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LoadTable {
-    /// The file it was read from (resolved).
-    pub file: PathBuf,
+    /// The file as the scene names it (`load_table.file`), wherever it was
+    /// read from: the same table is the same scene from any folder.
+    pub file: String,
+    /// The file's text as read: what a recording keeps of it, so that the
+    /// scene is rebuilt without the file.
+    pub text: String,
     /// Node angles, rad, strictly increasing, within [first, first + 2π).
     pub angles_rad: Vec<f64>,
     /// Torques at the nodes, N·m (counter-clockwise positive).
@@ -120,15 +125,23 @@ pub const MAX_ORDER: i64 = 1000;
 /// Rows a load table needs at least (three nodes and the closing row).
 pub const MIN_TABLE_ROWS: usize = 4;
 
+/// Where a scene's tables are read from: the texts given with it, by the
+/// name the scene writes (a recording's copies), else the files, relative
+/// to `base_dir` (the working directory if `None`).
+#[derive(Clone, Copy)]
+pub(super) struct TableFiles<'a> {
+    pub(super) base_dir: Option<&'a Path>,
+    pub(super) given: &'a BTreeMap<String, String>,
+}
+
 /// Validates the excitation fields of sprocket `i` (role `kind`), reading a
-/// load table's file relative to `base_dir` (the working directory if
-/// `None`).
+/// load table from `tables`.
 pub(super) fn check_excitation(
     c: &mut Checker,
     f: &SprocketFile,
     i: usize,
     kind: Option<RoleKind>,
-    base_dir: Option<&Path>,
+    tables: TableFiles<'_>,
 ) -> Excitation {
     let p = |field: &str| format!("sprockets[{i}].{field}");
     let driver = kind == Some(RoleKind::Driver);
@@ -187,7 +200,7 @@ pub(super) fn check_excitation(
         .collect();
     let load_table = f.load_table.as_ref().and_then(|t| {
         let scale = c.finite(&p("load_table.scale"), t.scale);
-        read_table(c, &p("load_table.file"), &t.file, base_dir).map(|mut table| {
+        read_table(c, &p("load_table.file"), &t.file, tables).map(|mut table| {
             for m in &mut table.torques_n_m {
                 *m *= scale;
             }
@@ -198,7 +211,7 @@ pub(super) fn check_excitation(
         speed_harmonics,
         load_harmonics,
         load_table,
-        governor: check_governor(c, f, i, kind, base_dir),
+        governor: check_governor(c, f, i, kind, tables),
     }
 }
 
@@ -213,35 +226,44 @@ pub(super) fn check_order(c: &mut Checker, path: &str, order: i64) -> u32 {
     u32::try_from(order).unwrap_or(1)
 }
 
-/// Reads and checks a load table; every problem is a failure at `path`.
+/// Reads and checks the load table the scene names `file` (its given text,
+/// else the file); every problem is a failure at `path`.
 pub(super) fn read_table(
     c: &mut Checker,
     path: &str,
     file: &str,
-    base_dir: Option<&Path>,
+    tables: TableFiles<'_>,
 ) -> Option<LoadTable> {
-    let resolved = match base_dir {
-        Some(dir) => dir.join(file),
-        None => PathBuf::from(file),
-    };
-    let text = match std::fs::read_to_string(&resolved) {
-        Ok(t) => t,
-        Err(e) => {
-            c.fail(
-                path,
-                format!("cannot read the table {}: {e}", resolved.display()),
-            );
-            return None;
+    let (text, shown) = if let Some(text) = tables.given.get(file) {
+        (
+            text.clone(),
+            format!("{file} (the copy given with the scene)"),
+        )
+    } else {
+        let resolved = match tables.base_dir {
+            Some(dir) => dir.join(file),
+            None => PathBuf::from(file),
+        };
+        match std::fs::read_to_string(&resolved) {
+            Ok(t) => (t, resolved.display().to_string()),
+            Err(e) => {
+                c.fail(
+                    path,
+                    format!("cannot read the table {}: {e}", resolved.display()),
+                );
+                return None;
+            }
         }
     };
     match parse_table(&text) {
         Ok((angles_deg, torques_n_m)) => Some(LoadTable {
-            file: resolved,
+            file: file.to_owned(),
             angles_rad: angles_deg.iter().map(|a| a.to_radians()).collect(),
             torques_n_m,
+            text,
         }),
         Err(why) => {
-            c.fail(path, format!("{}: {why}", resolved.display()));
+            c.fail(path, format!("{shown}: {why}"));
             None
         }
     }

@@ -41,6 +41,12 @@ pub struct SceneFile {
     /// the working directory. Not part of the TOML.
     #[serde(skip)]
     pub base_dir: Option<std::path::PathBuf>,
+    /// The texts of tables the scene names (`load_table.file`,
+    /// `governor.drive_table.file`), by the name it writes: read instead of
+    /// the files (a recording's copies, `Scene::from_toml_given`);
+    /// a table not here is read from its file. Not part of the TOML.
+    #[serde(skip)]
+    pub(crate) given_tables: std::collections::BTreeMap<String, String>,
     /// Tensioner arms with their tensioners (`[[tensioners]]`).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub tensioners: Vec<super::TensionerFile>,
@@ -50,6 +56,9 @@ pub struct SceneFile {
     /// Settings of the design checks (`[checks]`).
     #[serde(default, skip_serializing_if = "super::ChecksFile::is_empty")]
     pub checks: super::ChecksFile,
+    /// A duty cycle's operating points (`[[duty]]`; `chaindrive life`).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub duty: Vec<super::DutyPointFile>,
 }
 
 fn default_profile() -> String {

@@ -6,13 +6,11 @@
 //! The validated form is data only; the gains from a bandwidth and the
 //! governor's torque are the model's ([`crate::model::Governor`]).
 
-use std::path::Path;
-
 use serde::{Deserialize, Serialize};
 
 use super::RoleKind;
 use super::excitation::{
-    Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, check_order, read_table,
+    Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, TableFiles, check_order, read_table,
 };
 use super::file::SprocketFile;
 use super::validate::Checker;
@@ -89,14 +87,14 @@ pub struct GovernorSpec {
     pub gains: GovernorGains,
 }
 
-/// Validates sprocket `i`'s governor, if any (role `kind`); a table's file
-/// is read relative to `base_dir`.
+/// Validates sprocket `i`'s governor, if any (role `kind`); a table is read
+/// from `tables`.
 pub(super) fn check_governor(
     c: &mut Checker,
     f: &SprocketFile,
     i: usize,
     kind: Option<RoleKind>,
-    base_dir: Option<&Path>,
+    tables: TableFiles<'_>,
 ) -> Option<GovernorSpec> {
     let g = f.governor.as_ref()?;
     let p = |field: &str| format!("sprockets[{i}].governor.{field}");
@@ -128,7 +126,7 @@ pub(super) fn check_governor(
         .collect();
     let drive_table = g.drive_table.as_ref().and_then(|t| {
         let scale = c.finite(&p("drive_table.scale"), t.scale);
-        read_table(c, &p("drive_table.file"), &t.file, base_dir).map(|mut table| {
+        read_table(c, &p("drive_table.file"), &t.file, tables).map(|mut table| {
             for m in &mut table.torques_n_m {
                 *m *= scale;
             }

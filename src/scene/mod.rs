@@ -14,6 +14,7 @@ mod builder;
 mod by_path;
 mod checks;
 pub mod designations;
+mod duty;
 mod error;
 mod excitation;
 mod file;
@@ -35,6 +36,7 @@ pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub use by_path::{Assignment, PathPart, ScenePath, set_in_table};
 pub use checks::{Checks, ChecksFile, SN_SLOPE_RANGE};
+pub use duty::{DutyFile, DutyPointFile, FRACTION_SUM_TOLERANCE, check_points};
 pub use error::{FieldError, SceneError, locate, value_span};
 pub use excitation::{
     Excitation, Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, MAX_ORDER, MIN_TABLE_ROWS,
@@ -193,6 +195,23 @@ impl Scene {
     /// was parsed (for recordings and reports).
     pub fn source_toml(&self) -> Option<&str> {
         self.source_toml.as_deref()
+    }
+
+    /// The tables the scene read (load tables, governors' drive tables):
+    /// each name as the scene writes it, once, with the text read.
+    pub(crate) fn tables(&self) -> std::collections::BTreeMap<&str, &str> {
+        self.sprockets
+            .iter()
+            .flat_map(|s| {
+                let drive = s.excitation.governor.as_ref();
+                [
+                    s.excitation.load_table.as_ref(),
+                    drive.and_then(|g| g.drive_table.as_ref()),
+                ]
+            })
+            .flatten()
+            .map(|t| (t.file.as_str(), t.text.as_str()))
+            .collect()
     }
 
     /// Index of the driver.

@@ -161,6 +161,29 @@ impl Scene {
         base_dir: Option<&std::path::Path>,
         overrides: &Overrides,
     ) -> Result<Self, SceneError> {
+        Self::parse(text, base_dir, std::collections::BTreeMap::new(), overrides)
+    }
+
+    /// Parses a TOML scene whose tables are given with it, by the name the
+    /// scene writes (`load_table.file`): a recording's copies
+    /// (`crate::record`), so that the scene is the one that was run
+    /// wherever it is read and whatever became of the files. A table not
+    /// given is read from its file, relative to the working directory.
+    /// Applies `overrides` and validates, as [`Self::from_toml_with`].
+    pub(crate) fn from_toml_given(
+        text: &str,
+        tables: std::collections::BTreeMap<String, String>,
+        overrides: &Overrides,
+    ) -> Result<Self, SceneError> {
+        Self::parse(text, None, tables, overrides)
+    }
+
+    fn parse(
+        text: &str,
+        base_dir: Option<&std::path::Path>,
+        tables: std::collections::BTreeMap<String, String>,
+        overrides: &Overrides,
+    ) -> Result<Self, SceneError> {
         // Every problem at once: the shape's (unknown, mistyped, missing
         // fields), and the values' when only unknown fields were wrong.
         let read = super::shape::read::<SceneFile>(text, super::file::required)?;
@@ -168,6 +191,7 @@ impl Scene {
             return Err(SceneError::Invalid(read.errors));
         };
         file.base_dir = base_dir.map(std::path::Path::to_path_buf);
+        file.given_tables = tables;
         file.apply(overrides);
         let mut errors = read.errors;
         match Self::try_from(file).map_err(|e| e.located(text, &overrides.paths())) {

@@ -3,7 +3,7 @@
 //! reports *every* problem with its field's path.
 
 use super::designations;
-use super::excitation::check_excitation;
+use super::excitation::{TableFiles, check_excitation};
 use super::file::{AUTO, LimitsFile};
 use super::kinds::Named;
 use super::types::{DEFAULT_JOINT_FRICTION_SPEED_RAD_S, JointFriction, Limits};
@@ -22,7 +22,7 @@ pub(super) struct Checker {
 }
 
 impl Checker {
-    fn new() -> Self {
+    pub(super) fn new() -> Self {
         Self { errors: Vec::new() }
     }
 
@@ -91,7 +91,10 @@ impl TryFrom<SceneFile> for Scene {
             &file.sprockets,
             &chain,
             default_profile.unwrap_or(ProfileKind::Circular),
-            file.base_dir.as_deref(),
+            TableFiles {
+                base_dir: file.base_dir.as_deref(),
+                given: &file.given_tables,
+            },
         );
         check_seating(&mut c, &chain, &sprockets);
         let solver = check_solver(&mut c, &file.solver, &chain, &contact, &sprockets);
@@ -104,6 +107,7 @@ impl TryFrom<SceneFile> for Scene {
         };
         let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
         let checks = super::checks::check_checks(&mut c, &file.checks);
+        super::duty::check_duty(&mut c, &file.duty);
         if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
             c.fail(
                 "chain.pretension_by",
@@ -356,7 +360,7 @@ fn check_sprockets(
     files: &[SprocketFile],
     chain: &Chain,
     default_profile: ProfileKind,
-    base_dir: Option<&std::path::Path>,
+    tables: TableFiles<'_>,
 ) -> Vec<Sprocket> {
     if files.len() < 2 {
         c.fail(
@@ -421,7 +425,7 @@ fn check_sprockets(
             drivers += 1;
         }
         let kind = RoleKind::from_name(&f.role);
-        let excitation = check_excitation(c, f, i, kind, base_dir);
+        let excitation = check_excitation(c, f, i, kind, tables);
         out.push(Sprocket {
             name: f.name.clone(),
             center_m,

@@ -336,7 +336,7 @@ fn worst_sprocket(model: &DriveModel, forces: &ForceGenerator) -> Option<(usize,
         .sprockets
         .iter()
         .enumerate()
-        .filter(|(_, sp)| !sp.held_at_rest())
+        .filter(|(_, sp)| !sp.still_in_statics())
         .map(|(s, sp)| (s, out.chain_torque[s] + sp.load_at_rest_n_m()))
         .max_by(|a, b| {
             let ra = a.1.abs() / model.sprockets[a.0].pitch_radius_m;
@@ -515,10 +515,10 @@ fn beyond_seating_arc(
 /// Force residual, relative to the pretension, at which a relaxation stops
 /// while the pretension iteration is still looking for the rest length: the
 /// static tension is then known well within the tolerance on it.
-const SEARCH_FORCE: f64 = 1e-5;
+pub(crate) const SEARCH_FORCE: f64 = 1e-5;
 /// Force residual, relative to the pretension, at which the final relaxation
 /// stops: the equilibrium's residual is below it.
-const REST_FORCE: f64 = 1e-7;
+pub(crate) const REST_FORCE: f64 = 1e-7;
 /// Least relaxation damping rate, 1/s.
 const MIN_RATE_PER_S: f64 = 2.0;
 

@@ -21,6 +21,8 @@ mod misfit;
 mod newton;
 pub mod parallel;
 mod sample_rate;
+#[cfg(test)]
+mod statics_tests;
 mod stepper;
 
 pub use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
@@ -101,7 +103,8 @@ type Settled = (
 /// chain fits the path through the seated rollers ([`fit_sprocket`]; refused
 /// only when its travel cannot close the gap), then on from there, by a
 /// secant iteration on the static tension, until the pretension is reached.
-/// Each iterate lays the chain out anew and relaxes it. The returned scene holds
+/// Each iterate lays the chain out anew and settles it (Newton's method, the
+/// relaxation where it stalls). The returned scene holds
 /// the tensioner's final centre, so every output describes the drive simulated
 /// (docs/model.md, “Pretension and static equilibrium”).
 fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, SimError> {
@@ -120,7 +123,16 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
         c[1] += offset * direction[1];
         let (model, mut state, layout) = DriveModel::build(&moved)?;
         let mut forces = new_forces(&moved, &model);
-        let residual = relax(&model, &mut state, &mut forces, settings)?;
+        // Newton at this offset, the relaxation only where it stalls.
+        let residual = newton::settle(
+            &model,
+            &mut state,
+            &mut forces,
+            settings,
+            equilibrium::REST_FORCE * target.abs(),
+            0.5 * equilibrium::REST_FORCE * target.abs(),
+            true,
+        )?;
         let tension =
             free_strand_tension(&model, &state, &forces).ok_or(EquilibriumError::NoFreeLinks)?;
         let eq = StaticEquilibrium {
@@ -322,10 +334,42 @@ impl Clock {
     }
 }
 
+/// Holds the sprockets k with `held[k]` for the static equilibrium (no
+/// inverse inertia: the solve keeps them still); returns what [`release`]
+/// gives back.
+fn hold(model: &mut DriveModel, held: &[bool]) -> Vec<(usize, f64)> {
+    let mut freed = Vec::new();
+    for (k, sp) in model.sprockets.iter_mut().enumerate() {
+        if held.get(k).copied().unwrap_or(false) {
+            freed.push((k, sp.inv_inertia));
+            sp.inv_inertia = 0.0;
+        }
+    }
+    freed
+}
+
+/// Gives the sprockets [`hold`] held their inverse inertia back.
+fn release(model: &mut DriveModel, freed: &[(usize, f64)]) {
+    for &(k, inv_inertia) in freed {
+        model.sprockets[k].inv_inertia = inv_inertia;
+    }
+}
+
 impl Simulation {
     /// Builds the drive, inserts it into a fresh rapier world and brings it to
     /// static equilibrium.
     pub fn new(scene: &Scene) -> Result<Self, SimError> {
+        Self::new_holding(scene, &[])
+    }
+
+    /// [`Simulation::new`], the sprockets k with `held[k]` held at rest while
+    /// the drive settles (missing entries: not held): the statics' entry
+    /// point for a co-simulation whose mounted sprockets' torques are the
+    /// user's bodies' business. A drive with a held sprocket settles by
+    /// Newton's method instead of a long relaxation. The sprockets turn freely again
+    /// afterwards. Only the rest-length and tensioner-preload rules hold
+    /// them; the tensioner rule settles as [`Simulation::new`] does.
+    pub(crate) fn new_holding(scene: &Scene, held: &[bool]) -> Result<Self, SimError> {
         let limits = BlowUpLimits::for_scene(scene);
         // The relaxation steps symplectic Euler with the contact damping
         // implicit: only the links limit its step, whatever step the run's
@@ -343,6 +387,7 @@ impl Simulation {
                 feasibility::check_chain_length(scene, &layout, &model.path)?;
                 feasibility::check_load(scene, &layout)?;
                 let mut forces = new_forces(scene, &model);
+                let freed = hold(&mut model, held);
                 let eq = settle_rest_length(
                     &mut model,
                     &mut state,
@@ -356,12 +401,14 @@ impl Simulation {
                         .map(|s| s.name.as_str())
                         .collect::<Vec<_>>(),
                 )?;
+                release(&mut model, &freed);
                 (scene.clone(), model, state, forces, layout, eq)
             }
             PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
             PretensionRule::TensionerPreload => {
-                let (model, mut state, layout) = DriveModel::build(scene)?;
+                let (mut model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
+                let freed = hold(&mut model, held);
                 let mut eq = equilibrium::settle_preload(
                     &model,
                     &mut state,
@@ -369,6 +416,7 @@ impl Simulation {
                     &settings,
                     scene.chain.pretension_n,
                 )?;
+                release(&mut model, &freed);
                 eq.misfit = misfit::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }

@@ -94,7 +94,7 @@ impl Free {
                 .sprockets
                 .iter()
                 .enumerate()
-                .filter(|(_, s)| !s.held_at_rest() && s.inv_inertia > 0.0)
+                .filter(|(_, s)| !s.still_in_statics())
                 .map(|(j, _)| j)
                 .collect(),
         }
@@ -103,15 +103,16 @@ impl Free {
 
 /// Whether the Newton solve handles this drive: rollers and sprockets only
 /// (further bodies and scalar states are left to the relaxation), at least
-/// one of them held (a driver or a governed driver).
+/// one of them held (a driver, a governed driver, or a sprocket the
+/// co-simulation holds for the solve: [`super::Simulation::new_holding`]).
 pub(crate) fn applies(model: &DriveModel, state: &DriveState) -> bool {
-    // Without a held sprocket (a co-simulation whose motor is a body, its
-    // torque not yet known) every sprocket turns freely and a load has no
+    // Without a held sprocket (a co-simulation whose motor is a body not
+    // held for the solve) every sprocket turns freely and a load has no
     // reaction: no rest state to solve for; the relaxation handles it.
     model.bodies.is_empty()
         && model.scalars.is_empty()
         && state.x.len() >= 3
-        && model.sprockets.iter().any(|s| s.held_at_rest())
+        && model.sprockets.iter().any(|s| s.still_in_statics())
 }
 
 /// Residual r = (roller forces, free sprockets' torques) at `state`, into

@@ -12,7 +12,9 @@
 //! - [`soak`]: a long run reported window by window, to show there is no drift;
 //! - [`fuzz`]: one mutated scene file through parsing, layout and a short run;
 //! - [`study`]: a design study (factors × levels of a scene) run here or as
-//!   a Slurm job array, its results merged into one table.
+//!   a Slurm job array, its results merged into one table;
+//! - [`duty`]: a duty cycle's operating points run as a study and combined
+//!   by hours into the chain's life.
 //!
 //! Every batch of runs goes through one work queue ([`queue`]); the studies
 //! that compare integrators share their ladders of settings ([`ladder`]);
@@ -24,6 +26,7 @@
 //! command-line tool's (`chaindrive reproduce`, `chaindrive bench …`).
 
 pub mod convergence;
+pub mod duty;
 pub mod fuzz;
 pub mod ladder;
 pub mod queue;

@@ -304,3 +304,57 @@ fn a_failed_analysis_leaves_the_outputs_of_an_earlier_one_alone() {
         "only the blocking directory besides the earlier files"
     );
 }
+
+/// A recording of a scene whose load table is a file beside it holds the
+/// table: `analyze` reads it from any working directory, and after the file
+/// is gone, the table the run used.
+#[cfg(feature = "record")]
+#[test]
+fn a_recording_holds_the_load_table_its_scene_read() {
+    use chaindrive::record::read::read_recording;
+    use chaindrive::scene::{Overrides, Scene};
+    let tmp = tempfile::tempdir().expect("tempdir");
+    let dir = tmp.path();
+    let (scenes, elsewhere) = (dir.join("scenes"), dir.join("elsewhere"));
+    for d in [&scenes, &elsewhere] {
+        std::fs::create_dir(d).expect("dir");
+    }
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets");
+    for name in ["timing-excited.toml", "cam-torque.csv"] {
+        std::fs::copy(assets.join(name), scenes.join(name)).expect("copied");
+    }
+    let scene_path = scenes.join("timing-excited.toml");
+    let run_scene = Scene::from_path_with(&scene_path, &Overrides::default())
+        .expect("readable")
+        .expect("valid");
+    // Run from `dir`: the scene names its table relative to its own folder.
+    let run = chaindrive_in(
+        dir,
+        &[
+            "run",
+            "scenes/timing-excited.toml",
+            "--duration",
+            "0.05",
+            "--record",
+            "x.mcap",
+            "--quiet",
+        ],
+    );
+    assert!(run.status.success(), "{}", stderr(&run));
+    let analyze = |out: &str| {
+        let o = chaindrive_in(&elsewhere, &["analyze", "../x.mcap", "--out", out]);
+        assert!(o.status.success(), "analyze ({out}): {}", stderr(&o));
+    };
+    analyze("from_another_folder");
+    std::fs::remove_file(scenes.join("cam-torque.csv")).expect("removed");
+    analyze("without_the_file");
+    let recorded = read_recording(&dir.join("x.mcap")).expect("recording");
+    let tables = |s: &Scene| -> Vec<_> {
+        s.sprockets()
+            .iter()
+            .map(|sp| sp.excitation.load_table.clone())
+            .collect()
+    };
+    assert!(tables(&run_scene)[1].is_some(), "the scene has a table");
+    assert_eq!(tables(&recorded.scene), tables(&run_scene));
+}

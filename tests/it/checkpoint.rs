@@ -1,15 +1,19 @@
 //! Checkpoints: a run stopped at a checkpoint and resumed from the file, in
 //! a fresh simulation built from the scene, ends in the same bits as the run
-//! that never stopped (state, summary, series); a checkpoint of another
-//! scene, version or set of options is refused.
+//! that never stopped (state, summary, series); continued to a later end, it
+//! ends in the bits of the longer run done at once; a checkpoint of another
+//! scene, version or set of options is refused. (The command line's side:
+//! `checkpoint_cli`.)
 //!
 //! The reference is the uninterrupted run itself: bit identity leaves no
 //! tolerance to choose.
 
 use chaindrive::analysis::{RunSummary, Signals};
+use chaindrive::model::DriveState;
 use chaindrive::scene::{Integrator, Overrides, ProfileKind, Scene};
 use chaindrive::sim::checkpoint::{
-    Checkpoint, CheckpointError, read_checkpoint, scene_hash, write_checkpoint,
+    Checkpoint, CheckpointError, read_checkpoint, read_checkpoint_to_continue, scene_hash,
+    write_checkpoint,
 };
 use chaindrive::sim::{RunOutcome, SampleRate, Simulation};
 use serde::{Deserialize, Serialize};
@@ -185,6 +189,201 @@ fn the_contact_memory_is_needed() {
     assert_ne!(whole.state, resumed.state);
 }
 
+/// A run of `scene` to `end_s` with a statistics window of `window_s`, as
+/// `chaindrive run` sets it up: the simulation, its signals and sampling.
+fn start_to(scene: &Scene, end_s: f64, window_s: f64) -> (Scene, Simulation, Signals, u64) {
+    let scene = scene
+        .with(&Overrides {
+            duration_s: Some(end_s),
+            ..Overrides::default()
+        })
+        .expect("valid duration");
+    let from_s = (end_s - window_s).max(0.0);
+    let mut sim = Simulation::new(&scene).expect("equilibrium");
+    sim.track_power(from_s);
+    let sampling = SampleRate::new(1000.0, scene.solver().dt_s).expect("whole steps");
+    let mut signals = Signals::new(&sim.model, sampling.rate_hz, from_s);
+    signals.keep_window(window_s);
+    (scene, sim, signals, sampling.every)
+}
+
+fn summary_json(sim: &Simulation, out: &RunOutcome, signals: &Signals, window_s: f64) -> String {
+    let mut s = RunSummary::of_run_over(sim, out, signals, 0.0, window_s);
+    s.wall_s = 0.0;
+    s.ns_per_step = 0.0;
+    serde_json::to_string(&s).expect("json")
+}
+
+/// Runs `scene` to `end_s` at once, and to `stop_s`, checkpointed, then
+/// continued from the file to `end_s`, the statistics window the last
+/// `window_s` of each run (it moves with the end). Returns (state, summary)
+/// of both; `replay = false` starts the window anew without taking up the
+/// last step again (its extremes, its powers).
+fn at_once_and_continued(
+    scene: &Scene,
+    stop_s: f64,
+    end_s: f64,
+    window_s: f64,
+    replay: bool,
+) -> (Ran, Ran) {
+    let (_, mut whole, mut signals, every) = start_to(scene, end_s, window_s);
+    let out = whole.run(end_s, every, &mut signals, None).expect("run");
+    let at_once = (
+        whole.state.clone(),
+        summary_json(&whole, &out, &signals, window_s),
+        in_window(&signals, end_s - window_s),
+    );
+
+    let dir = tempfile::tempdir().expect("tmp");
+    let path = dir.path().join("run.ckpt");
+    let (short, mut first, mut signals, every) = start_to(scene, stop_s, window_s);
+    let out = first.run(stop_s, every, &mut signals, None).expect("run");
+    let ck = Checkpoint {
+        sim: first.snapshot().expect("substepped"),
+        run: Kept {
+            signals,
+            steps: out.steps,
+            max_penetration_m: out.max_penetration_m,
+        },
+    };
+    write_checkpoint(&path, &short, &ck).expect("written");
+
+    let (long, mut sim, _, every) = start_to(scene, end_s, window_s);
+    let ck: Checkpoint<Kept> = read_checkpoint_to_continue(&path, &long).expect("read back");
+    sim.restore(&ck.sim).expect("fits");
+    let (was_from_s, from_s) = ((stop_s - window_s).max(0.0), (end_s - window_s).max(0.0));
+    let restarts = ck
+        .sim
+        .window_restarts(was_from_s, from_s)
+        .expect("continued");
+    let mut signals = ck.run.signals;
+    let sampled = sim.last_step_sampled(every).filter(|_| replay);
+    let last = sampled.map(|sampled| (sim.sample(), sampled));
+    let last = last.as_ref().map(|(s, sampled)| (s, *sampled));
+    signals.continue_window(&sim.model, from_s, window_s, last);
+    if restarts && replay {
+        sim.restart_power(&ck.sim, from_s);
+    } else if restarts {
+        sim.track_power(from_s);
+    }
+    let mut out = sim.run(end_s, every, &mut signals, None).expect("run");
+    out.steps += ck.run.steps;
+    out.max_penetration_m = out.max_penetration_m.max(ck.run.max_penetration_m);
+    let continued = (
+        sim.state.clone(),
+        summary_json(&sim, &out, &signals, window_s),
+        in_window(&signals, end_s - window_s),
+    );
+    (at_once, continued)
+}
+
+/// A run's end state, summary and signals ([`in_window`]).
+type Ran = (DriveState, String, String);
+
+/// The debug form of `signals` (every accumulator and spectrum, numbers
+/// bit for bit) with the rows from `from_s` on, the window's (its first
+/// included, where the step integrals start): the rows before it hold the
+/// extremes of the steps the run followed, which a run whose window starts
+/// later did not follow (no summary reads them).
+fn in_window(signals: &Signals, from_s: f64) -> String {
+    let mut s = signals.clone();
+    s.rows.retain(|r| r.t_s >= from_s - 1e-9);
+    format!("{s:?}")
+}
+
+/// Continued to a later end, a run is the longer run at once, whether its
+/// window stays where it started (the whole run), starts at the
+/// checkpoint's last step (its extremes and the power ledger count that
+/// step again) or after it: with guides (their shoes' extremes) and a
+/// hydraulic tensioner, under each integrator family.
+#[test]
+fn runs_continued_to_a_later_end_are_the_longer_runs() {
+    let file = |name: &str| {
+        let path = format!("{}/assets/{name}", env!("CARGO_MANIFEST_DIR"));
+        Scene::from_toml(&std::fs::read_to_string(path).expect("example scene")).expect("valid")
+    };
+    let guides = file("l60mc-guides.toml");
+    let timing = file("timing-drive.toml")
+        .with(&Overrides {
+            dt_s: Some(5e-6),
+            ..Overrides::default()
+        })
+        .expect("valid");
+    let paper = |integrator| scene(ProfileKind::Real, integrator);
+    let cases = [
+        ("guides, the window from the start", &guides, 0.1, 0.2, 0.2),
+        (
+            "guides, the window from the last step",
+            &guides,
+            0.1,
+            0.2,
+            0.1,
+        ),
+        (
+            "tensioner, the window from the last step",
+            &timing,
+            0.05,
+            0.1,
+            0.05,
+        ),
+        (
+            "dormand_prince45, the window after the checkpoint",
+            &paper(Integrator::DormandPrince45),
+            0.08,
+            0.2,
+            0.05,
+        ),
+        (
+            "implicit_damping, the window from the last step",
+            &paper(Integrator::ImplicitDamping),
+            0.1,
+            0.2,
+            0.1,
+        ),
+    ];
+    for (label, scene, stop_s, end_s, window_s) in cases {
+        let (at_once, continued) = at_once_and_continued(scene, stop_s, end_s, window_s, true);
+        assert_eq!(at_once.0, continued.0, "{label}: state");
+        assert_eq!(at_once.1, continued.1, "{label}: summary");
+        // The signals too (the window's rows with their step integrals,
+        // spectra, accumulators), so that a checkpoint written by the
+        // continued run holds what the run at once would.
+        assert!(at_once.2 == continued.2, "{label}: signals");
+    }
+}
+
+/// The check above can fail: a window starting at the checkpoint's last
+/// step that does not count that step again ends elsewhere.
+#[test]
+fn the_last_step_is_counted_again() {
+    let scene = scene(ProfileKind::Circular, Integrator::SymplecticEuler);
+    let (at_once, continued) = at_once_and_continued(&scene, 0.1, 0.2, 0.1, false);
+    assert_eq!(at_once.0, continued.0, "the same state");
+    assert_ne!(at_once.1, continued.1, "another summary");
+}
+
+/// A window starts anew only after the step before the checkpoint's last:
+/// a run with that window from the start has counted at most the last step.
+#[test]
+fn a_window_starts_anew_only_after_the_step_before_the_last() {
+    let scene = scene(ProfileKind::Circular, Integrator::SymplecticEuler);
+    let mut sim = Simulation::new(&scene).expect("equilibrium");
+    let dt = scene.solver().dt_s;
+    let mut signals = Signals::new(&sim.model, 1000.0, 0.0);
+    sim.run(10.0 * dt, 1, &mut signals, None).expect("run");
+    let snapshot = sim.snapshot().expect("substepped");
+    // The times as the run computes them: steps × dt.
+    let (before_last, last) = (9.0 * dt, 10.0 * dt);
+    assert_eq!(snapshot.t_s(), last);
+    let restarts = |from_s: f64| snapshot.window_restarts(0.0, from_s);
+    assert!(!restarts(0.0).expect("the same start goes on"));
+    assert!(restarts(last).expect("the last step"));
+    assert!(restarts(f64::from_bits(before_last.to_bits() + 1)).expect("just after"));
+    assert!(restarts(1.0).expect("after the checkpoint"));
+    let err = restarts(before_last).expect_err("holds a step counted from 0");
+    assert!(matches!(err, CheckpointError::WindowMoved { .. }), "{err}");
+}
+
 #[test]
 fn a_checkpoint_of_another_scene_is_refused() {
     let dir = tempfile::tempdir().expect("tmp");
@@ -197,17 +396,37 @@ fn a_checkpoint_of_another_scene_is_refused() {
     };
     write_checkpoint(&path, &scene, &ck).expect("written");
     read_checkpoint::<()>(&path, &scene).expect("the same scene takes it");
-    // Another duration (or any other field) is another scene.
+    // Another duration is the same scene ending elsewhere: refused where
+    // the end must be the same, taken up to continue the run.
     let other = scene
         .with(&Overrides {
             duration_s: Some(2.0 * DURATION_S),
             ..Overrides::default()
         })
         .expect("valid");
-    assert_ne!(scene_hash(&other), scene_hash(&scene));
-    let err = read_checkpoint::<()>(&path, &other).expect_err("another scene");
+    assert_eq!(scene_hash(&other), scene_hash(&scene));
+    let err = read_checkpoint::<()>(&path, &other).expect_err("another end");
     assert!(matches!(err, CheckpointError::OtherScene { .. }), "{err}");
-    assert!(err.to_string().contains("another scene"), "{err}");
+    assert!(
+        err.to_string()
+            .contains("another scene (solver.duration_s: 0.2 there, 0.4 here)"),
+        "{err}"
+    );
+    read_checkpoint_to_continue::<()>(&path, &other).expect("continued to a later end");
+    // Any other field is another scene, named.
+    let other = scene
+        .with(&Overrides {
+            integrator: Some(Integrator::Rk4),
+            ..Overrides::default()
+        })
+        .expect("valid");
+    assert_ne!(scene_hash(&other), scene_hash(&scene));
+    let err = read_checkpoint_to_continue::<()>(&path, &other).expect_err("another scene");
+    assert!(
+        err.to_string()
+            .contains(r#"solver.integrator: "symplectic_euler" there, "rk4" here"#),
+        "{err}"
+    );
     // Not a checkpoint at all.
     std::fs::write(&path, "t_s,omega_1\n").expect("write");
     let err = read_checkpoint::<()>(&path, &scene).expect_err("garbage");
@@ -232,7 +451,7 @@ fn rapier_stepping_is_not_checkpointed() {
 }
 
 #[cfg(feature = "cli")]
-mod cli {
+pub(crate) mod cli {
     use crate::common::{chaindrive, stderr};
 
     fn without_wall_times(path: &std::path::Path) -> serde_json::Value {
@@ -257,7 +476,7 @@ mod cli {
             "--window",
             "0.05",
             "--checkpoint",
-            &p("run.ckpt"),
+            &p("end.ckpt"),
             "--checkpoint-every",
             "0.07",
             "--summary",
@@ -266,7 +485,23 @@ mod cli {
             &p("a.csv"),
         ]);
         assert!(out.status.success(), "{}", stderr(&out));
-        // The last checkpoint is at 0.14 s: a run killed after it resumes there.
+        // A run that ends at 0.14 s, its checkpoint there; its series went on
+        // to 0.2 s (as a run killed after its checkpoint leaves it).
+        let out = chaindrive(&[
+            "run",
+            "--quiet",
+            "--duration",
+            "0.14",
+            "--window",
+            "0.05",
+            "--checkpoint",
+            &p("run.ckpt"),
+            "--checkpoint-every",
+            "0.07",
+            "--series",
+            &p("b.csv"),
+        ]);
+        assert!(out.status.success(), "{}", stderr(&out));
         std::fs::copy(p("a.csv"), p("b.csv")).expect("copy");
         let out = chaindrive(&[
             "run",
@@ -385,10 +620,11 @@ mod cli {
     /// Every message of an MCAP file by topic: log time → payload (a file
     /// cut short read up to its damage).
     #[cfg(feature = "record")]
-    type Topics = std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>;
+    pub(crate) type Topics =
+        std::collections::BTreeMap<String, std::collections::BTreeMap<u64, Vec<u8>>>;
 
     #[cfg(feature = "record")]
-    fn messages(path: &std::path::Path) -> Topics {
+    pub(crate) fn messages(path: &std::path::Path) -> Topics {
         let bytes = std::fs::read(path).expect("recording");
         let mut topics: std::collections::BTreeMap<_, std::collections::BTreeMap<_, _>> =
             std::collections::BTreeMap::new();
@@ -544,4 +780,24 @@ mod cli {
             stderr(&out)
         );
     }
+}
+
+/// A scene with a load table is the same scene however its file is named:
+/// by a relative or an absolute path, its checkpoints are its own (the
+/// table's text counts, not the folder it was read from).
+#[test]
+fn a_scene_with_a_load_table_is_the_same_by_any_path() {
+    let rel = std::path::Path::new("assets/timing-excited.toml");
+    let abs = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(rel);
+    let read = |p: &std::path::Path| {
+        Scene::from_path_with(p, &Overrides::default())
+            .expect("readable")
+            .expect("valid")
+    };
+    let (by_rel, by_abs) = (read(rel), read(&abs));
+    assert!(
+        by_rel.sprockets()[1].excitation.load_table.is_some(),
+        "the scene has a table"
+    );
+    assert_eq!(scene_hash(&by_rel), scene_hash(&by_abs));
 }

@@ -15,6 +15,8 @@ mod auto_step;
 mod catenary;
 mod checkpoint;
 #[cfg(feature = "cli")]
+mod checkpoint_cli;
+#[cfg(feature = "cli")]
 mod cli;
 mod common;
 mod cosim;
@@ -32,6 +34,7 @@ mod equilibrium;
 mod equilibrium_errors;
 mod equilibrium_sweep;
 mod excitation;
+mod fatigue;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
@@ -42,6 +45,8 @@ mod governor;
 mod guides;
 mod integrators;
 mod layering;
+#[cfg(feature = "cli")]
+mod life;
 mod means;
 mod orders;
 #[cfg(feature = "cli")]

@@ -53,6 +53,12 @@ pub const RATING_SN_SLOPE: f64 = 10.0;
 /// does no damage at any mean below 7/8 of the tensile strength.
 pub const GATE_FRACTION: f64 = 0.125;
 
+/// Cycles below which the S–N line is not a chain's: the high-cycle
+/// region of steels' S–N curves begins at about 10³ cycles, and the
+/// rating's line, extended below it, reaches half the tensile strength at
+/// a few cycles. A cycle that lasts fewer on the curve gets a note.
+pub const LOW_CYCLE_LIMIT: f64 = 1e3;
+
 /// Metres per inch.
 const INCH_M: f64 = 0.0254;
 
@@ -93,6 +99,15 @@ impl SnCurve {
             return 0.0;
         }
         ((pulsating_n / self.fatigue_limit_n).powf(self.slope) / self.knee_cycles).min(1.0)
+    }
+
+    /// The cycles a pulsating cycle of peak `pulsating_n` lasts on the
+    /// curve, N_D (F_D / F)^m; infinite at or below the fatigue limit.
+    pub fn cycles_to_failure(&self, pulsating_n: f64) -> f64 {
+        if !(pulsating_n > self.fatigue_limit_n) {
+            return f64::INFINITY;
+        }
+        self.knee_cycles * (self.fatigue_limit_n / pulsating_n).powf(self.slope)
     }
 
     /// Miner's damage of one cycle of `range_n` about `mean_n`.
@@ -300,6 +315,14 @@ pub(crate) fn of_run(scene: &Scene, summary: &RunSummary, cycles: &LinkCycles) -
             "the window holds {c:.2} circuits of the chain: each link's largest cycle (slack to tight strand and back) is counted from its halves, and the damage per hour is the mean over the links of what each saw; a window of a few circuits (--window) estimates it better"
         ));
     }
+    let largest_lasts = curve.cycles_to_failure(sums.largest_n);
+    if largest_lasts < LOW_CYCLE_LIMIT {
+        notes.push(format!(
+            "the largest cycle, {:.2} kN as a pulsating one ({:.0} % of the tensile strength), lasts {largest_lasts:.3} cycles on the S-N line: below {LOW_CYCLE_LIMIT:.0} cycles the line is the rating's extended beyond what a chain's fatigue tests cover (it reaches half the tensile strength at a few cycles), so the life says the chain is far overloaded, not how long it lasts",
+            sums.largest_n * 1e-3,
+            100.0 * sums.largest_n / curve.tensile_strength_n
+        ));
+    }
     if sums.overflows > 0 {
         notes.push(format!(
             "{} times a link's open turning points filled its stack ({} points): its oldest range was counted as half a cycle early",
@@ -381,6 +404,31 @@ mod tests {
             max_relative = 1e-14
         );
         assert_eq!(curve().pulsating_equivalent_n(10.0, 25_000.0), 40_000.0);
+    }
+
+    /// The pulsating equivalent is the correction JIS B 1811 applies to a
+    /// fatigue test whose smallest load is not zero:
+    /// F_d = F_u (F_max − F_min) / (F_u − F_min).
+    #[test]
+    fn goodman_is_the_jis_correction_to_a_zero_minimum() {
+        let c = curve();
+        for (lo, hi) in [(0.0, 3000.0), (4000.0, 6000.0), (1500.0, 12_000.0)] {
+            let jis = 20_000.0 * (hi - lo) / (20_000.0 - lo);
+            approx::assert_relative_eq!(
+                c.pulsating_equivalent_n(hi - lo, 0.5 * (hi + lo)),
+                jis,
+                max_relative = 1e-13
+            );
+        }
+    }
+
+    /// N = N_D (F_D / F)^m: twice the limit lasts 5e6 / 1024 cycles.
+    #[test]
+    fn cycles_to_failure_follow_the_line_and_never_end_below_the_limit() {
+        let c = curve();
+        approx::assert_relative_eq!(c.cycles_to_failure(4000.0), 5e6 / 1024.0);
+        assert_eq!(c.cycles_to_failure(2000.0), f64::INFINITY);
+        assert_eq!(c.cycles_to_failure(f64::NAN), f64::INFINITY);
     }
 
     #[test]

@@ -49,13 +49,14 @@ impl Life {
 }
 
 impl std::fmt::Display for Life {
-    /// `12 345 h` with four significant digits at least, or `infinite`.
+    /// `12345 h`, `2.500 h`, `2.335e-4 h` (four significant digits at least), or `infinite`.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Self::Infinite => f.write_str("infinite"),
             Self::Hours(h) if *h >= 1e7 => write!(f, "{h:.3e} h"),
             Self::Hours(h) if *h >= 100.0 => write!(f, "{h:.0} h"),
-            Self::Hours(h) => write!(f, "{h:.3} h"),
+            Self::Hours(h) if *h >= 0.01 => write!(f, "{h:.3} h"),
+            Self::Hours(h) => write!(f, "{h:.3e} h"),
         }
     }
 }

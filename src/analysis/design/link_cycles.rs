@@ -161,6 +161,12 @@ impl LinkCycles {
         }
     }
 
+    /// A count of the same links on the same curve, from nothing (a
+    /// statistics window that starts anew).
+    pub(crate) fn anew(&self) -> Self {
+        Self::new(self.curve, self.links.len())
+    }
+
     /// The curve counted on.
     pub fn curve(&self) -> &SnCurve {
         &self.curve
@@ -193,9 +199,11 @@ impl LinkCycles {
             sums,
             ..
         } = self;
-        let each = links.iter_mut().zip(link_force_n).zip(places.iter());
-        for ((link, &f), &place) in each {
-            if let Some(turn) = link.turns.push(f.max(0.0), place) {
+        let n = links.len().min(link_force_n.len()).min(places.len());
+        let (links, forces, places) = (&mut links[..n], &link_force_n[..n], &places[..n]);
+        for i in 0..n {
+            let link = &mut links[i];
+            if let Some(turn) = link.turns.push(forces[i].max(0.0), places[i]) {
                 link.flow.push(turn, &mut |c| sums.add(curve, c));
             }
         }

@@ -75,25 +75,19 @@ impl Cycle {
     }
 }
 
-/// Which way a history was last going.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-enum Going {
-    /// No value yet.
-    Unknown,
-    /// Values seen, none further than the gate from the first.
-    Flat,
-    /// Rising: the candidate is the largest value since the last valley.
-    Up,
-    /// Falling: the candidate is the smallest value since the last peak.
-    Down,
-}
-
 /// The turning points of a history, as its values arrive ([module docs](self)).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Reversals {
     gate: f64,
-    going: Going,
-    /// The extreme since the last turning point (the first value while flat).
+    /// Which way the history goes: +1 rising (the candidate is the largest
+    /// value since the last valley), −1 falling (the smallest since the
+    /// last peak), 0 not yet known (no value, or none further than the gate
+    /// from the first); one sign so that the common case is one test.
+    going: f64,
+    /// Whether a value came.
+    started: bool,
+    /// The extreme since the last turning point (the first value while
+    /// the way is not known).
     candidate: Turn,
 }
 
@@ -102,7 +96,8 @@ impl Reversals {
     pub fn new(gate: f64) -> Self {
         Self {
             gate: gate.max(0.0),
-            going: Going::Unknown,
+            going: 0.0,
+            started: false,
             candidate: Turn { value: 0.0, tag: 0 },
         }
     }
@@ -112,43 +107,37 @@ impl Reversals {
     /// first turning point once the history has left it by more than the gate.
     #[inline]
     pub fn push(&mut self, value: f64, tag: u32) -> Option<Turn> {
-        let c = self.candidate.value;
-        match self.going {
-            Going::Up => {
-                if value >= c {
-                    self.candidate = Turn { value, tag };
-                    None
-                } else if c - value > self.gate {
-                    self.going = Going::Down;
-                    Some(std::mem::replace(&mut self.candidate, Turn { value, tag }))
-                } else {
-                    None
-                }
-            }
-            Going::Down => {
-                if value <= c {
-                    self.candidate = Turn { value, tag };
-                    None
-                } else if value - c > self.gate {
-                    self.going = Going::Up;
-                    Some(std::mem::replace(&mut self.candidate, Turn { value, tag }))
-                } else {
-                    None
-                }
-            }
-            Going::Flat => {
-                if (value - c).abs() > self.gate {
-                    self.going = if value > c { Going::Up } else { Going::Down };
-                    Some(std::mem::replace(&mut self.candidate, Turn { value, tag }))
-                } else {
-                    None
-                }
-            }
-            Going::Unknown => {
-                self.going = Going::Flat;
+        // How far the value goes on the way the history goes.
+        let further = (value - self.candidate.value) * self.going;
+        if self.going != 0.0 {
+            if further >= 0.0 {
                 self.candidate = Turn { value, tag };
                 None
+            } else if -further > self.gate {
+                self.going = -self.going;
+                Some(std::mem::replace(&mut self.candidate, Turn { value, tag }))
+            } else {
+                None
             }
+        } else {
+            self.push_first(value, tag)
+        }
+    }
+
+    /// [`Reversals::push`] while the way is not known.
+    #[cold]
+    fn push_first(&mut self, value: f64, tag: u32) -> Option<Turn> {
+        if !self.started {
+            self.started = true;
+            self.candidate = Turn { value, tag };
+            return None;
+        }
+        let c = self.candidate.value;
+        if (value - c).abs() > self.gate {
+            self.going = if value > c { 1.0 } else { -1.0 };
+            Some(std::mem::replace(&mut self.candidate, Turn { value, tag }))
+        } else {
+            None
         }
     }
 
@@ -156,7 +145,7 @@ impl Reversals {
     /// one (the history's end point of a rainflow count), `None` before
     /// any value.
     pub fn last(&self) -> Option<Turn> {
-        (self.going != Going::Unknown).then_some(self.candidate)
+        self.started.then_some(self.candidate)
     }
 }
 

@@ -382,7 +382,7 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
     let tensile = designation.map(|d| d.tensile_strength_n * strand_factor);
     if tensile.is_none() {
         notes.push(
-            "no tensile strength: chain.designation (`chaindrive chains` lists them) gives it, and with it the static safety factors".to_owned(),
+            "no tensile strength: chain.designation (`chaindrive chains` lists them) gives it, and with it the static safety factors and the fatigue check".to_owned(),
         );
     }
     Ok(Rating {

@@ -1,6 +1,7 @@
 //! Figures (PNG and SVG, `plotters`) of the analysis: line plots with markers
 //! and labelled points ([`Plot`]), the paper's Figs. 16–24 from runs
-//! ([`paper_figures`]) and Campbell diagrams ([`Campbell`]).
+//! ([`paper_figures`]), Campbell diagrams ([`Campbell`]) and bar charts
+//! ([`Bars`]).
 //!
 //! Every figure reads on its own: axis titles carry their units, tick labels
 //! carry the digits their spacing needs and no more, a legend's glyph is what
@@ -21,9 +22,11 @@ use plotters::prelude::*;
 use super::study::AnalysisError;
 use super::units::Prefix;
 
+mod bars;
 mod campbell;
 mod paper;
 
+pub use bars::{BarPanel, Bars, save_bars};
 pub use campbell::{Campbell, OrderLine, SpanLines, save_campbell};
 pub use paper::{FigureChoice, paper_figures};
 

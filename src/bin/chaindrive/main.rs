@@ -21,6 +21,7 @@ mod chains;
 mod check;
 mod convergence;
 mod fit;
+mod life;
 mod outputs;
 mod profile;
 mod rate;
@@ -62,6 +63,9 @@ enum Command {
     /// The chain's catalogue power rating at the scene's speeds (ANSI
     /// formulas), its lubrication, chain speed and the margin.
     Rate(rate::RateArgs),
+    /// The chain's life over a duty cycle (`[[duty]]` points): each point run
+    /// in parallel and resumably, fatigue damage combined by hours.
+    Life(life::LifeArgs),
     /// Print a sprocket's tooth outline (CSV) or its dimension table.
     Profile(profile::ProfileArgs),
     /// Reproduce the paper's study: five runs (two with joint friction), report, summaries, figures.
@@ -88,6 +92,7 @@ fn main() -> std::process::ExitCode {
         Command::Chains(args) => chains::chains(args),
         Command::Profile(args) => profile::profile(args),
         Command::Rate(args) => rate::rate(args),
+        Command::Life(args) => life::life(args),
         Command::Reproduce(args) => reproduce::reproduce(args),
         Command::Analyze(args) => analyze::analyze(args),
         Command::Sweep(args) => sweep::sweep(args),

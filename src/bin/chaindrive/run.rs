@@ -10,13 +10,13 @@ use std::time::Instant;
 
 use anyhow::Context;
 use chaindrive::analysis::{RunSummary, Signals, StatsWindow};
-use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
+use chaindrive::record::{Channels, RecordOptions, Recorder, RunEnd};
 use chaindrive::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Stepping};
-use chaindrive::sim::checkpoint::{
-    Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
-};
+use chaindrive::sim::checkpoint::{Checkpoint, next_checkpoint_s, run_is_done};
 use chaindrive::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation, StageTimes};
-use serde::{Deserialize, Serialize};
+
+mod resume;
+use resume::{CliRun, Resume, continue_series, take_up, write_run_checkpoint};
 
 /// Arguments of `chaindrive run`.
 #[derive(clap::Args)]
@@ -74,37 +74,21 @@ pub struct RunArgs {
     #[arg(long)]
     timings: bool,
     /// Write the run's complete state here every --checkpoint-every
-    /// simulated seconds, and when it is interrupted (written aside and
-    /// renamed: the file is always a whole checkpoint).
+    /// simulated seconds, when it is interrupted and at its end (written
+    /// aside and renamed: the file is always a whole checkpoint).
     #[arg(long, value_name = "PATH", requires = "checkpoint_every")]
     checkpoint: Option<PathBuf>,
     /// Simulated seconds between checkpoints (rounded to whole steps).
     #[arg(long, value_name = "S", requires = "checkpoint")]
     checkpoint_every: Option<f64>,
     /// Continue the run from this checkpoint. Give the scene and the options
-    /// the run was started with; --series continues that file (cut back to
-    /// the checkpoint's last row), --record continues that recording (a new
-    /// file with its messages up to the checkpoint), --summary is of the
-    /// whole run.
+    /// the run was started with; --duration may differ (a longer one
+    /// extends the run), not end before the checkpoint. --series continues
+    /// that file (cut back to the checkpoint's last row), --record continues
+    /// that recording (a new file with its messages up to the checkpoint),
+    /// --summary is of the whole run.
     #[arg(long, value_name = "PATH")]
     resume: Option<PathBuf>,
-}
-
-/// What a checkpoint keeps of `chaindrive run` besides the simulation.
-#[derive(Clone, Serialize, Deserialize)]
-struct CliRun {
-    rate_hz: f64,
-    window_s: f64,
-    signals: Signals,
-    /// Steps, wall time and largest penetration so far.
-    steps: u64,
-    wall_s: f64,
-    max_penetration_m: f64,
-    /// Bytes of the series file written up to the checkpoint (`None`: no series).
-    series_bytes: Option<u64>,
-    /// Where the recording stood at the checkpoint (`None`: no recording).
-    #[serde(default)]
-    record: Option<RecordMark>,
 }
 
 /// Streams each sample to the CSV as it is taken, so an interrupted or failed
@@ -231,30 +215,19 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             return Ok(ExitCode::FAILURE);
         }
     };
-    let window =
-        StatsWindow::of(&scene, args.window).map_err(|e| anyhow::anyhow!("--window: {e}"))?;
-    let window_s = window.length_s();
-    let sampling = SampleRate::new(args.rate, scene.solver().dt_s)
-        .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?;
+    let sampling = Sampling {
+        rate: SampleRate::new(args.rate, scene.solver().dt_s)
+            .map_err(|e| anyhow::anyhow!("--rate {}: {e}", args.rate))?,
+        window: StatsWindow::of(&scene, args.window)
+            .map_err(|e| anyhow::anyhow!("--window: {e}"))?,
+        window_option: args.window,
+    };
     // A checkpoint of another scene, version or set of options fails now,
     // before the static equilibrium.
     let resume = args
         .resume
         .as_ref()
-        .map(|p| -> anyhow::Result<Checkpoint<CliRun>> {
-            let ck: Checkpoint<CliRun> = read_checkpoint(p, &scene)?;
-            anyhow::ensure!(
-                ck.run.rate_hz.to_bits() == sampling.rate_hz.to_bits()
-                    && ck.run.window_s.to_bits() == window_s.to_bits(),
-                "checkpoint {}: the run was started with --rate {} and a statistics window of {} s, not {} and {} s: resume with the same options",
-                p.display(),
-                ck.run.rate_hz,
-                ck.run.window_s,
-                sampling.rate_hz,
-                window_s
-            );
-            Ok(ck)
-        })
+        .map(|p| take_up(p, &scene, &sampling))
         .transpose()?;
     // Outputs are opened before anything is simulated: an unwritable path fails now.
     let summary_file = args
@@ -267,26 +240,18 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
     let csv = match (&args.series, &resume) {
         (None, _) => None,
         (Some(p), None) => Some(create_file(p, "series")?),
-        (Some(p), Some(ck)) => Some(continue_series(p, ck.run.series_bytes)?),
+        (Some(p), Some(r)) => Some(continue_series(p, r.checkpoint.run.series_bytes)?),
     }
     .map(csv::Writer::from_writer);
     let recorder = args
         .record
         .as_ref()
-        .map(|p| start_recording(p, &args, &scene, sampling, resume.as_ref()))
+        .map(|p| {
+            let ck = resume.as_ref().map(|r| &r.checkpoint);
+            start_recording(p, &args, &scene, sampling.rate, ck)
+        })
         .transpose()?;
-    let result = simulate(
-        &args,
-        scene,
-        Sampling {
-            rate: sampling,
-            window,
-        },
-        summary_file,
-        csv,
-        recorder,
-        resume,
-    );
+    let result = simulate(&args, scene, sampling, summary_file, csv, recorder, resume);
     if result.is_err()
         && let Some(p) = &args.summary
     {
@@ -294,29 +259,6 @@ pub fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
         let _ = std::fs::remove_file(p);
     }
     result
-}
-
-/// Opens the series of a run being resumed, cut back to its length at the
-/// checkpoint, for the rows after it.
-fn continue_series(path: &Path, bytes: Option<u64>) -> anyhow::Result<File> {
-    let Some(bytes) = bytes else {
-        anyhow::bail!(
-            "--series {}: the run being resumed wrote no series, so it cannot be continued; resume without --series",
-            path.display()
-        );
-    };
-    let file = std::fs::OpenOptions::new()
-        .append(true)
-        .open(path)
-        .with_context(|| format!("cannot continue the series {}", path.display()))?;
-    let len = file.metadata()?.len();
-    anyhow::ensure!(
-        len >= bytes,
-        "--series {}: the file holds {len} bytes, fewer than the {bytes} written up to the checkpoint: give the series file the run was writing",
-        path.display()
-    );
-    file.set_len(bytes)?;
-    Ok(file)
 }
 
 /// Opens the recording before anything is simulated (an unwritable path fails
@@ -364,6 +306,8 @@ fn start_recording(
 struct Sampling {
     rate: SampleRate,
     window: StatsWindow,
+    /// `--window` as given (`None`: the default window).
+    window_option: Option<f64>,
 }
 
 fn simulate(
@@ -373,7 +317,7 @@ fn simulate(
     mut summary_file: Option<BufWriter<File>>,
     mut csv: Option<csv::Writer<File>>,
     recorder: Option<Recorder<BufWriter<File>>>,
-    resume: Option<Checkpoint<CliRun>>,
+    resume: Option<Resume>,
 ) -> anyhow::Result<ExitCode> {
     // Ctrl-C/SIGTERM from here on end the run cleanly (also during the static
     // equilibrium: the run then stops at t = 0 with everything written).
@@ -392,8 +336,8 @@ fn simulate(
     let setup = Instant::now();
     // The error's own message holds its causes: printed once, not again as
     // a chain of sources.
-    let mut sim =
-        Simulation::new(&scene).map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
+    let mut sim = note_slow_setup(args.quiet, || Simulation::new(&scene))
+        .map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
@@ -439,10 +383,28 @@ fn simulate(
         max_penetration_m: 0.0,
         stage_times: None,
     };
-    if let Some(ck) = resume {
+    if let Some(Resume {
+        checkpoint: ck,
+        window_restarts,
+    }) = resume
+    {
         sim.restore(&ck.sim)
             .context("cannot resume from the checkpoint")?;
         signals = ck.run.signals;
+        // The run may now end elsewhere: its window moves with the end.
+        let last = sim
+            .last_step_sampled(sampling.rate.every)
+            .map(|sampled| (sim.sample(), sampled));
+        let last = last.as_ref().map(|(s, sampled)| (s, *sampled));
+        signals.continue_window(
+            &sim.model,
+            sampling.window.start_s(),
+            sampling.window.length_s(),
+            last,
+        );
+        if window_restarts {
+            sim.restart_power(&ck.sim, sampling.window.start_s());
+        }
         so_far.steps = ck.run.steps;
         so_far.wall_s = ck.run.wall_s;
         so_far.max_penetration_m = ck.run.max_penetration_m;
@@ -512,8 +474,8 @@ fn simulate(
 }
 
 /// Runs to the scene's end, in pieces between checkpoints when asked: every
-/// `S` simulated seconds (a whole number of steps, at least one) and when
-/// interrupted. The pieces step as one run would ([`Simulation::run`]'s
+/// `S` simulated seconds (a whole number of steps, at least one), when
+/// interrupted and at the end. The pieces step as one run would ([`Simulation::run`]'s
 /// clock counts the steps from the start).
 fn run_with_checkpoints(
     sim: &mut Simulation,
@@ -538,31 +500,9 @@ fn run_with_checkpoints(
         so_far.interrupted = piece.interrupted;
         merge_stage_times(&mut so_far.stage_times, piece.stage_times);
         let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
-        if let Some((path, _)) = checkpoints
-            && (piece.interrupted || !done)
-        {
-            let series_bytes = match observer.csv.as_mut() {
-                Some(csv) => {
-                    csv.flush().context("writing the series failed")?;
-                    Some(csv.get_ref().metadata()?.len())
-                }
-                None => None,
-            };
-            let run = CliRun {
-                rate_hz: sampling.rate.rate_hz,
-                window_s: sampling.window.length_s(),
-                signals: observer.signals.clone(),
-                steps: so_far.steps,
-                wall_s: so_far.wall_s,
-                max_penetration_m: so_far.max_penetration_m,
-                series_bytes,
-                record: observer.recorder.as_mut().map(Recorder::mark).transpose()?,
-            };
-            let ck = Checkpoint {
-                sim: sim.snapshot()?,
-                run,
-            };
-            write_checkpoint(path, scene, &ck)?;
+        // At the end too: a finished run can be continued to a later end.
+        if let Some((path, _)) = checkpoints {
+            write_run_checkpoint(path, sim, scene, observer, &so_far, sampling)?;
         }
         if done {
             return Ok(so_far);
@@ -679,4 +619,58 @@ fn print_summary(s: &RunSummary) {
         s.driver_mean_power_w,
         s.max_penetration_m * 1e6
     );
+    if let Some(f) = &s.fatigue {
+        println!("{}", fatigue_line(f));
+    }
+}
+
+/// The fatigue life in one line: the life, the largest cycle against the
+/// limit, where the damage is largest.
+fn fatigue_line(f: &chaindrive::analysis::design::Fatigue) -> String {
+    let rate = if f.damage_per_hour > 0.0 {
+        format!(" ({:.3e} damage per hour)", f.damage_per_hour)
+    } else {
+        String::new()
+    };
+    let place = f.least_life_at.as_ref().map_or(String::new(), |p| {
+        if p.damage_share > 0.0 {
+            format!("; most damage {} ({:.0} %)", p.text, 100.0 * p.damage_share)
+        } else {
+            format!("; largest cycle {}", p.text)
+        }
+    });
+    format!(
+        "fatigue life {}{rate}: largest cycle {:.2} kN as a pulsating one, {:.2} of the fatigue limit {:.2} kN{place}",
+        f.life_h,
+        f.largest_cycle_n * 1e-3,
+        f.largest_cycle_n / f.fatigue_limit_n,
+        f.fatigue_limit_n * 1e-3
+    )
+}
+
+/// Runs `setup` (building the drive and settling it to static equilibrium),
+/// printing one line to stderr if it takes longer than a second, so that a
+/// slow settle is not silent; nothing with `quiet`.
+fn note_slow_setup<T>(quiet: bool, setup: impl FnOnce() -> T) -> T {
+    if quiet {
+        return setup();
+    }
+    let (done, wait) = std::sync::mpsc::channel::<()>();
+    std::thread::scope(|s| {
+        s.spawn(move || {
+            let started = Instant::now();
+            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                wait.recv_timeout(std::time::Duration::from_secs(1))
+            {
+                eprintln!(
+                    "settling the drive to static equilibrium (still at it after {:.1} s)…",
+                    started.elapsed().as_secs_f64()
+                );
+            }
+        });
+        let out = setup();
+        // The note's thread may have ended already: nothing to tell it then.
+        let _ = done.send(());
+        out
+    })
 }

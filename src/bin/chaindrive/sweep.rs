@@ -1,10 +1,12 @@
 //! `chaindrive sweep`: one steady run per driver speed, in parallel, and
 //! what a speed range is judged by: `sweep.csv` (every summary scalar per
 //! speed), `cases.csv` (each speed's status, stationarity and warnings),
+//! `verdict.csv` (each speed's static safety factor, rating margin and
+//! fatigue damage per hour and life),
 //! `orders.csv` (order spectra), `spans.csv` (each span's predicted
 //! natural frequencies), a Campbell diagram, order cuts, envelopes and
-//! `report.md` (speeds whose runs warned, resonance crossings, worst-case
-//! speeds). With `--run-up`,
+//! `report.md` (speeds whose runs warned, the design checks per speed and
+//! the weakest speed, resonance crossings, worst-case speeds). With `--run-up`,
 //! one run whose driver speed ramps slowly, analysed in short windows, gives
 //! the same outputs at each window's mean speed.
 
@@ -27,7 +29,7 @@ use chaindrive::studies::sweep::{
     CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
     SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section, excitation_orders,
     on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
-    summary_scalars, worst_cases,
+    summary_scalars, verdicts, weakest, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -430,6 +432,92 @@ fn write_case_flags(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// `verdict.csv`: one row per completed speed, `rpm,static_safety_factor,
+/// mean_static_safety_factor,rating_margin,design_power_w,
+/// transmitted_power_w,damage_per_hour,fatigue_life_h,
+/// fatigue_safety_factor` (empty cells where a check has no data; an
+/// infinite life `infinite`).
+fn write_verdicts(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
+    let mut w = csv_writer(dir, "verdict.csv")?;
+    w.write_record([
+        "rpm",
+        "static_safety_factor",
+        "mean_static_safety_factor",
+        "rating_margin",
+        "design_power_w",
+        "transmitted_power_w",
+        "damage_per_hour",
+        "fatigue_life_h",
+        "fatigue_safety_factor",
+    ])?;
+    let cell = |x: Option<f64>| x.map_or_else(String::new, |x| x.to_string());
+    for v in verdicts(cases) {
+        w.write_record([
+            v.rpm.to_string(),
+            cell(v.static_safety_factor),
+            cell(v.mean_static_safety_factor),
+            cell(v.rating_margin),
+            cell(v.design_power_w),
+            cell(v.transmitted_power_w),
+            cell(v.damage_per_hour),
+            v.fatigue_life_h
+                .map_or_else(String::new, |l| match l.hours() {
+                    Some(h) => h.to_string(),
+                    None => "infinite".to_owned(),
+                }),
+            cell(v.fatigue_safety_factor),
+        ])?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
+/// The report's "Will it last?" section: the design checks per speed and
+/// the weakest speed by each; empty where no speed has a check's data.
+fn verdict_section(cases: &[CaseOutcome]) -> String {
+    let v = verdicts(cases);
+    let mut s = String::new();
+    if v.iter().all(|v| {
+        v.static_safety_factor.is_none() && v.rating_margin.is_none() && v.damage_per_hour.is_none()
+    }) {
+        return s;
+    }
+    let _ = writeln!(s, "## Will it last?\n");
+    let _ = writeln!(
+        s,
+        "Each speed's design checks (docs/design-checks.md): the static safety factor (tensile strength over the largest link force), the catalogue rating's margin (design power over the run's transmitted power), and the link plates' fatigue damage per hour and life at that speed alone; — where the run has no data for a check.\n"
+    );
+    let _ = writeln!(
+        s,
+        "| rpm | static safety factor | rating margin | fatigue damage per hour | fatigue life |\n|---|---|---|---|---|"
+    );
+    let num =
+        |x: Option<f64>, digits: usize| x.map_or("—".to_owned(), |x| format!("{x:.digits$}"));
+    for r in &v {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {} | {} |",
+            r.rpm,
+            num(r.static_safety_factor, 2),
+            num(r.rating_margin, 3),
+            r.damage_per_hour
+                .map_or("—".to_owned(), |d| format!("{d:.3e}")),
+            r.fatigue_life_h.map_or("—".to_owned(), |l| l.to_string())
+        );
+    }
+    let _ = writeln!(s, "\nThe weakest speed by each check:\n");
+    for w in weakest(&v) {
+        let value = if w.check.contains("damage") {
+            format!("{:.3e} per hour", w.value)
+        } else {
+            format!("{:.3}", w.value)
+        };
+        let _ = writeln!(s, "- {}: {} at {} rpm", w.check, value, w.rpm);
+    }
+    let _ = writeln!(s);
+    s
+}
+
 /// A CSV file in `dir`.
 fn csv_writer(dir: &Path, name: &str) -> anyhow::Result<csv::Writer<std::fs::File>> {
     let path = dir.join(name);
@@ -440,6 +528,7 @@ fn csv_writer(dir: &Path, name: &str) -> anyhow::Result<csv::Writer<std::fs::Fil
 /// writes them: the shortest text that reads back to the same bits).
 fn write_tables(dir: &Path, cases: &[CaseOutcome]) -> anyhow::Result<()> {
     write_case_flags(dir, cases)?;
+    write_verdicts(dir, cases)?;
     let mut sweep_csv = csv_writer(dir, "sweep.csv")?;
     sweep_csv.write_record(["rpm", "statistic", "value"])?;
     for case in cases {
@@ -534,6 +623,7 @@ fn report_text(
         let _ = writeln!(s);
     }
     s.push_str(&doubt_section(cases));
+    s.push_str(&verdict_section(cases));
     let _ = writeln!(s, "## Resonance crossings\n");
     let _ = writeln!(
         s,
@@ -627,6 +717,10 @@ fn report_text(
     let _ = writeln!(
         s,
         "- `cases.csv`: `rpm,status,stationary,warning_count,warnings,error`, one row per speed (status `ok`, `warned`, `failed`, or `not judged` for a run-up's window)"
+    );
+    let _ = writeln!(
+        s,
+        "- `verdict.csv`: `rpm,static_safety_factor,mean_static_safety_factor,rating_margin,design_power_w,transmitted_power_w,damage_per_hour,fatigue_life_h,fatigue_safety_factor`, one row per completed speed (empty where a check has no data; an infinite life `infinite`)"
     );
     let _ = writeln!(
         s,

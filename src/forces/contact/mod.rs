@@ -29,7 +29,9 @@ use reach::{Reach, shared_stretches};
 use seats::SeatScratch;
 
 use super::rows::DampingRows;
-use super::{ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader};
+use super::{
+    ContactLawParams, ForceElement, Forces, History, HistoryError, HistoryReader, cpu_has_avx2,
+};
 use crate::geometry::{MAX_PATCHES, Patch, ToothProfile};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::MAX_SPROCKETS;
@@ -56,18 +58,6 @@ pub(super) const FREE: Memory = Memory {
 /// contact (K_g = 1e10, e = 1) rings through the first tensioning until the
 /// stretch guard trips.
 const RELAXATION_CHI: f64 = 0.75;
-
-/// Whether the CPU has AVX2 (the check is cached by the standard library).
-fn cpu_has_avx2() -> bool {
-    #[cfg(target_arch = "x86_64")]
-    {
-        std::arch::is_x86_feature_detected!("avx2")
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        false
-    }
-}
 
 /// The roller–tooth contact element.
 #[derive(Clone, Debug)]

@@ -300,16 +300,22 @@ impl PatchContext {
             normal: [nx, ny],
             depth_rate,
         };
-        self.world_patch::<ROWS, MOVING, P>(profile, &contact, lever, onsets, roller, sums);
+        let law = self.law;
+        let elastic = law.elastic(contact.depth_m);
+        self.world_patch::<ROWS, MOVING, P>(
+            profile, &contact, elastic, lever, onsets, roller, sums,
+        );
     }
 
-    /// [`Self::patch`] once the normal is in the world frame and the
-    /// approach speed known.
+    /// [`Self::patch`] once the normal is in the world frame, the approach
+    /// speed known and the elastic part K δⁿ computed.
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn world_patch<const ROWS: bool, const MOVING: bool, P: Outline>(
         &self,
         profile: &P,
         p: &WorldPatch,
+        elastic: f64,
         lever: [f64; 2],
         onsets: &[Memory; MAX_PATCHES],
         roller: &mut Roller,
@@ -323,6 +329,7 @@ impl PatchContext {
         // The same patch, or (real profile) the one it slid over from.
         let damping = match onsets.iter().find(|mem| mem.key == key) {
             Some(mem) => mem.damping_per_speed,
+            None if !P::SLIDES => law.damping_per_speed(depth_rate),
             None => slid_from(profile, onsets, self.index, p.patch_id)
                 .unwrap_or_else(|| law.damping_per_speed(depth_rate)),
         };
@@ -333,7 +340,6 @@ impl PatchContext {
             };
             roller.used += 1;
         }
-        let elastic = law.elastic(p.depth_m);
         let f = (elastic * (1.0 + damping * depth_rate)).max(0.0);
         sums.energy += elastic * p.depth_m * self.energy_factor;
         sums.damping_power -= (f - elastic) * depth_rate;

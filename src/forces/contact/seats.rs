@@ -66,6 +66,29 @@ impl ContactPass<'_> {
     ) -> ([f64; 2], f64) {
         let (a, b) = (run.start, run.end);
         self.seat_geometry::<MOVING>(seats, frame, a, b);
+        self.seat_queries::<MOVING>(seats, frame, a, b);
+        // One loop per law shape: `powf` (any exponent but 3/2) is a call,
+        // which would keep the loop's sums out of registers.
+        let law = self.law;
+        if law.hertz() {
+            let stiffness = law.stiffness;
+            self.seat_law::<MOVING>(seats, frame, a, b, |d| stiffness * d * d.sqrt())
+        } else {
+            self.seat_law::<MOVING>(seats, frame, a, b, |d| law.elastic(d))
+        }
+    }
+
+    /// The law's loop of [`Self::run_seats`], in roller order, with the
+    /// elastic part `elastic_of(δ)` = K δⁿ.
+    #[inline(always)]
+    fn seat_law<const MOVING: bool>(
+        &mut self,
+        seats: &Seats<'_>,
+        frame: &Frame,
+        a: usize,
+        b: usize,
+        elastic_of: impl Fn(f64) -> f64,
+    ) -> ([f64; 2], f64) {
         let law = self.law;
         let ctx = PatchContext {
             law,
@@ -76,16 +99,13 @@ impl ContactPass<'_> {
             velocity: frame.velocity,
             index: frame.index,
         };
-        let (sin, cos, omega) = (frame.sin, frame.cos, frame.omega);
-        let s = self.state;
-        let (vxs, vys) = (&s.vx[a..b], &s.vy[a..b]);
         let sc = &*self.seat_scratch;
         let (rxs, rys, status) = (&sc.rx[a..b], &sc.ry[a..b], &sc.status[a..b]);
         let (depth, nxs, nys, rate) = (&sc.depth[a..b], &sc.nx[a..b], &sc.ny[a..b], &sc.rate[a..b]);
         let memory = &self.memory[a..b];
         let remembered = &self.remembered[a..b];
         let pending_memory = &mut self.pending_memory[a..b];
-        let gap_hint = &mut self.gap_hint[a..b];
+        let gap_hint = &self.gap_hint[a..b];
         let (fx_out, fy_out) = (&mut self.fx[a..b], &mut self.fy[a..b]);
         let touching = &mut self.touching[a..b];
         let contact_force = &mut self.contact_force[a..b];
@@ -97,44 +117,16 @@ impl ContactPass<'_> {
             max_pen: self.max_penetration_m,
         };
         for k in 0..b - a {
+            if status[k] != IN_CONE | TOUCHING {
+                pending_memory[k] = [FREE; MAX_PATCHES];
+                continue;
+            }
             let (rx, ry) = (rxs[k], rys[k]);
-            let contact = if status[k] & IN_CONE != 0 {
-                if status[k] & TOUCHING == 0 {
-                    pending_memory[k] = [FREE; MAX_PATCHES];
-                    continue;
-                }
-                WorldPatch {
-                    depth_m: depth[k],
-                    patch_id: gap_hint[k],
-                    normal: [nxs[k], nys[k]],
-                    depth_rate: rate[k],
-                }
-            } else {
-                // Out of its hinted gap's cone: the full query, as the
-                // general pass makes it.
-                let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
-                let mut patches = [Patch::default(); MAX_PATCHES];
-                if seats.contacts(local, &mut gap_hint[k], &mut patches) == 0 {
-                    pending_memory[k] = [FREE; MAX_PATCHES];
-                    continue;
-                }
-                let p = &patches[0];
-                let v_rel = if MOVING {
-                    [
-                        vxs[k] - frame.velocity[0] + omega * ry,
-                        vys[k] - frame.velocity[1] - omega * rx,
-                    ]
-                } else {
-                    [vxs[k] + omega * ry, vys[k] - omega * rx]
-                };
-                let nx = cos * p.normal[0] - sin * p.normal[1];
-                let ny = sin * p.normal[0] + cos * p.normal[1];
-                WorldPatch {
-                    depth_m: p.depth_m,
-                    patch_id: p.patch_id,
-                    normal: [nx, ny],
-                    depth_rate: -(v_rel[0] * nx + v_rel[1] * ny),
-                }
+            let contact = WorldPatch {
+                depth_m: depth[k],
+                patch_id: gap_hint[k],
+                normal: [nxs[k], nys[k]],
+                depth_rate: rate[k],
             };
             let onsets = if remembered[k] != 0 {
                 &memory[k]
@@ -148,9 +140,11 @@ impl ContactPass<'_> {
                 row: Row::default(),
                 last_force: 0.0,
             };
+            let elastic = elastic_of(contact.depth_m);
             ctx.world_patch::<false, MOVING, _>(
                 seats,
                 &contact,
+                elastic,
                 [rx, ry],
                 onsets,
                 &mut roller,
@@ -169,6 +163,55 @@ impl ContactPass<'_> {
         (sums.force, sums.torque)
     }
 
+    /// The full query, as the general pass makes it, for each roller of
+    /// `a..b` that the geometry found out of its hinted gap's cone (a few
+    /// per revolution), into the scratch: kept out of the law's loop, whose
+    /// sums then stay in registers (a call would clobber them).
+    #[inline(always)]
+    fn seat_queries<const MOVING: bool>(
+        &mut self,
+        seats: &Seats<'_>,
+        frame: &Frame,
+        a: usize,
+        b: usize,
+    ) {
+        let (sin, cos, omega) = (frame.sin, frame.cos, frame.omega);
+        let s = self.state;
+        let (vxs, vys) = (&s.vx[a..b], &s.vy[a..b]);
+        let sc = &mut *self.seat_scratch;
+        let (rxs, rys) = (&sc.rx[a..b], &sc.ry[a..b]);
+        let (status, depth) = (&mut sc.status[a..b], &mut sc.depth[a..b]);
+        let (nxs, nys, rate) = (&mut sc.nx[a..b], &mut sc.ny[a..b], &mut sc.rate[a..b]);
+        let gap_hint = &mut self.gap_hint[a..b];
+        for k in 0..b - a {
+            if status[k] & IN_CONE != 0 {
+                continue;
+            }
+            let (rx, ry) = (rxs[k], rys[k]);
+            let local = [cos * rx + sin * ry, -sin * rx + cos * ry];
+            let mut patches = [Patch::default(); MAX_PATCHES];
+            status[k] = IN_CONE;
+            if seats.contacts(local, &mut gap_hint[k], &mut patches) == 0 {
+                continue;
+            }
+            let p = &patches[0];
+            let v_rel = if MOVING {
+                [
+                    vxs[k] - frame.velocity[0] + omega * ry,
+                    vys[k] - frame.velocity[1] - omega * rx,
+                ]
+            } else {
+                [vxs[k] + omega * ry, vys[k] - omega * rx]
+            };
+            // Normal back to the world frame.
+            let nx = cos * p.normal[0] - sin * p.normal[1];
+            let ny = sin * p.normal[0] + cos * p.normal[1];
+            (depth[k], nxs[k], nys[k]) = (p.depth_m, nx, ny);
+            rate[k] = -(v_rel[0] * nx + v_rel[1] * ny);
+            status[k] = IN_CONE | TOUCHING;
+        }
+    }
+
     /// The geometry of rollers `a..b` against their hinted gaps, into the
     /// scratch (see [`seat_geometry`]).
     #[inline(always)]
@@ -179,6 +222,16 @@ impl ContactPass<'_> {
         a: usize,
         b: usize,
     ) {
+        // A whole number of four-roller chunks where the chain has the
+        // rollers (the vector loop then leaves no roller to a scalar
+        // remainder): the rollers past `b` are computed into scratch slots
+        // no one reads before their own run computes them again.
+        let padded = a + (b - a).div_ceil(4) * 4;
+        let b = if padded <= self.gap_hint.len() {
+            padded
+        } else {
+            b
+        };
         let sc = &mut *self.seat_scratch;
         // Each roller's hinted gap direction; a hint that is no gap of this
         // sprocket gives NaN, which fails the cone test.

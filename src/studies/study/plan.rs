@@ -520,7 +520,7 @@ fn is_summary_path(s: &str) -> bool {
 
 /// The plan's `set` table as (dotted path, value) pairs; nested tables are
 /// joined by dots (`[set.chain] pretension_n = 1` is `chain.pretension_n`).
-fn flatten_set(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value)>) {
+pub(crate) fn flatten_set(table: &toml::Table, prefix: &str, out: &mut Vec<(String, toml::Value)>) {
     for (key, value) in table {
         let path = if prefix.is_empty() {
             key.clone()

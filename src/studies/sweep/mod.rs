@@ -17,7 +17,8 @@
 //! analysed as a case at its mean speed.
 //!
 //! This module runs and schedules the cases; [`report`]'s functions judge
-//! them (crossings, worst cases, scalars), [`runup`] holds the run-up and
+//! them (crossings, worst cases, scalars), [`verdict`] reads each speed's
+//! design checks (safety factor, rating margin, fatigue damage), [`runup`] holds the run-up and
 //! `campbell` gathers a Campbell diagram's data (feature `figures`).
 //!
 //! What this module does not do: write files, draw figures or print (the
@@ -29,6 +30,7 @@ pub mod campbell;
 pub mod report;
 pub mod runup;
 pub mod speeds;
+pub mod verdict;
 
 pub use report::{
     CaseFlags, Crossing, PEAK_MEDIAN_FACTOR, PeakVerdict, SpanMode, WorstCase, completed,
@@ -37,6 +39,7 @@ pub use report::{
 };
 pub use runup::{DEFAULT_WINDOW_SPEED_CHANGE, RunUpSettings, run_up};
 pub use speeds::{MAX_CASES, parse_rpm_range, parse_run_up};
+pub use verdict::{Verdict, Weakest, verdicts, weakest};
 
 use std::sync::atomic::AtomicBool;
 use std::time::Instant;
@@ -621,6 +624,8 @@ fn run_case(
     let mut signals = Signals::new(&sim.model, case.sampling.rate_hz, window_start);
     // Memory bounded by the window, whatever the settling time and speed.
     signals.keep_window(settings.window_s);
+    // The fatigue check's count, where the chain has the data it needs.
+    signals.count_fatigue_of(&case.scene);
     let mut observer = CaseObserver {
         signals,
         driver: info.driver,
