@@ -22,6 +22,7 @@ mod common;
 mod cosim;
 mod cosim_api;
 mod cosim_checks;
+mod cosim_mistakes;
 mod cosim_mounts;
 mod cosim_multi;
 mod cosim_parking;
