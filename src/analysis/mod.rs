@@ -34,7 +34,7 @@ pub use means::{Extent, StepSums, TensionerSums};
 pub(crate) use summary::segment_series;
 pub use summary::{
     GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary, SummaryInputs,
-    TensionerSummary,
+    TensionerSummary, ToothJumpSummary, WornChain,
 };
 pub use warnings::{
     ALIAS_BAND_HZ, ALIAS_HARMONICS, ENERGY_BALANCE_TOLERANCE, PENETRATION_FRACTION,

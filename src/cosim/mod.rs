@@ -332,6 +332,7 @@ impl ChainDrive {
             model: &self.model,
             state: &self.state,
             forces: self.forces.output(),
+            jumps: &[],
         }
     }
 

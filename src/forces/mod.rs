@@ -374,6 +374,21 @@ impl ForceGenerator {
         }
     }
 
+    /// Has the links' pass write each link's angular velocity and normal
+    /// ([`Forces::link_omega`]) from the next evaluation on, for a chain of
+    /// `rollers` rollers: what the wear check's sliding count reads (the
+    /// joint friction asks for them itself). The forces do not change.
+    pub fn want_link_rates(&mut self, rollers: usize) {
+        let out = &mut self.output;
+        for v in [
+            &mut out.link_omega,
+            &mut out.link_normal_x,
+            &mut out.link_normal_y,
+        ] {
+            v.resize(rollers, 0.0);
+        }
+    }
+
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
     pub fn enable_damping_rows(&mut self) {
         self.contact.enable_damping_rows();

@@ -339,6 +339,9 @@ pub struct Recording {
     pub metadata: BTreeMap<String, String>,
     /// How the run ended (`chaindrive.end` status; `unknown` if absent).
     pub end_status: String,
+    /// The run's tooth jumps ([`super::JUMPS_RECORD`]: `count` and one
+    /// entry per jump; empty when it had none).
+    pub tooth_jumps: BTreeMap<String, String>,
     /// Whether `/links` was read.
     pub has_links: bool,
     /// Whether `/contacts` and `/rollers` were read.
@@ -474,6 +477,7 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         .and_then(|m| m.get("status"))
         .cloned()
         .unwrap_or_else(|| "unknown (no end record)".to_owned());
+    let tooth_jumps = metadata.remove(super::JUMPS_RECORD).unwrap_or_default();
 
     // The scene and its overrides.
     let Some((scene_name, _, scene_bytes)) = attachments
@@ -697,6 +701,7 @@ pub fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording, ReadE
         topics: found,
         metadata: meta,
         end_status,
+        tooth_jumps,
         has_links,
         has_contacts,
         samples,

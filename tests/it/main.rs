@@ -44,6 +44,7 @@ mod fuzz;
 mod governor;
 mod guides;
 mod integrators;
+mod jumps;
 mod layering;
 #[cfg(feature = "cli")]
 mod life;
@@ -79,3 +80,4 @@ mod sweep;
 mod tensioners;
 mod threads;
 mod users;
+mod wear;

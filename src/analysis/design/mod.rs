@@ -11,19 +11,24 @@
 //!   the scene's own), Goodman's mean-stress correction, Miner's damage per
 //!   hour and the life; [`link_cycles`] counts every link's force by
 //!   [`rainflow`] as the steps come.
+//! - [`wear`]: Archard's wear at every joint from the sliding counted every
+//!   step of a run, the chain's elongation rate (% per 1000 h) and its life
+//!   to the allowable elongation.
 //! - [`life`]: a life in hours, or infinite.
 //!
 //! The checks are pure functions of a scene and, for a run, of its summary
-//! and of the cycles counted during it: they step nothing and read no
-//! sampled signals. Wear and duty cycles are not here.
+//! and of what was counted during it (link cycles, joint sliding): they
+//! step nothing and read no sampled signals. Duty cycles are run by `studies::duty`.
 
 pub mod fatigue;
 pub mod life;
 pub mod link_cycles;
 pub mod rainflow;
 pub mod rating;
+pub mod wear;
 
 pub use fatigue::{Fatigue, Place, SnCurve};
 pub use life::Life;
 pub use link_cycles::{CycleSums, LinkCycles};
 pub use rating::{Lubrication, Rating, RatingError, RatingSettings};
+pub use wear::{Wear, WearModel};
