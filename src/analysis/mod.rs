@@ -44,11 +44,11 @@ mod warnings;
 mod window;
 
 pub(crate) use means::StepSums;
-pub(crate) use summary::SummaryInputs;
 pub use summary::{
     GuideSummary, Range, RunSummary, SegmentSummary, SprocketSummary, StrandSummary,
     TensionerSummary,
 };
+pub(crate) use summary::{SummaryInputs, ToothJumpSummary};
 pub(crate) use warnings::STATIC_RESIDUAL_TOLERANCE;
 #[cfg(test)]
 pub(crate) use warnings::{

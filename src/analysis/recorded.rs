@@ -91,6 +91,7 @@ impl RecordedRun {
             topics,
             metadata: meta,
             end_status,
+            tooth_jumps: _,
             has_links,
             has_contacts,
             samples,

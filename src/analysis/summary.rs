@@ -284,9 +284,61 @@ pub struct RunSummary {
     /// strength, or the steps were not counted).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) fatigue: Option<super::design::Fatigue>,
+    /// The wear check ([`super::design::wear`]; absent where the scene
+    /// does not ask for it, `checks.wear = true`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) wear: Option<super::design::Wear>,
+    /// A worn chain (`chain.elongation_pct` > 0; absent for a new chain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub(crate) worn_chain: Option<WornChain>,
+    /// Every tooth jump of the run, in order (absent without any).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(crate) tooth_jumps: Vec<ToothJumpSummary>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
+}
+
+/// A worn chain as laid out (docs/model.md, "A worn chain").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WornChain {
+    /// Wear elongation of every pitch, %.
+    pub elongation_pct: f64,
+    /// The worn pitch P (1 + e), m.
+    pub worn_pitch_m: f64,
+    /// On fixed centres (the rest-length rule): the length the chain gained
+    /// over the new chain that had the pretension, N l₀ e, m; absent where a
+    /// tensioner takes it up.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extra_slack_m: Option<f64>,
+}
+
+/// One tooth jump (docs/model.md, "Tooth jump").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToothJumpSummary {
+    /// When it was seen, s (to a sample period).
+    pub t_s: f64,
+    /// 1-based sprocket number.
+    pub sprocket: usize,
+    /// The roller, 0-based.
+    pub roller: usize,
+    /// Gaps moved, counter-clockwise positive.
+    pub gaps: i32,
+    /// `"ahead"` (in the sprocket's sense of rotation: the chain slipped
+    /// forward on it) or `"behind"`.
+    pub direction: String,
+}
+
+impl From<&crate::sim::ToothJump> for ToothJumpSummary {
+    fn from(j: &crate::sim::ToothJump) -> Self {
+        Self {
+            t_s: j.t_s,
+            sprocket: j.sprocket + 1,
+            roller: j.roller,
+            gaps: j.gaps,
+            direction: if j.ahead { "ahead" } else { "behind" }.to_owned(),
+        }
+    }
 }
 
 /// What the summary needs besides the signals.
@@ -526,6 +578,26 @@ impl RunSummary {
         summary
             .warnings
             .extend(eq.misfit.as_ref().map(ToString::to_string));
+        summary.wear = sim.sliding.as_ref().and_then(|s| {
+            let speeds: Vec<f64> = summary
+                .sprockets
+                .iter()
+                .map(|p| p.mean_speed_rad_s)
+                .collect();
+            super::design::Wear::of_run(&sim.scene, s, &speeds)
+        });
+        if let Some(w) = summary
+            .wear
+            .as_ref()
+            .and_then(|w| w.vibration_warning(sim.scene.chain.joint_friction.is_some()))
+        {
+            summary.warnings.push(w);
+        }
+        summary.worn_chain = worn_chain(&sim.scene, &sim.model);
+        summary.tooth_jumps = sim.jumps.jumps().iter().map(Into::into).collect();
+        if let Some(w) = super::warnings::tooth_jumps(&summary.tooth_jumps) {
+            summary.warnings.push(w);
+        }
         summary
     }
 
@@ -732,6 +804,9 @@ impl RunSummary {
                 .collect(),
             rating: None,
             fatigue: None,
+            wear: None,
+            worn_chain: None,
+            tooth_jumps: Vec::new(),
             warnings: Vec::new(),
         };
         summary.rating = super::design::rating::of_run(scene, &summary);
@@ -747,6 +822,19 @@ impl RunSummary {
         });
         summary
     }
+}
+
+/// A worn chain's block: its elongation, pitch and, on fixed centres, the
+/// slack it gained (N l₀ e with l₀ = l / (1 + e), l the worn rest length).
+fn worn_chain(scene: &Scene, model: &DriveModel) -> Option<WornChain> {
+    let chain = &scene.chain;
+    let e = chain.elongation;
+    (e > 0.0).then(|| WornChain {
+        elongation_pct: 100.0 * e,
+        worn_pitch_m: chain.worn_pitch_m(),
+        extra_slack_m: (chain.pretension_by == crate::scene::PretensionRule::RestLength)
+            .then(|| chain.rollers as f64 * model.rest_length_m * e / (1.0 + e)),
+    })
 }
 
 /// The strands as laid out.

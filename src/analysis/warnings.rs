@@ -288,3 +288,29 @@ fn stationarity(j: &Judged<'_>) -> Option<String> {
         )
     })
 }
+/// A chain that jumped teeth: how often, the first jump, and where it
+/// happened most (docs/model.md, "Tooth jump"); `None` without any.
+pub(crate) fn tooth_jumps(jumps: &[super::ToothJumpSummary]) -> Option<String> {
+    let first = jumps.first()?;
+    let mut per_sprocket: Vec<(usize, usize)> = Vec::new();
+    for j in jumps {
+        match per_sprocket.iter_mut().find(|(s, _)| *s == j.sprocket) {
+            Some((_, n)) => *n += 1,
+            None => per_sprocket.push((j.sprocket, 1)),
+        }
+    }
+    let places = per_sprocket
+        .iter()
+        .map(|(s, n)| format!("{n} on sprocket {s}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    Some(format!(
+        "tooth jump: the chain jumped {} time(s) ({places}), first at t = {:.4} s, roller {} {} gap(s) {} on sprocket {}; the forces after it are those of a chain out of mesh (checks.tooth_jump = \"stop\" ends a run there)",
+        jumps.len(),
+        first.t_s,
+        first.roller,
+        first.gaps.abs(),
+        first.direction,
+        first.sprocket
+    ))
+}

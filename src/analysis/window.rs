@@ -137,14 +137,20 @@ impl StatsWindow {
 
     /// Prepares `sim` and its signals for a run summarised over this window:
     /// the power flow counted from its start ([`Simulation::track_power`]),
-    /// and signals sampled at `rate_hz` that count every step from its start
-    /// and keep only its rows ([`Signals::keep_window`]), with every link's
-    /// force counted for the fatigue check where the scene has the chain
-    /// data it needs ([`Signals::count_fatigue_of`]). Give the signals
+    /// the joints' sliding where the scene asks for the wear check
+    /// ([`Simulation::track_sliding`]), and signals sampled at `rate_hz` that
+    /// count every step from its start and keep only its rows
+    /// ([`Signals::keep_window`]), with every link's force counted for the
+    /// fatigue check where the scene has the chain data it needs
+    /// ([`Signals::count_fatigue_of`]). Give the signals
     /// (or an observer that hands them every step) to [`Simulation::run`],
     /// then [`super::RunSummary::of_run_in`] summarises.
     pub fn observe(&self, sim: &mut Simulation, rate_hz: f64) -> Signals {
         sim.track_power(self.start_s);
+        // The wear check's sliding, where the scene asks for it.
+        if sim.scene.checks.wear.is_some() {
+            sim.track_sliding(self.start_s);
+        }
         let mut signals = Signals::new(&sim.model, rate_hz, self.start_s);
         signals.keep_window(self.length_s());
         signals.count_fatigue_of(&sim.scene);

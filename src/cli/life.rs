@@ -226,6 +226,8 @@ fn write_outputs(r: &DutyLife, out: &Path) -> anyhow::Result<()> {
         "damage_per_hour",
         "fatigue_life_h",
         "damage_share",
+        "elongation_pct_per_1000h",
+        "wear_life_h",
     ])?;
     let num = |v: Option<f64>| v.map(|v| v.to_string()).unwrap_or_default();
     for p in &r.points {
@@ -248,6 +250,13 @@ fn write_outputs(r: &DutyLife, out: &Path) -> anyhow::Result<()> {
                 })
                 .unwrap_or_default(),
             num(p.damage_share),
+            num(p.elongation_pct_per_1000h),
+            p.wear_life_h
+                .map(|l| {
+                    l.hours()
+                        .map_or_else(|| "infinite".to_owned(), |h| h.to_string())
+                })
+                .unwrap_or_default(),
         ])?;
     }
     w.flush()?;

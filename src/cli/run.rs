@@ -619,6 +619,28 @@ fn print_summary(s: &RunSummary) {
         s.driver_mean_power_w,
         s.max_penetration_m * 1e6
     );
+    if let Some(c) = &s.worn_chain {
+        let slack = c
+            .extra_slack_m
+            .map(|m| format!("; {:.1} mm of slack on fixed centres", m * 1e3))
+            .unwrap_or_default();
+        println!(
+            "worn chain: elongation {} %, pitch {:.6} m{slack}",
+            c.elongation_pct, c.worn_pitch_m
+        );
+    }
+    if let Some(w) = &s.wear {
+        println!(
+            "wear: {:.4} % per 1000 h (k = {:e}, H = {:.2} GPa; pin load {:.0} N, articulation {:.3} rad/s per joint); life to {} %: {}",
+            w.elongation_pct_per_1000h,
+            w.wear_coefficient,
+            w.hardness_pa * 1e-9,
+            w.mean_pin_load_n,
+            w.articulation_rad_s,
+            w.elongation_limit_pct,
+            w.life_h
+        );
+    }
     if let Some(f) = &s.fatigue {
         println!("{}", fatigue_line(f));
     }

@@ -57,6 +57,14 @@ impl ChainDrive {
         &self.sprockets
     }
 
+    /// What the drive noticed that is legitimate but may surprise, each
+    /// once, in the order noticed: a world gravity other than the scene's
+    /// (the chain hangs under the scene's, the bodies it carries fall under
+    /// the world's).
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
     /// How the user's colliders near the rollers are treated.
     pub fn coupling(&self) -> &Coupling {
         &self.coupling

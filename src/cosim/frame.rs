@@ -22,13 +22,15 @@ impl ChainDrive {
         gravity: Vector,
         dt_s: f64,
     ) -> Result<(), CosimError> {
+        self.check_world(bodies, colliders, gravity, dt_s)?;
         let frame = self.begin_frame(bodies, colliders, gravity, dt_s, None)?;
         self.run_frame(bodies, dt_s, frame)
     }
 
-    /// The first half of [`Self::before_step`]: checks, mounts read, the
-    /// user's colliders near the chain found (leaving `others`' bodies alone).
-    /// Touches only mounted bodies' user torques.
+    /// The first half of [`Self::before_step`], after
+    /// [`Self::check_world`]: mounts read, the user's colliders near the
+    /// chain found (leaving `others`' bodies alone). Touches only mounted
+    /// bodies' user torques.
     pub(super) fn begin_frame(
         &mut self,
         bodies: &mut RigidBodySet,
@@ -37,34 +39,7 @@ impl ChainDrive {
         dt_s: f64,
         others: Option<&Others<'_>>,
     ) -> Result<FrameStart, CosimError> {
-        if !(dt_s.is_finite() && dt_s > 0.0) {
-            return Err(CosimError::input(
-                "dt_s",
-                format!(
-                    "{dt_s} s: the frame's step must be positive and finite (the world's \
-                     integration_parameters.dt)"
-                ),
-            ));
-        }
-        for (k, link) in self.links.iter().enumerate() {
-            if bodies.get(link.body).is_none() {
-                let field = if link.mount == Mount::Own {
-                    format!("sprockets[{k}]")
-                } else {
-                    format!("mounts[{k}]")
-                };
-                return Err(CosimError::input(
-                    field,
-                    "the sprocket's body is no longer in the RigidBodySet: take the drive out \
-                     with ChainDrive::remove before removing its mounts",
-                ));
-            }
-        }
-        for (k, link) in self.links.iter().enumerate() {
-            if let Some(why) = link.joints.unsupported {
-                return Err(CosimError::input(format!("mounts[{k}]"), why));
-            }
-        }
+        self.note_gravity(gravity);
         let started = Instant::now();
         // Sprockets: centres, user torques (taken out of rapier's step). A
         // mounted body moves on through the frame at its velocity (rapier's
@@ -389,7 +364,7 @@ impl ChainDrive {
         narrow_phase: &NarrowPhase,
         dt_s: f64,
     ) -> Result<(), CosimError> {
-        self.check_frame(bodies, dt_s)?;
+        self.check_frame(bodies, narrow_phase, dt_s)?;
         self.in_frame = false;
         let started = Instant::now();
         let span = dt_s;
@@ -461,55 +436,6 @@ impl ChainDrive {
         let is_roller = |h: ColliderHandle| colliders.get(&h).copied().unwrap_or(false);
         self.contacts.after_step(bodies, narrow_phase, &is_roller);
         self.stage_times.sync_s += started.elapsed().as_secs_f64();
-        Ok(())
-    }
-
-    /// Whether the world's step was the one `before_step` prepared.
-    fn check_frame(&self, bodies: &RigidBodySet, dt_s: f64) -> Result<(), CosimError> {
-        if !self.in_frame {
-            return Err(CosimError::World(
-                "after_step without before_step: call before_step, the world's step, then \
-                 after_step, once each per frame"
-                    .to_owned(),
-            ));
-        }
-        if dt_s != self.frame_dt_s {
-            return Err(CosimError::input(
-                "dt_s",
-                format!(
-                    "{dt_s} s, but before_step had {} s: give both the world's dt",
-                    self.frame_dt_s
-                ),
-            ));
-        }
-        let dynamic_mount = self.links.iter().any(|l| l.mount == Mount::Dynamic);
-        if dynamic_mount && self.hook_calls.load(Ordering::Relaxed) == self.hook_calls_at_frame {
-            return Err(CosimError::World(
-                "the world was stepped without the drive's hooks, so rapier's solver pushed the \
-                 rollers' colliders against the mounted sprockets: pass drive.hooks(&your_hooks) \
-                 to the step (or use ChainDrive::step_world)"
-                    .to_owned(),
-            ));
-        }
-        let (mut worst, mut at) = (0.0f64, 0);
-        for (i, &h) in self.rollers.iter().enumerate() {
-            if let Some(b) = bodies.get(h).filter(|b| b.is_enabled()) {
-                let p = b.translation();
-                let d = (p.x - self.state.x[i]).hypot(p.y - self.state.y[i]);
-                if !(d <= worst) {
-                    (worst, at) = (d, i);
-                }
-            }
-        }
-        if !(worst <= ROLLER_SYNC_TOLERANCE_M) {
-            return Err(CosimError::World(format!(
-                "roller {at}'s body is {worst:.3e} m from the chain's roller after the step \
-                 (more than {ROLLER_SYNC_TOLERANCE_M:e} m): the world stepped by another dt than \
-                 before_step's {} s (give before_step the world's integration_parameters.dt), \
-                 or was stepped other than once between before_step and after_step",
-                self.frame_dt_s
-            )));
-        }
         Ok(())
     }
 }

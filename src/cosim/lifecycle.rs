@@ -247,6 +247,8 @@ impl ChainDrive {
             in_frame: false,
             hook_calls: AtomicU64::new(0),
             hook_calls_at_frame: 0,
+            warnings: Vec::new(),
+            gravity_noted: false,
         })
     }
 

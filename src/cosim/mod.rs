@@ -16,8 +16,12 @@
 //! drive.after_step(&mut bodies, &narrow_phase, dt)   // what rapier did to the chain
 //! ```
 //! ([`ChainDrive::step_world`] does the three for a [`PhysicsWorld`].)
-//! Misuse — a bad mount, a bad dt, a world stepped by another dt or without
-//! the drive's hooks — is a [`CosimError`], never a panic; a blow-up's
+//! Misuse — a bad mount, a bad dt, a world stepped by another dt, not at
+//! all or without the drive's hooks, `before_step` twice, a removed roller
+//! body, a non-finite gravity or user torque, a drive of another world in a
+//! [`DriveSet`] — is a [`CosimError`] naming its cause before the frame
+//! writes anything, never a panic; a world gravity other than the scene's
+//! is a warning ([`ChainDrive::warnings`]); a blow-up's
 //! possible causes name the coupling's limit. [`ChainDrive::remove`] takes
 //! the drive out of the world again.
 //!
@@ -84,6 +88,7 @@
 mod access;
 mod bodies;
 mod builder;
+mod checks;
 #[cfg(test)]
 mod cosim_api_tests;
 #[cfg(test)]
@@ -243,6 +248,10 @@ pub struct ChainDrive {
     hook_calls_at_frame: u64,
     /// The scene's driver (the sprocket with a speed law), if any.
     driver: Option<usize>,
+    /// What the drive noticed that is legitimate but may surprise (see [`Self::warnings`]).
+    warnings: Vec<String>,
+    /// Whether a world gravity other than the scene's was noted.
+    gravity_noted: bool,
 }
 
 /// Wall time of a drive's stages, summed over frames, s.
@@ -333,6 +342,7 @@ impl ChainDrive {
             model: &self.model,
             state: &self.state,
             forces: self.forces.output(),
+            jumps: &[],
         }
     }
 

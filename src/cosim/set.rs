@@ -22,6 +22,7 @@
 //! through each other), and a body with the rollers of a drive that does
 //! not carry it in that frame.
 
+use std::collections::HashMap;
 use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
@@ -34,6 +35,8 @@ pub struct DriveSet {
     drives: Vec<ChainDrive>,
     /// Scratch: the frame's starts.
     starts: Vec<FrameStart>,
+    /// How many drives [`Self::check_shared`] found apart.
+    checked: usize,
 }
 
 impl DriveSet {
@@ -112,6 +115,12 @@ impl DriveSet {
         gravity: Vector,
         dt_s: f64,
     ) -> Result<(), CosimError> {
+        self.check_shared()?;
+        for (i, drive) in self.drives.iter().enumerate() {
+            drive
+                .check_world(bodies, colliders, gravity, dt_s)
+                .map_err(|e| in_drive(i, e))?;
+        }
         self.starts.clear();
         for i in 0..self.drives.len() {
             let (before, rest) = self.drives.split_at_mut(i);
@@ -141,6 +150,30 @@ impl DriveSet {
                 .run_frame(bodies, dt_s, *start)
                 .map_err(|e| in_drive(i, e))?;
         }
+        Ok(())
+    }
+
+    /// An error when two drives share a body (one was inserted into another
+    /// world built the same way, whose handles name this world's bodies):
+    /// checked once for each drive added.
+    fn check_shared(&mut self) -> Result<(), CosimError> {
+        if self.checked == self.drives.len() {
+            return Ok(());
+        }
+        let mut seen: HashMap<RigidBodyHandle, usize> = HashMap::new();
+        for (i, d) in self.drives.iter().enumerate() {
+            for &h in d.roller_bodies() {
+                if let Some(j) = seen.insert(h, i).filter(|&j| j != i) {
+                    return Err(CosimError::input(
+                        format!("drives[{i}]"),
+                        format!(
+                            "its bodies are drives[{j}]'s too: it was inserted into another                              world (a set's drives are inserted into the world it steps)"
+                        ),
+                    ));
+                }
+            }
+        }
+        self.checked = self.drives.len();
         Ok(())
     }
 

@@ -390,6 +390,15 @@ impl ForceGenerator {
         }
     }
 
+    /// Has the links' pass write each link's angular velocity and normal
+    /// ([`Forces::link_omega`]) from the next evaluation on
+    /// ([`Links::request_rates`]): what the wear check's sliding count reads
+    /// (the joint friction asks for them itself, through
+    /// [`ForceElement::wants_link_rates`]). The forces do not change.
+    pub(crate) fn want_link_rates(&mut self) {
+        self.links.request_rates(&mut self.output);
+    }
+
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
     pub(crate) fn enable_damping_rows(&mut self) {
         self.contact.enable_damping_rows();

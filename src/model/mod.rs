@@ -537,6 +537,28 @@ impl DriveModel {
         self.path.wraps.get(k).map(|w| w.wrap_rad)
     }
 
+    /// Moves sprocket `k`'s centre to `scene`'s (a tensioner moved after
+    /// the layout: a worn chain taken up) and traces the nominal path and
+    /// its strands anew from `scene`'s sprockets. The state is not touched.
+    pub(crate) fn retrace(&mut self, scene: &Scene, k: usize) -> Result<(), BuildError> {
+        let circles: Vec<PathCircle> = scene
+            .sprockets
+            .iter()
+            .map(|s| PathCircle {
+                center_m: s.center_m,
+                radius_m: s.pitch_radius_m,
+                sense: s.wrap.sign(),
+            })
+            .collect();
+        let path = chain_path(&circles)?;
+        if let (Some(sp), Some(s)) = (self.sprockets.get_mut(k), scene.sprockets.get(k)) {
+            sp.center_m = s.center_m;
+        }
+        self.segments = Segments::new(&path);
+        self.path = path;
+        Ok(())
+    }
+
     /// Number of sprockets.
     pub fn sprocket_count(&self) -> usize {
         self.sprockets.len()

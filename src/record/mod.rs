@@ -25,8 +25,10 @@
 //! contact law, integrator, stepping, dt, sample rate, crate version), the
 //! scene file as an attachment with the tables it read (a load table's
 //! CSV, attached under the name the scene gives it, media type
-//! `text/csv`), and at the end a metadata record
-//! `chaindrive.end` saying how the run ended. Channels not requested are
+//! `text/csv`), at the end a metadata record `chaindrive.end` saying how
+//! the run ended, and where the chain jumped teeth a record
+//! `chaindrive.tooth_jumps` listing every jump ([`JUMPS_RECORD`]). Channels
+//! not requested are
 //! neither computed nor written.
 //!
 //! Cost: the stepping loop only copies the arrays the requested channels
@@ -114,6 +116,35 @@ pub struct RecordOptions {
     pub scene_file: Option<(String, Vec<u8>)>,
     /// The run's sample rate, Hz, written into the metadata.
     pub rate_hz: f64,
+}
+
+/// Name of the metadata record that lists a run's tooth jumps (written at
+/// its end, only when it had any): `count`, and `jump NNNN` per jump,
+/// `t_s=… sprocket=… roller=… gaps=… ahead|behind` (sprocket 1-based,
+/// roller 0-based, gaps counter-clockwise positive).
+pub const JUMPS_RECORD: &str = "chaindrive.tooth_jumps";
+
+/// The entries of [`JUMPS_RECORD`].
+fn jump_entries(jumps: &[crate::sim::ToothJump]) -> BTreeMap<String, String> {
+    let mut m: BTreeMap<String, String> = jumps
+        .iter()
+        .enumerate()
+        .map(|(k, j)| {
+            (
+                format!("jump {:04}", k + 1),
+                format!(
+                    "t_s={} sprocket={} roller={} gaps={} {}",
+                    j.t_s,
+                    j.sprocket + 1,
+                    j.roller,
+                    j.gaps,
+                    if j.ahead { "ahead" } else { "behind" }
+                ),
+            )
+        })
+        .collect();
+    m.insert("count".to_owned(), jumps.len().to_string());
+    m
 }
 
 /// How a run ended, written into the `chaindrive.end` metadata record.
@@ -208,6 +239,8 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     /// A co-simulated run's metadata, written again at its end with the
     /// run's duration; `None` for a standalone run.
     cosim: Option<BTreeMap<String, String>>,
+    /// Every tooth jump the run saw, as its samples listed them.
+    jumps: Vec<crate::sim::ToothJump>,
     /// Time of the first sample, ns.
     first_t_ns: u64,
 }
@@ -519,6 +552,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             continued: earlier.is_some_and(|(_, m)| m.frames > 0),
             cosim: frame_dt_s.map(|_| metadata),
             first_t_ns: 0,
+            jumps: Vec::new(),
         })
     }
 
@@ -600,6 +634,15 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             name: "chaindrive.end".to_owned(),
             metadata,
         });
+        // The tooth jumps, one entry each (no record without any).
+        let jumps_written = if self.jumps.is_empty() {
+            Ok(())
+        } else {
+            sink.writer.write_metadata(&mcap::records::Metadata {
+                name: JUMPS_RECORD.to_owned(),
+                metadata: jump_entries(&self.jumps),
+            })
+        };
         let finished = sink.writer.finish();
         let mut inner = sink.writer.into_inner();
         let flushed = inner.flush();
@@ -611,6 +654,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         }
         run_written?;
         end_written?;
+        jumps_written?;
         finished?;
         flushed?;
         Ok(inner)
@@ -632,6 +676,9 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
     fn sample(&mut self, s: &Sample<'_>) {
         if self.lost {
             return;
+        }
+        if s.jumps.len() != self.jumps.len() {
+            self.jumps = s.jumps.to_vec();
         }
         let st = s.state;
         let f = s.forces;

@@ -339,6 +339,13 @@ pub(crate) struct Recording {
     pub metadata: BTreeMap<String, String>,
     /// How the run ended (`chaindrive.end` status; `unknown` if absent).
     pub end_status: String,
+    /// The run's tooth jumps ([`super::JUMPS_RECORD`]: `count` and one
+    /// entry per jump; empty when it had none).
+    #[allow(
+        dead_code,
+        reason = "read for the record's users; no command prints it yet"
+    )]
+    pub tooth_jumps: BTreeMap<String, String>,
     /// Whether `/links` was read.
     pub has_links: bool,
     /// Whether `/contacts` and `/rollers` were read.
@@ -442,6 +449,7 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
         .and_then(|m| m.get("status"))
         .cloned()
         .unwrap_or_else(|| "unknown (no end record)".to_owned());
+    let tooth_jumps = metadata.remove(super::JUMPS_RECORD).unwrap_or_default();
     let scene = attached_scene(&attachments, &meta)?;
     require_channels(&topics, &found)?;
     let has_links = topics.contains_key(Channel::Links.topic());
@@ -462,6 +470,7 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
         topics: found,
         metadata: meta,
         end_status,
+        tooth_jumps,
         has_links,
         has_contacts,
         samples,

@@ -103,6 +103,13 @@ impl Designation {
         0.5 * self.pin_diameter_m
     }
 
+    /// Length of the bushing the pin bears on, m: the bushing is pressed
+    /// through the two inner plates, so it spans the width between them and
+    /// their two thicknesses, b₁ + 2 t (the wear check's bearing length).
+    pub fn bushing_length_m(&self) -> f64 {
+        self.inner_width_m + 2.0 * self.plate_thickness_m
+    }
+
     /// Mass lumped at each roller: mass per metre times the pitch, kg.
     pub(crate) fn roller_mass_kg(&self) -> f64 {
         self.mass_per_m_kg * self.pitch_m

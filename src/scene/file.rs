@@ -109,6 +109,14 @@ pub struct ChainFile {
     /// Viscous joint damping c_θ, N·m·s/rad.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub joint_damping_n_m_s_rad: Option<f64>,
+    /// Length of the bushing the pin bears on, m (the wear check's bearing
+    /// area is pin diameter × bushing length; docs/design-checks.md, "Wear").
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bushing_length_m: Option<f64>,
+    /// Wear elongation of every pitch, % (links and rollers lengthened, the
+    /// sprockets as cut; docs/model.md, "A worn chain"). Default 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elongation_pct: Option<f64>,
 }
 
 fn default_pretension_by() -> String {

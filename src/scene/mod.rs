@@ -41,8 +41,8 @@ mod validate;
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
 pub(crate) use by_path::{Assignment, PathPart, ScenePath, set_in_table};
-pub(crate) use checks::Checks;
 pub use checks::ChecksFile;
+pub(crate) use checks::{Checks, ELONGATION_LIMIT_CAP_PCT, JumpAction};
 pub use duty::DutyPointFile;
 pub(crate) use duty::{DutyFile, check_points};
 pub(crate) use error::value_span;
@@ -181,6 +181,17 @@ impl Scene {
             &self.sprockets,
             &self.chain,
         ));
+        if self.chain.elongation > 0.0
+            && self
+                .sprockets
+                .iter()
+                .any(|s| s.profile == ProfileKind::Circular)
+        {
+            w.push(format!(
+                "chain.elongation_pct = {}: a worn chain's rollers ride up their teeth's flanks, which the circular profile does not have (its seats hold no roller above the pitch circle): use profile = \"real\" for a worn chain",
+                100.0 * self.chain.elongation
+            ));
+        }
         w
     }
 
@@ -198,6 +209,17 @@ impl Scene {
     /// was parsed (for recordings and reports).
     pub fn source_toml(&self) -> Option<&str> {
         self.source_toml.as_deref()
+    }
+
+    /// The same drive with a new chain (no wear elongation), or `None`
+    /// when its chain is new. Only the validated form changes: a worn
+    /// chain's static equilibrium starts from the new chain's.
+    pub(crate) fn as_new_chain(&self) -> Option<Self> {
+        (self.chain.elongation != 0.0).then(|| {
+            let mut new = self.clone();
+            new.chain.elongation = 0.0;
+            new
+        })
     }
 
     /// The tables the scene read (load tables, governors' drive tables):

@@ -167,6 +167,26 @@ pub struct Chain {
     pub joint_friction: Option<JointFriction>,
     /// The standard chain the scene named (`chain.designation`), if any.
     pub designation: Option<&'static str>,
+    /// Pin radius, m, where the scene or its designation gives it.
+    pub pin_radius_m: Option<f64>,
+    /// Length of the bushing the pin bears on, m, where known.
+    pub bushing_length_m: Option<f64>,
+    /// Wear elongation of every pitch, as a fraction (`chain.elongation_pct`
+    /// / 100; 0 for a new chain).
+    pub elongation: f64,
+}
+
+impl Chain {
+    /// The worn chain's pitch P (1 + e), m: the length of every link and the
+    /// distance of consecutive rollers at rest (the nominal pitch for a new
+    /// chain).
+    pub fn worn_pitch_m(&self) -> f64 {
+        if self.elongation == 0.0 {
+            self.pitch_m
+        } else {
+            self.pitch_m * (1.0 + self.elongation)
+        }
+    }
 }
 
 /// Pin–bushing friction and damping at the chain's joints (docs/model.md,

@@ -106,7 +106,6 @@ impl TryFrom<SceneFile> for Scene {
             max_relax_s: c.positive("equilibrium.max_relax_s", file.equilibrium.max_relax_s),
         };
         let tensioners = super::tensioners::check_tensioners(&mut c, &file.tensioners);
-        let checks = super::checks::check_checks(&mut c, &file.checks);
         super::duty::check_duty(&mut c, &file.duty);
         if chain.pretension_by == PretensionRule::TensionerPreload && tensioners.is_empty() {
             c.fail(
@@ -124,6 +123,8 @@ impl TryFrom<SceneFile> for Scene {
                 "is \"tensioner\" but no sprocket has role = \"tensioner\"",
             );
         }
+        let bearing = chain.pin_radius_m.is_some() && chain.bushing_length_m.is_some();
+        let checks = super::checks::check_checks(&mut c, &file.checks, bearing);
         let guides = if c.errors.is_empty() {
             super::guides::check_guides(&mut c, &file.guides, &chain, &contact, &sprockets)
         } else {
@@ -220,6 +221,22 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
         );
     }
     let pin_radius_m = f.pin_radius_m.or(designation.map(|d| d.pin_radius_m()));
+    let bushing_length_m = f
+        .bushing_length_m
+        .map(|l| c.positive("chain.bushing_length_m", l))
+        .or(designation.map(|d| d.bushing_length_m()));
+    let elongation_pct = f
+        .elongation_pct
+        .map(|e| c.non_negative("chain.elongation_pct", e))
+        .unwrap_or(0.0);
+    if elongation_pct.is_finite() && elongation_pct > MAX_ELONGATION_PCT {
+        c.fail(
+            "chain.elongation_pct",
+            format!(
+                "must lie in [0, {MAX_ELONGATION_PCT}] % (catalogues replace a chain at 1.5 to 3 %), got {elongation_pct}"
+            ),
+        );
+    }
     Chain {
         rollers: f.rollers.max(0) as usize,
         pitch_m,
@@ -233,8 +250,16 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             .unwrap_or(PretensionRule::RestLength),
         joint_friction: check_joint_friction(c, f, pin_radius_m, roller_radius_m),
         designation: designation.map(|d| d.name),
+        pin_radius_m: pin_radius_m.filter(|r| r.is_finite() && *r > 0.0),
+        bushing_length_m,
+        elongation: elongation_pct / 100.0,
     }
 }
+
+/// The largest wear elongation a scene may give, %: far beyond any chain's
+/// service limit (3 %), where the rollers of a worn chain already ride on
+/// the teeth's tips of a 20-tooth sprocket.
+pub(crate) const MAX_ELONGATION_PCT: f64 = 15.0;
 
 /// The joint friction's fields: absent (or μ = c_θ = 0) means off. A pin
 /// radius is needed by μ > 0 and must be smaller than the roller's.

@@ -177,6 +177,13 @@ pub(crate) struct Snapshot {
     /// without power tracking, or before the first step).
     power_from_last_step: Option<PowerLedger>,
     rest_length_m: f64,
+    /// The joints' sliding (absent from checkpoints written before it).
+    #[serde(default)]
+    sliding: Option<super::JointSliding>,
+    /// The tooth-jump detector's state (absent from older checkpoints: a
+    /// resumed run then starts watching afresh).
+    #[serde(default)]
+    jumps: Option<super::JumpWatch>,
 }
 
 impl Snapshot {
@@ -275,6 +282,8 @@ impl Simulation {
             power: self.power.clone(),
             power_from_last_step,
             rest_length_m: self.model.rest_length_m,
+            sliding: self.sliding.clone(),
+            jumps: Some(self.jumps.clone()),
         })
     }
 
@@ -323,6 +332,12 @@ impl Simulation {
         self.integration.carry(snapshot.next_step_s, snapshot.stats);
         self.growth = snapshot.growth.clone();
         self.power.clone_from(&snapshot.power);
+        if snapshot.sliding.is_some() {
+            self.sliding.clone_from(&snapshot.sliding);
+        }
+        if let Some(jumps) = &snapshot.jumps {
+            self.jumps.clone_from(jumps);
+        }
         self.sync_world();
         Ok(())
     }

@@ -32,10 +32,14 @@ mod fit_tests;
 pub(crate) mod integrate;
 #[cfg(test)]
 mod integrators_tests;
+mod jumps;
+#[cfg(test)]
+mod jumps_tests;
 #[cfg(test)]
 mod paper_tests;
 pub(crate) mod parallel;
 mod sample_rate;
+mod sliding;
 mod statics;
 #[cfg(test)]
 mod statics_tests;
@@ -46,6 +50,9 @@ mod stepping_tests;
 mod threads_tests;
 #[cfg(test)]
 mod users_tests;
+mod worn;
+#[cfg(test)]
+mod worn_tests;
 
 pub use crate::forces::ForceTimes;
 pub use crate::geometry::asa::AsaError;
@@ -55,7 +62,10 @@ pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub(crate) use energy::{PowerLedger, PowerMeans};
 pub use fanout::Fanout;
 pub(crate) use integrate::{Integration, IntegrationStats};
+pub(crate) use jumps::JumpWatch;
+pub use jumps::ToothJump;
 pub use sample_rate::{SampleRate, SampleRateError};
+pub(crate) use sliding::JointSliding;
 pub use statics::MisfitTension;
 #[cfg(test)]
 pub(crate) use statics::fitting_counts;
@@ -81,7 +91,9 @@ use crate::forces::{
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, DriveModel, DriveState, ScalarModel};
-use crate::scene::{Overrides, PretensionRule, Role, Scene, SceneError, Stepping, TensionerKind};
+use crate::scene::{
+    JumpAction, Overrides, PretensionRule, Role, Scene, SceneError, Stepping, TensionerKind,
+};
 
 fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
@@ -209,6 +221,61 @@ fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, 
     }))
 }
 
+/// Lengthens the links of a drive `settled` with its chain new to `worn`'s
+/// elongation ([`worn::wear_in`]); the tensioner rule's sprocket moves on
+/// to keep the pretension. Returns the worn drive, its scene `worn`'s with
+/// the tensioner where it ended.
+fn wear_settled(
+    worn: &Scene,
+    settled: Settled,
+    settings: &RelaxSettings,
+) -> Result<Settled, SimError> {
+    let (mut scene, mut model, mut state, mut forces, layout, _) = settled;
+    let e = worn.chain.elongation;
+    let chain = &worn.chain;
+    let take_up = match (chain.pretension_by, scene.tensioner()) {
+        (PretensionRule::Tensioner, Some(t)) => {
+            let Role::Tensioner { direction, .. } = scene.sprockets[t].role else {
+                return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
+            };
+            // The path's gain per metre the sprocket moves, from the fit's
+            // slope (pitches per metre) where the new chain sits.
+            let fit = fit_sprocket(&scene, t, direction, chain.rollers).map_err(|reason| {
+                EquilibriumError::TensionerFit {
+                    sprocket: scene.sprockets[t].name.clone(),
+                    reason: Box::new(reason),
+                }
+            })?;
+            let norm = direction[0].hypot(direction[1]);
+            Some((
+                t,
+                [direction[0] / norm, direction[1] / norm],
+                1.0 / (fit.slope_per_m * chain.pitch_m),
+            ))
+        }
+        _ => None,
+    };
+    let mut taken = scene.clone();
+    let eq = worn::wear_in(
+        &mut model,
+        &mut state,
+        &mut forces,
+        settings,
+        e,
+        chain.pretension_n,
+        take_up.map(|(sprocket, direction, travel_per_length)| worn::TakeUp {
+            scene: &mut taken,
+            sprocket,
+            direction,
+            travel_per_length,
+            tolerance: worn.equilibrium.tension_tolerance,
+        }),
+    )?;
+    scene = taken;
+    scene.chain.elongation = e;
+    Ok((scene, model, state, forces, layout, eq))
+}
+
 use crate::scene::StepLimits;
 #[cfg(test)]
 pub(crate) use energy::{Energy, Powers, balance_energy_j};
@@ -241,6 +308,13 @@ pub enum SimError {
         /// with "; " (or empty).
         detail: String,
     },
+    /// A roller jumped a tooth in a run set to stop there
+    /// (`checks.tooth_jump = "stop"`).
+    #[error(
+        "tooth jump at t = {:.4} s: roller {} moved {} gap(s) {} on sprocket {} (checks.tooth_jump = \"stop\")",
+        .0.t_s, .0.roller, .0.gaps.abs(), if .0.ahead { "ahead" } else { "behind" }, .0.sprocket + 1
+    )]
+    ToothJump(ToothJump),
 }
 
 impl From<EquilibriumError> for SimError {
@@ -257,6 +331,8 @@ pub struct Sample<'a> {
     pub state: &'a DriveState,
     /// Forces at the state (as evaluated for the step that led here).
     pub forces: &'a Forces,
+    /// Every tooth jump seen so far, in order ([`JumpWatch`]).
+    pub jumps: &'a [ToothJump],
 }
 
 /// Watches a run. Every method has a no-op default.
@@ -348,6 +424,11 @@ pub struct Simulation {
     /// Where the power goes, counted every step from a chosen time
     /// ([`Simulation::track_power`]; off by default).
     pub(crate) power: Option<PowerLedger>,
+    /// Every joint's sliding, counted every step from a chosen time for the
+    /// wear check ([`Simulation::track_sliding`]; off by default).
+    pub(crate) sliding: Option<JointSliding>,
+    /// The tooth-jump detector, looking at every sample.
+    pub(crate) jumps: JumpWatch,
     /// The run's clock (see [`Clock`]).
     clock: Clock,
 }
@@ -416,7 +497,12 @@ impl Simulation {
             rest_speed_m_s: 1e-6,
             max_stretch_m: limits.max_stretch_m,
         };
-        let (scene, model, state, forces, layout, equilibrium) = match scene.chain.pretension_by {
+        // A worn chain: the drive with the chain new first, at its
+        // pretension; its links are then lengthened (`worn`).
+        let worn = scene;
+        let new_chain = worn.as_new_chain();
+        let scene = new_chain.as_ref().unwrap_or(worn);
+        let settled = match scene.chain.pretension_by {
             PretensionRule::RestLength => {
                 let (mut model, mut state, layout) = DriveModel::build(scene)?;
                 statics::check_chain_length(scene, &layout, &model.path)?;
@@ -455,6 +541,11 @@ impl Simulation {
                 eq.misfit = statics::misfit_tension(scene, &layout, &forces, eq.tension_n);
                 (scene.clone(), model, state, forces, layout, eq)
             }
+        };
+        let (scene, model, state, forces, layout, equilibrium) = if new_chain.is_some() {
+            wear_settled(worn, settled, &settings)?
+        } else {
+            settled
         };
         Ok(Self::assemble(
             scene,
@@ -532,6 +623,7 @@ impl Simulation {
             &mut forces,
             scene.chain.pretension_n / model.stiffness_n_m,
         );
+        let jumps = JumpWatch::new(&model, scene.chain.rollers);
         let bodies = ChainBodies::insert(
             &model,
             &state,
@@ -554,6 +646,8 @@ impl Simulation {
             integration,
             timings: false,
             power: None,
+            sliding: None,
+            jumps,
             clock: Clock::default(),
         }
     }
@@ -663,6 +757,13 @@ impl Simulation {
         self.power = Some(PowerLedger::new(from_s));
     }
 
+    /// Counts every joint's sliding from `from_s` on ([`JointSliding`]): the
+    /// links' pass writes each link's angular velocity from now on.
+    pub fn track_sliding(&mut self, from_s: f64) {
+        self.forces.want_link_rates();
+        self.sliding = Some(JointSliding::new(from_s, self.state.rollers()));
+    }
+
     /// Writes the drive's state into its rapier bodies.
     pub fn sync_world(&mut self) {
         self.bodies.write_state(&self.state, &mut self.world.bodies);
@@ -708,8 +809,10 @@ impl Simulation {
         let started = Instant::now();
         let mut interrupted = false;
         if self.state.t_s == 0.0 {
+            self.jumps.look(&self.model, &self.state);
             observer.sample(&self.sample());
         }
+        let stop_at_jump = self.scene.checks.tooth_jump == JumpAction::Stop;
         let mut steps = 0;
         let mut times = self.timings.then(StageTimes::default);
         if times.is_some() {
@@ -732,13 +835,23 @@ impl Simulation {
             if let Some(ledger) = &mut self.power {
                 ledger.step(&self.model, &self.state, &self.forces);
             }
+            if let Some(sliding) = &mut self.sliding {
+                sliding.step(self.state.t_s, self.forces.output());
+            }
             let t = clock(timed);
             if self.state.t_s >= per_step_from {
                 observer.step(&self.sample());
             }
             let sampled = self.clock.steps % sample_every == 0;
             if sampled {
+                let found = self.jumps.look(&self.model, &self.state);
                 observer.sample(&self.sample());
+                if found > 0
+                    && stop_at_jump
+                    && let Some(first) = self.jumps.jumps().get(self.jumps.jumps().len() - found)
+                {
+                    return Err(SimError::ToothJump(*first));
+                }
             }
             if let Some(times) = &mut times {
                 times.steps += 1;
@@ -805,6 +918,7 @@ impl Simulation {
             model: &self.model,
             state: &self.state,
             forces: self.forces.output(),
+            jumps: self.jumps.jumps(),
         }
     }
 }

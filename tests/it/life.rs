@@ -72,15 +72,24 @@ fn a_motorcycle_duty_cycle_runs_in_parallel_resumably_and_combines_by_miner() {
     // Each point's fatigue life alone: a number of hours, 1 / its damage
     // per hour (the column's name carries the unit, the cells none), or
     // `infinite` where there is no damage.
+    // The column by its name (the `set` column's cells hold commas, so from
+    // the end): wear columns follow it.
+    let header: Vec<&str> = csv.lines().next().unwrap_or("").split(',').collect();
+    let from_end = header.len()
+        - header
+            .iter()
+            .position(|h| *h == "fatigue_life_h")
+            .expect("a fatigue_life_h column");
     for (line, &d) in csv.lines().skip(1).zip(&damage) {
-        let cells: Vec<&str> = line.rsplitn(3, ',').collect();
+        let cells: Vec<&str> = line.rsplitn(from_end + 1, ',').collect();
+        let cell = cells[from_end - 1];
         if d == 0.0 {
-            assert_eq!(cells[1], "infinite", "{line}");
+            assert_eq!(cell, "infinite", "{line}");
             continue;
         }
-        let life: f64 = cells[1]
+        let life: f64 = cell
             .parse()
-            .unwrap_or_else(|_| panic!("fatigue_life_h {:?} in {line}", cells[1]));
+            .unwrap_or_else(|_| panic!("fatigue_life_h {cell:?} in {line}"));
         approx::assert_relative_eq!(life * d, 1.0, max_relative = 1e-12);
     }
     assert!(out.join("damage.png").exists());

@@ -19,6 +19,7 @@ mod checkpoint_cli;
 #[cfg(feature = "cli")]
 mod cli;
 mod common;
+mod cosim_mistakes;
 mod cosim_multi;
 mod detectors;
 #[cfg(feature = "cli")]

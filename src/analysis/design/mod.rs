@@ -11,19 +11,26 @@
 //!   the scene's own), Goodman's mean-stress correction, Miner's damage per
 //!   hour and the life; [`link_cycles`] counts every link's force by
 //!   [`rainflow`] as the steps come.
+//! - [`wear`]: Archard's wear at every joint from the sliding counted every
+//!   step of a run, the chain's elongation rate (% per 1000 h) and its life
+//!   to the allowable elongation.
 //! - [`life`]: a life in hours, or infinite.
 //!
 //! The checks are pure functions of a scene and, for a run, of its summary
-//! and of the cycles counted during it: they step nothing and read no
-//! sampled signals. Wear and duty cycles are not here.
+//! and of what was counted during it (link cycles, joint sliding): they
+//! step nothing and read no sampled signals. Duty cycles are run by `studies::duty`.
 
 pub(crate) mod fatigue;
 pub(crate) mod life;
 pub(crate) mod link_cycles;
 pub(crate) mod rainflow;
 pub(crate) mod rating;
+pub(crate) mod wear;
+#[cfg(test)]
+mod wear_tests;
 
 pub(crate) use fatigue::Fatigue;
 pub(crate) use life::Life;
 pub(crate) use link_cycles::LinkCycles;
 pub(crate) use rating::Rating;
+pub(crate) use wear::Wear;

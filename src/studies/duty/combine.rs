@@ -46,6 +46,16 @@ pub struct PointResult {
     /// Its share of the cycle's damage, rᵢ hᵢ / Σ rⱼ hⱼ.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub damage_share: Option<f64>,
+    /// The wear elongation rate at this point, % per 1000 h (where the
+    /// scene asks for the wear check).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elongation_pct_per_1000h: Option<f64>,
+    /// The elongation that ends the chain's life, %.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub elongation_limit_pct: Option<f64>,
+    /// The wear life were the chain run at this point alone.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wear_life_h: Option<Life>,
     /// The run's warnings.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub warnings: Vec<String>,
@@ -54,11 +64,12 @@ pub struct PointResult {
 /// One check's life over the cycle.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct LimitLife {
-    /// The check (`fatigue`).
+    /// The check (`fatigue`, `wear`).
     pub check: String,
-    /// What its rate counts (`Miner's damage`).
+    /// What its rate counts (`Miner's damage`, `wear elongation, %`).
     pub quantity: String,
-    /// The value at which its life ends (1 for Miner's damage).
+    /// The value at which its life ends (1 for Miner's damage, the
+    /// elongation limit in % for wear).
     pub limit: f64,
     /// The cycle's mean rate per hour, Σ rᵢ hᵢ / Σ hᵢ.
     pub rate_per_hour: f64,
@@ -113,6 +124,7 @@ fn point_result(
     };
     let fatigue = summary.as_ref().and_then(|s| s.fatigue.as_ref());
     let rating = summary.as_ref().and_then(|s| s.rating.as_ref());
+    let wear = summary.as_ref().and_then(|s| s.wear.as_ref());
     Ok(PointResult {
         name: point.name.clone(),
         hours: point.hours,
@@ -136,6 +148,9 @@ fn point_result(
         damage_per_hour: fatigue.map(|f| f.damage_per_hour),
         fatigue_life_h: fatigue.map(|f| f.life_h),
         damage_share: None,
+        elongation_pct_per_1000h: wear.map(|w| w.elongation_pct_per_1000h),
+        elongation_limit_pct: wear.map(|w| w.elongation_limit_pct),
+        wear_life_h: wear.map(|w| w.life_h),
         warnings: status.map(|s| s.warnings).unwrap_or_default(),
     })
 }
@@ -198,6 +213,7 @@ pub fn combine(cycle: &DutyCycle, dir: &StudyDir) -> Result<DutyLife, StudyError
     } else {
         notes.push(format!("no fatigue life: {}", lacking.join("; ")));
     }
+    limits.extend(wear_limit(&points, block, &mut notes));
     let shortest = limits.iter().reduce(|a, b| {
         if b.life_h.is_shorter_than(a.life_h) {
             b
@@ -214,4 +230,102 @@ pub fn combine(cycle: &DutyCycle, dir: &StudyDir) -> Result<DutyLife, StudyError
         limits,
         notes,
     })
+}
+
+/// The cycle's wear life, where any point has a wear block: every point
+/// needs one (the same limit, the scene's), else a note says which lack it.
+fn wear_limit(points: &[PointResult], block: f64, notes: &mut Vec<String>) -> Option<LimitLife> {
+    let limit_pct = points.iter().find_map(|p| p.elongation_limit_pct)?;
+    let lacking: Vec<&str> = points
+        .iter()
+        .filter(|p| p.elongation_pct_per_1000h.is_none())
+        .map(|p| p.name.as_str())
+        .collect();
+    if !lacking.is_empty() {
+        notes.push(format!(
+            "no wear life: no wear block at {} (not run, failed, or checks.wear unset there)",
+            lacking.join(", ")
+        ));
+        return None;
+    }
+    // Per hour: % per 1000 h over 1000.
+    let weighted: Vec<f64> = points
+        .iter()
+        .map(|p| p.elongation_pct_per_1000h.unwrap_or(0.0) * 1e-3 * p.hours)
+        .collect();
+    let total: f64 = weighted.iter().sum();
+    let dominated_by = (total > 0.0)
+        .then(|| {
+            weighted
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.total_cmp(b.1))
+                .map(|(i, _)| points[i].name.clone())
+        })
+        .flatten();
+    let rate = if block > 0.0 { total / block } else { 0.0 };
+    Some(LimitLife {
+        check: "wear".to_owned(),
+        quantity: "wear elongation, %".to_owned(),
+        limit: limit_pct,
+        rate_per_hour: rate,
+        life_h: Life::of_rate_per_hour(rate / limit_pct),
+        dominated_by,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn point(name: &str, hours: f64, rate: Option<f64>) -> PointResult {
+        PointResult {
+            name: name.to_owned(),
+            hours,
+            time_share: 0.0,
+            set: String::new(),
+            status: "ok".to_owned(),
+            error: None,
+            driver_power_w: None,
+            rating_margin: None,
+            static_safety_factor: None,
+            fatigue_safety_factor: None,
+            damage_per_hour: None,
+            fatigue_life_h: None,
+            damage_share: None,
+            elongation_pct_per_1000h: rate,
+            elongation_limit_pct: rate.map(|_| 3.0),
+            wear_life_h: None,
+            warnings: Vec::new(),
+        }
+    }
+
+    #[test]
+    fn the_cycles_wear_life_is_the_limit_over_the_hour_weighted_rate() {
+        // 1 % per 1000 h for 3 h and 3 % per 1000 h for 1 h: 6 % per 1000 h
+        // over 4 h, 1.5e-3 % per hour; to 3 %: 2000 h.
+        let mut notes = Vec::new();
+        let points = [point("a", 3.0, Some(1.0)), point("b", 1.0, Some(3.0))];
+        let l = wear_limit(&points, 4.0, &mut notes).expect("a wear life");
+        approx::assert_relative_eq!(l.rate_per_hour, 1.5e-3, max_relative = 1e-12);
+        approx::assert_relative_eq!(
+            l.life_h.hours().unwrap_or(0.0),
+            2000.0,
+            max_relative = 1e-12
+        );
+        assert_eq!(l.limit, 3.0);
+        assert!(notes.is_empty());
+        // A point without a wear block: no life, a note naming it.
+        let points = [point("a", 3.0, Some(1.0)), point("b", 1.0, None)];
+        assert!(wear_limit(&points, 4.0, &mut notes).is_none());
+        assert!(
+            notes
+                .iter()
+                .any(|n| n.contains("no wear life") && n.contains('b'))
+        );
+        // No point with one: nothing said.
+        let mut quiet = Vec::new();
+        assert!(wear_limit(&[point("a", 1.0, None)], 1.0, &mut quiet).is_none());
+        assert!(quiet.is_empty());
+    }
 }

@@ -1,0 +1,161 @@
+//! Tooth jumps: a roller that leaves its gap over a tooth tip and settles in
+//! another gap of the same sprocket (docs/model.md, "Tooth jump").
+//!
+//! Each roller's gap on each sprocket is followed while the roller lies
+//! *deep* in it: its centre within half the tooth's height above the pitch
+//! circle (deeper than any roller passing over a tip can be). A roller deep
+//! in gap j that is next deep in gap j′ ≠ j of the same sprocket, without
+//! having left the sprocket's reach in between, has jumped j′ − j gaps. A
+//! roller that leaves the reach (the end of a wrap) is forgotten, so a
+//! roller entering the next wrap is a seating, not a jump. Gap j's centre is
+//! at the sprocket's angle plus j 2π/z, as the profiles place them.
+//!
+//! It is looked at once per sample, not every step: a jump is a change of
+//! state that lasts (a roller deep in another gap), which no sample misses;
+//! its time is known to a sample period. It reads the state only: no force
+//! changes, whether it looks or not.
+
+use serde::{Deserialize, Serialize};
+
+use crate::model::{DriveModel, DriveState};
+
+/// Fraction of the tooth's height above the pitch circle within which a
+/// roller's centre lies deep in its gap.
+const DEEP_FRACTION: f64 = 0.5;
+
+/// No gap: the roller is not deep in any gap of the sprocket since it last
+/// came within reach.
+const NO_GAP: i32 = i32::MIN;
+
+/// One tooth jump.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ToothJump {
+    /// When it was seen (the sample after the roller settled), s.
+    pub t_s: f64,
+    /// The sprocket, 0-based.
+    pub sprocket: usize,
+    /// The roller, 0-based (the state's index).
+    pub roller: usize,
+    /// Gaps moved, counter-clockwise positive (±1 for one tooth).
+    pub gaps: i32,
+    /// Whether the roller moved ahead in the sprocket's sense of rotation
+    /// at that time (the chain slipped forward on it), or behind.
+    pub ahead: bool,
+}
+
+/// Follows every roller's gap on every sprocket (module docs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JumpWatch {
+    /// Per sprocket: (deep radius², reach radius², teeth).
+    limits: Vec<(f64, f64, u32)>,
+    /// Gap of roller i on sprocket s at `i * sprockets + s`, or `NO_GAP`.
+    gap: Vec<i32>,
+    /// Every jump seen, in order.
+    jumps: Vec<ToothJump>,
+}
+
+impl JumpWatch {
+    /// A watch over `model`'s sprockets for `rollers` rollers.
+    pub fn new(model: &DriveModel, rollers: usize) -> Self {
+        let limits = model
+            .sprockets
+            .iter()
+            .map(|sp| {
+                let deep = sp.pitch_radius_m + DEEP_FRACTION * tooth_height_m(sp);
+                (deep * deep, sp.reach_sq_m2, sp.teeth)
+            })
+            .collect::<Vec<_>>();
+        Self {
+            gap: vec![NO_GAP; rollers * limits.len()],
+            limits,
+            jumps: Vec::new(),
+        }
+    }
+
+    /// Every jump seen so far, in order.
+    pub fn jumps(&self) -> &[ToothJump] {
+        &self.jumps
+    }
+
+    /// Looks at `state`; returns how many jumps it found.
+    pub fn look(&mut self, model: &DriveModel, state: &DriveState) -> usize {
+        let before = self.jumps.len();
+        let count = self.limits.len();
+        for (s, (sp, &(deep_sq, reach_sq, teeth))) in
+            model.sprockets.iter().zip(&self.limits).enumerate()
+        {
+            let [cx, cy] = sp.center_m;
+            let per_gap = std::f64::consts::TAU / f64::from(teeth);
+            let theta = state.theta[s];
+            for i in 0..state.rollers() {
+                let (dx, dy) = (state.x[i] - cx, state.y[i] - cy);
+                let r_sq = dx * dx + dy * dy;
+                let slot = &mut self.gap[i * count + s];
+                if r_sq > reach_sq {
+                    *slot = NO_GAP;
+                    continue;
+                }
+                if r_sq > deep_sq {
+                    continue;
+                }
+                let turns = (dy.atan2(dx) - theta) / per_gap;
+                let gap = turns.round().rem_euclid(f64::from(teeth)) as i32;
+                let last = *slot;
+                *slot = gap;
+                if last == NO_GAP || last == gap {
+                    continue;
+                }
+                let moved = wrapped(gap - last, teeth);
+                let ahead = f64::from(moved) * state.omega[s] > 0.0;
+                self.jumps.push(ToothJump {
+                    t_s: state.t_s,
+                    sprocket: s,
+                    roller: i,
+                    gaps: moved,
+                    ahead,
+                });
+            }
+        }
+        self.jumps.len() - before
+    }
+}
+
+/// A difference of gap indices folded into (−z/2, z/2].
+fn wrapped(d: i32, teeth: u32) -> i32 {
+    let z = teeth as i32;
+    let d = d.rem_euclid(z);
+    if 2 * d > z { d - z } else { d }
+}
+
+/// Height of the teeth's tips above the pitch circle, m: the real profile's
+/// tip radius less its pitch radius; for the circular profile, whose teeth
+/// are no contact surface, the height the real profile of the same chain
+/// would have (a third of the pitch where even that cannot be built).
+fn tooth_height_m(sp: &crate::model::SprocketModel) -> f64 {
+    use crate::geometry::{ToothProfile, asa::AsaProfile};
+    match &sp.profile {
+        ToothProfile::Real(r) => r.dimensions().tip_radius_m - r.dimensions().pitch_radius_m,
+        ToothProfile::Circular(c) => {
+            let half_angle = std::f64::consts::PI / f64::from(c.teeth);
+            let pitch_m = 2.0 * c.pitch_radius_m * half_angle.sin();
+            AsaProfile::new(c.teeth, pitch_m, 2.0 * c.roller_radius_m).map_or(pitch_m / 3.0, |p| {
+                p.dimensions().tip_radius_m - p.dimensions().pitch_radius_m
+            })
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gap_differences_fold_into_half_a_turn() {
+        assert_eq!(wrapped(1, 30), 1);
+        assert_eq!(wrapped(-1, 30), -1);
+        assert_eq!(wrapped(29, 30), -1);
+        assert_eq!(wrapped(-29, 30), 1);
+        assert_eq!(wrapped(15, 30), 15);
+        assert_eq!(wrapped(16, 30), -14);
+    }
+}

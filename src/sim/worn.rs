@@ -1,0 +1,195 @@
+//! A worn chain (docs/model.md, "A worn chain"): the drive is first brought
+//! to its pretension with the chain new, by the scene's rule; then every
+//! link is lengthened by the wear elongation e, in small steps, the drive
+//! brought to rest after each. What takes the length up is the rule's:
+//!
+//! - **rest length** (fixed centres): nothing; the gained length is slack
+//!   and the static tension falls;
+//! - **tensioner preload** (arms): the arms, under their preload, as the
+//!   equilibrium moves them;
+//! - **tensioner** (a sprocket moved along its adjustment direction): the
+//!   sprocket moves on with each step by the length the links gained, and at
+//!   the end until the pretension is reached again.
+//!
+//! Starting from the new chain matters: a worn chain laid out at once with
+//! every roller on its gap's centreline is free in every gap (a gap widens
+//! outwards) and takes up no tension, while lengthening a seated chain moves
+//! its rollers onto the flanks as wear does.
+//!
+//! What this does not do: lay the chain out or choose the new chain's rest
+//! length or tensioner position (the pretension rules do).
+
+use super::statics::{
+    EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension,
+};
+use crate::forces::ForceGenerator;
+use crate::model::{DriveModel, DriveState};
+use crate::scene::Scene;
+
+/// Largest lengthening of the links per step, as a fraction of the static
+/// link stretch T₀/K: each step then changes the links' forces by at most
+/// this fraction of the pretension, which the equilibrium solver takes from
+/// the state before without a violent start.
+const STEP_OF_STRETCH: f64 = 0.5;
+
+/// Lengthening per step that is always allowed, as a fraction of the
+/// pitch: a slack chain's forces hardly change with it, and a chain stiff
+/// against its pretension takes it from the state before.
+const STEP_OF_PITCH: f64 = 5e-4;
+
+/// Most steps.
+const MAX_STEPS: usize = 2000;
+
+/// Relative force residual each step's equilibrium aims at.
+const REST_FORCE: f64 = 1e-7;
+
+/// Most corrections of a tensioner's position after the lengthening.
+const MAX_CORRECTIONS: usize = 20;
+
+/// A sprocket that takes the worn chain's length up (the tensioner rule).
+pub(crate) struct TakeUp<'a> {
+    /// The scene whose sprocket moves (its centre follows the model's).
+    pub scene: &'a mut Scene,
+    /// The sprocket.
+    pub sprocket: usize,
+    /// Its unit adjustment direction.
+    pub direction: [f64; 2],
+    /// Its travel per metre of chain the path must gain, m/m.
+    pub travel_per_length: f64,
+    /// Relative tolerance on the pretension.
+    pub tolerance: f64,
+}
+
+impl TakeUp<'_> {
+    /// Moves the sprocket by `distance_m` along its direction, in the scene
+    /// and the model.
+    fn shift(&mut self, model: &mut DriveModel, distance_m: f64) -> Result<(), EquilibriumError> {
+        let c = &mut self.scene.sprockets[self.sprocket].center_m;
+        c[0] += distance_m * self.direction[0];
+        c[1] += distance_m * self.direction[1];
+        model
+            .retrace(self.scene, self.sprocket)
+            .map_err(|e| EquilibriumError::TensionerFit {
+                sprocket: self.scene.sprockets[self.sprocket].name.clone(),
+                reason: Box::new(super::FitError::NoPath(e.to_string())),
+            })
+    }
+}
+
+/// Links of the free strands at `state` (as the static tension counts them).
+fn free_links(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> usize {
+    let runs = model.segments.runs(
+        &model.sprockets,
+        &state.x,
+        &state.y,
+        &forces.output().touching,
+    );
+    (0..model.segments.len())
+        .map(|k| runs.links(k).count())
+        .sum()
+}
+
+/// Lengthens the links of `model`, settled as a new chain at `pretension_n`,
+/// from their rest length l₀ to l₀ (1 + `elongation`), bringing the drive to
+/// rest at each step, with `take_up` moving a sprocket where the tensioner
+/// rule holds (module docs). Returns the worn chain's equilibrium.
+pub(crate) fn wear_in(
+    model: &mut DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+    elongation: f64,
+    pretension_n: f64,
+    mut take_up: Option<TakeUp<'_>>,
+) -> Result<StaticEquilibrium, EquilibriumError> {
+    let new_rest_m = model.rest_length_m;
+    let worn_rest_m = new_rest_m * (1.0 + elongation);
+    let step_m =
+        (STEP_OF_STRETCH * pretension_n / model.stiffness_n_m).max(STEP_OF_PITCH * new_rest_m);
+    let steps = ((worn_rest_m - new_rest_m) / step_m)
+        .ceil()
+        .clamp(1.0, MAX_STEPS as f64) as usize;
+    let scale = pretension_n.abs();
+    let settle = |model: &mut DriveModel, state: &mut DriveState, forces: &mut ForceGenerator| {
+        super::statics::settle(
+            model,
+            state,
+            forces,
+            settings,
+            REST_FORCE * scale,
+            0.5 * REST_FORCE * scale,
+            false,
+        )
+    };
+    let mut residual = 0.0;
+    // The tension falls by K/n_free per metre of chain the strands gain
+    // over their path and rises by that per metre of path: the sprocket's
+    // travel per newton, with the links of the free strands (a wrap's
+    // rollers ride up their flanks and take their own links' gain).
+    let tension = |model: &DriveModel, state: &DriveState, f: &ForceGenerator| {
+        free_strand_tension(model, state, f).ok_or(EquilibriumError::NoFreeLinks)
+    };
+    let mut t_now = tension(model, state, forces)?;
+    for k in 1..=steps {
+        let rest = if k == steps {
+            worn_rest_m
+        } else {
+            new_rest_m + (worn_rest_m - new_rest_m) * (k as f64 / steps as f64)
+        };
+        if let Some(t) = &mut take_up {
+            let free = free_links(model, state, forces).max(1) as f64;
+            let per_n = free * t.travel_per_length / model.stiffness_n_m;
+            let gained_m = free * (rest - model.rest_length_m);
+            t.shift(
+                model,
+                gained_m * t.travel_per_length + (pretension_n - t_now) * per_n,
+            )?;
+            // The contact's kept reach sets assume the centres stood still.
+            forces.forget_reach();
+        }
+        model.rest_length_m = rest;
+        residual = settle(model, state, forces)?;
+        if take_up.is_some() {
+            t_now = tension(model, state, forces)?;
+        }
+    }
+    let mut iterations = steps;
+    if let Some(t) = &mut take_up {
+        // Back to the pretension: a secant on the sprocket's position, the
+        // first slope from the links' stiffness.
+        let free = free_links(model, state, forces).max(1) as f64;
+        let mut slope = model.stiffness_n_m / (free * t.travel_per_length);
+        for _ in 0..MAX_CORRECTIONS {
+            if ((t_now - pretension_n) / pretension_n).abs() <= t.tolerance {
+                break;
+            }
+            let move_m = (pretension_n - t_now) / slope;
+            t.shift(model, move_m)?;
+            forces.forget_reach();
+            residual = settle(model, state, forces)?;
+            iterations += 1;
+            let t_next = tension(model, state, forces)?;
+            let measured = (t_next - t_now) / move_m;
+            if measured.is_finite() && measured > 0.0 {
+                slope = measured;
+            }
+            t_now = t_next;
+        }
+    }
+    // A chain gone slack on fixed centres may touch no tooth at all (no
+    // gravity pulls it onto the sprockets): its static tension is nil.
+    let tension_n = match (free_strand_tension(model, state, forces), &take_up) {
+        (Some(t), _) => t,
+        (None, None) => 0.0,
+        (None, Some(_)) => return Err(EquilibriumError::NoFreeLinks),
+    };
+    Ok(StaticEquilibrium {
+        tension_n,
+        rest_length_m: worn_rest_m,
+        iterations,
+        residual_speed_m_s: residual,
+        force_residual: force_residual(forces, pretension_n),
+        beyond_seating_arc: None,
+        misfit: None,
+    })
+}
