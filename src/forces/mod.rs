@@ -375,7 +375,7 @@ impl ForceGenerator {
     }
 
     /// Has the links' pass write each link's angular velocity and normal
-    /// ([`Forces::link_omega`]) from the next evaluation on, for a chain of
+    /// (`Forces::link_omega`) from the next evaluation on, for a chain of
     /// `rollers` rollers: what the wear check's sliding count reads (the
     /// joint friction asks for them itself). The forces do not change.
     pub fn want_link_rates(&mut self, rollers: usize) {
