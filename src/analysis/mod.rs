@@ -232,7 +232,7 @@ impl Signals {
     /// this window from the start, which by the last step `last` (`None`
     /// before the first) has tracked at most that step: the window must
     /// start after the step before it
-    /// ([`crate::sim::checkpoint::Snapshot::window_restarts`]). `last`
+    /// (`Snapshot::window_restarts` of the checkpoint). `last`
     /// comes with whether it was sampled (its row's extremes are then its
     /// own).
     pub fn continue_window(

@@ -391,7 +391,7 @@ impl ForceGenerator {
     }
 
     /// Has the links' pass write each link's angular velocity and normal
-    /// ([`Forces::link_omega`]) from the next evaluation on
+    /// (`Forces::link_omega`) from the next evaluation on
     /// ([`Links::request_rates`]): what the wear check's sliding count reads
     /// (the joint friction asks for them itself, through
     /// [`ForceElement::wants_link_rates`]). The forces do not change.

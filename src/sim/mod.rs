@@ -331,7 +331,7 @@ pub struct Sample<'a> {
     pub state: &'a DriveState,
     /// Forces at the state (as evaluated for the step that led here).
     pub forces: &'a Forces,
-    /// Every tooth jump seen so far, in order ([`JumpWatch`]).
+    /// Every tooth jump seen so far, in order (the tooth-jump detector).
     pub jumps: &'a [ToothJump],
 }
 
@@ -757,7 +757,7 @@ impl Simulation {
         self.power = Some(PowerLedger::new(from_s));
     }
 
-    /// Counts every joint's sliding from `from_s` on ([`JointSliding`]): the
+    /// Counts every joint's sliding from `from_s` on (`JointSliding`): the
     /// links' pass writes each link's angular velocity from now on.
     pub fn track_sliding(&mut self, from_s: f64) {
         self.forces.want_link_rates();

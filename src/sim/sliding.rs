@@ -44,7 +44,7 @@ impl JointSliding {
     }
 
     /// Counts the step that ended at `t_s` with the forces `out` evaluated
-    /// there. Needs the links' rates ([`Forces::link_omega`], which
+    /// there. Needs the links' rates (`Forces::link_omega`, which
     /// [`crate::forces::ForceGenerator::want_link_rates`] asks for); without
     /// them it counts nothing.
     pub fn step(&mut self, t_s: f64, out: &Forces) {
