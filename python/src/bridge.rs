@@ -284,7 +284,11 @@ pub(crate) struct RunOutput {
 #[derive(Clone, Serialize, Deserialize)]
 struct RunState {
     rate_hz: f64,
-    window_s: f64,
+    /// The statistics window's length as given (`None`: the default), as
+    /// `chaindrive run` keeps its `--window`.
+    window: Option<f64>,
+    /// Where the statistics window started, s.
+    window_from_s: f64,
     signals: Signals,
     steps: u64,
     wall_s: f64,
@@ -395,7 +399,7 @@ pub(crate) fn run(
     let resume = settings
         .resume
         .as_deref()
-        .map(|p| read_resume(p, &scene, rate, window))
+        .map(|p| read_resume(p, &scene, rate, settings.window_s))
         .transpose()?;
     let recorder = settings
         .record
@@ -454,7 +458,7 @@ pub(crate) fn run(
         so_far,
         checkpoints,
         rate,
-        window,
+        (window, settings.window_s),
         &stop,
     );
     if let Some(r) = observer.recorder.take() {
@@ -481,20 +485,22 @@ fn read_resume(
     path: &Path,
     scene: &Scene,
     rate: SampleRate,
-    window: StatsWindow,
+    window: Option<f64>,
 ) -> Result<Checkpoint<RunState>, RunError> {
     let ck: Checkpoint<RunState> =
         read_checkpoint(path, scene).map_err(|e| RunError::Io(e.to_string()))?;
     if ck.run.rate_hz.to_bits() != rate.rate_hz.to_bits()
-        || ck.run.window_s.to_bits() != window.length_s().to_bits()
+        || ck.run.window.map(f64::to_bits) != window.map(f64::to_bits)
     {
+        let shown =
+            |w: Option<f64>| w.map_or_else(|| "the default".to_owned(), |w| format!("{w} s"));
         return Err(RunError::Setting(format!(
-            "checkpoint {}: the run was started with rate {} Hz and a statistics window of {} s, not {} Hz and {} s: resume with the same settings",
+            "checkpoint {}: the run was started with rate {} Hz and a statistics window of {}, not {} Hz and {}: resume with the same settings",
             path.display(),
             ck.run.rate_hz,
-            ck.run.window_s,
+            shown(ck.run.window),
             rate.rate_hz,
-            window.length_s()
+            shown(window)
         )));
     }
     Ok(ck)
@@ -552,7 +558,7 @@ fn run_pieces(
     mut so_far: RunOutcome,
     checkpoints: Option<(&Path, f64)>,
     rate: SampleRate,
-    window: StatsWindow,
+    (window, window_given): (StatsWindow, Option<f64>),
     stop: &AtomicBool,
 ) -> Result<RunOutcome, RunError> {
     let dt = sim.scene.solver().dt_s;
@@ -586,7 +592,8 @@ fn run_pieces(
                     .map_err(|e| RunError::Setting(e.to_string()))?,
                 run: RunState {
                     rate_hz: rate.rate_hz,
-                    window_s: window.length_s(),
+                    window: window_given,
+                    window_from_s: window.start_s(),
                     signals: observer.signals.clone(),
                     steps: so_far.steps,
                     wall_s: so_far.wall_s,

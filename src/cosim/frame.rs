@@ -57,16 +57,11 @@ impl ChainDrive {
                         c.recompute_mass_properties_from_colliders(colliders);
                     }
                 }
-                let kept = if self.in_frame {
-                    link.translation.as_ref()
-                } else {
-                    None
-                };
                 let user_force = bodies
                     .get(link.body)
                     .map_or(Vector::ZERO, |b| b.user_force());
                 link.translation =
-                    mount_translation(bodies, link.body, &link.joints, user_force, gravity, kept);
+                    mount_translation(bodies, link.body, &link.joints, user_force, gravity);
             }
             let Some(b) = bodies.get_mut(link.body) else {
                 continue;

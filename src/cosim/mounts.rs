@@ -163,34 +163,31 @@ pub(super) struct MountTranslation {
     pub slide: Option<(Slide, SlideFrame)>,
 }
 
-fn stash_of(b: &RigidBody, kept: Option<Stash>, user_force: Vector) -> Stash {
-    match kept {
-        Some(s) => Stash { user_force, ..s },
-        None => Stash {
-            user_force,
-            gravity_scale: b.gravity_scale(),
-            damping: b.linear_damping(),
-        },
+fn stash_of(b: &RigidBody, user_force: Vector) -> Stash {
+    Stash {
+        user_force,
+        gravity_scale: b.gravity_scale(),
+        damping: b.linear_damping(),
     }
 }
 
 /// A dynamic mount's translation for the coming frame, if the substeps
 /// move it: not when its translations are locked or a joint fixes its
-/// position. `kept`: the stashes of a frame set up and not finished (the
-/// bodies' gravity scales and damping are then the drive's, not the user's).
+/// position. Called between frames only (a second `before_step` before
+/// `after_step` is refused), so the bodies' gravity scales and damping are
+/// the user's.
 pub(super) fn mount_translation(
     bodies: &RigidBodySet,
     body: RigidBodyHandle,
     joints: &MountJoints,
     user_force: Vector,
     gravity: Vector,
-    kept: Option<&MountTranslation>,
 ) -> Option<MountTranslation> {
     let b = bodies.get(body)?;
     if joints.fixed || joints.unsupported.is_some() {
         return None;
     }
-    let stash = stash_of(b, kept.map(|k| k.stash), user_force);
+    let stash = stash_of(b, user_force);
     let (mut inv_mass, mut mass, mut momentum) = (
         b.mass_properties().effective_inv_mass,
         b.mass(),
@@ -201,11 +198,7 @@ pub(super) fn mount_translation(
     let mut carrier = None;
     if let Some(h) = joints.carrier {
         let c = bodies.get(h)?;
-        let cs = stash_of(
-            c,
-            kept.and_then(|k| k.carrier.map(|(_, s)| s)),
-            c.user_force(),
-        );
+        let cs = stash_of(c, c.user_force());
         let ci = c.mass_properties().effective_inv_mass;
         let combine = |a: f64, b: f64| {
             if a > 0.0 && b > 0.0 {

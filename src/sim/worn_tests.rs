@@ -72,7 +72,7 @@ duration_s = 0.01
 }
 
 /// ASA B29.1 working curve of a sprocket of `z` teeth for a chain of pitch
-/// `p` and roller diameter `dr` (docs/tooth-profile.md, section 1, in SI):
+/// `p` and roller diameter `dr` (docs/tooth-profile.md, “Constants”, in SI):
 /// A = 35° + 60°/N, the working-curve centre c at (∓M, T) from the seating
 /// centre, M = 0.8 Dr cos A, T = 0.8 Dr sin A, radius RE = 1.3025 Dr +
 /// 0.0015 in; and the pitch radius P / (2 sin(π/N)).
