@@ -225,6 +225,8 @@ pub mod cli;
 pub mod cosim;
 mod forces;
 mod geometry;
+#[cfg(feature = "lab")]
+pub mod lab;
 mod model;
 pub mod prelude;
 #[cfg(feature = "record")]
