@@ -14,10 +14,10 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
 use chaindrive::lab::{
-    CaseFlags, CaseOutcome, CaseResult, ColumnData, DESIGNATIONS, Designation, OrderSet,
-    RatingSettings, Study, StudyDir, StudyError, StudyTable, SweepError, SweepSettings,
-    TRANSVERSE_MODES, completed, default_orders, find_designation, nearest_designations, run_sweep,
-    summary_scalars,
+    CaseFlags, CaseOutcome, CaseResult, ColumnData, DESIGNATIONS, Designation, DutyCycle,
+    DutyError, LifeSettings, OrderSet, RatingSettings, Study, StudyDir, StudyError, StudyTable,
+    SweepError, SweepSettings, TRANSVERSE_MODES, combine_duty, completed, default_orders,
+    find_designation, nearest_designations, run_sweep, summary_scalars,
 };
 use serde_json::{Value, json};
 
@@ -473,5 +473,91 @@ fn designation_json(d: &Designation) -> Value {
             "strength": d.sources.strength,
             "stiffness": Designation::stiffness_source(),
         },
+    })
+}
+
+/// The `[[duty]]` points of a TOML text (a scene file or a file of points).
+#[derive(serde::Deserialize)]
+struct DutyForm {
+    #[serde(default)]
+    duty: Vec<chaindrive::scene::DutyPointFile>,
+}
+
+/// What a duty cycle is asked for (as `chaindrive life`'s options).
+pub(crate) struct LifeRequest {
+    /// `[[duty]]` points as TOML; `None`: the scene's own.
+    pub duty_toml: Option<String>,
+    pub jobs: usize,
+    pub retry_failed: bool,
+    pub settings: LifeSettings,
+}
+
+/// A duty cycle's outcome: the combined report (`chaindrive life --json`),
+/// absent when stopped before every point ran.
+pub(crate) struct LifeOutput {
+    pub life: Option<Value>,
+    pub interrupted: bool,
+    pub points: usize,
+    pub pending: usize,
+}
+
+/// Runs a duty cycle's points as a study in `dir` (resumable: finished
+/// points are kept) and combines them by hours, as `chaindrive life` does.
+pub(crate) fn life(
+    scene: &Scene,
+    request: &LifeRequest,
+    dir: &Path,
+    hooks: &mut dyn RunHooks,
+) -> Result<LifeOutput, StudyFailure> {
+    let failure = |e: StudyError| match e {
+        StudyError::Plan(_) | StudyError::Cases(_) => StudyFailure::Plan(e.to_string()),
+        other => StudyFailure::Other(other.to_string()),
+    };
+    let duty_failure = |e: DutyError| match e {
+        DutyError::Points(_) => StudyFailure::Plan(e.to_string()),
+        DutyError::Study(e) => failure(e),
+    };
+    let scene_toml = crate::bridge::scene_toml(scene).map_err(StudyFailure::Other)?;
+    let text = request.duty_toml.as_deref().unwrap_or(&scene_toml);
+    let form: DutyForm =
+        toml::from_str(text).map_err(|e| StudyFailure::Plan(format!("duty: {}", e.message())))?;
+    if form.duty.is_empty() {
+        return Err(StudyFailure::Plan(
+            "duty: no [[duty]] points; give them as a list of dicts, e.g. [{\"hours\": 800.0, \"set\": {\"sprockets.0.speed_rpm\": 3000.0}}], a file, or in the scene".to_owned(),
+        ));
+    }
+    let cycle = DutyCycle::new(&form.duty, &scene_toml).map_err(duty_failure)?;
+    let study_dir = cycle
+        .prepare(dir, &scene_toml, request.settings)
+        .map_err(duty_failure)?;
+    let pending = study_dir
+        .pending(request.retry_failed)
+        .map_err(failure)?
+        .len();
+    let done = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    watched(hooks, &stop, &done, pending, || {
+        study_dir.run_all(
+            request.jobs.max(1),
+            request.retry_failed,
+            Some(&stop),
+            &|_| {
+                done.fetch_add(1, Ordering::Relaxed);
+            },
+        )
+    })
+    .map_err(failure)?;
+    let interrupted = stop.load(Ordering::Relaxed);
+    let life = if interrupted {
+        None
+    } else {
+        let report = combine_duty(&cycle, &study_dir).map_err(failure)?;
+        Some(serde_json::to_value(&report).map_err(|e| StudyFailure::Other(e.to_string()))?)
+    };
+    Ok(LifeOutput {
+        life,
+        interrupted,
+        points: cycle.points.len(),
+        pending,
     })
 }

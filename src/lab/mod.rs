@@ -20,7 +20,9 @@
 //!   parallel, with order spectra and each span's natural frequencies) and
 //!   what its tables are made of ([`summary_scalars`], [`CaseFlags`]).
 //! - **Design studies** ([`Study`] from a plan, run in a [`StudyDir`],
-//!   collected into a [`StudyTable`]).
+//!   collected into a [`StudyTable`]), and the chain's life over a duty
+//!   cycle ([`DutyCycle`]: its points run as a study, [`combine_duty`]
+//!   combines them by hours into a [`DutyLife`]).
 //!
 //! What the lab does not do: write the command line's files, draw its
 //! figures or parse its option syntax; a front end formats what it gets.
@@ -31,6 +33,7 @@ mod check;
 
 pub use check::check_report;
 
+pub use crate::analysis::design::life::Life;
 pub use crate::analysis::design::rating::{
     ChainClass, Lubrication, Rating, RatingError, RatingSettings, of_scene as rate,
 };
@@ -43,6 +46,10 @@ pub use crate::scene::stability::step_note;
 pub use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
+pub use crate::studies::duty::combine::{
+    DutyLife, LimitLife, PointResult, combine as combine_duty,
+};
+pub use crate::studies::duty::{DutyCycle, DutyError, DutyPoint, LifeSettings};
 pub use crate::studies::study::StudyError;
 pub use crate::studies::study::cases::{CaseOutcome as StudyCaseOutcome, CaseStatus, StudyDir};
 pub use crate::studies::study::plan::Study;

@@ -17,7 +17,7 @@
 //! the limit (a damage of 1) over it; the point with the largest rᵢ hᵢ
 //! dominates. The duty cycle's life is the shortest of its checks'.
 
-mod combine;
+pub(crate) mod combine;
 
 pub(crate) use combine::{DutyLife, combine};
 
