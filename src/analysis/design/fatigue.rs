@@ -2,11 +2,8 @@
 //! "Fatigue"): an S–N curve per chain, the mean-stress correction, Miner's
 //! damage per hour and the life, and the summary's `fatigue` block.
 //!
-//! **The S–N curve** is written for the chain's own load cycle, the
-//! pulsating one (0 → F → 0, a link passing from the slack strand to the
-//! tight one and back): a cycle of peak F lasts N = N_D (F_D / F)^m cycles
-//! above the fatigue limit F_D and for ever below it (Miner's rule in its
-//! original form: cycles below the limit do no damage). Unless the scene
+//! **The S–N curve** of pulsating cycles ([`super::sn_curve`], with its
+//! mean-stress correction): unless the scene
 //! gives its own (`[checks]` `fatigue_limit_n`, `sn_slope`), it is derived
 //! from the link-plate limited rating of the ANSI tables
 //! ([`super::rating::link_plate_limited_hp`]), which at the smallest
@@ -18,13 +15,6 @@
 //! chain makers determine a chain's fatigue limit (its "maximum allowable
 //! load", after JIS B 1801).
 //!
-//! **Mean stress**, by Goodman's line through the tensile strength F_u: a
-//! cycle of amplitude F_a about the mean F_m is as damaging as the fully
-//! reversed amplitude F_a / (1 − F_m / F_u), and as the pulsating cycle of
-//! peak F₀ = 2 F_ar / (1 + F_ar / F_u) on the same line
-//! ([`SnCurve::pulsating_equivalent_n`]); a pulsating cycle is its own
-//! equivalent.
-//!
 //! It does not count cycles (the streaming count is
 //! [`super::link_cycles`]) and knows no wear, no corrosion, no fretting at
 //! the pin holes, no scatter (the curve is the rating's, a design curve,
@@ -35,6 +25,7 @@ use serde::{Deserialize, Serialize};
 use super::life::Life;
 use super::link_cycles::{LinkCycles, unpack};
 use super::rating::{ChainClass, HP_W, link_plate_limited_hp};
+use super::sn_curve::SnCurve;
 use crate::analysis::{RunSummary, StrandSummary};
 use crate::scene::Scene;
 use crate::scene::designations;
@@ -48,11 +39,6 @@ pub const KNEE_CYCLES: f64 = 5e6;
 /// The S–N slope of the link-plate rating: H₁ ∝ n₁^0.9, so the tension
 /// F₁ = H₁ / v ∝ n₁^−0.1 ∝ C^−0.1, and m = 1 / 0.1.
 pub const RATING_SN_SLOPE: f64 = 10.0;
-/// The turning points of a link's force are found with a gate of this
-/// fraction of the fatigue limit: a reversal pair smaller than the gate
-/// does no damage at any mean below 7/8 of the tensile strength.
-pub const GATE_FRACTION: f64 = 0.125;
-
 /// Cycles below which the S–N line is not a chain's: the high-cycle
 /// region of steels' S–N curves begins at about 10³ cycles, and the
 /// rating's line, extended below it, reaches half the tensile strength at
@@ -61,61 +47,6 @@ pub const LOW_CYCLE_LIMIT: f64 = 1e3;
 
 /// Metres per inch.
 const INCH_M: f64 = 0.0254;
-
-/// An S–N curve of pulsating cycles with Goodman's mean-stress correction
-/// ([module docs](self)).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SnCurve {
-    /// Slope m of N = N_D (F_D / F)^m.
-    pub slope: f64,
-    /// Fatigue limit F_D: the peak of a pulsating cycle lasting
-    /// `knee_cycles`, and for ever below, N.
-    pub fatigue_limit_n: f64,
-    /// N_D.
-    pub knee_cycles: f64,
-    /// Tensile strength F_u (the Goodman line's end), N.
-    pub tensile_strength_n: f64,
-}
-
-impl SnCurve {
-    /// The peak of the pulsating cycle as damaging as a cycle of `range_n`
-    /// about `mean_n` (Goodman; a compressive mean counts as zero); at most
-    /// 2 F_u, which a mean at the strength reaches.
-    pub fn pulsating_equivalent_n(&self, range_n: f64, mean_n: f64) -> f64 {
-        let fu = self.tensile_strength_n;
-        let amplitude = 0.5 * range_n.abs();
-        let left = 1.0 - mean_n.max(0.0) / fu;
-        if left <= 0.0 {
-            return 2.0 * fu;
-        }
-        let reversed = amplitude / left;
-        2.0 * reversed / (1.0 + reversed / fu)
-    }
-
-    /// Miner's damage of one cycle of peak `pulsating_n` (a pulsating
-    /// equivalent): 1 / N, zero below the fatigue limit, at most 1.
-    pub fn damage_of_pulsating(&self, pulsating_n: f64) -> f64 {
-        if !(pulsating_n >= self.fatigue_limit_n) {
-            return 0.0;
-        }
-        ((pulsating_n / self.fatigue_limit_n).powf(self.slope) / self.knee_cycles).min(1.0)
-    }
-
-    /// The cycles a pulsating cycle of peak `pulsating_n` lasts on the
-    /// curve, N_D (F_D / F)^m; infinite at or below the fatigue limit.
-    pub fn cycles_to_failure(&self, pulsating_n: f64) -> f64 {
-        if !(pulsating_n > self.fatigue_limit_n) {
-            return f64::INFINITY;
-        }
-        self.knee_cycles * (self.fatigue_limit_n / pulsating_n).powf(self.slope)
-    }
-
-    /// Miner's damage of one cycle of `range_n` about `mean_n`.
-    #[cfg(test)]
-    pub fn damage(&self, range_n: f64, mean_n: f64) -> f64 {
-        self.damage_of_pulsating(self.pulsating_equivalent_n(range_n, mean_n))
-    }
-}
 
 /// The chain tension at which the ANSI link-plate rating is reached, N,
 /// for a chain of `class` and `pitch_m` on a smallest sprocket of `teeth`
@@ -372,83 +303,6 @@ pub(crate) fn warnings(f: &Fatigue) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn curve() -> SnCurve {
-        SnCurve {
-            slope: 10.0,
-            fatigue_limit_n: 2000.0,
-            knee_cycles: 5e6,
-            tensile_strength_n: 20_000.0,
-        }
-    }
-
-    /// A pulsating cycle (mean = amplitude) is its own equivalent.
-    #[test]
-    fn a_pulsating_cycle_is_its_own_equivalent() {
-        let c = curve();
-        for peak in [100.0, 2500.0, 9000.0] {
-            approx::assert_relative_eq!(
-                c.pulsating_equivalent_n(peak, 0.5 * peak),
-                peak,
-                max_relative = 1e-14
-            );
-        }
-    }
-
-    /// By hand: range 2 kN about 5 kN on F_u = 20 kN: F_ar = 1 / (1 − 0.25)
-    /// = 4/3 kN; F₀ = 2 · (4/3) / (1 + (4/3)/20) = (8/3) / (16/15) = 2.5 kN.
-    #[test]
-    fn goodman_maps_a_cycle_onto_the_pulsating_line() {
-        approx::assert_relative_eq!(
-            curve().pulsating_equivalent_n(2000.0, 5000.0),
-            2500.0,
-            max_relative = 1e-14
-        );
-        assert_eq!(curve().pulsating_equivalent_n(10.0, 25_000.0), 40_000.0);
-    }
-
-    /// The pulsating equivalent is the correction JIS B 1811 applies to a
-    /// fatigue test whose smallest load is not zero:
-    /// F_d = F_u (F_max − F_min) / (F_u − F_min).
-    #[test]
-    fn goodman_is_the_jis_correction_to_a_zero_minimum() {
-        let c = curve();
-        for (lo, hi) in [(0.0, 3000.0), (4000.0, 6000.0), (1500.0, 12_000.0)] {
-            let jis = 20_000.0 * (hi - lo) / (20_000.0 - lo);
-            approx::assert_relative_eq!(
-                c.pulsating_equivalent_n(hi - lo, 0.5 * (hi + lo)),
-                jis,
-                max_relative = 1e-13
-            );
-        }
-    }
-
-    /// N = N_D (F_D / F)^m: twice the limit lasts 5e6 / 1024 cycles.
-    #[test]
-    fn cycles_to_failure_follow_the_line_and_never_end_below_the_limit() {
-        let c = curve();
-        approx::assert_relative_eq!(c.cycles_to_failure(4000.0), 5e6 / 1024.0);
-        assert_eq!(c.cycles_to_failure(2000.0), f64::INFINITY);
-        assert_eq!(c.cycles_to_failure(f64::NAN), f64::INFINITY);
-    }
-
-    #[test]
-    fn below_the_fatigue_limit_a_cycle_does_no_damage() {
-        let c = curve();
-        assert_eq!(c.damage_of_pulsating(1999.0), 0.0);
-        approx::assert_relative_eq!(c.damage_of_pulsating(2000.0), 1.0 / 5e6);
-        assert_eq!(c.damage_of_pulsating(f64::NAN), 0.0);
-        assert_eq!(c.damage_of_pulsating(1e9), 1.0);
-    }
-
-    /// Pulsating cycles of twice the peak do 2^m times the damage.
-    #[test]
-    fn damage_scales_as_the_slope_says_when_the_peak_doubles() {
-        let c = curve();
-        let one = c.damage(3000.0, 1500.0);
-        let two = c.damage(6000.0, 3000.0);
-        approx::assert_relative_eq!(two / one, 2f64.powi(10), max_relative = 1e-12);
-    }
 
     /// The derived curve reproduces the rating: at the knee, the tension
     /// F₁ = H₁ / v of the link-plate rating at n₁ = N_D · 120 / (15,000 ·

@@ -2,7 +2,7 @@
 //! damage added up on the fly (docs/design-checks.md, "Fatigue").
 //!
 //! Per link: the turning points of its force ([`Reversals`], with a gate
-//! of [`super::fatigue::GATE_FRACTION`] of the fatigue limit) and the
+//! of [`super::sn_curve::GATE_FRACTION`] of the fatigue limit) and the
 //! stack of those not yet closed ([`Rainflow`], at most
 //! [`super::rainflow::DEFAULT_CAPACITY`] points); per counted cycle, its
 //! damage on the S–N curve, added to the chain's total and to the place
@@ -26,8 +26,8 @@ use std::collections::BTreeMap;
 
 use serde::{Deserialize, Serialize};
 
-use super::fatigue::{GATE_FRACTION, SnCurve};
 use super::rainflow::{Cycle, DEFAULT_CAPACITY, Rainflow, Reversals};
+use super::sn_curve::{GATE_FRACTION, SnCurve};
 use crate::model::StrandRuns;
 
 /// A place no run shows (the chain off its sprockets).

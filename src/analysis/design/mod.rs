@@ -8,9 +8,9 @@
 //!   the static safety factors of a run's link forces against the chain's
 //!   tensile strength.
 //! - [`fatigue`]: the link plates' S–N curve (derived from the rating, or
-//!   the scene's own), Goodman's mean-stress correction, Miner's damage per
-//!   hour and the life; [`link_cycles`] counts every link's force by
-//!   [`rainflow`] as the steps come.
+//!   the scene's own), Miner's damage per hour and the life; the curve with
+//!   Goodman's mean-stress correction is [`sn_curve`]'s; [`link_cycles`]
+//!   counts every link's force by [`rainflow`] as the steps come.
 //! - [`wear`]: Archard's wear at every joint from the sliding counted every
 //!   step of a run, the chain's elongation rate (% per 1000 h) and its life
 //!   to the allowable elongation.
@@ -25,6 +25,7 @@ pub(crate) mod life;
 pub(crate) mod link_cycles;
 pub(crate) mod rainflow;
 pub(crate) mod rating;
+pub(crate) mod sn_curve;
 pub(crate) mod wear;
 #[cfg(test)]
 mod wear_tests;
