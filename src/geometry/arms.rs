@@ -42,7 +42,7 @@
 
 use std::f64::consts::TAU;
 
-use super::layout::{Layout, LayoutError};
+use super::laid::{ArmPose, ArmReach, Layout, LayoutError, TakeUpBound, length_error};
 use super::path::{ChainPath, PathCircle, chain_path};
 use super::walk::Walker;
 
@@ -133,18 +133,6 @@ impl ArmShoe {
     }
 }
 
-/// Where the layout put an arm.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ArmPose {
-    /// The arm's angle from the scene's pose, rad (counter-clockwise).
-    pub angle_rad: f64,
-    /// The tensioner's travel there, m.
-    pub travel_m: f64,
-    /// The strand its shoe bends (strand k leaves sprocket k); `None`: the
-    /// shoe is clear of the chain.
-    pub strand: Option<usize>,
-}
-
 /// The chain the arms' shoes take up over their travel (module docs).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ArmTakeUp {
@@ -156,35 +144,6 @@ pub struct ArmTakeUp {
     pub max_m: f64,
     /// What stops the arms going further in.
     pub bound: TakeUpBound,
-}
-
-/// What bounds the arms' take-up.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum TakeUpBound {
-    /// The tensioners' upper stops.
-    Stops,
-    /// Further in, the chain would run over the end of this arm's shoe
-    /// (0-based, scene order).
-    ShoeEnd(usize),
-    /// Further in, no path or layout passes the shoes (a shoe's circle
-    /// meets a sprocket's).
-    Path,
-}
-
-impl std::fmt::Display for TakeUpBound {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            Self::Stops => write!(f, "from stop to stop"),
-            Self::ShoeEnd(j) => write!(
-                f,
-                "further in, the chain would run over the end of the shoe of tensioners[{j}]"
-            ),
-            Self::Path => write!(
-                f,
-                "further in, the chain could not be laid between a shoe and a sprocket"
-            ),
-        }
-    }
 }
 
 /// The path with the shoes that bend their strands inserted as circles.
@@ -449,9 +408,9 @@ pub fn layout_with_arms(
         .walk(pitch_m, None)?
         .needed_links(pitch_m);
     let refused = |take_up: Option<ArmTakeUp>| {
-        let mut e = super::layout::length_error(straight, rollers);
+        let mut e = length_error(straight, rollers);
         if let LayoutError::ChainLength { arms: a, .. } = &mut e {
-            *a = take_up.map(|t| super::layout::ArmReach {
+            *a = take_up.map(|t| ArmReach {
                 min_m: t.min_m,
                 max_m: t.max_m,
                 excess_m: (rollers as f64 - straight) * pitch_m,

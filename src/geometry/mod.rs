@@ -15,6 +15,7 @@
 mod arms;
 pub mod asa;
 mod circular;
+mod laid;
 mod layout;
 mod path;
 #[cfg(test)]
@@ -22,14 +23,12 @@ mod profile_tests;
 pub(crate) mod shoe;
 mod walk;
 
-pub use arms::TakeUpBound;
 pub(crate) use arms::{ArmShoe, ArmTakeUp, arm_take_up, layout_with_arms};
 pub use circular::CircularProfile;
 pub(crate) use circular::Seats;
-pub use layout::ArmReach;
-pub use layout::LayoutError;
-pub(crate) use layout::hang_excess;
-pub(crate) use layout::{Layout, layout_hanging, layout_rollers, needed_pitches};
+pub(crate) use laid::Layout;
+pub use laid::{ArmReach, LayoutError, TakeUpBound};
+pub(crate) use layout::{hang_excess, layout_hanging, layout_rollers, needed_pitches};
 pub use path::PathError;
 pub(crate) use path::{ChainPath, PathCircle, Strand, chain_path};
 

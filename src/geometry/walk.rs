@@ -6,7 +6,7 @@
 
 use std::f64::consts::{PI, TAU};
 
-use super::layout::{Layout, LayoutError, MAX_LENGTH_MISMATCH_PITCHES, length_error};
+use super::laid::{Layout, LayoutError, MAX_LENGTH_MISMATCH_PITCHES, length_error};
 use super::path::{ChainPath, PathCircle};
 
 /// Roller counts of a walk.
