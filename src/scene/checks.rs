@@ -22,7 +22,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::validate::Checker;
+use super::checker::Checker;
 
 /// Slopes allowed for an S–N curve: steels' lie within (welded joints near
 /// 3, plain and notched plates 5 to 15).

@@ -16,7 +16,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::validate::Checker;
+use super::checker::Checker;
 
 /// How far fractions may sum from 1.
 pub const FRACTION_SUM_TOLERANCE: f64 = 1e-6;

@@ -8,8 +8,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::excitation::{LoadHarmonicFile, LoadTableFile, SpeedHarmonicFile};
+use super::excitation::ExcitationFile;
 use super::governor::GovernorFile;
+use super::periodic::{LoadHarmonicFile, LoadTableFile, SpeedHarmonicFile};
 use super::threads::ThreadsFile;
 
 /// A whole scene file (TOML).
@@ -238,6 +239,18 @@ pub struct SprocketFile {
     /// “A torque-driven driver”) instead of prescribing its speed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub(crate) governor: Option<GovernorFile>,
+}
+
+impl SprocketFile {
+    /// Its excitation fields, as [`super::excitation`] checks them.
+    pub(super) fn excitation(&self) -> ExcitationFile<'_> {
+        ExcitationFile {
+            speed_harmonics: &self.speed_harmonics,
+            load_harmonics: &self.load_harmonics,
+            load_table: self.load_table.as_ref(),
+            governor: self.governor.as_ref(),
+        }
+    }
 }
 
 /// Integration settings.

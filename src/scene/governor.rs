@@ -8,12 +8,11 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::RoleKind;
-use super::excitation::{
-    Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, TableFiles, check_order, read_table,
+use super::checker::Checker;
+use super::periodic::{
+    Harmonic, LoadHarmonicFile, LoadTable, LoadTableFile, TableFiles, check_torque_harmonics,
+    check_torque_table,
 };
-use super::file::SprocketFile;
-use super::validate::Checker;
 
 /// The governor's natural frequency when the scene gives neither gains nor
 /// a bandwidth and the drive has no span frequency to derive one from
@@ -87,52 +86,18 @@ pub(crate) struct GovernorSpec {
     pub gains: GovernorGains,
 }
 
-/// Validates sprocket `i`'s governor, if any (role `kind`); a table is read
-/// from `tables`.
+/// Validates sprocket `i`'s governor `g` (whether the sprocket may have
+/// one is the excitation's check); a table is read from `tables`.
 pub(super) fn check_governor(
     c: &mut Checker,
-    f: &SprocketFile,
+    g: &GovernorFile,
     i: usize,
-    kind: Option<RoleKind>,
     tables: TableFiles<'_>,
-) -> Option<GovernorSpec> {
-    let g = f.governor.as_ref()?;
+) -> GovernorSpec {
     let p = |field: &str| format!("sprockets[{i}].governor.{field}");
-    if kind != Some(RoleKind::Driver) {
-        c.fail(
-            format!("sprockets[{i}].governor"),
-            "is allowed only for role = \"driver\" (it turns the driver by a torque)",
-        );
-    }
-    if !f.speed_harmonics.is_empty() {
-        c.fail(
-            format!("sprockets[{i}].speed_harmonics"),
-            "is not allowed on a driver with a governor (its speed is not prescribed; give a drive torque in its angle with governor.drive_harmonics)",
-        );
-    }
     let drive_torque_n_m = c.finite(&p("drive_torque_n_m"), g.drive_torque_n_m);
-    let drive_harmonics = g
-        .drive_harmonics
-        .iter()
-        .enumerate()
-        .map(|(k, h)| {
-            let at = |field: &str| p(&format!("drive_harmonics[{k}].{field}"));
-            Harmonic {
-                order: check_order(c, &at("order"), h.order),
-                amplitude: c.finite(&at("amplitude_n_m"), h.amplitude_n_m),
-                phase_rad: c.finite(&at("phase_deg"), h.phase_deg).to_radians(),
-            }
-        })
-        .collect();
-    let drive_table = g.drive_table.as_ref().and_then(|t| {
-        let scale = c.finite(&p("drive_table.scale"), t.scale);
-        read_table(c, &p("drive_table.file"), &t.file, tables).map(|mut table| {
-            for m in &mut table.torques_n_m {
-                *m *= scale;
-            }
-            table
-        })
-    });
+    let drive_harmonics = check_torque_harmonics(c, &p("drive_harmonics"), &g.drive_harmonics);
+    let drive_table = check_torque_table(c, &p("drive_table"), g.drive_table.as_ref(), tables);
     let gains = match (g.kp_n_m_s_rad, g.ki_n_m_rad, g.bandwidth_hz) {
         (None, None, None) => GovernorGains::FromSpans,
         (None, None, Some(hz)) => GovernorGains::Bandwidth {
@@ -163,10 +128,10 @@ pub(super) fn check_governor(
             }
         }
     };
-    Some(GovernorSpec {
+    GovernorSpec {
         drive_torque_n_m,
         drive_harmonics,
         drive_table,
         gains,
-    })
+    }
 }

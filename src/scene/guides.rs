@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::validate::Checker;
+use super::checker::Checker;
 use super::{Chain, Contact, Sprocket};
 use crate::geometry::shoe::{Face, Piece, Ramp, ShoeError, body_from_centre, body_from_radius};
 use crate::geometry::{PathCircle, chain_path};

@@ -14,6 +14,7 @@
 mod auto_step_tests;
 mod builder;
 mod by_path;
+mod checker;
 mod checks;
 pub(crate) mod designations;
 #[cfg(test)]
@@ -28,6 +29,7 @@ mod guides;
 mod kinds;
 pub(crate) mod mutate;
 mod overrides;
+mod periodic;
 mod run_up;
 #[cfg(test)]
 mod scene_errors_tests;
@@ -48,7 +50,6 @@ pub use duty::DutyPointFile;
 pub(crate) use duty::{DutyFile, check_points};
 pub(crate) use error::value_span;
 pub use error::{FieldError, SceneError};
-pub(crate) use excitation::{Harmonic, LoadTable};
 pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,
@@ -59,6 +60,7 @@ pub use guides::GuideFile;
 pub(crate) use kinds::RoleKind;
 pub use kinds::{ContactLaw, Integrator, PretensionRule, Stepping, Wrap};
 pub use overrides::Overrides;
+pub(crate) use periodic::{Harmonic, LoadTable};
 pub(crate) use run_up::RunUpFile;
 pub(crate) use stability::StepLimits;
 pub(crate) use stability::{AUTO_GRID_S, step_note};

@@ -5,8 +5,8 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::checker::Checker;
 use super::types::RunUp;
-use super::validate::Checker;
 
 /// A run-up as written: `run_up = { to_rpm = 3000, duration_s = 60, start_s = 1 }`.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]

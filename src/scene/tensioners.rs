@@ -10,7 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::validate::Checker;
+use super::checker::Checker;
 
 /// One tensioner arm with its tensioner, as written.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]

@@ -2,78 +2,20 @@
 //! [`TryFrom`], which checks every field, converts units (rpm → rad/s) and
 //! reports *every* problem with its field's path.
 
+use super::checker::Checker;
 use super::designations;
-use super::excitation::{TableFiles, check_excitation};
+use super::excitation::check_excitation;
 use super::file::{AUTO, LimitsFile};
-use super::kinds::Named;
+use super::periodic::TableFiles;
 use super::types::{DEFAULT_JOINT_FRICTION_SPEED_RAD_S, JointFriction, Limits};
 use super::{
-    Chain, ChainFile, Contact, ContactFile, ContactLaw, Equilibrium, FieldError, Integrator,
-    MAX_SPROCKETS, PITCH_RADIUS_TOLERANCE, PretensionRule, ProfileKind, Role, RoleKind, Scene,
-    SceneError, SceneFile, Solver, SolverFile, SpeedLaw, Sprocket, SprocketFile, StepFile,
-    StepLimits, Stepping, TEETH_RANGE, Wrap,
+    Chain, ChainFile, Contact, ContactFile, ContactLaw, Equilibrium, Integrator, MAX_SPROCKETS,
+    PITCH_RADIUS_TOLERANCE, PretensionRule, ProfileKind, Role, RoleKind, Scene, SceneError,
+    SceneFile, Solver, SolverFile, SpeedLaw, Sprocket, SprocketFile, StepFile, StepLimits,
+    Stepping, TEETH_RANGE, Wrap,
 };
 use crate::geometry::asa::IN_0_003_M;
 use crate::geometry::{pitch_radius, seating_radius};
-
-/// Collects field errors while a file is checked.
-pub(super) struct Checker {
-    pub(super) errors: Vec<FieldError>,
-}
-
-impl Checker {
-    pub(super) fn new() -> Self {
-        Self { errors: Vec::new() }
-    }
-
-    pub(super) fn fail(&mut self, path: impl Into<String>, message: impl Into<String>) {
-        self.errors.push(FieldError {
-            path: path.into(),
-            message: message.into(),
-            location: None,
-        });
-    }
-
-    /// A finite, strictly positive quantity.
-    pub(super) fn positive(&mut self, path: &str, value: f64) -> f64 {
-        if !value.is_finite() {
-            self.fail(path, format!("must be a finite number, got {value}"));
-        } else if value <= 0.0 {
-            self.fail(path, format!("must be > 0, got {value}"));
-        }
-        value
-    }
-
-    /// A finite quantity ≥ 0.
-    pub(super) fn non_negative(&mut self, path: &str, value: f64) -> f64 {
-        if !value.is_finite() {
-            self.fail(path, format!("must be a finite number, got {value}"));
-        } else if value < 0.0 {
-            self.fail(path, format!("must be >= 0, got {value}"));
-        }
-        value
-    }
-
-    pub(super) fn finite(&mut self, path: &str, value: f64) -> f64 {
-        if !value.is_finite() {
-            self.fail(path, format!("must be a finite number, got {value}"));
-        }
-        value
-    }
-
-    /// A name of the enumeration `T`; an unknown one is an error listing the allowed names.
-    fn one_of<T: Named>(&mut self, path: &str, value: &str) -> Option<T> {
-        let found = T::ALL.iter().copied().find(|v| v.name() == value);
-        if found.is_none() {
-            let names: Vec<String> = T::ALL.iter().map(|v| format!("\"{}\"", v.name())).collect();
-            self.fail(
-                path,
-                format!("unknown value \"{value}\"; allowed: {}", names.join(", ")),
-            );
-        }
-        found
-    }
-}
 
 impl TryFrom<SceneFile> for Scene {
     type Error = SceneError;
@@ -450,7 +392,7 @@ fn check_sprockets(
             drivers += 1;
         }
         let kind = RoleKind::from_name(&f.role);
-        let excitation = check_excitation(c, f, i, kind, tables);
+        let excitation = check_excitation(c, f.excitation(), i, kind, tables);
         out.push(Sprocket {
             name: f.name.clone(),
             center_m,
