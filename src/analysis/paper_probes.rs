@@ -300,6 +300,15 @@ pub(crate) struct Series {
 }
 
 impl Series {
+    /// The points (time since `t0`, value), in SI units.
+    pub(crate) fn points(&self, t0: f64) -> Vec<(f64, f64)> {
+        self.t_s
+            .iter()
+            .zip(&self.value)
+            .map(|(t, v)| (t - t0, *v))
+            .collect()
+    }
+
     /// Mean of the values (0 if empty).
     pub(crate) fn mean(&self) -> f64 {
         if self.value.is_empty() {
@@ -560,6 +569,17 @@ pub(crate) struct ContactExample {
     pub binder_n: Vec<f64>,
     /// (49) as printed, N.
     pub printed_n: Vec<f64>,
+}
+
+impl ContactExample {
+    /// (49)'s points (time since the contact's start, force N).
+    pub(crate) fn binder_points(&self) -> Vec<(f64, f64)> {
+        self.binder_t_s
+            .iter()
+            .zip(&self.binder_n)
+            .map(|(t, f)| (t - self.t_start_s, *f))
+            .collect()
+    }
 }
 
 /// The simulated contact forces on one sprocket against (49).

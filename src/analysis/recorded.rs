@@ -542,9 +542,62 @@ impl RecordedRun {
             .abs();
         let chain_speed = omega_driver * d.facts.pitch_radius_m.get(driver).copied().unwrap_or(0.0);
         let q_c = centrifugal_tension_n(d.facts.roller_mass_kg, chain_speed, d.facts.pitch_m);
-        let mu = d.facts.roller_mass_kg / d.facts.pitch_m;
+        let segments = self.segments(&in_window, &in_spectrum, window, chain_speed, &mut notes);
+        let (sprockets, binder) = self.sprockets(&in_window, contact_window);
+        let link = self.link(options, window, &mut notes)?;
+        let roller = self.roller(options, window, &mut notes)?;
+        let (lo, hi) = if self.has_links {
+            (
+                stats(in_window.iter().map(|r| r.link_range_n.0)).map(|v| v.1),
+                stats(in_window.iter().map(|r| r.link_range_n.1)).map(|v| v.2),
+            )
+        } else {
+            (None, None)
+        };
+        Ok(RecordedAnalysis {
+            recording: d.label.clone(),
+            scene: s.scene.clone(),
+            profile: s.profile.clone(),
+            dt_s: s.dt_s,
+            sample_rate_hz: s.sample_rate_hz,
+            samples: rows.len(),
+            run_s,
+            end_status: self.end_status.clone(),
+            channels: self.topics.clone(),
+            window_s: window,
+            spectrum_window_s: spectrum_window,
+            contact_window_s: contact_window,
+            static_tension_n: s.static_tension_n,
+            rest_length_m: s.rest_length_m,
+            chain_speed_m_s: chain_speed,
+            q_c_n: q_c,
+            link_force_min_sampled_n: lo,
+            link_force_max_sampled_n: hi,
+            strands: s.strands.clone(),
+            segments,
+            sprockets,
+            link,
+            roller,
+            notes,
+            binder,
+        })
+    }
 
+    /// Each free strand's link force over `in_window` and its transverse
+    /// spectrum over `in_spectrum`, against the string theory at the chain's
+    /// speed; a strand without a free link in `window` gets a note.
+    fn segments(
+        &self,
+        in_window: &[&SampleRow],
+        in_spectrum: &[&SampleRow],
+        window: [f64; 2],
+        chain_speed: f64,
+        notes: &mut Vec<String>,
+    ) -> Vec<RecordedSegment> {
+        let d = &self.data;
+        let mu = d.facts.roller_mass_kg / d.facts.pitch_m;
         let mut segments = Vec::new();
+        let s = &d.summary;
         for (k, strand) in s.strands.iter().enumerate() {
             let force = stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
             let amplitude = force.and_then(|(m, _, _, _)| {
@@ -588,7 +641,17 @@ impl RecordedRun {
                 peaks: picked.peaks,
             });
         }
+        segments
+    }
 
+    /// Each sprocket's speed and torque over `in_window`, and its contact
+    /// forces against Binder's over `contact_window` where recorded.
+    fn sprockets(
+        &self,
+        in_window: &[&SampleRow],
+        contact_window: [f64; 2],
+    ) -> (Vec<RecordedSprocket>, Vec<Option<BinderComparison>>) {
+        let d = &self.data;
         let mut sprockets = Vec::new();
         let mut binder = Vec::new();
         for (k, &teeth) in d.facts.teeth.iter().enumerate() {
@@ -633,8 +696,18 @@ impl RecordedRun {
             });
             binder.push(b);
         }
+        (sprockets, binder)
+    }
 
-        let link = if self.has_links {
+    /// The chosen link's force over `window`, where the links were recorded.
+    fn link(
+        &self,
+        options: &AnalyzeOptions,
+        window: [f64; 2],
+        notes: &mut Vec<String>,
+    ) -> Result<Option<RecordedLink>, RecordedError> {
+        let d = &self.data;
+        Ok(if self.has_links {
             let l = options.link.unwrap_or(0);
             let series = link_force_series(d, l, window)?;
             stats(series.value.iter().copied()).map(|(mean, lo, hi, _)| RecordedLink {
@@ -649,8 +722,18 @@ impl RecordedRun {
                 Channel::Links.topic()
             ));
             None
-        };
-        let roller = if self.has_contacts {
+        })
+    }
+
+    /// The chosen roller's contact force, where the contacts were recorded.
+    fn roller(
+        &self,
+        options: &AnalyzeOptions,
+        window: [f64; 2],
+        notes: &mut Vec<String>,
+    ) -> Result<Option<RecordedRoller>, RecordedError> {
+        let d = &self.data;
+        Ok(if self.has_contacts {
             let r = options.roller.unwrap_or(0);
             let w = self.roller_window(options, window);
             let (series, on) = roller_contact_series(d, r, w)?;
@@ -673,41 +756,6 @@ impl RecordedRun {
                 self.missing_contacts().join(", ")
             ));
             None
-        };
-        let (lo, hi) = if self.has_links {
-            (
-                stats(in_window.iter().map(|r| r.link_range_n.0)).map(|v| v.1),
-                stats(in_window.iter().map(|r| r.link_range_n.1)).map(|v| v.2),
-            )
-        } else {
-            (None, None)
-        };
-        Ok(RecordedAnalysis {
-            recording: d.label.clone(),
-            scene: s.scene.clone(),
-            profile: s.profile.clone(),
-            dt_s: s.dt_s,
-            sample_rate_hz: s.sample_rate_hz,
-            samples: rows.len(),
-            run_s,
-            end_status: self.end_status.clone(),
-            channels: self.topics.clone(),
-            window_s: window,
-            spectrum_window_s: spectrum_window,
-            contact_window_s: contact_window,
-            static_tension_n: s.static_tension_n,
-            rest_length_m: s.rest_length_m,
-            chain_speed_m_s: chain_speed,
-            q_c_n: q_c,
-            link_force_min_sampled_n: lo,
-            link_force_max_sampled_n: hi,
-            strands: s.strands.clone(),
-            segments,
-            sprockets,
-            link,
-            roller,
-            notes,
-            binder,
         })
     }
 }

@@ -319,14 +319,7 @@ fn simulate(
     recorder: Option<Recorder<BufWriter<File>>>,
     resume: Option<Resume>,
 ) -> anyhow::Result<ExitCode> {
-    // Ctrl-C/SIGTERM from here on end the run cleanly (also during the static
-    // equilibrium: the run then stops at t = 0 with everything written).
-    let stop = Arc::new(AtomicBool::new(false));
-    {
-        let stop = Arc::clone(&stop);
-        // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
-        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
-    }
+    let stop = stop_on_signal();
     if !args.quiet {
         eprintln!("{}", crate::scene::step_note(&scene));
     }
@@ -341,36 +334,10 @@ fn simulate(
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration = scene.solver().duration_s;
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
-        let segments = 1..=sim.model.segments.len();
-        let header = std::iter::once("t_s".to_owned())
-            .chain((1..=scene.sprockets().len()).map(|i| format!("omega_{i}_rad_s")))
-            .chain(segments.clone().map(|k| format!("seg{k}_link_force_n")))
-            .chain(segments.map(|k| format!("seg{k}_transverse_m")))
-            .chain((1..=scene.tensioners().len()).flat_map(|k| {
-                [
-                    "arm_angle_rad",
-                    "travel_m",
-                    "plunger_speed_m_s",
-                    "pressure_pa",
-                    "valve_open",
-                    "shoe_force_n",
-                ]
-                .map(|q| format!("tensioner{k}_{q}"))
-            }))
-            .chain(
-                (1..=scene.guides().len())
-                    .flat_map(|k| [format!("guide{k}_normal_n"), format!("guide{k}_friction_n")]),
-            );
-        csv.write_record(header).map_err(io_error)?;
+        csv.write_record(series_header(&sim, &scene))
+            .map_err(io_error)?;
     }
-    let progress = (!args.quiet && std::io::stderr().is_terminal()).then(|| {
-        let p = indicatif::ProgressBar::new((duration * 1000.0) as u64);
-        p.set_style(
-            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} ms simulated, eta {eta}")
-                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        p
-    });
+    let progress = progress_bar(args.quiet, duration);
     // Where the power goes and the means, counted every step of the
     // summary's window. Memory flat whatever the duration: the series goes
     // to disk as it is taken, the summary needs the window's rows and the
@@ -388,26 +355,7 @@ fn simulate(
         window_restarts,
     }) = resume
     {
-        sim.restore(&ck.sim)
-            .context("cannot resume from the checkpoint")?;
-        signals = ck.run.signals;
-        // The run may now end elsewhere: its window moves with the end.
-        let last = sim
-            .last_step_sampled(sampling.rate.every)
-            .map(|sampled| (sim.sample(), sampled));
-        let last = last.as_ref().map(|(s, sampled)| (s, *sampled));
-        signals.continue_window(
-            &sim.model,
-            sampling.window.start_s(),
-            sampling.window.length_s(),
-            last,
-        );
-        if window_restarts {
-            sim.restart_power(&ck.sim, sampling.window.start_s());
-        }
-        so_far.steps = ck.run.steps;
-        so_far.wall_s = ck.run.wall_s;
-        so_far.max_penetration_m = ck.run.max_penetration_m;
+        signals = resume_run(&mut sim, ck, window_restarts, &sampling, &mut so_far)?;
     }
     let mut observer = CliObserver {
         signals,
@@ -431,21 +379,7 @@ fn simulate(
     if let Some(p) = &observer.progress {
         p.finish_and_clear();
     }
-    let flushed = observer.csv.as_mut().map_or(Ok(()), |c| c.flush());
-    if let Some(e) = observer.csv_error.take() {
-        return Err(e).context("writing the series failed");
-    }
-    flushed.context("writing the series failed")?;
-    // The recording is finished however the run ended, and says how.
-    if let Some(r) = observer.recorder.take() {
-        let failure = outcome.as_ref().err().map(ToString::to_string);
-        let end = match (&outcome, &failure) {
-            (_, Some(m)) => RunEnd::Failed(m),
-            (Ok(o), None) if o.interrupted => RunEnd::Interrupted,
-            _ => RunEnd::Completed,
-        };
-        r.finish(end).context("writing the recording failed")?;
-    }
+    finish_series_and_recording(&mut observer, &outcome)?;
     let outcome = outcome?;
     let summary = RunSummary::of_run_in(
         &sim,
@@ -471,6 +405,115 @@ fn simulate(
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// Ends the run cleanly on Ctrl-C/SIGTERM from here on (also during the
+/// static equilibrium: the run then stops at t = 0 with everything
+/// written): the flag the run watches.
+fn stop_on_signal() -> Arc<AtomicBool> {
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        // A second handler cannot be installed (e.g. in tests calling run twice): ignore.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::Relaxed));
+    }
+    stop
+}
+
+/// The series' CSV header: time, each sprocket's speed, each segment's
+/// link force and transverse displacement, each tensioner's and guide's
+/// outputs.
+fn series_header(sim: &Simulation, scene: &crate::scene::Scene) -> Vec<String> {
+    let segments = 1..=sim.model.segments.len();
+    let header = std::iter::once("t_s".to_owned())
+        .chain((1..=scene.sprockets().len()).map(|i| format!("omega_{i}_rad_s")))
+        .chain(segments.clone().map(|k| format!("seg{k}_link_force_n")))
+        .chain(segments.map(|k| format!("seg{k}_transverse_m")))
+        .chain((1..=scene.tensioners().len()).flat_map(|k| {
+            [
+                "arm_angle_rad",
+                "travel_m",
+                "plunger_speed_m_s",
+                "pressure_pa",
+                "valve_open",
+                "shoe_force_n",
+            ]
+            .map(|q| format!("tensioner{k}_{q}"))
+        }))
+        .chain(
+            (1..=scene.guides().len())
+                .flat_map(|k| [format!("guide{k}_normal_n"), format!("guide{k}_friction_n")]),
+        );
+    header.collect()
+}
+
+/// A progress bar of the simulated milliseconds, on a terminal unless
+/// `quiet`.
+fn progress_bar(quiet: bool, duration_s: f64) -> Option<indicatif::ProgressBar> {
+    (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let p = indicatif::ProgressBar::new((duration_s * 1000.0) as u64);
+        p.set_style(
+            indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} ms simulated, eta {eta}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        p
+    })
+}
+
+/// Restores the run of checkpoint `ck` into `sim`, its counts into
+/// `so_far`: its signals, their window moved to the run's end.
+fn resume_run(
+    sim: &mut Simulation,
+    ck: Checkpoint<CliRun>,
+    window_restarts: bool,
+    sampling: &Sampling,
+    so_far: &mut RunOutcome,
+) -> anyhow::Result<Signals> {
+    sim.restore(&ck.sim)
+        .context("cannot resume from the checkpoint")?;
+    let mut signals = ck.run.signals;
+    // The run may now end elsewhere: its window moves with the end.
+    let last = sim
+        .last_step_sampled(sampling.rate.every)
+        .map(|sampled| (sim.sample(), sampled));
+    let last = last.as_ref().map(|(s, sampled)| (s, *sampled));
+    signals.continue_window(
+        &sim.model,
+        sampling.window.start_s(),
+        sampling.window.length_s(),
+        last,
+    );
+    if window_restarts {
+        sim.restart_power(&ck.sim, sampling.window.start_s());
+    }
+    so_far.steps = ck.run.steps;
+    so_far.wall_s = ck.run.wall_s;
+    so_far.max_penetration_m = ck.run.max_penetration_m;
+    Ok(signals)
+}
+
+/// Flushes the series and finishes the recording, however the run ended
+/// (`outcome`), saying how.
+fn finish_series_and_recording(
+    observer: &mut CliObserver,
+    outcome: &anyhow::Result<RunOutcome>,
+) -> anyhow::Result<()> {
+    let flushed = observer.csv.as_mut().map_or(Ok(()), |c| c.flush());
+    if let Some(e) = observer.csv_error.take() {
+        return Err(e).context("writing the series failed");
+    }
+    flushed.context("writing the series failed")?;
+    // The recording is finished however the run ended, and says how.
+    if let Some(r) = observer.recorder.take() {
+        let failure = outcome.as_ref().err().map(ToString::to_string);
+        let end = match (outcome, &failure) {
+            (_, Some(m)) => RunEnd::Failed(m),
+            (Ok(o), None) if o.interrupted => RunEnd::Interrupted,
+            _ => RunEnd::Completed,
+        };
+        r.finish(end).context("writing the recording failed")?;
+    }
+    Ok(())
 }
 
 /// Runs to the scene's end, in pieces between checkpoints when asked: every

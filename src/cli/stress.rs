@@ -177,6 +177,16 @@ pub(super) fn stress(args: StressArgs) -> anyhow::Result<ExitCode> {
 /// Prints the tables and findings; true if a promise was broken (a NaN in
 /// the output of a run reported stable).
 fn report(results: &[CaseResult]) -> bool {
+    limits_table(results);
+    roller_cost_table(results);
+    let broken = blow_up_section(results);
+    false_alarms_section(results);
+    profile_pairs_table(results);
+    broken
+}
+
+/// The largest stable step per cell and integrator.
+fn limits_table(results: &[CaseResult]) {
     println!("\n== largest stable dt per cell and integrator (µs) ==");
     println!(
         "{:<16} {:>6} {:>3} {:>6} {:>4} {:>7} {:>8} {:<8} {:<17} {:>7} {:>8} {:>8}  {:<28} {:>9}",
@@ -235,7 +245,10 @@ fn report(results: &[CaseResult]) -> bool {
             );
         }
     }
+}
 
+/// The cost per roller-step over the roller-count series.
+fn roller_cost_table(results: &[CaseResult]) {
     println!("\n== per-roller cost (ns per roller-step) over the roller-count series ==");
     let costs = roller_costs(results);
     if costs.is_empty() {
@@ -255,7 +268,11 @@ fn report(results: &[CaseResult]) -> bool {
             c.spread()
         );
     }
+}
 
+/// Which detectors caught the blow-ups, and whether a NaN got out first;
+/// true if a run reported stable had a NaN in an output.
+fn blow_up_section(results: &[CaseResult]) -> bool {
     println!("\n== blow-up detectors ==");
     let runs = || {
         results
@@ -330,6 +347,11 @@ fn report(results: &[CaseResult]) -> bool {
             );
         }
     }
+    !broken.is_empty()
+}
+
+/// The steps flagged unstable although a larger one was stable.
+fn false_alarms_section(results: &[CaseResult]) {
     let alarms: Vec<String> = results
         .iter()
         .flat_map(|r| {
@@ -358,7 +380,10 @@ fn report(results: &[CaseResult]) -> bool {
             println!("{a}");
         }
     }
+}
 
+/// Each cell's circular profile beside its real one.
+fn profile_pairs_table(results: &[CaseResult]) {
     println!("\n== circular vs real (same cell) ==");
     let mut any = false;
     for real in results.iter().filter(|r| r.info.profile == "real") {
@@ -409,5 +434,4 @@ fn report(results: &[CaseResult]) -> bool {
     if !any {
         println!("(no circular/real pair in this matrix)");
     }
-    !broken.is_empty()
 }

@@ -148,10 +148,29 @@ impl ChainDrive {
         let FrameStart { started, moving } = frame;
         let span = dt_s;
         let searched = Instant::now();
-        // Substeps at the scene's dt until the world's frame end; the chain's
-        // clock lags the world's by less than one substep and is counted from
-        // the start (steps × dt) as `Simulation::run` counts it, so a drive
-        // with no outside contact evolves exactly as it does standalone.
+        let substeps = self.substeps(dt_s, moving)?;
+        self.check_substeps(bodies, substeps, dt_s)?;
+        let stepped = Instant::now();
+        self.hand_back(bodies, substeps, span);
+        self.frame_dt_s = dt_s;
+        self.in_frame = true;
+        self.hook_calls_at_frame = self.hook_calls.load(Ordering::Relaxed);
+        let t = &mut self.stage_times;
+        t.frames += 1;
+        t.search_s += (searched - started).as_secs_f64();
+        t.substeps_s += (stepped - searched).as_secs_f64();
+        t.sync_s += stepped.elapsed().as_secs_f64();
+        t.projections = self.contacts.projections;
+        Ok(())
+    }
+
+    /// Substeps at the scene's dt until the world's frame end of `dt_s`,
+    /// moving the mounts with them where any moves; how many it took.
+    fn substeps(&mut self, dt_s: f64, moving: bool) -> Result<u64, CosimError> {
+        // The chain's clock lags the world's by less than one substep and is
+        // counted from the start (steps × dt) as `Simulation::run` counts it,
+        // so a drive with no outside contact evolves exactly as it does
+        // standalone.
         self.world_time_s += dt_s;
         let dt = self.scene.solver.dt_s;
         let t0 = self.state.t_s;
@@ -182,33 +201,7 @@ impl ChainDrive {
             self.clock_steps += 1;
             self.state.t_s = self.clock_steps as f64 * dt;
             if moving {
-                let tau = step as f64 * dt;
-                let chain_force = &self.forces.output().chain_force;
-                for (k, (link, sprocket)) in self
-                    .links
-                    .iter_mut()
-                    .zip(&mut self.model.sprockets)
-                    .enumerate()
-                {
-                    if let Some(tr) = &mut link.translation {
-                        // The chain's force and the law's at the substep's
-                        // start, as the rollers were advanced.
-                        let start = Vector::new(link.frame_start_m[0], link.frame_start_m[1]);
-                        let law = self.mount_forces[k].as_ref().map_or(Vector::ZERO, |f| {
-                            f.force(start + tr.dx, tr.v, t0 + (step - 1) as f64 * dt)
-                        });
-                        let f = Vector::new(chain_force[k][0], chain_force[k][1]);
-                        tr.advance(f, law, tau - dt, dt);
-                        sprocket.center_m = [start.x + tr.dx.x, start.y + tr.dx.y];
-                        sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
-                    } else if link.mount != Mount::Own {
-                        let [vx, vy] = sprocket.center_velocity_m_s;
-                        sprocket.center_m = [
-                            link.frame_start_m[0] + vx * tau,
-                            link.frame_start_m[1] + vy * tau,
-                        ];
-                    }
-                }
+                self.move_mounts(step, t0, dt);
             }
             self.forces.evaluate(&self.model, &self.state);
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
@@ -222,6 +215,50 @@ impl ChainDrive {
                 sum[1] += f[1];
             }
         }
+        Ok(substeps)
+    }
+
+    /// Moves the mounted sprockets' centres over substep `step` (of `dt`
+    /// from the frame's start `t0`): a translating mount by the chain's
+    /// force and its law, another by its velocity.
+    fn move_mounts(&mut self, step: u64, t0: f64, dt: f64) {
+        let tau = step as f64 * dt;
+        let chain_force = &self.forces.output().chain_force;
+        for (k, (link, sprocket)) in self
+            .links
+            .iter_mut()
+            .zip(&mut self.model.sprockets)
+            .enumerate()
+        {
+            if let Some(tr) = &mut link.translation {
+                // The chain's force and the law's at the substep's
+                // start, as the rollers were advanced.
+                let start = Vector::new(link.frame_start_m[0], link.frame_start_m[1]);
+                let law = self.mount_forces[k].as_ref().map_or(Vector::ZERO, |f| {
+                    f.force(start + tr.dx, tr.v, t0 + (step - 1) as f64 * dt)
+                });
+                let f = Vector::new(chain_force[k][0], chain_force[k][1]);
+                tr.advance(f, law, tau - dt, dt);
+                sprocket.center_m = [start.x + tr.dx.x, start.y + tr.dx.y];
+                sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
+            } else if link.mount != Mount::Own {
+                let [vx, vy] = sprocket.center_velocity_m_s;
+                sprocket.center_m = [
+                    link.frame_start_m[0] + vx * tau,
+                    link.frame_start_m[1] + vy * tau,
+                ];
+            }
+        }
+    }
+
+    /// The frame's checks after its substeps: no roller too deep in a
+    /// user's collider, every carried and mounted body finite.
+    fn check_substeps(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        substeps: u64,
+        dt_s: f64,
+    ) -> Result<(), CosimError> {
         if self.contacts.max_depth_m > self.limits.max_penetration_m {
             return Err(at_coupling_limit(
                 SimError::BlowUp {
@@ -250,7 +287,7 @@ impl ChainDrive {
         }
         for link in &mut self.links {
             if let Some(tr) = &mut link.translation {
-                tr.mean_v = tr.dx / span;
+                tr.mean_v = tr.dx / dt_s;
                 if let Some((_, sf)) = &mut tr.slide {
                     sf.motor_sum /= substeps.max(1) as f64;
                 }
@@ -269,7 +306,13 @@ impl ChainDrive {
                 }
             }
         }
-        let stepped = Instant::now();
+        Ok(())
+    }
+
+    /// Hands the frame back to rapier: the rollers synced, each sprocket's
+    /// body set to turn (and a mount to move) over the frame `span` as the
+    /// substeps did, the chain's mean force on it.
+    fn hand_back(&mut self, bodies: &mut RigidBodySet, substeps: u64, span: f64) {
         self.sync_rollers(bodies, span);
         let n = substeps.max(1) as f64;
         for (k, link) in self.links.iter_mut().enumerate() {
@@ -330,16 +373,6 @@ impl ChainDrive {
                 }
             }
         }
-        self.frame_dt_s = dt_s;
-        self.in_frame = true;
-        self.hook_calls_at_frame = self.hook_calls.load(Ordering::Relaxed);
-        let t = &mut self.stage_times;
-        t.frames += 1;
-        t.search_s += (searched - started).as_secs_f64();
-        t.substeps_s += (stepped - searched).as_secs_f64();
-        t.sync_s += stepped.elapsed().as_secs_f64();
-        t.projections = self.contacts.projections;
-        Ok(())
     }
 
     /// Reads what rapier's step did to the drive's bodies beyond the chain's

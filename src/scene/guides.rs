@@ -12,7 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::checker::Checker;
 use super::{Chain, Contact, Sprocket};
 use crate::geometry::shoe::{Face, Piece, Ramp, ShoeError, body_from_centre, body_from_radius};
-use crate::geometry::{PathCircle, chain_path};
+use crate::geometry::{ChainPath, PathCircle, chain_path};
 
 /// Regularisation speed v_s of the guides' friction when the scene gives
 /// none, m/s: small beside the chain's speed along a guide (0.4 m/s at the
@@ -123,184 +123,233 @@ pub(super) fn check_guides(
             sense: s.wrap.sign(),
         })
         .collect();
-    let path = chain_path(&circles).ok();
-    let mut guides = Vec::with_capacity(files.len());
-    for (k, f) in files.iter().enumerate() {
-        let at = |field: &str| format!("guides[{k}].{field}");
-        let errors_before = c.errors.len();
-        if f.name.trim().is_empty() {
-            c.fail(at("name"), "must not be empty");
-        }
-        for (i, v) in f.start_m.iter().enumerate() {
-            c.finite(&format!("guides[{k}].start_m[{i}]"), *v);
-        }
-        for (i, v) in f.end_m.iter().enumerate() {
-            c.finite(&format!("guides[{k}].end_m[{i}]"), *v);
-        }
-        let ramp = |c: &mut Checker, field: &str, r: &Option<RampFile>| {
-            r.as_ref().map(|r| {
-                let length_m = c.positive(&at(&format!("{field}.length_m")), r.length_m);
-                let angle = c.positive(&at(&format!("{field}.angle_deg")), r.angle_deg);
-                if angle.is_finite() && angle > 45.0 {
-                    c.fail(
-                        at(&format!("{field}.angle_deg")),
-                        format!("must lie in (0, 45] degrees, got {angle}"),
-                    );
-                }
-                Ramp {
-                    length_m,
-                    angle_rad: angle.to_radians(),
-                }
-            })
-        };
-        let start_ramp = ramp(c, "start_ramp", &f.start_ramp);
-        let end_ramp = ramp(c, "end_ramp", &f.end_ramp);
-        let stiffness = f
-            .stiffness
-            .map_or(contact.stiffness, |k| c.positive(&at("stiffness"), k));
-        let restitution = match f.restitution {
-            Some(e) => {
-                let e = c.finite(&at("restitution"), e);
-                if !(0.0..=1.0).contains(&e) {
-                    c.fail(at("restitution"), format!("must lie in [0, 1], got {e}"));
-                } else if e == 0.0 && contact.law.needs_positive_restitution() {
-                    c.fail(
-                        at("restitution"),
-                        "must be > 0 with this contact law (its damping factor is infinite at e = 0)",
-                    );
-                }
-                e
-            }
-            None => contact.restitution,
-        };
-        let friction = f.friction.map_or(0.0, |mu| {
-            let mu = c.non_negative(&at("friction"), mu);
-            if mu > 1.0 {
-                c.fail(at("friction"), format!("must lie in [0, 1], got {mu}"));
-            }
-            mu
-        });
-        let slip_speed_m_s = f.slip_speed_m_s.map_or(DEFAULT_GUIDE_SLIP_SPEED_M_S, |v| {
-            c.positive(&at("slip_speed_m_s"), v)
-        });
-        if let Some(r) = f.radius_m {
-            c.finite(&at("radius_m"), r);
-            if r == 0.0 {
-                c.fail(
-                    at("radius_m"),
-                    "must not be 0 (leave it out for a straight guide)",
-                );
-            }
-        }
-        if let Some(centre) = f.center_m {
-            for (i, v) in centre.iter().enumerate() {
-                c.finite(&format!("guides[{k}].center_m[{i}]"), *v);
-            }
-        }
-        if f.radius_m.is_some() && f.center_m.is_some() {
-            c.fail(
-                at("center_m"),
-                "give either radius_m or center_m for an arc, not both",
-            );
-        }
-        if c.errors.len() > errors_before {
-            continue;
-        }
-        let body = match f.center_m {
-            Some(centre) => body_from_centre(f.start_m, f.end_m, centre),
-            None => body_from_radius(f.start_m, f.end_m, f.radius_m),
-        };
-        let body = match body {
-            Ok(b) => b,
-            Err(e) => {
-                let field = match e {
-                    ShoeError::DegenerateEnds => "end_m",
-                    ShoeError::RadiusTooShort { .. } => "radius_m",
-                    ShoeError::CentreOff { .. } => "center_m",
-                };
-                c.fail(at(field), e.to_string());
-                continue;
-            }
-        };
-        let Some(path) = &path else { continue };
-        // Inside a sprocket's reach: a shoe the seated rollers would run into.
-        let mut inside = false;
-        for s in sprockets {
-            let d = shoe_distance(&body, s.center_m);
-            let reach = sprocket_reach_m(s, chain);
-            if d < reach {
-                c.fail(
-                    at("start_m"),
-                    format!(
-                        "the shoe passes {d:.4} m from sprocket \"{}\"'s centre, inside the {reach:.4} m its seated rollers reach (pitch radius + roller radius): a guide must lie beside the free strands",
-                        s.name
-                    ),
-                );
-                inside = true;
-            }
-        }
-        if inside {
-            continue;
-        }
-        // The side: towards the nearest point of the free strands from the
-        // shoe's middle.
-        let middle = body.point_at(0.5);
-        let nearest = path
-            .strands
-            .iter()
-            .map(|s| {
-                let ab = [s.end_m[0] - s.start_m[0], s.end_m[1] - s.start_m[1]];
-                let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-                let t = if len2 > 0.0 {
-                    (((middle[0] - s.start_m[0]) * ab[0] + (middle[1] - s.start_m[1]) * ab[1])
-                        / len2)
-                        .clamp(0.0, 1.0)
-                } else {
-                    0.0
-                };
-                [s.start_m[0] + t * ab[0], s.start_m[1] + t * ab[1]]
-            })
-            .min_by(|a, b| {
-                let da = (a[0] - middle[0]).hypot(a[1] - middle[1]);
-                let db = (b[0] - middle[0]).hypot(b[1] - middle[1]);
-                da.total_cmp(&db)
-            });
-        let Some(nearest) = nearest else { continue };
-        let Some(side) = crate::geometry::shoe::side_of(&body, nearest) else {
-            c.fail(
-                at("start_m"),
-                "the shoe's middle lies on the chain path, so the side it presses from is undefined: move it by the roller radius less the pressing depth to the side it should press from",
-            );
-            continue;
-        };
-        let face = Face::new(body, side, start_ramp, end_ramp);
-        // Clearance: the path's smallest distance from the body, sampled
-        // finely along the body, less the roller radius.
-        const SAMPLES: usize = 64;
-        let clearance_m = (0..=SAMPLES)
-            .map(|i| {
-                let p = body.point_at(i as f64 / SAMPLES as f64);
-                path.strands
-                    .iter()
-                    .map(|s| to_segment(p, s.start_m, s.end_m))
-                    .fold(f64::INFINITY, f64::min)
-            })
-            .fold(f64::INFINITY, f64::min)
-            - chain.roller_radius_m;
-        guides.push(Guide {
-            name: f.name.clone(),
-            face,
-            contact: Contact {
-                stiffness,
-                restitution,
-                ..*contact
-            },
-            friction,
-            slip_speed_m_s,
-            clearance_m,
-        });
+    let drive = Drive {
+        chain,
+        contact,
+        sprockets,
+        path: chain_path(&circles).ok(),
+    };
+    files
+        .iter()
+        .enumerate()
+        .filter_map(|(k, f)| check_guide(c, k, f, &drive))
+        .collect()
+}
+
+/// What a guide is checked against: the validated drive and its path
+/// (`None` where the sprockets lay none).
+struct Drive<'a> {
+    chain: &'a Chain,
+    contact: &'a Contact,
+    sprockets: &'a [Sprocket],
+    path: Option<ChainPath>,
+}
+
+/// A guide's fields as checked, before its shoe is placed.
+struct GuideFields {
+    start_ramp: Option<Ramp>,
+    end_ramp: Option<Ramp>,
+    stiffness: f64,
+    restitution: f64,
+    friction: f64,
+    slip_speed_m_s: f64,
+}
+
+/// Guide `k` (`guides[k]`), or `None` where it fails a check.
+fn check_guide(c: &mut Checker, k: usize, f: &GuideFile, drive: &Drive<'_>) -> Option<Guide> {
+    let at = |field: &str| format!("guides[{k}].{field}");
+    let errors_before = c.errors.len();
+    let fields = check_fields(c, k, f, drive.contact);
+    if c.errors.len() > errors_before {
+        return None;
     }
-    guides
+    let body = match f.center_m {
+        Some(centre) => body_from_centre(f.start_m, f.end_m, centre),
+        None => body_from_radius(f.start_m, f.end_m, f.radius_m),
+    };
+    let body = match body {
+        Ok(b) => b,
+        Err(e) => {
+            let field = match e {
+                ShoeError::DegenerateEnds => "end_m",
+                ShoeError::RadiusTooShort { .. } => "radius_m",
+                ShoeError::CentreOff { .. } => "center_m",
+            };
+            c.fail(at(field), e.to_string());
+            return None;
+        }
+    };
+    let path = drive.path.as_ref()?;
+    if inside_a_sprocket(c, k, &body, drive) {
+        return None;
+    }
+    let nearest = nearest_on_strands(&body, path)?;
+    let Some(side) = crate::geometry::shoe::side_of(&body, nearest) else {
+        c.fail(
+            at("start_m"),
+            "the shoe's middle lies on the chain path, so the side it presses from is undefined: move it by the roller radius less the pressing depth to the side it should press from",
+        );
+        return None;
+    };
+    let face = Face::new(body, side, fields.start_ramp, fields.end_ramp);
+    // Clearance: the path's smallest distance from the body, sampled
+    // finely along the body, less the roller radius.
+    const SAMPLES: usize = 64;
+    let clearance_m = (0..=SAMPLES)
+        .map(|i| {
+            let p = body.point_at(i as f64 / SAMPLES as f64);
+            path.strands
+                .iter()
+                .map(|s| to_segment(p, s.start_m, s.end_m))
+                .fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::INFINITY, f64::min)
+        - drive.chain.roller_radius_m;
+    Some(Guide {
+        name: f.name.clone(),
+        face,
+        contact: Contact {
+            stiffness: fields.stiffness,
+            restitution: fields.restitution,
+            ..*drive.contact
+        },
+        friction: fields.friction,
+        slip_speed_m_s: fields.slip_speed_m_s,
+        clearance_m,
+    })
+}
+
+/// Guide `k`'s own fields, the contact's where it gives none.
+fn check_fields(c: &mut Checker, k: usize, f: &GuideFile, contact: &Contact) -> GuideFields {
+    let at = |field: &str| format!("guides[{k}].{field}");
+    if f.name.trim().is_empty() {
+        c.fail(at("name"), "must not be empty");
+    }
+    for (i, v) in f.start_m.iter().enumerate() {
+        c.finite(&format!("guides[{k}].start_m[{i}]"), *v);
+    }
+    for (i, v) in f.end_m.iter().enumerate() {
+        c.finite(&format!("guides[{k}].end_m[{i}]"), *v);
+    }
+    let ramp = |c: &mut Checker, field: &str, r: &Option<RampFile>| {
+        r.as_ref().map(|r| {
+            let length_m = c.positive(&at(&format!("{field}.length_m")), r.length_m);
+            let angle = c.positive(&at(&format!("{field}.angle_deg")), r.angle_deg);
+            if angle.is_finite() && angle > 45.0 {
+                c.fail(
+                    at(&format!("{field}.angle_deg")),
+                    format!("must lie in (0, 45] degrees, got {angle}"),
+                );
+            }
+            Ramp {
+                length_m,
+                angle_rad: angle.to_radians(),
+            }
+        })
+    };
+    let start_ramp = ramp(c, "start_ramp", &f.start_ramp);
+    let end_ramp = ramp(c, "end_ramp", &f.end_ramp);
+    let stiffness = f
+        .stiffness
+        .map_or(contact.stiffness, |k| c.positive(&at("stiffness"), k));
+    let restitution = match f.restitution {
+        Some(e) => {
+            let e = c.finite(&at("restitution"), e);
+            if !(0.0..=1.0).contains(&e) {
+                c.fail(at("restitution"), format!("must lie in [0, 1], got {e}"));
+            } else if e == 0.0 && contact.law.needs_positive_restitution() {
+                c.fail(
+                    at("restitution"),
+                    "must be > 0 with this contact law (its damping factor is infinite at e = 0)",
+                );
+            }
+            e
+        }
+        None => contact.restitution,
+    };
+    let friction = f.friction.map_or(0.0, |mu| {
+        let mu = c.non_negative(&at("friction"), mu);
+        if mu > 1.0 {
+            c.fail(at("friction"), format!("must lie in [0, 1], got {mu}"));
+        }
+        mu
+    });
+    let slip_speed_m_s = f.slip_speed_m_s.map_or(DEFAULT_GUIDE_SLIP_SPEED_M_S, |v| {
+        c.positive(&at("slip_speed_m_s"), v)
+    });
+    if let Some(r) = f.radius_m {
+        c.finite(&at("radius_m"), r);
+        if r == 0.0 {
+            c.fail(
+                at("radius_m"),
+                "must not be 0 (leave it out for a straight guide)",
+            );
+        }
+    }
+    if let Some(centre) = f.center_m {
+        for (i, v) in centre.iter().enumerate() {
+            c.finite(&format!("guides[{k}].center_m[{i}]"), *v);
+        }
+    }
+    if f.radius_m.is_some() && f.center_m.is_some() {
+        c.fail(
+            at("center_m"),
+            "give either radius_m or center_m for an arc, not both",
+        );
+    }
+    GuideFields {
+        start_ramp,
+        end_ramp,
+        stiffness,
+        restitution,
+        friction,
+        slip_speed_m_s,
+    }
+}
+
+/// Whether guide `k`'s shoe `body` lies inside a sprocket's reach, where
+/// the seated rollers would run into it (each such sprocket a failure).
+fn inside_a_sprocket(c: &mut Checker, k: usize, body: &Piece, drive: &Drive<'_>) -> bool {
+    let mut inside = false;
+    for s in drive.sprockets {
+        let d = shoe_distance(body, s.center_m);
+        let reach = sprocket_reach_m(s, drive.chain);
+        if d < reach {
+            c.fail(
+                format!("guides[{k}].start_m"),
+                format!(
+                    "the shoe passes {d:.4} m from sprocket \"{}\"'s centre, inside the {reach:.4} m its seated rollers reach (pitch radius + roller radius): a guide must lie beside the free strands",
+                    s.name
+                ),
+            );
+            inside = true;
+        }
+    }
+    inside
+}
+
+/// The nearest point of the free strands from the shoe's middle: the side
+/// it presses from is towards it.
+fn nearest_on_strands(body: &Piece, path: &ChainPath) -> Option<[f64; 2]> {
+    let middle = body.point_at(0.5);
+    path.strands
+        .iter()
+        .map(|s| {
+            let ab = [s.end_m[0] - s.start_m[0], s.end_m[1] - s.start_m[1]];
+            let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+            let t = if len2 > 0.0 {
+                (((middle[0] - s.start_m[0]) * ab[0] + (middle[1] - s.start_m[1]) * ab[1]) / len2)
+                    .clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            [s.start_m[0] + t * ab[0], s.start_m[1] + t * ab[1]]
+        })
+        .min_by(|a, b| {
+            let da = (a[0] - middle[0]).hypot(a[1] - middle[1]);
+            let db = (b[0] - middle[0]).hypot(b[1] - middle[1]);
+            da.total_cmp(&db)
+        })
 }
 
 /// Smallest distance from `p` to a shoe's body.

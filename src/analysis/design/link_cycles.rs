@@ -233,15 +233,6 @@ impl LinkCycles {
 mod tests {
     use super::*;
 
-    fn curve() -> SnCurve {
-        SnCurve {
-            slope: 10.0,
-            fatigue_limit_n: 2000.0,
-            knee_cycles: 5e6,
-            tensile_strength_n: 20_000.0,
-        }
-    }
-
     #[test]
     fn places_follow_the_runs_round_the_chain() {
         // 10 rollers; segment 0 free from roller 2 (4 rollers: links 2, 3,
@@ -290,7 +281,7 @@ mod tests {
     /// sample falls on every peak and valley.)
     #[test]
     fn a_sinusoid_does_the_closed_form_damage() {
-        let c = curve();
+        let c = SnCurve::for_tests();
         let (fm, fa, f_hz) = (4000.0, 1500.0, 2.0);
         let sums = feed(c, 1.0 / (400.0 * f_hz), 400 * 200, |t| {
             fm + fa * (std::f64::consts::TAU * f_hz * t).sin()
@@ -308,7 +299,7 @@ mod tests {
     #[test]
     fn streamed_damage_scales_as_the_slope_says_when_the_amplitude_doubles() {
         let pulsating = |a: f64| {
-            feed(curve(), 1e-3, 20_000, move |t| {
+            feed(SnCurve::for_tests(), 1e-3, 20_000, move |t| {
                 a * (1.0 - (std::f64::consts::TAU * 5.0 * t).cos())
             })
             .damage
@@ -324,7 +315,7 @@ mod tests {
     fn forces_below_the_fatigue_limit_give_no_damage() {
         // Pulsating up to 1.9 kN against a 2 kN limit, and a negative
         // (slack) swing counted as zero: peak 1.9 kN still.
-        let sums = feed(curve(), 1e-3, 20_000, |t| {
+        let sums = feed(SnCurve::for_tests(), 1e-3, 20_000, |t| {
             -500.0 + 2400.0 * (std::f64::consts::TAU * 5.0 * t).sin().max(0.0)
         });
         assert_eq!(sums.damage, 0.0);

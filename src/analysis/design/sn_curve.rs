@@ -70,6 +70,17 @@ impl SnCurve {
         self.knee_cycles * (self.fatigue_limit_n / pulsating_n).powf(self.slope)
     }
 
+    /// A curve for tests: m = 10, F_D = 2 kN at N_D = 5·10⁶, F_u = 20 kN.
+    #[cfg(test)]
+    pub(crate) fn for_tests() -> Self {
+        Self {
+            slope: 10.0,
+            fatigue_limit_n: 2000.0,
+            knee_cycles: 5e6,
+            tensile_strength_n: 20_000.0,
+        }
+    }
+
     /// Miner's damage of one cycle of `range_n` about `mean_n`.
     #[cfg(test)]
     pub fn damage(&self, range_n: f64, mean_n: f64) -> f64 {
@@ -81,19 +92,10 @@ impl SnCurve {
 mod tests {
     use super::*;
 
-    fn curve() -> SnCurve {
-        SnCurve {
-            slope: 10.0,
-            fatigue_limit_n: 2000.0,
-            knee_cycles: 5e6,
-            tensile_strength_n: 20_000.0,
-        }
-    }
-
     /// A pulsating cycle (mean = amplitude) is its own equivalent.
     #[test]
     fn a_pulsating_cycle_is_its_own_equivalent() {
-        let c = curve();
+        let c = SnCurve::for_tests();
         for peak in [100.0, 2500.0, 9000.0] {
             approx::assert_relative_eq!(
                 c.pulsating_equivalent_n(peak, 0.5 * peak),
@@ -108,11 +110,14 @@ mod tests {
     #[test]
     fn goodman_maps_a_cycle_onto_the_pulsating_line() {
         approx::assert_relative_eq!(
-            curve().pulsating_equivalent_n(2000.0, 5000.0),
+            SnCurve::for_tests().pulsating_equivalent_n(2000.0, 5000.0),
             2500.0,
             max_relative = 1e-14
         );
-        assert_eq!(curve().pulsating_equivalent_n(10.0, 25_000.0), 40_000.0);
+        assert_eq!(
+            SnCurve::for_tests().pulsating_equivalent_n(10.0, 25_000.0),
+            40_000.0
+        );
     }
 
     /// The pulsating equivalent is the correction JIS B 1811 applies to a
@@ -120,7 +125,7 @@ mod tests {
     /// F_d = F_u (F_max − F_min) / (F_u − F_min).
     #[test]
     fn goodman_is_the_jis_correction_to_a_zero_minimum() {
-        let c = curve();
+        let c = SnCurve::for_tests();
         for (lo, hi) in [(0.0, 3000.0), (4000.0, 6000.0), (1500.0, 12_000.0)] {
             let jis = 20_000.0 * (hi - lo) / (20_000.0 - lo);
             approx::assert_relative_eq!(
@@ -134,7 +139,7 @@ mod tests {
     /// N = N_D (F_D / F)^m: twice the limit lasts 5e6 / 1024 cycles.
     #[test]
     fn cycles_to_failure_follow_the_line_and_never_end_below_the_limit() {
-        let c = curve();
+        let c = SnCurve::for_tests();
         approx::assert_relative_eq!(c.cycles_to_failure(4000.0), 5e6 / 1024.0);
         assert_eq!(c.cycles_to_failure(2000.0), f64::INFINITY);
         assert_eq!(c.cycles_to_failure(f64::NAN), f64::INFINITY);
@@ -142,7 +147,7 @@ mod tests {
 
     #[test]
     fn below_the_fatigue_limit_a_cycle_does_no_damage() {
-        let c = curve();
+        let c = SnCurve::for_tests();
         assert_eq!(c.damage_of_pulsating(1999.0), 0.0);
         approx::assert_relative_eq!(c.damage_of_pulsating(2000.0), 1.0 / 5e6);
         assert_eq!(c.damage_of_pulsating(f64::NAN), 0.0);
@@ -152,7 +157,7 @@ mod tests {
     /// Pulsating cycles of twice the peak do 2^m times the damage.
     #[test]
     fn damage_scales_as_the_slope_says_when_the_peak_doubles() {
-        let c = curve();
+        let c = SnCurve::for_tests();
         let one = c.damage(3000.0, 1500.0);
         let two = c.damage(6000.0, 3000.0);
         approx::assert_relative_eq!(two / one, 2f64.powi(10), max_relative = 1e-12);

@@ -17,6 +17,16 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 /// caption, drawn beside the report).
 pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]) -> String {
     let mut md = String::new();
+    run_section(&mut md, a);
+    segments_section(&mut md, a);
+    sprockets_section(&mut md, a);
+    link_roller_section(&mut md, a);
+    figures_section(&mut md, figures);
+    md
+}
+
+/// The title, the run and its windows.
+fn run_section(md: &mut String, a: &RecordedAnalysis) {
     let _ = writeln!(md, "# Analysis of the recording `{}`\n", a.recording);
     let _ = writeln!(
         md,
@@ -51,6 +61,10 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
         opt(a.link_force_min_sampled_n, 1),
         opt(a.link_force_max_sampled_n, 1)
     );
+}
+
+/// A table of the segments.
+fn segments_section(md: &mut String, a: &RecordedAnalysis) {
     let _ = writeln!(md, "## Segments\n");
     let _ = writeln!(
         md,
@@ -99,6 +113,10 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
         );
     }
     md.push('\n');
+}
+
+/// A table of the sprockets.
+fn sprockets_section(md: &mut String, a: &RecordedAnalysis) {
     let _ = writeln!(md, "## Sprockets\n");
     let _ = writeln!(
         md,
@@ -142,6 +160,11 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
         );
     }
     md.push('\n');
+}
+
+/// The chosen link and roller, what was left out, and what a recording
+/// cannot report.
+fn link_roller_section(md: &mut String, a: &RecordedAnalysis) {
     if let Some(l) = &a.link {
         let _ = writeln!(
             md,
@@ -184,11 +207,14 @@ pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]
         "Not in a recording, so not reported: wall times, step counts, the largest \
          penetration, bearing forces (they need every step; a recording holds samples).\n"
     );
+}
+
+/// The figures drawn beside the report.
+fn figures_section(md: &mut String, figures: &[(String, String)]) {
     if !figures.is_empty() {
         let _ = writeln!(md, "## Figures\n");
         for (stem, caption) in figures {
             let _ = writeln!(md, "**{stem}**: {caption}\n\n![{caption}]({stem}.png)\n");
         }
     }
-    md
 }

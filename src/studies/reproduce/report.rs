@@ -142,6 +142,20 @@ pub(crate) fn report_markdown(
     figures: &[(String, String)],
 ) -> String {
     let mut md = String::new();
+    intro_section(&mut md, study);
+    quantities_section(&mut md, findings);
+    let all_within = transverse_section(&mut md, findings);
+    other_peaks_section(&mut md, findings);
+    binder_section(&mut md, findings);
+    differences_section(&mut md, findings, all_within);
+    friction_section(&mut md, study, findings);
+    runs_section(&mut md, study, findings);
+    figures_section(&mut md, figures);
+    md
+}
+
+/// The title and what was run.
+fn intro_section(md: &mut String, study: &Study) {
     let d = study.settings.duration_s;
     let _ = writeln!(
         md,
@@ -172,6 +186,10 @@ pub(crate) fn report_markdown(
             })
         );
     }
+}
+
+/// The paper's quantities against ours and the theory's, run by run.
+fn quantities_section(md: &mut String, findings: &Findings) {
     let _ = writeln!(md, "## The paper's quantities\n");
     let _ = writeln!(
         md,
@@ -265,8 +283,11 @@ pub(crate) fn report_markdown(
         }
     }
     md.push('\n');
+}
 
-    // Transverse peaks against the moving string, every segment.
+/// Every segment's transverse peak against the moving string; whether all
+/// are within 10 %.
+fn transverse_section(md: &mut String, findings: &Findings) -> bool {
     let _ = writeln!(
         md,
         "## Transverse peaks against the moving string\n\nEach segment's main peak in 1–50 Hz \
@@ -297,7 +318,11 @@ pub(crate) fn report_markdown(
         }
     }
     md.push('\n');
+    all_within
+}
 
+/// Segment 4's other spectral peaks.
+fn other_peaks_section(md: &mut String, findings: &Findings) {
     let _ = writeln!(
         md,
         "## Segment 4: other spectral peaks\n\nPaper: circular 15.5, 25.5, 83, 157 Hz and 120 Hz; \
@@ -315,8 +340,10 @@ pub(crate) fn report_markdown(
         }
     }
     md.push('\n');
+}
 
-    // Contact forces against (49).
+/// The contact forces against Binder's (49), and the verdict on sprocket 1.
+fn binder_section(md: &mut String, findings: &Findings) {
     let _ = writeln!(
         md,
         "## Contact forces against Binder's (49)\n\nEvery complete contact at steady speed (ramp end to the run's end); \
@@ -386,8 +413,11 @@ pub(crate) fn report_markdown(
         _ => "Sprocket 1 lacks a complete contact in at least one run; no verdict.".to_owned(),
     };
     let _ = writeln!(md, "{closer}\n");
+}
 
-    // Plain words.
+/// Where we differ from the paper, and why, in plain words (`all_within`:
+/// every transverse peak within 10 % of the moving string).
+fn differences_section(md: &mut String, findings: &Findings, all_within: bool) {
     let _ = writeln!(md, "## Where we differ from the paper, and why\n");
     let get = |label: &str, seg: usize| {
         findings
@@ -456,9 +486,10 @@ pub(crate) fn report_markdown(
          tension twice; the table gives the RMS against both forms (docs/model.md, \
          “Binder's quasi-static contact forces”).\n"
     );
+}
 
-    friction_section(&mut md, study, findings);
-
+/// Each run's static tension, rest length and cost.
+fn runs_section(md: &mut String, study: &Study, findings: &Findings) {
     let _ = writeln!(md, "## Runs\n");
     let _ = writeln!(
         md,
@@ -478,11 +509,14 @@ pub(crate) fn report_markdown(
         );
     }
     md.push('\n');
+}
+
+/// The figures drawn beside the report.
+fn figures_section(md: &mut String, figures: &[(String, String)]) {
     if !figures.is_empty() {
         let _ = writeln!(md, "## Figures\n");
         for (stem, caption) in figures {
             let _ = writeln!(md, "**{stem}**: {caption}\n\n![{caption}]({stem}.png)\n");
         }
     }
-    md
 }

@@ -224,174 +224,10 @@ impl Study {
             .parse()
             .map_err(|e: toml::de::Error| StudyError::Plan(vec![format!("scene: {e}")]))?;
         let mut p = Problems(Vec::new());
-
-        // Values fixed in every case.
-        let mut fixed = Vec::new();
-        flatten_set(&file.set, "", &mut fixed);
-        let mut set = Vec::new();
-        for (path, value) in fixed {
-            match path.parse::<ScenePath>() {
-                Ok(path) => {
-                    let a = Assignment { path, value };
-                    match set_in_table(&mut base, &a) {
-                        Ok(()) => set.push(a),
-                        Err(e) => p.add(format!("set.\"{}\"", a.path), e),
-                    }
-                }
-                Err(e) => p.add(format!("set.\"{path}\""), e),
-            }
-        }
-
-        // Factors: paths, and each level tried on the base scene.
-        let mut factors = Vec::new();
-        let mut factor_names = Vec::new();
-        let mut seen = BTreeSet::new();
-        let kind = file.design.kind.as_str();
-        let mut levels: Vec<Vec<toml::Value>> = Vec::new();
-        for (i, f) in file.factors.iter().enumerate() {
-            let at = format!("factors[{i}]");
-            let path = match f.path.parse::<ScenePath>() {
-                Ok(path) => path,
-                Err(e) => {
-                    p.add(format!("{at}.path"), e);
-                    continue;
-                }
-            };
-            if !seen.insert(path.to_string()) {
-                p.add(format!("{at}.path"), format!("{path} is already a factor"));
-            }
-            let mut values = Vec::new();
-            match (kind, &f.levels, &f.range) {
-                ("explicit", None, None) => {}
-                ("explicit", _, _) => p.add(
-                    &at,
-                    "an explicit design takes its values from design.cases; allowed: path only",
-                ),
-                (_, Some(_), Some(_)) => p.add(&at, "has both levels and range; allowed: one"),
-                (_, None, None) => p.add(&at, "has no levels; allowed: levels = [...] or range"),
-                (_, Some(l), None) if l.is_empty() => p.add(
-                    format!("{at}.levels"),
-                    "is empty; allowed: at least one level",
-                ),
-                (_, Some(l), None) => values.clone_from(l),
-                (_, None, Some(r)) => match range_levels(kind, r) {
-                    Ok(v) => values = v,
-                    Err(m) => p.add(format!("{at}.range"), m),
-                },
-            }
-            for (j, v) in values.iter().enumerate() {
-                let a = Assignment {
-                    path: path.clone(),
-                    value: v.clone(),
-                };
-                if let Err(e) = set_in_table(&mut base.clone(), &a) {
-                    let place = match &f.levels {
-                        Some(_) => format!("{at}.levels[{j}]"),
-                        None => format!("{at}.range"),
-                    };
-                    p.add(place, e);
-                    break;
-                }
-            }
-            factors.push(path);
-            factor_names.push(f.path.clone());
-            levels.push(values);
-        }
-
-        // The design.
-        let design = &file.design;
-        let rows: Vec<Vec<toml::Value>> = match kind {
-            "full_factorial" => {
-                if file.factors.is_empty() {
-                    p.add("factors", "a full factorial needs at least one factor");
-                }
-                no_field(&mut p, "design.seed", design.seed.is_some(), kind);
-                no_field(&mut p, "design.count", design.count.is_some(), kind);
-                no_field(&mut p, "design.cases", design.cases.is_some(), kind);
-                full_factorial(&levels)
-            }
-            "latin_hypercube" => {
-                if file.factors.is_empty() {
-                    p.add("factors", "a Latin hypercube needs at least one factor");
-                }
-                no_field(&mut p, "design.cases", design.cases.is_some(), kind);
-                if design.seed.is_none() {
-                    p.add("design.seed", "missing; a Latin hypercube needs a seed");
-                }
-                let count = match design.count {
-                    Some(n) if n >= 1 => n as usize,
-                    Some(n) => {
-                        p.add("design.count", format!("must be >= 1, got {n}"));
-                        0
-                    }
-                    None => {
-                        p.add("design.count", "missing; allowed: a number of cases >= 1");
-                        0
-                    }
-                };
-                latin_hypercube(&file.factors, &levels, count, design.seed.unwrap_or(0))
-            }
-            "explicit" => {
-                no_field(&mut p, "design.seed", design.seed.is_some(), kind);
-                no_field(&mut p, "design.count", design.count.is_some(), kind);
-                let rows = design.cases.clone().unwrap_or_default();
-                if rows.is_empty() {
-                    p.add(
-                        "design.cases",
-                        "is empty; allowed: at least one row of values",
-                    );
-                }
-                for (k, row) in rows.iter().enumerate() {
-                    if row.len() != file.factors.len() {
-                        p.add(
-                            format!("design.cases[{k}]"),
-                            format!(
-                                "has {} values; allowed: one per factor ({})",
-                                row.len(),
-                                file.factors.len()
-                            ),
-                        );
-                    }
-                }
-                rows
-            }
-            other => {
-                p.add(
-                    "design.kind",
-                    format!(
-                        "unknown design `{other}`; allowed: full_factorial, latin_hypercube, explicit"
-                    ),
-                );
-                Vec::new()
-            }
-        };
-
-        let responses = match &file.responses {
-            None => Responses::All,
-            Some(toml::Value::String(s)) if s == "all" => Responses::All,
-            Some(toml::Value::Array(items)) if !items.is_empty() => {
-                let mut fields = Vec::new();
-                for (i, item) in items.iter().enumerate() {
-                    match item.as_str() {
-                        Some(s) if is_summary_path(s) => fields.push(s.to_owned()),
-                        _ => p.add(
-                            format!("responses[{i}]"),
-                            format!(
-                                "{item} is not a summary field; allowed: a dotted path such as max_penetration_m or segments.0.mean_link_force_n"
-                            ),
-                        ),
-                    }
-                }
-                Responses::Fields(fields)
-            }
-            Some(other) => {
-                p.add(
-                    "responses",
-                    format!("{other}: allowed: \"all\" or a non-empty list of summary fields"),
-                );
-                Responses::All
-            }
-        };
+        let set = fixed_assignments(&file.set, &mut base, &mut p);
+        let factors = read_factors(&file, &base, &mut p);
+        let rows = design_rows(&file, &factors.levels, &mut p);
+        let responses = read_responses(file.responses.as_ref(), &mut p);
         let checkpoint_every_s = positive_seconds(
             &mut p,
             "checkpoint_every_s",
@@ -407,60 +243,39 @@ impl Study {
         if !p.0.is_empty() {
             return Err(StudyError::Plan(p.0));
         }
-
-        // Every case's scene, validated before anything runs.
-        let mut cases = Vec::with_capacity(rows.len());
-        let mut failed = Vec::new();
-        for (k, values) in rows.into_iter().enumerate() {
-            let mut assignments = set.clone();
-            assignments.extend(factors.iter().zip(&values).map(|(path, value)| Assignment {
-                path: path.clone(),
-                value: value.clone(),
-            }));
-            let case = Case {
-                k,
-                values,
-                assignments,
-            };
-            match Scene::from_toml_set(scene_toml, &case.assignments) {
-                Err(e) => failed.push(format!(
-                    "case {k} ({}): {}",
-                    case.describe(&factor_names),
-                    e.lines().join("; ")
-                )),
-                // Rapier keeps solver state a checkpoint does not hold.
-                Ok(scene)
-                    if checkpoint_every_s.is_some()
-                        && scene.solver().stepping != Stepping::Substepped =>
-                {
-                    failed.push(format!(
-                        "case {k} ({}): checkpoint_every_s needs solver.stepping = \"substepped\", the case steps with {}",
-                        case.describe(&factor_names),
-                        scene.solver().stepping.name()
-                    ));
+        let cases: Vec<Case> = rows
+            .into_iter()
+            .enumerate()
+            .map(|(k, values)| {
+                let mut assignments = set.clone();
+                assignments.extend(factors.paths.iter().zip(&values).map(|(path, value)| {
+                    Assignment {
+                        path: path.clone(),
+                        value: value.clone(),
+                    }
+                }));
+                Case {
+                    k,
+                    values,
+                    assignments,
                 }
-                Ok(scene)
-                    if window_s.is_some_and(|w| w > scene.solver().duration_s * (1.0 + 1e-12)) =>
-                {
-                    failed.push(format!(
-                        "case {k} ({}): window_s = {} s is longer than the run (solver.duration_s = {} s); allowed: a window within the run",
-                        case.describe(&factor_names),
-                        window_s.unwrap_or_default(),
-                        scene.solver().duration_s
-                    ));
-                }
-                Ok(_) => {}
-            }
-            cases.push(case);
-        }
+            })
+            .collect();
+        let failed = case_problems(
+            scene_toml,
+            &cases,
+            &factors.names,
+            checkpoint_every_s,
+            window_s,
+        );
         if !failed.is_empty() {
             return Err(StudyError::Cases(failed));
         }
         Ok(Self {
             plan_toml: plan_toml.to_owned(),
             scene_toml: scene_toml.to_owned(),
-            factors,
-            factor_names,
+            factors: factors.paths,
+            factor_names: factors.names,
             cases,
             responses,
             checkpoint_every_s,
@@ -490,6 +305,251 @@ impl Study {
             )])
         })
     }
+}
+
+/// The values the plan fixes in every case (`set`), each set on `base`.
+fn fixed_assignments(
+    set_table: &toml::Table,
+    base: &mut toml::Table,
+    p: &mut Problems,
+) -> Vec<Assignment> {
+    let mut fixed = Vec::new();
+    flatten_set(set_table, "", &mut fixed);
+    let mut set = Vec::new();
+    for (path, value) in fixed {
+        match path.parse::<ScenePath>() {
+            Ok(path) => {
+                let a = Assignment { path, value };
+                match set_in_table(base, &a) {
+                    Ok(()) => set.push(a),
+                    Err(e) => p.add(format!("set.\"{}\"", a.path), e),
+                }
+            }
+            Err(e) => p.add(format!("set.\"{path}\""), e),
+        }
+    }
+    set
+}
+
+/// The plan's factors as read: their paths, their names as written and
+/// each one's levels.
+struct Factors {
+    paths: Vec<ScenePath>,
+    names: Vec<String>,
+    levels: Vec<Vec<toml::Value>>,
+}
+
+/// The factors of `file`, each level tried on the `base` scene.
+fn read_factors(file: &PlanFile, base: &toml::Table, p: &mut Problems) -> Factors {
+    let kind = file.design.kind.as_str();
+    let mut factors = Vec::new();
+    let mut factor_names = Vec::new();
+    let mut seen = BTreeSet::new();
+    let mut levels: Vec<Vec<toml::Value>> = Vec::new();
+    for (i, f) in file.factors.iter().enumerate() {
+        let at = format!("factors[{i}]");
+        let path = match f.path.parse::<ScenePath>() {
+            Ok(path) => path,
+            Err(e) => {
+                p.add(format!("{at}.path"), e);
+                continue;
+            }
+        };
+        if !seen.insert(path.to_string()) {
+            p.add(format!("{at}.path"), format!("{path} is already a factor"));
+        }
+        let mut values = Vec::new();
+        match (kind, &f.levels, &f.range) {
+            ("explicit", None, None) => {}
+            ("explicit", _, _) => p.add(
+                &at,
+                "an explicit design takes its values from design.cases; allowed: path only",
+            ),
+            (_, Some(_), Some(_)) => p.add(&at, "has both levels and range; allowed: one"),
+            (_, None, None) => p.add(&at, "has no levels; allowed: levels = [...] or range"),
+            (_, Some(l), None) if l.is_empty() => p.add(
+                format!("{at}.levels"),
+                "is empty; allowed: at least one level",
+            ),
+            (_, Some(l), None) => values.clone_from(l),
+            (_, None, Some(r)) => match range_levels(kind, r) {
+                Ok(v) => values = v,
+                Err(m) => p.add(format!("{at}.range"), m),
+            },
+        }
+        for (j, v) in values.iter().enumerate() {
+            let a = Assignment {
+                path: path.clone(),
+                value: v.clone(),
+            };
+            if let Err(e) = set_in_table(&mut base.clone(), &a) {
+                let place = match &f.levels {
+                    Some(_) => format!("{at}.levels[{j}]"),
+                    None => format!("{at}.range"),
+                };
+                p.add(place, e);
+                break;
+            }
+        }
+        factors.push(path);
+        factor_names.push(f.path.clone());
+        levels.push(values);
+    }
+    Factors {
+        paths: factors,
+        names: factor_names,
+        levels,
+    }
+}
+
+/// The design's rows of levels, one per case, over the factors' `levels`.
+fn design_rows(
+    file: &PlanFile,
+    levels: &[Vec<toml::Value>],
+    p: &mut Problems,
+) -> Vec<Vec<toml::Value>> {
+    let kind = file.design.kind.as_str();
+    let design = &file.design;
+    match kind {
+        "full_factorial" => {
+            if file.factors.is_empty() {
+                p.add("factors", "a full factorial needs at least one factor");
+            }
+            no_field(p, "design.seed", design.seed.is_some(), kind);
+            no_field(p, "design.count", design.count.is_some(), kind);
+            no_field(p, "design.cases", design.cases.is_some(), kind);
+            full_factorial(levels)
+        }
+        "latin_hypercube" => {
+            if file.factors.is_empty() {
+                p.add("factors", "a Latin hypercube needs at least one factor");
+            }
+            no_field(p, "design.cases", design.cases.is_some(), kind);
+            if design.seed.is_none() {
+                p.add("design.seed", "missing; a Latin hypercube needs a seed");
+            }
+            let count = match design.count {
+                Some(n) if n >= 1 => n as usize,
+                Some(n) => {
+                    p.add("design.count", format!("must be >= 1, got {n}"));
+                    0
+                }
+                None => {
+                    p.add("design.count", "missing; allowed: a number of cases >= 1");
+                    0
+                }
+            };
+            latin_hypercube(&file.factors, levels, count, design.seed.unwrap_or(0))
+        }
+        "explicit" => {
+            no_field(p, "design.seed", design.seed.is_some(), kind);
+            no_field(p, "design.count", design.count.is_some(), kind);
+            let rows = design.cases.clone().unwrap_or_default();
+            if rows.is_empty() {
+                p.add(
+                    "design.cases",
+                    "is empty; allowed: at least one row of values",
+                );
+            }
+            for (k, row) in rows.iter().enumerate() {
+                if row.len() != file.factors.len() {
+                    p.add(
+                        format!("design.cases[{k}]"),
+                        format!(
+                            "has {} values; allowed: one per factor ({})",
+                            row.len(),
+                            file.factors.len()
+                        ),
+                    );
+                }
+            }
+            rows
+        }
+        other => {
+            p.add(
+                "design.kind",
+                format!(
+                    "unknown design `{other}`; allowed: full_factorial, latin_hypercube, explicit"
+                ),
+            );
+            Vec::new()
+        }
+    }
+}
+
+/// Which summary fields the study reports, as `responses` says.
+fn read_responses(responses: Option<&toml::Value>, p: &mut Problems) -> Responses {
+    match responses {
+        None => Responses::All,
+        Some(toml::Value::String(s)) if s == "all" => Responses::All,
+        Some(toml::Value::Array(items)) if !items.is_empty() => {
+            let mut fields = Vec::new();
+            for (i, item) in items.iter().enumerate() {
+                match item.as_str() {
+                    Some(s) if is_summary_path(s) => fields.push(s.to_owned()),
+                    _ => p.add(
+                        format!("responses[{i}]"),
+                        format!(
+                            "{item} is not a summary field; allowed: a dotted path such as max_penetration_m or segments.0.mean_link_force_n"
+                        ),
+                    ),
+                }
+            }
+            Responses::Fields(fields)
+        }
+        Some(other) => {
+            p.add(
+                "responses",
+                format!("{other}: allowed: \"all\" or a non-empty list of summary fields"),
+            );
+            Responses::All
+        }
+    }
+}
+
+/// Every case's scene, validated before anything runs: what is wrong with
+/// each, by case.
+fn case_problems(
+    scene_toml: &str,
+    cases: &[Case],
+    factor_names: &[String],
+    checkpoint_every_s: Option<f64>,
+    window_s: Option<f64>,
+) -> Vec<String> {
+    let mut failed = Vec::new();
+    for case in cases {
+        let k = case.k;
+        match Scene::from_toml_set(scene_toml, &case.assignments) {
+            Err(e) => failed.push(format!(
+                "case {k} ({}): {}",
+                case.describe(factor_names),
+                e.lines().join("; ")
+            )),
+            // Rapier keeps solver state a checkpoint does not hold.
+            Ok(scene)
+                if checkpoint_every_s.is_some()
+                    && scene.solver().stepping != Stepping::Substepped =>
+            {
+                failed.push(format!(
+                    "case {k} ({}): checkpoint_every_s needs solver.stepping = \"substepped\", the case steps with {}",
+                    case.describe(factor_names),
+                    scene.solver().stepping.name()
+                ));
+            }
+            Ok(scene)
+                if window_s.is_some_and(|w| w > scene.solver().duration_s * (1.0 + 1e-12)) =>
+            {
+                failed.push(format!(
+                    "case {k} ({}): window_s = {} s is longer than the run (solver.duration_s = {} s); allowed: a window within the run",
+                    case.describe(factor_names),
+                    window_s.unwrap_or_default(),
+                    scene.solver().duration_s
+                ));
+            }
+            Ok(_) => {}
+        }
+    }
+    failed
 }
 
 /// A plan key of simulated seconds: a finite number > 0, or absent.
