@@ -59,7 +59,10 @@ fn newton_balances_the_arms() {
         let end = solve(&model, &mut state, &mut forces, tolerance_n, 40);
         assert!(end.converged, "{file}: {end:?}");
         let arm_n = arm_residual_n(&forces);
-        assert!(arm_n <= tolerance_n, "{file}: arm moment / reach {arm_n:e} N");
+        assert!(
+            arm_n <= tolerance_n,
+            "{file}: arm moment / reach {arm_n:e} N"
+        );
     }
 }
 
@@ -85,8 +88,14 @@ fn newton_and_the_relaxation_agree_on_arm_drives() {
             max_stretch_m: 1e-2,
         };
         for _ in 0..5 {
-            relax_until(&model, &mut relaxed, &mut forces, &settings, Some(REST_FORCE * scale_n))
-                .expect("relaxes");
+            relax_until(
+                &model,
+                &mut relaxed,
+                &mut forces,
+                &settings,
+                Some(REST_FORCE * scale_n),
+            )
+            .expect("relaxes");
         }
         let relaxed_n = free_strand_tension(&model, &relaxed, &forces).expect("free links");
         assert!(
@@ -94,7 +103,10 @@ fn newton_and_the_relaxation_agree_on_arm_drives() {
             "{file}: Newton {newton_n} N, relaxation {relaxed_n} N"
         );
         for (a, b) in newton.q.iter().zip(&relaxed.q) {
-            assert!((a - b).abs() < 1e-4, "{file}: arm at {a} rad against {b} rad");
+            assert!(
+                (a - b).abs() < 1e-4,
+                "{file}: arm at {a} rad against {b} rad"
+            );
         }
     }
 }
