@@ -88,7 +88,7 @@ pub use output::Forces;
 pub(crate) use rows::DampingRows;
 pub(crate) use split::Fork;
 pub(crate) use split::{CHUNKS, Halves, chunk};
-pub(crate) use tensioner::{TensionerArm, TensionerReading};
+pub(crate) use tensioner::{ArmAtRest, TensionerArm, TensionerReading};
 
 use std::any::Any;
 use std::time::Instant;
@@ -351,6 +351,13 @@ impl ForceGenerator {
     pub(crate) fn fit(&mut self, model: &DriveModel) {
         self.output.body_force.resize(model.bodies.len(), 0.0);
         self.output.scalar_rate.resize(model.scalars.len(), 0.0);
+    }
+
+    /// The further elements of type `T`, in the order they were added.
+    pub(crate) fn elements_of<T: ForceElement + 'static>(&self) -> impl Iterator<Item = &T> {
+        self.elements
+            .iter()
+            .filter_map(|e| e.as_any().downcast_ref::<T>())
     }
 
     /// The further element of type `T`, if the drive has one.

@@ -151,15 +151,105 @@ impl TensionerArm {
     /// The lever of the tensioner's line about the pivot at arm angle `q`,
     /// ℓ = r × ê, m, and the travel x = (a(q) − a(0))·ê, m.
     pub(crate) fn lever_and_travel(&self, q: f64) -> (f64, f64) {
-        let p = &self.params;
-        let (s, c) = q.sin_cos();
-        let r0 = [p.point_m[0] - p.pivot_m[0], p.point_m[1] - p.pivot_m[1]];
-        let r = [c * r0[0] - s * r0[1], s * r0[0] + c * r0[1]];
-        let e = p.direction;
-        let lever = r[0] * e[1] - r[1] * e[0];
-        let travel = (r[0] - r0[0]) * e[0] + (r[1] - r0[1]) * e[1];
-        (lever, travel)
+        lever_and_travel(&self.params, q)
     }
+
+    /// What the static equilibrium needs of the arm at rest: its body
+    /// coordinate, its length scale and its potential energy.
+    pub(crate) fn at_rest(&self) -> ArmAtRest {
+        ArmAtRest {
+            params: self.params.clone(),
+            body: self.body,
+            chamber: self.chamber,
+        }
+    }
+}
+
+/// A tensioner arm at rest, as the static equilibrium sees it: the
+/// hydraulic chamber held at its supply pressure (as while relaxing), no
+/// ratchet, no damping. The tensioner's push and the arm's weight are then
+/// conservative, with the potential [`ArmAtRest::potential_j`].
+#[derive(Clone, Debug)]
+pub(crate) struct ArmAtRest {
+    params: Tensioner,
+    body: usize,
+    chamber: Option<Chamber>,
+}
+
+impl ArmAtRest {
+    /// The arm's body coordinate in [`DriveState::q`].
+    pub(crate) fn body(&self) -> usize {
+        self.body
+    }
+
+    /// The arm's length scale, m: its shoe's distance from the pivot (at
+    /// least the shoe's radius). Turning the arm by δ moves the shoe by
+    /// about δ times this.
+    pub(crate) fn reach_m(&self) -> f64 {
+        let p = &self.params;
+        (p.shoe_center_m[0] - p.pivot_m[0])
+            .hypot(p.shoe_center_m[1] - p.pivot_m[1])
+            .max(p.shoe_radius_m)
+    }
+
+    /// Potential energy of the tensioner's push and the arm's weight at arm
+    /// angle `q`, relative to the scene's pose, J: its derivative is minus
+    /// the moment [`TensionerArm`] puts on the arm at rest (the shoe's
+    /// contact energy is the contact's).
+    pub(crate) fn potential_j(&self, gravity_m_s2: [f64; 2], q: f64) -> f64 {
+        let p = &self.params;
+        let (_, x) = lever_and_travel(p, q);
+        // A push F(x) = F₀ − k x + stops(x): U = −F₀ x + ½ k x² + U_stops(x).
+        let (push, k, stops) = match (&p.kind, &self.chamber) {
+            (TensionerKind::Spring(sp), _) => (
+                sp.preload_n,
+                sp.stiffness_n_m,
+                stops_j(x, sp.min_travel_m, sp.max_travel_m, sp.stop_stiffness_n_m),
+            ),
+            (TensionerKind::Hydraulic(h), Some(ch)) => (
+                h.supply_pressure_pa.max(ch.floor_pa()) * ch.area_m2 + h.spring_preload_n,
+                h.spring_stiffness_n_m,
+                stops_j(x, h.min_travel_m, h.max_travel_m, h.stop_stiffness_n_m),
+            ),
+            (TensionerKind::Hydraulic(_), None) => (0.0, 0.0, 0.0),
+        };
+        let mut u = -push * x + 0.5 * k * x * x + stops;
+        if p.mass_kg > 0.0 {
+            // U = −m g·(c(q) − c(0)), c the centre of mass.
+            let r0 = [
+                p.center_of_mass_m[0] - p.pivot_m[0],
+                p.center_of_mass_m[1] - p.pivot_m[1],
+            ];
+            let (s, c) = q.sin_cos();
+            let r = rotate(s, c, r0);
+            let [gx, gy] = gravity_m_s2;
+            u -= p.mass_kg * (gx * (r[0] - r0[0]) + gy * (r[1] - r0[1]));
+        }
+        u
+    }
+}
+
+/// The end stops' potential at travel `x_m`, J: [`stops_n`]'s integral.
+fn stops_j(x_m: f64, min_m: f64, max_m: f64, k_n_m: f64) -> f64 {
+    if x_m < min_m {
+        0.5 * k_n_m * (min_m - x_m).powi(2)
+    } else if x_m > max_m {
+        0.5 * k_n_m * (x_m - max_m).powi(2)
+    } else {
+        0.0
+    }
+}
+
+/// The lever of `p`'s tensioner line about the pivot at arm angle `q`,
+/// ℓ = r × ê, m, and the travel x = (a(q) − a(0))·ê, m.
+fn lever_and_travel(p: &Tensioner, q: f64) -> (f64, f64) {
+    let (s, c) = q.sin_cos();
+    let r0 = [p.point_m[0] - p.pivot_m[0], p.point_m[1] - p.pivot_m[1]];
+    let r = rotate(s, c, r0);
+    let e = p.direction;
+    let lever = r[0] * e[1] - r[1] * e[0];
+    let travel = (r[0] - r0[0]) * e[0] + (r[1] - r0[1]) * e[1];
+    (lever, travel)
 }
 
 #[inline]

@@ -9,7 +9,7 @@ use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 
 use super::error::{BeyondSeatingArc, EquilibriumError};
-use super::relax::{RelaxSettings, relax_until, unsettled_body, worst_sprocket};
+use super::relax::{RelaxSettings, unsettled_body, worst_sprocket};
 
 /// Outcome of the static equilibrium.
 #[derive(Clone, Debug, PartialEq)]
@@ -147,7 +147,7 @@ fn beyond_seating_arc(
     // sprockets only: see the newton module); elsewhere the relaxation's
     // end is only a start.
     let residual = force_residual(forces, target_n);
-    if !(residual > UNSETTLED_RESIDUAL) || !super::newton::applies(model, state) {
+    if !(residual > UNSETTLED_RESIDUAL) || !super::newton::applies(model, state, forces) {
         return None;
     }
     let rim = super::feasibility::rim_roller(model, state, forces)?;
@@ -243,7 +243,16 @@ pub(crate) fn settle_preload(
     let mut residual = f64::INFINITY;
     while iterations < MAX_RELAXATIONS {
         iterations += 1;
-        residual = relax_until(model, state, forces, &settings, Some(REST_FORCE * scale_n))?;
+        // Newton first, the relaxation where it stalls (see the newton module).
+        residual = super::newton::settle(
+            model,
+            state,
+            forces,
+            &settings,
+            REST_FORCE * scale_n,
+            0.5 * REST_FORCE * scale_n,
+            false,
+        )?;
         let now = force_residual(forces, scale_n);
         if now <= REST_FORCE || residual < settings.rest_speed_m_s || !(now < 0.9 * previous) {
             break;

@@ -5,6 +5,8 @@
 //! until the chain fits its path (`fit`); their errors in `error`. Nothing
 //! here steps a run: that is the rest of `sim`.
 
+#[cfg(test)]
+mod arms_tests;
 mod equilibrium;
 mod error;
 mod feasibility;

@@ -52,7 +52,7 @@ use rapier2d_f64::na::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::error::EquilibriumError;
 use super::relax::{RelaxSettings, relax_until};
-use crate::forces::ForceGenerator;
+use crate::forces::{ArmAtRest, ForceGenerator, TensionerArm};
 use crate::model::{DriveModel, DriveState};
 
 /// How a Newton solve ended.
@@ -82,14 +82,17 @@ const MAX_RADIUS: f64 = 1e4;
 /// Line search halvings before the shift μ grows.
 const HALVINGS: usize = 10;
 
-/// The unknowns beyond the rollers: the free sprockets.
+/// The unknowns beyond the rollers: the free sprockets' angles, then the
+/// tensioner arms' angles (the plunger's travel follows from its arm's).
 struct Free {
     /// Index of each free sprocket in the model.
     sprockets: Vec<usize>,
+    /// Each tensioner arm, with its potential at rest.
+    arms: Vec<ArmAtRest>,
 }
 
 impl Free {
-    fn of(model: &DriveModel) -> Self {
+    fn of(model: &DriveModel, forces: &ForceGenerator) -> Self {
         Self {
             sprockets: model
                 .sprockets
@@ -98,20 +101,56 @@ impl Free {
                 .filter(|(_, s)| !s.still_in_statics())
                 .map(|(j, _)| j)
                 .collect(),
+            arms: forces
+                .elements_of::<TensionerArm>()
+                .map(TensionerArm::at_rest)
+                .collect(),
+        }
+    }
+
+    /// Unknowns beyond the rollers.
+    fn len(&self) -> usize {
+        self.sprockets.len() + self.arms.len()
+    }
+
+    /// Length scale of unknown `k` beyond the rollers, m: a sprocket's
+    /// pitch radius, an arm's reach. Its residual over this is a force,
+    /// its step times this a displacement.
+    fn scale_m(&self, model: &DriveModel, k: usize) -> f64 {
+        match self.sprockets.get(k) {
+            Some(&s) => model.sprockets[s].pitch_radius_m,
+            None => self.arms[k - self.sprockets.len()].reach_m(),
+        }
+    }
+
+    /// The coordinate of unknown `k` beyond the rollers in `state`.
+    fn coordinate<'a>(&self, state: &'a mut DriveState, k: usize) -> &'a mut f64 {
+        match self.sprockets.get(k) {
+            Some(&s) => &mut state.theta[s],
+            None => &mut state.q[self.arms[k - self.sprockets.len()].body()],
         }
     }
 }
 
-/// Whether the Newton solve handles this drive: rollers and sprockets only
-/// (further bodies and scalar states are left to the relaxation), at least
-/// one of them held (a driver, a governed driver, or a sprocket the
-/// co-simulation holds for the solve: [`super::Simulation::new_holding`]).
-pub(crate) fn applies(model: &DriveModel, state: &DriveState) -> bool {
+/// Whether the Newton solve handles this drive: rollers, sprockets and
+/// tensioner arms (any other further body or scalar state is left to the
+/// relaxation), at least one sprocket held (a driver, a governed driver, or
+/// a sprocket the co-simulation holds for the solve:
+/// [`super::Simulation::new_holding`]).
+pub(crate) fn applies(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -> bool {
     // Without a held sprocket (a co-simulation whose motor is a body not
     // held for the solve) every sprocket turns freely and a load has no
     // reaction: no rest state to solve for; the relaxation handles it.
-    model.bodies.is_empty()
-        && model.scalars.is_empty()
+    // The further bodies must be the arms, one each, and the scalar states
+    // their chambers (held at their supply pressure at rest).
+    let arms = forces.elements_of::<TensionerArm>().count();
+    let arm_bodies = model.bodies.len() == arms
+        && forces
+            .elements_of::<TensionerArm>()
+            .map(|a| a.at_rest().body())
+            .eq(0..arms);
+    arm_bodies
+        && model.scalars.len() <= arms
         && state.x.len() >= 3
         && model.sprockets.iter().any(|s| s.still_in_statics())
 }
@@ -140,6 +179,12 @@ fn residual(
         let torque = out.chain_torque[s] + sp.load_at_rest_n_m();
         r[2 * n + k] = torque;
         largest = largest.max(torque.abs() / sp.pitch_radius_m);
+    }
+    let m = free.sprockets.len();
+    for (k, arm) in free.arms.iter().enumerate() {
+        let moment = out.body_force[arm.body()];
+        r[2 * n + m + k] = moment;
+        largest = largest.max(moment.abs() / arm.reach_m());
     }
     if largest.is_finite() {
         largest
@@ -178,6 +223,11 @@ fn energy(
     let mut loads = 0.0;
     for &s in &free.sprockets {
         loads -= model.sprockets[s].load_at_rest_n_m() * (state.theta[s] - reference.theta[s]);
+    }
+    for arm in &free.arms {
+        let b = arm.body();
+        loads += arm.potential_j(model.gravity_m_s2, state.q[b])
+            - arm.potential_j(model.gravity_m_s2, reference.q[b]);
     }
     let contact = forces.output().contact_energy_j;
     let total = links + contact + weight + loads;
@@ -267,13 +317,13 @@ fn assemble(
             t.diag[i][(1, axis)] -= (r[2 * i + 1] - r0[2 * i + 1]) / h;
         }
     }
-    // Each free sprocket turned.
-    let m = free.sprockets.len();
-    for (c, &s) in free.sprockets.iter().enumerate() {
-        let radius = model.sprockets[s].pitch_radius_m;
+    // Each free sprocket and arm turned.
+    let m = free.len();
+    for c in 0..m {
+        let radius = free.scale_m(model, c);
         let h_theta = h / radius;
         trial.clone_from(state);
-        trial.theta[s] += h_theta;
+        *free.coordinate(trial, c) += h_theta;
         residual(model, trial, forces, free, r);
         for (e, (a, b)) in t.columns[c].iter_mut().zip(r.iter().zip(r0)).take(2 * n) {
             *e = -(a - b) / h_theta;
@@ -356,7 +406,7 @@ impl Banded {
 /// sprockets); `None` when the shifted tangent is singular.
 fn step(t: &Tangent, free: &Free, model: &DriveModel, mu: f64, r: &[f64]) -> Option<Vec<f64>> {
     let n = t.diag.len();
-    let m = free.sprockets.len();
+    let m = free.len();
     let banded = Banded::factor(t, mu)?;
     let inner = 2 * (n - 1);
     // Border columns over rollers 1 … N−1: roller 0's two, then the sprockets'.
@@ -404,7 +454,7 @@ fn step(t: &Tangent, free: &Free, model: &DriveModel, mu: f64, r: &[f64]) -> Opt
         for b in 0..m {
             e[(2 + a, 2 + b)] = t.sprockets[(a, b)];
         }
-        let radius = model.sprockets[free.sprockets[a]].pitch_radius_m;
+        let radius = free.scale_m(model, a);
         e[(2 + a, 2 + a)] += mu * radius * radius;
     }
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
@@ -450,8 +500,8 @@ fn moved(base: &DriveState, free: &Free, delta: &[f64], alpha: f64, trial: &mut 
         trial.x[i] += alpha * delta[2 * i];
         trial.y[i] += alpha * delta[2 * i + 1];
     }
-    for (k, &s) in free.sprockets.iter().enumerate() {
-        trial.theta[s] += alpha * delta[2 * n + k];
+    for k in 0..free.len() {
+        *free.coordinate(trial, k) += alpha * delta[2 * n + k];
     }
 }
 
@@ -466,12 +516,19 @@ pub(crate) fn solve(
     tolerance_n: f64,
     max_iterations: usize,
 ) -> NewtonEnd {
-    let free = Free::of(model);
+    let free = Free::of(model, forces);
     let n = state.x.len();
-    let m = free.sprockets.len();
+    let m = free.len();
     state.vx.fill(0.0);
     state.vy.fill(0.0);
     state.omega.fill(0.0);
+    state.u.fill(0.0);
+    // Arms are solved at rest as the relaxation sees them: a hydraulic
+    // chamber at its supply pressure, no ratchet.
+    let arms = !free.arms.is_empty();
+    if arms {
+        forces.begin_equilibrium();
+    }
     forces.reset_memory();
     let reference = state.clone();
     let mut trial = state.clone();
@@ -509,8 +566,8 @@ pub(crate) fn solve(
             for i in 0..n {
                 largest = largest.max(delta[2 * i].hypot(delta[2 * i + 1]));
             }
-            for (a, &s) in free.sprockets.iter().enumerate() {
-                largest = largest.max(delta[2 * n + a].abs() * model.sprockets[s].pitch_radius_m);
+            for a in 0..m {
+                largest = largest.max(delta[2 * n + a].abs() * free.scale_m(model, a));
             }
             if !largest.is_finite() {
                 mu = (10.0 * mu).max(mu_min);
@@ -563,6 +620,9 @@ pub(crate) fn solve(
         }
     }
     // Leave the forces evaluated at the state reached.
+    if arms {
+        forces.end_equilibrium();
+    }
     forces.reset_memory();
     forces.evaluate(model, state);
     NewtonEnd {
@@ -598,7 +658,7 @@ pub(crate) fn settle(
     searching: bool,
 ) -> Result<f64, EquilibriumError> {
     let aim = newton_force_n.min(rest_force_n);
-    if !applies(model, state) {
+    if !applies(model, state, forces) {
         return relax_until(model, state, forces, settings, Some(rest_force_n));
     }
     let start = state.clone();
@@ -679,7 +739,7 @@ mod tests {
         let (model, mut state, mut forces) = paper();
         let end = solve(&model, &mut state, &mut forces, 21_000.0 * 1e-6, 40);
         assert!(end.converged, "{end:?}");
-        let free = Free::of(&model);
+        let free = Free::of(&model, &forces);
         assert!(!free.sprockets.is_empty());
         let n = state.x.len();
         let m = free.sprockets.len();
