@@ -111,3 +111,77 @@ fn a_sweep_of_a_worn_chain_counts_its_tooth_jumps_once_per_speed() {
     // Worn by 2 % on fixed centres the chain jumps (as in the study above).
     assert!(count >= 1.0, "{count}");
 }
+
+/// `jump-margin` along the elongation of the worn 30/30 drive on fixed
+/// centres, checked against a brute-force grid of the same drive run as a
+/// study (a run counting its jumps jumps exactly where one stopping at the
+/// first jump does): every elongation at or below the bracket's clean end
+/// runs clean, every one at or above its jumping end jumps.
+#[test]
+fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
+    let scene = data("worn_30_30_fixed.toml");
+    let scene = scene.to_str().expect("utf-8");
+    let search = chaindrive(&[
+        "jump-margin",
+        scene,
+        "--path",
+        "chain.elongation_pct",
+        "--from",
+        "0",
+        "--to",
+        "2",
+        "--tolerance",
+        "0.2",
+        "--duration",
+        "0.4",
+        "--jobs",
+        "2",
+        "--json",
+    ]);
+    assert!(search.status.success(), "{}", stderr(&search));
+    let out: serde_json::Value = serde_json::from_slice(&search.stdout).expect("JSON");
+    let margin = &out["margin"];
+    let clean = margin["clean"].as_f64().expect("clean");
+    let jumping = margin["jumping"].as_f64().expect("jumping");
+    assert_eq!(margin["low_end_jumps"], false, "{out}");
+    assert_eq!(margin["monotone"], true, "{out}");
+    assert!(clean < jumping && jumping - clean <= 0.2, "{out}");
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let levels: Vec<f64> = (1..=8).map(|k| 0.25 * f64::from(k)).collect();
+    let plan = format!(
+        "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.4 }}\nwindow_s = 0.2\n\n[[factors]]\npath = \"chain.elongation_pct\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
+    );
+    let plan_path = dir.path().join("plan.toml");
+    std::fs::write(&plan_path, plan).expect("plan");
+    let out_dir = dir.path().join("grid");
+    let (plan_s, out_s) = (
+        plan_path.to_str().expect("utf-8"),
+        out_dir.to_str().expect("utf-8"),
+    );
+    let run = chaindrive(&["study", plan_s, "--out", out_s, "--jobs", "2", "--quiet"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let collect = chaindrive(&["study", "collect", out_s]);
+    assert!(collect.status.success(), "{}", stderr(&collect));
+    let csv = std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv");
+    let counts = csv_column(&csv, "tooth_jump_count");
+    let mut seen_both = (false, false);
+    for (e, count) in levels.iter().zip(&counts) {
+        let count: f64 = count.parse().expect("a count");
+        if *e <= clean {
+            assert_eq!(count, 0.0, "{e} % jumped, at or below the clean {clean} %");
+            seen_both.0 = true;
+        }
+        if *e >= jumping {
+            assert!(
+                count >= 1.0,
+                "{e} % ran clean, at or above the jumping {jumping} %"
+            );
+            seen_both.1 = true;
+        }
+    }
+    assert!(
+        seen_both.0 && seen_both.1,
+        "the grid {levels:?} straddles {clean}..{jumping}"
+    );
+}
