@@ -24,6 +24,7 @@ mod chains;
 mod check;
 mod convergence;
 mod fit;
+mod jump_margin;
 mod life;
 mod outputs;
 mod profile;
@@ -83,6 +84,10 @@ enum Command {
     Recover(recover::RecoverArgs),
     /// A design study from a plan: run here (resumable), as a Slurm job array, collect.
     Study(study::StudyArgs),
+    /// The least tensioner force (or pretension, or the largest elongation)
+    /// at which a worn chain runs a given time without a tooth jump: a
+    /// bracketing search over runs in parallel.
+    JumpMargin(jump_margin::JumpMarginArgs),
 }
 
 /// The `chaindrive` command: parses the process's arguments, runs the
@@ -104,6 +109,7 @@ pub fn main() -> std::process::ExitCode {
         Command::Sweep(args) => sweep::sweep(args),
         Command::Recover(args) => recover::recover(args),
         Command::Study(args) => study::study(args),
+        Command::JumpMargin(args) => jump_margin::jump_margin(args),
     };
     match result {
         Ok(code) => code,

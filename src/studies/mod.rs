@@ -30,6 +30,7 @@ pub(crate) mod duty;
 pub(crate) mod fuzz;
 #[cfg(test)]
 mod fuzz_tests;
+pub(crate) mod jump_margin;
 pub(crate) mod ladder;
 pub(crate) mod queue;
 pub(crate) mod reproduce;

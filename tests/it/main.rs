@@ -47,3 +47,5 @@ mod study;
 #[cfg(feature = "lab")]
 mod sweep;
 mod users;
+#[cfg(feature = "cli")]
+mod worn;

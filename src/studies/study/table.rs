@@ -7,7 +7,8 @@
 //!
 //! Factors are named as the plan wrote their paths (`sprockets.0.speed_rpm`
 //! stays so). Responses are the summary's numeric fields as dotted paths,
-//! arrays indexed from 0 (`segments.0.mean_link_force_n`). A case that
+//! arrays indexed from 0 (`segments.0.mean_link_force_n`), except the list
+//! of tooth jumps: its first jump's fields and `tooth_jump_count`. A case that
 //! failed or has not finished has no responses nor flags (null); its status
 //! says why. A finished case with a warning, or with a segment that is not
 //! stationary, is `warned`, not `ok`: `df[df.status == "ok"]` keeps the
@@ -55,8 +56,33 @@ pub struct Table {
 }
 
 /// The numeric leaves of a summary as (dotted path, value); booleans and
-/// text are left out.
+/// text are left out. Of the list of tooth jumps only the first jump's
+/// fields (`tooth_jumps.0.t_s`, …) are kept, and `tooth_jump_count` (0
+/// where the summary lists none) says how many there were: a column per
+/// jump would grow the table with every jump.
 pub(crate) fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
+    let mut out = numeric_leaves(value);
+    out.retain(|(name, _)| !is_later_jump(name));
+    let jumps = value
+        .get("tooth_jumps")
+        .and_then(serde_json::Value::as_array)
+        .map_or(0, Vec::len);
+    out.push((TOOTH_JUMP_COUNT.to_owned(), jumps as f64));
+    out
+}
+
+/// The response that counts a case's tooth jumps.
+const TOOTH_JUMP_COUNT: &str = "tooth_jump_count";
+
+/// A field of the second or a later tooth jump (`tooth_jumps.1.t_s`).
+fn is_later_jump(name: &str) -> bool {
+    name.strip_prefix("tooth_jumps.")
+        .and_then(|rest| rest.split('.').next())
+        .is_some_and(|index| index != "0")
+}
+
+/// Every numeric leaf of `value` as (dotted path, value).
+fn numeric_leaves(value: &serde_json::Value) -> Vec<(String, f64)> {
     fn walk(v: &serde_json::Value, prefix: &str, out: &mut Vec<(String, f64)>) {
         let join = |key: &str| {
             if prefix.is_empty() {

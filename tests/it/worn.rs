@@ -1,0 +1,187 @@
+//! Worn chains from the command line: a study whose factor is the chain's
+//! elongation (`chain.elongation_pct`) runs, and its table holds, per case,
+//! the slack the wear added and how often the chain jumped teeth.
+
+use crate::common::{chaindrive, stderr};
+use std::path::{Path, PathBuf};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// The column `name` of a CSV table as text, one entry per row.
+fn csv_column(csv: &str, name: &str) -> Vec<String> {
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let i = header
+        .iter()
+        .position(|h| *h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header:?}"));
+    // The warnings column (text with commas) comes after every numeric
+    // column, so splitting by commas is safe up to it.
+    lines
+        .map(|l| l.split(',').nth(i).unwrap_or_default().to_owned())
+        .collect()
+}
+
+#[test]
+fn a_study_over_the_elongation_counts_tooth_jumps_and_the_slack_per_case() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("s");
+    let plan = data("study_elongation.toml");
+    let (plan, out_s) = (plan.to_str().expect("utf-8"), out.to_str().expect("utf-8"));
+    let run = chaindrive(&["study", plan, "--out", out_s, "--jobs", "2", "--quiet"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let collect = chaindrive(&["study", "collect", out_s]);
+    assert!(collect.status.success(), "{}", stderr(&collect));
+    let csv = std::fs::read_to_string(out.join("results.csv")).expect("results.csv");
+    let header = csv.lines().next().expect("header");
+
+    assert_eq!(csv_column(&csv, "chain.elongation_pct"), ["0.0", "2.0"]);
+    // The new chain on fixed centres keeps its teeth; worn by 2 % it gains
+    // 111 P e = 111 × 25.4 mm × 0.02 = 56.4 mm of slack (the links are
+    // lengthened, the centres stay), and jumps.
+    let jumps: Vec<f64> = csv_column(&csv, "tooth_jump_count")
+        .iter()
+        .map(|j| j.parse().expect("a count"))
+        .collect();
+    assert_eq!(jumps[0], 0.0, "{header}");
+    assert!(jumps[1] >= 1.0, "{jumps:?}");
+    let slack = csv_column(&csv, "worn_chain.extra_slack_m");
+    assert_eq!(slack[0], "", "a new chain has no worn_chain block");
+    let slack: f64 = slack[1].parse().expect("a number");
+    let expected = 111.0 * 0.0254 * 0.02;
+    assert!(
+        (slack / expected - 1.0).abs() < 0.01,
+        "{slack} m against {expected} m"
+    );
+    // The first jump's fields are columns (its time, sprocket, roller,
+    // gaps); the later jumps' are not (one set of columns per jump would
+    // grow the table with every jump).
+    assert!(header.contains("tooth_jumps.0.t_s"), "{header}");
+    assert!(!header.contains("tooth_jumps.1."), "{header}");
+    assert!(
+        out.join("main_effects/tooth_jump_count.png").exists(),
+        "the jump count's main-effects figure"
+    );
+}
+
+#[test]
+fn a_sweep_of_a_worn_chain_counts_its_tooth_jumps_once_per_speed() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("sw");
+    let scene = data("worn_30_30_fixed.toml");
+    let run = chaindrive(&[
+        "sweep",
+        scene.to_str().expect("utf-8"),
+        "--rpm",
+        "100:100:10",
+        "--set",
+        "chain.elongation_pct=2",
+        "--settle",
+        "0.2",
+        "--window",
+        "0.7",
+        "--jobs",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let csv = std::fs::read_to_string(out.join("sweep.csv")).expect("sweep.csv");
+    // Long form: rpm, statistic, value; each statistic once per speed.
+    let mut names: Vec<&str> = csv
+        .lines()
+        .skip(1)
+        .filter_map(|l| l.split(',').nth(1))
+        .collect();
+    let all = names.len();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), all, "a statistic named twice");
+    let count: f64 = csv
+        .lines()
+        .find_map(|l| l.strip_prefix("100,tooth_jump_count,"))
+        .expect("the jump count")
+        .parse()
+        .expect("a number");
+    // Worn by 2 % on fixed centres the chain jumps (as in the study above).
+    assert!(count >= 1.0, "{count}");
+}
+
+/// `jump-margin` along the elongation of the worn 30/30 drive on fixed
+/// centres, checked against a brute-force grid of the same drive run as a
+/// study (a run counting its jumps jumps exactly where one stopping at the
+/// first jump does): every elongation at or below the bracket's clean end
+/// runs clean, every one at or above its jumping end jumps.
+#[test]
+fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
+    let scene = data("worn_30_30_fixed.toml");
+    let scene = scene.to_str().expect("utf-8");
+    let search = chaindrive(&[
+        "jump-margin",
+        scene,
+        "--path",
+        "chain.elongation_pct",
+        "--from",
+        "0",
+        "--to",
+        "2",
+        "--tolerance",
+        "0.2",
+        "--duration",
+        "0.4",
+        "--jobs",
+        "2",
+        "--json",
+    ]);
+    assert!(search.status.success(), "{}", stderr(&search));
+    let out: serde_json::Value = serde_json::from_slice(&search.stdout).expect("JSON");
+    let margin = &out["margin"];
+    let clean = margin["clean"].as_f64().expect("clean");
+    let jumping = margin["jumping"].as_f64().expect("jumping");
+    assert_eq!(margin["low_end_jumps"], false, "{out}");
+    assert_eq!(margin["monotone"], true, "{out}");
+    assert!(clean < jumping && jumping - clean <= 0.2, "{out}");
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let levels: Vec<f64> = (1..=8).map(|k| 0.25 * f64::from(k)).collect();
+    let plan = format!(
+        "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.4 }}\nwindow_s = 0.2\n\n[[factors]]\npath = \"chain.elongation_pct\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
+    );
+    let plan_path = dir.path().join("plan.toml");
+    std::fs::write(&plan_path, plan).expect("plan");
+    let out_dir = dir.path().join("grid");
+    let (plan_s, out_s) = (
+        plan_path.to_str().expect("utf-8"),
+        out_dir.to_str().expect("utf-8"),
+    );
+    let run = chaindrive(&["study", plan_s, "--out", out_s, "--jobs", "2", "--quiet"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let collect = chaindrive(&["study", "collect", out_s]);
+    assert!(collect.status.success(), "{}", stderr(&collect));
+    let csv = std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv");
+    let counts = csv_column(&csv, "tooth_jump_count");
+    let mut seen_both = (false, false);
+    for (e, count) in levels.iter().zip(&counts) {
+        let count: f64 = count.parse().expect("a count");
+        if *e <= clean {
+            assert_eq!(count, 0.0, "{e} % jumped, at or below the clean {clean} %");
+            seen_both.0 = true;
+        }
+        if *e >= jumping {
+            assert!(
+                count >= 1.0,
+                "{e} % ran clean, at or above the jumping {jumping} %"
+            );
+            seen_both.1 = true;
+        }
+    }
+    assert!(
+        seen_both.0 && seen_both.1,
+        "the grid {levels:?} straddles {clean}..{jumping}"
+    );
+}
