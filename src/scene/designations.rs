@@ -426,7 +426,8 @@ pub(crate) fn lookup(name: &str) -> Result<Stranded, String> {
     let key = canonical(name);
     let Some(single) = DESIGNATIONS.iter().find(|d| canonical(d.name) == key) else {
         return Err(format!(
-            "unknown designation \"{name}\"; nearest: {} (`chaindrive chains` lists all; a multi-strand chain adds -2 to -{MAX_STRANDS})",
+            "unknown designation \"{name}\"{}; nearest: {} (`chaindrive chains` lists all; a multi-strand chain adds -2 to -{MAX_STRANDS})",
+            not_tabled(&key),
             nearest(name, 3)
                 .iter()
                 .map(|n| format!("\"{n}\""))
@@ -450,6 +451,23 @@ pub(crate) fn lookup(name: &str) -> Result<Stranded, String> {
         ));
     }
     Ok(Stranded { single, strands })
+}
+
+/// Why a name of a known family is not in the table: ANSI heavy chains
+/// ("80H") and motorcycle chains ("520", "525", "530") have no row yet
+/// (docs/design-checks.md, “Chain data”); empty for any other name.
+fn not_tabled(key: &str) -> &'static str {
+    let digits = key.strip_suffix('H').unwrap_or(key);
+    let numeric = !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit());
+    if numeric && key.ends_with('H') {
+        " (ANSI heavy chains are not in the table: give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m, or the standard chain of the same size)"
+    } else if numeric && key.len() == 3 && matches!(key.as_bytes()[0], b'4' | b'5' | b'6') {
+        // Three digits from 4xx to 6xx: no ANSI number has them (100 to
+        // 240), every motorcycle chain does (420, 520, 530, 630).
+        " (motorcycle chains are not in the table: their strengths are each maker's; give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m)"
+    } else {
+        ""
+    }
 }
 
 /// The most strands a designation may have: the rating's strand factors

@@ -274,10 +274,16 @@ fn strand_counts_and_families_outside_the_table_are_clear_errors() {
     assert!(e.contains("1 to 4 strands") && e.contains("\"ANSI 80-4\""), "{e}");
     let e = lookup("ANSI 41-2").expect_err("41 is single only");
     assert!(e.contains("single strand only"), "{e}");
-    for name in ["520H", "520", "80H"] {
+    for name in ["520H", "520", "80H", "ANSI 530", "16X"] {
         let e = lookup(name).expect_err(name);
         assert!(e.contains("unknown designation") && e.contains("nearest"), "{e}");
     }
+    // The families not in the table say so, and what to give instead.
+    for (name, family) in [("520", "motorcycle"), ("525", "motorcycle"), ("80H", "heavy")] {
+        let e = lookup(name).expect_err(name);
+        assert!(e.contains(family) && e.contains("chain.pitch_m"), "{e}");
+    }
+    assert!(!lookup("16X").expect_err("16X").contains("not in the table"));
     assert!(find("80-2").is_none(), "find is single strands only");
     let text = scene_text("designation_16b.toml").replace("ISO 606 16B-1", "80-7");
     let err = Scene::from_toml(&text).expect_err("80-7").to_string();
