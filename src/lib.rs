@@ -198,8 +198,8 @@
 //!
 //! | feature | default | what it adds |
 //! |---|---|---|
-//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C; [`cli`]); enables `record`, `figures`, `parquet` and `lab` |
-//! | `lab` | yes | `studies`: experiments of many runs (speed sweeps, design studies), every batch through one work queue; `csv` |
+//! | `cli` | yes | the `chaindrive` binary (clap, anyhow, progress bar, Ctrl-C; the module `cli`); enables `record`, `figures`, `parquet` and `lab` |
+//! | `lab` | yes | `studies`: experiments of many runs (speed sweeps, design studies, duty cycles), every batch through one work queue; `csv`; the module `lab`, what a second front end (the Python bindings) calls |
 //! | `figures` | yes | PNG and SVG figures (`plotters`, embedded font) for `reproduce`, `sweep` and `analyze` |
 //! | `record` | yes | [`record`]: MCAP recordings with Foxglove's schemas (`foxglove`, `mcap`), `run --record` |
 //! | `parquet` | yes | a design study's results as a Parquet table (`study collect`); enables `lab` |
@@ -225,6 +225,8 @@ pub mod cli;
 pub mod cosim;
 mod forces;
 mod geometry;
+#[cfg(feature = "lab")]
+pub mod lab;
 mod model;
 pub mod prelude;
 #[cfg(feature = "record")]

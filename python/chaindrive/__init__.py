@@ -23,9 +23,10 @@ Quick start::
   A bad scene raises ``SceneError``: the command line's message, and the
   field's path in ``.path``.
 - Runs: ``run`` (summary, series, recording to MCAP, checkpoints, Ctrl-C).
-- The rest of the tool: ``check``, ``sweep``, ``study``, ``rate``, ``chains``.
+- The rest of the tool: ``check``, ``sweep``, ``study``, ``life`` (fatigue
+  and wear over a duty cycle), ``rate``, ``chains``.
 
-Ctrl-C during ``run``, ``sweep`` or ``study`` stops the work at its next
+Ctrl-C during ``run``, ``sweep``, ``study`` or ``life`` stops the work at its next
 sample (or case) and raises ``Interrupted``, a ``KeyboardInterrupt`` whose
 ``.result`` holds what was done: the run so far (its summary marked
 ``interrupted``), the finished speeds, the finished cases.
@@ -55,12 +56,14 @@ from ._chaindrive import (
     check,
     rate,
 )
+from ._chaindrive import life as _life
 from ._chaindrive import run as _run
 from ._chaindrive import study as _study
 from ._chaindrive import sweep as _sweep
 
 __all__ = [
     "Interrupted",
+    "LifeResult",
     "RunResult",
     "RunWarning",
     "Scene",
@@ -73,6 +76,7 @@ __all__ = [
     "Table",
     "chains",
     "check",
+    "life",
     "rate",
     "run",
     "study",
@@ -302,6 +306,36 @@ class StudyResult:
 
     def __repr__(self) -> str:
         return f"StudyResult({len(self.table)} cases in {self.dir!r}{' (interrupted)' if self.interrupted else ''})"
+
+
+class LifeResult:
+    """What ``life`` returns: ``report`` (the dict ``chaindrive life --json``
+    prints: ``block_hours``, ``points`` (one dict per point: ``hours``,
+    ``time_share``, ``status``, ``damage_per_hour``, ``fatigue_life_h``,
+    ``damage_share``, ``elongation_pct_per_1000h``, ``wear_life_h``, ...),
+    ``limits`` (one per check: ``check``, ``rate_per_hour``, ``life_h``,
+    ``dominated_by``), ``life_h``, ``governed_by``, ``notes``), ``life_h``
+    and ``governed_by`` from it, ``dir`` and ``interrupted``. A life is a
+    number of hours or the string ``"infinite"``."""
+
+    def __init__(self, raw: Mapping[str, Any], directory: str) -> None:
+        self.report: Optional[Dict[str, Any]] = raw["life"]
+        self.interrupted: bool = raw["interrupted"]
+        self.dir = directory
+        report = self.report or {}
+        self.life_h: Union[float, str, None] = report.get("life_h")
+        self.governed_by: Optional[str] = report.get("governed_by")
+
+    def to_pandas(self):
+        """The points as a DataFrame, one row per point (needs pandas)."""
+        import pandas as pd  # type: ignore[import-untyped]
+
+        return pd.DataFrame((self.report or {}).get("points", []))
+
+    def __repr__(self) -> str:
+        if self.report is None:
+            return f"LifeResult(interrupted, in {self.dir!r})"
+        return f"LifeResult(life_h={self.life_h!r}, governed by {self.governed_by!r}, in {self.dir!r})"
 
 
 class _Bar:
@@ -593,6 +627,85 @@ def study(
         if isinstance(callback, _Bar):
             callback.close()
         raise Interrupted("the study was interrupted; e.result holds the finished cases", result)
+    if callback is not None:
+        _finish(callback, raw["pending"], raw["pending"])
+    return result
+
+
+def life(
+    scene: Union[Scene, PathLike],
+    dir: PathLike,
+    *,
+    duty: Union[PathLike, Iterable[Mapping[str, Any]], None] = None,
+    jobs: int = 1,
+    duration: Optional[float] = None,
+    window: Optional[float] = None,
+    checkpoint_every: Optional[float] = None,
+    retry_failed: bool = False,
+    progress: Progress = None,
+) -> LifeResult:
+    """The chain's life over a duty cycle, as ``chaindrive life SCENE --out
+    DIR`` computes it: each operating point runs as a case of a study in
+    ``dir`` (in parallel, resumable: calling ``life`` again with the same
+    points runs only those not finished), and the finished points'
+    fatigue damage (and wear, where the scene asks for ``checks.wear``)
+    are combined by hours.
+
+    The points are ``duty``: a list of dicts, each with ``hours`` (or
+    ``fraction``), an optional ``name`` and ``set`` (dotted scene paths, as
+    ``Scene.with_`` takes them)::
+
+        [{"name": "cruise", "hours": 800.0, "set": {"sprockets.0.speed_rpm": 3000.0}},
+         {"name": "full", "hours": 50.0, "set": {"sprockets.0.speed_rpm": 6000.0}}]
+
+    or a TOML file of ``[[duty]]`` tables; by default the scene's own
+    ``[[duty]]`` points.
+
+    Args:
+        duration: simulated time of each point, s (default: the scene's).
+        window: statistics window of each point, s (default: the last
+            second after the ramps).
+        checkpoint_every: simulated seconds between a point's checkpoints.
+        jobs: points run at once.
+        retry_failed: run the failed points again.
+        progress: ``True`` for a bar, or ``f(points_done, points_to_run)``.
+
+    Returns:
+        ``LifeResult``: ``report``, ``life_h``, ``governed_by``, ``to_pandas()``.
+
+    Raises:
+        Interrupted: Ctrl-C; ``e.result`` holds no report, the finished
+            points stay in ``dir`` for the next call.
+        StudyError: a point is invalid (its path and what is allowed).
+        OSError: the directory holds another study, or cannot be written.
+    """
+    if not isinstance(scene, Scene):
+        scene = Scene.from_file(os.fspath(scene))
+    if duty is None:
+        duty_toml = None
+    elif isinstance(duty, (str, bytes, os.PathLike)):
+        with open(os.fspath(duty), encoding="utf-8") as f:
+            duty_toml = f.read()
+    else:
+        duty_toml = _plan_toml({"duty": [dict(p) for p in duty]})
+    callback = _progress(progress, "points")
+    directory = os.fspath(dir)
+    raw = _life(
+        scene,
+        directory,
+        duty_toml=duty_toml,
+        jobs=jobs,
+        duration=duration,
+        window=window,
+        checkpoint_every=checkpoint_every,
+        retry_failed=retry_failed,
+        progress=callback,
+    )
+    result = LifeResult(raw, directory)
+    if result.interrupted:
+        if isinstance(callback, _Bar):
+            callback.close()
+        raise Interrupted("the duty cycle was interrupted; the finished points are kept in dir", result)
     if callback is not None:
         _finish(callback, raw["pending"], raw["pending"])
     return result

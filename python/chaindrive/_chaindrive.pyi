@@ -11,7 +11,7 @@ from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Tuple
 import numpy as np
 from typing_extensions import final
 
-__all__ = ["Scene", "SceneError", "SimError", "StudyError", "run", "check", "sweep", "study", "rate", "chains", "_to_toml", "__version__"]
+__all__ = ["Scene", "SceneError", "SimError", "StudyError", "run", "check", "sweep", "study", "life", "rate", "chains", "_to_toml", "__version__"]
 
 __version__: str
 
@@ -108,6 +108,20 @@ def study(
     progress: Optional[Callable[[float, float], Any]] = None,
 ) -> Dict[str, Any]:
     """A design study's table. See `chaindrive.study`."""
+
+def life(
+    scene: Scene,
+    dir: _Path,
+    *,
+    duty_toml: Optional[str] = None,
+    jobs: int = 1,
+    duration: Optional[float] = None,
+    window: Optional[float] = None,
+    checkpoint_every: Optional[float] = None,
+    retry_failed: bool = False,
+    progress: Optional[Callable[[float, float], Any]] = None,
+) -> Dict[str, Any]:
+    """A duty cycle's life. See `chaindrive.life`."""
 
 def check(scene: Scene) -> Dict[str, Any]:
     """The scene laid out and at static equilibrium, as `chaindrive check`

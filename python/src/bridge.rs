@@ -16,11 +16,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use chaindrive::analysis::{RunSummary, SampleRow, Signals, StatsWindow};
-use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
-use chaindrive::scene::{Assignment, Overrides, ProfileKind, SceneError, ScenePath};
-use chaindrive::sim::checkpoint::{
+use chaindrive::lab::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
+use chaindrive::record::{Channels, RecordMark, RecordOptions, Recorder, RunEnd};
+use chaindrive::scene::{Assignment, Overrides, ProfileKind, SceneError, ScenePath};
 use chaindrive::sim::{Observer, RunOutcome, Sample, SampleRate, Simulation};
 use serde::{Deserialize, Serialize};
 
@@ -411,7 +411,7 @@ pub(crate) fn run(
         .map_err(|e| RunError::Sim(format!("cannot start the simulation: {e}")))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
     let duration_s = scene.solver().duration_s;
-    let (sprockets, segments) = (scene.sprockets().len(), sim.model.segments.len());
+    let (sprockets, segments) = (scene.sprockets().len(), sim.model().segment_count());
     // Room for every sample up front (no reallocation while running), up
     // to ten million rows; a longer series grows as it goes.
     let samples = if settings.keep_series {
@@ -561,11 +561,11 @@ fn run_pieces(
     (window, window_given): (StatsWindow, Option<f64>),
     stop: &AtomicBool,
 ) -> Result<RunOutcome, RunError> {
-    let dt = sim.scene.solver().dt_s;
-    let duration = sim.scene.solver().duration_s;
+    let dt = sim.scene().solver().dt_s;
+    let duration = sim.scene().solver().duration_s;
     loop {
         let until = match checkpoints {
-            Some((_, every)) => next_checkpoint_s(sim.state.t_s, dt, every, duration),
+            Some((_, every)) => next_checkpoint_s(sim.state().t_s, dt, every, duration),
             None => duration,
         };
         let piece = sim
@@ -575,7 +575,7 @@ fn run_pieces(
         so_far.wall_s += piece.wall_s;
         so_far.max_penetration_m = so_far.max_penetration_m.max(piece.max_penetration_m);
         so_far.interrupted = piece.interrupted;
-        let done = piece.interrupted || run_is_done(sim.state.t_s, dt, duration);
+        let done = piece.interrupted || run_is_done(sim.state().t_s, dt, duration);
         if let Some((path, _)) = checkpoints
             && (piece.interrupted || !done)
         {
@@ -603,7 +603,7 @@ fn run_pieces(
                     series: observer.keep_series.then(|| observer.series.clone()),
                 },
             };
-            write_checkpoint(path, &sim.scene, &ck).map_err(|e| RunError::Io(e.to_string()))?;
+            write_checkpoint(path, sim.scene(), &ck).map_err(|e| RunError::Io(e.to_string()))?;
         }
         if done {
             return Ok(so_far);

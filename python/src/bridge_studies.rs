@@ -13,14 +13,11 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::time::Duration;
 
-use chaindrive::analysis::design::rating::{self, RatingSettings};
-use chaindrive::analysis::orders::OrderSet;
-use chaindrive::scene::designations::{self, DESIGNATIONS, Designation};
-use chaindrive::sim::Simulation;
-use chaindrive::studies::study::{ColumnData, Study, StudyDir, Table as StudyTable};
-use chaindrive::studies::sweep::{
-    CaseFlags, CaseOutcome, SweepError, SweepSettings, TRANSVERSE_MODES, completed, default_orders,
-    run_sweep, summary_scalars,
+use chaindrive::lab::{
+    CaseFlags, CaseOutcome, CaseResult, ColumnData, DESIGNATIONS, Designation, DutyCycle,
+    DutyError, LifeSettings, OrderSet, RatingSettings, Study, StudyDir, StudyError, StudyTable,
+    SweepError, SweepSettings, TRANSVERSE_MODES, combine_duty, completed, default_orders,
+    find_designation, nearest_designations, run_sweep, summary_scalars,
 };
 use serde_json::{Value, json};
 
@@ -49,60 +46,7 @@ pub(crate) struct Table {
 /// check` reports it: strands, wraps, the chain's length, the static
 /// tension, the step; `Err` with the message if it cannot be.
 pub(crate) fn check(scene: &Scene) -> Result<Value, String> {
-    let sim = Simulation::new(scene).map_err(|e| e.to_string())?;
-    let s = &sim.scene;
-    let strands: Vec<Value> = sim
-        .model
-        .path
-        .strands
-        .iter()
-        .enumerate()
-        .map(|(k, st)| {
-            json!({
-                "segment": k + 1,
-                "from": st.from + 1,
-                "to": st.to + 1,
-                "length_m": st.length_m,
-                "angle_on_from_rad": st.angle_on_from_rad,
-                "angle_on_to_rad": st.angle_on_to_rad,
-                "links": sim.layout.strand_links.get(k).copied().unwrap_or(0),
-            })
-        })
-        .collect();
-    let sprockets: Vec<Value> = s
-        .sprockets()
-        .iter()
-        .zip(&sim.model.path.wraps)
-        .enumerate()
-        .map(|(i, (sp, w))| {
-            json!({
-                "sprocket": i + 1,
-                "name": sp.name,
-                "teeth": sp.teeth,
-                "center_m": sp.center_m,
-                "pitch_radius_m": sp.pitch_radius_m,
-                "wrap_rad": w.wrap_rad,
-                "wrap_pitches": w.wrap_rad * f64::from(sp.teeth) / std::f64::consts::TAU,
-            })
-        })
-        .collect();
-    Ok(json!({
-        "scene": s.name(),
-        "rollers": s.chain().rollers,
-        "pitch_m": s.chain().pitch_m,
-        "strands": strands,
-        "sprockets": sprockets,
-        "polygon_length_m": sim.layout.polygon_length_m,
-        "chain_length_m": s.chain().rollers as f64 * s.chain().pitch_m,
-        "static_tension_n": sim.equilibrium.tension_n,
-        "target_tension_n": scene.chain().pretension_n,
-        "rest_length_m": sim.model.rest_length_m,
-        "equilibrium_iterations": sim.equilibrium.iterations,
-        "force_residual": sim.equilibrium.force_residual,
-        "dt_s": s.solver().dt_s,
-        "step_note": chaindrive::scene::step_note(s),
-        "warnings": scene.warnings(),
-    }))
+    chaindrive::lab::check_report(scene).map_err(|e| e.to_string())
 }
 
 /// What a sweep is asked for (as `chaindrive sweep`'s options).
@@ -345,7 +289,7 @@ fn case_flags(cases: &[CaseOutcome]) -> Table {
 }
 
 /// `spans.csv`: each span's tension and predicted natural frequencies per speed.
-fn spans_table(done: &[&chaindrive::studies::sweep::CaseResult]) -> Table {
+fn spans_table(done: &[&CaseResult]) -> Table {
     let modes = TRANSVERSE_MODES as usize;
     let (mut rpm, mut segment, mut tension, mut axial) = (vec![], vec![], vec![], vec![]);
     let mut transverse: Vec<Vec<f64>> = vec![Vec::new(); modes];
@@ -411,7 +355,6 @@ pub(crate) fn study(
     retry_failed: bool,
     hooks: &mut dyn RunHooks,
 ) -> Result<StudyOutput, StudyFailure> {
-    use chaindrive::studies::study::StudyError;
     let failure = |e: StudyError| match e {
         StudyError::Plan(_) | StudyError::Cases(_) => StudyFailure::Plan(e.to_string()),
         other => StudyFailure::Other(other.to_string()),
@@ -448,7 +391,7 @@ pub(crate) fn study(
     Ok(StudyOutput {
         table: study_table(&table),
         interrupted: stop.load(Ordering::Relaxed),
-        cases: study_dir.study.cases.len(),
+        cases: study_dir.study.case_count(),
         pending,
     })
 }
@@ -487,7 +430,7 @@ pub(crate) fn rate(
         service_factor,
         ..RatingSettings::default()
     };
-    let r = rating::of_scene(scene, settings, power_w).map_err(|e| e.to_string())?;
+    let r = chaindrive::lab::rate(scene, settings, power_w).map_err(|e| e.to_string())?;
     serde_json::to_value(&r).map_err(|e| e.to_string())
 }
 
@@ -495,12 +438,12 @@ pub(crate) fn rate(
 /// row of `name` (any spelling); `Err` names the nearest designations.
 pub(crate) fn chains(name: Option<&str>) -> Result<Vec<Value>, String> {
     let rows: Vec<&Designation> = match name {
-        Some(n) => match designations::find(n) {
+        Some(n) => match find_designation(n) {
             Some(d) => vec![d],
             None => {
                 return Err(format!(
                     "unknown designation \"{n}\"; nearest: {}",
-                    designations::nearest(n, 3).join(", ")
+                    nearest_designations(n, 3).join(", ")
                 ));
             }
         },
@@ -530,5 +473,91 @@ fn designation_json(d: &Designation) -> Value {
             "strength": d.sources.strength,
             "stiffness": Designation::stiffness_source(),
         },
+    })
+}
+
+/// The `[[duty]]` points of a TOML text (a scene file or a file of points).
+#[derive(serde::Deserialize)]
+struct DutyForm {
+    #[serde(default)]
+    duty: Vec<chaindrive::scene::DutyPointFile>,
+}
+
+/// What a duty cycle is asked for (as `chaindrive life`'s options).
+pub(crate) struct LifeRequest {
+    /// `[[duty]]` points as TOML; `None`: the scene's own.
+    pub duty_toml: Option<String>,
+    pub jobs: usize,
+    pub retry_failed: bool,
+    pub settings: LifeSettings,
+}
+
+/// A duty cycle's outcome: the combined report (`chaindrive life --json`),
+/// absent when stopped before every point ran.
+pub(crate) struct LifeOutput {
+    pub life: Option<Value>,
+    pub interrupted: bool,
+    pub points: usize,
+    pub pending: usize,
+}
+
+/// Runs a duty cycle's points as a study in `dir` (resumable: finished
+/// points are kept) and combines them by hours, as `chaindrive life` does.
+pub(crate) fn life(
+    scene: &Scene,
+    request: &LifeRequest,
+    dir: &Path,
+    hooks: &mut dyn RunHooks,
+) -> Result<LifeOutput, StudyFailure> {
+    let failure = |e: StudyError| match e {
+        StudyError::Plan(_) | StudyError::Cases(_) => StudyFailure::Plan(e.to_string()),
+        other => StudyFailure::Other(other.to_string()),
+    };
+    let duty_failure = |e: DutyError| match e {
+        DutyError::Points(_) => StudyFailure::Plan(e.to_string()),
+        DutyError::Study(e) => failure(e),
+    };
+    let scene_toml = crate::bridge::scene_toml(scene).map_err(StudyFailure::Other)?;
+    let text = request.duty_toml.as_deref().unwrap_or(&scene_toml);
+    let form: DutyForm =
+        toml::from_str(text).map_err(|e| StudyFailure::Plan(format!("duty: {}", e.message())))?;
+    if form.duty.is_empty() {
+        return Err(StudyFailure::Plan(
+            "duty: no [[duty]] points; give them as a list of dicts, e.g. [{\"hours\": 800.0, \"set\": {\"sprockets.0.speed_rpm\": 3000.0}}], a file, or in the scene".to_owned(),
+        ));
+    }
+    let cycle = DutyCycle::new(&form.duty, &scene_toml).map_err(duty_failure)?;
+    let study_dir = cycle
+        .prepare(dir, &scene_toml, request.settings)
+        .map_err(duty_failure)?;
+    let pending = study_dir
+        .pending(request.retry_failed)
+        .map_err(failure)?
+        .len();
+    let done = AtomicUsize::new(0);
+    let stop = AtomicBool::new(false);
+    watched(hooks, &stop, &done, pending, || {
+        study_dir.run_all(
+            request.jobs.max(1),
+            request.retry_failed,
+            Some(&stop),
+            &|_| {
+                done.fetch_add(1, Ordering::Relaxed);
+            },
+        )
+    })
+    .map_err(failure)?;
+    let interrupted = stop.load(Ordering::Relaxed);
+    let life = if interrupted {
+        None
+    } else {
+        let report = combine_duty(&cycle, &study_dir).map_err(failure)?;
+        Some(serde_json::to_value(&report).map_err(|e| StudyFailure::Other(e.to_string()))?)
+    };
+    Ok(LifeOutput {
+        life,
+        interrupted,
+        points: cycle.points.len(),
+        pending,
     })
 }

@@ -1,7 +1,7 @@
-//! The native `check`, `sweep`, `study`, `rate` and `chains`: what the
+//! The native `check`, `sweep`, `study`, `life`, `rate` and `chains`: what the
 //! command line's subcommands of the same names compute, returned as
-//! plain data and NumPy columns. The Python package wraps `sweep` and
-//! `study` (tables with `to_pandas()`, `KeyboardInterrupt`).
+//! plain data and NumPy columns. The Python package wraps `sweep`,
+//! `study` and `life` (tables with `to_pandas()`, `KeyboardInterrupt`).
 
 use std::path::PathBuf;
 use std::time::Duration;
@@ -11,7 +11,7 @@ use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 
-use crate::bridge_studies::{self, Column, Plan, StudyFailure, SweepRequest, Table};
+use crate::bridge_studies::{self, Column, LifeRequest, Plan, StudyFailure, SweepRequest, Table};
 use crate::convert::{json_to_py, vector};
 use crate::run::SimError;
 use crate::scene::PyScene;
@@ -202,11 +202,73 @@ fn _to_toml(value: &Bound<'_, PyDict>) -> PyResult<String> {
     }
 }
 
+/// A duty cycle's life (wrapped by `chaindrive.life`): the points of
+/// `duty_toml` (`[[duty]]` tables; `None`: the scene's own) run as a study
+/// in `dir` and combined by hours.
+#[pyfunction]
+#[pyo3(signature = (scene, dir, *, duty_toml=None, jobs=1, duration=None, window=None, checkpoint_every=None, retry_failed=false, progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn life<'py>(
+    py: Python<'py>,
+    scene: &Bound<'py, PyScene>,
+    dir: PathBuf,
+    duty_toml: Option<String>,
+    jobs: usize,
+    duration: Option<f64>,
+    window: Option<f64>,
+    checkpoint_every: Option<f64>,
+    retry_failed: bool,
+    progress: Option<Py<PyAny>>,
+) -> PyResult<Bound<'py, PyDict>> {
+    for (name, v) in [
+        ("duration", duration),
+        ("window", window),
+        ("checkpoint_every", checkpoint_every),
+    ] {
+        if let Some(v) = v
+            && !(v.is_finite() && v > 0.0)
+        {
+            return Err(PyValueError::new_err(format!(
+                "{name} must be a finite number of seconds > 0, got {v}"
+            )));
+        }
+    }
+    let request = LifeRequest {
+        duty_toml,
+        jobs,
+        retry_failed,
+        settings: chaindrive::lab::LifeSettings {
+            duration_s: duration,
+            window_s: window,
+            checkpoint_every_s: checkpoint_every,
+        },
+    };
+    let scene = &scene.get().inner;
+    let mut watch = Watch::new(progress, Duration::from_millis(100));
+    let out = py.detach(|| bridge_studies::life(scene, &request, &dir, &mut watch));
+    watch.raised(py)?;
+    let out = match out {
+        Ok(o) => o,
+        Err(StudyFailure::Plan(m)) => return Err(StudyError::new_err(m)),
+        Err(StudyFailure::Other(m)) => return Err(PyOSError::new_err(m)),
+    };
+    let d = PyDict::new(py);
+    match &out.life {
+        Some(v) => d.set_item("life", json_to_py(py, v)?)?,
+        None => d.set_item("life", py.None())?,
+    }
+    d.set_item("interrupted", out.interrupted)?;
+    d.set_item("points", out.points)?;
+    d.set_item("pending", out.pending)?;
+    Ok(d)
+}
+
 /// Adds this module's functions and exception.
 pub(crate) fn register(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(check, m)?)?;
     m.add_function(wrap_pyfunction!(sweep, m)?)?;
     m.add_function(wrap_pyfunction!(study, m)?)?;
+    m.add_function(wrap_pyfunction!(life, m)?)?;
     m.add_function(wrap_pyfunction!(rate, m)?)?;
     m.add_function(wrap_pyfunction!(chains, m)?)?;
     m.add_function(wrap_pyfunction!(_to_toml, m)?)?;

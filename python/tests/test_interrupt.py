@@ -43,6 +43,14 @@ except cd.Interrupted as e:
 """
 
 
+def _default_sigint() -> None:
+    """In the child, Ctrl-C as a terminal gives it: a shell that starts the
+    tests in the background without job control leaves SIGINT ignored, and
+    an ignored signal stays ignored across exec (Python then installs no
+    KeyboardInterrupt handler)."""
+    signal.signal(signal.SIGINT, signal.SIG_DFL)
+
+
 @pytest.mark.skipif(sys.platform == "win32", reason="SIGINT to a child process")
 def test_ctrl_c_stops_the_run_and_keeps_it_on_the_exception(root):
     child = subprocess.Popen(
@@ -50,6 +58,7 @@ def test_ctrl_c_stops_the_run_and_keeps_it_on_the_exception(root):
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        preexec_fn=_default_sigint,
     )
     try:
         line = child.stdout.readline()
@@ -170,7 +179,8 @@ except cd.Interrupted as e:
 
 def interrupt_child(script: str, *args: str) -> dict:
     child = subprocess.Popen([sys.executable, "-c", script, *args],
-                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+                             stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                             preexec_fn=_default_sigint)
     try:
         assert child.stdout.readline().strip() == "starting", child.stderr.read()
         time.sleep(2.0)

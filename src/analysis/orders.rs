@@ -42,7 +42,7 @@ pub(crate) const MAX_ORDER_DENOMINATOR: u32 = 16;
 
 /// Why an order spectrum could not be taken.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub(crate) enum OrderError {
+pub enum OrderError {
     /// No order is asked for.
     #[error(
         "the order set is empty: the largest order must be ≥ the order step (got largest {max_order}, step {step})"
@@ -76,14 +76,14 @@ pub(crate) enum OrderError {
 
 /// The orders analysed: `step`, 2 `step`, … up to `max_order`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct OrderSet {
+pub struct OrderSet {
     max_order: f64,
     denominator: u32,
 }
 
 impl OrderSet {
     /// Orders `1/D, 2/D, …, max_order` for `step` = 1/D; an error names what is wrong.
-    pub(crate) fn new(max_order: f64, step: f64) -> Result<Self, OrderError> {
+    pub fn new(max_order: f64, step: f64) -> Result<Self, OrderError> {
         let d = (1.0 / step).round();
         let whole = step.is_finite()
             && step > 0.0
@@ -102,7 +102,7 @@ impl OrderSet {
     }
 
     /// Largest order, cycles per revolution of the driver.
-    pub(crate) fn max_order(&self) -> f64 {
+    pub fn max_order(&self) -> f64 {
         self.max_order
     }
 
@@ -129,7 +129,7 @@ impl OrderSet {
 
 /// One order's amplitude and phase.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct OrderComponent {
+pub struct OrderComponent {
     /// Order, cycles per revolution of the driver.
     pub order: f64,
     /// Its frequency at the window's mean speed, Hz.
@@ -142,7 +142,7 @@ pub(crate) struct OrderComponent {
 
 /// The order spectrum of one signal over a window.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct OrderSpectrum {
+pub struct OrderSpectrum {
     /// Mean of the resampled signal.
     pub mean: f64,
     /// The orders asked for, ascending.

@@ -564,6 +564,12 @@ impl DriveModel {
         self.sprockets.len()
     }
 
+    /// Number of free-strand segments (segment k runs from sprocket k to
+    /// the next, numbered from 1 in outputs).
+    pub fn segment_count(&self) -> usize {
+        self.segments.len()
+    }
+
     /// The fastest sprocket centre's speed, m/s, or `None` when no centre
     /// moves (only a sprocket mounted on a moving body in a co-simulation
     /// does).

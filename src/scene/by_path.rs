@@ -30,7 +30,7 @@ pub(crate) enum PathPart {
 
 /// A dotted path into a scene file, e.g. `sprockets.2.speed_rpm`.
 #[derive(Clone, Debug, PartialEq, Eq)]
-pub(crate) struct ScenePath {
+pub struct ScenePath {
     parts: Vec<PathPart>,
 }
 
@@ -120,7 +120,7 @@ impl FromStr for ScenePath {
 /// A value for the field at a path: one study factor's level, or one
 /// `--set path=value`.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Assignment {
+pub struct Assignment {
     /// Where.
     pub path: ScenePath,
     /// What: any TOML value (number, string, array, …).
@@ -353,7 +353,7 @@ impl Scene {
 
     /// This scene with `assignments` written into its file form, validated
     /// again.
-    pub(crate) fn with_set(&self, assignments: &[Assignment]) -> Result<Self, SceneError> {
+    pub fn with_set(&self, assignments: &[Assignment]) -> Result<Self, SceneError> {
         let mut file = self.file.clone();
         for a in assignments {
             file.set(a)?;

@@ -53,7 +53,7 @@ const PLATE_ESTIMATE: &str = "estimate (no catalogue found)";
 
 /// Where each of a row's values comes from.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Sources {
+pub struct Sources {
     /// Pitch, roller diameter and inner width.
     pub dimensions: &'static str,
     /// Pin diameter and inner plate depth.
@@ -68,7 +68,7 @@ pub(crate) struct Sources {
 
 /// One chain of the table, single strand.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Designation {
+pub struct Designation {
     /// The designation as written in a scene (`"ISO 606 16B-1"`, `"ANSI 80"`).
     pub name: &'static str,
     /// Pitch P, m.
@@ -111,19 +111,19 @@ impl Designation {
     }
 
     /// Mass lumped at each roller: mass per metre times the pitch, kg.
-    pub(crate) fn roller_mass_kg(&self) -> f64 {
+    pub fn roller_mass_kg(&self) -> f64 {
         self.mass_per_m_kg * self.pitch_m
     }
 
     /// Axial link stiffness estimate η E A / P, A = 2 t (h₂ − d₂), N/m
     /// (module docs).
-    pub(crate) fn stiffness_n_m(&self) -> f64 {
+    pub fn stiffness_n_m(&self) -> f64 {
         let area_m2 = 2.0 * self.plate_thickness_m * (self.plate_depth_m - self.pin_diameter_m);
         STIFFNESS_REDUCTION * STEEL_E_PA * area_m2 / self.pitch_m
     }
 
     /// How the stiffness estimate is derived, for listings.
-    pub(crate) fn stiffness_source() -> &'static str {
+    pub fn stiffness_source() -> &'static str {
         "estimate: (1/3) E A / P, A = 2 t (h2 - d2) net plate section, E = 206 GPa; 1/3 calibrated on the paper's 88.9 mm chain"
     }
 }
@@ -323,7 +323,7 @@ const fn iso(
 
 /// Every designation known, ISO 606 B series then ANSI, by pitch.
 #[rustfmt::skip]
-pub(crate) const DESIGNATIONS: &[Designation] = &[
+pub const DESIGNATIONS: &[Designation] = &[
     //   name              P       d1     b1     d2     h2      t      kg/m   kN    checked
     iso("ISO 606 05B-1",   8.00,   5.00,  3.00,  2.31,  7.11,  0.75,  0.18,   5.0, 3),
     iso("ISO 606 06B-1",   9.525,  6.35,  5.72,  3.28,  8.26,  1.00,  0.41,   9.0, 3),
@@ -411,7 +411,7 @@ fn ansi_of_iso_a(s: &str) -> Option<String> {
 
 /// The table's entry for `name` (`"ISO 606 16B-1"`, `"16B"`, `"ANSI 80"`,
 /// `"80"`, any case or spacing), a single strand.
-pub(crate) fn find(name: &str) -> Option<&'static Designation> {
+pub fn find(name: &str) -> Option<&'static Designation> {
     match lookup(name) {
         Ok(chain) if chain.strands == 1 => Some(chain.single),
         _ => None,
@@ -479,7 +479,7 @@ fn max_strands(d: &Designation) -> u32 {
 
 /// The `n` names nearest `name` by edit distance (on the canonical
 /// spelling), nearest first.
-pub(crate) fn nearest(name: &str, n: usize) -> Vec<&'static str> {
+pub fn nearest(name: &str, n: usize) -> Vec<&'static str> {
     let key = canonical(name);
     let mut scored: Vec<(usize, &'static str)> = DESIGNATIONS
         .iter()

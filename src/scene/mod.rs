@@ -32,7 +32,7 @@ mod run_up;
 #[cfg(test)]
 mod scene_errors_tests;
 mod shape;
-mod stability;
+pub(crate) mod stability;
 mod tensioners;
 mod threads;
 mod types;
@@ -40,7 +40,8 @@ mod validate;
 
 pub use crate::geometry::ProfileKind;
 pub use builder::SceneBuilder;
-pub(crate) use by_path::{Assignment, PathPart, ScenePath, set_in_table};
+pub use by_path::{Assignment, ScenePath};
+pub(crate) use by_path::{PathPart, set_in_table};
 pub use checks::ChecksFile;
 pub(crate) use checks::{Checks, ELONGATION_LIMIT_CAP_PCT, JumpAction};
 pub use duty::DutyPointFile;

@@ -151,7 +151,7 @@ impl StepLimits {
 /// How a validated scene's step was chosen, in one line for people (`check`
 /// and `run` print the same): the step, its integrator's own estimated limit
 /// and, for an automatic step, what bounded it.
-pub(crate) fn step_note(scene: &Scene) -> String {
+pub fn step_note(scene: &Scene) -> String {
     let solver = &scene.solver;
     let scheme = solver.integrator.name();
     let limit_s = StepLimits::of(scene).for_integrator(solver.integrator);

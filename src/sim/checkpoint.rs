@@ -79,7 +79,7 @@ const MAGIC: &[u8; 16] = b"chaindrive-ckpt\n";
 
 /// Why a checkpoint cannot be written or taken up.
 #[derive(Debug, thiserror::Error)]
-pub(crate) enum CheckpointError {
+pub enum CheckpointError {
     /// Reading or writing the file failed.
     #[error("checkpoint {path}: {source}")]
     Io {
@@ -164,7 +164,7 @@ pub(crate) enum CheckpointError {
 
 /// A [`Simulation`]'s state at a step's end (module docs).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(crate) struct Snapshot {
+pub struct Snapshot {
     clock: Clock,
     state: DriveState,
     forces: Forces,
@@ -234,7 +234,7 @@ impl Snapshot {
 /// What a checkpoint file holds: the simulation and what the caller keeps
 /// of the run (its observers' accumulated signals, counters).
 #[derive(Clone, Debug, Serialize, Deserialize)]
-pub(crate) struct Checkpoint<T> {
+pub struct Checkpoint<T> {
     /// The simulation.
     pub sim: Snapshot,
     /// The caller's part.
@@ -255,7 +255,7 @@ struct Header {
 impl Simulation {
     /// The simulation's state for a checkpoint. Call between runs
     /// ([`Simulation::run`] returns at a step's end).
-    pub(crate) fn snapshot(&self) -> Result<Snapshot, CheckpointError> {
+    pub fn snapshot(&self) -> Result<Snapshot, CheckpointError> {
         if self.scene.solver.stepping != Stepping::Substepped {
             return Err(CheckpointError::Stepping);
         }
@@ -291,7 +291,7 @@ impl Simulation {
     /// (by [`Simulation::new`], with the same elements added): the next
     /// [`Simulation::run`] goes on as the one that took the snapshot would
     /// have.
-    pub(crate) fn restore(&mut self, snapshot: &Snapshot) -> Result<(), CheckpointError> {
+    pub fn restore(&mut self, snapshot: &Snapshot) -> Result<(), CheckpointError> {
         if self.scene.solver.stepping != Stepping::Substepped {
             return Err(CheckpointError::Stepping);
         }
@@ -368,7 +368,7 @@ impl Simulation {
 /// steps of `dt_s`, at least one) after `t_s`, but not after the run's end
 /// `duration_s`. A run stepped in these pieces checkpoints at t = k·S
 /// whether it started at 0 or was resumed.
-pub(crate) fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f64) -> f64 {
+pub fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f64) -> f64 {
     let last_step = (duration_s / dt_s).round();
     let per = (every_s / dt_s).round().max(1.0);
     let next = ((t_s / dt_s).round() / per).floor() * per + per;
@@ -376,7 +376,7 @@ pub(crate) fn next_checkpoint_s(t_s: f64, dt_s: f64, every_s: f64, duration_s: f
 }
 
 /// Whether a run at `t_s` has reached its end `duration_s` (in whole steps).
-pub(crate) fn run_is_done(t_s: f64, dt_s: f64, duration_s: f64) -> bool {
+pub fn run_is_done(t_s: f64, dt_s: f64, duration_s: f64) -> bool {
     (t_s / dt_s).round() >= (duration_s / dt_s).round()
 }
 
@@ -506,7 +506,7 @@ fn cbor<T: Serialize>(value: &T, path: &Path) -> Result<Vec<u8>, CheckpointError
 
 /// Writes `checkpoint` of a run of `scene` to `path`, atomically: to a file
 /// beside it, synced, then renamed over `path` (module docs).
-pub(crate) fn write_checkpoint<T: Serialize>(
+pub fn write_checkpoint<T: Serialize>(
     path: &Path,
     scene: &Scene,
     checkpoint: &Checkpoint<T>,
@@ -566,7 +566,7 @@ fn sync_directory(_path: &Path) -> std::io::Result<()> {
 
 /// Reads a checkpoint for a run of `scene` from `path`; refuses one of
 /// another scene (its duration included), version or format.
-pub(crate) fn read_checkpoint<T: DeserializeOwned>(
+pub fn read_checkpoint<T: DeserializeOwned>(
     path: &Path,
     scene: &Scene,
 ) -> Result<Checkpoint<T>, CheckpointError> {

@@ -59,6 +59,7 @@ pub use crate::geometry::asa::AsaError;
 pub use crate::geometry::{ArmReach, LayoutError, PathError, TakeUpBound};
 pub use crate::model::BuildError;
 pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
+pub use checkpoint::{CheckpointError, Snapshot};
 pub(crate) use energy::{PowerLedger, PowerMeans};
 pub use fanout::Fanout;
 pub(crate) use integrate::{Integration, IntegrationStats};

@@ -17,16 +17,8 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::mpsc;
 
-/// A batch of jobs and how to run them; [`WorkQueue::run`] runs them.
-///
-/// ```
-/// use chaindrive::studies::queue::WorkQueue;
-///
-/// let squares = WorkQueue::new(&[1, 2, 3])
-///     .threads(2)
-///     .run(|_, &x| Some(x * x), |_, _| {});
-/// assert_eq!(squares, [Some(1), Some(4), Some(9)]);
-/// ```
+/// A batch of jobs and how to run them; [`WorkQueue::run`] runs them
+/// (its tests show its use).
 pub(crate) struct WorkQueue<'a, J> {
     jobs: &'a [J],
     /// The order jobs are taken in (indices into `jobs`).
@@ -315,5 +307,13 @@ mod tests {
             .threads(8)
             .run(|_, &x| Some(x), |_, _| {});
         assert_eq!(r, [Some(7)]);
+    }
+
+    #[test]
+    fn results_come_in_the_jobs_order() {
+        let squares = WorkQueue::new(&[1, 2, 3])
+            .threads(2)
+            .run(|_, &x| Some(x * x), |_, _| {});
+        assert_eq!(squares, [Some(1), Some(4), Some(9)]);
     }
 }

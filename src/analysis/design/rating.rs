@@ -72,7 +72,7 @@ const LUBRICATION_FT_MIN: [(u32, f64, f64, f64); 8] = [
 /// The constants the rating formulas take for a chain.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
-pub(crate) enum ChainClass {
+pub enum ChainClass {
     /// Standard roller chains, ANSI 40–240: K = 0.004, K_r = 17.
     Standard,
     /// The rollerless bush chains ANSI 25 and 35: K = 0.004, K_r = 29.
@@ -150,7 +150,7 @@ pub(crate) fn strand_factor(strands: u32) -> Option<f64> {
 
 /// The lubrication the ratings assume at a chain speed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub(crate) enum Lubrication {
+pub enum Lubrication {
     /// Type A: manual or drip.
     A,
     /// Type B: oil bath or slinger disc.
@@ -187,7 +187,7 @@ pub(crate) fn lubrication_limits_m_s(pitch_m: f64) -> (f64, f64, u32) {
 
 /// What a rating is computed with besides the scene.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct RatingSettings {
+pub struct RatingSettings {
     /// Service factor (≥ 1 for a load rougher than the tables' smooth one).
     pub service_factor: f64,
 }
@@ -202,7 +202,7 @@ impl Default for RatingSettings {
 
 /// Why a rating cannot be computed.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-pub(crate) enum RatingError {
+pub enum RatingError {
     /// The service factor is not a finite number > 0.
     #[error("the service factor must be a finite number > 0, got {0}")]
     ServiceFactor(f64),
@@ -229,7 +229,7 @@ pub(crate) enum RatingError {
 /// The rating of a drive: the `rating` block of the run summary and the
 /// output of `chaindrive rate --json`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct Rating {
+pub struct Rating {
     /// The designation rated (absent: the scene names none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub designation: Option<String>,
@@ -484,7 +484,7 @@ fn load_power(scene: &Scene, speeds: &[f64]) -> Result<(f64, String), String> {
 /// # Errors
 /// A service factor that is not a positive number, a scene without a
 /// driver or whose smallest sprocket does not turn.
-pub(crate) fn of_scene(
+pub fn of_scene(
     scene: &Scene,
     settings: RatingSettings,
     power_w: Option<f64>,

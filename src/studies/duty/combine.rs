@@ -155,7 +155,10 @@ fn point_result(
     })
 }
 
-/// Combines the finished points of `cycle`, run in `dir` ([super]'s docs).
+/// Combines the finished points of `cycle`, run in `dir`: a point's rate
+/// rᵢ (Miner's damage per hour for fatigue) for hᵢ hours adds rᵢ hᵢ per
+/// block of Σ hᵢ hours, each check's life is its limit over the block's
+/// mean rate, and the cycle's life is the shortest of its checks'.
 ///
 /// # Errors
 /// A case's files that cannot be read.

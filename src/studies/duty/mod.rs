@@ -17,7 +17,7 @@
 //! the limit (a damage of 1) over it; the point with the largest rᵢ hᵢ
 //! dominates. The duty cycle's life is the shortest of its checks'.
 
-mod combine;
+pub(crate) mod combine;
 
 pub(crate) use combine::{DutyLife, combine};
 
@@ -86,7 +86,7 @@ fn get_in_table<'a>(table: &'a toml::Table, path: &ScenePath) -> Option<&'a toml
 
 impl DutyCycle {
     /// Checks `points` against the base scene `scene_toml`: their weights
-    /// ([`check_points`]), then each point's scene (its values set), every
+    /// (`check_points`), then each point's scene (its values set), every
     /// problem with its path (`duty[1].set."sprockets.0.speed_rpm"`).
     ///
     /// # Errors

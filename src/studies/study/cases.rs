@@ -39,7 +39,7 @@ pub(crate) const CHECKPOINT_FILE: &str = "checkpoint.ckpt";
 
 /// How a finished case ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub(crate) struct CaseStatus {
+pub struct CaseStatus {
     /// The case.
     pub case: usize,
     /// Whether it ran to its end.
@@ -63,9 +63,9 @@ pub(crate) struct CaseStatus {
     pub warnings: Vec<String>,
 }
 
-/// What [`StudyDir::run_case`] did.
+/// What running one case of a [`StudyDir`] did.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum CaseOutcome {
+pub enum CaseOutcome {
     /// It was finished already (ok or failed): not run.
     Skipped(CaseStatus),
     /// It ran now.
@@ -76,7 +76,7 @@ pub(crate) enum CaseOutcome {
 
 /// A study in its directory.
 #[derive(Clone, Debug)]
-pub(crate) struct StudyDir {
+pub struct StudyDir {
     /// The directory.
     pub dir: PathBuf,
     /// The study.
@@ -97,7 +97,7 @@ fn read(path: &Path) -> Result<String, StudyError> {
 impl StudyDir {
     /// Puts `study` into `dir` (its plan and base scene), or checks that
     /// `dir` already holds this same study.
-    pub(crate) fn prepare(dir: &Path, study: Study) -> Result<Self, StudyError> {
+    pub fn prepare(dir: &Path, study: Study) -> Result<Self, StudyError> {
         let cases = dir.join("cases");
         std::fs::create_dir_all(&cases).map_err(|e| StudyError::io(&cases, e))?;
         for (name, text) in [
@@ -160,7 +160,7 @@ impl StudyDir {
     }
 
     /// The cases not finished, and with `retry_failed` the failed ones.
-    pub(crate) fn pending(&self, retry_failed: bool) -> Result<Vec<usize>, StudyError> {
+    pub fn pending(&self, retry_failed: bool) -> Result<Vec<usize>, StudyError> {
         let mut left = Vec::new();
         for k in 0..self.study.cases.len() {
             match self.status(k)? {
@@ -278,7 +278,7 @@ impl StudyDir {
     /// # Errors
     ///
     /// The study's files cannot be read, or a case's cannot be written.
-    pub(crate) fn run_all(
+    pub fn run_all(
         &self,
         jobs: usize,
         retry_failed: bool,

@@ -38,7 +38,7 @@ pub(crate) use table::{RowStatus, Table};
 
 /// Why a study could not be prepared, run or collected.
 #[derive(Clone, Debug, thiserror::Error)]
-pub(crate) enum StudyError {
+pub enum StudyError {
     /// The plan is invalid: one `path: message` line per problem.
     #[error("invalid plan:\n{}", .0.join("\n"))]
     Plan(Vec<String>),

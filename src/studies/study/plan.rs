@@ -152,7 +152,7 @@ impl Case {
 /// A checked plan: the base scene's text, the factors and every case, each
 /// case's scene already validated.
 #[derive(Clone, Debug)]
-pub(crate) struct Study {
+pub struct Study {
     /// The plan's text.
     pub plan_toml: String,
     /// The base scene's text.
@@ -163,9 +163,9 @@ pub(crate) struct Study {
     /// so): the results' column names.
     pub factor_names: Vec<String>,
     /// The cases, case k at index k.
-    pub cases: Vec<Case>,
+    pub(crate) cases: Vec<Case>,
     /// The responses.
-    pub responses: Responses,
+    pub(crate) responses: Responses,
     /// Simulated seconds between a case's checkpoints (`None`: no checkpoints).
     pub checkpoint_every_s: Option<f64>,
     /// Length of each case's statistics window, s (`None`: the default).
@@ -182,8 +182,13 @@ impl Problems {
 }
 
 impl Study {
+    /// How many cases the plan has.
+    pub fn case_count(&self) -> usize {
+        self.cases.len()
+    }
+
     /// Reads the plan at `path` and the scene it names, and checks both.
-    pub(crate) fn from_plan_path(path: &Path) -> Result<Self, StudyError> {
+    pub fn from_plan_path(path: &Path) -> Result<Self, StudyError> {
         let plan_toml = std::fs::read_to_string(path).map_err(|e| StudyError::Io {
             path: path.display().to_string(),
             message: e.to_string(),
@@ -207,7 +212,7 @@ impl Study {
     /// is not read). Every problem is reported, each with its path in the
     /// plan; then every case's scene is validated, and the cases that fail
     /// are reported with their factor values. Nothing is run.
-    pub(crate) fn from_texts(plan_toml: &str, scene_toml: &str) -> Result<Self, StudyError> {
+    pub fn from_texts(plan_toml: &str, scene_toml: &str) -> Result<Self, StudyError> {
         let file: PlanFile = toml::from_str(plan_toml)
             .map_err(|e| StudyError::Plan(vec![e.to_string().trim_end().replace('\n', " ")]))?;
         if let Err(e) = Scene::from_toml(scene_toml) {

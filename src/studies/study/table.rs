@@ -19,7 +19,7 @@ use super::{CaseStatus, Responses, StudyDir, StudyError};
 
 /// A column's values; `None` is null.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum ColumnData {
+pub enum ColumnData {
     /// 64-bit integers, never null (the case number).
     Int(Vec<i64>),
     /// Counts, 64-bit integers.
@@ -34,7 +34,7 @@ pub(crate) enum ColumnData {
 
 /// A named column.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Column {
+pub struct Column {
     /// Its name: `case`, a factor's path as the plan wrote it, a
     /// response's path, `dt_auto`, `segments.<k>.stationary`,
     /// `warning_count`, `warnings`, `status`, `case_wall_s`, `error`.
@@ -45,7 +45,7 @@ pub(crate) struct Column {
 
 /// The merged results.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Table {
+pub struct Table {
     /// Columns, all of the same length.
     pub columns: Vec<Column>,
     /// How many of the columns (after `case`) are factors.
@@ -172,7 +172,7 @@ impl CaseRow {
 impl Table {
     /// Merges the cases in `dir`: finished ones with their responses and
     /// flags, failed ones with their error, the rest as `missing`.
-    pub(crate) fn collect(dir: &StudyDir) -> Result<Self, StudyError> {
+    pub fn collect(dir: &StudyDir) -> Result<Self, StudyError> {
         let study = &dir.study;
         let n = study.cases.len();
         let mut rows = Vec::with_capacity(n);
@@ -267,7 +267,7 @@ impl Table {
     /// # Errors
     ///
     /// Only if the CSV writer fails, which writing to memory does not.
-    pub(crate) fn to_csv(&self) -> Result<String, StudyError> {
+    pub fn to_csv(&self) -> Result<String, StudyError> {
         let failed = |e: &dyn std::fmt::Display| StudyError::Csv(e.to_string());
         let mut w = csv::Writer::from_writer(Vec::new());
         w.write_record(self.columns.iter().map(|c| c.name.as_str()))
@@ -291,7 +291,7 @@ impl Table {
     /// text BYTE_ARRAY (UTF-8), every column but `case` optional; one row
     /// group, uncompressed.
     #[cfg(feature = "parquet")]
-    pub(crate) fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
+    pub fn write_parquet(&self, path: &std::path::Path) -> Result<(), StudyError> {
         let tmp = path.with_extension(format!("parquet.tmp.{}", std::process::id()));
         let file = std::fs::File::create(&tmp).map_err(|e| StudyError::io(&tmp, e))?;
         parquet_writer::write(self, file).map_err(|e| StudyError::io(path, e))?;

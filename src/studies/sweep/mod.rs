@@ -57,13 +57,13 @@ use crate::sim::{Observer, Sample, SampleRate, Simulation};
 pub(crate) const SAMPLES_PER_PERIOD: f64 = 16.0;
 
 /// Transverse modes of each span drawn and searched for crossings.
-pub(crate) const TRANSVERSE_MODES: u32 = 3;
+pub const TRANSVERSE_MODES: u32 = 3;
 
 /// Why a sweep cannot start.
 #[derive(Debug, thiserror::Error)]
-pub(crate) enum SweepError {
+pub enum SweepError {
     /// Speeds the sweep cannot run: not `FROM:TO:STEP` with 0 < FROM ≤ TO
-    /// and STEP > 0 ([`parse_rpm_range`]), none, or a run-up that does not go up.
+    /// and STEP > 0 (`chaindrive sweep --rpm`'s syntax), none, or a run-up that does not go up.
     #[error("{what} {text:?}: {why}")]
     BadRange {
         /// The option (`--rpm`, `--run-up`).
@@ -104,7 +104,7 @@ pub(crate) enum SweepError {
 
 /// A sweep's settings.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct SweepSettings {
+pub struct SweepSettings {
     /// Driver speeds, rpm (magnitudes; the scene's sense of rotation is kept).
     pub rpm: Vec<f64>,
     /// Time after the driver's ramp before the window, s.
@@ -123,13 +123,13 @@ pub(crate) fn largest_teeth(scene: &Scene) -> u32 {
 }
 
 /// The default order set: every whole order up to twice the largest tooth count.
-pub(crate) fn default_orders(scene: &Scene) -> Result<OrderSet, OrderError> {
+pub fn default_orders(scene: &Scene) -> Result<OrderSet, OrderError> {
     OrderSet::new(f64::from(2 * largest_teeth(scene)), 1.0)
 }
 
 /// The order spectrum of one signal.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct SignalOrders {
+pub struct SignalOrders {
     /// Signal name: `seg{k}_link_force_n`, `seg{k}_transverse_m`,
     /// `omega_{i}_rad_s`, `max_contact_force_n` (k, i 1-based).
     pub signal: String,
@@ -139,14 +139,14 @@ pub(crate) struct SignalOrders {
 
 /// The analytical natural frequencies of one span at a case's speed.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct SpanFrequencies {
+pub struct SpanFrequencies {
     /// 1-based segment.
     pub segment: usize,
     /// The mean link force used, N.
     pub tension_n: f64,
     /// Moving-string transverse frequencies, modes 1..=[`TRANSVERSE_MODES`], Hz.
     pub transverse_hz: Vec<f64>,
-    /// First axial frequency of the span, Hz ([`span_axial_frequency_hz`]).
+    /// First axial frequency of the span, Hz (`span_axial_frequency_hz`).
     pub axial_hz: f64,
 }
 
@@ -168,7 +168,7 @@ pub(crate) fn span_axial_frequency_hz(
 
 /// A complete case: one speed of a stepped sweep, or one window of a run-up.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct CaseResult {
+pub struct CaseResult {
     /// The driver's speed asked for (a stepped sweep) or the window's mean
     /// speed (a run-up), rpm.
     pub rpm: f64,
@@ -216,7 +216,7 @@ impl CaseResult {
 
 /// One case of a sweep.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) enum CaseOutcome {
+pub enum CaseOutcome {
     /// Ran to its end.
     Done(Box<CaseResult>),
     /// Blew up, or could not be built or analysed.
@@ -694,7 +694,7 @@ fn run_case(
 /// # Errors
 ///
 /// A setting is not allowed or a case's scene is not valid (before anything runs).
-pub(crate) fn run_sweep(
+pub fn run_sweep(
     scene: &Scene,
     settings: &SweepSettings,
     stop: Option<&AtomicBool>,

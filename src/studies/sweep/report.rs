@@ -153,7 +153,7 @@ pub(crate) fn judge_peak(rpm: &[f64], response: &[f64], crossing_rpm: f64) -> (P
 }
 
 /// The completed cases, in speed order.
-pub(crate) fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
+pub fn completed(cases: &[CaseOutcome]) -> Vec<&CaseResult> {
     let mut done: Vec<&CaseResult> = cases
         .iter()
         .filter_map(|c| match c {
@@ -384,7 +384,7 @@ pub(crate) fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
 
 /// What a case's run says of its own numbers.
 #[derive(Clone, Debug, PartialEq)]
-pub(crate) struct CaseFlags {
+pub struct CaseFlags {
     /// The case's speed, rpm.
     pub rpm: f64,
     /// `ok`: its run finished with no warning and every segment
@@ -405,7 +405,7 @@ pub(crate) struct CaseFlags {
 
 impl CaseFlags {
     /// The flags of `case`.
-    pub(crate) fn of(case: &CaseOutcome) -> Self {
+    pub fn of(case: &CaseOutcome) -> Self {
         match case {
             CaseOutcome::Failed { rpm, message } => Self {
                 rpm: *rpm,
@@ -515,7 +515,7 @@ pub(crate) fn doubt_section(cases: &[CaseOutcome]) -> String {
 /// `segment{k}.mean_link_force_n`, `.min_link_force_n`, `.max_link_force_n`,
 /// `sprocket{i}.speed_rms_rad_s`, `speed_change`, `revolutions`).
 /// Non-finite values are left out.
-pub(crate) fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
+pub fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
     let mut out = Vec::new();
     match &case.summary {
         Some(summary) => {
