@@ -238,11 +238,19 @@ fn multi_strand_chains_scale_as_the_catalogues_print() {
     let lbf_n = 4.448_222;
     let c = lookup("ANSI 80-2").expect("80-2");
     assert_eq!((c.single.name, c.strands), ("ANSI 80", 2));
-    approx::assert_relative_eq!(c.tensile_strength_n(), 25_000.0 * lbf_n, max_relative = 1e-6);
+    approx::assert_relative_eq!(
+        c.tensile_strength_n(),
+        25_000.0 * lbf_n,
+        max_relative = 1e-6
+    );
     approx::assert_relative_eq!(c.mass_per_m_kg(), 3.41 * 1.488_164, max_relative = 0.015);
     assert_eq!(c.name(), "ANSI 80-2");
     let c = lookup("50-3").expect("50-3");
-    approx::assert_relative_eq!(c.tensile_strength_n(), 14_640.0 * lbf_n, max_relative = 1e-6);
+    approx::assert_relative_eq!(
+        c.tensile_strength_n(),
+        14_640.0 * lbf_n,
+        max_relative = 1e-6
+    );
     let c = lookup("iso 606 08a-3").expect("08A-3");
     assert_eq!((c.single.name, c.strands), ("ANSI 40", 3));
     approx::assert_relative_eq!(c.single.pitch_m, 0.5 * INCH_M, max_relative = 1e-12);
@@ -271,15 +279,25 @@ fn multi_strand_chains_scale_as_the_catalogues_print() {
 #[test]
 fn strand_counts_and_families_outside_the_table_are_clear_errors() {
     let e = lookup("80-7").expect_err("7 strands");
-    assert!(e.contains("1 to 4 strands") && e.contains("\"ANSI 80-4\""), "{e}");
+    assert!(
+        e.contains("1 to 4 strands") && e.contains("\"ANSI 80-4\""),
+        "{e}"
+    );
     let e = lookup("ANSI 41-2").expect_err("41 is single only");
     assert!(e.contains("single strand only"), "{e}");
     for name in ["520H", "520", "80H", "ANSI 530", "16X"] {
         let e = lookup(name).expect_err(name);
-        assert!(e.contains("unknown designation") && e.contains("nearest"), "{e}");
+        assert!(
+            e.contains("unknown designation") && e.contains("nearest"),
+            "{e}"
+        );
     }
     // The families not in the table say so, and what to give instead.
-    for (name, family) in [("520", "motorcycle"), ("525", "motorcycle"), ("80H", "heavy")] {
+    for (name, family) in [
+        ("520", "motorcycle"),
+        ("525", "motorcycle"),
+        ("80H", "heavy"),
+    ] {
         let e = lookup(name).expect_err(name);
         assert!(e.contains(family) && e.contains("chain.pitch_m"), "{e}");
     }
@@ -287,8 +305,14 @@ fn strand_counts_and_families_outside_the_table_are_clear_errors() {
     assert!(find("80-2").is_none(), "find is single strands only");
     let text = scene_text("designation_16b.toml").replace("ISO 606 16B-1", "80-7");
     let err = Scene::from_toml(&text).expect_err("80-7").to_string();
-    assert!(err.contains("chain.designation") && err.contains("1 to 4"), "{err}");
-    assert!(!err.contains("chain.pitch_m"), "one error, not the fields: {err}");
+    assert!(
+        err.contains("chain.designation") && err.contains("1 to 4"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("chain.pitch_m"),
+        "one error, not the fields: {err}"
+    );
 }
 
 /// A scene naming "ISO 606 16B-2" gets two strands' mass and stiffness, and
@@ -307,9 +331,16 @@ fn a_two_strand_designation_reaches_the_rating_and_the_fatigue_check() {
         .replace("stiffness_n_m = 2e8\n", "");
     let double = Scene::from_toml(&text).expect("16B-2");
     let chain = double.chain();
-    assert_eq!((chain.designation, chain.strands), (Some("ISO 606 16B-1"), 2));
+    assert_eq!(
+        (chain.designation, chain.strands),
+        (Some("ISO 606 16B-1"), 2)
+    );
     // 16B: 2.68 kg/m (Ametric) × 2 strands × 25.4 mm.
-    approx::assert_relative_eq!(chain.roller_mass_kg, 2.0 * 2.68 * 0.0254, max_relative = 1e-12);
+    approx::assert_relative_eq!(
+        chain.roller_mass_kg,
+        2.0 * 2.68 * 0.0254,
+        max_relative = 1e-12
+    );
     approx::assert_relative_eq!(
         chain.stiffness_n_m,
         2.0 * find("16B").expect("16B").stiffness_n_m(),

@@ -185,7 +185,12 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             }
         }
     };
-    let pitch_m = field(c, "pitch_m", f.pitch_m, designation.map(|d| d.single.pitch_m));
+    let pitch_m = field(
+        c,
+        "pitch_m",
+        f.pitch_m,
+        designation.map(|d| d.single.pitch_m),
+    );
     let roller_radius_m = field(
         c,
         "roller_radius_m",

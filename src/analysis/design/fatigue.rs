@@ -175,7 +175,9 @@ pub fn curve_of_scene(scene: &Scene) -> Result<(SnCurve, String), String> {
             curve.fatigue_limit_n * 1e-3,
             class.link_plate_k(),
             if strands > 1 {
-                format!(", times the rating's multiple-strand factor {strand_factor} for {strands} strands")
+                format!(
+                    ", times the rating's multiple-strand factor {strand_factor} for {strands} strands"
+                )
             } else {
                 String::new()
             }

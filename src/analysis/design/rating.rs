@@ -392,13 +392,7 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
         );
     }
     Ok(Rating {
-        designation: designation.map(|d| {
-            designations::Stranded {
-                single: d,
-                strands,
-            }
-            .name()
-        }),
+        designation: designation.map(|d| designations::Stranded { single: d, strands }.name()),
         basis,
         chain_class: class,
         chain_speed_m_s: chain_speed,
