@@ -97,7 +97,6 @@ fn ansi40_scene() -> Scene {
 fn a_scene_is_rated_at_its_smallest_sprocket_with_the_service_factor() {
     let settings = RatingSettings {
         service_factor: 1.5,
-        strands: 1,
     };
     let r = rating::of_scene(&ansi40_scene(), settings, Some(2000.0)).expect("rated");
     approx::assert_relative_eq!(r.rated_power_w, 5.48 * HP_W, max_relative = 0.01);
@@ -137,7 +136,6 @@ fn a_scene_is_rated_at_its_smallest_sprocket_with_the_service_factor() {
 fn a_bad_service_factor_is_an_error_not_a_rating() {
     let settings = RatingSettings {
         service_factor: f64::NAN,
-        strands: 1,
     };
     let e = rating::of_scene(&ansi40_scene(), settings, None).expect_err("refused");
     assert!(e.to_string().contains("service factor"), "{e}");

@@ -4,62 +4,65 @@
 use std::io::Write;
 use std::process::ExitCode;
 
-use crate::scene::designations::{DESIGNATIONS, Designation};
+use crate::scene::designations::{
+    self, DESIGNATIONS, Designation, MAX_STRANDS, Stranded, transverse_pitch_m,
+};
 
 /// Arguments of `chaindrive chains`.
 #[derive(clap::Args)]
 pub(super) struct ChainsArgs {
-    /// Print one designation only (any spelling: "16B", "ANSI 80").
+    /// Print one designation only (any spelling: "16B", "ANSI 80", "80-2").
     name: Option<String>,
 }
 
 pub(super) fn chains(args: ChainsArgs) -> anyhow::Result<ExitCode> {
-    let rows: Vec<&Designation> = match &args.name {
-        Some(name) => match crate::scene::designations::find(name) {
-            Some(d) => vec![d],
-            None => {
-                eprintln!(
-                    "unknown designation \"{name}\"; nearest: {}",
-                    crate::scene::designations::nearest(name, 3).join(", ")
-                );
+    let rows: Vec<Stranded> = match &args.name {
+        Some(name) => match designations::lookup(name) {
+            Ok(d) => vec![d],
+            Err(e) => {
+                eprintln!("{e}");
                 return Ok(ExitCode::FAILURE);
             }
         },
-        None => DESIGNATIONS.iter().collect(),
+        None => DESIGNATIONS
+            .iter()
+            .map(|single| Stranded { single, strands: 1 })
+            .collect(),
     };
     quiet_on_closed_pipe(print_rows(&rows))?;
     Ok(ExitCode::SUCCESS)
 }
 
 /// Writes the table and, row by row, where its values come from.
-fn print_rows(rows: &[&Designation]) -> std::io::Result<()> {
+fn print_rows(rows: &[Stranded]) -> std::io::Result<()> {
     let mut out = std::io::stdout().lock();
     writeln!(
         out,
-        "designation    pitch_mm  roller_d_mm  inner_w_mm  pin_d_mm  plate_h_mm  plate_t_mm  mass_kg_m  tensile_kn  roller_mass_kg  stiffness_n_m"
+        "designation      pitch_mm  roller_d_mm  inner_w_mm  pin_d_mm  plate_h_mm  plate_t_mm  mass_kg_m  tensile_kn  roller_mass_kg  stiffness_n_m"
     )?;
-    for d in rows {
+    for c in rows {
+        let d = c.single;
         writeln!(
             out,
-            "{:<13}  {:>8.3}  {:>11.2}  {:>10.2}  {:>8.2}  {:>10.2}  {:>10.2}  {:>9.3}  {:>10.1}  {:>14.5}  {:>13.3e}",
-            d.name,
+            "{:<15}  {:>8.3}  {:>11.2}  {:>10.2}  {:>8.2}  {:>10.2}  {:>10.2}  {:>9.3}  {:>10.1}  {:>14.5}  {:>13.3e}",
+            c.name(),
             d.pitch_m * 1e3,
             d.roller_diameter_m * 1e3,
             d.inner_width_m * 1e3,
             d.pin_diameter_m * 1e3,
             d.plate_depth_m * 1e3,
             d.plate_thickness_m * 1e3,
-            d.mass_per_m_kg,
-            d.tensile_strength_n * 1e-3,
-            d.roller_mass_kg(),
-            d.stiffness_n_m()
+            c.mass_per_m_kg(),
+            c.tensile_strength_n() * 1e-3,
+            c.roller_mass_kg(),
+            c.stiffness_n_m()
         )?;
     }
     writeln!(out)?;
     writeln!(out, "sources:")?;
-    for d in rows {
-        let s = &d.sources;
-        writeln!(out, "  {}:", d.name)?;
+    for c in rows {
+        let s = &c.single.sources;
+        writeln!(out, "  {}:", c.name())?;
         writeln!(
             out,
             "    pitch, roller diameter, inner width: {}",
@@ -71,8 +74,39 @@ fn print_rows(rows: &[&Designation]) -> std::io::Result<()> {
             s.pin_and_plate_depth
         )?;
         writeln!(out, "    plate thickness: {}", s.plate_thickness)?;
-        writeln!(out, "    mass per metre: {}", s.mass)?;
-        writeln!(out, "    tensile strength: {}", s.strength)?;
+        writeln!(out, "    mass per metre: {}", c.derived(s.mass))?;
+        writeln!(
+            out,
+            "    tensile strength: {}",
+            if c.strands == 1 {
+                s.strength.to_owned()
+            } else {
+                format!(
+                    "{}, as the minimum strengths of multiple-strand chains are printed in the U.S. Tsubaki RS catalogue (RS50-2 to -6: n x 4,880 lbs) and the Mecha ISO/ASA catalogue (16A-2, 16A-3: n x 56,700 N)",
+                    c.derived(s.strength)
+                )
+            }
+        )?;
+        if c.strands > 1 {
+            writeln!(
+                out,
+                "    stiffness: n x the single strand's estimate (strands in parallel on common pins)"
+            )?;
+            writeln!(
+                out,
+                "    rating: the single strand's times the multiple-strand factor {} (not {}); the derived fatigue limit likewise",
+                crate::analysis::design::rating::strand_factor(c.strands).unwrap_or(1.0),
+                c.strands
+            )?;
+            match transverse_pitch_m(c.single) {
+                Some(pt) => writeln!(
+                    out,
+                    "    transverse pitch (strand spacing): {:.2} mm (PEER ANSI double-strand table; listed only, the planar model does not use it)",
+                    pt * 1e3
+                )?,
+                None => writeln!(out, "    transverse pitch: no table read for this size")?,
+            }
+        }
     }
     writeln!(
         out,
@@ -82,6 +116,10 @@ fn print_rows(rows: &[&Designation]) -> std::io::Result<()> {
     writeln!(
         out,
         "  ANSI 25 and 35 are bush chains: their roller diameter is the bush's. In a scene, chain.designation fills pitch_m, roller_radius_m, roller_mass_kg (mass per metre x pitch), stiffness_n_m and pin_radius_m; a field written in the scene overrides it."
+    )?;
+    writeln!(
+        out,
+        "  Multiple strands: add -2 to -{MAX_STRANDS} to a name (\"ANSI 80-2\", \"16B-3\"; not ANSI 41): mass, stiffness and tensile strength n times the single strand's, the rating times 1.7, 2.5 or 3.3 (`chaindrive chains 80-2` shows one)."
     )?;
     Ok(())
 }

@@ -34,7 +34,6 @@ pub(super) fn rate(args: RateArgs) -> anyhow::Result<ExitCode> {
     };
     let settings = RatingSettings {
         service_factor: args.service_factor,
-        ..Default::default()
     };
     let r = match rating::of_scene(&scene, settings, args.power_w) {
         Ok(r) => r,

@@ -128,6 +128,120 @@ impl Designation {
     }
 }
 
+/// The most strands a designation may name (`-2` to `-4`).
+pub(crate) const MAX_STRANDS: u32 = 4;
+
+/// How a multi-strand chain's values follow from its single strand's.
+const MULTI_STRAND: &str = "n x the single strand's";
+
+/// A chain of the table in `strands` strands side by side on common pins
+/// (`"ANSI 80-2"`). Per strand count, as published and as derived:
+///
+/// - **tensile strength** n times the single strand's: the minimum ultimate
+///   tensile strengths of multiple-strand chains in the U.S. Tsubaki RS
+///   catalogue (RS50-2 to RS50-6: 9,760 to 29,280 lbs, n × 4,880) and the
+///   ISO/ASA breaking loads of the Mecha catalogue (16A-2 113,400 N and
+///   16A-3 170,100 N, n × 56,700 N) are exactly that;
+/// - **mass per metre** n times (Tsubaki's RS50-2 1.39 lb/ft against 2 ×
+///   0.70: the outer plates of the inner strands are shared, the pins
+///   longer; within 1 %), **stiffness** n times (n strands' plates in
+///   parallel on the same pins), the **bearing length** of the wear check n
+///   times (the pin bears in n bushings);
+/// - pitch, roller, pin and plate dimensions are the single strand's; the
+///   **transverse pitch** (strand spacing) is published for the ANSI sizes
+///   ([`transverse_pitch_m`]) and is listed only: the planar model has no
+///   use for it;
+/// - the **rating** multiplies the single strand's by the multiple-strand
+///   factor (1.7, 2.5, 3.3), not by n, and so does the fatigue limit derived
+///   from it (docs/design-checks.md, “Chain data”).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Stranded {
+    /// The single strand's row.
+    pub single: &'static Designation,
+    /// Strands, 1 to [`MAX_STRANDS`].
+    pub strands: u32,
+}
+
+impl Stranded {
+    /// The designation as a scene names it: the table's name, with `-n`
+    /// for more than one strand (`"ANSI 80-2"`, `"ISO 606 16B-2"`).
+    pub(crate) fn name(&self) -> String {
+        if self.strands == 1 {
+            self.single.name.to_owned()
+        } else {
+            format!(
+                "{}-{}",
+                self.single.name.trim_end_matches("-1"),
+                self.strands
+            )
+        }
+    }
+
+    /// n as a number.
+    fn n(&self) -> f64 {
+        f64::from(self.strands)
+    }
+
+    /// Minimum tensile strength of all strands, n F₁, N.
+    pub(crate) fn tensile_strength_n(&self) -> f64 {
+        self.n() * self.single.tensile_strength_n
+    }
+
+    /// Mass per metre of all strands, n q₁, kg/m.
+    pub(crate) fn mass_per_m_kg(&self) -> f64 {
+        self.n() * self.single.mass_per_m_kg
+    }
+
+    /// Mass lumped at each roller (all strands), kg.
+    pub(crate) fn roller_mass_kg(&self) -> f64 {
+        self.n() * self.single.roller_mass_kg()
+    }
+
+    /// Axial link stiffness estimate of all strands, n K₁, N/m.
+    pub(crate) fn stiffness_n_m(&self) -> f64 {
+        self.n() * self.single.stiffness_n_m()
+    }
+
+    /// Bushing length the pin bears on, all strands, n (b₁ + 2 t), m.
+    pub(crate) fn bushing_length_m(&self) -> f64 {
+        self.n() * self.single.bushing_length_m()
+    }
+
+    /// Where a value of this chain comes from: the single strand's source,
+    /// or for several strands how it is derived from it.
+    pub(crate) fn derived(&self, single_source: &'static str) -> String {
+        if self.strands == 1 {
+            single_source.to_owned()
+        } else {
+            format!("{MULTI_STRAND} ({single_source})")
+        }
+    }
+}
+
+/// The transverse pitch (strand spacing) of an ANSI multiple-strand chain,
+/// m: the "Transverse Pitch K" column of the PEER "ANSI Standard Roller
+/// Chains, Single & Double Strand" catalogue table (35-2 to 240-2), in
+/// inches; U.S. Tsubaki prints the same .713 in for RS50. `None` for the
+/// ISO 606 B series (no table read) and ANSI 25 and 41.
+pub(crate) fn transverse_pitch_m(d: &Designation) -> Option<f64> {
+    let inches = match d.name {
+        "ANSI 35" => 0.399,
+        "ANSI 40" => 0.566,
+        "ANSI 50" => 0.713,
+        "ANSI 60" => 0.897,
+        "ANSI 80" => 1.153,
+        "ANSI 100" => 1.408,
+        "ANSI 120" => 1.789,
+        "ANSI 140" => 1.924,
+        "ANSI 160" => 2.305,
+        "ANSI 180" => 2.592,
+        "ANSI 200" => 2.817,
+        "ANSI 240" => 3.458,
+        _ => return None,
+    };
+    Some(inches * INCH_M)
+}
+
 /// Metres per inch.
 const INCH_M: f64 = 0.0254;
 /// Newtons per pound-force.
@@ -247,18 +361,33 @@ pub const DESIGNATIONS: &[Designation] = &[
 /// blanks, an optional "ISO606"/"ANSI" prefix and a single-strand "-1"
 /// suffix dropped.
 fn canonical(name: &str) -> String {
+    let (base, _) = split_strands(name);
+    let s = base
+        .strip_prefix("ISO606")
+        .or_else(|| base.strip_prefix("ANSI"))
+        .unwrap_or(&base)
+        .to_owned();
+    ansi_of_iso_a(&s).unwrap_or(s)
+}
+
+/// A name in upper case without blanks, split at a trailing strand count
+/// `-N` (N one or two digits): ("80", 2) for "ANSI 80-2"; a name without
+/// one is a single strand.
+fn split_strands(name: &str) -> (String, u32) {
     let s: String = name
         .chars()
         .filter(|c| !c.is_whitespace())
         .flat_map(char::to_uppercase)
         .collect();
-    let s = s
-        .strip_prefix("ISO606")
-        .or_else(|| s.strip_prefix("ANSI"))
-        .unwrap_or(&s)
-        .to_owned();
-    let s = s.strip_suffix("-1").unwrap_or(&s).to_owned();
-    ansi_of_iso_a(&s).unwrap_or(s)
+    if let Some((base, n)) = s.rsplit_once('-')
+        && !n.is_empty()
+        && n.len() <= 2
+        && n.chars().all(|c| c.is_ascii_digit())
+        && let Ok(strands) = n.parse::<u32>()
+    {
+        return (base.to_owned(), strands);
+    }
+    (s, 1)
 }
 
 /// The ANSI number of an ISO 606 A-series or bush-chain name, canonical
@@ -281,10 +410,71 @@ fn ansi_of_iso_a(s: &str) -> Option<String> {
 }
 
 /// The table's entry for `name` (`"ISO 606 16B-1"`, `"16B"`, `"ANSI 80"`,
-/// `"80"`, any case or spacing).
+/// `"80"`, any case or spacing), a single strand.
 pub fn find(name: &str) -> Option<&'static Designation> {
+    match lookup(name) {
+        Ok(chain) if chain.strands == 1 => Some(chain.single),
+        _ => None,
+    }
+}
+
+/// The chain `name` designates, with its strand count: `"ANSI 80-2"`,
+/// `"16B-3"`, `"08A-2"` (a name without a count is one strand); `Err` says
+/// what is wrong and what is allowed.
+pub(crate) fn lookup(name: &str) -> Result<Stranded, String> {
+    let (_, strands) = split_strands(name);
     let key = canonical(name);
-    DESIGNATIONS.iter().find(|d| canonical(d.name) == key)
+    let Some(single) = DESIGNATIONS.iter().find(|d| canonical(d.name) == key) else {
+        return Err(format!(
+            "unknown designation \"{name}\"{}; nearest: {} (`chaindrive chains` lists all; a multi-strand chain adds -2 to -{MAX_STRANDS})",
+            not_tabled(&key),
+            nearest(name, 3)
+                .iter()
+                .map(|n| format!("\"{n}\""))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    };
+    let most = max_strands(single);
+    if most == 1 && strands != 1 {
+        return Err(format!(
+            "\"{name}\": {} is made as a single strand only, not in {strands} strands",
+            single.name
+        ));
+    }
+    if !(1..=most).contains(&strands) {
+        return Err(format!(
+            "\"{name}\": {} comes in 1 to {most} strands here (\"{}\" to \"{}-{most}\": the rating's multiple-strand factors stop at {most}), not {strands}",
+            single.name,
+            single.name,
+            single.name.trim_end_matches("-1")
+        ));
+    }
+    Ok(Stranded { single, strands })
+}
+
+/// Why a name of a known family is not in the table: ANSI heavy chains
+/// ("80H") and motorcycle chains ("520", "525", "530") have no row yet
+/// (docs/design-checks.md, “Chain data”); empty for any other name.
+fn not_tabled(key: &str) -> &'static str {
+    let digits = key.strip_suffix('H').unwrap_or(key);
+    let numeric = !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit());
+    if numeric && key.ends_with('H') {
+        " (ANSI heavy chains are not in the table: give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m, or the standard chain of the same size)"
+    } else if numeric && key.len() == 3 && matches!(key.as_bytes()[0], b'4' | b'5' | b'6') {
+        // Three digits from 4xx to 6xx: no ANSI number has them (100 to
+        // 240), every motorcycle chain does (420, 520, 530, 630).
+        " (motorcycle chains are not in the table: their strengths are each maker's; give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m)"
+    } else {
+        ""
+    }
+}
+
+/// The most strands a designation may have: the rating's strand factors
+/// (1.7, 2.5, 3.3 for 2 to 4 strands) stop at four; ANSI 41 is a single
+/// strand only.
+fn max_strands(d: &Designation) -> u32 {
+    if d.name == "ANSI 41" { 1 } else { MAX_STRANDS }
 }
 
 /// The `n` names nearest `name` by edit distance (on the canonical

@@ -3,7 +3,7 @@
 //! the ones a scene overrides, and a typo's error.
 
 use crate::scene::Scene;
-use crate::scene::designations::{DESIGNATIONS, find};
+use crate::scene::designations::{DESIGNATIONS, find, lookup, transverse_pitch_m};
 
 const INCH_M: f64 = 0.0254;
 
@@ -224,4 +224,148 @@ fn a_drive_by_designation_runs() {
     let mut sim = crate::sim::Simulation::new(&scene).expect("a static equilibrium");
     sim.run(0.02, u64::MAX, &mut crate::sim::NoObserver, None)
         .expect("no blow-up");
+}
+
+/// Multiple strands against the catalogues' printed numbers, typed here:
+/// the minimum tensile strength of n strands is n times the single strand's
+/// (ASME B29.1's ANSI 80: 12,500 lbf, so 80-2 25,000 lbf; U.S. Tsubaki
+/// prints RS50-3 at 14,640 lbs), the mass about n times (PEER's 80-2
+/// weighs 3.41 lb/ft on average, 2 × 1.69 = 3.38: within 1.5 %), and the
+/// pitch and roller are the single strand's (08A-3 is ANSI 40 in three
+/// strands: 1/2 in pitch).
+#[test]
+fn multi_strand_chains_scale_as_the_catalogues_print() {
+    let lbf_n = 4.448_222;
+    let c = lookup("ANSI 80-2").expect("80-2");
+    assert_eq!((c.single.name, c.strands), ("ANSI 80", 2));
+    approx::assert_relative_eq!(
+        c.tensile_strength_n(),
+        25_000.0 * lbf_n,
+        max_relative = 1e-6
+    );
+    approx::assert_relative_eq!(c.mass_per_m_kg(), 3.41 * 1.488_164, max_relative = 0.015);
+    assert_eq!(c.name(), "ANSI 80-2");
+    let c = lookup("50-3").expect("50-3");
+    approx::assert_relative_eq!(
+        c.tensile_strength_n(),
+        14_640.0 * lbf_n,
+        max_relative = 1e-6
+    );
+    let c = lookup("iso 606 08a-3").expect("08A-3");
+    assert_eq!((c.single.name, c.strands), ("ANSI 40", 3));
+    approx::assert_relative_eq!(c.single.pitch_m, 0.5 * INCH_M, max_relative = 1e-12);
+    let c = lookup("ISO 606 16B-2").expect("16B-2");
+    assert_eq!(c.name(), "ISO 606 16B-2");
+    // Stiffness and the wear check's bearing length: n times.
+    approx::assert_relative_eq!(
+        c.stiffness_n_m(),
+        2.0 * c.single.stiffness_n_m(),
+        max_relative = 1e-12
+    );
+    // 16B: b1 = 17.02 mm, t = 3.10 mm (the table's estimate): 2 × 23.22 mm.
+    approx::assert_relative_eq!(c.bushing_length_m(), 2.0 * 23.22e-3, max_relative = 1e-9);
+    // No transverse pitch was read for the B series; 80-2's is 1.153 in (PEER).
+    assert!(transverse_pitch_m(c.single).is_none());
+    approx::assert_relative_eq!(
+        transverse_pitch_m(find("80").expect("80")).expect("published"),
+        1.153 * INCH_M,
+        max_relative = 1e-12
+    );
+}
+
+/// A strand count beyond the rating's factors, a multi-strand No. 41 and a
+/// name the table does not hold (a motorcycle or heavy chain) are errors
+/// that say what is allowed, and a scene names the field.
+#[test]
+fn strand_counts_and_families_outside_the_table_are_clear_errors() {
+    let e = lookup("80-7").expect_err("7 strands");
+    assert!(
+        e.contains("1 to 4 strands") && e.contains("\"ANSI 80-4\""),
+        "{e}"
+    );
+    let e = lookup("ANSI 41-2").expect_err("41 is single only");
+    assert!(e.contains("single strand only"), "{e}");
+    for name in ["520H", "520", "80H", "ANSI 530", "16X"] {
+        let e = lookup(name).expect_err(name);
+        assert!(
+            e.contains("unknown designation") && e.contains("nearest"),
+            "{e}"
+        );
+    }
+    // The families not in the table say so, and what to give instead.
+    for (name, family) in [
+        ("520", "motorcycle"),
+        ("525", "motorcycle"),
+        ("80H", "heavy"),
+    ] {
+        let e = lookup(name).expect_err(name);
+        assert!(e.contains(family) && e.contains("chain.pitch_m"), "{e}");
+    }
+    assert!(!lookup("16X").expect_err("16X").contains("not in the table"));
+    assert!(find("80-2").is_none(), "find is single strands only");
+    let text = scene_text("designation_16b.toml").replace("ISO 606 16B-1", "80-7");
+    let err = Scene::from_toml(&text).expect_err("80-7").to_string();
+    assert!(
+        err.contains("chain.designation") && err.contains("1 to 4"),
+        "{err}"
+    );
+    assert!(
+        !err.contains("chain.pitch_m"),
+        "one error, not the fields: {err}"
+    );
+}
+
+/// A scene naming "ISO 606 16B-2" gets two strands' mass and stiffness, and
+/// a rating of 1.7 times one strand's. By hand, the 19-tooth driver at 100
+/// rpm, pitch 1 in, standard constants: H₁ = 0.004 · 19^1.08 · 100^0.9 ·
+/// 1^2.93 = 6.069 hp, H₂ = 17,000 · 19^1.5 / 100^1.5 = 1,408 hp, so the
+/// rating is H₁ = 6.069 hp = 4,525.6 W, and two strands may transmit
+/// 1.7 × 4,525.6 = 7,693.6 W; the tensile strength 2 × 60 kN; the fatigue
+/// limit 1.7 times the single strand's.
+#[test]
+fn a_two_strand_designation_reaches_the_rating_and_the_fatigue_check() {
+    use crate::analysis::design::{fatigue, rating};
+    let single = Scene::from_toml(&scene_text("designation_16b.toml")).expect("16B-1");
+    let text = scene_text("designation_16b.toml")
+        .replace("ISO 606 16B-1", "ISO 606 16B-2")
+        .replace("stiffness_n_m = 2e8\n", "");
+    let double = Scene::from_toml(&text).expect("16B-2");
+    let chain = double.chain();
+    assert_eq!(
+        (chain.designation, chain.strands),
+        (Some("ISO 606 16B-1"), 2)
+    );
+    // 16B: 2.68 kg/m (Ametric) × 2 strands × 25.4 mm.
+    approx::assert_relative_eq!(
+        chain.roller_mass_kg,
+        2.0 * 2.68 * 0.0254,
+        max_relative = 1e-12
+    );
+    approx::assert_relative_eq!(
+        chain.stiffness_n_m,
+        2.0 * find("16B").expect("16B").stiffness_n_m(),
+        max_relative = 1e-12
+    );
+    let settings = rating::RatingSettings::default();
+    let r = rating::of_scene(&double, settings, Some(1000.0)).expect("rated");
+    approx::assert_relative_eq!(r.rated_power_w, 4_525.6, max_relative = 1e-4);
+    approx::assert_relative_eq!(r.design_power_w, 7_693.6, max_relative = 1e-4);
+    assert_eq!((r.strands, r.strand_factor), (2, 1.7));
+    assert_eq!(r.designation.as_deref(), Some("ISO 606 16B-2"));
+    approx::assert_relative_eq!(
+        r.tensile_strength_n.expect("a strength"),
+        120e3,
+        max_relative = 1e-12
+    );
+    let one = rating::of_scene(&single, settings, Some(1000.0)).expect("rated");
+    approx::assert_relative_eq!(one.design_power_w, 4_525.6, max_relative = 1e-4);
+    let (sn1, _) = fatigue::curve_of_scene(&single).expect("a curve");
+    let (sn2, basis) = fatigue::curve_of_scene(&double).expect("a curve");
+    approx::assert_relative_eq!(
+        sn2.fatigue_limit_n,
+        1.7 * sn1.fatigue_limit_n,
+        max_relative = 1e-12
+    );
+    approx::assert_relative_eq!(sn2.tensile_strength_n, 120e3, max_relative = 1e-12);
+    assert!(basis.contains("multiple-strand factor 1.7"), "{basis}");
 }

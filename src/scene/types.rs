@@ -167,6 +167,10 @@ pub struct Chain {
     pub joint_friction: Option<JointFriction>,
     /// The standard chain the scene named (`chain.designation`), if any.
     pub designation: Option<&'static str>,
+    /// Strands side by side (`"ANSI 80-2"`: 2; 1 without a designation);
+    /// the designation's mass, stiffness and strength are already of all
+    /// strands.
+    pub strands: u32,
     /// Pin radius, m, where the scene or its designation gives it.
     pub pin_radius_m: Option<f64>,
     /// Length of the bushing the pin bears on, m, where known.

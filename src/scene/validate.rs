@@ -99,23 +99,16 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             format!("must be at least 4, got {}", f.rollers),
         );
     }
-    let designation = f.designation.as_deref().and_then(|name| {
-        let found = designations::find(name);
-        if found.is_none() {
-            c.fail(
-                "chain.designation",
-                format!(
-                    "unknown designation \"{name}\"; nearest: {} (`chaindrive chains` lists all)",
-                    designations::nearest(name, 3)
-                        .iter()
-                        .map(|n| format!("\"{n}\""))
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            );
-        }
-        found
-    });
+    let designation = f
+        .designation
+        .as_deref()
+        .and_then(|name| match designations::lookup(name) {
+            Ok(found) => Some(found),
+            Err(e) => {
+                c.fail("chain.designation", e);
+                None
+            }
+        });
     // An unknown designation is its own error: the fields it would have
     // filled are not reported missing as well.
     let unknown = f.designation.is_some() && designation.is_none();
@@ -134,12 +127,17 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             }
         }
     };
-    let pitch_m = field(c, "pitch_m", f.pitch_m, designation.map(|d| d.pitch_m));
+    let pitch_m = field(
+        c,
+        "pitch_m",
+        f.pitch_m,
+        designation.map(|d| d.single.pitch_m),
+    );
     let roller_radius_m = field(
         c,
         "roller_radius_m",
         f.roller_radius_m,
-        designation.map(|d| d.roller_radius_m()),
+        designation.map(|d| d.single.roller_radius_m()),
     );
     let roller_mass_kg = field(
         c,
@@ -162,7 +160,9 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             ),
         );
     }
-    let pin_radius_m = f.pin_radius_m.or(designation.map(|d| d.pin_radius_m()));
+    let pin_radius_m = f
+        .pin_radius_m
+        .or(designation.map(|d| d.single.pin_radius_m()));
     let bushing_length_m = f
         .bushing_length_m
         .map(|l| c.positive("chain.bushing_length_m", l))
@@ -191,7 +191,8 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             .one_of("chain.pretension_by", &f.pretension_by)
             .unwrap_or(PretensionRule::RestLength),
         joint_friction: check_joint_friction(c, f, pin_radius_m, roller_radius_m),
-        designation: designation.map(|d| d.name),
+        designation: designation.map(|d| d.single.name),
+        strands: designation.map_or(1, |d| d.strands),
         pin_radius_m: pin_radius_m.filter(|r| r.is_finite() && *r > 0.0),
         bushing_length_m,
         elongation: elongation_pct / 100.0,

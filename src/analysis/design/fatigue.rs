@@ -78,7 +78,12 @@ pub fn curve_from_rating(
 /// would enable the check.
 pub fn curve_of_scene(scene: &Scene) -> Result<(SnCurve, String), String> {
     let designation = scene.chain.designation.and_then(designations::find);
-    let Some(strength) = designation.map(|d| d.tensile_strength_n) else {
+    // n strands: n times one's minimum tensile strength, and the fatigue
+    // limit of the rating it derives from times the rating's strand factor
+    // (1.7, 2.5, 3.3: less than n, as the strands share the load unevenly).
+    let strands = scene.chain.strands;
+    let strand_factor = super::rating::strand_factor(strands).unwrap_or(1.0);
+    let Some(strength) = designation.map(|d| d.tensile_strength_n * f64::from(strands)) else {
         return Err("no fatigue check: the chain's tensile strength, which the mean-stress correction needs, comes from chain.designation (`chaindrive chains` lists them)".to_owned());
     };
     let Some(teeth) = scene.sprockets.iter().map(|s| s.teeth).min() else {
@@ -86,7 +91,8 @@ pub fn curve_of_scene(scene: &Scene) -> Result<(SnCurve, String), String> {
     };
     let class = ChainClass::of(designation.map(|d| d.name));
     let pitch_m = scene.chain.pitch_m;
-    let derived = curve_from_rating(class, pitch_m, f64::from(teeth), strength);
+    let mut derived = curve_from_rating(class, pitch_m, f64::from(teeth), strength);
+    derived.fatigue_limit_n *= strand_factor;
     let checks = &scene.checks;
     let curve = SnCurve {
         slope: checks.sn_slope.unwrap_or(derived.slope),
@@ -96,9 +102,16 @@ pub fn curve_of_scene(scene: &Scene) -> Result<(SnCurve, String), String> {
     let limit = match checks.fatigue_limit_n {
         Some(f) => format!("fatigue limit {:.3} kN (checks.fatigue_limit_n)", f * 1e-3),
         None => format!(
-            "fatigue limit {:.3} kN: the tension of the ANSI link-plate rating (K = {}) on the {teeth}-tooth smallest sprocket at {KNEE_CYCLES:.0e} pulsating cycles, its {RATING_LIFE_H:.0} h on a chain of {RATING_CHAIN_PITCHES:.0} pitches",
+            "fatigue limit {:.3} kN: the tension of the ANSI link-plate rating (K = {}) on the {teeth}-tooth smallest sprocket at {KNEE_CYCLES:.0e} pulsating cycles, its {RATING_LIFE_H:.0} h on a chain of {RATING_CHAIN_PITCHES:.0} pitches{}",
             curve.fatigue_limit_n * 1e-3,
-            class.link_plate_k()
+            class.link_plate_k(),
+            if strands > 1 {
+                format!(
+                    ", times the rating's multiple-strand factor {strand_factor} for {strands} strands"
+                )
+            } else {
+                String::new()
+            }
         ),
     };
     let slope = match checks.sn_slope {

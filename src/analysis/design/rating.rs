@@ -190,15 +190,12 @@ pub(crate) fn lubrication_limits_m_s(pitch_m: f64) -> (f64, f64, u32) {
 pub struct RatingSettings {
     /// Service factor (≥ 1 for a load rougher than the tables' smooth one).
     pub service_factor: f64,
-    /// Strands of the chain.
-    pub strands: u32,
 }
 
 impl Default for RatingSettings {
     fn default() -> Self {
         Self {
             service_factor: 1.0,
-            strands: 1,
         }
     }
 }
@@ -344,8 +341,10 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
     if !(sf.is_finite() && sf > 0.0) {
         return Err(RatingError::ServiceFactor(sf));
     }
-    let strand_factor =
-        strand_factor(settings.strands).ok_or(RatingError::Strands(settings.strands))?;
+    // The strand count comes from the designation ("ANSI 80-2"), which the
+    // scene has checked against the factors' range.
+    let strands = scene.chain.strands;
+    let strand_factor = strand_factor(strands).ok_or(RatingError::Strands(strands))?;
     let sprockets = &scene.sprockets;
     let smallest = (0..sprockets.len())
         .min_by_key(|&s| sprockets[s].teeth)
@@ -384,14 +383,16 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
             (None, None)
         }
     };
-    let tensile = designation.map(|d| d.tensile_strength_n * strand_factor);
+    // The minimum tensile strength of n strands is n times one's (not the
+    // rating's strand factor: designations::Stranded).
+    let tensile = designation.map(|d| d.tensile_strength_n * f64::from(strands));
     if tensile.is_none() {
         notes.push(
             "no tensile strength: chain.designation (`chaindrive chains` lists them) gives it, and with it the static safety factors and the fatigue check".to_owned(),
         );
     }
     Ok(Rating {
-        designation: designation.map(|d| d.name.to_owned()),
+        designation: designation.map(|d| designations::Stranded { single: d, strands }.name()),
         basis,
         chain_class: class,
         chain_speed_m_s: chain_speed,
@@ -413,7 +414,7 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
             "roller_bushing"
         }
         .to_owned(),
-        strands: settings.strands,
+        strands,
         strand_factor,
         service_factor: sf,
         design_power_w: design_w,
@@ -475,9 +476,8 @@ fn load_power(scene: &Scene, speeds: &[f64]) -> Result<(f64, String), String> {
 /// torques.
 ///
 /// # Errors
-/// A service factor that is not a positive number, a strand count the
-/// tables do not cover, a scene without a driver or whose smallest
-/// sprocket does not turn.
+/// A service factor that is not a positive number, a scene without a
+/// driver or whose smallest sprocket does not turn.
 pub fn of_scene(
     scene: &Scene,
     settings: RatingSettings,
@@ -499,7 +499,7 @@ pub fn of_scene(
 }
 
 /// The rating of a run from its summary (mean speeds, driver power, link
-/// forces over the window), service factor 1, one strand; `None` when the
+/// forces over the window), service factor 1, the scene's strands; `None` when the
 /// smallest sprocket did not turn in the window.
 pub(crate) fn of_run(scene: &Scene, summary: &RunSummary) -> Option<Rating> {
     let speeds: Vec<f64> = summary
