@@ -133,7 +133,8 @@ def rate(scene: Scene, *, service_factor: float = 1.0, power_w: Optional[float] 
     --json`). Raises `ValueError` when the scene cannot be rated."""
 
 def chains(name: Optional[str] = None) -> List[Dict[str, Any]]:
-    """The chains known by designation with their sources; one with `name`.
-    Raises `ValueError` naming the nearest designations."""
+    """The chains known by designation with their sources; one with `name`
+    (`"ANSI 80-2"`: n strands, the derived values saying how). Raises
+    `ValueError` naming the nearest designations."""
 
 def _to_toml(value: Mapping[str, Any]) -> str: ...

@@ -17,7 +17,7 @@ use chaindrive::lab::{
     CaseFlags, CaseOutcome, CaseResult, ColumnData, DESIGNATIONS, Designation, DutyCycle,
     DutyError, LifeSettings, OrderSet, RatingSettings, Study, StudyDir, StudyError, StudyTable,
     SweepError, SweepSettings, TRANSVERSE_MODES, combine_duty, completed, default_orders,
-    find_designation, nearest_designations, run_sweep, summary_scalars,
+    lookup_designation, run_sweep, summary_scalars,
 };
 use serde_json::{Value, json};
 
@@ -426,10 +426,7 @@ pub(crate) fn rate(
     service_factor: f64,
     power_w: Option<f64>,
 ) -> Result<Value, String> {
-    let settings = RatingSettings {
-        service_factor,
-        ..RatingSettings::default()
-    };
+    let settings = RatingSettings { service_factor };
     let r = chaindrive::lab::rate(scene, settings, power_w).map_err(|e| e.to_string())?;
     serde_json::to_value(&r).map_err(|e| e.to_string())
 }
@@ -437,19 +434,24 @@ pub(crate) fn rate(
 /// The table of chains by designation (`chaindrive chains`), or the one
 /// row of `name` (any spelling); `Err` names the nearest designations.
 pub(crate) fn chains(name: Option<&str>) -> Result<Vec<Value>, String> {
-    let rows: Vec<&Designation> = match name {
-        Some(n) => match find_designation(n) {
-            Some(d) => vec![d],
-            None => {
-                return Err(format!(
-                    "unknown designation \"{n}\"; nearest: {}",
-                    nearest_designations(n, 3).join(", ")
-                ));
-            }
-        },
-        None => DESIGNATIONS.iter().collect(),
+    let Some(n) = name else {
+        return Ok(DESIGNATIONS.iter().map(designation_json).collect());
     };
-    Ok(rows.into_iter().map(designation_json).collect())
+    let chain = lookup_designation(n)?;
+    let mut row = designation_json(chain.single);
+    if chain.strands > 1 {
+        let d = chain.single;
+        row["designation"] = json!(chain.name());
+        row["mass_per_m_kg"] = json!(chain.mass_per_m_kg());
+        row["tensile_strength_n"] = json!(chain.tensile_strength_n());
+        row["roller_mass_kg"] = json!(chain.roller_mass_kg());
+        row["stiffness_n_m"] = json!(chain.stiffness_n_m());
+        row["sources"]["mass"] = json!(chain.derived(d.sources.mass));
+        row["sources"]["strength"] = json!(chain.derived(d.sources.strength));
+        row["sources"]["stiffness"] = json!(chain.derived(Designation::stiffness_source()));
+    }
+    row["strands"] = json!(chain.strands);
+    Ok(vec![row])
 }
 
 fn designation_json(d: &Designation) -> Value {

@@ -117,6 +117,20 @@ def test_chains_lists_designations_with_sources():
         cd.chains("ANSI 8O")
 
 
+def test_a_multi_strand_chain_is_n_single_strands():
+    """ASME B29.1's minimum tensile strength of an n-strand chain is n times
+    the single strand's: ANSI 80-2 at 25,000 lbf (2 x 12,500 lbf)."""
+    (single,) = cd.chains("ANSI 80")
+    (double,) = cd.chains("ANSI 80-2")
+    assert double["designation"] == "ANSI 80-2" and double["strands"] == 2
+    assert double["tensile_strength_n"] == pytest.approx(25_000 * 4.4482216, rel=1e-3)
+    assert double["tensile_strength_n"] == pytest.approx(2 * single["tensile_strength_n"])
+    assert double["pitch_m"] == single["pitch_m"]
+    assert "n x the single strand" in double["sources"]["strength"]
+    with pytest.raises(ValueError, match="motorcycle"):
+        cd.chains("520")
+
+
 def test_with_designation_takes_the_tables_values(data):
     # ISO 606 16B and ANSI 80 share the 25.4 mm pitch: the same layout fits.
     scene = cd.Scene.from_file(data / "designation_16b.toml").with_designation("ANSI 80")

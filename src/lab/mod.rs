@@ -39,8 +39,8 @@ pub use crate::analysis::design::rating::{
 };
 pub use crate::analysis::orders::{OrderComponent, OrderError, OrderSet, OrderSpectrum};
 pub use crate::scene::designations::{
-    DESIGNATIONS, Designation, Sources as DesignationSources, find as find_designation,
-    nearest as nearest_designations,
+    DESIGNATIONS, Designation, Sources as DesignationSources, Stranded as StrandedDesignation,
+    find as find_designation, lookup as lookup_designation, nearest as nearest_designations,
 };
 pub use crate::scene::stability::step_note;
 pub use crate::sim::checkpoint::{

@@ -155,7 +155,7 @@ const MULTI_STRAND: &str = "n x the single strand's";
 ///   factor (1.7, 2.5, 3.3), not by n, and so does the fatigue limit derived
 ///   from it (docs/design-checks.md, “Chain data”).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) struct Stranded {
+pub struct Stranded {
     /// The single strand's row.
     pub single: &'static Designation,
     /// Strands, 1 to [`MAX_STRANDS`].
@@ -165,7 +165,7 @@ pub(crate) struct Stranded {
 impl Stranded {
     /// The designation as a scene names it: the table's name, with `-n`
     /// for more than one strand (`"ANSI 80-2"`, `"ISO 606 16B-2"`).
-    pub(crate) fn name(&self) -> String {
+    pub fn name(&self) -> String {
         if self.strands == 1 {
             self.single.name.to_owned()
         } else {
@@ -183,22 +183,22 @@ impl Stranded {
     }
 
     /// Minimum tensile strength of all strands, n F₁, N.
-    pub(crate) fn tensile_strength_n(&self) -> f64 {
+    pub fn tensile_strength_n(&self) -> f64 {
         self.n() * self.single.tensile_strength_n
     }
 
     /// Mass per metre of all strands, n q₁, kg/m.
-    pub(crate) fn mass_per_m_kg(&self) -> f64 {
+    pub fn mass_per_m_kg(&self) -> f64 {
         self.n() * self.single.mass_per_m_kg
     }
 
     /// Mass lumped at each roller (all strands), kg.
-    pub(crate) fn roller_mass_kg(&self) -> f64 {
+    pub fn roller_mass_kg(&self) -> f64 {
         self.n() * self.single.roller_mass_kg()
     }
 
     /// Axial link stiffness estimate of all strands, n K₁, N/m.
-    pub(crate) fn stiffness_n_m(&self) -> f64 {
+    pub fn stiffness_n_m(&self) -> f64 {
         self.n() * self.single.stiffness_n_m()
     }
 
@@ -209,7 +209,7 @@ impl Stranded {
 
     /// Where a value of this chain comes from: the single strand's source,
     /// or for several strands how it is derived from it.
-    pub(crate) fn derived(&self, single_source: &'static str) -> String {
+    pub fn derived(&self, single_source: &'static str) -> String {
         if self.strands == 1 {
             single_source.to_owned()
         } else {
@@ -421,7 +421,7 @@ pub fn find(name: &str) -> Option<&'static Designation> {
 /// The chain `name` designates, with its strand count: `"ANSI 80-2"`,
 /// `"16B-3"`, `"08A-2"` (a name without a count is one strand); `Err` says
 /// what is wrong and what is allowed.
-pub(crate) fn lookup(name: &str) -> Result<Stranded, String> {
+pub fn lookup(name: &str) -> Result<Stranded, String> {
     let (_, strands) = split_strands(name);
     let key = canonical(name);
     let Some(single) = DESIGNATIONS.iter().find(|d| canonical(d.name) == key) else {
