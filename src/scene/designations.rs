@@ -149,7 +149,7 @@ const MULTI_STRAND: &str = "n x the single strand's";
 ///   times (the pin bears in n bushings);
 /// - pitch, roller, pin and plate dimensions are the single strand's; the
 ///   **transverse pitch** (strand spacing) is published for the ANSI sizes
-///   ([`transverse_pitch_m`]) and is listed only: the planar model has no
+///   (`transverse_pitch_m`) and is listed only: the planar model has no
 ///   use for it;
 /// - the **rating** multiplies the single strand's by the multiple-strand
 ///   factor (1.7, 2.5, 3.3), not by n, and so does the fatigue limit derived
@@ -158,7 +158,7 @@ const MULTI_STRAND: &str = "n x the single strand's";
 pub struct Stranded {
     /// The single strand's row.
     pub single: &'static Designation,
-    /// Strands, 1 to [`MAX_STRANDS`].
+    /// Strands, 1 to 4.
     pub strands: u32,
 }
 
