@@ -52,6 +52,19 @@ fn a_window_too_short_for_a_revolution_is_an_error_before_anything_runs() {
     assert!(e.to_string().contains("0.50 revolutions"), "{e}");
 }
 
+/// At 100 rpm a 0.6 s window turns the driver through exactly one
+/// revolution, short of the one and 2 % the analysis asks: the refusal says
+/// what it asks for, not a count its own rounding meets.
+#[test]
+fn a_window_of_just_one_revolution_is_refused_with_the_margin_named() {
+    let s = settings(vec![100.0], 0.6);
+    let e = run_sweep(&resonance_scene(), &s, None, &|_| {}).expect_err("too short");
+    let text = e.to_string();
+    assert!(text.contains("1.00 revolutions"), "{text}");
+    assert!(text.contains("1.02 revolutions"), "{text}");
+    assert!(!text.contains("needs at least 1 whole ones"), "{text}");
+}
+
 #[test]
 fn a_negative_window_is_an_error() {
     let e = run_sweep(

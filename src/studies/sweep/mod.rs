@@ -569,7 +569,8 @@ fn check_times(settings: &SweepSettings) -> Result<(), SweepError> {
             what: "--window",
             value: settings.window_s,
             why: format!(
-                "at {slowest} rpm the window turns the driver through {revs:.2} revolutions; the order analysis needs at least {needed} whole ones (a window ≥ {:.3} s)",
+                "at {slowest} rpm the window turns the driver through {revs:.2} revolutions; the order analysis needs {needed} whole ones and 2 % to spare, {:.2} revolutions (a window ≥ {:.3} s)",
+                needed * 1.02,
                 needed * 1.02 * 60.0 / slowest
             ),
         });
