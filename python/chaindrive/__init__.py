@@ -390,6 +390,18 @@ def _finish(callback, done: float, total: float) -> None:
         callback.close()
 
 
+def _concluded(result, callback, done: float, interrupted: str):
+    """A batch's ``result``; ``Interrupted`` carrying it (with message
+    ``interrupted``) if it was stopped. The progress bar is closed either
+    way, and told ``done`` of ``done`` when the batch finished."""
+    if result.interrupted:
+        if isinstance(callback, _Bar):
+            callback.close()
+        raise Interrupted(interrupted, result)
+    _finish(callback, done, done)
+    return result
+
+
 def run(
     scene: Scene,
     *,
@@ -542,12 +554,8 @@ def sweep(
         progress=callback,
     )
     result = SweepResult(raw)
-    if result.interrupted:
-        if isinstance(callback, _Bar):
-            callback.close()
-        raise Interrupted("the sweep was interrupted; e.result holds the finished speeds", result)
-    _finish(callback, len(result.cases), len(result.cases))
-    return result
+    return _concluded(result, callback, len(result.cases),
+                      "the sweep was interrupted; e.result holds the finished speeds")
 
 
 def study(
@@ -622,14 +630,8 @@ def study(
             retry_failed=retry_failed,
             progress=callback,
         )
-    result = StudyResult(raw, directory)
-    if result.interrupted:
-        if isinstance(callback, _Bar):
-            callback.close()
-        raise Interrupted("the study was interrupted; e.result holds the finished cases", result)
-    if callback is not None:
-        _finish(callback, raw["pending"], raw["pending"])
-    return result
+    return _concluded(StudyResult(raw, directory), callback, raw["pending"],
+                      "the study was interrupted; e.result holds the finished cases")
 
 
 def life(
@@ -701,14 +703,8 @@ def life(
         retry_failed=retry_failed,
         progress=callback,
     )
-    result = LifeResult(raw, directory)
-    if result.interrupted:
-        if isinstance(callback, _Bar):
-            callback.close()
-        raise Interrupted("the duty cycle was interrupted; the finished points are kept in dir", result)
-    if callback is not None:
-        _finish(callback, raw["pending"], raw["pending"])
-    return result
+    return _concluded(LifeResult(raw, directory), callback, raw["pending"],
+                      "the duty cycle was interrupted; the finished points are kept in dir")
 
 
 def _plan_toml(plan: Mapping[str, Any]) -> str:
