@@ -344,6 +344,16 @@ pub(crate) enum StudyFailure {
     Other(String),
 }
 
+impl StudyFailure {
+    /// A plan's or a case's invalid values as `Plan`, anything else as `Other`.
+    fn of(e: StudyError) -> Self {
+        match e {
+            StudyError::Plan(_) | StudyError::Cases(_) => Self::Plan(e.to_string()),
+            other => Self::Other(other.to_string()),
+        }
+    }
+}
+
 /// Prepares the study in `dir` (or checks that `dir` holds this same
 /// study), runs its pending cases on `jobs` threads, then merges the cases
 /// into one table (also written to `dir` as `results.csv` and
@@ -355,10 +365,7 @@ pub(crate) fn study(
     retry_failed: bool,
     hooks: &mut dyn RunHooks,
 ) -> Result<StudyOutput, StudyFailure> {
-    let failure = |e: StudyError| match e {
-        StudyError::Plan(_) | StudyError::Cases(_) => StudyFailure::Plan(e.to_string()),
-        other => StudyFailure::Other(other.to_string()),
-    };
+    let failure = StudyFailure::of;
     let study = match &plan {
         Plan::File(path) => Study::from_plan_path(path).map_err(|e| match e {
             StudyError::Plan(_) | StudyError::Cases(_) => {
@@ -511,10 +518,7 @@ pub(crate) fn life(
     dir: &Path,
     hooks: &mut dyn RunHooks,
 ) -> Result<LifeOutput, StudyFailure> {
-    let failure = |e: StudyError| match e {
-        StudyError::Plan(_) | StudyError::Cases(_) => StudyFailure::Plan(e.to_string()),
-        other => StudyFailure::Other(other.to_string()),
-    };
+    let failure = StudyFailure::of;
     let duty_failure = |e: DutyError| match e {
         DutyError::Points(_) => StudyFailure::Plan(e.to_string()),
         DutyError::Study(e) => failure(e),
