@@ -6,6 +6,7 @@
 //! responses = ["max_penetration_m", "segments.0.mean_link_force_n"]   # or "all"
 //! checkpoint_every_s = 1.0              # optional: checkpoint each case every 1 s simulated
 //! window_s = 0.5                        # optional: statistics over each run's last 0.5 s
+//! sample_by_speed = true                # optional: each case's sample rate from its driver speed
 //!
 //! [[factors]]
 //! path = "chain.pretension_n"
@@ -33,7 +34,11 @@
 //! last `window_s` seconds, as `chaindrive run --window` does (the default
 //! window otherwise); a window longer than a case's run is an error of that
 //! case, reported before anything runs.
-//! (`scene`, `set`, `responses`, `checkpoint_every_s` and `window_s` come
+//! With `sample_by_speed = true`, each case samples its signals as a sweep
+//! does at its driver's speed (at least 1 kHz and 16 samples per period of
+//! twice the largest tooth count), not at 1 kHz: a fast drive's
+//! tooth-passing frequency then stays clear of the sample rate.
+//! (`scene`, `set`, `responses`, `checkpoint_every_s`, `window_s` and `sample_by_speed` come
 //! before the first `[[factors]]` table: in TOML, a key after a table
 //! header belongs to that table.)
 
@@ -69,6 +74,9 @@ pub(crate) struct PlanFile {
     /// Length of each case's statistics window, s (the default if absent).
     #[serde(default)]
     pub window_s: Option<toml::Value>,
+    /// Each case's sample rate from its driver speed (else 1 kHz).
+    #[serde(default)]
+    pub sample_by_speed: bool,
 }
 
 /// One factor as written.
@@ -170,6 +178,8 @@ pub struct Study {
     pub checkpoint_every_s: Option<f64>,
     /// Length of each case's statistics window, s (`None`: the default).
     pub window_s: Option<f64>,
+    /// Whether each case's sample rate follows its driver speed.
+    pub(crate) sample_by_speed: bool,
 }
 
 /// Collects `path: message` lines.
@@ -280,6 +290,7 @@ impl Study {
             responses,
             checkpoint_every_s,
             window_s,
+            sample_by_speed: file.sample_by_speed,
         })
     }
 
