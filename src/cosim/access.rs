@@ -34,10 +34,9 @@ impl ChainDrive {
         &self.state
     }
 
-    /// The force generator, its forces at [`Self::state`]
-    /// (`forces().output()`).
+    /// The force generator, its forces at [`Self::state`].
     #[cfg(test)]
-    pub(crate) fn forces(&self) -> &ForceGenerator {
+    pub(crate) fn force_generator(&self) -> &ForceGenerator {
         &self.forces
     }
 

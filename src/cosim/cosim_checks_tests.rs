@@ -413,7 +413,7 @@ fn set_load_torque_and_driver_speed_hold_from_frame_to_frame() {
             let seg = crate::test_support::strand_means(
                 drive.model(),
                 drive.state(),
-                drive.forces().output(),
+                drive.forces(),
             );
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
