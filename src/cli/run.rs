@@ -562,17 +562,7 @@ fn merge_stage_times(total: &mut Option<StageTimes>, piece: Option<StageTimes>) 
         *total = Some(piece);
         return;
     };
-    t.steps += piece.steps;
-    t.stepping_s += piece.stepping_s;
-    t.blow_up_checks_s += piece.blow_up_checks_s;
-    t.observers_s += piece.observers_s;
-    t.forces.evaluations += piece.forces.evaluations;
-    for (k, (name, s)) in piece.forces.elements.into_iter().enumerate() {
-        match t.forces.elements.get_mut(k) {
-            Some(e) => e.1 += s,
-            None => t.forces.elements.push((name, s)),
-        }
-    }
+    t.add(piece);
 }
 
 fn print_stage_times(t: &StageTimes, evaluations: u64) {
@@ -583,7 +573,7 @@ fn print_stage_times(t: &StageTimes, evaluations: u64) {
         t.steps, evaluations
     );
     println!("stage              wall_s    ns/step  share");
-    let stages = t.forces.elements.iter().copied().chain([
+    let stages = t.force_elements.iter().copied().chain([
         ("integrator", t.integrator_s()),
         ("blow-up checks", t.blow_up_checks_s),
         ("observers", t.observers_s),

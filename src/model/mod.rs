@@ -22,7 +22,7 @@ pub(crate) use governor::{Governor, target_angle_rad};
 pub(crate) use segments::{Segments, StrandRuns};
 
 use crate::geometry::{
-    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
+    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, chain_path,
     hang_excess, layout_rollers, layout_with_arms,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
@@ -344,20 +344,39 @@ impl DriveState {
 /// Why a scene cannot be built into a drive.
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
-    /// No chain path exists.
-    #[error("sprockets: {0}")]
-    Path(#[from] PathError),
+    /// No tangent line with the requested wrap senses joins two sprockets
+    /// (e.g. a crossed strand between overlapping circles): no chain path exists.
+    #[error(
+        "sprockets: no {kind} tangent from sprocket {from} to sprocket {to}: the circles are too close for these wrap senses"
+    )]
+    NoTangent {
+        /// "plain" or "crossed".
+        kind: &'static str,
+        /// 1-based index.
+        from: usize,
+        /// 1-based index.
+        to: usize,
+    },
     /// The chain does not fit the path.
     #[error("chain.rollers: {0}")]
     Layout(#[from] LayoutError),
     /// The real tooth profile cannot be built for these dimensions.
-    #[error("sprockets[{sprocket}].profile: {source}")]
+    #[error("sprockets[{sprocket}].profile: {reason}")]
     Profile {
         /// 0-based sprocket index.
         sprocket: usize,
-        /// Why.
-        source: AsaError,
+        /// Why the tooth form cannot be drawn.
+        reason: String,
     },
+}
+
+impl BuildError {
+    /// The build's form of a path's error.
+    pub(crate) fn no_path(error: PathError) -> Self {
+        match error {
+            PathError::NoTangent { kind, from, to } => Self::NoTangent { kind, from, to },
+        }
+    }
 }
 
 impl DriveModel {
@@ -372,9 +391,9 @@ impl DriveModel {
             .enumerate()
             .map(|(i, s)| {
                 ToothProfile::new(s.profile, s.teeth, chain.pitch_m, chain.roller_radius_m).map_err(
-                    |source| BuildError::Profile {
+                    |error| BuildError::Profile {
                         sprocket: i,
-                        source,
+                        reason: error.to_string(),
                     },
                 )
             })
@@ -388,7 +407,7 @@ impl DriveModel {
                 sense: s.wrap.sign(),
             })
             .collect();
-        let path = chain_path(&pitch_circles)?;
+        let path = chain_path(&pitch_circles).map_err(BuildError::no_path)?;
         let seat_circles: Vec<PathCircle> = pitch_circles
             .iter()
             .zip(&profiles)
@@ -397,7 +416,7 @@ impl DriveModel {
                 ..*c
             })
             .collect();
-        let seat_path = chain_path(&seat_circles)?;
+        let seat_path = chain_path(&seat_circles).map_err(BuildError::no_path)?;
         let teeth: Vec<u32> = scene.sprockets.iter().map(|s| s.teeth).collect();
         // A chain longer than its path by more than half a pitch hangs in
         // its strands' sag where that sag, at the pretension, holds the
@@ -550,7 +569,7 @@ impl DriveModel {
                 sense: s.wrap.sign(),
             })
             .collect();
-        let path = chain_path(&circles)?;
+        let path = chain_path(&circles).map_err(BuildError::no_path)?;
         if let (Some(sp), Some(s)) = (self.sprockets.get_mut(k), scene.sprockets.get(k)) {
             sp.center_m = s.center_m;
         }

@@ -27,7 +27,7 @@
 //! CSV, attached under the name the scene gives it, media type
 //! `text/csv`), at the end a metadata record `chaindrive.end` saying how
 //! the run ended, and where the chain jumped teeth a record
-//! `chaindrive.tooth_jumps` listing every jump ([`JUMPS_RECORD`]). Channels
+//! `chaindrive.tooth_jumps` listing every jump. Channels
 //! not requested are
 //! neither computed nor written.
 //!
@@ -122,9 +122,9 @@ pub struct RecordOptions {
 /// its end, only when it had any): `count`, and `jump NNNN` per jump,
 /// `t_s=… sprocket=… roller=… gaps=… ahead|behind` (sprocket 1-based,
 /// roller 0-based, gaps counter-clockwise positive).
-pub const JUMPS_RECORD: &str = "chaindrive.tooth_jumps";
+pub(crate) const JUMPS_RECORD: &str = "chaindrive.tooth_jumps";
 
-/// The entries of [`JUMPS_RECORD`].
+/// The entries of the `chaindrive.tooth_jumps` metadata record.
 fn jump_entries(jumps: &[crate::sim::ToothJump]) -> BTreeMap<String, String> {
     let mut m: BTreeMap<String, String> = jumps
         .iter()

@@ -339,7 +339,7 @@ pub(crate) struct Recording {
     pub metadata: BTreeMap<String, String>,
     /// How the run ended (`chaindrive.end` status; `unknown` if absent).
     pub end_status: String,
-    /// The run's tooth jumps ([`super::JUMPS_RECORD`]: `count` and one
+    /// The run's tooth jumps (the `chaindrive.tooth_jumps` metadata record: `count` and one
     /// entry per jump; empty when it had none).
     #[allow(
         dead_code,

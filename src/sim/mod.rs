@@ -54,9 +54,7 @@ mod worn;
 #[cfg(test)]
 mod worn_tests;
 
-pub use crate::forces::ForceTimes;
-pub use crate::geometry::asa::AsaError;
-pub use crate::geometry::{ArmReach, LayoutError, PathError, TakeUpBound};
+pub use crate::geometry::{ArmReach, LayoutError};
 pub use crate::model::BuildError;
 pub(crate) use blow_up::{BlowUpLimits, Detector, GrowthWatch, check_blow_up};
 pub use checkpoint::{CheckpointError, Snapshot};
@@ -67,10 +65,9 @@ pub(crate) use jumps::JumpWatch;
 pub use jumps::ToothJump;
 pub use sample_rate::{SampleRate, SampleRateError};
 pub(crate) use sliding::JointSliding;
-pub use statics::MisfitTension;
 #[cfg(test)]
 pub(crate) use statics::fitting_counts;
-pub use statics::{BeyondSeatingArc, EquilibriumError, FitError, StaticEquilibrium};
+pub use statics::{EquilibriumError, FitError, StaticEquilibrium};
 pub(crate) use statics::{
     FIT_TOLERANCE_M, RelaxSettings, arm_take_up_of, count_verdicts, default_direction,
     fit_sprocket, force_residual, free_strand_tension, needed_pitches_of, relax,
@@ -86,8 +83,8 @@ use rapier2d_f64::prelude::*;
 use blow_up::check_with;
 
 use crate::forces::{
-    ContactLawParams, ForceElement, ForceGenerator, Forces, GuideElement, JointFrictionElement,
-    TensionerArm,
+    ContactLawParams, ForceElement, ForceGenerator, ForceTimes, Forces, GuideElement,
+    JointFrictionElement, TensionerArm,
 };
 use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
@@ -363,8 +360,10 @@ impl Observer for () {}
 pub struct StageTimes {
     /// Integration steps timed.
     pub steps: u64,
-    /// The force stages.
-    pub forces: ForceTimes,
+    /// Force evaluations timed.
+    pub force_evaluations: u64,
+    /// Each force element's name and its total time, s, in evaluation order.
+    pub force_elements: Vec<(&'static str, f64)>,
     /// Stepping, force evaluations included.
     pub stepping_s: f64,
     /// The blow-up detectors.
@@ -376,7 +375,27 @@ pub struct StageTimes {
 impl StageTimes {
     /// The integrator's own arithmetic: stepping minus the force evaluations.
     pub fn integrator_s(&self) -> f64 {
-        self.stepping_s - self.forces.total_s()
+        self.stepping_s - self.forces_s()
+    }
+
+    /// All force elements together, s.
+    pub fn forces_s(&self) -> f64 {
+        self.force_elements.iter().map(|(_, s)| s).sum()
+    }
+
+    /// Adds a later piece of the same run.
+    pub(crate) fn add(&mut self, piece: Self) {
+        self.steps += piece.steps;
+        self.stepping_s += piece.stepping_s;
+        self.blow_up_checks_s += piece.blow_up_checks_s;
+        self.observers_s += piece.observers_s;
+        self.force_evaluations += piece.force_evaluations;
+        for (k, (name, s)) in piece.force_elements.into_iter().enumerate() {
+            match self.force_elements.get_mut(k) {
+                Some(e) => e.1 += s,
+                None => self.force_elements.push((name, s)),
+            }
+        }
     }
 }
 
@@ -866,7 +885,9 @@ impl Simulation {
             }
         }
         if let Some(times) = &mut times {
-            times.forces = self.forces.timing.take().unwrap_or_default();
+            let forces = self.forces.timing.take().unwrap_or_default();
+            times.force_evaluations = forces.evaluations;
+            times.force_elements = forces.elements;
         }
         if let Some(ledger) = &mut self.power {
             ledger.close(&self.model, &self.state, &self.forces);

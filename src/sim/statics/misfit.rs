@@ -93,7 +93,7 @@ impl StaticEquilibrium {
     /// What sets the static tension, as the summary's
     /// `static_tension_set_by` names it: the pretension rule of `scene`
     /// (`rest_length`, `tensioner`, `tensioner_preload`), or `chain_misfit`
-    /// ([`Self::misfit`]).
+    /// where the chain's fit to its path sets it ([`Self::warnings`] says so).
     pub fn tension_set_by(&self, scene: &Scene) -> &'static str {
         if self.misfit.is_some() {
             "chain_misfit"
