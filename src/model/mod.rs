@@ -22,8 +22,8 @@ pub(crate) use governor::{Governor, target_angle_rad};
 pub(crate) use segments::{Segments, StrandRuns};
 
 use crate::geometry::{
-    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, chain_path,
-    hang_excess, layout_rollers, layout_with_arms,
+    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, chain_path, hang_excess,
+    layout_rollers, layout_with_arms,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 

@@ -54,9 +54,9 @@ pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,
 };
+pub use generate::{DriveSpec, GenerateError};
 pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec};
 pub(crate) use guides::Guide;
-pub use generate::{DriveSpec, GenerateError};
 pub use guides::GuideFile;
 pub(crate) use kinds::RoleKind;
 pub use kinds::{ContactLaw, Integrator, PretensionRule, Stepping, Wrap};

@@ -4,7 +4,7 @@
 
 use super::super::rows::DampingRows;
 use super::reach::Run;
-use super::seats::SeatScratch;
+use super::scratch::SeatScratch;
 use super::{EMPTY, FREE, Memory};
 use crate::forces::ContactLawParams;
 use crate::geometry::{MAX_PATCHES, Outline, Patch};

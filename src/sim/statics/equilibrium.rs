@@ -36,6 +36,18 @@ pub struct StaticEquilibrium {
 }
 
 impl StaticEquilibrium {
+    /// What sets the static tension, as the summary's
+    /// `static_tension_set_by` names it: the pretension rule of `scene`
+    /// (`rest_length`, `tensioner`, `tensioner_preload`), or `chain_misfit`
+    /// where the chain's fit to its path sets it ([`Self::warnings`] says so).
+    pub fn tension_set_by(&self, scene: &crate::scene::Scene) -> &'static str {
+        if self.misfit.is_some() {
+            "chain_misfit"
+        } else {
+            scene.chain.pretension_by.name()
+        }
+    }
+
     /// What a run warns of about this rest state, a sentence each: a
     /// roller held on or pulled beyond a circular seating arc (the drive
     /// has no smooth rest state with that profile), or a static tension
