@@ -17,6 +17,7 @@ mod misfit;
 pub(crate) use error::BeyondSeatingArc;
 mod newton;
 mod relax;
+mod tangent;
 
 pub(crate) use counts::count_verdicts;
 #[cfg(test)]
