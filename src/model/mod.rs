@@ -418,50 +418,7 @@ impl DriveModel {
             .collect();
         let seat_path = chain_path(&seat_circles).map_err(BuildError::no_path)?;
         let teeth: Vec<u32> = scene.sprockets.iter().map(|s| s.teeth).collect();
-        // A chain longer than its path by more than half a pitch hangs in
-        // its strands' sag where that sag, at the pretension, holds the
-        // excess (within a tenth of a pitch); otherwise the layout's error
-        // stands (and `check` offers the counts and moves that fit).
-        // Tensioner arms take up a long chain first: their shoes swing into
-        // the strands until the path needs the chain's length.
-        let arms: Vec<_> = scene
-            .tensioners
-            .iter()
-            .map(|t| t.arm_shoe(chain.roller_radius_m))
-            .collect();
-        let laid = match layout_rollers(
-            &seat_path,
-            &seat_circles,
-            &teeth,
-            chain.rollers,
-            chain.pitch_m,
-        ) {
-            Err(LayoutError::ChainLength { .. }) if !arms.is_empty() => layout_with_arms(
-                &seat_path,
-                &seat_circles,
-                &teeth,
-                chain.rollers,
-                chain.pitch_m,
-                &arms,
-            ),
-            laid => laid,
-        };
-        let layout = match laid {
-            Err(LayoutError::ChainLength { needed, .. })
-                if sag_holds(scene, &seat_path, needed) =>
-            {
-                hang_excess(
-                    &seat_path,
-                    &seat_circles,
-                    &teeth,
-                    chain.rollers,
-                    chain.pitch_m,
-                    scene.gravity_m_s2,
-                    needed,
-                )?
-            }
-            laid => laid?,
-        };
+        let layout = lay_out(scene, &seat_path, &seat_circles, &teeth)?;
         let sprockets: Vec<SprocketModel> = scene
             .sprockets
             .iter()
@@ -469,37 +426,7 @@ impl DriveModel {
             .zip(&layout.sprocket_angles_rad)
             .enumerate()
             .map(|(i, ((s, profile), &angle_origin_rad))| {
-                let reach = profile.reach_m();
-                let excitation = &s.excitation;
-                let governor = excitation.governor.as_ref().and_then(|spec| {
-                    s.speed_law()
-                        .map(|target| Governor::new(scene, i, spec, target, &path))
-                });
-                SprocketModel {
-                    center_m: s.center_m,
-                    center_velocity_m_s: [0.0; 2],
-                    inv_inertia: 1.0 / s.inertia_kg_m2,
-                    speed_law: if governor.is_some() {
-                        None
-                    } else {
-                        s.speed_law()
-                    },
-                    governor,
-                    speed_harmonics: excitation.speed_harmonics.clone(),
-                    load_torque_n_m: s.load_torque_n_m(),
-                    angle_load: AngleLoad::new(
-                        &excitation.load_harmonics,
-                        excitation.load_table.as_ref(),
-                    ),
-                    angle_origin_rad,
-                    load_ramp_s: s.load_ramp_s(),
-                    user_torque_n_m: 0.0,
-                    reach_m: reach,
-                    reach_sq_m2: reach * reach,
-                    pitch_radius_m: s.pitch_radius_m,
-                    teeth: s.teeth,
-                    profile,
-                }
+                sprocket_model(scene, i, s, profile, angle_origin_rad, &path)
             })
             .collect();
         let n = chain.rollers;
@@ -615,5 +542,93 @@ impl DriveModel {
     /// a torque-driven one (`SprocketModel::governor`).
     pub fn driving(&self) -> Option<usize> {
         self.sprockets.iter().position(SprocketModel::held_at_rest)
+    }
+}
+
+/// The rollers laid on the seated path: as long as the path needs, or with
+/// tensioner arms swung into the strands, or a long chain hung in its
+/// strands' sag (docs/model.md, “Pretension and static equilibrium”).
+fn lay_out(
+    scene: &Scene,
+    seat_path: &ChainPath,
+    seat_circles: &[PathCircle],
+    teeth: &[u32],
+) -> Result<Layout, BuildError> {
+    let chain = &scene.chain;
+    // A chain longer than its path by more than half a pitch hangs in
+    // its strands' sag where that sag, at the pretension, holds the
+    // excess (within a tenth of a pitch); otherwise the layout's error
+    // stands (and `check` offers the counts and moves that fit).
+    // Tensioner arms take up a long chain first: their shoes swing into
+    // the strands until the path needs the chain's length.
+    let arms: Vec<_> = scene
+        .tensioners
+        .iter()
+        .map(|t| t.arm_shoe(chain.roller_radius_m))
+        .collect();
+    let laid = match layout_rollers(seat_path, seat_circles, teeth, chain.rollers, chain.pitch_m) {
+        Err(LayoutError::ChainLength { .. }) if !arms.is_empty() => layout_with_arms(
+            seat_path,
+            seat_circles,
+            teeth,
+            chain.rollers,
+            chain.pitch_m,
+            &arms,
+        ),
+        laid => laid,
+    };
+    Ok(match laid {
+        Err(LayoutError::ChainLength { needed, .. }) if sag_holds(scene, seat_path, needed) => {
+            hang_excess(
+                seat_path,
+                seat_circles,
+                teeth,
+                chain.rollers,
+                chain.pitch_m,
+                scene.gravity_m_s2,
+                needed,
+            )?
+        }
+        laid => laid?,
+    })
+}
+
+/// Sprocket `i` of `scene` as the model steps it, its teeth drawn by
+/// `profile`, turned by `angle_origin_rad` to receive the laid rollers.
+fn sprocket_model(
+    scene: &Scene,
+    i: usize,
+    s: &crate::scene::Sprocket,
+    profile: ToothProfile,
+    angle_origin_rad: f64,
+    path: &ChainPath,
+) -> SprocketModel {
+    let reach = profile.reach_m();
+    let excitation = &s.excitation;
+    let governor = excitation.governor.as_ref().and_then(|spec| {
+        s.speed_law()
+            .map(|target| Governor::new(scene, i, spec, target, &path))
+    });
+    SprocketModel {
+        center_m: s.center_m,
+        center_velocity_m_s: [0.0; 2],
+        inv_inertia: 1.0 / s.inertia_kg_m2,
+        speed_law: if governor.is_some() {
+            None
+        } else {
+            s.speed_law()
+        },
+        governor,
+        speed_harmonics: excitation.speed_harmonics.clone(),
+        load_torque_n_m: s.load_torque_n_m(),
+        angle_load: AngleLoad::new(&excitation.load_harmonics, excitation.load_table.as_ref()),
+        angle_origin_rad,
+        load_ramp_s: s.load_ramp_s(),
+        user_torque_n_m: 0.0,
+        reach_m: reach,
+        reach_sq_m2: reach * reach,
+        pitch_radius_m: s.pitch_radius_m,
+        teeth: s.teeth,
+        profile,
     }
 }
