@@ -21,6 +21,7 @@ mod path;
 #[cfg(test)]
 mod profile_tests;
 pub(crate) mod shoe;
+pub(crate) mod v2;
 mod walk;
 
 pub(crate) use arms::{ArmShoe, ArmTakeUp, arm_take_up, layout_with_arms};
