@@ -27,18 +27,7 @@ impl Range {
 
 /// Mean and (min, max) of the finite values of an iterator; zeros when empty.
 fn stats(values: impl Iterator<Item = f64>) -> (f64, f64, f64) {
-    let (mut sum, mut n, mut lo, mut hi) = (0.0, 0usize, f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.filter(|v| v.is_finite()) {
-        sum += v;
-        n += 1;
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if n == 0 {
-        (0.0, 0.0, 0.0)
-    } else {
-        (sum / n as f64, lo, hi)
-    }
+    estimators::finite_stats(values).map_or((0.0, 0.0, 0.0), |(mean, lo, hi, _)| (mean, lo, hi))
 }
 
 /// The window's means: the rows' integrals over every step where each row

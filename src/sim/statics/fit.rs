@@ -24,6 +24,7 @@
 //! its `adjust_direction` until the chain fits, then on until the pretension
 //! is reached (`settle_tensioner`). Nothing here relaxes the chain.
 
+use crate::geometry::v2::segment_distance;
 use crate::geometry::{
     ArmTakeUp, PathCircle, ToothProfile, arm_take_up, chain_path, needed_pitches,
 };
@@ -165,7 +166,7 @@ impl<'a> Fitter<'a> {
                 if j == s.from || j == s.to {
                     continue;
                 }
-                if segment_distance(c.center_m, s.start_m, s.end_m) < c.radius_m + roller {
+                if segment_distance(c.center_m, s.start_m, s.end_m).0 < c.radius_m + roller {
                     return Err(format!(
                         "the strand from \"{}\" to \"{}\" would run through sprocket \"{}\"",
                         sp[s.from].name, sp[s.to].name, sp[j].name
@@ -436,18 +437,6 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     let (d1, d2) = (orient(a, b, c), orient(a, b, d));
     let (d3, d4) = (orient(c, d, a), orient(c, d, b));
     d1 * d2 < 0.0 && d3 * d4 < 0.0
-}
-
-/// Distance from `p` to the segment from `a` to `b`.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - t * ab[0]).hypot(p[1] - a[1] - t * ab[1])
 }
 
 /// Moves sprocket `k` of `scene` along `direction` until a chain of
