@@ -94,12 +94,20 @@ impl StepLimits {
     /// against 2 and 2 for symplectic Euler and velocity Verlet. The implicit
     /// scheme is not bound by the contact damping; its joint friction stays
     /// explicit (its limit is far from binding at the default ω_s,
-    /// docs/model.md, “Joint friction”). The adaptive scheme has none.
+    /// docs/model.md, “Joint friction”). `verlet_implicit_damping` takes the
+    /// contact damping by the trapezoidal rule (no bound) and the joint
+    /// friction at velocities predicted from the step's start forces, which
+    /// halves the explicit damping bound: a damping rate λ whose force is
+    /// taken at p = v + h a is stable for h λ < 1 (the recursion
+    /// (v, p) → ((1 − z/2) v + (z² − z) p / 2, v − z p), z = h λ, has
+    /// trace 1 − 3z/2 and determinant −z/2; Jury's condition
+    /// 1 + trace + det > 0 holds only for z < 1). The adaptive scheme has none.
     pub(crate) fn bounds_for(&self, scheme: Integrator) -> Vec<(&'static str, f64)> {
         let (links, damping, contact) = match scheme {
             Integrator::SymplecticEuler | Integrator::VelocityVerlet => (1.0, 1.0, true),
             Integrator::Rk4 => (std::f64::consts::SQRT_2, 1.3925, true),
             Integrator::ImplicitDamping => (1.0, 1.0, false),
+            Integrator::VerletImplicitDamping => (1.0, 0.5, false),
             Integrator::DormandPrince45 => return Vec::new(),
         };
         let mut bounds = vec![("links", self.links_s * links)];

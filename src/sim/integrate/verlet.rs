@@ -1,0 +1,242 @@
+//! The two velocity Verlet schemes: `velocity_verlet` (two force evaluations
+//! per step, every force explicit) and `verlet_implicit_damping` (one
+//! evaluation per step, the contact damping taken by the trapezoidal rule).
+//!
+//! Both kick half a step, drift, and evaluate the forces at the new positions
+//! with the velocities predicted at the step's end, v + h a(xₙ, vₙ) (with the
+//! half-step ones the damping would lag half a step and the scheme fall to
+//! first order). Then:
+//!
+//! - `velocity_verlet` kicks the second half with those forces and evaluates
+//!   them once more at the corrected velocities: the committed forces.
+//! - `verlet_implicit_damping` commits that one evaluation and kicks the
+//!   second half with the contact damping at the *new* velocity: per roller
+//!   in contact the 2×2 system `(m I + h/2 C) v' = m v½ + h/2 (F_rest + C v_sp)`
+//!   ([`crate::forces::DampingRows`]). With the first half kick explicit at the
+//!   step's start, the damping is integrated by the trapezoidal rule, stable
+//!   for any damping coefficient, so the contact damping does not bound the
+//!   step. The force with the solved damping (and its reaction on the
+//!   sprocket) replaces the evaluated one as the next step's start force. The
+//!   links' damping and the joint friction stay explicit, at the predicted
+//!   velocities: for a damping rate λ that is stable for h λ < 1 (half of the
+//!   explicit schemes' 2), which [`crate::scene::stability`] accounts for.
+//!
+//! What this does not do: solve the links' stiffness implicitly (the links
+//! bound both schemes' step), or locate contact onsets.
+
+use super::Integration;
+use super::{damped_roller, set_driver_speed};
+use crate::forces::{ForceGenerator, Forces};
+use crate::model::{DriveModel, DriveState};
+use crate::sim::stepper::driver_speed;
+
+impl Integration {
+    /// Velocity Verlet: half kick, drift, forces at the new positions, half
+    /// kick, then the committed evaluation.
+    pub(super) fn velocity_verlet(
+        &mut self,
+        model: &DriveModel,
+        state: &mut DriveState,
+        forces: &mut ForceGenerator,
+        h: f64,
+    ) {
+        self.verlet_first_half(model, state, forces.output(), h);
+        self.trial(model, state, forces);
+        let half = 0.5 * h / model.roller_mass_kg;
+        for i in 0..state.rollers() {
+            state.vx[i] = self.start.vx[i] + half * forces.output().fx[i];
+            state.vy[i] = self.start.vy[i] + half * forces.output().fy[i];
+        }
+        self.verlet_second_half_others(model, state, forces.output(), h);
+        self.commit(model, state, forces);
+    }
+
+    /// Velocity Verlet with one evaluation per step and the contact damping
+    /// by the trapezoidal rule (module docs).
+    pub(super) fn verlet_implicit_damping(
+        &mut self,
+        model: &DriveModel,
+        state: &mut DriveState,
+        forces: &mut ForceGenerator,
+        h: f64,
+    ) {
+        self.verlet_first_half(model, state, forces.output(), h);
+        forces.evaluate(model, state);
+        self.stats.evaluations += 1;
+        self.stats.steps += 1;
+        let m = model.roller_mass_kg;
+        let half_h = 0.5 * h;
+        let half = half_h / m;
+        let Some(rows) = forces.damping_rows() else {
+            // Nothing implicit to do: the explicit second half kick.
+            for i in 0..state.rollers() {
+                state.vx[i] = self.start.vx[i] + half * forces.output().fx[i];
+                state.vy[i] = self.start.vy[i] + half * forces.output().fy[i];
+            }
+            self.verlet_second_half_others(model, state, forces.output(), h);
+            return;
+        };
+        // The damping force changes of the rollers in contact: roller,
+        // sprocket, lever, Δf; and the change of the damping's power.
+        let changes = &mut self.damping_changes;
+        changes.clear();
+        let mut power_change_w = 0.0;
+        self.predicted_vx.copy_from_slice(&state.vx);
+        self.predicted_vy.copy_from_slice(&state.vy);
+        let out = forces.output();
+        for i in 0..state.rollers() {
+            let (fx, fy) = (out.fx[i], out.fy[i]);
+            let (vx, vy) = (self.start.vx[i], self.start.vy[i]);
+            let s = rows.sprocket[i];
+            if s == u32::MAX {
+                state.vx[i] = vx + half * fx;
+                state.vy[i] = vy + half * fy;
+            } else {
+                let (u, change) = damped_roller(rows, i, m, half_h, [vx, vy], [fx, fy]);
+                // Power of the damping on the roller's motion relative to
+                // the sprocket: the solved force at the new velocity
+                // replaces the evaluated one at the predicted velocity.
+                let [ex, ey] = rows.explicit[i];
+                let [wx, wy] = rows.surface_velocity[i];
+                let (sx, sy) = (ex + change[0], ey + change[1]);
+                power_change_w += sx * (u[0] - wx) + sy * (u[1] - wy)
+                    - (ex * (state.vx[i] - wx) + ey * (state.vy[i] - wy));
+                state.vx[i] = u[0];
+                state.vy[i] = u[1];
+                changes.push((i, s as usize, rows.lever[i], change));
+            }
+        }
+        // The solved damping replaces the evaluated one in the forces the
+        // next step starts from, with its reaction on the sprocket.
+        let out = forces.output_mut();
+        out.contact_damping_power_w += power_change_w;
+        for &(i, s, [lx, ly], [ddx, ddy]) in changes.iter() {
+            out.fx[i] += ddx;
+            out.fy[i] += ddy;
+            out.chain_torque[s] -= lx * ddy - ly * ddx;
+            out.chain_force[s][0] -= ddx;
+            out.chain_force[s][1] -= ddy;
+        }
+        // The joint friction's moments act while the rollers move at their
+        // new velocities: its power at them.
+        let out = forces.output_mut();
+        if let Some(power_w) =
+            friction_power_w(out, &state.vx, &state.vy, &self.predicted_vx, &self.predicted_vy)
+        {
+            out.joint_friction_power_w = power_w;
+        }
+        self.verlet_second_half_others(model, state, forces.output(), h);
+    }
+
+    /// The first half kick and the drift of every coordinate (the rollers'
+    /// half-step velocities kept in `start.vx/vy`, the sprockets' in
+    /// `torque_scratch`), the scalar states' Euler predictor; the time and
+    /// the driver's speed set to the step's end.
+    fn verlet_first_half(&mut self, model: &DriveModel, state: &mut DriveState, f: &Forces, h: f64) {
+        let half = 0.5 * h / model.roller_mass_kg;
+        let (vhx, vhy) = (&mut self.start.vx, &mut self.start.vy);
+        for i in 0..state.rollers() {
+            let (kx, ky) = (half * f.fx[i], half * f.fy[i]);
+            vhx[i] = state.vx[i] + kx;
+            vhy[i] = state.vy[i] + ky;
+            state.x[i] += h * vhx[i];
+            state.y[i] += h * vhy[i];
+            state.vx[i] = vhx[i] + kx;
+            state.vy[i] = vhy[i] + ky;
+        }
+        let omega_half = &mut self.torque_scratch;
+        for (s, sp) in model.sprockets.iter().enumerate() {
+            if sp.speed_law.is_some() {
+                state.theta[s] += h * driver_speed(model, s, state.t_s, state.theta[s], h);
+            } else {
+                let kick = 0.5
+                    * h
+                    * (f.chain_torque[s] + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
+                    * sp.inv_inertia;
+                omega_half[s] = state.omega[s] + kick;
+                state.theta[s] += h * omega_half[s];
+                state.omega[s] = omega_half[s] + kick;
+            }
+        }
+        // Further bodies as the sprockets; scalar states by Heun's rule
+        // (an Euler predictor here, the trapezoid after the new forces).
+        for (k, body) in model.bodies.iter().enumerate() {
+            let kick = 0.5 * h * f.body_force[k] * body.inv_mass;
+            self.start.u[k] = state.u[k] + kick;
+            state.q[k] += h * self.start.u[k];
+            state.u[k] = self.start.u[k] + kick;
+        }
+        self.start.z.copy_from_slice(&state.z);
+        self.rate_scratch.copy_from_slice(&f.scalar_rate);
+        for (z, rate) in state.z.iter_mut().zip(&f.scalar_rate) {
+            *z += h * rate;
+        }
+        state.t_s += h;
+        set_driver_speed(model, state);
+    }
+
+    /// The second half kick of the sprockets, further bodies and scalar
+    /// states with the forces `f` at the step's end.
+    fn verlet_second_half_others(
+        &mut self,
+        model: &DriveModel,
+        state: &mut DriveState,
+        f: &Forces,
+        h: f64,
+    ) {
+        for (s, sp) in model.sprockets.iter().enumerate() {
+            if sp.speed_law.is_none() {
+                state.omega[s] = self.torque_scratch[s]
+                    + 0.5
+                        * h
+                        * (f.chain_torque[s]
+                            + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
+                        * sp.inv_inertia;
+            }
+        }
+        for (k, body) in model.bodies.iter().enumerate() {
+            state.u[k] = self.start.u[k] + 0.5 * h * f.body_force[k] * body.inv_mass;
+        }
+        for (k, rate) in f.scalar_rate.iter().enumerate() {
+            state.z[k] = self.start.z[k] + 0.5 * h * (self.rate_scratch[k] + rate);
+        }
+    }
+}
+
+/// The joint friction's power Σ M ω_rel with the moments of `out` and the
+/// links' angular velocities at the rollers' velocities `v`, where `out`
+/// holds them at `v_eval`: ω = (u × Δv)/ℓ is linear in the velocities, so
+/// each link's ω moves by n/ℓ · Δ(v − v_eval). `None` without joint friction.
+fn friction_power_w(
+    out: &Forces,
+    vx: &[f64],
+    vy: &[f64],
+    eval_vx: &[f64],
+    eval_vy: &[f64],
+) -> Option<f64> {
+    let n = vx.len();
+    let moments = &out.joint_moment_n_m;
+    if n < 2
+        || moments.len() != n
+        || out.link_omega.len() != n
+        || out.link_normal_x.len() != n
+        || out.link_normal_y.len() != n
+    {
+        return None;
+    }
+    let omega = |j: usize| {
+        let k = if j + 1 == n { 0 } else { j + 1 };
+        let dx = (vx[k] - eval_vx[k]) - (vx[j] - eval_vx[j]);
+        let dy = (vy[k] - eval_vy[k]) - (vy[j] - eval_vy[j]);
+        out.link_omega[j] + out.link_normal_x[j] * dx + out.link_normal_y[j] * dy
+    };
+    // Joint j ≥ 1 lies between links j − 1 and j; joint 0 closes the loop.
+    let mut previous = omega(n - 1);
+    let mut power_w = 0.0;
+    for (j, m) in moments.iter().enumerate() {
+        let w = omega(j);
+        power_w += m * (w - previous);
+        previous = w;
+    }
+    Some(power_w)
+}
