@@ -90,7 +90,7 @@ pub(crate) struct Ladder {
 }
 
 impl Ladder {
-    /// Every scheme: the four fixed-step ones at `steps_s`, Dormand–Prince
+    /// Every scheme: the five fixed-step ones at `steps_s`, Dormand–Prince
     /// 5(4) at `tolerances`.
     pub(crate) fn every_scheme(steps_s: &[f64], tolerances: &[f64]) -> Self {
         let steps: Vec<Setting> = steps_s.iter().map(|&d| Setting::Step(d)).collect();
@@ -99,6 +99,7 @@ impl Ladder {
                 (Integrator::SymplecticEuler, steps.clone()),
                 (Integrator::ImplicitDamping, steps.clone()),
                 (Integrator::VelocityVerlet, steps.clone()),
+                (Integrator::VerletImplicitDamping, steps.clone()),
                 (Integrator::Rk4, steps),
                 (
                     Integrator::DormandPrince45,
