@@ -110,10 +110,13 @@ impl Integration {
         }
         // The joint friction's moments act while the rollers move at their
         // new velocities: its power at them.
+        let (dvx, dvy) = (&mut self.predicted_vx, &mut self.predicted_vy);
+        for ((d, v), (e, u)) in dvx.iter_mut().zip(&state.vx).zip(dvy.iter_mut().zip(&state.vy)) {
+            *d = v - *d;
+            *e = u - *e;
+        }
         let out = forces.output_mut();
-        if let Some(power_w) =
-            friction_power_w(out, &state.vx, &state.vy, &self.predicted_vx, &self.predicted_vy)
-        {
+        if let Some(power_w) = friction_power_w(out, dvx, dvy) {
             out.joint_friction_power_w = power_w;
         }
         self.verlet_second_half_others(model, state, forces.output(), h);
@@ -197,39 +200,25 @@ impl Integration {
 }
 
 /// The joint friction's power Σ M ω_rel with the moments of `out` and the
-/// links' angular velocities at the rollers' velocities `v`, where `out`
-/// holds them at `v_eval`: ω = (u × Δv)/ℓ is linear in the velocities, so
-/// each link's ω moves by n/ℓ · Δ(v − v_eval). `None` without joint friction.
-fn friction_power_w(
-    out: &Forces,
-    vx: &[f64],
-    vy: &[f64],
-    eval_vx: &[f64],
-    eval_vy: &[f64],
-) -> Option<f64> {
-    let n = vx.len();
-    let moments = &out.joint_moment_n_m;
-    if n < 2
-        || moments.len() != n
-        || out.link_omega.len() != n
-        || out.link_normal_x.len() != n
-        || out.link_normal_y.len() != n
-    {
+/// links' angular velocities at the rollers' velocities moved by `dv` from
+/// those `out` holds them at: ω = (u × Δv)/ℓ is linear in the velocities,
+/// so each link's ω moves by n/ℓ · Δ(dv). Summed link by link as
+/// Σ ω_j (M_j − M_{j+1}) (joint j lies between links j − 1 and j; joint 0
+/// closes the loop). `None` without joint friction.
+fn friction_power_w(out: &Forces, dvx: &[f64], dvy: &[f64]) -> Option<f64> {
+    let n = dvx.len();
+    let (m, w) = (&out.joint_moment_n_m, &out.link_omega);
+    let (gx, gy) = (&out.link_normal_x, &out.link_normal_y);
+    if n < 2 || [m.len(), w.len(), gx.len(), gy.len(), dvy.len()] != [n; 5] {
         return None;
     }
-    let omega = |j: usize| {
-        let k = if j + 1 == n { 0 } else { j + 1 };
-        let dx = (vx[k] - eval_vx[k]) - (vx[j] - eval_vx[j]);
-        let dy = (vy[k] - eval_vy[k]) - (vy[j] - eval_vy[j]);
-        out.link_omega[j] + out.link_normal_x[j] * dx + out.link_normal_y[j] * dy
-    };
-    // Joint j ≥ 1 lies between links j − 1 and j; joint 0 closes the loop.
-    let mut previous = omega(n - 1);
-    let mut power_w = 0.0;
-    for (j, m) in moments.iter().enumerate() {
-        let w = omega(j);
-        power_w += m * (w - previous);
-        previous = w;
+    let link = |j: usize, k: usize| w[j] + gx[j] * (dvx[k] - dvx[j]) + gy[j] * (dvy[k] - dvy[j]);
+    let mut power_w = link(n - 1, 0) * (m[n - 1] - m[0]);
+    let pairs = dvx[..n - 1].iter().zip(&dvx[1..]).zip(dvy[..n - 1].iter().zip(&dvy[1..]));
+    let links = w[..n - 1].iter().zip(&gx[..n - 1]).zip(&gy[..n - 1]);
+    let moments = m[..n - 1].iter().zip(&m[1..]);
+    for ((((x0, x1), (y0, y1)), ((w, gx), gy)), (m0, m1)) in pairs.zip(links).zip(moments) {
+        power_w += (w + gx * (x1 - x0) + gy * (y1 - y0)) * (m0 - m1);
     }
     Some(power_w)
 }
