@@ -347,6 +347,75 @@ mod tests {
         );
     }
 
+    /// `verlet_implicit_damping`: no contact damping bound, the links' bound,
+    /// half the joints' (10 µs links, 16 µs joints: 8 µs).
+    #[test]
+    fn the_implicit_verlet_is_bound_by_the_links_and_half_the_joints() {
+        let l = StepLimits {
+            links_s: 10e-6,
+            contact_damping_s: 3e-6,
+            joint_friction_s: 16e-6,
+        };
+        assert_eq!(l.for_integrator(Integrator::VerletImplicitDamping), 8e-6);
+        let names: Vec<&str> = l
+            .bounds_for(Integrator::VerletImplicitDamping)
+            .iter()
+            .map(|b| b.0)
+            .collect();
+        assert_eq!(names, ["links", "joint friction"]);
+    }
+
+    /// The bound's factor ½, checked on the scheme itself rather than on
+    /// its matrix: a damper F = −c p, its force taken at the velocity p
+    /// predicted from the step's start force, kicked half a step on each
+    /// side. At h c/m = 0.95 a velocity decays; at 1.05 it grows.
+    #[test]
+    fn a_damper_at_predicted_velocities_is_stable_below_h_lambda_one() {
+        let after = |z: f64| {
+            // m = 1, c = 1, h = z.
+            let (mut v, mut f) = (1.0_f64, -1.0_f64);
+            for _ in 0..2000 {
+                let half = v + 0.5 * z * f;
+                let predicted = half + 0.5 * z * f;
+                f = -predicted;
+                v = half + 0.5 * z * f;
+            }
+            v.abs()
+        };
+        assert!(after(0.95) < 1e-6, "{}", after(0.95));
+        assert!(after(1.05) > 1e6, "{}", after(1.05));
+    }
+
+    /// The drive with joint friction (`assets/l60mc-friction.toml`), real
+    /// profile: its statistics converge with `verlet_implicit_damping` at
+    /// 40 µs (benches/README.md), a step the scheme's estimate allows, so no
+    /// stability warning; velocity Verlet, whose contact damping estimate is
+    /// 19 µs, is warned at the same step. `dt_s = "speed"` takes 1/27 ms
+    /// (nine tenths of the joints' 41.3 µs, rounded down to a whole fraction
+    /// of 1 ms), also without a warning.
+    #[test]
+    fn the_converged_fast_setting_runs_without_a_stability_warning() {
+        let text = include_str!("../../assets/l60mc-friction.toml");
+        let with = |integrator, dt_s, dt_speed| {
+            let overrides = super::super::Overrides {
+                integrator: Some(integrator),
+                dt_s,
+                dt_speed,
+                ..Default::default()
+            };
+            let scene = Scene::from_toml_with(text, &overrides).expect("valid scene");
+            let warning = step_warning(&scene.solver, &StepLimits::of(&scene));
+            (scene.solver.dt_s, warning)
+        };
+        let (_, warning) = with(Integrator::VerletImplicitDamping, Some(40e-6), false);
+        assert_eq!(warning, None);
+        let (_, warning) = with(Integrator::VelocityVerlet, Some(40e-6), false);
+        assert!(warning.is_some_and(|w| w.contains("contact damping")));
+        let (dt_s, warning) = with(Integrator::VerletImplicitDamping, None, true);
+        approx::assert_relative_eq!(dt_s, 1e-3 / 27.0, max_relative = 1e-12);
+        assert_eq!(warning, None);
+    }
+
     /// Closed forms: p = 2 (linear spring), ∫₀¹ (1 − x²)^(−½) dx = π/2;
     /// p = 2.5 (Hertz), B(2/5, 1/2)/(5/2) = 1.4716 (Γ(0.4) = 2.21816,
     /// Γ(0.5) = √π, Γ(0.9) = 1.06863).
