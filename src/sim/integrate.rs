@@ -7,6 +7,7 @@
 //! | `rk4` | 4 | 4 | 85 µs |
 //! | `dormand_prince45` | 5(4) | 6 per trial step + located events | chosen by the error estimate (stable at every cap up to 128 µs) |
 //! | `implicit_damping` | 1 | 1 | 57 µs, and still 57 µs where the contact damping limits symplectic Euler (17 µs on a 10-sprocket drive) |
+//! | `verlet_implicit_damping` | 2 | 1 | the links' 57 µs; with joint friction half its explicit limit (module `verlet`) |
 //!
 //! (`chaindrive bench stress` measures these; the estimates of docs/model.md,
 //! “Time scales and stability”, are 60 µs for the links and 19 µs for the
