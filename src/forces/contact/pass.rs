@@ -212,7 +212,10 @@ impl ContactPass<'_> {
                 rows.explicit[i] = row.explicit;
                 rows.lever[i] = lever;
                 rows.surface_velocity[i] = if MOVING {
-                    [frame.velocity[0] - omega * ry, frame.velocity[1] + omega * rx]
+                    [
+                        frame.velocity[0] - omega * ry,
+                        frame.velocity[1] + omega * rx,
+                    ]
                 } else {
                     [-omega * ry, omega * rx]
                 };

@@ -90,8 +90,8 @@ impl Integration {
                 let [wx, wy] = rows.surface_velocity[i];
                 let (sx, sy) = (ex + change[0], ey + change[1]);
                 let (px, py) = (self.predicted_vx[i], self.predicted_vy[i]);
-                power_change_w += sx * (u[0] - wx) + sy * (u[1] - wy)
-                    - (ex * (px - wx) + ey * (py - wy));
+                power_change_w +=
+                    sx * (u[0] - wx) + sy * (u[1] - wy) - (ex * (px - wx) + ey * (py - wy));
                 state.vx[i] = u[0];
                 state.vy[i] = u[1];
                 changes.push((i, s as usize, rows.lever[i], change));
@@ -111,7 +111,11 @@ impl Integration {
         // The joint friction's moments act while the rollers move at their
         // new velocities: its power at them.
         let (dvx, dvy) = (&mut self.predicted_vx, &mut self.predicted_vy);
-        for ((d, v), (e, u)) in dvx.iter_mut().zip(&state.vx).zip(dvy.iter_mut().zip(&state.vy)) {
+        for ((d, v), (e, u)) in dvx
+            .iter_mut()
+            .zip(&state.vx)
+            .zip(dvy.iter_mut().zip(&state.vy))
+        {
             *d = v - *d;
             *e = u - *e;
         }
@@ -126,7 +130,13 @@ impl Integration {
     /// half-step velocities kept in `start.vx/vy`, the sprockets' in
     /// `torque_scratch`), the scalar states' Euler predictor; the time and
     /// the driver's speed set to the step's end.
-    fn verlet_first_half(&mut self, model: &DriveModel, state: &mut DriveState, f: &Forces, h: f64) {
+    fn verlet_first_half(
+        &mut self,
+        model: &DriveModel,
+        state: &mut DriveState,
+        f: &Forces,
+        h: f64,
+    ) {
         let half = 0.5 * h / model.roller_mass_kg;
         let n = state.rollers();
         let (vhx, vhy) = (&mut self.start.vx[..n], &mut self.start.vy[..n]);
@@ -214,7 +224,10 @@ fn friction_power_w(out: &Forces, dvx: &[f64], dvy: &[f64]) -> Option<f64> {
     }
     let link = |j: usize, k: usize| w[j] + gx[j] * (dvx[k] - dvx[j]) + gy[j] * (dvy[k] - dvy[j]);
     let mut power_w = link(n - 1, 0) * (m[n - 1] - m[0]);
-    let pairs = dvx[..n - 1].iter().zip(&dvx[1..]).zip(dvy[..n - 1].iter().zip(&dvy[1..]));
+    let pairs = dvx[..n - 1]
+        .iter()
+        .zip(&dvx[1..])
+        .zip(dvy[..n - 1].iter().zip(&dvy[1..]));
     let links = w[..n - 1].iter().zip(&gx[..n - 1]).zip(&gy[..n - 1]);
     let moments = m[..n - 1].iter().zip(&m[1..]);
     for ((((x0, x1), (y0, y1)), ((w, gx), gy)), (m0, m1)) in pairs.zip(links).zip(moments) {
@@ -240,12 +253,26 @@ fn kick_drift_kick(vh: &mut [f64], v: &mut [f64], x: &mut [f64], f: &[f64], half
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn kick_drift_kick_avx2(vh: &mut [f64], v: &mut [f64], x: &mut [f64], f: &[f64], half: f64, h: f64) {
+fn kick_drift_kick_avx2(
+    vh: &mut [f64],
+    v: &mut [f64],
+    x: &mut [f64],
+    f: &[f64],
+    half: f64,
+    h: f64,
+) {
     kick_drift_kick_body(vh, v, x, f, half, h);
 }
 
 #[inline(always)]
-fn kick_drift_kick_body(vh: &mut [f64], v: &mut [f64], x: &mut [f64], f: &[f64], half: f64, h: f64) {
+fn kick_drift_kick_body(
+    vh: &mut [f64],
+    v: &mut [f64],
+    x: &mut [f64],
+    f: &[f64],
+    half: f64,
+    h: f64,
+) {
     for (((vh, v), x), f) in vh.iter_mut().zip(v).zip(x).zip(f) {
         let k = half * f;
         *vh = *v + k;
