@@ -366,7 +366,8 @@ mod tests {
                 "velocity_verlet",
                 "rk4",
                 "dormand_prince45",
-                "implicit_damping"
+                "implicit_damping",
+                "verlet_implicit_damping"
             ]
         );
         assert_eq!(ContactLaw::LankaraniNikravesh.name(), "lankarani_nikravesh");

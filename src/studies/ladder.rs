@@ -232,9 +232,9 @@ mod tests {
     fn rungs_go_method_by_method_fine_to_coarse() {
         let ladder = Ladder::every_scheme(&[1e-5, 2e-5], &[1e-3]);
         let rungs: Vec<Rung> = ladder.rungs().collect();
-        assert_eq!(rungs.len(), 4 * 2 + 1);
+        assert_eq!(rungs.len(), 5 * 2 + 1);
         assert_eq!(rungs[1].integrator, Integrator::SymplecticEuler);
         assert_eq!(rungs[1].setting, Setting::Step(2e-5));
-        assert_eq!(rungs[8].setting, Setting::Tolerance(1e-3));
+        assert_eq!(rungs[10].setting, Setting::Tolerance(1e-3));
     }
 }
