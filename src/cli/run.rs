@@ -29,8 +29,8 @@ pub(super) struct RunArgs {
     /// Simulated time, s (overrides the scene).
     #[arg(long)]
     duration: Option<f64>,
-    /// The chain's integration step, s, or `auto` (overrides the scene).
-    #[arg(long, value_name = "SECONDS|auto")]
+    /// The chain's integration step, s, `auto` or `speed` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto|speed")]
     dt: Option<crate::cli::DtArg>,
     /// How the chain is stepped (overrides the scene).
     #[arg(long, value_enum)]
@@ -195,12 +195,13 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             "--checkpoint-every {every}: the time between checkpoints must be a number of simulated seconds > 0"
         );
     }
-    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
+    let (dt_s, dt_auto, dt_speed) = crate::cli::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
         duration_s: args.duration,
         dt_s,
         dt_auto,
+        dt_speed,
         stepping: args.stepping,
         integrator: args.integrator,
         tolerance: args.tolerance,
