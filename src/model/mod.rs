@@ -607,7 +607,7 @@ fn sprocket_model(
     let excitation = &s.excitation;
     let governor = excitation.governor.as_ref().and_then(|spec| {
         s.speed_law()
-            .map(|target| Governor::new(scene, i, spec, target, &path))
+            .map(|target| Governor::new(scene, i, spec, target, path))
     });
     SprocketModel {
         center_m: s.center_m,
