@@ -46,6 +46,7 @@ mod statics_tests;
 mod stepper;
 #[cfg(test)]
 mod stepping_tests;
+mod take_up;
 #[cfg(test)]
 mod threads_tests;
 #[cfg(test)]
@@ -93,10 +94,10 @@ use crate::geometry::Layout;
 use crate::model::rapier::{ChainBodies, SprocketBody};
 use crate::model::{BodyModel, DriveModel, DriveState, ScalarModel};
 use crate::scene::{
-    JumpAction, Overrides, PretensionRule, Role, Scene, SceneError, Stepping, TensionerKind,
+    JumpAction, Overrides, PretensionRule, Scene, SceneError, Stepping, TensionerKind,
 };
 
-fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
+pub(super) fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     let mut forces = ForceGenerator::new(
         ContactLawParams::new(&scene.contact),
         model,
@@ -131,7 +132,7 @@ fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
     forces
 }
 
-type Settled = (
+pub(super) type Settled = (
     Scene,
     DriveModel,
     DriveState,
@@ -139,143 +140,6 @@ type Settled = (
     Layout,
     StaticEquilibrium,
 );
-
-/// The tensioner rule: links keep their rest length P; the tensioner's
-/// centre first moves along its adjustment direction until the unstretched
-/// chain fits the path through the seated rollers ([`fit_sprocket`]; refused
-/// only when its travel cannot close the gap), then on from there, by a
-/// secant iteration on the static tension, until the pretension is reached.
-/// Each iterate lays the chain out anew and settles it (Newton's method, the
-/// relaxation where it stalls). The returned scene holds
-/// the tensioner's final centre, so every output describes the drive simulated
-/// (docs/model.md, “Pretension and static equilibrium”).
-fn settle_tensioner(scene: &Scene, settings: &RelaxSettings) -> Result<Settled, SimError> {
-    const MAX_ITERATIONS: usize = 20;
-    let Some(t) = scene.tensioner() else {
-        return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
-    };
-    let Role::Tensioner { direction, .. } = scene.sprockets[t].role else {
-        return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
-    };
-    let target = scene.chain.pretension_n;
-    let tension_at = |offset: f64| -> Result<(Settled, f64), SimError> {
-        let mut moved = scene.clone();
-        let c = &mut moved.sprockets[t].center_m;
-        c[0] += offset * direction[0];
-        c[1] += offset * direction[1];
-        let (model, mut state, layout) = DriveModel::build(&moved)?;
-        let mut forces = new_forces(&moved, &model);
-        // Newton at this offset, the relaxation only where it stalls.
-        let residual = statics::settle(
-            &model,
-            &mut state,
-            &mut forces,
-            settings,
-            statics::REST_FORCE * target.abs(),
-            0.5 * statics::REST_FORCE * target.abs(),
-            true,
-        )?;
-        let tension =
-            free_strand_tension(&model, &state, &forces).ok_or(EquilibriumError::NoFreeLinks)?;
-        let eq = StaticEquilibrium {
-            tension_n: tension,
-            rest_length_m: model.rest_length_m,
-            iterations: 0,
-            residual_speed_m_s: residual,
-            force_residual: force_residual(&forces, target),
-            beyond_seating_arc: None,
-            misfit: None,
-        };
-        Ok(((moved, model, state, forces, layout, eq), tension))
-    };
-    // Where the unstretched chain fits; from there, the first step is the
-    // move that stretches every link by T₀/K (the path grows by
-    // slope · P per metre of move).
-    let fit = fit_sprocket(scene, t, direction, scene.chain.rollers).map_err(|reason| {
-        EquilibriumError::TensionerFit {
-            sprocket: scene.sprockets[t].name.clone(),
-            reason: Box::new(reason),
-        }
-    })?;
-    let first_step_m = (target / scene.chain.stiffness_n_m) * scene.chain.rollers as f64
-        / (fit.slope_per_m * scene.chain.pitch_m);
-    // At the fit the unstretched chain carries no tension (nothing to relax:
-    // no roller presses on a tooth, so no strand could be told from a wrap).
-    let (mut s0, mut t0) = (fit.offset_m, 0.0);
-    let mut s1 = s0 + first_step_m;
-    for iteration in 1..=MAX_ITERATIONS {
-        let (mut settled, t1) = tension_at(s1)?;
-        if ((t1 - target) / target).abs() <= scene.equilibrium.tension_tolerance {
-            settled.5.iterations = iteration;
-            return Ok(settled);
-        }
-        let slope = (t1 - t0) / (s1 - s0);
-        if !(slope.abs() > 0.0) || !slope.is_finite() {
-            break;
-        }
-        (s0, t0, s1) = (s1, t1, s1 + (target - t1) / slope);
-    }
-    Err(SimError::Equilibrium(EquilibriumError::NotConverged {
-        tension_n: t0,
-        target_n: target,
-        iterations: MAX_ITERATIONS,
-    }))
-}
-
-/// Lengthens the links of a drive `settled` with its chain new to `worn`'s
-/// elongation ([`worn::wear_in`]); the tensioner rule's sprocket moves on
-/// to keep the pretension. Returns the worn drive, its scene `worn`'s with
-/// the tensioner where it ended.
-fn wear_settled(
-    worn: &Scene,
-    settled: Settled,
-    settings: &RelaxSettings,
-) -> Result<Settled, SimError> {
-    let (mut scene, mut model, mut state, mut forces, layout, _) = settled;
-    let e = worn.chain.elongation;
-    let chain = &worn.chain;
-    let take_up = match (chain.pretension_by, scene.tensioner()) {
-        (PretensionRule::Tensioner, Some(t)) => {
-            let Role::Tensioner { direction, .. } = scene.sprockets[t].role else {
-                return Err(SimError::Equilibrium(EquilibriumError::NoTensioner));
-            };
-            // The path's gain per metre the sprocket moves, from the fit's
-            // slope (pitches per metre) where the new chain sits.
-            let fit = fit_sprocket(&scene, t, direction, chain.rollers).map_err(|reason| {
-                EquilibriumError::TensionerFit {
-                    sprocket: scene.sprockets[t].name.clone(),
-                    reason: Box::new(reason),
-                }
-            })?;
-            let norm = direction[0].hypot(direction[1]);
-            Some((
-                t,
-                [direction[0] / norm, direction[1] / norm],
-                1.0 / (fit.slope_per_m * chain.pitch_m),
-            ))
-        }
-        _ => None,
-    };
-    let mut taken = scene.clone();
-    let eq = worn::wear_in(
-        &mut model,
-        &mut state,
-        &mut forces,
-        settings,
-        e,
-        chain.pretension_n,
-        take_up.map(|(sprocket, direction, travel_per_length)| worn::TakeUp {
-            scene: &mut taken,
-            sprocket,
-            direction,
-            travel_per_length,
-            tolerance: worn.equilibrium.tension_tolerance,
-        }),
-    )?;
-    scene = taken;
-    scene.chain.elongation = e;
-    Ok((scene, model, state, forces, layout, eq))
-}
 
 use crate::scene::StepLimits;
 #[cfg(test)]
@@ -526,7 +390,7 @@ impl Simulation {
                 release(&mut model, &freed);
                 (scene.clone(), model, state, forces, layout, eq)
             }
-            PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
+            PretensionRule::Tensioner => take_up::settle_tensioner(scene, &settings)?,
             PretensionRule::TensionerPreload => {
                 let (mut model, mut state, layout) = DriveModel::build(scene)?;
                 let mut forces = new_forces(scene, &model);
@@ -544,7 +408,7 @@ impl Simulation {
             }
         };
         let (scene, model, state, forces, layout, equilibrium) = if new_chain.is_some() {
-            wear_settled(worn, settled, &settings)?
+            take_up::wear_settled(worn, settled, &settings)?
         } else {
             settled
         };
