@@ -29,6 +29,7 @@ mod equilibrium_tests;
 mod fanout;
 #[cfg(test)]
 mod fit_tests;
+mod guide_entry;
 pub(crate) mod integrate;
 #[cfg(test)]
 mod integrators_tests;
@@ -130,6 +131,51 @@ pub(super) fn new_forces(scene: &Scene, model: &DriveModel) -> ForceGenerator {
         forces.add(Box::new(GuideElement::fixed(guide, &scene.chain)));
     }
     forces
+}
+
+/// Refuses a rest state with a roller behind a guide's entry
+/// ([`guide_entry::behind_entry`]).
+fn check_guide_entries(
+    scene: &Scene,
+    model: &DriveModel,
+    state: &DriveState,
+    limits: &BlowUpLimits,
+) -> Result<(), SimError> {
+    let faces: Vec<_> = scene.guides.iter().map(|g| g.face).collect();
+    let Some(found) = guide_entry::behind_entry(
+        &faces,
+        &state.x,
+        &state.y,
+        model.rest_length_m,
+        scene.chain.roller_radius_m,
+        limits.max_penetration_m,
+    ) else {
+        return Ok(());
+    };
+    let e = scene.chain.elongation;
+    let slack = if e > 0.0 {
+        format!(
+            " (worn by {:.3} %, the chain gained {:.1} mm)",
+            100.0 * e,
+            1e3 * scene.chain.rollers as f64 * scene.chain.pitch_m * e
+        )
+    } else {
+        String::new()
+    };
+    Err(SimError::Equilibrium(EquilibriumError::BehindGuideEntry {
+        guide: scene.guides[found.guide].name.clone(),
+        index: found.guide,
+        end: found.end,
+        what: if found.ramp {
+            "the ramp"
+        } else {
+            "the face's end"
+        },
+        roller: found.roller,
+        depth_mm: 1e3 * found.depth_m,
+        limit_mm: 1e3 * limits.max_penetration_m,
+        slack,
+    }))
 }
 
 pub(super) type Settled = (
@@ -412,6 +458,7 @@ impl Simulation {
         } else {
             settled
         };
+        check_guide_entries(&scene, &model, &state, &limits)?;
         Ok(Self::assemble(
             scene,
             model,

@@ -1,7 +1,9 @@
-//! A tensioner sprocket under the tensioner rule (`pretension_by =
-//! "tensioner"`), new and worn, from the command line: low pretensions are
-//! reached, a worn chain is taken up by the length its strands gained, and
-//! a load held at rest beyond the pretension is refused by name.
+//! Worn and tensioned drives set up from the command line: a tensioner
+//! sprocket under the tensioner rule (`pretension_by = "tensioner"`) reaches
+//! low pretensions new and worn and takes a worn chain up by the length its
+//! strands gained; a load held at rest beyond the pretension is refused by
+//! name; a worn chain that sags behind a guide's entry is refused before the
+//! run instead of blowing up in it.
 
 use crate::common::{chaindrive, stderr};
 use std::path::{Path, PathBuf};
@@ -113,4 +115,38 @@ fn a_load_held_at_rest_beyond_the_pretension_is_refused_under_the_tensioner_rule
         (needed / hand - 1.0).abs() < 0.02,
         "{needed} N against {hand} N"
     );
+}
+
+#[test]
+fn a_worn_chain_sagging_behind_a_guides_entry_is_refused_before_the_run() {
+    // Before: user_moto_10b_free_arm.toml worn by 3 % set up, ran, and blew
+    // up at t = 0.0083 s (roller 0 6.10 mm into the guide against the
+    // 5.08 mm limit). The chain gains 110 × 15.875 mm × 0.03 = 52.4 mm on
+    // fixed centres (the arm hangs free), the slack strand sags below the
+    // wear strip's 10 mm, 10° entry ramp, and the first roller to reach the
+    // ramp's tip meets the strip from behind.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/user_moto_10b_free_arm.toml");
+    let text = std::fs::read_to_string(base).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 3.0\n",
+    );
+    assert!(text.contains("elongation_pct = 3.0"));
+    let scene = dir.path().join("worn.toml");
+    std::fs::write(&scene, text).expect("write");
+    let out = chaindrive(&["check", scene.to_str().expect("utf-8")]);
+    assert!(!out.status.success(), "a chain behind the guide's entry");
+    let err = stderr(&out);
+    for named in ["slack wear strip", "guides.0.start_ramp", "52.4 mm"] {
+        assert!(err.contains(named), "{named} in {err}");
+    }
+    // The depth named lies beyond the limit, the roller radius 5.08 mm.
+    let key = "meet the face ";
+    let at = err.find(key).unwrap_or_else(|| panic!("{err}")) + key.len();
+    let depth: f64 = err[at..]
+        .split(' ')
+        .next()
+        .and_then(|d| d.parse().ok())
+        .expect("a depth");
+    assert!(depth > 5.08, "{depth} mm");
 }
