@@ -3,7 +3,8 @@
 //! low pretensions new and worn and takes a worn chain up by the length its
 //! strands gained; a load held at rest beyond the pretension is refused by
 //! name; a worn chain that sags behind a guide's entry is refused before the
-//! run instead of blowing up in it.
+//! run instead of blowing up in it; a chain that touches no tooth at rest
+//! is warned about.
 
 use crate::common::{chaindrive, stderr};
 use std::path::{Path, PathBuf};
@@ -149,4 +150,33 @@ fn a_worn_chain_sagging_behind_a_guides_entry_is_refused_before_the_run() {
         .and_then(|d| d.parse().ok())
         .expect("a depth");
     assert!(depth > 5.08, "{depth} mm");
+}
+
+#[test]
+fn a_chain_that_meshes_with_no_sprocket_at_rest_is_warned_about() {
+    // The 30/30 drive on fixed centres, no gravity: worn by 2 % its chain
+    // gains 111 × 25.4 mm × 0.02 = 56.4 mm, far more than the 1 kN stretch
+    // it had (111 × 1000 N / K, under a millimetre), so at rest it hangs
+    // free of every tooth. Before, `check` and the run said nothing of it.
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/worn_30_30_fixed.toml");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = std::fs::read_to_string(&base).expect("scene");
+    let worn = dir.path().join("worn.toml");
+    std::fs::write(
+        &worn,
+        text.replace("elongation_pct = 0.0", "elongation_pct = 2.0"),
+    )
+    .expect("write");
+    let out = chaindrive(&["check", worn.to_str().expect("utf-8")]);
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("meshes with no sprocket at rest"), "{err}");
+    assert!(err.contains("56.4 mm"), "{err}");
+    let new = chaindrive(&["check", base.to_str().expect("utf-8")]);
+    assert!(new.status.success(), "{}", stderr(&new));
+    assert!(
+        !stderr(&new).contains("meshes with no sprocket"),
+        "{}",
+        stderr(&new)
+    );
 }
