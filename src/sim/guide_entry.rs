@@ -32,9 +32,12 @@ pub(crate) struct BehindEntry {
     pub depth_m: f64,
 }
 
-/// A face's free ends: the point, its outward unit direction and the unit
-/// normal towards the working side, with whether a ramp ends there.
-fn free_ends(face: &Face) -> [([f64; 2], [f64; 2], [f64; 2], bool); 2] {
+/// A face's free end: the point, its outward unit direction and the unit
+/// normal towards the working side, and whether a ramp ends there.
+type FreeEnd = ([f64; 2], [f64; 2], [f64; 2], bool);
+
+/// A face's two free ends, its start's first.
+fn free_ends(face: &Face) -> [FreeEnd; 2] {
     let unit = |a: [f64; 2], b: [f64; 2]| {
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
         let n = dx.hypot(dy).max(f64::MIN_POSITIVE);

@@ -162,20 +162,22 @@ fn check_guide_entries(
     } else {
         String::new()
     };
-    Err(SimError::Equilibrium(EquilibriumError::BehindGuideEntry {
-        guide: scene.guides[found.guide].name.clone(),
-        index: found.guide,
-        end: found.end,
-        what: if found.ramp {
-            "the ramp"
-        } else {
-            "the face's end"
-        },
-        roller: found.roller,
-        depth_mm: 1e3 * found.depth_m,
-        limit_mm: 1e3 * limits.max_penetration_m,
-        slack,
-    }))
+    let index = found.guide;
+    Err(SimError::Equilibrium(EquilibriumError::BehindGuideEntry(
+        format!(
+            "roller {} rests behind the entry of guide \"{}\" (guides.{index}, {} at its {end}): running onto it, it would meet the face {:.2} mm deep, beyond the blow-up limit of {:.2} mm (solver.limits.max_penetration_m), so the run would blow up there; the strand sags below the guide's entry{slack}: give that end a longer or steeper ramp (guides.{index}.{end}_ramp), or take the slack up (a tensioner, fewer rollers)",
+            found.roller,
+            scene.guides[index].name,
+            if found.ramp {
+                "the ramp"
+            } else {
+                "the face's end"
+            },
+            1e3 * found.depth_m,
+            1e3 * limits.max_penetration_m,
+            end = found.end,
+        ),
+    )))
 }
 
 pub(super) type Settled = (

@@ -70,28 +70,10 @@ pub enum EquilibriumError {
     #[error("no free strand link to measure the static tension on")]
     NoFreeLinks,
     /// A roller at rest lies so far behind a fixed guide's entry that,
-    /// carried onto it, it would meet the face beyond the blow-up limit.
-    #[error(
-        "roller {roller} rests behind the entry of guide \"{guide}\" (guides.{index}, {what} at its {end}): running onto it, it would meet the face {depth_mm:.2} mm deep, beyond the blow-up limit of {limit_mm:.2} mm (solver.limits.max_penetration_m), so the run would blow up there; the strand sags below the guide's entry{slack}: give that end a longer or steeper ramp (guides.{index}.{end}_ramp), or take the slack up (a tensioner, fewer rollers)"
-    )]
-    BehindGuideEntry {
-        /// The guide's name.
-        guide: String,
-        /// Its index in `[[guides]]`, 0-based.
-        index: usize,
-        /// "start" or "end".
-        end: &'static str,
-        /// "the ramp" or "the face's end".
-        what: &'static str,
-        /// The roller, 0-based.
-        roller: usize,
-        /// Depth at which it would meet the face, mm.
-        depth_mm: f64,
-        /// The blow-up limit, mm.
-        limit_mm: f64,
-        /// Where the slack comes from, if known (a worn chain's gain).
-        slack: String,
-    },
+    /// carried onto it, it would meet the face beyond the blow-up limit
+    /// (the sentence names the guide, the roller, the depth and the remedy).
+    #[error("{0}")]
+    BehindGuideEntry(String),
     /// The tensioner rule needs a sprocket with role = "tensioner".
     #[error("pretension_by = \"tensioner\" but no sprocket is a tensioner")]
     NoTensioner,
