@@ -120,6 +120,9 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             if sim.equilibrium.misfit.is_none() {
                 idle_tensioners(&name, &sim);
             }
+            if let Some(w) = sim.unmeshed_warning() {
+                eprintln!("{name}: warning: {w}");
+            }
             let residual = sim.equilibrium.force_residual;
             if residual > crate::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
                 eprintln!(

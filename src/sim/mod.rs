@@ -29,6 +29,7 @@ mod equilibrium_tests;
 mod fanout;
 #[cfg(test)]
 mod fit_tests;
+mod guide_entry;
 pub(crate) mod integrate;
 #[cfg(test)]
 mod integrators_tests;
@@ -39,7 +40,8 @@ mod jumps_tests;
 mod paper_tests;
 pub(crate) mod parallel;
 mod sample_rate;
-pub(crate) mod setup;
+pub(crate) mod settled;
+mod setup;
 mod sliding;
 mod statics;
 #[cfg(test)]
@@ -47,6 +49,8 @@ mod statics_tests;
 mod stepper;
 #[cfg(test)]
 mod stepping_tests;
+mod take_up;
+mod tension_search;
 #[cfg(test)]
 mod threads_tests;
 #[cfg(test)]
@@ -262,6 +266,8 @@ pub struct Simulation {
     pub(crate) sliding: Option<JointSliding>,
     /// The tooth-jump detector, looking at every sample.
     pub(crate) jumps: JumpWatch,
+    /// Whether any roller touched a sprocket at rest (t = 0).
+    pub(crate) meshed_at_rest: bool,
     /// The run's clock (see [`Clock`]).
     clock: Clock,
 }
@@ -368,6 +374,7 @@ impl Simulation {
                 inertia_kg_m2: s.inertia_kg_m2,
             })
             .collect();
+        let meshed_at_rest = forces.output().touching.iter().any(|&t| t);
         let integration = Integration::new(
             scene.solver.integrator,
             scene.solver.tolerance,
@@ -401,8 +408,20 @@ impl Simulation {
             power: None,
             sliding: None,
             jumps,
+            meshed_at_rest,
             clock: Clock::default(),
         }
+    }
+
+    /// The warning for a chain that meshes with no sprocket at rest, if so.
+    pub(crate) fn unmeshed_warning(&self) -> Option<String> {
+        (!self.meshed_at_rest).then(|| {
+            format!(
+                "the chain meshes with no sprocket at rest: no roller touches a tooth (static tension {:.1} N), so the drive carries nothing until the chain catches a tooth, if it ever does: check that the chain lies on the sprockets (their centres, wraps and the roller count) or take up its slack (a worn chain on fixed centres gains {:.1} mm)",
+                self.equilibrium.tension_n,
+                1e3 * self.scene.chain.rollers as f64 * self.scene.chain.pitch_m * self.scene.chain.elongation
+            )
+        })
     }
 
     /// One chain step of `dt_s` in the scene's stepping mode.
