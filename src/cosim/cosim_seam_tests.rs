@@ -99,7 +99,8 @@ fn a_drag_zone_in_a_cosimulated_conveyor_costs_the_driver_c_n_v_r() {
     let c = 1.0;
     let (n, p, z) = (100.0, 0.0254, 20.0_f64);
     let omega = 2.0 * std::f64::consts::PI;
-    let r = 0.5 * (z * p / (2.0 * std::f64::consts::PI) + p / (2.0 * (std::f64::consts::PI / z).sin()));
+    let r =
+        0.5 * (z * p / (2.0 * std::f64::consts::PI) + p / (2.0 * (std::f64::consts::PI / z).sin()));
     let expected_n_m = c * n * omega * r * r;
     let (free, _) = run(None);
     let (dragged, energy_j) = run(Some(c));

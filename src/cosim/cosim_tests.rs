@@ -174,11 +174,8 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
             // Strand 1 runs along the bottom from sprocket 1 to 2, strand 2 back on top.
-            let seg = crate::test_support::strand_means(
-                drive.model(),
-                drive.state(),
-                drive.forces(),
-            );
+            let seg =
+                crate::test_support::strand_means(drive.model(), drive.state(), drive.forces());
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
