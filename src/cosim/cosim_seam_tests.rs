@@ -54,8 +54,10 @@ const MEAN_FRAMES: usize = 30;
 /// growth over it (J) when `drag` is given.
 fn run(drag: Option<f64>) -> (f64, f64) {
     let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", 0.0);
-    let mut w = PhysicsWorld::default();
-    w.gravity = Vector::new(0.0, -9.81);
+    let mut w = PhysicsWorld {
+        gravity: Vector::new(0.0, -9.81),
+        ..Default::default()
+    };
     w.integration_parameters.dt = FRAME_S;
     let mut drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
     if let Some(c) = drag {
