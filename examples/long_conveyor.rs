@@ -17,7 +17,7 @@
 //! body in it.
 
 use chaindrive::prelude::*;
-use chaindrive::scene::generate::DriveSpec;
+use chaindrive::scene::DriveSpec;
 use chaindrive::scene::{ProfileKind, StepFile, Threads, ThreadsFile};
 use rapier2d_f64::prelude::*;
 

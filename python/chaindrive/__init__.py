@@ -438,7 +438,8 @@ def run(
         integrator: ``"symplectic_euler"``, ``"velocity_verlet"``,
             ``"rk4"``, ... (default: the scene's).
         profile: every sprocket's tooth profile, ``"circular"`` or ``"real"``.
-        dt: the chain's step, s, or ``"auto"`` (default: the scene's).
+        dt: the chain's step, s, ``"auto"``, or ``"speed"`` (the largest
+            step the integrator's stability allows; default: the scene's).
         stepping: ``"substepped"`` or ``"rapier"``.
         series: keep every sample (``False``: only the summary's window is
             kept, and ``result.series`` is empty; memory stays flat).

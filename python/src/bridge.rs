@@ -197,6 +197,8 @@ pub(crate) struct RunSettings {
     /// The step, s, or `None` with `dt_auto`.
     pub dt_s: Option<f64>,
     pub dt_auto: bool,
+    /// `"speed"`: the step chosen for speed.
+    pub dt_speed: bool,
     /// `substepped` or `rapier`.
     pub stepping: Option<String>,
     /// Keep every sample of the series (else only the summary's window).
@@ -367,6 +369,7 @@ fn with_settings(scene: &Scene, s: &RunSettings) -> Result<Scene, RunError> {
         duration_s: s.duration_s,
         dt_s: s.dt_s,
         dt_auto: s.dt_auto,
+        dt_speed: s.dt_speed,
         stepping: stepping.and_then(chaindrive::scene::Stepping::from_name),
         integrator: integrator.and_then(chaindrive::scene::Integrator::from_name),
         sample_rate_hz: Some(s.rate_hz),

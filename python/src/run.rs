@@ -24,22 +24,24 @@ pyo3::create_exception!(
      possible causes, as the command line prints it."
 );
 
-/// A step in seconds or `"auto"`.
-fn dt_setting(dt: Option<&Bound<'_, PyAny>>) -> PyResult<(Option<f64>, bool)> {
+/// A step in seconds, `"auto"` or `"speed"`: `(seconds, auto, speed)`.
+fn dt_setting(dt: Option<&Bound<'_, PyAny>>) -> PyResult<(Option<f64>, bool, bool)> {
+    const ALLOWED: &str = "a step in seconds (e.g. 1e-5), \"auto\" or \"speed\"";
     let Some(dt) = dt else {
-        return Ok((None, false));
+        return Ok((None, false, false));
     };
     if let Ok(s) = dt.extract::<String>() {
         if s.eq_ignore_ascii_case("auto") {
-            return Ok((None, true));
+            return Ok((None, true, false));
         }
-        return Err(PyValueError::new_err(format!(
-            "dt {s:?}: a step in seconds (e.g. 1e-5) or \"auto\""
-        )));
+        if s.eq_ignore_ascii_case("speed") {
+            return Ok((None, false, true));
+        }
+        return Err(PyValueError::new_err(format!("dt {s:?}: {ALLOWED}")));
     }
     dt.extract::<f64>()
-        .map(|s| (Some(s), false))
-        .map_err(|_| PyTypeError::new_err("dt: a step in seconds (e.g. 1e-5) or \"auto\""))
+        .map(|s| (Some(s), false, false))
+        .map_err(|_| PyTypeError::new_err(format!("dt: {ALLOWED}")))
 }
 
 /// Runs `scene` and returns `(summary, series, interrupted)` (the Python
@@ -70,7 +72,7 @@ pub(crate) fn run<'py>(
     progress: Option<Py<PyAny>>,
     poll_s: f64,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>, bool)> {
-    let (dt_s, dt_auto) = dt_setting(dt)?;
+    let (dt_s, dt_auto, dt_speed) = dt_setting(dt)?;
     if checkpoint.is_some() != checkpoint_every.is_some() {
         return Err(PyValueError::new_err(
             "checkpoint and checkpoint_every go together: a file and the simulated seconds between checkpoints",
@@ -84,6 +86,7 @@ pub(crate) fn run<'py>(
         profile,
         dt_s,
         dt_auto,
+        dt_speed,
         stepping,
         keep_series: series,
         record,

@@ -120,6 +120,19 @@ def test_run_settings_are_the_command_lines(data):
     assert len(r.series) == 0 and s["window_s"][1] == pytest.approx(0.2)
 
 
+def test_dt_speed_takes_a_larger_step_than_auto(data):
+    # "speed" drops the impact cap that "auto" keeps, so its step is at least
+    # as large, and with the one-evaluation scheme it runs without a
+    # stability warning.
+    scene = cd.Scene.from_file(data / "designation_16b.toml")
+    fast = cd.run(scene, duration=0.05, dt="speed", integrator="verlet_implicit_damping", series=False)
+    auto = cd.run(scene, duration=0.05, dt="auto", integrator="verlet_implicit_damping", series=False)
+    assert fast.summary["dt_s"] >= auto.summary["dt_s"] > 0
+    assert not any("stability" in w for w in fast.summary["warnings"])
+    with pytest.raises(ValueError, match="speed"):
+        cd.run(scene, dt="fastest")
+
+
 def test_a_bad_setting_raises_with_its_field_path(data):
     scene = cd.Scene.from_file(data / "designation_16b.toml")
     with pytest.raises(cd.SceneError) as e:

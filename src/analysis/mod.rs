@@ -37,6 +37,7 @@ pub(crate) mod spectrum;
 #[cfg(test)]
 mod statistics_tests;
 pub(crate) mod stats;
+mod summarise;
 mod summary;
 pub(crate) mod theory;
 pub(crate) mod units;

@@ -32,6 +32,7 @@ use super::paper_probes::{
     link_force_series, roller_contact_series, spectrum_with_peaks, window_indices,
 };
 use super::spectrum::main_peak;
+use super::stats::finite_stats;
 use super::theory::{moving_string_frequency_hz, string_frequency_hz};
 use super::{RunSummary, SampleRow, Signals, StepSums, StrandSummary, SummaryInputs};
 use crate::record::Channel;
@@ -401,18 +402,6 @@ pub(crate) struct RecordedAnalysis {
     pub binder: Vec<Option<BinderComparison>>,
 }
 
-/// Mean, min, max of finite values (`None` when there is none).
-fn stats(values: impl Iterator<Item = f64>) -> Option<(f64, f64, f64, usize)> {
-    let (mut sum, mut n, mut lo, mut hi) = (0.0, 0usize, f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.filter(|v| v.is_finite()) {
-        sum += v;
-        n += 1;
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    (n > 0).then(|| (sum / n as f64, lo, hi, n))
-}
-
 fn missing_for(what: &str, missing: &[&str], run: &RecordedRun) -> RecordedError {
     ReadError::missing_channels(what, missing, &run.topics).into()
 }
@@ -537,7 +526,7 @@ impl RecordedRun {
             .iter()
             .position(|sp| sp.speed_law().is_some())
             .unwrap_or(0);
-        let omega_driver = stats(in_window.iter().map(|r| r.omega_rad_s[driver]))
+        let omega_driver = finite_stats(in_window.iter().map(|r| r.omega_rad_s[driver]))
             .map_or(0.0, |v| v.0)
             .abs();
         let chain_speed = omega_driver * d.facts.pitch_radius_m.get(driver).copied().unwrap_or(0.0);
@@ -548,8 +537,8 @@ impl RecordedRun {
         let roller = self.roller(options, window, &mut notes)?;
         let (lo, hi) = if self.has_links {
             (
-                stats(in_window.iter().map(|r| r.link_range_n.0)).map(|v| v.1),
-                stats(in_window.iter().map(|r| r.link_range_n.1)).map(|v| v.2),
+                finite_stats(in_window.iter().map(|r| r.link_range_n.0)).map(|v| v.1),
+                finite_stats(in_window.iter().map(|r| r.link_range_n.1)).map(|v| v.2),
             )
         } else {
             (None, None)
@@ -599,7 +588,7 @@ impl RecordedRun {
         let mut segments = Vec::new();
         let s = &d.summary;
         for (k, strand) in s.strands.iter().enumerate() {
-            let force = stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
+            let force = finite_stats(in_window.iter().filter_map(|r| r.segment_force_n[k]));
             let amplitude = force.and_then(|(m, _, _, _)| {
                 in_window
                     .iter()
@@ -655,8 +644,8 @@ impl RecordedRun {
         let mut sprockets = Vec::new();
         let mut binder = Vec::new();
         for (k, &teeth) in d.facts.teeth.iter().enumerate() {
-            let speed = stats(in_window.iter().map(|r| r.omega_rad_s[k]));
-            let torque = stats(in_window.iter().map(|r| r.chain_torque_n_m[k]));
+            let speed = finite_stats(in_window.iter().map(|r| r.omega_rad_s[k]));
+            let torque = finite_stats(in_window.iter().map(|r| r.chain_torque_n_m[k]));
             let (b, note) = if self.has_contacts {
                 match binder_comparison(d, k + 1, contact_window) {
                     Ok(b) => (Some(b), None),
@@ -710,7 +699,7 @@ impl RecordedRun {
         Ok(if self.has_links {
             let l = options.link.unwrap_or(0);
             let series = link_force_series(d, l, window)?;
-            stats(series.value.iter().copied()).map(|(mean, lo, hi, _)| RecordedLink {
+            finite_stats(series.value.iter().copied()).map(|(mean, lo, hi, _)| RecordedLink {
                 link: l,
                 mean_n: mean,
                 min_n: lo,

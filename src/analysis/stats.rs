@@ -134,6 +134,19 @@ pub(crate) fn stationarity(x: &[f64]) -> Stationarity {
     }
 }
 
+/// Mean, least and largest of the finite values, and their count (`None`
+/// when there is none).
+pub(crate) fn finite_stats(values: impl Iterator<Item = f64>) -> Option<(f64, f64, f64, usize)> {
+    let (mut sum, mut n, mut lo, mut hi) = (0.0, 0usize, f64::INFINITY, f64::NEG_INFINITY);
+    for v in values.filter(|v| v.is_finite()) {
+        sum += v;
+        n += 1;
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    (n > 0).then(|| (sum / n as f64, lo, hi, n))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

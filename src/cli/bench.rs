@@ -42,8 +42,8 @@ enum Study {
         /// Tooth profile of every sprocket.
         #[arg(long, value_enum)]
         profile: Option<ProfileKind>,
-        /// The chain's integration step, s, or `auto` (overrides the scene).
-        #[arg(long, value_name = "SECONDS|auto")]
+        /// The chain's integration step, s, `auto` or `speed` (overrides the scene).
+        #[arg(long, value_name = "SECONDS|auto|speed")]
         dt: Option<crate::cli::DtArg>,
     },
     /// The summary statistics of every integrator over a ladder of steps
@@ -90,12 +90,13 @@ fn soak(
 ) -> anyhow::Result<ExitCode> {
     crate::cli::ensure_positive("--duration", duration)?;
     crate::cli::ensure_positive("--window", window)?;
-    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(dt);
+    let (dt_s, dt_auto, dt_speed) = crate::cli::DtArg::overrides(dt);
     let overrides = Overrides {
         profile,
         duration_s: Some(duration),
         dt_s,
         dt_auto,
+        dt_speed,
         ..Overrides::default()
     };
     let Some(scene) = crate::cli::load_scene_or_report(path, &overrides)? else {

@@ -16,8 +16,8 @@ use crate::sim::{
 pub(super) struct CheckArgs {
     /// Scene file (TOML). Default: the embedded paper drive.
     scene: Option<PathBuf>,
-    /// The chain's integration step, s, or `auto` (overrides the scene).
-    #[arg(long, value_name = "SECONDS|auto")]
+    /// The chain's integration step, s, `auto` or `speed` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto|speed")]
     dt: Option<crate::cli::DtArg>,
     /// The sample rate `run --rate` would use, Hz: an automatic step is a
     /// whole fraction of its period.
@@ -26,10 +26,11 @@ pub(super) struct CheckArgs {
 }
 
 pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
-    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
+    let (dt_s, dt_auto, dt_speed) = crate::cli::DtArg::overrides(args.dt);
     let overrides = crate::scene::Overrides {
         dt_s,
         dt_auto,
+        dt_speed,
         sample_rate_hz: Some(args.rate),
         ..Default::default()
     };
@@ -118,6 +119,9 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             );
             if sim.equilibrium.misfit.is_none() {
                 idle_tensioners(&name, &sim);
+            }
+            if let Some(w) = sim.unmeshed_warning() {
+                eprintln!("{name}: warning: {w}");
             }
             let residual = sim.equilibrium.force_residual;
             if residual > crate::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {

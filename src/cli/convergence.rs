@@ -29,6 +29,13 @@ pub(super) struct ConvergenceArgs {
     /// Two settings of symplectic Euler only, against a 5 µs reference (for tests).
     #[arg(long)]
     quick: bool,
+    /// Only these integrators (repeat the option for more; default: every one).
+    #[arg(long = "integrator", value_enum)]
+    integrators: Vec<crate::scene::Integrator>,
+    /// The fixed-step schemes' steps, s (repeat the option for more; default:
+    /// 5, 10, 20, 40 and 50 µs). Each should divide the 1 ms sample period.
+    #[arg(long = "dt")]
+    steps_s: Vec<f64>,
 }
 
 pub(super) fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
@@ -40,6 +47,10 @@ pub(super) fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
     let mut settings = Settings::default_for(args.duration);
     settings.warmup_s = args.start.warmup_s;
     settings.threads = args.jobs;
+    for &dt in &args.steps_s {
+        crate::cli::ensure_positive("--dt", dt)?;
+    }
+    narrow(&mut settings.ladder, &args.integrators, &args.steps_s);
     if args.quick {
         let euler = crate::scene::Integrator::SymplecticEuler;
         settings.ladder = Ladder {
@@ -98,6 +109,24 @@ pub(super) fn convergence(args: ConvergenceArgs) -> anyhow::Result<ExitCode> {
             .join(", ")
     )?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// Keeps the ladder's `integrators` (all if empty) and gives its fixed-step
+/// schemes the steps `steps_s`, fine to coarse (theirs if empty).
+fn narrow(ladder: &mut Ladder, integrators: &[crate::scene::Integrator], steps_s: &[f64]) {
+    if !integrators.is_empty() {
+        ladder.methods.retain(|(i, _)| integrators.contains(i));
+    }
+    if !steps_s.is_empty() {
+        let mut steps = steps_s.to_vec();
+        steps.sort_by(f64::total_cmp);
+        steps.dedup();
+        for (integrator, settings) in &mut ladder.methods {
+            if !integrator.is_adaptive() {
+                *settings = steps.iter().map(|&dt| Setting::Step(dt)).collect();
+            }
+        }
+    }
 }
 
 /// The columns of `convergence.csv`.

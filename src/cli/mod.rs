@@ -269,14 +269,17 @@ fn option_for(path: &str) -> Option<&'static str> {
     })
 }
 
-/// `--dt`: a step in seconds, or `auto` for the step the scene's stiffnesses,
-/// masses and damping allow (`solver.dt_s = "auto"`).
+/// `--dt`: a step in seconds, `auto` for the step the scene's stiffnesses,
+/// masses and damping allow (`solver.dt_s = "auto"`), or `speed` for the
+/// largest such step (`solver.dt_s = "speed"`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum DtArg {
     /// A fixed step, s.
     Seconds(f64),
     /// `auto`.
     Auto,
+    /// `speed`.
+    Speed,
 }
 
 impl std::str::FromStr for DtArg {
@@ -286,19 +289,23 @@ impl std::str::FromStr for DtArg {
         if s.eq_ignore_ascii_case("auto") {
             return Ok(Self::Auto);
         }
-        s.parse::<f64>()
-            .map(Self::Seconds)
-            .map_err(|_| format!("a step in seconds (e.g. 1e-5) or \"auto\", got \"{s}\""))
+        if s.eq_ignore_ascii_case("speed") {
+            return Ok(Self::Speed);
+        }
+        s.parse::<f64>().map(Self::Seconds).map_err(|_| {
+            format!("a step in seconds (e.g. 1e-5), \"auto\" or \"speed\", got \"{s}\"")
+        })
     }
 }
 
 impl DtArg {
-    /// The overrides' `(dt_s, dt_auto)` for an optional `--dt`.
-    pub(crate) fn overrides(dt: Option<Self>) -> (Option<f64>, bool) {
+    /// The overrides' `(dt_s, dt_auto, dt_speed)` for an optional `--dt`.
+    pub(crate) fn overrides(dt: Option<Self>) -> (Option<f64>, bool, bool) {
         match dt {
-            Some(Self::Seconds(s)) => (Some(s), false),
-            Some(Self::Auto) => (None, true),
-            None => (None, false),
+            Some(Self::Seconds(s)) => (Some(s), false, false),
+            Some(Self::Auto) => (None, true, false),
+            Some(Self::Speed) => (None, false, true),
+            None => (None, false, false),
         }
     }
 }

@@ -29,8 +29,8 @@ pub(super) struct RunArgs {
     /// Simulated time, s (overrides the scene).
     #[arg(long)]
     duration: Option<f64>,
-    /// The chain's integration step, s, or `auto` (overrides the scene).
-    #[arg(long, value_name = "SECONDS|auto")]
+    /// The chain's integration step, s, `auto` or `speed` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto|speed")]
     dt: Option<crate::cli::DtArg>,
     /// How the chain is stepped (overrides the scene).
     #[arg(long, value_enum)]
@@ -195,12 +195,13 @@ pub(super) fn run(args: RunArgs) -> anyhow::Result<ExitCode> {
             "--checkpoint-every {every}: the time between checkpoints must be a number of simulated seconds > 0"
         );
     }
-    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
+    let (dt_s, dt_auto, dt_speed) = crate::cli::DtArg::overrides(args.dt);
     let overrides = Overrides {
         profile: args.profile,
         duration_s: args.duration,
         dt_s,
         dt_auto,
+        dt_speed,
         stepping: args.stepping,
         integrator: args.integrator,
         tolerance: args.tolerance,
@@ -562,17 +563,7 @@ fn merge_stage_times(total: &mut Option<StageTimes>, piece: Option<StageTimes>) 
         *total = Some(piece);
         return;
     };
-    t.steps += piece.steps;
-    t.stepping_s += piece.stepping_s;
-    t.blow_up_checks_s += piece.blow_up_checks_s;
-    t.observers_s += piece.observers_s;
-    t.forces.evaluations += piece.forces.evaluations;
-    for (k, (name, s)) in piece.forces.elements.into_iter().enumerate() {
-        match t.forces.elements.get_mut(k) {
-            Some(e) => e.1 += s,
-            None => t.forces.elements.push((name, s)),
-        }
-    }
+    t.add(piece);
 }
 
 fn print_stage_times(t: &StageTimes, evaluations: u64) {
@@ -583,7 +574,7 @@ fn print_stage_times(t: &StageTimes, evaluations: u64) {
         t.steps, evaluations
     );
     println!("stage              wall_s    ns/step  share");
-    let stages = t.forces.elements.iter().copied().chain([
+    let stages = t.force_elements.iter().copied().chain([
         ("integrator", t.integrator_s()),
         ("blow-up checks", t.blow_up_checks_s),
         ("observers", t.observers_s),

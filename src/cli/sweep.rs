@@ -109,8 +109,8 @@ pub(super) struct SweepArgs {
     /// scene file's path (repeatable), e.g. `--set chain.pretension_n=25000`.
     #[arg(long = "set", value_name = "PATH=VALUE")]
     set: Vec<String>,
-    /// The chain's integration step, s, or `auto` (overrides the scene).
-    #[arg(long, value_name = "SECONDS|auto")]
+    /// The chain's integration step, s, `auto` or `speed` (overrides the scene).
+    #[arg(long, value_name = "SECONDS|auto|speed")]
     dt: Option<crate::cli::DtArg>,
     /// No progress bar.
     #[arg(long)]
@@ -118,10 +118,11 @@ pub(super) struct SweepArgs {
 }
 
 pub(super) fn sweep(args: SweepArgs) -> anyhow::Result<ExitCode> {
-    let (dt_s, dt_auto) = crate::cli::DtArg::overrides(args.dt);
+    let (dt_s, dt_auto, dt_speed) = crate::cli::DtArg::overrides(args.dt);
     let overrides = Overrides {
         dt_s,
         dt_auto,
+        dt_speed,
         ..Overrides::default()
     };
     let scene = match crate::cli::load_scene(args.scene.as_deref(), &overrides)? {

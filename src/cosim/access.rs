@@ -11,7 +11,7 @@ use rapier2d_f64::prelude::RigidBodyHandle;
 
 use super::{ChainDrive, CosimError, Coupling, FrameTimes};
 #[cfg(test)]
-use crate::forces::{Culling, ForceGenerator};
+use crate::forces::Culling;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
 use crate::sim::StaticEquilibrium;
@@ -32,13 +32,6 @@ impl ChainDrive {
     /// positions and velocities, sprocket angles and speeds).
     pub fn state(&self) -> &DriveState {
         &self.state
-    }
-
-    /// The force generator, its forces at [`Self::state`]
-    /// (`forces().output()`).
-    #[cfg(test)]
-    pub(crate) fn forces(&self) -> &ForceGenerator {
-        &self.forces
     }
 
     /// The static equilibrium the drive relaxed to before t = 0.

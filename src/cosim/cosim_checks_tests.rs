@@ -410,11 +410,8 @@ fn set_load_torque_and_driver_speed_hold_from_frame_to_frame() {
     for frame in 0..120 {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
-            let seg = crate::test_support::strand_means(
-                drive.model(),
-                drive.state(),
-                drive.forces().output(),
-            );
+            let seg =
+                crate::test_support::strand_means(drive.model(), drive.state(), drive.forces());
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;

@@ -97,7 +97,7 @@ fn paper_drive_in_a_60_hz_world_matches_the_standalone_run() {
                 None,
             )
             .expect("run");
-        forces_cosim.push(drive.forces().output().link_force.clone());
+        forces_cosim.push(drive.forces().link_force.clone());
         forces_alone.push(alone.forces.output().link_force.clone());
     }
     // Same substeps, same forces: the chain evolves as it does standalone.
@@ -174,11 +174,8 @@ fn motor_torque_against_a_load_gives_tension_difference_t_over_r() {
         drive.step_world(&mut w, &(), &()).expect("frame");
         if frame >= 60 {
             // Strand 1 runs along the bottom from sprocket 1 to 2, strand 2 back on top.
-            let seg = crate::test_support::strand_means(
-                drive.model(),
-                drive.state(),
-                drive.forces().output(),
-            );
+            let seg =
+                crate::test_support::strand_means(drive.model(), drive.state(), drive.forces());
             if let [Some(a), Some(b)] = seg[..] {
                 lower += a;
                 upper += b;
@@ -286,7 +283,7 @@ fn upper_strand_tension(drive: &ChainDrive, top: f64) -> f64 {
                 |k: usize| s.x[k] > 0.15 && s.x[k] < CENTRES_M - 0.15 && s.y[k] > 0.5 * top;
             inside(i) && inside(j)
         })
-        .map(|i| drive.forces().output().link_force[i])
+        .map(|i| drive.forces().link_force[i])
         .collect();
     links.iter().sum::<f64>() / links.len().max(1) as f64
 }

@@ -98,6 +98,8 @@ mod cosim_mounts_tests;
 #[cfg(test)]
 mod cosim_parking_tests;
 #[cfg(test)]
+mod cosim_seam_tests;
+#[cfg(test)]
 mod cosim_tests;
 mod error;
 mod frame;
@@ -107,6 +109,7 @@ mod motion;
 mod mounts;
 mod observe;
 mod parking;
+mod seam;
 mod set;
 
 pub use bodies::Coupling;

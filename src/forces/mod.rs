@@ -261,7 +261,7 @@ pub enum HistoryError {
 /// Wall time spent in each force element, when timing is on
 /// (`ForceGenerator::timing`).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct ForceTimes {
+pub(crate) struct ForceTimes {
     /// Force evaluations timed.
     pub evaluations: u64,
     /// Each element's name and its total time, s, in evaluation order.
@@ -269,11 +269,6 @@ pub struct ForceTimes {
 }
 
 impl ForceTimes {
-    /// Total time of all elements, s.
-    pub fn total_s(&self) -> f64 {
-        self.elements.iter().map(|(_, s)| s).sum()
-    }
-
     fn add(&mut self, k: usize, name: &'static str, seconds: f64) {
         if let Some(entry) = self.elements.get_mut(k) {
             entry.1 += seconds;

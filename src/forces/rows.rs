@@ -22,6 +22,9 @@ pub(crate) struct DampingRows {
     pub explicit: Vec<[f64; 2]>,
     /// Roller centre relative to that sprocket's centre, m.
     pub lever: Vec<[f64; 2]>,
+    /// Velocity of that sprocket's point under the roller centre, v_c + ω × r, m/s.
+    #[serde(default)]
+    pub surface_velocity: Vec<[f64; 2]>,
 }
 
 impl DampingRows {
@@ -33,6 +36,7 @@ impl DampingRows {
             elastic: vec![[0.0; 2]; rollers],
             explicit: vec![[0.0; 2]; rollers],
             lever: vec![[0.0; 2]; rollers],
+            surface_velocity: vec![[0.0; 2]; rollers],
         }
     }
 }

@@ -44,6 +44,7 @@ use std::f64::consts::TAU;
 
 use super::laid::{ArmPose, ArmReach, Layout, LayoutError, TakeUpBound, length_error};
 use super::path::{ChainPath, PathCircle, chain_path};
+use super::v2::segment_distance;
 use super::walk::Walker;
 
 /// A tensioner arm as the layout sees it, at the scene's pose.
@@ -212,7 +213,7 @@ impl<'a> Drive<'a> {
                     .iter()
                     .enumerate()
                     .map(|(k, s)| {
-                        let (d, along) = to_segment(p, s.start_m, s.end_m);
+                        let (d, along) = segment_distance(p, s.start_m, s.end_m);
                         (d, k, along)
                     })
                     .min_by(|a, b| a.0.total_cmp(&b.0))
@@ -339,19 +340,6 @@ impl<'a> Drive<'a> {
         }
         (ok, why.bound())
     }
-}
-
-/// Distance from `p` to the segment a–b, and the parameter along it of the
-/// nearest point, in [0, 1].
-fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> (f64, f64) {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    ((p[0] - a[0] - t * ab[0]).hypot(p[1] - a[1] - t * ab[1]), t)
 }
 
 /// The chain the shoes of `arms` take up over their travel on the straight

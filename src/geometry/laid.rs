@@ -95,8 +95,8 @@ pub struct ArmReach {
     pub max_m: f64,
     /// The chain's length less the straight path's, m.
     pub excess_m: f64,
-    /// What bounds `max_m`.
-    pub bound: TakeUpBound,
+    /// What bounds `max_m` (named in the message).
+    pub(crate) bound: TakeUpBound,
 }
 
 impl std::fmt::Display for ArmReach {

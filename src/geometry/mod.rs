@@ -21,13 +21,14 @@ mod path;
 #[cfg(test)]
 mod profile_tests;
 pub(crate) mod shoe;
+pub(crate) mod v2;
 mod walk;
 
 pub(crate) use arms::{ArmShoe, ArmTakeUp, arm_take_up, layout_with_arms};
 pub use circular::CircularProfile;
 pub(crate) use circular::Seats;
 pub(crate) use laid::Layout;
-pub use laid::{ArmReach, LayoutError, TakeUpBound};
+pub use laid::{ArmReach, LayoutError};
 pub(crate) use layout::{hang_excess, layout_hanging, layout_rollers, needed_pitches};
 pub use path::PathError;
 pub(crate) use path::{ChainPath, PathCircle, Strand, chain_path};

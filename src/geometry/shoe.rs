@@ -10,6 +10,7 @@
 
 use std::f64::consts::PI;
 
+use super::v2::{dot, norm_sqrt, sub};
 /// One piece of a face: a segment or a circular arc.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum Piece {
@@ -91,18 +92,6 @@ pub(crate) enum ShoeError {
 /// Relative tolerance on a given centre's distances from the two ends.
 pub(crate) const CENTRE_TOLERANCE: f64 = 1e-6;
 
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-/// |a|. A plain square root: `hypot`'s guard against overflow is not needed
-/// at a drive's lengths and costs a library call per query.
-fn norm(a: [f64; 2]) -> f64 {
-    (a[0] * a[0] + a[1] * a[1]).sqrt()
-}
-
 /// The body of a shoe from its end points.
 ///
 /// `radius_m`: `None` for a straight shoe; `Some(r)` an arc through both ends
@@ -114,7 +103,7 @@ pub(crate) fn body_from_radius(
     radius_m: Option<f64>,
 ) -> Result<Piece, ShoeError> {
     let chord = sub(end_m, start_m);
-    let length = norm(chord);
+    let length = norm_sqrt(chord);
     if !(length > 0.0) || !length.is_finite() {
         return Err(ShoeError::DegenerateEnds);
     }
@@ -145,11 +134,14 @@ pub(crate) fn body_from_centre(
     end_m: [f64; 2],
     centre_m: [f64; 2],
 ) -> Result<Piece, ShoeError> {
-    let length = norm(sub(end_m, start_m));
+    let length = norm_sqrt(sub(end_m, start_m));
     if !(length > 0.0) || !length.is_finite() {
         return Err(ShoeError::DegenerateEnds);
     }
-    let (r0, r1) = (norm(sub(start_m, centre_m)), norm(sub(end_m, centre_m)));
+    let (r0, r1) = (
+        norm_sqrt(sub(start_m, centre_m)),
+        norm_sqrt(sub(end_m, centre_m)),
+    );
     if !((r0 - r1).abs() <= CENTRE_TOLERANCE * r0.max(r1)) || !(r0 > 0.0) {
         return Err(ShoeError::CentreOff {
             from_start_m: r0,
@@ -204,7 +196,7 @@ impl Piece {
     #[cfg(test)]
     pub(crate) fn length_m(&self) -> f64 {
         match *self {
-            Self::Segment { a, b } => norm(sub(b, a)),
+            Self::Segment { a, b } => norm_sqrt(sub(b, a)),
             Self::Arc {
                 radius_m,
                 sweep_rad,
@@ -283,7 +275,7 @@ impl Piece {
         match *self {
             Self::Segment { a, b } => {
                 let ab = sub(b, a);
-                let l = norm(ab);
+                let l = norm_sqrt(ab);
                 [ab[0] / l, ab[1] / l]
             }
             Self::Arc {
@@ -407,7 +399,7 @@ impl Face {
             let (mut fp, inside) = piece.closest(p, self.side);
             fp.piece = k;
             if fp.distance_m >= 0.0 {
-                let d = norm(sub(p, fp.point_m));
+                let d = norm_sqrt(sub(p, fp.point_m));
                 if outside.is_none_or(|o| d < o.distance_m) {
                     if d > 0.0 {
                         fp.normal = [(p[0] - fp.point_m[0]) / d, (p[1] - fp.point_m[1]) / d];
@@ -489,7 +481,7 @@ impl Straight {
         // On the working side: the distance to the closest point, the
         // normal from it (the face normal where the point is on the face).
         let above = distance >= 0.0;
-        let d = norm(sub(p, c));
+        let d = norm_sqrt(sub(p, c));
         let apart = d > 0.0;
         let from = [(p[0] - c[0]) / d, (p[1] - c[1]) / d];
         let normal = [

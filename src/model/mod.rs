@@ -22,8 +22,8 @@ pub(crate) use governor::{Governor, target_angle_rad};
 pub(crate) use segments::{Segments, StrandRuns};
 
 use crate::geometry::{
-    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, asa::AsaError, chain_path,
-    hang_excess, layout_rollers, layout_with_arms,
+    ChainPath, Layout, LayoutError, PathCircle, PathError, ToothProfile, chain_path, hang_excess,
+    layout_rollers, layout_with_arms,
 };
 use crate::scene::{Harmonic, Scene, SpeedLaw, TensionerKind};
 
@@ -344,20 +344,39 @@ impl DriveState {
 /// Why a scene cannot be built into a drive.
 #[derive(Debug, thiserror::Error)]
 pub enum BuildError {
-    /// No chain path exists.
-    #[error("sprockets: {0}")]
-    Path(#[from] PathError),
+    /// No tangent line with the requested wrap senses joins two sprockets
+    /// (e.g. a crossed strand between overlapping circles): no chain path exists.
+    #[error(
+        "sprockets: no {kind} tangent from sprocket {from} to sprocket {to}: the circles are too close for these wrap senses"
+    )]
+    NoTangent {
+        /// "plain" or "crossed".
+        kind: &'static str,
+        /// 1-based index.
+        from: usize,
+        /// 1-based index.
+        to: usize,
+    },
     /// The chain does not fit the path.
     #[error("chain.rollers: {0}")]
     Layout(#[from] LayoutError),
     /// The real tooth profile cannot be built for these dimensions.
-    #[error("sprockets[{sprocket}].profile: {source}")]
+    #[error("sprockets[{sprocket}].profile: {reason}")]
     Profile {
         /// 0-based sprocket index.
         sprocket: usize,
-        /// Why.
-        source: AsaError,
+        /// Why the tooth form cannot be drawn.
+        reason: String,
     },
+}
+
+impl BuildError {
+    /// The build's form of a path's error.
+    pub(crate) fn no_path(error: PathError) -> Self {
+        match error {
+            PathError::NoTangent { kind, from, to } => Self::NoTangent { kind, from, to },
+        }
+    }
 }
 
 impl DriveModel {
@@ -372,9 +391,9 @@ impl DriveModel {
             .enumerate()
             .map(|(i, s)| {
                 ToothProfile::new(s.profile, s.teeth, chain.pitch_m, chain.roller_radius_m).map_err(
-                    |source| BuildError::Profile {
+                    |error| BuildError::Profile {
                         sprocket: i,
-                        source,
+                        reason: error.to_string(),
                     },
                 )
             })
@@ -388,7 +407,7 @@ impl DriveModel {
                 sense: s.wrap.sign(),
             })
             .collect();
-        let path = chain_path(&pitch_circles)?;
+        let path = chain_path(&pitch_circles).map_err(BuildError::no_path)?;
         let seat_circles: Vec<PathCircle> = pitch_circles
             .iter()
             .zip(&profiles)
@@ -397,52 +416,9 @@ impl DriveModel {
                 ..*c
             })
             .collect();
-        let seat_path = chain_path(&seat_circles)?;
+        let seat_path = chain_path(&seat_circles).map_err(BuildError::no_path)?;
         let teeth: Vec<u32> = scene.sprockets.iter().map(|s| s.teeth).collect();
-        // A chain longer than its path by more than half a pitch hangs in
-        // its strands' sag where that sag, at the pretension, holds the
-        // excess (within a tenth of a pitch); otherwise the layout's error
-        // stands (and `check` offers the counts and moves that fit).
-        // Tensioner arms take up a long chain first: their shoes swing into
-        // the strands until the path needs the chain's length.
-        let arms: Vec<_> = scene
-            .tensioners
-            .iter()
-            .map(|t| t.arm_shoe(chain.roller_radius_m))
-            .collect();
-        let laid = match layout_rollers(
-            &seat_path,
-            &seat_circles,
-            &teeth,
-            chain.rollers,
-            chain.pitch_m,
-        ) {
-            Err(LayoutError::ChainLength { .. }) if !arms.is_empty() => layout_with_arms(
-                &seat_path,
-                &seat_circles,
-                &teeth,
-                chain.rollers,
-                chain.pitch_m,
-                &arms,
-            ),
-            laid => laid,
-        };
-        let layout = match laid {
-            Err(LayoutError::ChainLength { needed, .. })
-                if sag_holds(scene, &seat_path, needed) =>
-            {
-                hang_excess(
-                    &seat_path,
-                    &seat_circles,
-                    &teeth,
-                    chain.rollers,
-                    chain.pitch_m,
-                    scene.gravity_m_s2,
-                    needed,
-                )?
-            }
-            laid => laid?,
-        };
+        let layout = lay_out(scene, &seat_path, &seat_circles, &teeth)?;
         let sprockets: Vec<SprocketModel> = scene
             .sprockets
             .iter()
@@ -450,37 +426,7 @@ impl DriveModel {
             .zip(&layout.sprocket_angles_rad)
             .enumerate()
             .map(|(i, ((s, profile), &angle_origin_rad))| {
-                let reach = profile.reach_m();
-                let excitation = &s.excitation;
-                let governor = excitation.governor.as_ref().and_then(|spec| {
-                    s.speed_law()
-                        .map(|target| Governor::new(scene, i, spec, target, &path))
-                });
-                SprocketModel {
-                    center_m: s.center_m,
-                    center_velocity_m_s: [0.0; 2],
-                    inv_inertia: 1.0 / s.inertia_kg_m2,
-                    speed_law: if governor.is_some() {
-                        None
-                    } else {
-                        s.speed_law()
-                    },
-                    governor,
-                    speed_harmonics: excitation.speed_harmonics.clone(),
-                    load_torque_n_m: s.load_torque_n_m(),
-                    angle_load: AngleLoad::new(
-                        &excitation.load_harmonics,
-                        excitation.load_table.as_ref(),
-                    ),
-                    angle_origin_rad,
-                    load_ramp_s: s.load_ramp_s(),
-                    user_torque_n_m: 0.0,
-                    reach_m: reach,
-                    reach_sq_m2: reach * reach,
-                    pitch_radius_m: s.pitch_radius_m,
-                    teeth: s.teeth,
-                    profile,
-                }
+                sprocket_model(scene, i, s, profile, angle_origin_rad, &path)
             })
             .collect();
         let n = chain.rollers;
@@ -550,7 +496,7 @@ impl DriveModel {
                 sense: s.wrap.sign(),
             })
             .collect();
-        let path = chain_path(&circles)?;
+        let path = chain_path(&circles).map_err(BuildError::no_path)?;
         if let (Some(sp), Some(s)) = (self.sprockets.get_mut(k), scene.sprockets.get(k)) {
             sp.center_m = s.center_m;
         }
@@ -596,5 +542,93 @@ impl DriveModel {
     /// a torque-driven one (`SprocketModel::governor`).
     pub fn driving(&self) -> Option<usize> {
         self.sprockets.iter().position(SprocketModel::held_at_rest)
+    }
+}
+
+/// The rollers laid on the seated path: as long as the path needs, or with
+/// tensioner arms swung into the strands, or a long chain hung in its
+/// strands' sag (docs/model.md, “Pretension and static equilibrium”).
+fn lay_out(
+    scene: &Scene,
+    seat_path: &ChainPath,
+    seat_circles: &[PathCircle],
+    teeth: &[u32],
+) -> Result<Layout, BuildError> {
+    let chain = &scene.chain;
+    // A chain longer than its path by more than half a pitch hangs in
+    // its strands' sag where that sag, at the pretension, holds the
+    // excess (within a tenth of a pitch); otherwise the layout's error
+    // stands (and `check` offers the counts and moves that fit).
+    // Tensioner arms take up a long chain first: their shoes swing into
+    // the strands until the path needs the chain's length.
+    let arms: Vec<_> = scene
+        .tensioners
+        .iter()
+        .map(|t| t.arm_shoe(chain.roller_radius_m))
+        .collect();
+    let laid = match layout_rollers(seat_path, seat_circles, teeth, chain.rollers, chain.pitch_m) {
+        Err(LayoutError::ChainLength { .. }) if !arms.is_empty() => layout_with_arms(
+            seat_path,
+            seat_circles,
+            teeth,
+            chain.rollers,
+            chain.pitch_m,
+            &arms,
+        ),
+        laid => laid,
+    };
+    Ok(match laid {
+        Err(LayoutError::ChainLength { needed, .. }) if sag_holds(scene, seat_path, needed) => {
+            hang_excess(
+                seat_path,
+                seat_circles,
+                teeth,
+                chain.rollers,
+                chain.pitch_m,
+                scene.gravity_m_s2,
+                needed,
+            )?
+        }
+        laid => laid?,
+    })
+}
+
+/// Sprocket `i` of `scene` as the model steps it, its teeth drawn by
+/// `profile`, turned by `angle_origin_rad` to receive the laid rollers.
+fn sprocket_model(
+    scene: &Scene,
+    i: usize,
+    s: &crate::scene::Sprocket,
+    profile: ToothProfile,
+    angle_origin_rad: f64,
+    path: &ChainPath,
+) -> SprocketModel {
+    let reach = profile.reach_m();
+    let excitation = &s.excitation;
+    let governor = excitation.governor.as_ref().and_then(|spec| {
+        s.speed_law()
+            .map(|target| Governor::new(scene, i, spec, target, path))
+    });
+    SprocketModel {
+        center_m: s.center_m,
+        center_velocity_m_s: [0.0; 2],
+        inv_inertia: 1.0 / s.inertia_kg_m2,
+        speed_law: if governor.is_some() {
+            None
+        } else {
+            s.speed_law()
+        },
+        governor,
+        speed_harmonics: excitation.speed_harmonics.clone(),
+        load_torque_n_m: s.load_torque_n_m(),
+        angle_load: AngleLoad::new(&excitation.load_harmonics, excitation.load_table.as_ref()),
+        angle_origin_rad,
+        load_ramp_s: s.load_ramp_s(),
+        user_torque_n_m: 0.0,
+        reach_m: reach,
+        reach_sq_m2: reach * reach,
+        pitch_radius_m: s.pitch_radius_m,
+        teeth: s.teeth,
+        profile,
     }
 }

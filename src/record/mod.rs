@@ -27,7 +27,7 @@
 //! CSV, attached under the name the scene gives it, media type
 //! `text/csv`), at the end a metadata record `chaindrive.end` saying how
 //! the run ended, and where the chain jumped teeth a record
-//! `chaindrive.tooth_jumps` listing every jump ([`JUMPS_RECORD`]). Channels
+//! `chaindrive.tooth_jumps` listing every jump. Channels
 //! not requested are
 //! neither computed nor written.
 //!
@@ -64,8 +64,10 @@
 //! hands it) or stream to a live viewer.
 
 mod channels;
+mod decode;
 mod files;
 mod messages;
+mod opening;
 pub(crate) mod read;
 #[cfg(all(test, feature = "record"))]
 mod record_tests;
@@ -84,8 +86,9 @@ pub use channels::{Channel, Channels};
 
 /// The media type of a table a scene read, attached beside it.
 pub(crate) const TABLE_MEDIA_TYPE: &str = "text/csv";
+use opening::{attach_scene, copy_messages, header_metadata, open_channels};
 pub(crate) use writer::CHUNK_BYTES;
-use writer::{ChannelIds, Frame, Job, QUEUE_FRAMES, Sink, Writer};
+use writer::{Frame, Job, QUEUE_FRAMES, Sink, Writer};
 
 pub(crate) use messages::{
     ChainContactForces, ChainLinkForces, GuideSignals, SegmentSignal, SegmentSignals,
@@ -96,12 +99,10 @@ pub(crate) use visual::OUTLINE_SPACING_M;
 #[cfg(test)]
 pub(crate) use writer::FLUSH_INTERVAL_NS;
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::{Seek, Write};
 
-use foxglove::Encode;
-use foxglove::schemas::{FrameTransforms, PointCloud, SceneUpdate};
+use foxglove::schemas::FrameTransforms;
 
 use crate::scene::Scene;
 use crate::sim::{Observer, Sample};
@@ -122,9 +123,9 @@ pub struct RecordOptions {
 /// its end, only when it had any): `count`, and `jump NNNN` per jump,
 /// `t_s=… sprocket=… roller=… gaps=… ahead|behind` (sprocket 1-based,
 /// roller 0-based, gaps counter-clockwise positive).
-pub const JUMPS_RECORD: &str = "chaindrive.tooth_jumps";
+pub(crate) const JUMPS_RECORD: &str = "chaindrive.tooth_jumps";
 
-/// The entries of [`JUMPS_RECORD`].
+/// The entries of the `chaindrive.tooth_jumps` metadata record.
 fn jump_entries(jumps: &[crate::sim::ToothJump]) -> BTreeMap<String, String> {
     let mut m: BTreeMap<String, String> = jumps
         .iter()
@@ -245,81 +246,6 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     first_t_ns: u64,
 }
 
-fn add_channel<W: Write + Seek, T: Encode>(
-    w: &mut mcap::Writer<W>,
-    topics: &mut BTreeMap<String, u16>,
-    topic: &str,
-) -> Result<u16, RecordError> {
-    let (name, encoding, data) = match T::get_schema() {
-        Some(s) => (s.name, s.encoding, s.data),
-        None => (String::new(), String::new(), Cow::Borrowed(&[][..])),
-    };
-    let schema = if name.is_empty() {
-        0
-    } else {
-        w.add_schema(&name, &encoding, &data)?
-    };
-    let id = w.add_channel(schema, topic, &T::get_message_encoding(), &BTreeMap::new())?;
-    topics.insert(topic.to_owned(), id);
-    Ok(id)
-}
-
-/// Copies the messages of the MCAP file `earlier` up to `mark` into `w`,
-/// each on the channel of the same topic, with its times and sequence
-/// number. A file cut short is read up to its damage.
-fn copy_messages<W: Write + Seek>(
-    w: &mut mcap::Writer<W>,
-    topics: &BTreeMap<String, u16>,
-    earlier: &[u8],
-    mark: &RecordMark,
-) -> Result<(), RecordError> {
-    use mcap::records::Record;
-    let options = mcap::read::Options::IgnoreEndMagic | mcap::read::Options::ValidateChunkCrcs;
-    let reader = mcap::read::ChunkFlattener::new_with_options(earlier, options)?;
-    let mut ids = BTreeMap::new();
-    let mut copied: u32 = 0;
-    for record in reader {
-        // A file cut short: what precedes the damage.
-        let Ok(record) = record else { break };
-        match record {
-            Record::Channel(c) => {
-                let Some(&id) = topics.get(&c.topic) else {
-                    return Err(RecordError::Continue(format!(
-                        "the earlier recording has channel {}, this run does not record it: resume with the same --record-channels",
-                        c.topic
-                    )));
-                };
-                ids.insert(c.id, id);
-            }
-            Record::Message { header, data }
-                if header.log_time <= mark.last_t_ns && copied < mark.messages =>
-            {
-                let Some(&channel_id) = ids.get(&header.channel_id) else {
-                    continue;
-                };
-                w.write_to_known_channel(
-                    &mcap::records::MessageHeader {
-                        channel_id,
-                        ..header
-                    },
-                    &data,
-                )?;
-                copied += 1;
-            }
-            Record::DataEnd(_) => break,
-            _ => {}
-        }
-    }
-    if copied != mark.messages {
-        return Err(RecordError::Continue(format!(
-            "the earlier recording holds {copied} messages up to t = {} s, the checkpoint counted {}: give the recording the run was writing",
-            mark.last_t_ns as f64 * 1e-9,
-            mark.messages
-        )));
-    }
-    Ok(())
-}
-
 /// Simulated time in integer nanoseconds (negative and NaN clamp to 0).
 fn time_ns(t_s: f64) -> u64 {
     (t_s * 1e9).round() as u64
@@ -392,103 +318,14 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             .chunk_size(Some(CHUNK_BYTES))
             .library(format!("chaindrive {}", env!("CARGO_PKG_VERSION")))
             .create(writer)?;
-        let mut metadata: BTreeMap<String, String> = [
-            ("scene", scene.name.clone()),
-            ("profile", scene.profile_name().to_owned()),
-            ("contact_law", scene.contact.law.name().to_owned()),
-            ("integrator", scene.solver.integrator.name().to_owned()),
-            ("stepping", scene.solver.stepping.name().to_owned()),
-            ("dt_s", format!("{:e}", scene.solver.dt_s)),
-            ("duration_s", format!("{}", scene.solver.duration_s)),
-            ("sample_rate_hz", format!("{}", options.rate_hz)),
-            ("rollers", scene.chain.rollers.to_string()),
-            ("sprockets", scene.sprockets.len().to_string()),
-            ("version", env!("CARGO_PKG_VERSION").to_owned()),
-        ]
-        .into_iter()
-        .map(|(k, v)| (k.to_owned(), v))
-        .collect();
-        if let Some(frame_dt_s) = frame_dt_s {
-            // Not known until the run ends: written then.
-            metadata.remove("duration_s");
-            metadata.insert("frame_dt_s".to_owned(), format!("{frame_dt_s:e}"));
-            metadata.insert("run".to_owned(), "co-simulation".to_owned());
-        }
+        let metadata = header_metadata(scene, options, frame_dt_s);
         w.write_metadata(&mcap::records::Metadata {
             name: "chaindrive".to_owned(),
             metadata: metadata.clone(),
         })?;
-        if let Some((name, data)) = &options.scene_file {
-            w.attach(&mcap::Attachment {
-                log_time: 0,
-                create_time: 0,
-                name: name.clone(),
-                media_type: "application/toml".to_owned(),
-                data: Cow::Borrowed(data),
-            })?;
-            // The tables it read, under the names it writes: the scene is
-            // rebuilt from the recording alone ([`read`]).
-            for (name, text) in scene.tables() {
-                w.attach(&mcap::Attachment {
-                    log_time: 0,
-                    create_time: 0,
-                    name: name.to_owned(),
-                    media_type: TABLE_MEDIA_TYPE.to_owned(),
-                    data: Cow::Borrowed(text.as_bytes()),
-                })?;
-            }
-        }
+        attach_scene(&mut w, scene, options)?;
         let channels = options.channels;
-        let mut ids = ChannelIds::default();
-        for (slot, &c) in ids.per_sample.iter_mut().zip(&Channel::ALL) {
-            // No guides (arms), no guide (tensioner) channel: a recording is
-            // as it was without.
-            if !channels.contains(c.into())
-                || (c == Channel::Guides && scene.guides.is_empty())
-                || (c == Channel::Tensioners && scene.tensioners.is_empty())
-            {
-                continue;
-            }
-            let topic = c.topic();
-            *slot = Some(match c {
-                Channel::Scene => {
-                    ids.static_scene = Some(add_channel::<_, SceneUpdate>(
-                        &mut w,
-                        &mut topics,
-                        STATIC_SCENE_TOPIC,
-                    )?);
-                    add_channel::<_, SceneUpdate>(&mut w, &mut topics, topic)?
-                }
-                Channel::Transforms => {
-                    add_channel::<_, FrameTransforms>(&mut w, &mut topics, topic)?
-                }
-                Channel::Rollers => add_channel::<_, PointCloud>(&mut w, &mut topics, topic)?,
-                Channel::Outlines => {
-                    for i in 0..scene.sprockets.len() {
-                        let id = add_channel::<_, PointCloud>(
-                            &mut w,
-                            &mut topics,
-                            &visual::outline_topic(i),
-                        )?;
-                        ids.outlines.push(id);
-                    }
-                    // Nothing at every sample: the per-sprocket channels above.
-                    continue;
-                }
-                Channel::Links => add_channel::<_, ChainLinkForces>(&mut w, &mut topics, topic)?,
-                Channel::Contacts => {
-                    add_channel::<_, ChainContactForces>(&mut w, &mut topics, topic)?
-                }
-                Channel::Sprockets => {
-                    add_channel::<_, SprocketSignals>(&mut w, &mut topics, topic)?
-                }
-                Channel::Segments => add_channel::<_, SegmentSignals>(&mut w, &mut topics, topic)?,
-                Channel::Guides => add_channel::<_, GuideSignals>(&mut w, &mut topics, topic)?,
-                Channel::Tensioners => {
-                    add_channel::<_, TensionerSignals>(&mut w, &mut topics, topic)?
-                }
-            });
-        }
+        let ids = open_channels(&mut w, &mut topics, scene, channels)?;
         let mut sequence = 0;
         if let Some((bytes, mark)) = earlier {
             copy_messages(&mut w, &topics, bytes, mark)?;

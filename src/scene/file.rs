@@ -264,9 +264,11 @@ pub struct SolverFile {
     /// (adaptive) or `"implicit_damping"`.
     #[serde(default = "default_integrator")]
     pub integrator: String,
-    /// The chain's integration step: seconds, or `"auto"` (the default: the
+    /// The chain's integration step: seconds, `"auto"` (the default: the
     /// largest step within the integrator's stability estimates times a safety
-    /// factor; see docs/model.md). The adaptive scheme's largest step.
+    /// factor, capped for a roller's impact; see docs/model.md) or `"speed"`
+    /// (the largest step within nine tenths of the estimates, no cap). The
+    /// adaptive scheme's largest step.
     #[serde(default)]
     pub dt_s: StepFile,
     /// Error tolerance of the adaptive scheme (relative to the static link stretch).
@@ -296,7 +298,7 @@ pub struct SolverFile {
 pub enum StepFile {
     /// A fixed step, s.
     Seconds(f64),
-    /// A word; only `"auto"` is valid.
+    /// A word; only `"auto"` and `"speed"` are valid.
     Word(String),
 }
 
@@ -308,6 +310,9 @@ impl Default for StepFile {
 
 /// The word that asks for an automatic step.
 pub(crate) const AUTO: &str = "auto";
+
+/// The word that asks for an automatic step chosen for speed.
+pub(crate) const SPEED: &str = "speed";
 
 /// The blow-up detectors' limits (`[solver.limits]`), each optional.
 #[derive(Clone, Debug, Default, PartialEq, Deserialize, Serialize)]

@@ -275,16 +275,6 @@ impl DriveSpec {
     }
 }
 
-/// The paper's chain, `rollers` long, round `sprockets` sprockets of pitch
-/// `pitch_m` (see [`DriveSpec::new`] for the rest), as a validated scene.
-pub fn drive(rollers: usize, sprockets: usize, pitch_m: f64) -> Result<Scene, GenerateError> {
-    let mut spec = DriveSpec::new(rollers, sprockets)?;
-    spec.chain.pitch_m = Some(pitch_m);
-    // Keep the paper's roller-to-pitch proportion so the rollers still fit.
-    spec.chain.roller_radius_m = spec.chain.roller_radius_m.map(|r| r * pitch_m / 0.0889);
-    spec.scene()
-}
-
 /// The sprockets' sizes; solves for their centres.
 struct Placement {
     radii_m: Vec<f64>,

@@ -12,6 +12,7 @@ use serde::{Deserialize, Serialize};
 use super::checker::Checker;
 use super::{Chain, Contact, Sprocket};
 use crate::geometry::shoe::{Face, Piece, Ramp, ShoeError, body_from_centre, body_from_radius};
+use crate::geometry::v2::segment_distance;
 use crate::geometry::{ChainPath, PathCircle, chain_path};
 
 /// Regularisation speed v_s of the guides' friction when the scene gives
@@ -91,18 +92,6 @@ pub(crate) struct Guide {
 /// must not be: a seated roller's outside edge.
 fn sprocket_reach_m(s: &Sprocket, chain: &Chain) -> f64 {
     s.pitch_radius_m + chain.roller_radius_m
-}
-
-/// Smallest distance from `p` to the segment a–b.
-pub(super) fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - t * ab[0]).hypot(p[1] - a[1] - t * ab[1])
 }
 
 /// Checks `[[guides]]`. `sprockets` and `chain` are the validated ones (a
@@ -200,7 +189,7 @@ fn check_guide(c: &mut Checker, k: usize, f: &GuideFile, drive: &Drive<'_>) -> O
             let p = body.point_at(i as f64 / SAMPLES as f64);
             path.strands
                 .iter()
-                .map(|s| to_segment(p, s.start_m, s.end_m))
+                .map(|s| segment_distance(p, s.start_m, s.end_m).0)
                 .fold(f64::INFINITY, f64::min)
         })
         .fold(f64::INFINITY, f64::min)
@@ -355,7 +344,7 @@ fn nearest_on_strands(body: &Piece, path: &ChainPath) -> Option<[f64; 2]> {
 /// Smallest distance from `p` to a shoe's body.
 fn shoe_distance(body: &Piece, p: [f64; 2]) -> f64 {
     match *body {
-        Piece::Segment { a, b } => to_segment(p, a, b),
+        Piece::Segment { a, b } => segment_distance(p, a, b).0,
         Piece::Arc { .. } => {
             const SAMPLES: usize = 256;
             (0..=SAMPLES)

@@ -180,6 +180,11 @@ scene_enum! {
         /// where the Lankarani–Nikravesh damping at small approach speeds limits
         /// the explicit schemes. Order 1.
         ImplicitDamping,
+        /// Velocity Verlet with one force evaluation per step and the contact
+        /// damping taken by the trapezoidal rule: the contact damping does not
+        /// bound its step, and a step costs about what a symplectic Euler step
+        /// costs. Order 2.
+        VerletImplicitDamping,
     }
 }
 
@@ -188,7 +193,7 @@ impl Integrator {
     pub fn order(self) -> u32 {
         match self {
             Self::SymplecticEuler | Self::ImplicitDamping => 1,
-            Self::VelocityVerlet => 2,
+            Self::VelocityVerlet | Self::VerletImplicitDamping => 2,
             Self::Rk4 => 4,
             Self::DormandPrince45 => 5,
         }
@@ -361,7 +366,8 @@ mod tests {
                 "velocity_verlet",
                 "rk4",
                 "dormand_prince45",
-                "implicit_damping"
+                "implicit_damping",
+                "verlet_implicit_damping"
             ]
         );
         assert_eq!(ContactLaw::LankaraniNikravesh.name(), "lankarani_nikravesh");

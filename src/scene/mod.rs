@@ -5,7 +5,7 @@
 //! problem it finds, each with the field's path (`sprockets[2].teeth`) and
 //! what is allowed. Units are converted here (rpm → rad/s) and nowhere else.
 //! A scene is also built in code ([`Scene::builder`]) or generated
-//! ([`generate`]), through the same validation; a run's own settings
+//! ([`DriveSpec`]), through the same validation; a run's own settings
 //! ([`Overrides`]) are applied to the file form and validated again, so a
 //! [`Scene`] cannot change behind the validator's back.
 //! This module knows nothing of rapier or of stepping.
@@ -23,7 +23,7 @@ mod duty;
 mod error;
 mod excitation;
 mod file;
-pub mod generate;
+pub(crate) mod generate;
 mod governor;
 mod guides;
 mod kinds;
@@ -54,6 +54,7 @@ pub use file::{
     ChainFile, ContactFile, EquilibriumFile, LimitsFile, SceneFile, SolverFile, SprocketFile,
     StepFile,
 };
+pub use generate::{DriveSpec, GenerateError};
 pub(crate) use governor::{DEFAULT_GOVERNOR_BANDWIDTH_HZ, GovernorGains, GovernorSpec};
 pub(crate) use guides::Guide;
 pub use guides::GuideFile;

@@ -25,6 +25,9 @@ pub struct Overrides {
     /// `solver.dt_s = "auto"`: the step chosen from the scene (takes
     /// precedence over `dt_s`).
     pub dt_auto: bool,
+    /// `solver.dt_s = "speed"`: the step chosen from the scene for speed
+    /// (takes precedence over `dt_auto` and `dt_s`).
+    pub dt_speed: bool,
     /// `solver.stepping`. Rapier's stepping without an `integrator`
     /// override also sets `solver.integrator` to symplectic Euler, the
     /// scheme rapier integrates with (whatever scheme the file names for
@@ -53,7 +56,10 @@ impl Overrides {
     pub fn paths(&self) -> Vec<&'static str> {
         [
             ("solver.duration_s", self.duration_s.is_some()),
-            ("solver.dt_s", self.dt_s.is_some() || self.dt_auto),
+            (
+                "solver.dt_s",
+                self.dt_s.is_some() || self.dt_auto || self.dt_speed,
+            ),
             ("solver.stepping", self.stepping.is_some()),
             ("solver.integrator", self.integrator.is_some()),
             ("solver.tolerance", self.tolerance.is_some()),
@@ -75,6 +81,7 @@ impl SceneFile {
             duration_s,
             dt_s,
             dt_auto,
+            dt_speed,
             stepping,
             integrator,
             tolerance,
@@ -89,7 +96,9 @@ impl SceneFile {
         }
         let solver = &mut self.solver;
         set(&mut solver.duration_s, duration_s);
-        if dt_auto {
+        if dt_speed {
+            solver.dt_s = StepFile::Word(super::file::SPEED.to_owned());
+        } else if dt_auto {
             solver.dt_s = StepFile::Word(super::file::AUTO.to_owned());
         } else if let Some(dt) = dt_s {
             solver.dt_s = StepFile::Seconds(dt);

@@ -24,6 +24,15 @@ pub(crate) const AUTO_SAFETY: f64 = 0.5;
 /// largest link force from 2.1 % to 0.2 % off the reference.
 pub(crate) const AUTO_STEPS_PER_IMPACT: f64 = 16.0;
 
+/// Safety factor of `dt_s = "speed"`: the step is at most this fraction of
+/// the scheme's estimated largest stable step, with no cap for a roller's
+/// impact. On the paper's drive the largest stable step measured 0.94 times
+/// the links' estimate (the estimate that is not pessimistic), so nine tenths
+/// stays below it; the statistics of the drive with joint friction converge
+/// at that step with `verlet_implicit_damping` (docs/model.md, “Time scales
+/// and stability”).
+pub(crate) const SPEED_SAFETY: f64 = 0.9;
+
 /// `dt_s = "auto"` chooses a whole fraction of the run's sample period; this
 /// one, s (1 ms, the default 1 kHz), where no rate is given
 /// ([`super::Overrides::sample_rate_hz`]).
@@ -94,12 +103,20 @@ impl StepLimits {
     /// against 2 and 2 for symplectic Euler and velocity Verlet. The implicit
     /// scheme is not bound by the contact damping; its joint friction stays
     /// explicit (its limit is far from binding at the default ω_s,
-    /// docs/model.md, “Joint friction”). The adaptive scheme has none.
+    /// docs/model.md, “Joint friction”). `verlet_implicit_damping` takes the
+    /// contact damping by the trapezoidal rule (no bound) and the joint
+    /// friction at velocities predicted from the step's start forces, which
+    /// halves the explicit damping bound: a damping rate λ whose force is
+    /// taken at p = v + h a is stable for h λ < 1 (the recursion
+    /// (v, p) → ((1 − z/2) v + (z² − z) p / 2, v − z p), z = h λ, has
+    /// trace 1 − 3z/2 and determinant −z/2; Jury's condition
+    /// 1 + trace + det > 0 holds only for z < 1). The adaptive scheme has none.
     pub(crate) fn bounds_for(&self, scheme: Integrator) -> Vec<(&'static str, f64)> {
         let (links, damping, contact) = match scheme {
             Integrator::SymplecticEuler | Integrator::VelocityVerlet => (1.0, 1.0, true),
             Integrator::Rk4 => (std::f64::consts::SQRT_2, 1.3925, true),
             Integrator::ImplicitDamping => (1.0, 1.0, false),
+            Integrator::VerletImplicitDamping => (1.0, 0.5, false),
             Integrator::DormandPrince45 => return Vec::new(),
         };
         let mut bounds = vec![("links", self.links_s * links)];
@@ -130,15 +147,30 @@ impl StepLimits {
             other => self.for_integrator(other),
         };
         let raw = (AUTO_SAFETY * limit).min(impact_s / AUTO_STEPS_PER_IMPACT);
-        if !(raw.is_finite() && raw > 0.0) {
-            return raw;
-        }
-        // The largest sample_period_s / n not above `raw`; the small
-        // tolerance keeps a step that is already a whole fraction from
-        // losing one.
-        let n = (sample_period_s / raw * (1.0 - 1e-12)).ceil().max(1.0);
-        sample_period_s / n
+        whole_fraction(raw, sample_period_s)
     }
+
+    /// The step `dt_s = "speed"` chooses for `scheme`: [`SPEED_SAFETY`]
+    /// times its estimated limit (the adaptive scheme's: the smallest
+    /// estimate), rounded down to a whole fraction of `sample_period_s`.
+    pub(crate) fn speed_step_s(&self, scheme: Integrator, sample_period_s: f64) -> f64 {
+        let limit = match scheme {
+            Integrator::DormandPrince45 => self.min_s(),
+            other => self.for_integrator(other),
+        };
+        whole_fraction(SPEED_SAFETY * limit, sample_period_s)
+    }
+}
+
+/// The largest `period_s / n` not above `raw` (`raw` itself unless finite
+/// and > 0); the small tolerance keeps a step that is already a whole
+/// fraction from losing one.
+fn whole_fraction(raw: f64, period_s: f64) -> f64 {
+    if !(raw.is_finite() && raw > 0.0) {
+        return raw;
+    }
+    let n = (period_s / raw * (1.0 - 1e-12)).ceil().max(1.0);
+    period_s / n
 }
 
 impl StepLimits {
@@ -155,7 +187,17 @@ pub fn step_note(scene: &Scene) -> String {
     let solver = &scene.solver;
     let scheme = solver.integrator.name();
     let limit_s = StepLimits::of(scene).for_integrator(solver.integrator);
-    let how = if solver.dt_auto {
+    let how = if solver.dt_speed {
+        let period_ms = (solver.sample_period_s * 1e12).round() / 1e9;
+        format!(
+            " (speed: at most {SPEED_SAFETY} x the estimated limit{}, a whole fraction of the {period_ms} ms sample period, no cap for a roller's impact)",
+            if limit_s.is_finite() {
+                ""
+            } else {
+                " of symplectic Euler"
+            },
+        )
+    } else if solver.dt_auto {
         let impact_s = impact_duration_s(&scene.chain, &scene.contact, &scene.sprockets);
         // Nine digits: 1 ms, 0.2 ms, 0.333333333 ms.
         let period_ms = (solver.sample_period_s * 1e12).round() / 1e9;
@@ -303,6 +345,75 @@ mod tests {
             rk4_links.for_integrator(Integrator::Rk4),
             10e-6 * std::f64::consts::SQRT_2
         );
+    }
+
+    /// `verlet_implicit_damping`: no contact damping bound, the links' bound,
+    /// half the joints' (10 µs links, 16 µs joints: 8 µs).
+    #[test]
+    fn the_implicit_verlet_is_bound_by_the_links_and_half_the_joints() {
+        let l = StepLimits {
+            links_s: 10e-6,
+            contact_damping_s: 3e-6,
+            joint_friction_s: 16e-6,
+        };
+        assert_eq!(l.for_integrator(Integrator::VerletImplicitDamping), 8e-6);
+        let names: Vec<&str> = l
+            .bounds_for(Integrator::VerletImplicitDamping)
+            .iter()
+            .map(|b| b.0)
+            .collect();
+        assert_eq!(names, ["links", "joint friction"]);
+    }
+
+    /// The bound's factor ½, checked on the scheme itself rather than on
+    /// its matrix: a damper F = −c p, its force taken at the velocity p
+    /// predicted from the step's start force, kicked half a step on each
+    /// side. At h c/m = 0.95 a velocity decays; at 1.05 it grows.
+    #[test]
+    fn a_damper_at_predicted_velocities_is_stable_below_h_lambda_one() {
+        let after = |z: f64| {
+            // m = 1, c = 1, h = z.
+            let (mut v, mut f) = (1.0_f64, -1.0_f64);
+            for _ in 0..2000 {
+                let half = v + 0.5 * z * f;
+                let predicted = half + 0.5 * z * f;
+                f = -predicted;
+                v = half + 0.5 * z * f;
+            }
+            v.abs()
+        };
+        assert!(after(0.95) < 1e-6, "{}", after(0.95));
+        assert!(after(1.05) > 1e6, "{}", after(1.05));
+    }
+
+    /// The drive with joint friction (`assets/l60mc-friction.toml`), real
+    /// profile: its statistics converge with `verlet_implicit_damping` at
+    /// 40 µs (benches/README.md), a step the scheme's estimate allows, so no
+    /// stability warning; velocity Verlet, whose contact damping estimate is
+    /// 19 µs, is warned at the same step. `dt_s = "speed"` takes 1/27 ms
+    /// (nine tenths of the joints' 41.3 µs, rounded down to a whole fraction
+    /// of 1 ms), also without a warning.
+    #[test]
+    fn the_converged_fast_setting_runs_without_a_stability_warning() {
+        let text = include_str!("../../assets/l60mc-friction.toml");
+        let with = |integrator, dt_s, dt_speed| {
+            let overrides = super::super::Overrides {
+                integrator: Some(integrator),
+                dt_s,
+                dt_speed,
+                ..Default::default()
+            };
+            let scene = Scene::from_toml_with(text, &overrides).expect("valid scene");
+            let warning = step_warning(&scene.solver, &StepLimits::of(&scene));
+            (scene.solver.dt_s, warning)
+        };
+        let (_, warning) = with(Integrator::VerletImplicitDamping, Some(40e-6), false);
+        assert_eq!(warning, None);
+        let (_, warning) = with(Integrator::VelocityVerlet, Some(40e-6), false);
+        assert!(warning.is_some_and(|w| w.contains("contact damping")));
+        let (dt_s, warning) = with(Integrator::VerletImplicitDamping, None, true);
+        approx::assert_relative_eq!(dt_s, 1e-3 / 27.0, max_relative = 1e-12);
+        assert_eq!(warning, None);
     }
 
     /// Closed forms: p = 2 (linear spring), ∫₀¹ (1 − x²)^(−½) dx = π/2;

@@ -11,6 +11,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::checker::Checker;
+use crate::geometry::v2::{norm, segment_distance, sub};
 
 /// One tensioner arm with its tensioner, as written.
 #[derive(Clone, Debug, PartialEq, Deserialize, Serialize)]
@@ -261,14 +262,6 @@ impl Tensioner {
             max_travel_m,
         }
     }
-}
-
-fn sub(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn norm(a: [f64; 2]) -> f64 {
-    a[0].hypot(a[1])
 }
 
 fn finite_point(c: &mut Checker, path: &str, p: [f64; 2]) -> [f64; 2] {
@@ -562,7 +555,7 @@ pub(super) fn warnings(
                     ];
                     path.strands
                         .iter()
-                        .map(|s| super::guides::to_segment(p, s.start_m, s.end_m))
+                        .map(|s| segment_distance(p, s.start_m, s.end_m).0)
                         .fold(f64::INFINITY, f64::min)
                 })
                 .fold(f64::INFINITY, f64::min)

@@ -238,8 +238,11 @@ pub struct Solver {
     pub integrator: Integrator,
     /// Step, s (the adaptive scheme's largest step and sample step).
     pub dt_s: f64,
-    /// Whether `dt_s` was chosen automatically (`dt_s = "auto"` or left out).
+    /// Whether `dt_s` was chosen automatically (`dt_s = "auto"` or
+    /// `"speed"`, or left out).
     pub dt_auto: bool,
+    /// Whether the automatic step was chosen for speed (`dt_s = "speed"`).
+    pub dt_speed: bool,
     /// The sample period an automatic step is a whole fraction of, s (the
     /// run's, [`super::Overrides::sample_rate_hz`]; 1 ms where none is given).
     pub sample_period_s: f64,

@@ -5,7 +5,7 @@
 use super::checker::Checker;
 use super::designations;
 use super::excitation::check_excitation;
-use super::file::{AUTO, LimitsFile};
+use super::file::{AUTO, LimitsFile, SPEED};
 use super::periodic::TableFiles;
 use super::types::{DEFAULT_JOINT_FRICTION_SPEED_RAD_S, JointFriction, Limits};
 use super::{
@@ -565,30 +565,32 @@ fn check_solver(
             ),
         );
     }
-    let (dt_s, dt_auto) = match &f.dt_s {
-        StepFile::Seconds(dt) => (c.positive("solver.dt_s", *dt), false),
-        StepFile::Word(w) if w == AUTO => {
-            let impact_s = super::stability::impact_duration_s(chain, contact, sprockets);
-            let dt = StepLimits::of_parts(chain, contact).auto_step_s(
-                integrator,
-                impact_s,
-                sample_period_s,
-            );
+    let (dt_s, dt_auto, dt_speed) = match &f.dt_s {
+        StepFile::Seconds(dt) => (c.positive("solver.dt_s", *dt), false, false),
+        StepFile::Word(w) if w == AUTO || w == SPEED => {
+            let speed = w == SPEED;
+            let limits = StepLimits::of_parts(chain, contact);
+            let dt = if speed {
+                limits.speed_step_s(integrator, sample_period_s)
+            } else {
+                let impact_s = super::stability::impact_duration_s(chain, contact, sprockets);
+                limits.auto_step_s(integrator, impact_s, sample_period_s)
+            };
             // Only a chain or contact already reported invalid lands here.
             if !(dt.is_finite() && dt > 0.0) && c.errors.is_empty() {
                 c.fail(
                     "solver.dt_s",
-                    format!("\"auto\" found no finite step for this chain (got {dt}); give one in seconds"),
+                    format!("\"{w}\" found no finite step for this chain (got {dt}); give one in seconds"),
                 );
             }
-            (dt, true)
+            (dt, true, speed)
         }
         StepFile::Word(w) => {
             c.fail(
                 "solver.dt_s",
-                format!("must be a step in seconds or \"auto\", got \"{w}\""),
+                format!("must be a step in seconds, \"auto\" or \"speed\", got \"{w}\""),
             );
-            (f64::NAN, false)
+            (f64::NAN, false, false)
         }
     };
     Solver {
@@ -596,6 +598,7 @@ fn check_solver(
         integrator,
         dt_s,
         dt_auto,
+        dt_speed,
         sample_period_s,
         tolerance,
         duration_s: c.non_negative("solver.duration_s", f.duration_s),

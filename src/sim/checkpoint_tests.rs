@@ -176,6 +176,13 @@ fn resumed_runs_are_bit_identical_implicit_damping() {
     check_bit_identical(ProfileKind::Circular, Integrator::ImplicitDamping);
 }
 
+#[test]
+fn resumed_runs_are_bit_identical_verlet_implicit_damping() {
+    // The step's start forces are the evaluated ones with the solved
+    // contact damping: the snapshot's forces carry them.
+    check_bit_identical(ProfileKind::Real, Integrator::VerletImplicitDamping);
+}
+
 /// The check above can fail: a resume that drops the contact memory (the
 /// remembered onset speeds) ends elsewhere.
 #[test]

@@ -133,8 +133,9 @@ fn solver_limits_are_read_and_checked_with_their_paths() {
 fn dt_s_must_be_seconds_or_auto() {
     let err = paper_with_solver("[solver]\ndt_s = \"fast\"\n").expect_err("invalid");
     assert!(
-        err.to_string()
-            .contains("solver.dt_s: must be a step in seconds or \"auto\", got \"fast\""),
+        err.to_string().contains(
+            "solver.dt_s: must be a step in seconds, \"auto\" or \"speed\", got \"fast\""
+        ),
         "{err}"
     );
 }

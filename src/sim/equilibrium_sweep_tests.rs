@@ -18,7 +18,7 @@
 //! `cargo test --release --test it equilibrium_sweep_full -- --ignored --nocapture`.
 
 use crate::rng::SeededRng;
-use crate::scene::generate::DriveSpec;
+use crate::scene::DriveSpec;
 use crate::scene::{ProfileKind, Scene};
 use crate::sim::{EquilibriumError, SimError, Simulation};
 

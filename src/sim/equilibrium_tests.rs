@@ -2,7 +2,8 @@
 //! requests name their cause with the closed-form threshold.
 
 use crate::scene::Scene;
-use crate::sim::{BeyondSeatingArc, EquilibriumError, SimError, Simulation};
+use crate::sim::statics::BeyondSeatingArc;
+use crate::sim::{EquilibriumError, SimError, Simulation};
 
 fn scene(file: &str) -> Scene {
     let path = format!("{}/tests/data/{file}", env!("CARGO_MANIFEST_DIR"));

@@ -7,6 +7,7 @@
 //! | `rk4` | 4 | 4 | 85 µs |
 //! | `dormand_prince45` | 5(4) | 6 per trial step + located events | chosen by the error estimate (stable at every cap up to 128 µs) |
 //! | `implicit_damping` | 1 | 1 | 57 µs, and still 57 µs where the contact damping limits symplectic Euler (17 µs on a 10-sprocket drive) |
+//! | `verlet_implicit_damping` | 2 | 1 | the links' 57 µs; with joint friction half its explicit limit (module `verlet`) |
 //!
 //! (`chaindrive bench stress` measures these; the estimates of docs/model.md,
 //! “Time scales and stability”, are 60 µs for the links and 19 µs for the
@@ -65,6 +66,8 @@
 //! onset's approach speed δ̇⁻ is then sampled where the contact begins, not up
 //! to a step later. Separation by the force clamp (damping cancelling the
 //! elastic force while δ > 0) is not located.
+
+mod verlet;
 
 use super::stepper::{advance_extras, driver_speed};
 use super::{Relaxation, SimError};
@@ -161,6 +164,13 @@ pub(crate) struct Integration {
     torque_scratch: Vec<f64>,
     /// Scratch: the scalar states' rates at the step's start (velocity Verlet).
     rate_scratch: Vec<f64>,
+    /// Scratch: the solved contact damping's changes, (roller, sprocket,
+    /// lever, Δf) (`verlet_implicit_damping`).
+    damping_changes: Vec<(usize, usize, [f64; 2], [f64; 2])>,
+    /// Scratch: the rollers' predicted velocities the forces were evaluated
+    /// at (`verlet_implicit_damping`).
+    predicted_vx: Vec<f64>,
+    predicted_vy: Vec<f64>,
     /// Error scales per state field: x/y, vx/vy, and per sprocket θ, ω.
     scale_position_m: f64,
     scale_speed_m_s: f64,
@@ -186,11 +196,15 @@ impl Integration {
         let stages = match scheme {
             Integrator::SymplecticEuler
             | Integrator::ImplicitDamping
-            | Integrator::VelocityVerlet => 0,
+            | Integrator::VelocityVerlet
+            | Integrator::VerletImplicitDamping => 0,
             Integrator::Rk4 => 4,
             Integrator::DormandPrince45 => 7,
         };
-        if scheme == Integrator::ImplicitDamping {
+        if matches!(
+            scheme,
+            Integrator::ImplicitDamping | Integrator::VerletImplicitDamping
+        ) {
             forces.enable_damping_rows();
             // Fill the rows for the first step (same state: the memory is kept).
             forces.evaluate(model, state);
@@ -207,6 +221,9 @@ impl Integration {
             theta_scratch: vec![0.0; state.theta.len()],
             torque_scratch: vec![0.0; state.theta.len()],
             rate_scratch: vec![0.0; state.z.len()],
+            damping_changes: Vec::with_capacity(state.rollers()),
+            predicted_vx: vec![0.0; state.rollers()],
+            predicted_vy: vec![0.0; state.rollers()],
             scale_position_m,
             scale_speed_m_s,
             scale_theta: model
@@ -262,6 +279,9 @@ impl Integration {
                 self.commit(model, state, forces);
             }
             Integrator::VelocityVerlet => self.velocity_verlet(model, state, forces, dt_s),
+            Integrator::VerletImplicitDamping => {
+                self.verlet_implicit_damping(model, state, forces, dt_s);
+            }
             Integrator::Rk4 => self.rk4(model, state, forces, dt_s),
             Integrator::DormandPrince45 => self.adaptive(model, state, forces, dt_s)?,
         }
@@ -288,88 +308,6 @@ impl Integration {
         h: f64,
     ) {
         implicit_damping_step(model, state, forces, h, &mut self.torque_scratch, None);
-    }
-
-    /// Velocity Verlet: half kick, drift, forces at the new positions, half
-    /// kick, then the committed evaluation.
-    ///
-    /// The forces depend on velocity (link and contact damping), so the
-    /// middle evaluation takes the velocities predicted at the step's end,
-    /// v + h a(xₙ, vₙ), not the half-step ones: with the latter the damping
-    /// would lag half a step and the scheme fall to first order.
-    fn velocity_verlet(
-        &mut self,
-        model: &DriveModel,
-        state: &mut DriveState,
-        forces: &mut ForceGenerator,
-        h: f64,
-    ) {
-        let half = 0.5 * h / model.roller_mass_kg;
-        // `start.vx/vy` keep the half-step velocities, `torque_scratch` the sprockets'.
-        let (vhx, vhy) = (&mut self.start.vx, &mut self.start.vy);
-        for i in 0..state.rollers() {
-            let (kx, ky) = (half * forces.output().fx[i], half * forces.output().fy[i]);
-            vhx[i] = state.vx[i] + kx;
-            vhy[i] = state.vy[i] + ky;
-            state.x[i] += h * vhx[i];
-            state.y[i] += h * vhy[i];
-            state.vx[i] = vhx[i] + kx;
-            state.vy[i] = vhy[i] + ky;
-        }
-        let omega_half = &mut self.torque_scratch;
-        for (s, sp) in model.sprockets.iter().enumerate() {
-            if sp.speed_law.is_some() {
-                state.theta[s] += h * driver_speed(model, s, state.t_s, state.theta[s], h);
-            } else {
-                let kick = 0.5
-                    * h
-                    * (forces.output().chain_torque[s]
-                        + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
-                    * sp.inv_inertia;
-                omega_half[s] = state.omega[s] + kick;
-                state.theta[s] += h * omega_half[s];
-                state.omega[s] = omega_half[s] + kick;
-            }
-        }
-        // Further bodies as the sprockets; scalar states by Heun's rule
-        // (an Euler predictor here, the trapezoid after the trial forces).
-        let out = forces.output();
-        for (k, body) in model.bodies.iter().enumerate() {
-            let kick = 0.5 * h * out.body_force[k] * body.inv_mass;
-            self.start.u[k] = state.u[k] + kick;
-            state.q[k] += h * self.start.u[k];
-            state.u[k] = self.start.u[k] + kick;
-        }
-        self.start.z.copy_from_slice(&state.z);
-        self.rate_scratch.copy_from_slice(&out.scalar_rate);
-        for (z, rate) in state.z.iter_mut().zip(&out.scalar_rate) {
-            *z += h * rate;
-        }
-        state.t_s += h;
-        set_driver_speed(model, state);
-        self.trial(model, state, forces);
-        for i in 0..state.rollers() {
-            state.vx[i] = self.start.vx[i] + half * forces.output().fx[i];
-            state.vy[i] = self.start.vy[i] + half * forces.output().fy[i];
-        }
-        for (s, sp) in model.sprockets.iter().enumerate() {
-            if sp.speed_law.is_none() {
-                state.omega[s] = self.torque_scratch[s]
-                    + 0.5
-                        * h
-                        * (forces.output().chain_torque[s]
-                            + sp.torque_at(state.t_s, state.theta[s], state.omega[s]))
-                        * sp.inv_inertia;
-            }
-        }
-        let out = forces.output();
-        for (k, body) in model.bodies.iter().enumerate() {
-            state.u[k] = self.start.u[k] + 0.5 * h * out.body_force[k] * body.inv_mass;
-        }
-        for (k, rate) in out.scalar_rate.iter().enumerate() {
-            state.z[k] = self.start.z[k] + 0.5 * h * (self.rate_scratch[k] + rate);
-        }
-        self.commit(model, state, forces);
     }
 
     /// Classical Runge–Kutta.
@@ -629,26 +567,8 @@ pub(crate) fn implicit_damping_step(
         let (nvx, nvy) = if s == u32::MAX {
             (vx + h * fx / m, vy + h * fy / m)
         } else {
-            let [cxx, cxy, cyy] = rows.c[i];
-            let [ex, ey] = rows.explicit[i];
-            let [dx, dy] = rows.c_v_sprocket[i];
-            let [elx, ely] = rows.elastic[i];
-            // The force without the contact damping.
-            let (rest_x, rest_y) = (fx - ex, fy - ey);
-            let (a, b, d) = (m + h * cxx, h * cxy, m + h * cyy);
-            let (rx, ry) = (m * vx + h * (rest_x + dx), m * vy + h * (rest_y + dy));
-            // A is symmetric positive definite (C ⪰ 0, m > 0): det > 0.
-            let det = a * d - b * b;
-            let (mut ux, mut uy) = ((d * rx - b * ry) / det, (a * ry - b * rx) / det);
-            let (mut fdx, mut fdy) = (dx - (cxx * ux + cxy * uy), dy - (cxy * ux + cyy * uy));
-            if (elx + fdx) * elx + (ely + fdy) * ely < 0.0 {
-                // The damping would pull: the contact force is clamped to zero.
-                (fdx, fdy) = (-elx, -ely);
-                ux = vx + h * (rest_x + fdx) / m;
-                uy = vy + h * (rest_y + fdy) / m;
-            }
+            let ([ux, uy], [ddx, ddy]) = damped_roller(rows, i, m, h, [vx, vy], [fx, fy]);
             let [lx, ly] = rows.lever[i];
-            let (ddx, ddy) = (fdx - ex, fdy - ey);
             torque[s as usize] -= lx * ddy - ly * ddx;
             (ux, uy)
         };
@@ -679,6 +599,43 @@ pub(crate) fn implicit_damping_step(
     }
     advance_extras(model, state, forces.output(), h, scale);
     state.t_s += h;
+}
+
+/// The velocity after a kick of `h` of roller `i` (in contact, with
+/// damping row `i`) from velocity `v` under the evaluated force `f`, its
+/// contact damping taken at the new velocity: the solution of
+/// `(m I + h C) v' = m v + h (F_rest + C v_sp)`, and the change of the
+/// damping force against the evaluated one. A damping force that would pull
+/// clamps the contact force to zero.
+#[inline(always)]
+fn damped_roller(
+    rows: &crate::forces::DampingRows,
+    i: usize,
+    m: f64,
+    h: f64,
+    v: [f64; 2],
+    f: [f64; 2],
+) -> ([f64; 2], [f64; 2]) {
+    let ([vx, vy], [fx, fy]) = (v, f);
+    let [cxx, cxy, cyy] = rows.c[i];
+    let [ex, ey] = rows.explicit[i];
+    let [dx, dy] = rows.c_v_sprocket[i];
+    let [elx, ely] = rows.elastic[i];
+    // The force without the contact damping.
+    let (rest_x, rest_y) = (fx - ex, fy - ey);
+    let (a, b, d) = (m + h * cxx, h * cxy, m + h * cyy);
+    let (rx, ry) = (m * vx + h * (rest_x + dx), m * vy + h * (rest_y + dy));
+    // A is symmetric positive definite (C ⪰ 0, m > 0): det > 0.
+    let det = a * d - b * b;
+    let (mut ux, mut uy) = ((d * rx - b * ry) / det, (a * ry - b * rx) / det);
+    let (mut fdx, mut fdy) = (dx - (cxx * ux + cxy * uy), dy - (cxy * ux + cyy * uy));
+    if (elx + fdx) * elx + (ely + fdy) * ely < 0.0 {
+        // The damping would pull: the contact force is clamped to zero.
+        (fdx, fdy) = (-elx, -ely);
+        ux = vx + h * (rest_x + fdx) / m;
+        uy = vy + h * (rest_y + fdy) / m;
+    }
+    ([ux, uy], [fdx - ex, fdy - ey])
 }
 
 /// Cubic Hermite interpolation at fraction `s` of a step `h` between values

@@ -112,6 +112,7 @@ fn fixed_step_methods_converge_at_their_nominal_order() {
         (Integrator::SymplecticEuler, [4e-6, 2e-6, 1e-6]),
         (Integrator::ImplicitDamping, [4e-6, 2e-6, 1e-6]),
         (Integrator::VelocityVerlet, [8e-6, 4e-6, 2e-6]),
+        (Integrator::VerletImplicitDamping, [8e-6, 4e-6, 2e-6]),
         (Integrator::Rk4, [2e-5, 1e-5, 5e-6]),
     ] {
         let errors: Vec<f64> = steps

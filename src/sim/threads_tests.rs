@@ -2,7 +2,7 @@
 //! the same bits as one thread.
 
 use crate::cosim::ChainDrive;
-use crate::scene::generate::DriveSpec;
+use crate::scene::DriveSpec;
 use crate::scene::{ProfileKind, Scene, StepFile, Threads, ThreadsFile};
 use crate::sim::Simulation;
 use rapier2d_f64::prelude::*;

@@ -22,6 +22,7 @@
 use super::statics::{
     EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension,
 };
+use super::tension_search::TensionSearch;
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::Scene;
@@ -44,7 +45,7 @@ const MAX_STEPS: usize = 2000;
 const REST_FORCE: f64 = 1e-7;
 
 /// Most corrections of a tensioner's position after the lengthening.
-const MAX_CORRECTIONS: usize = 20;
+const MAX_CORRECTIONS: usize = 40;
 
 /// A sprocket that takes the worn chain's length up (the tensioner rule).
 pub(crate) struct TakeUp<'a> {
@@ -126,10 +127,12 @@ pub(crate) fn wear_in(
     // over their path and rises by that per metre of path: the sprocket's
     // travel per newton, with the links of the free strands (a wrap's
     // rollers ride up their flanks and take their own links' gain).
+    // A chain that touches no tooth has no free strand to measure: it is
+    // slack, and the take-up goes on tightening it.
     let tension = |model: &DriveModel, state: &DriveState, f: &ForceGenerator| {
-        free_strand_tension(model, state, f).ok_or(EquilibriumError::NoFreeLinks)
+        free_strand_tension(model, state, f).unwrap_or(0.0)
     };
-    let mut t_now = tension(model, state, forces)?;
+    let mut t_now = tension(model, state, forces);
     for k in 1..=steps {
         let rest = if k == steps {
             worn_rest_m
@@ -137,7 +140,11 @@ pub(crate) fn wear_in(
             new_rest_m + (worn_rest_m - new_rest_m) * (k as f64 / steps as f64)
         };
         if let Some(t) = &mut take_up {
-            let free = free_links(model, state, forces).max(1) as f64;
+            // A slack chain (no free strand) gains along all its links.
+            let free = match free_links(model, state, forces) {
+                0 => state.rollers() as f64,
+                n => n as f64,
+            };
             let per_n = free * t.travel_per_length / model.stiffness_n_m;
             let gained_m = free * (rest - model.rest_length_m);
             t.shift(
@@ -150,30 +157,30 @@ pub(crate) fn wear_in(
         model.rest_length_m = rest;
         residual = settle(model, state, forces)?;
         if take_up.is_some() {
-            t_now = tension(model, state, forces)?;
+            t_now = tension(model, state, forces);
         }
     }
     let mut iterations = steps;
     if let Some(t) = &mut take_up {
-        // Back to the pretension: a secant on the sprocket's position, the
-        // first slope from the links' stiffness.
+        // Back to the pretension: the tensioner's search from where the
+        // lengthening left it, the first move from the links' stiffness.
         let free = free_links(model, state, forces).max(1) as f64;
-        let mut slope = model.stiffness_n_m / (free * t.travel_per_length);
+        let mut search = TensionSearch::new(0.0, t_now, t.travel_per_length.signum(), pretension_n);
+        let (mut at, mut next) = (
+            0.0,
+            (pretension_n - t_now) * free * t.travel_per_length / model.stiffness_n_m,
+        );
         for _ in 0..MAX_CORRECTIONS {
             if ((t_now - pretension_n) / pretension_n).abs() <= t.tolerance {
                 break;
             }
-            let move_m = (pretension_n - t_now) / slope;
-            t.shift(model, move_m)?;
+            t.shift(model, next - at)?;
+            at = next;
             forces.forget_reach();
             residual = settle(model, state, forces)?;
             iterations += 1;
-            let t_next = tension(model, state, forces)?;
-            let measured = (t_next - t_now) / move_m;
-            if measured.is_finite() && measured > 0.0 {
-                slope = measured;
-            }
-            t_now = t_next;
+            t_now = tension(model, state, forces);
+            next = search.next(at, t_now);
         }
     }
     // A chain gone slack on fixed centres may touch no tooth at all (no

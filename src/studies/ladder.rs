@@ -90,7 +90,7 @@ pub(crate) struct Ladder {
 }
 
 impl Ladder {
-    /// Every scheme: the four fixed-step ones at `steps_s`, Dormand–Prince
+    /// Every scheme: the five fixed-step ones at `steps_s`, Dormand–Prince
     /// 5(4) at `tolerances`.
     pub(crate) fn every_scheme(steps_s: &[f64], tolerances: &[f64]) -> Self {
         let steps: Vec<Setting> = steps_s.iter().map(|&d| Setting::Step(d)).collect();
@@ -99,6 +99,7 @@ impl Ladder {
                 (Integrator::SymplecticEuler, steps.clone()),
                 (Integrator::ImplicitDamping, steps.clone()),
                 (Integrator::VelocityVerlet, steps.clone()),
+                (Integrator::VerletImplicitDamping, steps.clone()),
                 (Integrator::Rk4, steps),
                 (
                     Integrator::DormandPrince45,
@@ -231,9 +232,9 @@ mod tests {
     fn rungs_go_method_by_method_fine_to_coarse() {
         let ladder = Ladder::every_scheme(&[1e-5, 2e-5], &[1e-3]);
         let rungs: Vec<Rung> = ladder.rungs().collect();
-        assert_eq!(rungs.len(), 4 * 2 + 1);
+        assert_eq!(rungs.len(), 5 * 2 + 1);
         assert_eq!(rungs[1].integrator, Integrator::SymplecticEuler);
         assert_eq!(rungs[1].setting, Setting::Step(2e-5));
-        assert_eq!(rungs[8].setting, Setting::Tolerance(1e-3));
+        assert_eq!(rungs[10].setting, Setting::Tolerance(1e-3));
     }
 }

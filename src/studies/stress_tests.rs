@@ -1,7 +1,7 @@
 //! The stress matrix's contract (`chaindrive bench stress`) and the scene
 //! generator it relies on.
 
-use crate::scene::generate::DriveSpec;
+use crate::scene::DriveSpec;
 use crate::sim::Simulation;
 
 /// Generated drives lay out, settle and reach the pretension; the closing

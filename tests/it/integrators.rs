@@ -33,14 +33,15 @@ fn work_precision_bench_writes_its_contract() {
         Some("integrator,setting,dt_s,wall_s,horizon_s,error,order")
     );
     let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
-    // Two settings of each of the five schemes.
-    assert_eq!(rows.len(), 10, "{csv}");
+    // Two settings of each of the six schemes.
+    assert_eq!(rows.len(), 12, "{csv}");
     for name in [
         "symplectic_euler",
         "velocity_verlet",
         "rk4",
         "dormand_prince45",
         "implicit_damping",
+        "verlet_implicit_damping",
     ] {
         assert_eq!(rows.iter().filter(|r| r[0] == name).count(), 2, "{name}");
     }

@@ -50,3 +50,5 @@ mod sweep;
 mod users;
 #[cfg(feature = "cli")]
 mod worn;
+#[cfg(feature = "cli")]
+mod worn_tensioned;

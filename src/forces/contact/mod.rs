@@ -20,13 +20,14 @@
 
 mod pass;
 mod reach;
+mod scratch;
 mod seats;
 
 pub(crate) use reach::Culling;
 
 use pass::{ContactPass, Frame};
 use reach::{Reach, shared_stretches};
-use seats::SeatScratch;
+use scratch::SeatScratch;
 
 use super::rows::DampingRows;
 use super::{

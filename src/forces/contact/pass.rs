@@ -4,7 +4,7 @@
 
 use super::super::rows::DampingRows;
 use super::reach::Run;
-use super::seats::SeatScratch;
+use super::scratch::SeatScratch;
 use super::{EMPTY, FREE, Memory};
 use crate::forces::ContactLawParams;
 use crate::geometry::{MAX_PATCHES, Outline, Patch};
@@ -211,6 +211,14 @@ impl ContactPass<'_> {
                 rows.elastic[i] = row.elastic;
                 rows.explicit[i] = row.explicit;
                 rows.lever[i] = lever;
+                rows.surface_velocity[i] = if MOVING {
+                    [
+                        frame.velocity[0] - omega * ry,
+                        frame.velocity[1] + omega * rx,
+                    ]
+                } else {
+                    [-omega * ry, omega * rx]
+                };
             }
         }
         self.energy_j += sprocket.energy;

@@ -17,39 +17,6 @@ use super::pass::{ContactPass, Frame, PatchContext, Roller, Row, Sums, WorldPatc
 use super::reach::Run;
 use crate::geometry::{MAX_PATCHES, Patch, Seats};
 
-/// The geometry loop's outputs, one slot per roller (sized once: nothing is
-/// allocated per evaluation).
-#[derive(Clone, Debug, Default)]
-pub(super) struct SeatScratch {
-    ux: Vec<f64>,
-    uy: Vec<f64>,
-    rx: Vec<f64>,
-    ry: Vec<f64>,
-    depth: Vec<f64>,
-    nx: Vec<f64>,
-    ny: Vec<f64>,
-    rate: Vec<f64>,
-    /// Bit 0: inside its hinted gap's cone; bit 1: touching its seat.
-    status: Vec<u8>,
-}
-
-impl SeatScratch {
-    pub(super) fn new(rollers: usize) -> Self {
-        let zeros = || vec![0.0; rollers];
-        Self {
-            ux: zeros(),
-            uy: zeros(),
-            rx: zeros(),
-            ry: zeros(),
-            depth: zeros(),
-            nx: zeros(),
-            ny: zeros(),
-            rate: zeros(),
-            status: vec![0; rollers],
-        }
-    }
-}
-
 const IN_CONE: u8 = 1;
 const TOUCHING: u8 = 2;
 

@@ -3,8 +3,8 @@
 
 use std::f64::consts::PI;
 
-use super::v2::{add, mirror, polar, scale, sub};
 use super::{AsaError, IN_0_003_M, IN_0_0015_M, MAX_TEETH, MIN_TEETH};
+use crate::geometry::v2::{add, mirror, polar, scale, sub};
 
 /// Standard dimensions of one sprocket (all SI: metres, radians).
 ///

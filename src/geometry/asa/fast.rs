@@ -2,9 +2,9 @@
 
 use super::TIE_M;
 use super::pieces::{Joint, Piece, Shape};
-use super::v2::{V2, add, dot, neg, norm, polar, scale, sub, unit_or};
 #[cfg(doc)]
 use super::{AsaProfile, pieces::nearest_hit};
+use crate::geometry::v2::{V2, add, dot, neg, norm, polar, scale, sub, unit_or};
 
 /// Trig-free form of one [`Piece`] for the hot path of [`AsaProfile::contacts`]: the same
 /// closest-point rule as [`Piece::closest`], with the angular window tested by dot and cross

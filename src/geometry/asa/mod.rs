@@ -81,16 +81,15 @@ mod query;
 mod reference;
 #[cfg(test)]
 mod tests;
-mod v2;
 
 use std::f64::consts::PI;
 
+use super::v2::{V2, atan2_approx, dot};
 use fast::{FastPiece, Found, farthest_from};
 #[cfg(test)]
 use pieces::{Hit, nearest_hit};
 use pieces::{Piece, gap_pieces, neighbour_map};
 use query::{Reach, Shortcuts, SideGraph};
-use v2::{V2, atan2_approx, dot};
 
 pub use dimensions::{AsaDimensions, GapPoints};
 

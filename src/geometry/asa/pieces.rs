@@ -4,7 +4,7 @@
 use std::f64::consts::PI;
 
 use super::dimensions::{AsaDimensions, GapPoints};
-use super::v2::{
+use crate::geometry::v2::{
     V2, add, dot, mirror, neg, norm, polar, right_normal, scale, sub, unit_or, wrap_pi,
 };
 

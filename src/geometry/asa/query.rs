@@ -7,8 +7,8 @@ use super::dimensions::{AsaDimensions, GapPoints};
 use super::fast::{
     FAR, FastPiece, Found, NONE, Near, insert_deepest_near, nearest_near, patch_near,
 };
-use super::v2::{V2, add, dot, mirror, neg, norm, scale, sub, unit_or};
 use super::{AsaProfile, CONSISTENCY_TOL_M};
+use crate::geometry::v2::{V2, add, dot, mirror, neg, norm, scale, sub, unit_or};
 
 /// Smallest distance |s| of `q` from the line c–O–x (or its mirror c*–O–x*) for which the
 /// bottom-of-gap rules of [`Shortcuts`] decide between the seat and a working curve, as a

@@ -10,7 +10,7 @@ use super::{REST_FORCE, free_strand_tension};
 use crate::forces::{ForceGenerator, TensionerArm};
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{PretensionRule, Scene, StepLimits};
-use crate::sim::new_forces;
+use crate::sim::settled::new_forces;
 
 /// The drives of `tests/data` and `assets` with tensioner arms whose arms
 /// hold the chain. `user_moto_10b_free_arm` is left out: its chain is longer

@@ -28,11 +28,36 @@ pub struct StaticEquilibrium {
     /// Why the state reached is not at rest, where the cause is known: a
     /// roller pulled beyond a circular seating arc. A run starts from it and
     /// warns (the summary's `warnings`); `check` names it.
-    pub beyond_seating_arc: Option<BeyondSeatingArc>,
+    pub(crate) beyond_seating_arc: Option<BeyondSeatingArc>,
     /// Where the chain's fit to its path, not the tensioner arms, sets the
     /// static tension of a drive whose arms should set it (tensioner-preload
     /// rule; `sim::statics::misfit`). A run warns.
-    pub misfit: Option<super::misfit::MisfitTension>,
+    pub(crate) misfit: Option<super::misfit::MisfitTension>,
+}
+
+impl StaticEquilibrium {
+    /// What sets the static tension, as the summary's
+    /// `static_tension_set_by` names it: the pretension rule of `scene`
+    /// (`rest_length`, `tensioner`, `tensioner_preload`), or `chain_misfit`
+    /// where the chain's fit to its path sets it ([`Self::warnings`] says so).
+    pub fn tension_set_by(&self, scene: &crate::scene::Scene) -> &'static str {
+        if self.misfit.is_some() {
+            "chain_misfit"
+        } else {
+            scene.chain.pretension_by.name()
+        }
+    }
+
+    /// What a run warns of about this rest state, a sentence each: a
+    /// roller held on or pulled beyond a circular seating arc (the drive
+    /// has no smooth rest state with that profile), or a static tension
+    /// that the chain's fit to its path sets where tensioner arms should.
+    /// Empty for a clean rest state.
+    pub fn warnings(&self) -> Vec<String> {
+        let rim = self.beyond_seating_arc.as_ref().map(ToString::to_string);
+        let misfit = self.misfit.as_ref().map(ToString::to_string);
+        rim.into_iter().chain(misfit).collect()
+    }
 }
 
 /// Mean link force over the links of all free strands, pooled; `None` if

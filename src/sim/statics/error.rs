@@ -69,6 +69,11 @@ pub enum EquilibriumError {
     /// No free strand link exists to measure the tension on.
     #[error("no free strand link to measure the static tension on")]
     NoFreeLinks,
+    /// A roller at rest lies so far behind a fixed guide's entry that,
+    /// carried onto it, it would meet the face beyond the blow-up limit
+    /// (the sentence names the guide, the roller, the depth and the remedy).
+    #[error("{0}")]
+    BehindGuideEntry(String),
     /// The tensioner rule needs a sprocket with role = "tensioner".
     #[error("pretension_by = \"tensioner\" but no sprocket is a tensioner")]
     NoTensioner,

@@ -24,6 +24,7 @@
 //! its `adjust_direction` until the chain fits, then on until the pretension
 //! is reached (`settle_tensioner`). Nothing here relaxes the chain.
 
+use crate::geometry::v2::segment_distance;
 use crate::geometry::{
     ArmTakeUp, PathCircle, ToothProfile, arm_take_up, chain_path, needed_pitches,
 };
@@ -165,7 +166,7 @@ impl<'a> Fitter<'a> {
                 if j == s.from || j == s.to {
                     continue;
                 }
-                if segment_distance(c.center_m, s.start_m, s.end_m) < c.radius_m + roller {
+                if segment_distance(c.center_m, s.start_m, s.end_m).0 < c.radius_m + roller {
                     return Err(format!(
                         "the strand from \"{}\" to \"{}\" would run through sprocket \"{}\"",
                         sp[s.from].name, sp[s.to].name, sp[j].name
@@ -438,18 +439,6 @@ fn segments_cross(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> bool {
     d1 * d2 < 0.0 && d3 * d4 < 0.0
 }
 
-/// Distance from `p` to the segment from `a` to `b`.
-fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let ab = [b[0] - a[0], b[1] - a[1]];
-    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
-    let t = if len2 > 0.0 {
-        (((p[0] - a[0]) * ab[0] + (p[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    (p[0] - a[0] - t * ab[0]).hypot(p[1] - a[1] - t * ab[1])
-}
-
 /// Moves sprocket `k` of `scene` along `direction` until a chain of
 /// `rollers` rollers fits the path through the seated rollers within
 /// [`FIT_TOLERANCE_M`] (module docs).
@@ -505,90 +494,4 @@ pub(crate) fn arm_take_up_of(scene: &Scene) -> Option<ArmTakeUp> {
         return None;
     }
     Fitter::new(scene).ok()?.arm_take_up()
-}
-
-/// Whether a roller count fits the drive as it stands, and if not, why.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct CountVerdict {
-    /// The roller count.
-    pub rollers: usize,
-    /// `None`: it fits; else why not (a sentence).
-    pub refused: Option<String>,
-}
-
-/// The roller counts nearest the path's need, each with whether the drive
-/// accepts it as it stands, nearest the need first: a count is accepted
-/// when the layout lays it out and, under the rest-length and the
-/// tensioner-preload rules, the pretension, the strands' sag or the
-/// tensioner arms take up its misfit (`feasibility::check_chain_length`);
-/// under the tensioner rule, when the tensioner's travel makes it fit.
-/// Tried: the two counts either side of the need, and those the arms'
-/// take-up reaches. Empty when the path has no need (no layout).
-pub(crate) fn count_verdicts(scene: &Scene) -> Vec<CountVerdict> {
-    let Ok(needed) = needed_pitches_of(scene) else {
-        return Vec::new();
-    };
-    let pitch = scene.chain.pitch_m;
-    let reach = arm_take_up_of(scene).map_or(0.0, |t| t.max_m / pitch);
-    let mut candidates: Vec<usize> =
-        (needed.floor().max(4.0) as usize..=(needed + reach).ceil().max(4.0) as usize).collect();
-    candidates.sort_by(|a, b| {
-        (*a as f64 - needed)
-            .abs()
-            .total_cmp(&(*b as f64 - needed).abs())
-    });
-    candidates
-        .into_iter()
-        .map(|n| CountVerdict {
-            rollers: n,
-            refused: count_refused(scene, n).err(),
-        })
-        .collect()
-}
-
-/// Why `scene` with `n` rollers does not fit as it stands (see
-/// [`count_verdicts`]).
-fn count_refused(scene: &Scene, n: usize) -> Result<(), String> {
-    let mut s = scene.clone();
-    s.chain.rollers = n;
-    match s.chain.pretension_by {
-        crate::scene::PretensionRule::Tensioner => {
-            let t = s.tensioner().ok_or("no sprocket is a tensioner")?;
-            let d = default_direction(&s, t).ok_or("the tensioner has no direction to move in")?;
-            fit_sprocket(&s, t, d, n)
-                .map(|_| ())
-                .map_err(|e| e.to_string())
-        }
-        // The arms' preload: links at their rest length, as the rest-length rule lays them.
-        crate::scene::PretensionRule::RestLength
-        | crate::scene::PretensionRule::TensionerPreload => {
-            let (model, _, layout) = crate::model::DriveModel::build(&s).map_err(|e| match e {
-                crate::model::BuildError::Layout(crate::geometry::LayoutError::ChainLength {
-                    needed,
-                    which,
-                    arms,
-                    ..
-                }) => format!(
-                    "{which} by {:.2} pitches, more than the half pitch its free links take up{}",
-                    (needed - n as f64).abs(),
-                    arms.map(|a| a.to_string()).unwrap_or_default()
-                ),
-                e => e.to_string(),
-            })?;
-            super::feasibility::check_chain_length(&s, &layout, &model.path)
-                .map_err(|e| e.to_string())
-        }
-    }
-}
-
-/// The roller counts the drive accepts as it stands, nearest the path's
-/// need first ([`count_verdicts`]). Empty when none is accepted (then only
-/// a move fits).
-#[cfg(test)]
-pub(crate) fn fitting_counts(scene: &Scene) -> Vec<usize> {
-    count_verdicts(scene)
-        .into_iter()
-        .filter(|v| v.refused.is_none())
-        .map(|v| v.rollers)
-        .collect()
 }

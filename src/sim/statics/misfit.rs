@@ -22,7 +22,6 @@
 //! relaxation reached. Under the other rules the pretension iteration sets
 //! the tension and nothing is reported.
 
-use super::equilibrium::StaticEquilibrium;
 use crate::forces::ForceGenerator;
 use crate::geometry::Layout;
 use crate::scene::{PretensionRule, Scene, Tensioner, TensionerKind};
@@ -86,20 +85,6 @@ impl std::fmt::Display for MisfitTension {
             "; {}: fit the chain to its path (`chaindrive check` names the roller counts and the sprocket moves that fit) or bring the arms onto it",
             self.arms.join("; ")
         )
-    }
-}
-
-impl StaticEquilibrium {
-    /// What sets the static tension, as the summary's
-    /// `static_tension_set_by` names it: the pretension rule of `scene`
-    /// (`rest_length`, `tensioner`, `tensioner_preload`), or `chain_misfit`
-    /// ([`Self::misfit`]).
-    pub fn tension_set_by(&self, scene: &Scene) -> &'static str {
-        if self.misfit.is_some() {
-            "chain_misfit"
-        } else {
-            scene.chain.pretension_by.name()
-        }
     }
 }
 

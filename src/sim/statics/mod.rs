@@ -7,27 +7,30 @@
 
 #[cfg(test)]
 mod arms_tests;
+mod counts;
 mod equilibrium;
 mod error;
 mod feasibility;
 mod fit;
 mod misfit;
+#[cfg(test)]
+pub(crate) use error::BeyondSeatingArc;
 mod newton;
 mod relax;
+mod tangent;
 
+pub(crate) use counts::count_verdicts;
+#[cfg(test)]
+pub(crate) use counts::fitting_counts;
 pub use equilibrium::StaticEquilibrium;
 pub(crate) use equilibrium::{
     REST_FORCE, force_residual, free_strand_tension, settle_preload, settle_rest_length,
 };
-pub use error::{BeyondSeatingArc, EquilibriumError, FitError};
+pub use error::{EquilibriumError, FitError};
 pub(crate) use feasibility::{check_chain_length, check_load};
-#[cfg(test)]
-pub(crate) use fit::fitting_counts;
 pub(crate) use fit::{
-    FIT_TOLERANCE_M, arm_take_up_of, count_verdicts, default_direction, fit_sprocket,
-    needed_pitches_of,
+    FIT_TOLERANCE_M, arm_take_up_of, default_direction, fit_sprocket, needed_pitches_of,
 };
-pub use misfit::MisfitTension;
 pub(crate) use misfit::misfit_tension;
 pub(crate) use newton::settle;
 pub(crate) use relax::{RelaxSettings, relax};

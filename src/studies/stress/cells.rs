@@ -2,7 +2,7 @@
 //! generated drives, and the integrators each cell runs (see [`super`]).
 
 use super::{Case, StressError};
-use crate::scene::generate::DriveSpec;
+use crate::scene::DriveSpec;
 use crate::scene::{Integrator, L60MC_TOML, ProfileKind, Scene, SceneFile};
 /// Every integrator.
 pub(crate) fn all_integrators() -> Vec<Integrator> {

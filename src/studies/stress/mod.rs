@@ -71,8 +71,8 @@ pub(crate) use output::{
 };
 
 use super::ladder::{Rung, Setting};
+use crate::scene::GenerateError;
 use crate::scene::StepLimits;
-use crate::scene::generate::GenerateError;
 use crate::scene::{Integrator, Scene, SceneError};
 use crate::sim::{Observer, Sample, SimError, Simulation};
 

@@ -3,8 +3,8 @@
 
 use super::pieces::{Piece, Shape};
 use super::query::SKIP_MARGIN_M;
-use super::v2::{add, dot, mirror, norm, polar, scale, sub, unit_or};
 use super::*;
+use crate::geometry::v2::{add, dot, mirror, norm, polar, scale, sub, unit_or};
 use crate::rng::SeededRng;
 
 mod contacts;

@@ -1,0 +1,151 @@
+//! Setting a simulation up, before its first step: the layout and the static equilibrium by the scene's
+//! pretension rule (rest length, tensioner, tensioner preload), sprockets
+//! held for the solve where a co-simulation asks, and a worn chain's links
+//! lengthened after it settled new. What this module does not do: step the
+//! drive, or build the rapier world (`Simulation::assemble`).
+
+use super::settled::{Settled, new_forces};
+use super::statics::{self, EquilibriumError, RelaxSettings, settle_rest_length};
+use super::take_up::{settle_tensioner, wear_settled};
+use super::{BlowUpLimits, SimError, guide_entry};
+use crate::model::{DriveModel, DriveState};
+use crate::scene::{PretensionRule, Scene, StepLimits};
+
+/// Lays out `scene`'s drive and brings it to static equilibrium by its
+/// pretension rule, the sprockets k with `held[k]` held at rest for the
+/// solve ([`super::Simulation::new_holding`]); a worn chain settles new
+/// first and is then lengthened. Returns the settled drive and the blow-up
+/// limits its run keeps.
+pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLimits), SimError> {
+    let limits = BlowUpLimits::for_scene(scene);
+    // The relaxation steps symplectic Euler with the contact damping
+    // implicit: only the links limit its step, whatever step the run's
+    // integrator takes.
+    let settings = RelaxSettings {
+        dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).links_s),
+        max_time_s: scene.equilibrium.max_relax_s,
+        rate_per_s: 60.0,
+        rest_speed_m_s: 1e-6,
+        max_stretch_m: limits.max_stretch_m,
+    };
+    // A worn chain: the drive with the chain new first, at its
+    // pretension; its links are then lengthened (`worn`).
+    let worn = scene;
+    let new_chain = worn.as_new_chain();
+    let scene = new_chain.as_ref().unwrap_or(worn);
+    let settled = match scene.chain.pretension_by {
+        PretensionRule::RestLength => {
+            let (mut model, mut state, layout) = DriveModel::build(scene)?;
+            statics::check_chain_length(scene, &layout, &model.path)?;
+            statics::check_load(scene, &layout)?;
+            let mut forces = new_forces(scene, &model);
+            let freed = hold(&mut model, held);
+            let eq = settle_rest_length(
+                &mut model,
+                &mut state,
+                &mut forces,
+                &settings,
+                scene.chain.pretension_n,
+                scene.equilibrium.tension_tolerance,
+                &scene
+                    .sprockets
+                    .iter()
+                    .map(|s| s.name.as_str())
+                    .collect::<Vec<_>>(),
+            )?;
+            release(&mut model, &freed);
+            (scene.clone(), model, state, forces, layout, eq)
+        }
+        PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
+        PretensionRule::TensionerPreload => {
+            let (mut model, mut state, layout) = DriveModel::build(scene)?;
+            let mut forces = new_forces(scene, &model);
+            let freed = hold(&mut model, held);
+            let mut eq = statics::settle_preload(
+                &model,
+                &mut state,
+                &mut forces,
+                &settings,
+                scene.chain.pretension_n,
+            )?;
+            release(&mut model, &freed);
+            eq.misfit = statics::misfit_tension(scene, &layout, &forces, eq.tension_n);
+            (scene.clone(), model, state, forces, layout, eq)
+        }
+    };
+    let settled = if new_chain.is_some() {
+        wear_settled(worn, settled, &settings)?
+    } else {
+        settled
+    };
+    check_guide_entries(&settled.0, &settled.1, &settled.2, &limits)?;
+    Ok((settled, limits))
+}
+
+/// Refuses a rest state with a roller behind a guide's entry
+/// ([`guide_entry::behind_entry`]).
+fn check_guide_entries(
+    scene: &Scene,
+    model: &DriveModel,
+    state: &DriveState,
+    limits: &BlowUpLimits,
+) -> Result<(), SimError> {
+    let faces: Vec<_> = scene.guides.iter().map(|g| g.face).collect();
+    let Some(found) = guide_entry::behind_entry(
+        &faces,
+        &state.x,
+        &state.y,
+        model.rest_length_m,
+        scene.chain.roller_radius_m,
+        limits.max_penetration_m,
+    ) else {
+        return Ok(());
+    };
+    let e = scene.chain.elongation;
+    let slack = if e > 0.0 {
+        format!(
+            " (worn by {:.3} %, the chain gained {:.1} mm)",
+            100.0 * e,
+            1e3 * scene.chain.rollers as f64 * scene.chain.pitch_m * e
+        )
+    } else {
+        String::new()
+    };
+    let index = found.guide;
+    Err(SimError::Equilibrium(EquilibriumError::BehindGuideEntry(
+        format!(
+            "roller {} rests behind the entry of guide \"{}\" (guides.{index}, {} at its {end}): running onto it, it would meet the face {:.2} mm deep, beyond the blow-up limit of {:.2} mm (solver.limits.max_penetration_m), so the run would blow up there; the strand sags below the guide's entry{slack}: give that end a longer or steeper ramp (guides.{index}.{end}_ramp), or take the slack up (a tensioner, fewer rollers)",
+            found.roller,
+            scene.guides[index].name,
+            if found.ramp {
+                "the ramp"
+            } else {
+                "the face's end"
+            },
+            1e3 * found.depth_m,
+            1e3 * limits.max_penetration_m,
+            end = found.end,
+        ),
+    )))
+}
+
+/// Holds the sprockets k with `held[k]` for the static equilibrium (no
+/// inverse inertia: the solve keeps them still); returns what [`release`]
+/// gives back.
+fn hold(model: &mut DriveModel, held: &[bool]) -> Vec<(usize, f64)> {
+    let mut freed = Vec::new();
+    for (k, sp) in model.sprockets.iter_mut().enumerate() {
+        if held.get(k).copied().unwrap_or(false) {
+            freed.push((k, sp.inv_inertia));
+            sp.inv_inertia = 0.0;
+        }
+    }
+    freed
+}
+
+/// Gives the sprockets [`hold`] held their inverse inertia back.
+fn release(model: &mut DriveModel, freed: &[(usize, f64)]) {
+    for &(k, inv_inertia) in freed {
+        model.sprockets[k].inv_inertia = inv_inertia;
+    }
+}
