@@ -21,7 +21,7 @@ use rapier2d_f64::prelude::*;
 pub(super) use translation::MountJoints;
 use translation::{MountTranslation, mount_translation, read_mount_joints};
 
-use super::CosimError;
+use super::error::CosimError;
 use crate::model::{DriveState, SprocketModel};
 use crate::scene::SpeedLaw;
 
