@@ -284,6 +284,37 @@ pub struct ScalarModel {
     pub error_scale: f64,
 }
 
+impl DriveModel {
+    /// Adds a further body to the model and its coordinate `q` and speed
+    /// `u` to `state`: its index in [`DriveState::q`]. The force outputs
+    /// are then sized anew by whoever holds them.
+    pub(crate) fn push_body(
+        &mut self,
+        state: &mut DriveState,
+        body: BodyModel,
+        q: f64,
+        u: f64,
+    ) -> usize {
+        self.bodies.push(body);
+        state.q.push(q);
+        state.u.push(u);
+        state.q.len() - 1
+    }
+
+    /// Adds a scalar state to the model and its value `z` to `state`: its
+    /// index in [`DriveState::z`].
+    pub(crate) fn push_scalar(
+        &mut self,
+        state: &mut DriveState,
+        scalar: ScalarModel,
+        z: f64,
+    ) -> usize {
+        self.scalars.push(scalar);
+        state.z.push(z);
+        state.z.len() - 1
+    }
+}
+
 /// The state that is integrated: rollers as structure of arrays, sprockets.
 ///
 /// `clone_from` reuses the buffers (integrators copy states every step).
