@@ -194,7 +194,10 @@ impl ChainDrive {
                     dt,
                 );
             }
-            symplectic_euler(&self.model, &mut self.state, &self.forces, dt, None);
+            // The rollers' update and the links at the new state in one
+            // pass (large drives); the mounts' move does not touch the links.
+            let linked =
+                symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
             if with_bodies {
                 self.contacts.integrate(dt);
             }
@@ -203,7 +206,11 @@ impl ChainDrive {
             if moving {
                 self.move_mounts(step, t0, dt);
             }
-            self.forces.evaluate(&self.model, &self.state);
+            if linked {
+                self.forces.evaluate_after_links(&self.model, &self.state);
+            } else {
+                self.forces.evaluate(&self.model, &self.state);
+            }
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
                 .map_err(|e| at_coupling_limit(e, dt_s))?;
             for (sum, f) in self
