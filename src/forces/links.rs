@@ -4,8 +4,8 @@
 use super::{ForceElement, Forces, Halves, History, HistoryError, HistoryReader};
 
 mod step;
-pub(crate) use step::{Kick, kick_drift};
 use crate::model::{DriveModel, DriveState};
+pub(crate) use step::{Kick, kick_drift};
 
 /// The link law for one link.
 #[derive(Clone, Copy)]

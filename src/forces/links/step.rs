@@ -18,7 +18,7 @@
 //! than the caller's).
 
 use super::{Ends, LinkLaw, Links, Rates, Slots, open_links, rates, roller_sums};
-use crate::forces::{CHUNKS, Fork, Forces, Halves, chunk};
+use crate::forces::{CHUNKS, Forces, Fork, Halves, chunk};
 use crate::model::{DriveModel, DriveState};
 
 /// The update's constants: v ← (v + h·f)·scale, x ← x + dt·v.
@@ -215,7 +215,7 @@ impl Links {
 #[cfg(test)]
 mod tests {
     use super::{Kick, kick_drift};
-    use crate::forces::{ForceElement, Fork, Forces, Links};
+    use crate::forces::{ForceElement, Forces, Fork, Links};
     use crate::model::{DriveModel, DriveState};
     use crate::scene::Threads;
     use crate::sim::parallel::Split;
@@ -223,8 +223,16 @@ mod tests {
     /// The bits of every output the update and the links write.
     fn bits(s: &DriveState, out: &Forces, links: &Links) -> Vec<u64> {
         [
-            &s.x, &s.y, &s.vx, &s.vy, &out.fx, &out.fy, &out.link_force,
-            &out.link_omega, &out.link_normal_x, &out.link_normal_y,
+            &s.x,
+            &s.y,
+            &s.vx,
+            &s.vy,
+            &out.fx,
+            &out.fy,
+            &out.link_force,
+            &out.link_omega,
+            &out.link_normal_x,
+            &out.link_normal_y,
         ]
         .into_iter()
         .flat_map(|v| v.iter().copied())
@@ -267,11 +275,19 @@ mod tests {
             }
             let (s0, out0, links0) = (s.clone(), out.clone(), links.clone());
             let (mut s1, mut out1, mut links1) = (s0.clone(), out0.clone(), links0.clone());
-            kick_drift(&mut s1.vx, &mut s1.x, &out1.fx, kick.h, kick.dt_s, kick.scale);
-            kick_drift(&mut s1.vy, &mut s1.y, &out1.fy, kick.h, kick.dt_s, kick.scale);
+            kick_drift(
+                &mut s1.vx, &mut s1.x, &out1.fx, kick.h, kick.dt_s, kick.scale,
+            );
+            kick_drift(
+                &mut s1.vy, &mut s1.y, &out1.fy, kick.h, kick.dt_s, kick.scale,
+            );
             links1.evaluate(&model, &s1, &mut out1);
             let expected = bits(&s1, &out1, &links1);
-            assert_ne!(bits(&s0, &out0, &links0), expected, "the step moves the chain");
+            assert_ne!(
+                bits(&s0, &out0, &links0),
+                expected,
+                "the step moves the chain"
+            );
             let split = Split::new(Threads::Two);
             for fork in [None, Some(&split as &dyn Fork)] {
                 let (mut s2, mut out2, mut links2) = (s0.clone(), out0.clone(), links0.clone());
