@@ -14,7 +14,9 @@
 //! environment runs it on one thread for comparison. The rollers no
 //! collider can reach are parked out of rapier's step
 //! (`ChainDrive::set_parking`); `CHAINDRIVE_PARKING=0` keeps every roller
-//! body in it.
+//! body in it. `RAMP_S` is the driver's ramp from rest (0.5 s); the last
+//! line compares the tail sprocket's speed with the driver's times the
+//! teeth ratio (benches/README.md explains why the tail still swings at 2 s).
 
 use chaindrive::prelude::*;
 use chaindrive::scene::DriveSpec;
