@@ -124,7 +124,10 @@ impl ChainDrive {
                     dt,
                 );
             }
-            symplectic_euler(&self.model, &mut self.state, &self.forces, dt, None);
+            // The rollers' update and the links at the new state in one
+            // pass (large drives); the mounts' move does not touch the links.
+            let linked =
+                symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
             if with_bodies {
                 self.contacts.integrate(dt);
             }
@@ -138,7 +141,11 @@ impl ChainDrive {
                     dt,
                 );
             }
-            self.forces.evaluate(&self.model, &self.state);
+            if linked {
+                self.forces.evaluate_after_links(&self.model, &self.state);
+            } else {
+                self.forces.evaluate(&self.model, &self.state);
+            }
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
                 .map_err(|e| at_coupling_limit(e, dt_s))?;
             self.scratch

@@ -134,7 +134,8 @@ use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
 use crate::sim::{
-    BlowUpLimits, SimError, Simulation, StaticEquilibrium, check_blow_up, symplectic_euler,
+    BlowUpLimits, SimError, Simulation, StaticEquilibrium, check_blow_up,
+    symplectic_euler_with_links,
 };
 
 use error::at_coupling_limit;

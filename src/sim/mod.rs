@@ -77,7 +77,7 @@ pub(crate) use statics::{
     FIT_TOLERANCE_M, RelaxSettings, arm_take_up_of, count_verdicts, default_direction,
     fit_sprocket, force_residual, free_strand_tension, needed_pitches_of, relax,
 };
-pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
+pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler, symplectic_euler_with_links};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
