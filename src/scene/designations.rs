@@ -301,54 +301,41 @@ const fn ansi(
 /// metre, tensile strength; `checked` is how far the row was found in the
 /// Ametric catalogue (0: nothing, 1: P, d₁, b₁, 2: and the mass, 3: and the
 /// strength).
-#[allow(clippy::too_many_arguments)]
-const fn iso(
-    name: &'static str,
-    p_mm: f64,
-    d1_mm: f64,
-    b1_mm: f64,
-    d2_mm: f64,
-    h2_mm: f64,
-    t_mm: f64,
-    q_kg_m: f64,
-    f_kn: f64,
-    checked: u8,
-) -> Designation {
-    Designation {
+const fn iso(name: &'static str, mm: [f64; 8], checked: u8) -> Designation {
+    from_mm(
         name,
-        pitch_m: p_mm * 1e-3,
-        roller_diameter_m: d1_mm * 1e-3,
-        inner_width_m: b1_mm * 1e-3,
-        pin_diameter_m: d2_mm * 1e-3,
-        plate_depth_m: h2_mm * 1e-3,
-        plate_thickness_m: t_mm * 1e-3,
-        mass_per_m_kg: q_kg_m,
-        tensile_strength_n: f_kn * 1e3,
-        sources: Sources {
+        mm,
+        Sources {
             dimensions: if checked >= 1 { AMETRIC } else { ISO_ESTIMATE },
             pin_and_plate_depth: ISO_ESTIMATE,
             plate_thickness: PLATE_ESTIMATE,
             mass: if checked >= 2 { AMETRIC } else { ISO_ESTIMATE },
             strength: if checked >= 3 { AMETRIC } else { ISO_ESTIMATE },
         },
-    }
+    )
 }
 
 /// An ANSI heavy row as the Donghua catalogue prints it, in millimetres,
 /// kg/m and kN: pitch, roller diameter, inner width, pin diameter, inner
 /// plate depth, plate thickness, mass per metre, minimum tensile strength.
-#[allow(clippy::too_many_arguments)]
-const fn heavy(
-    name: &'static str,
-    p_mm: f64,
-    d1_mm: f64,
-    b1_mm: f64,
-    d2_mm: f64,
-    h2_mm: f64,
-    t_mm: f64,
-    q_kg_m: f64,
-    f_kn: f64,
-) -> Designation {
+const fn heavy(name: &'static str, mm: [f64; 8]) -> Designation {
+    from_mm(
+        name,
+        mm,
+        Sources {
+            dimensions: DONGHUA_HEAVY,
+            pin_and_plate_depth: DONGHUA_HEAVY,
+            plate_thickness: DONGHUA_HEAVY_PLATE,
+            mass: DONGHUA_HEAVY,
+            strength: DONGHUA_HEAVY,
+        },
+    )
+}
+
+/// A row in a catalogue's units, `[P, d₁, b₁, d₂, h₂, t]` in millimetres,
+/// then kg/m and kN, with where its values come from.
+const fn from_mm(name: &'static str, mm: [f64; 8], sources: Sources) -> Designation {
+    let [p_mm, d1_mm, b1_mm, d2_mm, h2_mm, t_mm, q_kg_m, f_kn] = mm;
     Designation {
         name,
         pitch_m: p_mm * 1e-3,
@@ -359,35 +346,29 @@ const fn heavy(
         plate_thickness_m: t_mm * 1e-3,
         mass_per_m_kg: q_kg_m,
         tensile_strength_n: f_kn * 1e3,
-        sources: Sources {
-            dimensions: DONGHUA_HEAVY,
-            pin_and_plate_depth: DONGHUA_HEAVY,
-            plate_thickness: DONGHUA_HEAVY_PLATE,
-            mass: DONGHUA_HEAVY,
-            strength: DONGHUA_HEAVY,
-        },
+        sources,
     }
 }
 
 /// Every designation known, ISO 606 B series, ANSI, then ANSI heavy, by pitch.
 #[rustfmt::skip]
 pub const DESIGNATIONS: &[Designation] = &[
-    //   name              P       d1     b1     d2     h2      t      kg/m   kN    checked
-    iso("ISO 606 05B-1",   8.00,   5.00,  3.00,  2.31,  7.11,  0.75,  0.18,   5.0, 3),
-    iso("ISO 606 06B-1",   9.525,  6.35,  5.72,  3.28,  8.26,  1.00,  0.41,   9.0, 3),
-    iso("ISO 606 08B-1",  12.70,   8.51,  7.75,  4.45, 11.81,  1.60,  0.70,  18.0, 3),
-    iso("ISO 606 10B-1",  15.875, 10.16,  9.65,  5.08, 14.73,  1.50,  0.91,  22.2, 2),
-    iso("ISO 606 12B-1",  19.05,  12.07, 11.68,  5.72, 16.13,  1.80,  1.18,  28.9, 2),
-    iso("ISO 606 16B-1",  25.40,  15.88, 17.02,  8.28, 21.08,  3.10,  2.68,  60.0, 2),
-    iso("ISO 606 20B-1",  31.75,  19.05, 19.56, 10.19, 26.42,  3.50,  3.50,  95.0, 2),
-    iso("ISO 606 24B-1",  38.10,  25.40, 25.40, 14.63, 33.40,  4.80,  6.80, 160.0, 2),
-    iso("ISO 606 28B-1",  44.45,  27.94, 30.99, 15.90, 37.08,  6.00,  8.50, 200.0, 2),
-    iso("ISO 606 32B-1",  50.80,  29.21, 30.99, 17.81, 42.29,  6.00, 10.5,  250.0, 2),
-    iso("ISO 606 40B-1",  63.50,  39.37, 38.10, 22.89, 52.96,  8.00, 16.4,  355.0, 2),
-    iso("ISO 606 48B-1",  76.20,  48.26, 45.72, 29.24, 63.88, 10.00, 25.0,  560.0, 2),
-    iso("ISO 606 56B-1",  88.90,  53.98, 53.34, 34.32, 77.85, 12.00, 35.0,  850.0, 0),
-    iso("ISO 606 64B-1", 101.60,  63.50, 60.96, 39.40, 90.17, 13.00, 46.0, 1120.0, 0),
-    iso("ISO 606 72B-1", 114.30,  72.39, 68.58, 44.48, 103.63, 15.00, 60.0, 1400.0, 0),
+    //   name                     P      d1      b1      d2      h2       t    kg/m      kN   checked
+    iso("ISO 606 05B-1",    [   8.00,   5.00,   3.00,   2.31,   7.11,   0.75,   0.18,     5.0], 3),
+    iso("ISO 606 06B-1",    [  9.525,   6.35,   5.72,   3.28,   8.26,   1.00,   0.41,     9.0], 3),
+    iso("ISO 606 08B-1",    [  12.70,   8.51,   7.75,   4.45,  11.81,   1.60,   0.70,    18.0], 3),
+    iso("ISO 606 10B-1",    [ 15.875,  10.16,   9.65,   5.08,  14.73,   1.50,   0.91,    22.2], 2),
+    iso("ISO 606 12B-1",    [  19.05,  12.07,  11.68,   5.72,  16.13,   1.80,   1.18,    28.9], 2),
+    iso("ISO 606 16B-1",    [  25.40,  15.88,  17.02,   8.28,  21.08,   3.10,   2.68,    60.0], 2),
+    iso("ISO 606 20B-1",    [  31.75,  19.05,  19.56,  10.19,  26.42,   3.50,   3.50,    95.0], 2),
+    iso("ISO 606 24B-1",    [  38.10,  25.40,  25.40,  14.63,  33.40,   4.80,   6.80,   160.0], 2),
+    iso("ISO 606 28B-1",    [  44.45,  27.94,  30.99,  15.90,  37.08,   6.00,   8.50,   200.0], 2),
+    iso("ISO 606 32B-1",    [  50.80,  29.21,  30.99,  17.81,  42.29,   6.00,   10.5,   250.0], 2),
+    iso("ISO 606 40B-1",    [  63.50,  39.37,  38.10,  22.89,  52.96,   8.00,   16.4,   355.0], 2),
+    iso("ISO 606 48B-1",    [  76.20,  48.26,  45.72,  29.24,  63.88,  10.00,   25.0,   560.0], 2),
+    iso("ISO 606 56B-1",    [  88.90,  53.98,  53.34,  34.32,  77.85,  12.00,   35.0,   850.0], 0),
+    iso("ISO 606 64B-1",    [ 101.60,  63.50,  60.96,  39.40,  90.17,  13.00,   46.0,  1120.0], 0),
+    iso("ISO 606 72B-1",    [ 114.30,  72.39,  68.58,  44.48, 103.63,  15.00,   60.0,  1400.0], 0),
     //    name        P      Dr     W      Dp      LPT    MUTS lbf  lb/ft
     ansi("ANSI 25",  0.250, 0.130, 0.125, 0.0905, 0.030,    780.0, 0.084),
     ansi("ANSI 35",  0.375, 0.200, 0.188, 0.141,  0.050,   1760.0, 0.21),
@@ -403,16 +384,16 @@ pub const DESIGNATIONS: &[Designation] = &[
     ansi("ANSI 180", 2.250, 1.406, 1.406, 0.687,  0.281,  63280.0, 8.70),
     ansi("ANSI 200", 2.500, 1.562, 1.500, 0.781,  0.312,  78125.0, 10.51),
     ansi("ANSI 240", 3.000, 1.875, 1.875, 0.937,  0.375, 112500.0, 16.90),
-    //     name         P       d1     b1     d2     h2     T      kg/m   kN
-    heavy("ANSI 60H",  19.050, 11.91, 12.57,  5.94, 18.00,  3.25,  1.87,  31.80),
-    heavy("ANSI 80H",  25.400, 15.88, 15.75,  7.92, 24.00,  4.00,  3.10,  56.70),
-    heavy("ANSI 100H", 31.750, 19.05, 18.90,  9.53, 30.00,  4.80,  4.52,  88.50),
-    heavy("ANSI 120H", 38.100, 22.23, 25.22, 11.10, 35.70,  5.60,  6.60, 127.00),
-    heavy("ANSI 140H", 44.450, 25.40, 25.22, 12.70, 41.00,  6.40,  8.30, 172.40),
-    heavy("ANSI 160H", 50.800, 28.58, 31.55, 14.27, 47.80,  7.20, 10.30, 226.80),
-    heavy("ANSI 180H", 57.150, 35.71, 35.48, 17.46, 53.60,  8.00, 14.83, 281.00),
-    heavy("ANSI 200H", 63.500, 39.68, 37.85, 19.85, 60.00,  9.50, 19.16, 353.80),
-    heavy("ANSI 240H", 76.200, 47.63, 47.35, 23.81, 72.39, 12.70, 30.40, 510.30),
+    //     name                P      d1      b1      d2      h2       T    kg/m      kN
+    heavy("ANSI 60H",   [ 19.050,  11.91,  12.57,   5.94,  18.00,   3.25,   1.87,   31.80]),
+    heavy("ANSI 80H",   [ 25.400,  15.88,  15.75,   7.92,  24.00,   4.00,   3.10,   56.70]),
+    heavy("ANSI 100H",  [ 31.750,  19.05,  18.90,   9.53,  30.00,   4.80,   4.52,   88.50]),
+    heavy("ANSI 120H",  [ 38.100,  22.23,  25.22,  11.10,  35.70,   5.60,   6.60,  127.00]),
+    heavy("ANSI 140H",  [ 44.450,  25.40,  25.22,  12.70,  41.00,   6.40,   8.30,  172.40]),
+    heavy("ANSI 160H",  [ 50.800,  28.58,  31.55,  14.27,  47.80,   7.20,  10.30,  226.80]),
+    heavy("ANSI 180H",  [ 57.150,  35.71,  35.48,  17.46,  53.60,   8.00,  14.83,  281.00]),
+    heavy("ANSI 200H",  [ 63.500,  39.68,  37.85,  19.85,  60.00,   9.50,  19.16,  353.80]),
+    heavy("ANSI 240H",  [ 76.200,  47.63,  47.35,  23.81,  72.39,  12.70,  30.40,  510.30]),
 ];
 
 /// A designation's canonical spelling for comparison: upper case, no
