@@ -1,9 +1,11 @@
 //! Putting a drive into the user's rapier sets and taking it out again.
 
 use std::collections::HashMap;
+use std::sync::Arc;
 
 use rapier2d_f64::prelude::*;
 
+use super::settled::{self, Settled};
 use super::*;
 use crate::forces::ForceGenerator;
 
@@ -26,8 +28,19 @@ impl ChainDrive {
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
     ) -> Result<Self, CosimError> {
-        let sim = Simulation::new(scene)?;
-        let Simulation {
+        let settled = settled::settle(scene, settled::held_for_the_solve(scene, mounts, bodies))?;
+        Self::insert_settled(settled, mounts, bodies, colliders)
+    }
+
+    /// [`Self::insert`] from a drive already settled (its own insertion's,
+    /// or another drive's of the same scene).
+    pub(crate) fn insert_settled(
+        settled: Arc<settled::Settled>,
+        mounts: &[Option<RigidBodyHandle>],
+        bodies: &mut RigidBodySet,
+        colliders: &mut ColliderSet,
+    ) -> Result<Self, CosimError> {
+        let settled::Settled {
             scene,
             model,
             state,
@@ -35,7 +48,7 @@ impl ChainDrive {
             equilibrium,
             limits,
             ..
-        } = sim;
+        } = Settled::clone(&settled);
         check_mounts(&model, mounts, bodies)?;
         let (mut model, mut state, mut forces) = (model, state, forces);
         take_mount_inertia(&mut model, mounts, bodies, colliders);
@@ -86,6 +99,7 @@ impl ChainDrive {
             hook_calls_at_frame: 0,
             warnings: Vec::new(),
             gravity_noted: false,
+            settled,
         })
     }
 }

@@ -111,6 +111,7 @@ mod observe;
 mod parking;
 mod seam;
 mod set;
+mod settled;
 
 pub use bodies::Coupling;
 pub use builder::{ChainDriveBuilder, SprocketKey};
@@ -131,7 +132,7 @@ use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
 use crate::sim::{
-    BlowUpLimits, SimError, Simulation, StaticEquilibrium, check_blow_up, symplectic_euler,
+    BlowUpLimits, SimError, StaticEquilibrium, check_blow_up, symplectic_euler,
 };
 
 use error::at_coupling_limit;
@@ -255,6 +256,9 @@ pub struct ChainDrive {
     warnings: Vec<String>,
     /// Whether a world gravity other than the scene's was noted.
     gravity_noted: bool,
+    /// The drive as it settled, before insertion: inserted again by
+    /// [`ChainDriveBuilder::settled_from`] without settling anew.
+    settled: std::sync::Arc<settled::Settled>,
 }
 
 /// Wall time of a drive's stages, summed over frames, s.

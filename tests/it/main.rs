@@ -27,6 +27,7 @@ mod docs_drift;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
+mod insertion;
 mod integrators;
 mod layering;
 #[cfg(feature = "cli")]
