@@ -190,7 +190,8 @@ impl<'a> ChainDriveBuilder<'a> {
     }
 
     /// Builds the drive into `world` (see [`ChainDrive::insert`] for what is
-    /// added and how mounts behave).
+    /// added, how mounts behave and what the static equilibrium costs;
+    /// nothing of it with [`Self::settled_from`]).
     pub fn build(self, world: &mut PhysicsWorld) -> Result<ChainDrive, CosimError> {
         self.build_in(&mut world.bodies, &mut world.colliders)
     }

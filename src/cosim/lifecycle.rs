@@ -22,6 +22,16 @@ impl ChainDrive {
     /// it along its path (the free sprockets turning with the chain); mounts
     /// or a driver at speeds the chain cannot share are an error. A mount keeps its rotation: the
     /// sprocket's collider is turned on it to the chain's angle.
+    ///
+    /// Cost: the static equilibrium, then a body and a collider per roller.
+    /// Where no sprocket of the scene is held (a driver), one mounted
+    /// sprocket (a kinematic or fixed mount first, else the first dynamic
+    /// one) is held at rest for the solve, which reacts the loads at rest
+    /// there, so Newton's method settles the drive: milliseconds for the
+    /// examples' drives (3 ms for the 100-roller conveyor on a motor body).
+    /// A drive with every sprocket free and none mounted relaxes instead,
+    /// for seconds. [`ChainDriveBuilder::settled_from`] skips the
+    /// equilibrium for a drive inserted again.
     pub fn insert(
         scene: &Scene,
         mounts: &[Option<RigidBodyHandle>],
