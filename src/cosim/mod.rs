@@ -131,9 +131,7 @@ use mounts::{MountJoints, MountTranslation, mount_translation, read_mount_joints
 use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
-use crate::sim::{
-    BlowUpLimits, SimError, StaticEquilibrium, check_blow_up, symplectic_euler,
-};
+use crate::sim::{BlowUpLimits, SimError, StaticEquilibrium, check_blow_up, symplectic_euler};
 
 use error::at_coupling_limit;
 

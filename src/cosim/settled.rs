@@ -130,7 +130,10 @@ mod tests {
             Some(1)
         );
         assert_eq!(held_for_the_solve(&scene, &[], &bodies), None);
-        assert_eq!(held_for_the_solve(&Scene::l60mc(), &[Some(motor)], &bodies), None);
+        assert_eq!(
+            held_for_the_solve(&Scene::l60mc(), &[Some(motor)], &bodies),
+            None
+        );
     }
 
     #[test]
@@ -152,7 +155,11 @@ mod tests {
             };
             assert!((x - y).abs() < 10.0, "relaxation {a:?} N, held {b:?} N");
         }
-        assert!(held.equilibrium.force_residual <= 1e-7, "{:?}", held.equilibrium);
+        assert!(
+            held.equilibrium.force_residual <= 1e-7,
+            "{:?}",
+            held.equilibrium
+        );
         assert!(
             (held.equilibrium.tension_n - slow.equilibrium.tension_n).abs() < 10.0,
             "{:?} {:?}",

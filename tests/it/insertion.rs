@@ -48,7 +48,11 @@ fn cases() -> Vec<Case> {
             asset("bicycle.toml"),
             vec![(0, axle(0.0, 0.0, 0.02)), (1, axle(-0.4143, 0.03, 10.0))],
         ),
-        ("paper drive, no mounts (example paper_in_scene)", Scene::l60mc(), Vec::new()),
+        (
+            "paper drive, no mounts (example paper_in_scene)",
+            Scene::l60mc(),
+            Vec::new(),
+        ),
     ]
 }
 
@@ -108,7 +112,11 @@ fn a_conveyor_on_a_motor_body_settles_with_its_load_reacted_at_the_motor() {
     let case = &cases()[0];
     let (drive, _, _) = insert(case);
     let eq = drive.equilibrium();
-    assert!(eq.force_residual <= 1e-7, "residual {:e}", eq.force_residual);
+    assert!(
+        eq.force_residual <= 1e-7,
+        "residual {:e}",
+        eq.force_residual
+    );
     // Hand values: the free strands' mean is the pretension (500 N, the
     // rule's tolerance 1 %). The tail with its wrap at rest: about its
     // centre the strands' pull R (T_upper − T_lower) balances the load
@@ -169,7 +177,8 @@ fn a_settled_drive_is_inserted_again_at_its_settled_state_and_runs() {
     assert_eq!(back.state(), &settled);
     fresh.bodies[fresh_motor].add_torque(1.0, true);
     for _ in 0..30 {
-        copy.step_world(&mut fresh, &(), &()).expect("the copy runs");
+        copy.step_world(&mut fresh, &(), &())
+            .expect("the copy runs");
     }
     assert!(copy.state().omega[0] > 0.0, "the copy did not turn");
 }
