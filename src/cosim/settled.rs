@@ -72,6 +72,7 @@ pub(crate) fn held_for_the_solve(
         mounts
             .iter()
             .enumerate()
+            .take(scene.sprockets.len())
             .filter_map(|(k, m)| bodies.get((*m)?).map(|b| (k, b)))
     };
     mounted()
@@ -130,6 +131,12 @@ mod tests {
             Some(1)
         );
         assert_eq!(held_for_the_solve(&scene, &[], &bodies), None);
+        // More mounts than sprockets is insertion's error to name, not a
+        // sprocket to hold.
+        assert_eq!(
+            held_for_the_solve(&scene, &[None, None, Some(motor)], &bodies),
+            None
+        );
         assert_eq!(
             held_for_the_solve(&Scene::l60mc(), &[Some(motor)], &bodies),
             None

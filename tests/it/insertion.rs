@@ -195,3 +195,18 @@ fn settling_from_a_drive_of_another_scene_is_refused() {
     assert!(err.to_string().contains("settled_from"), "{err}");
     assert_eq!(world.bodies.len(), 0, "nothing added on an error");
 }
+
+#[test]
+fn more_mounts_than_sprockets_is_named_not_a_panic() {
+    let mut world = PhysicsWorld::default();
+    let motor = world.bodies.insert(axle(0.0, 0.0, 0.05));
+    let err = ChainDrive::insert(
+        &asset("conveyor.toml"),
+        &[None, None, Some(motor)],
+        &mut world.bodies,
+        &mut world.colliders,
+    )
+    .err()
+    .expect("refused");
+    assert!(err.to_string().contains("mounts"), "{err}");
+}
