@@ -41,13 +41,13 @@ impl ChainDrive {
 
     /// The roller bodies the drive added, in the chain's order.
     pub fn roller_bodies(&self) -> &[RigidBodyHandle] {
-        &self.rollers
+        self.handles.rollers()
     }
 
     /// The body of each sprocket, in the scene's order: the user's where
     /// mounted, the drive's own otherwise.
     pub fn sprocket_bodies(&self) -> &[RigidBodyHandle] {
-        &self.sprockets
+        self.handles.sprockets()
     }
 
     /// What the drive noticed that is legitimate but may surprise, each
@@ -55,7 +55,7 @@ impl ChainDrive {
     /// (the chain hangs under the scene's, the bodies it carries fall under
     /// the world's).
     pub fn warnings(&self) -> &[String] {
-        &self.warnings
+        self.notes.warnings()
     }
 
     /// How the user's colliders near the rollers are treated.

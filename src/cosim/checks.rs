@@ -22,11 +22,39 @@
 //! the user's bodies), and a drive inserted into another world built the
 //! same way as its own (its handles name the same bodies there).
 
-use std::sync::atomic::Ordering;
-
 use rapier2d_f64::prelude::*;
 
 use super::{ChainDrive, CosimError, Mount, ROLLER_SYNC_TOLERANCE_M};
+
+/// What the drive noticed that is legitimate but may surprise, each once.
+#[derive(Debug, Default)]
+pub(super) struct Notes {
+    /// The sentences, in the order noticed.
+    warnings: Vec<String>,
+    /// Whether a world gravity other than the scene's was noted.
+    gravity_noted: bool,
+}
+
+impl Notes {
+    /// The sentences, in the order noticed.
+    pub(super) fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+
+    /// Records, once, a world `gravity` other than the scene's `scene_gravity`.
+    fn note_gravity(&mut self, scene_gravity: [f64; 2], gravity: Vector) {
+        let [gx, gy] = scene_gravity;
+        if self.gravity_noted || (gravity.x == gx && gravity.y == gy) {
+            return;
+        }
+        self.gravity_noted = true;
+        self.warnings.push(format!(
+            "the world's gravity [{}, {}] m/s² differs from the scene's gravity_m_s2 [{gx}, {gy}]: \
+             the chain hangs under the scene's, the bodies it carries fall under the world's",
+            gravity.x, gravity.y
+        ));
+    }
+}
 
 impl ChainDrive {
     /// Everything a frame needs of the world, checked before anything is
@@ -47,7 +75,7 @@ impl ChainDrive {
                 ),
             ));
         }
-        if self.in_frame {
+        if self.clock.in_frame() {
             return Err(CosimError::World(
                 "before_step again without after_step: the bodies are still set for the last \
                  frame's step; call before_step, the world's step, then after_step, once each \
@@ -64,7 +92,7 @@ impl ChainDrive {
                 ),
             ));
         }
-        for (k, link) in self.links.iter().enumerate() {
+        for (k, link) in self.mounts.links().iter().enumerate() {
             let field = if link.mount == Mount::Own {
                 format!("sprockets[{k}]")
             } else {
@@ -82,7 +110,7 @@ impl ChainDrive {
             }
             if link.mount == Mount::Dynamic {
                 check_mount_body(&field, b)?;
-                if self.mount_forces[k].is_some() && b.locked_axes().contains(LOCKED_TRANSLATIONS) {
+                if self.mounts.has_law(k) && b.locked_axes().contains(LOCKED_TRANSLATIONS) {
                     return Err(CosimError::input(
                         field,
                         "a force law (set_mount_force) on a body whose translations are locked \
@@ -102,7 +130,13 @@ impl ChainDrive {
         bodies: &RigidBodySet,
         colliders: &ColliderSet,
     ) -> Result<(), CosimError> {
-        for (i, (&h, &c)) in self.rollers.iter().zip(&self.roller_colliders).enumerate() {
+        for (i, (&h, &c)) in self
+            .handles
+            .rollers()
+            .iter()
+            .zip(self.handles.roller_colliders())
+            .enumerate()
+        {
             let on_body = colliders.get(c).and_then(|c| c.parent()) == Some(h);
             if bodies.get(h).is_none() || !on_body {
                 return Err(CosimError::input(
@@ -118,16 +152,7 @@ impl ChainDrive {
 
     /// Records, once, a world gravity other than the scene's.
     pub(super) fn note_gravity(&mut self, gravity: Vector) {
-        let [gx, gy] = self.scene.gravity_m_s2();
-        if self.gravity_noted || (gravity.x == gx && gravity.y == gy) {
-            return;
-        }
-        self.gravity_noted = true;
-        self.warnings.push(format!(
-            "the world's gravity [{}, {}] m/s² differs from the scene's gravity_m_s2 [{gx}, {gy}]: \
-             the chain hangs under the scene's, the bodies it carries fall under the world's",
-            gravity.x, gravity.y
-        ));
+        self.notes.note_gravity(self.scene.gravity_m_s2(), gravity);
     }
 
     /// Whether the world's step was the one `before_step` prepared.
@@ -137,32 +162,33 @@ impl ChainDrive {
         narrow_phase: &NarrowPhase,
         dt_s: f64,
     ) -> Result<(), CosimError> {
-        if !self.in_frame {
+        if !self.clock.in_frame() {
             return Err(CosimError::World(
                 "after_step without before_step: call before_step, the world's step, then \
                  after_step, once each per frame"
                     .to_owned(),
             ));
         }
-        if dt_s != self.frame_dt_s {
+        if dt_s != self.clock.frame_dt_s() {
             return Err(CosimError::input(
                 "dt_s",
                 format!(
                     "{dt_s} s, but before_step had {} s: give both the world's dt",
-                    self.frame_dt_s
+                    self.clock.frame_dt_s()
                 ),
             ));
         }
-        let hooked = self.hook_calls.load(Ordering::Relaxed) != self.hook_calls_at_frame;
+        let hooked = self.clock.hooked();
         let (mut worst, mut at, mut moved, mut stayed) = (0.0f64, 0, false, true);
-        for (i, &h) in self.rollers.iter().enumerate() {
+        let start = self.scratch.start();
+        for (i, &h) in self.handles.rollers().iter().enumerate() {
             if let Some(b) = bodies.get(h).filter(|b| b.is_enabled()) {
                 let p = b.translation();
                 let d = (p.x - self.state.x[i]).hypot(p.y - self.state.y[i]);
                 if !(d <= worst) {
                     (worst, at) = (d, i);
                 }
-                let [x0, y0] = self.start[i];
+                let [x0, y0] = start[i];
                 moved |=
                     (self.state.x[i] - x0).hypot(self.state.y[i] - y0) > ROLLER_SYNC_TOLERANCE_M;
                 stayed &= p.x == x0 && p.y == y0;
@@ -175,11 +201,11 @@ impl ChainDrive {
                     .to_owned(),
             ));
         }
-        if !hooked && (self.has_dynamic_mount() || self.touched(narrow_phase)) {
+        if !hooked && (self.mounts.has_dynamic() || self.touched(narrow_phase)) {
             return Err(CosimError::World(format!(
                 "the world was stepped without the drive's hooks, so rapier's solver pushed {}: \
                  pass drive.hooks(&your_hooks) to the step (or use ChainDrive::step_world)",
-                if self.has_dynamic_mount() {
+                if self.mounts.has_dynamic() {
                     "the rollers' colliders against the mounted sprockets"
                 } else {
                     "the rollers' colliders against the bodies touching them"
@@ -192,20 +218,16 @@ impl ChainDrive {
                  (more than {ROLLER_SYNC_TOLERANCE_M:e} m): the world stepped by another dt than \
                  before_step's {} s (give before_step the world's integration_parameters.dt), \
                  or was stepped other than once between before_step and after_step",
-                self.frame_dt_s
+                self.clock.frame_dt_s()
             )));
         }
         Ok(())
     }
 
-    fn has_dynamic_mount(&self) -> bool {
-        self.links.iter().any(|l| l.mount == Mount::Dynamic)
-    }
-
     /// Whether a roller has an active contact with a collider that is not
     /// the drive's (a pair the drive's hooks would have seen).
     fn touched(&self, narrow_phase: &NarrowPhase) -> bool {
-        self.roller_colliders.iter().any(|&rc| {
+        self.handles.roller_colliders().iter().any(|&rc| {
             narrow_phase.contact_pairs_with(rc).any(|pair| {
                 let other = if pair.collider1 == rc {
                     pair.collider2

@@ -4,9 +4,12 @@
 //! and [`ChainDrive::after_step`] (what rapier's step did to the chain, and
 //! the users' forces, torques and gravity scales put back).
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use rapier2d_f64::prelude::*;
 
 use super::*;
+use crate::forces::Forces;
 
 impl ChainDrive {
     /// Advances the chain to the end of the coming frame of `dt_s` and sets
@@ -41,91 +44,26 @@ impl ChainDrive {
     ) -> Result<FrameStart, CosimError> {
         self.note_gravity(gravity);
         let started = Instant::now();
-        // Sprockets: centres, user torques (taken out of rapier's step). A
-        // mounted body moves on through the frame at its velocity (rapier's
-        // step will take it there): its sprocket follows in the substeps. A
-        // kinematic mount turns its sprocket at its own speed.
-        let mut moving = false;
-        let span = dt_s;
-        for (k, link) in self.links.iter_mut().enumerate() {
-            if link.mount == Mount::Dynamic {
-                // rapier computes a new body's mass properties at its next
-                // step; a carriage added with the drive has none before the
-                // first (its substeps would think it fixed): now.
-                if let Some(c) = link.joints.carrier.and_then(|h| bodies.get_mut(h)) {
-                    if c.is_dynamic() && c.mass() == 0.0 {
-                        c.recompute_mass_properties_from_colliders(colliders);
-                    }
-                }
-                let user_force = bodies
-                    .get(link.body)
-                    .map_or(Vector::ZERO, |b| b.user_force());
-                link.translation =
-                    mount_translation(bodies, link.body, &link.joints, user_force, gravity);
-            }
-            let Some(b) = bodies.get_mut(link.body) else {
-                continue;
-            };
-            let sprocket = &mut self.model.sprockets[k];
-            if link.mount != Mount::Own {
-                let c = b.translation();
-                let (v, w) = if b.body_type() == RigidBodyType::KinematicPositionBased {
-                    let next = b.next_position();
-                    let here = b.position();
-                    (
-                        (next.translation - here.translation) / span,
-                        (next.rotation * here.rotation.inverse()).angle() / span,
-                    )
-                } else {
-                    (b.linvel(), b.angvel())
-                };
-                moving |= sprocket.center_m != [c.x, c.y]
-                    || sprocket.center_velocity_m_s != [0.0; 2]
-                    || v != Vector::ZERO;
-                sprocket.center_m = [c.x, c.y];
-                sprocket.center_velocity_m_s = [v.x, v.y];
-                link.frame_start_m = [c.x, c.y];
-                if link.mount == Mount::Kinematic {
-                    sprocket.speed_law = Some(SpeedLaw::ramped(w, 0.0));
-                } else {
-                    link.user_torque_n_m = b.user_torque();
-                    link.user_force = b.user_force();
-                    b.reset_torques(false);
-                    if let Some(tr) = &link.translation {
-                        moving = true;
-                        sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
-                    }
-                }
-            }
-            // The scene's load keeps its ramp; the user's torque does not ramp.
-            sprocket.user_torque_n_m = link.user_torque_n_m;
-        }
+        // Sprockets: centres, user torques (taken out of rapier's step).
+        let moving =
+            self.mounts
+                .begin_frame(&mut self.model.sprockets, bodies, colliders, gravity, dt_s);
         if moving {
             // The kept reach sets assumed the old centres and speeds.
             self.forces.forget_reach();
         }
-        for (s, p) in self
-            .start
-            .iter_mut()
-            .zip(self.state.x.iter().zip(&self.state.y))
-        {
-            *s = [*p.0, *p.1];
-        }
-        self.theta0.copy_from_slice(&self.state.theta);
-        let colliders_map = &self.colliders;
-        let owns = |h: ColliderHandle| {
-            colliders_map.contains_key(&h) || others.is_some_and(|o| (o.owns)(h))
-        };
-        let (own_mounts, links) = (&self.mounted, &self.links);
-        let mounted = |b: RigidBodyHandle| {
-            holds_body(own_mounts, links, b) || others.is_some_and(|o| (o.mounted)(b))
-        };
+        self.scratch.take_start(&self.state);
+        let handles = &self.handles;
+        let owns = |h: ColliderHandle| handles.owns(h) || others.is_some_and(|o| (o.owns)(h));
+        let mounts = &self.mounts;
+        let mounted =
+            |b: RigidBodyHandle| mounts.holds_body(b) || others.is_some_and(|o| (o.mounted)(b));
         self.contacts.prepare(
             &self.coupling,
             &DriveView {
                 owns: &owns,
                 mounted: &mounted,
-                roller_colliders: &self.roller_colliders,
+                roller_colliders: self.handles.roller_colliders(),
                 state: &self.state,
             },
             bodies,
@@ -152,9 +90,7 @@ impl ChainDrive {
         self.check_substeps(bodies, substeps, dt_s)?;
         let stepped = Instant::now();
         self.hand_back(bodies, substeps, span);
-        self.frame_dt_s = dt_s;
-        self.in_frame = true;
-        self.hook_calls_at_frame = self.hook_calls.load(Ordering::Relaxed);
+        self.clock.open(dt_s);
         let t = &mut self.stage_times;
         t.frames += 1;
         t.search_s += (searched - started).as_secs_f64();
@@ -171,19 +107,13 @@ impl ChainDrive {
         // counted from the start (steps × dt) as `Simulation::run` counts it,
         // so a drive with no outside contact evolves exactly as it does
         // standalone.
-        self.world_time_s += dt_s;
         let dt = self.scene.solver.dt_s;
         let t0 = self.state.t_s;
-        let substeps = ((self.world_time_s - t0) / dt + 1e-9).floor().max(0.0) as u64;
-        self.force_sum.fill([0.0; 2]);
+        let substeps = self.clock.substeps(dt_s, t0, dt);
+        self.scratch.force_sum.fill([0.0; 2]);
         let with_bodies = !self.contacts.is_empty();
         for step in 1..=substeps {
-            if self.any_external {
-                for (i, f) in self.external.iter().enumerate() {
-                    self.forces.output_mut().fx[i] += f.x;
-                    self.forces.output_mut().fy[i] += f.y;
-                }
-            }
+            self.scratch.add_external(self.forces.output_mut());
             if with_bodies {
                 let tau = (step - 1) as f64 * dt;
                 self.contacts.apply(
@@ -194,61 +124,34 @@ impl ChainDrive {
                     dt,
                 );
             }
-            symplectic_euler(&self.model, &mut self.state, &self.forces, dt, None);
+            // The rollers' update and the links at the new state in one
+            // pass (large drives); the mounts' move does not touch the links.
+            let linked =
+                symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
             if with_bodies {
                 self.contacts.integrate(dt);
             }
-            self.clock_steps += 1;
-            self.state.t_s = self.clock_steps as f64 * dt;
+            self.state.t_s = self.clock.tick(dt);
             if moving {
-                self.move_mounts(step, t0, dt);
+                self.mounts.move_centres(
+                    &mut self.model.sprockets,
+                    &self.forces.output().chain_force,
+                    step,
+                    t0,
+                    dt,
+                );
             }
-            self.forces.evaluate(&self.model, &self.state);
+            if linked {
+                self.forces.evaluate_after_links(&self.model, &self.state);
+            } else {
+                self.forces.evaluate(&self.model, &self.state);
+            }
             check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
                 .map_err(|e| at_coupling_limit(e, dt_s))?;
-            for (sum, f) in self
-                .force_sum
-                .iter_mut()
-                .zip(&self.forces.output().chain_force)
-            {
-                sum[0] += f[0];
-                sum[1] += f[1];
-            }
+            self.scratch
+                .add_chain_force(&self.forces.output().chain_force);
         }
         Ok(substeps)
-    }
-
-    /// Moves the mounted sprockets' centres over substep `step` (of `dt`
-    /// from the frame's start `t0`): a translating mount by the chain's
-    /// force and its law, another by its velocity.
-    fn move_mounts(&mut self, step: u64, t0: f64, dt: f64) {
-        let tau = step as f64 * dt;
-        let chain_force = &self.forces.output().chain_force;
-        for (k, (link, sprocket)) in self
-            .links
-            .iter_mut()
-            .zip(&mut self.model.sprockets)
-            .enumerate()
-        {
-            if let Some(tr) = &mut link.translation {
-                // The chain's force and the law's at the substep's
-                // start, as the rollers were advanced.
-                let start = Vector::new(link.frame_start_m[0], link.frame_start_m[1]);
-                let law = self.mount_forces[k].as_ref().map_or(Vector::ZERO, |f| {
-                    f.force(start + tr.dx, tr.v, t0 + (step - 1) as f64 * dt)
-                });
-                let f = Vector::new(chain_force[k][0], chain_force[k][1]);
-                tr.advance(f, law, tau - dt, dt);
-                sprocket.center_m = [start.x + tr.dx.x, start.y + tr.dx.y];
-                sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
-            } else if link.mount != Mount::Own {
-                let [vx, vy] = sprocket.center_velocity_m_s;
-                sprocket.center_m = [
-                    link.frame_start_m[0] + vx * tau,
-                    link.frame_start_m[1] + vy * tau,
-                ];
-            }
-        }
     }
 
     /// The frame's checks after its substeps: no roller too deep in a
@@ -285,26 +188,18 @@ impl ChainDrive {
                 dt_s,
             ));
         }
-        for link in &mut self.links {
-            if let Some(tr) = &mut link.translation {
-                tr.mean_v = tr.dx / dt_s;
-                if let Some((_, sf)) = &mut tr.slide {
-                    sf.motor_sum /= substeps.max(1) as f64;
-                }
-                if !(tr.mean_v.is_finite() && tr.v.is_finite()) {
-                    return Err(at_coupling_limit(
-                        SimError::BlowUp {
-                            t_s: self.state.t_s,
-                            detector: crate::sim::Detector::NonFinite.name(),
-                            body: "a mounted body".to_owned(),
-                            value: f64::NAN,
-                            limit: 0.0,
-                            detail: String::new(),
-                        },
-                        dt_s,
-                    ));
-                }
-            }
+        if !self.mounts.close_substeps(substeps, dt_s) {
+            return Err(at_coupling_limit(
+                SimError::BlowUp {
+                    t_s: self.state.t_s,
+                    detector: crate::sim::Detector::NonFinite.name(),
+                    body: "a mounted body".to_owned(),
+                    value: f64::NAN,
+                    limit: 0.0,
+                    detail: String::new(),
+                },
+                dt_s,
+            ));
         }
         Ok(())
     }
@@ -314,65 +209,14 @@ impl ChainDrive {
     /// substeps did, the chain's mean force on it.
     fn hand_back(&mut self, bodies: &mut RigidBodySet, substeps: u64, span: f64) {
         self.sync_rollers(bodies, span);
-        let n = substeps.max(1) as f64;
-        for (k, link) in self.links.iter_mut().enumerate() {
-            link.mean_omega = (self.state.theta[k] - self.theta0[k]) / span;
-            link.mean_chain_force = [self.force_sum[k][0] / n, self.force_sum[k][1] / n];
-            let Some(b) = bodies.get_mut(link.body) else {
-                continue;
-            };
-            match link.mount {
-                // rapier turns a kinematic mount itself; the chain followed it.
-                Mount::Kinematic => {}
-                Mount::Own => {
-                    b.set_rotation(Rotation::new(self.theta0[k]), true);
-                    b.set_angvel(link.mean_omega, true);
-                }
-                Mount::Dynamic => {
-                    b.set_rotation(Rotation::new(self.theta0[k] + link.angle_offset), true);
-                    b.set_angvel(link.mean_omega, true);
-                    b.reset_forces(false);
-                    if let Some(tr) = &link.translation {
-                        // The substeps moved it under the chain's force, the
-                        // user's and gravity: rapier's step takes it from the
-                        // frame's start to the substeps' end at the mean
-                        // velocity, with only its joints and contacts acting.
-                        b.set_linvel(tr.mean_v, true);
-                        b.set_gravity_scale(0.0, true);
-                        b.set_linear_damping(0.0);
-                    } else {
-                        // The user's force (rapier's semantics: it stays
-                        // until the user resets it), the chain's and the
-                        // law's (held over the frame: rapier moves the body).
-                        let law = self.mount_forces[k].as_ref().map_or(Vector::ZERO, |f| {
-                            f.force(b.translation(), b.linvel(), self.state.t_s)
-                        });
-                        b.add_force(
-                            link.user_force
-                                + law
-                                + Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
-                            true,
-                        );
-                    }
-                }
-            }
-            if let Some(tr) = &link.translation {
-                if let Some(c) = tr.carrier.and_then(|(h, _)| bodies.get_mut(h)) {
-                    // The carriage moves with the body: the same treatment.
-                    c.reset_forces(false);
-                    c.set_linvel(tr.mean_v, true);
-                    c.set_gravity_scale(0.0, true);
-                    c.set_linear_damping(0.0);
-                }
-                if let Some((s, sf)) = &tr.slide {
-                    // The imitated motor's reaction on a dynamic other body.
-                    let other = if s.moving_is_2 { s.body1 } else { s.body2 };
-                    if let Some(o) = bodies.get_mut(other).filter(|o| o.is_dynamic()) {
-                        o.add_force(-sf.motor_sum, true);
-                    }
-                }
-            }
-        }
+        self.mounts.hand_back(
+            bodies,
+            &self.state,
+            &self.scratch.theta0,
+            &self.scratch.force_sum,
+            substeps,
+            span,
+        );
     }
 
     /// Reads what rapier's step did to the drive's bodies beyond the chain's
@@ -393,12 +237,170 @@ impl ChainDrive {
         dt_s: f64,
     ) -> Result<(), CosimError> {
         self.check_frame(bodies, narrow_phase, dt_s)?;
-        self.in_frame = false;
+        self.clock.close();
         let started = Instant::now();
-        let span = dt_s;
+        self.scratch.read_impulses(
+            narrow_phase,
+            self.handles.roller_colliders(),
+            self.parking.active(),
+            dt_s,
+        );
+        self.mounts.after_step(bodies, &mut self.state.omega);
+        let handles = &self.handles;
+        let is_roller = |h: ColliderHandle| handles.is_roller(h);
+        self.contacts.after_step(bodies, narrow_phase, &is_roller);
+        self.stage_times.sync_s += started.elapsed().as_secs_f64();
+        Ok(())
+    }
+}
+
+/// The drive's clocks: the world's time the chain has been advanced to, the
+/// chain's own steps, and the frame under way between `before_step` and
+/// `after_step` with the calls of the drive's pair filter during it.
+#[derive(Debug, Default)]
+pub(super) struct FrameClock {
+    /// World time the chain has been advanced to, s.
+    world_time_s: f64,
+    /// Chain steps taken since the drive was inserted: its clock is
+    /// `t = steps × dt` from the start, as `Simulation::run` counts it.
+    steps: u64,
+    /// The frame's dt given to `before_step`, s (0 before the first frame).
+    frame_dt_s: f64,
+    /// Whether `before_step` set the bodies up and `after_step` has not run yet.
+    in_frame: bool,
+    /// Calls of the drive's pair filter (counts whether the world's step
+    /// used the drive's hooks).
+    hook_calls: AtomicU64,
+    /// `hook_calls` when the frame began.
+    hook_calls_at_frame: u64,
+}
+
+impl FrameClock {
+    /// Advances the world's time by the frame's `dt_s`: how many chain
+    /// steps of `dt` bring the chain from `t0` to the frame's end (its
+    /// clock lags the world's by less than one step).
+    fn substeps(&mut self, dt_s: f64, t0: f64, dt: f64) -> u64 {
+        self.world_time_s += dt_s;
+        ((self.world_time_s - t0) / dt + 1e-9).floor().max(0.0) as u64
+    }
+
+    /// Counts one chain step of `dt`: the chain's time after it, s.
+    fn tick(&mut self, dt: f64) -> f64 {
+        self.steps += 1;
+        self.steps as f64 * dt
+    }
+
+    /// The bodies are set for the world's step of `dt_s`.
+    fn open(&mut self, dt_s: f64) {
+        self.frame_dt_s = dt_s;
+        self.in_frame = true;
+        self.hook_calls_at_frame = self.hook_calls.load(Ordering::Relaxed);
+    }
+
+    /// The world's step was read back.
+    fn close(&mut self) {
+        self.in_frame = false;
+    }
+
+    /// Whether `before_step` set the bodies up and `after_step` has not run yet.
+    pub(super) fn in_frame(&self) -> bool {
+        self.in_frame
+    }
+
+    /// The last frame's dt, s (0 before the first frame).
+    pub(super) fn frame_dt_s(&self) -> f64 {
+        self.frame_dt_s
+    }
+
+    /// Counts a call of the drive's pair filter.
+    pub(super) fn count_hook_call(&self) {
+        self.hook_calls.fetch_add(1, Ordering::Relaxed);
+    }
+
+    /// Whether the pair filter was called since the frame began.
+    pub(super) fn hooked(&self) -> bool {
+        self.hook_calls.load(Ordering::Relaxed) != self.hook_calls_at_frame
+    }
+}
+
+/// What one frame keeps between its stages: the rollers and sprockets at
+/// the frame's start, the chain's force on each sprocket summed over the
+/// substeps, and the force rapier's contacts put on each roller (read after
+/// the world's step, held over the next frame).
+#[derive(Debug)]
+pub(super) struct FrameScratch {
+    /// Frame-start roller positions, m.
+    start: Vec<[f64; 2]>,
+    /// Frame-start sprocket angles, rad.
+    theta0: Vec<f64>,
+    /// The chain's force on each sprocket summed over the frame's substeps, N.
+    force_sum: Vec<[f64; 2]>,
+    /// External force on each roller from rapier's contacts, N (held over a frame).
+    external: Vec<Vector>,
+    /// Whether `external` holds any non-zero force.
+    any_external: bool,
+}
+
+impl FrameScratch {
+    /// Buffers for `rollers` rollers and `sprockets` sprockets, no external force.
+    pub(super) fn new(rollers: usize, sprockets: usize) -> Self {
+        Self {
+            start: vec![[0.0; 2]; rollers],
+            theta0: vec![0.0; sprockets],
+            force_sum: vec![[0.0; 2]; sprockets],
+            external: vec![Vector::ZERO; rollers],
+            any_external: false,
+        }
+    }
+
+    /// The rollers' positions at the frame's start, m.
+    pub(super) fn start(&self) -> &[[f64; 2]] {
+        &self.start
+    }
+
+    /// The force each roller receives from rapier's contacts, N.
+    pub(super) fn external(&self) -> &[Vector] {
+        &self.external
+    }
+
+    /// Keeps `state`'s roller positions and sprocket angles as the frame's start.
+    fn take_start(&mut self, state: &DriveState) {
+        for (s, p) in self.start.iter_mut().zip(state.x.iter().zip(&state.y)) {
+            *s = [*p.0, *p.1];
+        }
+        self.theta0.copy_from_slice(&state.theta);
+    }
+
+    /// Adds the held external forces to the rollers' forces.
+    fn add_external(&self, out: &mut Forces) {
+        if self.any_external {
+            for (i, f) in self.external.iter().enumerate() {
+                out.fx[i] += f.x;
+                out.fy[i] += f.y;
+            }
+        }
+    }
+
+    /// Adds one substep's chain force on each sprocket to the frame's sum.
+    fn add_chain_force(&mut self, chain_force: &[[f64; 2]]) {
+        for (sum, f) in self.force_sum.iter_mut().zip(chain_force) {
+            sum[0] += f[0];
+            sum[1] += f[1];
+        }
+    }
+
+    /// Reads the contact impulses rapier's step applied to each active
+    /// roller's collider as a force impulse / `span` (zero for a parked one).
+    fn read_impulses(
+        &mut self,
+        narrow_phase: &NarrowPhase,
+        roller_colliders: &[ColliderHandle],
+        active: &[bool],
+        span: f64,
+    ) {
         self.any_external = false;
-        for (i, &rc) in self.roller_colliders.iter().enumerate() {
-            if !self.roller_active[i] {
+        for (i, &rc) in roller_colliders.iter().enumerate() {
+            if !active[i] {
                 self.external[i] = Vector::ZERO;
                 continue;
             }
@@ -423,47 +425,5 @@ impl ChainDrive {
             self.external[i] = Vector::new(impulse[0] / span, impulse[1] / span);
             self.any_external |= impulse != [0.0; 2];
         }
-        for (k, link) in self.links.iter().enumerate() {
-            if link.mount != Mount::Dynamic {
-                continue;
-            }
-            if let Some(b) = bodies.get_mut(link.body) {
-                // The body's joints changed its speed by this much during rapier's step.
-                self.state.omega[k] += b.angvel() - link.mean_omega;
-                if let Some(tr) = &link.translation {
-                    // The substeps' end velocity and what the joints and
-                    // contacts changed in rapier's step.
-                    b.set_linvel(tr.v + (b.linvel() - tr.mean_v), false);
-                    b.set_gravity_scale(tr.stash.gravity_scale, false);
-                    b.set_linear_damping(tr.stash.damping);
-                }
-                b.reset_forces(false);
-                b.add_force(link.user_force, false);
-                b.add_torque(link.user_torque_n_m, false);
-            }
-            let Some(tr) = &link.translation else {
-                continue;
-            };
-            if let Some((h, stash)) = tr.carrier {
-                if let Some(c) = bodies.get_mut(h) {
-                    c.set_linvel(tr.v + (c.linvel() - tr.mean_v), false);
-                    c.set_gravity_scale(stash.gravity_scale, false);
-                    c.set_linear_damping(stash.damping);
-                    c.reset_forces(false);
-                    c.add_force(stash.user_force, false);
-                }
-            }
-            if let Some((s, sf)) = &tr.slide {
-                let other = if s.moving_is_2 { s.body1 } else { s.body2 };
-                if let Some(o) = bodies.get_mut(other).filter(|o| o.is_dynamic()) {
-                    o.add_force(sf.motor_sum, false);
-                }
-            }
-        }
-        let colliders = &self.colliders;
-        let is_roller = |h: ColliderHandle| colliders.get(&h).copied().unwrap_or(false);
-        self.contacts.after_step(bodies, narrow_phase, &is_roller);
-        self.stage_times.sync_s += started.elapsed().as_secs_f64();
-        Ok(())
     }
 }

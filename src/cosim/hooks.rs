@@ -1,8 +1,6 @@
 //! The pair filter of [`super::ChainHooks`] (one drive) and
 //! [`super::SetHooks`] (a set): one filter over the drives it stands for.
 
-use std::sync::atomic::Ordering;
-
 use rapier2d_f64::prelude::*;
 
 use super::{ChainDrive, DriveSet};
@@ -31,7 +29,7 @@ impl Drives for ChainDrive {
         ChainDrive::carries(self, b)
     }
     fn count_call(&self) {
-        self.hook_calls.fetch_add(1, Ordering::Relaxed);
+        self.clock.count_hook_call();
     }
 }
 

@@ -72,20 +72,17 @@ impl ChainDrive {
             handles.into_iter().map(|h| (h, false)).collect();
         owned.extend(roller_colliders.iter().map(|&h| (h, true)));
         Ok(Self {
-            sprockets: links.iter().map(|l| l.body).collect(),
-            mounted: links
-                .iter()
-                .filter(|l| l.mount != Mount::Own)
-                .map(|l| l.body)
-                .collect(),
+            handles: Handles::new(
+                links.iter().map(|l| l.body).collect(),
+                owned,
+                rollers,
+                roller_colliders,
+            ),
+            mounts: Mounts::new(links),
             coupling: Coupling::new(&scene.contact),
             stage_times: FrameTimes::default(),
             contacts: BodyContacts::new(n, scene.chain.roller_mass_kg, scene.chain.roller_radius_m),
-            theta0: vec![0.0; sprocket_count],
-            mount_forces: (0..sprocket_count).map(|_| None).collect(),
-            motors_off: Vec::new(),
-            force_sum: vec![[0.0; 2]; sprocket_count],
-            any_external: false,
+            scratch: FrameScratch::new(n, sprocket_count),
             driver: model.driver(),
             scene,
             model,
@@ -93,22 +90,9 @@ impl ChainDrive {
             forces,
             equilibrium,
             limits,
-            rollers,
-            parking: false,
-            roller_active: vec![true; n],
-            colliders: owned,
-            roller_colliders,
-            links,
-            start: vec![[0.0; 2]; n],
-            external: vec![Vector::ZERO; n],
-            world_time_s: 0.0,
-            clock_steps: 0,
-            frame_dt_s: 0.0,
-            in_frame: false,
-            hook_calls: AtomicU64::new(0),
-            hook_calls_at_frame: 0,
-            warnings: Vec::new(),
-            gravity_noted: false,
+            parking: Parking::new(n),
+            clock: FrameClock::default(),
+            notes: Notes::default(),
             settled,
         })
     }
@@ -352,7 +336,7 @@ impl ChainDrive {
             soft_bodies,
             ..
         } = world;
-        for link in &self.links {
+        for link in self.mounts.links() {
             if link.mount == Mount::Own {
                 continue;
             }
@@ -361,7 +345,7 @@ impl ChainDrive {
                 .map(|b| b.colliders().to_vec())
                 .unwrap_or_default();
             for c in on_mount {
-                if self.colliders.contains_key(&c) {
+                if self.handles.owns(c) {
                     colliders.remove(c, islands, bodies, soft_bodies, true);
                 }
             }
@@ -373,11 +357,12 @@ impl ChainDrive {
             }
         }
         let own = self
-            .links
+            .mounts
+            .links()
             .iter()
             .filter(|l| l.mount == Mount::Own)
             .map(|l| l.body)
-            .chain(self.rollers.iter().copied());
+            .chain(self.handles.rollers().iter().copied());
         for h in own {
             bodies.remove(
                 h,

@@ -103,6 +103,7 @@ mod cosim_seam_tests;
 mod cosim_tests;
 mod error;
 mod frame;
+mod handles;
 mod hooks;
 mod lifecycle;
 mod motion;
@@ -119,19 +120,23 @@ pub use error::CosimError;
 pub use mounts::{MountForce, MountSpring};
 pub use set::{DriveSet, SetHooks};
 
-use std::collections::HashMap;
-use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use rapier2d_f64::prelude::*;
 
 use bodies::{BodyContacts, DriveView};
-use mounts::{MountJoints, MountTranslation, mount_translation, read_mount_joints};
+use checks::Notes;
+use frame::{FrameClock, FrameScratch};
+use handles::Handles;
+use mounts::{Mount, MountJoints, Mounts, SprocketLink};
+use parking::Parking;
 
 use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
-use crate::sim::{BlowUpLimits, SimError, StaticEquilibrium, check_blow_up, symplectic_euler};
+use crate::sim::{
+    BlowUpLimits, SimError, StaticEquilibrium, check_blow_up, symplectic_euler_with_links,
+};
 
 use error::at_coupling_limit;
 
@@ -141,44 +146,6 @@ pub(crate) const MOUNT_CENTRE_TOLERANCE_M: f64 = 1e-6;
 /// How far rapier's step may leave a roller body from the chain's roller, m
 /// (more means the world stepped by another dt than the drive's frame).
 const ROLLER_SYNC_TOLERANCE_M: f64 = 1e-7;
-
-/// Whose body a sprocket sits on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Mount {
-    /// The drive's own kinematic body.
-    Own,
-    /// The user's dynamic body: the chain and the body turn together.
-    Dynamic,
-    /// The user's kinematic (or fixed) body: it turns the sprocket at its speed.
-    Kinematic,
-}
-
-/// Per-frame coupling of one sprocket to its rapier body.
-#[derive(Clone, Copy, Debug)]
-struct SprocketLink {
-    body: RigidBodyHandle,
-    /// Whose body it is.
-    mount: Mount,
-    /// The body's angle less the sprocket's, rad (fixed at insertion: a
-    /// mounted body keeps its rotation).
-    angle_offset: f64,
-    /// The user's torque, stashed during rapier's step, N·m.
-    user_torque_n_m: f64,
-    /// The user's force, kept through rapier's step, N.
-    user_force: Vector,
-    /// Mean angular speed given to rapier for this frame, rad/s.
-    mean_omega: f64,
-    /// The chain's mean force on the sprocket over the frame, N.
-    mean_chain_force: [f64; 2],
-    /// A mounted body's position at the frame's start, m.
-    frame_start_m: [f64; 2],
-    /// A dynamic mount's translation, integrated in the substeps (`None`
-    /// where rapier moves the body: locked, or tied by a joint that fixes
-    /// its position).
-    translation: Option<MountTranslation>,
-    /// The joints on a dynamic mount, read by [`ChainDrive::read_joints`].
-    joints: MountJoints,
-}
 
 /// A chain drive living in a user's rapier world.
 ///
@@ -201,59 +168,26 @@ pub struct ChainDrive {
     equilibrium: StaticEquilibrium,
     /// Blow-up limits.
     limits: BlowUpLimits,
-    /// Roller bodies.
-    rollers: Vec<RigidBodyHandle>,
-    /// Whether the rollers no user collider can reach are parked (see [`parking`]).
-    parking: bool,
-    /// The rollers in rapier's step this frame (not parked).
-    roller_active: Vec<bool>,
-    /// Sprocket bodies (the user's, where mounted).
-    sprockets: Vec<RigidBodyHandle>,
-    /// How the user's colliders near the rollers are treated (see [`Coupling`]).
-    coupling: Coupling,
-    /// Wall time spent per stage, accumulated over frames.
-    stage_times: FrameTimes,
-    /// The drive's colliders; `true` for a roller's.
-    colliders: HashMap<ColliderHandle, bool>,
-    roller_colliders: Vec<ColliderHandle>,
-    links: Vec<SprocketLink>,
-    /// Mounted sprockets' bodies.
-    mounted: Vec<RigidBodyHandle>,
-    /// Force laws on dynamic mounts, called in every substep.
-    mount_forces: Vec<Option<Box<dyn MountForce>>>,
-    /// Joint motors the substeps imitate, switched off in the joint set
-    /// during the world's step ([`ChainDrive::step_world`]).
-    motors_off: Vec<(ImpulseJointHandle, JointAxesMask)>,
-    /// Frame-start roller positions.
-    start: Vec<[f64; 2]>,
-    /// Scratch: frame-start sprocket angles; the chain's force on each sprocket summed over the frame.
-    theta0: Vec<f64>,
-    force_sum: Vec<[f64; 2]>,
-    /// External force on each roller from rapier's contacts, N (held over a frame).
-    external: Vec<Vector>,
-    /// Whether `external` holds any non-zero force.
-    any_external: bool,
-    /// The user's colliders in the substeps.
-    contacts: BodyContacts,
-    /// World time the chain has been advanced to, s.
-    world_time_s: f64,
-    /// Chain steps taken since the drive was inserted: its clock is
-    /// `t = steps × dt` from the start, as `Simulation::run` counts it.
-    clock_steps: u64,
-    /// The frame's dt given to `before_step`, s (0 before the first frame).
-    frame_dt_s: f64,
-    /// Whether `before_step` set the bodies up and `after_step` has not run yet.
-    in_frame: bool,
-    /// Calls of the drive's pair filter (counts whether the world's step used [`ChainHooks`]).
-    hook_calls: AtomicU64,
-    /// `hook_calls` when the frame began.
-    hook_calls_at_frame: u64,
     /// The scene's driver (the sprocket with a speed law), if any.
     driver: Option<usize>,
-    /// What the drive noticed that is legitimate but may surprise (see [`Self::warnings`]).
-    warnings: Vec<String>,
-    /// Whether a world gravity other than the scene's was noted.
-    gravity_noted: bool,
+    /// How the user's colliders near the rollers are treated (see [`Coupling`]).
+    coupling: Coupling,
+    /// The drive's bodies and colliders in the user's sets (`handles.rs`).
+    handles: Handles,
+    /// Each sprocket's body, its force law and joints (`mounts.rs`).
+    mounts: Mounts,
+    /// Which roller bodies are in rapier's step (`parking.rs`).
+    parking: Parking,
+    /// The user's colliders in the substeps (`bodies.rs`).
+    contacts: BodyContacts,
+    /// World time, chain steps, the frame under way (`frame.rs`).
+    clock: FrameClock,
+    /// The frame's start and what it carries to the next (`frame.rs`).
+    scratch: FrameScratch,
+    /// What the drive noticed that may surprise (`checks.rs`; see [`Self::warnings`]).
+    notes: Notes,
+    /// Wall time spent per stage, accumulated over frames.
+    stage_times: FrameTimes,
     /// The drive as it settled, before insertion: inserted again by
     /// [`ChainDriveBuilder::settled_from`] without settling anew.
     settled: std::sync::Arc<settled::Settled>,
@@ -318,11 +252,7 @@ impl ChainDrive {
                 "the scene has no driver: turn a mounted body instead",
             ));
         };
-        if self
-            .links
-            .get(k)
-            .is_some_and(|l| l.mount == Mount::Kinematic)
-        {
+        if self.mounts.mount_of(k) == Some(Mount::Kinematic) {
             return Err(CosimError::input(
                 format!("mounts[{k}]"),
                 "the driver sits on a kinematic body, whose angular speed turns it: set the body's",
@@ -354,7 +284,7 @@ impl ChainDrive {
     /// The force each roller receives from rapier's contacts with bodies
     /// that are not carried (held over the coming frame), N.
     pub fn external_forces(&self) -> &[Vector] {
-        &self.external
+        self.scratch.external()
     }
 
     /// The mean force each roller received over the last frame from the
@@ -378,17 +308,17 @@ impl ChainDrive {
     /// Whether `b` is one of the drive's mounted bodies, or a carriage one of
     /// them turns on (the drive moves those itself).
     pub(crate) fn holds_body(&self, b: RigidBodyHandle) -> bool {
-        holds_body(&self.mounted, &self.links, b)
+        self.mounts.holds_body(b)
     }
 
     /// Whether a collider belongs to the drive.
     pub fn owns_collider(&self, h: ColliderHandle) -> bool {
-        self.colliders.contains_key(&h)
+        self.handles.owns(h)
     }
 
     /// Whether a collider is one of the drive's rollers.
     pub fn is_roller_collider(&self, h: ColliderHandle) -> bool {
-        self.colliders.get(&h).copied().unwrap_or(false)
+        self.handles.is_roller(h)
     }
 
     /// Hooks for the user's step: drive–drive pairs are filtered out, every
@@ -415,38 +345,19 @@ impl ChainDrive {
     /// hand, wrap the step in [`Self::joint_motors_off`] and
     /// [`Self::joint_motors_on`] ([`Self::step_world`] does).
     pub fn read_joints(&mut self, bodies: &RigidBodySet, joints: &ImpulseJointSet) {
-        for link in &mut self.links {
-            if link.mount == Mount::Dynamic {
-                link.joints = read_mount_joints(bodies, joints, link.body);
-            }
-        }
+        self.mounts.read_joints(bodies, joints);
     }
 
     /// Switches off, in `joints`, the joint motors the substeps imitate (a
     /// mount's prismatic joint's motor), for the world's step; undo with
     /// [`Self::joint_motors_on`] right after it.
     pub fn joint_motors_off(&mut self, joints: &mut ImpulseJointSet) {
-        self.motors_off.clear();
-        for link in &self.links {
-            let Some(s) = link.joints.slide.filter(|s| s.motor.is_some()) else {
-                continue;
-            };
-            if let Some(j) = joints.get_mut(s.joint, false) {
-                if j.data.motor_axes.contains(s.mask()) {
-                    j.data.motor_axes.remove(s.mask());
-                    self.motors_off.push((s.joint, s.mask()));
-                }
-            }
-        }
+        self.mounts.motors_off(joints);
     }
 
     /// Switches back on the motors [`Self::joint_motors_off`] switched off.
     pub fn joint_motors_on(&mut self, joints: &mut ImpulseJointSet) {
-        for (h, mask) in self.motors_off.drain(..) {
-            if let Some(j) = joints.get_mut(h, false) {
-                j.data.motor_axes.insert(mask);
-            }
-        }
+        self.mounts.motors_on(joints);
     }
 
     /// Gives dynamic mount `k` a force law called in every substep with the
@@ -463,35 +374,12 @@ impl ChainDrive {
         k: usize,
         law: impl MountForce + 'static,
     ) -> Result<(), CosimError> {
-        self.dynamic_mount(k)?;
-        self.mount_forces[k] = Some(Box::new(law));
-        Ok(())
+        self.mounts.set_law(k, Some(Box::new(law)))
     }
 
     /// Takes away dynamic mount `k`'s force law (a released carriage).
     pub fn clear_mount_force(&mut self, k: usize) -> Result<(), CosimError> {
-        self.dynamic_mount(k)?;
-        self.mount_forces[k] = None;
-        Ok(())
-    }
-
-    /// An error unless sprocket `k` sits on a dynamic body.
-    fn dynamic_mount(&self, k: usize) -> Result<(), CosimError> {
-        match self.links.get(k).map(|l| l.mount) {
-            Some(Mount::Dynamic) => Ok(()),
-            Some(_) => Err(CosimError::input(
-                format!("mounts[{k}]"),
-                "a force law needs a dynamic body under the sprocket (mount it on one in \
-                 ChainDrive::insert)",
-            )),
-            None => Err(CosimError::input(
-                "k",
-                format!(
-                    "sprocket {k}, but the scene has {} sprockets",
-                    self.links.len()
-                ),
-            )),
-        }
+        self.mounts.set_law(k, None)
     }
 
     /// One frame of a [`PhysicsWorld`] with the user's hooks and events.
@@ -530,11 +418,6 @@ struct FrameStart {
 struct Others<'a> {
     owns: &'a dyn Fn(ColliderHandle) -> bool,
     mounted: &'a dyn Fn(RigidBodyHandle) -> bool,
-}
-
-/// Whether `b` is a mounted body of the drive or a carriage a mount turns on.
-fn holds_body(mounted: &[RigidBodyHandle], links: &[SprocketLink], b: RigidBodyHandle) -> bool {
-    mounted.contains(&b) || links.iter().any(|l| l.joints.carrier == Some(b))
 }
 
 struct DynHooks<'a>(&'a dyn PhysicsHooks);

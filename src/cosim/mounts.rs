@@ -1,19 +1,29 @@
-//! Mounted bodies that translate, integrated with the chain in the substeps.
+//! Each sprocket's rapier body and what a frame does to it: [`Mounts`].
 //!
-//! A dynamic mount's translation (and, for a hub on a revolute joint to a
-//! carriage, the carriage's with it) is advanced at the chain's dt under the
-//! chain's force on the sprocket, gravity, the users' forces (held over the
-//! frame, rapier's semantics), the mount's force law ([`MountForce`], called
-//! every substep) and a prismatic joint's motor and limits (read from the
-//! user's `ImpulseJointSet`). rapier's step then moves the bodies from the
-//! frame's start at the frame's mean velocity with those forces taken out.
+//! A sprocket sits on the drive's own kinematic body or on the user's body
+//! (a mount, [`Mount`]). Per frame, [`Mounts`] reads every mounted body at
+//! the frame's start (its centre, speed and the user's torque and force,
+//! taken out of rapier's step), moves the centres through the substeps,
+//! hands the bodies to rapier's step at the frame's mean motion, and puts
+//! the users' torques, forces and gravity scales back after it; between
+//! frames it holds the mounts' force laws ([`MountForce`]), their joints
+//! and the joint motors the substeps imitate. A dynamic mount's translation
+//! is integrated in `translation`.
 //!
-//! It does not integrate: a body whose position a joint ties to a body that
-//! rapier moves on its own (a fixed or kinematic body: the translation is
-//! rapier's), longer chains of jointed bodies, or joints other than one
-//! prismatic (or pin-slot) joint and one revolute joint to a carriage.
+//! It does not step the chain, read the user's colliders near it, or check
+//! the world: [`super::ChainDrive`]'s frame does, and hands this the
+//! sprockets' part.
+
+mod translation;
 
 use rapier2d_f64::prelude::*;
+
+pub(super) use translation::MountJoints;
+use translation::{MountTranslation, mount_translation, read_mount_joints};
+
+use super::error::CosimError;
+use crate::model::{DriveState, SprocketModel};
+use crate::scene::SpeedLaw;
 
 /// A force law on a mounted body, evaluated in every substep of the chain
 /// with the body's position and velocity there: the way to attach a spring
@@ -68,379 +78,406 @@ impl MountForce for MountSpring {
     }
 }
 
-/// A prismatic (or pin-slot) joint on the translating body, imitated in the
-/// substeps: its free axis, its motor and its limits.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Slide {
-    pub joint: ImpulseJointHandle,
-    /// The translating body is the joint's second body (else its first).
-    pub moving_is_2: bool,
-    pub body1: RigidBodyHandle,
-    pub body2: RigidBodyHandle,
-    pub frame1: Pose,
-    pub frame2: Pose,
-    /// The free axis in the joint's frame: 0 (x) or 1 (y).
-    pub axis: usize,
-    /// The motor along it, where enabled.
-    pub motor: Option<JointMotor>,
-    /// The limits along it, where enabled, m.
-    pub limits: Option<[f64; 2]>,
+/// Whose body a sprocket sits on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) enum Mount {
+    /// The drive's own kinematic body.
+    Own,
+    /// The user's dynamic body: the chain and the body turn together.
+    Dynamic,
+    /// The user's kinematic (or fixed) body: it turns the sprocket at its speed.
+    Kinematic,
 }
 
-impl Slide {
-    /// The mask bit of the free axis.
-    pub(super) fn mask(&self) -> JointAxesMask {
-        if self.axis == 0 {
-            JointAxesMask::LIN_X
-        } else {
-            JointAxesMask::LIN_Y
+/// Per-frame coupling of one sprocket to its rapier body.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct SprocketLink {
+    pub(super) body: RigidBodyHandle,
+    /// Whose body it is.
+    pub(super) mount: Mount,
+    /// The body's angle less the sprocket's, rad (fixed at insertion: a
+    /// mounted body keeps its rotation).
+    pub(super) angle_offset: f64,
+    /// The user's torque, stashed during rapier's step, N·m.
+    pub(super) user_torque_n_m: f64,
+    /// The user's force, kept through rapier's step, N.
+    pub(super) user_force: Vector,
+    /// Mean angular speed given to rapier for this frame, rad/s.
+    pub(super) mean_omega: f64,
+    /// The chain's mean force on the sprocket over the frame, N.
+    pub(super) mean_chain_force: [f64; 2],
+    /// A mounted body's position at the frame's start, m.
+    pub(super) frame_start_m: [f64; 2],
+    /// A dynamic mount's translation, integrated in the substeps (`None`
+    /// where rapier moves the body: locked, or tied by a joint that fixes
+    /// its position).
+    pub(super) translation: Option<MountTranslation>,
+    /// The joints on a dynamic mount, read by [`Mounts::read_joints`].
+    pub(super) joints: MountJoints,
+}
+
+/// The sprockets' bodies: one [`SprocketLink`] per sprocket, in the
+/// scene's order, the mounts' force laws and the joint motors switched off
+/// for the world's step.
+pub(super) struct Mounts {
+    links: Vec<SprocketLink>,
+    /// Mounted sprockets' bodies (the user's).
+    mounted: Vec<RigidBodyHandle>,
+    /// Force laws on dynamic mounts, called in every substep.
+    laws: Vec<Option<Box<dyn MountForce>>>,
+    /// Joint motors the substeps imitate, switched off in the joint set
+    /// during the world's step.
+    motors_off: Vec<(ImpulseJointHandle, JointAxesMask)>,
+}
+
+impl Mounts {
+    /// The sprockets' couplings, no force laws.
+    pub(super) fn new(links: Vec<SprocketLink>) -> Self {
+        Self {
+            mounted: links
+                .iter()
+                .filter(|l| l.mount != Mount::Own)
+                .map(|l| l.body)
+                .collect(),
+            laws: (0..links.len()).map(|_| None).collect(),
+            motors_off: Vec::new(),
+            links,
         }
     }
-}
 
-/// What [`super::ChainDrive::read_joints`] found on a dynamic mount.
-#[derive(Clone, Copy, Debug, Default)]
-pub(super) struct MountJoints {
-    /// A joint ties the body's position to a body rapier moves itself.
-    pub fixed: bool,
-    /// The dynamic body (a carriage) the mount turns on by a revolute joint:
-    /// the two translate together.
-    pub carrier: Option<RigidBodyHandle>,
-    /// The prismatic joint along which the body (or its carrier) slides.
-    pub slide: Option<Slide>,
-    /// An arrangement the drive cannot run, described.
-    pub unsupported: Option<&'static str>,
-}
-
-/// A dynamic body's user force, gravity scale and damping, taken out of
-/// rapier's step and put back after it.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct Stash {
-    pub user_force: Vector,
-    pub gravity_scale: f64,
-    pub damping: f64,
-}
-
-/// The slide's state over one frame.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct SlideFrame {
-    /// The free axis, world, unit.
-    pub axis: Vector,
-    /// The joint's coordinate along it at the frame's start, m.
-    pub dist0: f64,
-    /// +1 where the translating body is the joint's second body, else −1.
-    pub sign: f64,
-    /// The other body's velocity (held over the frame), m/s.
-    pub other_v: Vector,
-    /// The other body's inverse mass along the axis (0 unless dynamic), 1/kg.
-    pub other_inv_mass: f64,
-    /// The motor's force on the translating body summed over the substeps,
-    /// then their mean, N.
-    pub motor_sum: Vector,
-}
-
-/// A dynamic mount's translation over a frame, integrated with the chain.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct MountTranslation {
-    /// Inverse mass per axis (zero on a locked axis) of the body and its
-    /// carrier together, 1/kg.
-    pub inv_mass: Vector,
-    /// Gravity and the users' forces, N.
-    pub force_ext: Vector,
-    /// Velocity in the substeps, m/s.
-    pub v: Vector,
-    /// Displacement since the frame's start, m.
-    pub dx: Vector,
-    /// Mean velocity over the frame, given to rapier, m/s.
-    pub mean_v: Vector,
-    /// Linear damping (mass-weighted over the body and its carrier), 1/s.
-    pub damping: f64,
-    /// The mount's own stash.
-    pub stash: Stash,
-    /// The carrier and its stash.
-    pub carrier: Option<(RigidBodyHandle, Stash)>,
-    /// The prismatic joint, imitated.
-    pub slide: Option<(Slide, SlideFrame)>,
-}
-
-fn stash_of(b: &RigidBody, user_force: Vector) -> Stash {
-    Stash {
-        user_force,
-        gravity_scale: b.gravity_scale(),
-        damping: b.linear_damping(),
+    /// One coupling per sprocket, in the scene's order.
+    pub(super) fn links(&self) -> &[SprocketLink] {
+        &self.links
     }
-}
 
-/// A dynamic mount's translation for the coming frame, if the substeps
-/// move it: not when its translations are locked or a joint fixes its
-/// position. Called between frames only (a second `before_step` before
-/// `after_step` is refused), so the bodies' gravity scales and damping are
-/// the user's.
-pub(super) fn mount_translation(
-    bodies: &RigidBodySet,
-    body: RigidBodyHandle,
-    joints: &MountJoints,
-    user_force: Vector,
-    gravity: Vector,
-) -> Option<MountTranslation> {
-    let b = bodies.get(body)?;
-    if joints.fixed || joints.unsupported.is_some() {
-        return None;
+    /// The user's bodies that carry sprockets.
+    pub(super) fn mounted(&self) -> &[RigidBodyHandle] {
+        &self.mounted
     }
-    let stash = stash_of(b, user_force);
-    let (mut inv_mass, mut mass, mut momentum) = (
-        b.mass_properties().effective_inv_mass,
-        b.mass(),
-        b.linvel() * b.mass(),
-    );
-    let mut force_ext = gravity * (stash.gravity_scale * b.mass()) + user_force;
-    let mut damping_mass = stash.damping * b.mass();
-    let mut carrier = None;
-    if let Some(h) = joints.carrier {
-        let c = bodies.get(h)?;
-        let cs = stash_of(c, c.user_force());
-        let ci = c.mass_properties().effective_inv_mass;
-        let combine = |a: f64, b: f64| {
-            if a > 0.0 && b > 0.0 {
-                1.0 / (1.0 / a + 1.0 / b)
-            } else {
-                0.0
+
+    /// Whose body sprocket `k` sits on.
+    pub(super) fn mount_of(&self, k: usize) -> Option<Mount> {
+        self.links.get(k).map(|l| l.mount)
+    }
+
+    /// Whether any sprocket sits on a dynamic body.
+    pub(super) fn has_dynamic(&self) -> bool {
+        self.links.iter().any(|l| l.mount == Mount::Dynamic)
+    }
+
+    /// Whether dynamic mount `k` has a force law.
+    pub(super) fn has_law(&self, k: usize) -> bool {
+        self.laws.get(k).is_some_and(Option::is_some)
+    }
+
+    /// Whether `b` is a mounted body, or a carriage a mount turns on.
+    pub(super) fn holds_body(&self, b: RigidBodyHandle) -> bool {
+        self.mounted.contains(&b) || self.links.iter().any(|l| l.joints.carrier == Some(b))
+    }
+
+    /// Reads the joints on dynamic mounts (see
+    /// [`super::ChainDrive::read_joints`]).
+    pub(super) fn read_joints(&mut self, bodies: &RigidBodySet, joints: &ImpulseJointSet) {
+        for link in &mut self.links {
+            if link.mount == Mount::Dynamic {
+                link.joints = read_mount_joints(bodies, joints, link.body);
             }
-        };
-        inv_mass = Vector::new(combine(inv_mass.x, ci.x), combine(inv_mass.y, ci.y));
-        force_ext += gravity * (cs.gravity_scale * c.mass()) + cs.user_force;
-        damping_mass += cs.damping * c.mass();
-        momentum += c.linvel() * c.mass();
-        mass += c.mass();
-        carrier = Some((h, cs));
+        }
     }
-    if inv_mass == Vector::ZERO || mass <= 0.0 {
-        return None;
-    }
-    let mut v = momentum / mass;
-    let mut slide = None;
-    if let Some(s) = joints.slide {
-        let (b1, b2) = (bodies.get(s.body1)?, bodies.get(s.body2)?);
-        let f1 = *b1.position() * s.frame1;
-        let f2 = *b2.position() * s.frame2;
-        let unit = if s.axis == 0 { Vector::X } else { Vector::Y };
-        let axis = (f1.rotation * unit).normalize_or_zero();
-        let other = if s.moving_is_2 { b1 } else { b2 };
-        let other_v = other.linvel();
-        let other_inv_mass = if other.is_dynamic() {
-            let i = other.mass_properties().effective_inv_mass;
-            axis.x * axis.x * i.x + axis.y * axis.y * i.y
-        } else {
-            0.0
-        };
-        // Only the motion along the axis, relative to the other body, is free.
-        v = other_v + axis * axis.dot(v - other_v);
-        slide = Some((
-            s,
-            SlideFrame {
-                axis,
-                dist0: axis.dot(f2.translation - f1.translation),
-                sign: if s.moving_is_2 { 1.0 } else { -1.0 },
-                other_v,
-                other_inv_mass,
-                motor_sum: Vector::ZERO,
-            },
-        ));
-    }
-    Some(MountTranslation {
-        inv_mass,
-        force_ext,
-        v,
-        dx: Vector::ZERO,
-        mean_v: Vector::ZERO,
-        damping: damping_mass / mass,
-        stash,
-        carrier,
-        slide,
-    })
-}
 
-impl MountTranslation {
-    /// One substep of `dt` (symplectic Euler, as the rollers), `tau` into
-    /// the frame, under the chain's force `chain` and the law's force `law`
-    /// (both at the substep's start).
-    pub(super) fn advance(&mut self, chain: Vector, law: Vector, tau: f64, dt: f64) {
-        let mut f = chain + self.force_ext + law;
-        if let Some((s, sf)) = &mut self.slide {
-            if let Some(m) = &s.motor {
-                // rapier's motor drives the joint's coordinate to its target:
-                // acceleration (or force, for a force-based motor)
-                // k (x* − x) + c (v* − v), at most max_force.
-                let dist = sf.dist0 + sf.sign * sf.axis.dot(self.dx - sf.other_v * tau);
-                let rate = sf.sign * sf.axis.dot(self.v - sf.other_v);
-                let mut fm =
-                    m.stiffness * (m.target_pos - dist) + m.damping * (m.target_vel - rate);
-                if m.model == MotorModel::AccelerationBased {
-                    let inv = sf.axis.x * sf.axis.x * self.inv_mass.x
-                        + sf.axis.y * sf.axis.y * self.inv_mass.y
-                        + sf.other_inv_mass;
-                    fm = if inv > 0.0 { fm / inv } else { 0.0 };
+    /// Switches off, in `joints`, the joint motors the substeps imitate.
+    pub(super) fn motors_off(&mut self, joints: &mut ImpulseJointSet) {
+        self.motors_off.clear();
+        for link in &self.links {
+            let Some(s) = link.joints.slide.filter(|s| s.motor.is_some()) else {
+                continue;
+            };
+            if let Some(j) = joints.get_mut(s.joint, false) {
+                if j.data.motor_axes.contains(s.mask()) {
+                    j.data.motor_axes.remove(s.mask());
+                    self.motors_off.push((s.joint, s.mask()));
                 }
-                let fm = fm.clamp(-m.max_force, m.max_force);
-                let on_body = sf.axis * (sf.sign * fm);
-                sf.motor_sum += on_body;
-                f += on_body;
             }
         }
-        let mut dv = f * self.inv_mass * dt;
-        if let Some((_, sf)) = &self.slide {
-            dv = sf.axis * sf.axis.dot(dv);
+    }
+
+    /// Switches back on the motors [`Self::motors_off`] switched off.
+    pub(super) fn motors_on(&mut self, joints: &mut ImpulseJointSet) {
+        for (h, mask) in self.motors_off.drain(..) {
+            if let Some(j) = joints.get_mut(h, false) {
+                j.data.motor_axes.insert(mask);
+            }
         }
-        self.v = (self.v + dv) / (1.0 + dt * self.damping);
-        self.dx += self.v * dt;
-        if let Some((s, sf)) = &self.slide {
-            if let Some([lo, hi]) = s.limits {
-                // The limits stop the body inelastically.
-                let tau = tau + dt;
-                let dist = sf.dist0 + sf.sign * sf.axis.dot(self.dx - sf.other_v * tau);
-                let rate = sf.sign * sf.axis.dot(self.v - sf.other_v);
-                let over = if dist < lo {
-                    Some((lo - dist, rate < 0.0))
-                } else if dist > hi {
-                    Some((hi - dist, rate > 0.0))
+    }
+
+    /// Gives dynamic mount `k` the force law `law` (`None`: none). An error
+    /// unless sprocket `k` sits on a dynamic body.
+    pub(super) fn set_law(
+        &mut self,
+        k: usize,
+        law: Option<Box<dyn MountForce>>,
+    ) -> Result<(), CosimError> {
+        match self.mount_of(k) {
+            Some(Mount::Dynamic) => {
+                self.laws[k] = law;
+                Ok(())
+            }
+            Some(_) => Err(CosimError::input(
+                format!("mounts[{k}]"),
+                "a force law needs a dynamic body under the sprocket (mount it on one in \
+                 ChainDrive::insert)",
+            )),
+            None => Err(CosimError::input(
+                "k",
+                format!(
+                    "sprocket {k}, but the scene has {} sprockets",
+                    self.links.len()
+                ),
+            )),
+        }
+    }
+
+    /// The frame's start: each sprocket's centre and centre velocity from
+    /// its body, the users' torques and forces taken out of rapier's step
+    /// (a kinematic mount's speed taken as its sprocket's speed law), a
+    /// dynamic mount's translation set up for the substeps. Whether a
+    /// sprocket centre moves this frame.
+    pub(super) fn begin_frame(
+        &mut self,
+        sprockets: &mut [SprocketModel],
+        bodies: &mut RigidBodySet,
+        colliders: &ColliderSet,
+        gravity: Vector,
+        span: f64,
+    ) -> bool {
+        // A mounted body moves on through the frame at its velocity
+        // (rapier's step will take it there): its sprocket follows in the
+        // substeps. A kinematic mount turns its sprocket at its own speed.
+        let mut moving = false;
+        for (k, link) in self.links.iter_mut().enumerate() {
+            if link.mount == Mount::Dynamic {
+                // rapier computes a new body's mass properties at its next
+                // step; a carriage added with the drive has none before the
+                // first (its substeps would think it fixed): now.
+                if let Some(c) = link.joints.carrier.and_then(|h| bodies.get_mut(h)) {
+                    if c.is_dynamic() && c.mass() == 0.0 {
+                        c.recompute_mass_properties_from_colliders(colliders);
+                    }
+                }
+                let user_force = bodies
+                    .get(link.body)
+                    .map_or(Vector::ZERO, |b| b.user_force());
+                link.translation =
+                    mount_translation(bodies, link.body, &link.joints, user_force, gravity);
+            }
+            let Some(b) = bodies.get_mut(link.body) else {
+                continue;
+            };
+            let sprocket = &mut sprockets[k];
+            if link.mount != Mount::Own {
+                let c = b.translation();
+                let (v, w) = if b.body_type() == RigidBodyType::KinematicPositionBased {
+                    let next = b.next_position();
+                    let here = b.position();
+                    (
+                        (next.translation - here.translation) / span,
+                        (next.rotation * here.rotation.inverse()).angle() / span,
+                    )
                 } else {
-                    None
+                    (b.linvel(), b.angvel())
                 };
-                if let Some((back, closing)) = over {
-                    self.dx += sf.axis * (sf.sign * back);
-                    if closing {
-                        self.v -= sf.axis * sf.axis.dot(self.v - sf.other_v);
+                moving |= sprocket.center_m != [c.x, c.y]
+                    || sprocket.center_velocity_m_s != [0.0; 2]
+                    || v != Vector::ZERO;
+                sprocket.center_m = [c.x, c.y];
+                sprocket.center_velocity_m_s = [v.x, v.y];
+                link.frame_start_m = [c.x, c.y];
+                if link.mount == Mount::Kinematic {
+                    sprocket.speed_law = Some(SpeedLaw::ramped(w, 0.0));
+                } else {
+                    link.user_torque_n_m = b.user_torque();
+                    link.user_force = b.user_force();
+                    b.reset_torques(false);
+                    if let Some(tr) = &link.translation {
+                        moving = true;
+                        sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
+                    }
+                }
+            }
+            // The scene's load keeps its ramp; the user's torque does not ramp.
+            sprocket.user_torque_n_m = link.user_torque_n_m;
+        }
+        moving
+    }
+
+    /// Moves the mounted sprockets' centres over substep `step` (of `dt`
+    /// from the frame's start `t0`): a translating mount by the chain's
+    /// force and its law, another by its velocity.
+    pub(super) fn move_centres(
+        &mut self,
+        sprockets: &mut [SprocketModel],
+        chain_force: &[[f64; 2]],
+        step: u64,
+        t0: f64,
+        dt: f64,
+    ) {
+        let tau = step as f64 * dt;
+        for (k, (link, sprocket)) in self.links.iter_mut().zip(sprockets).enumerate() {
+            if let Some(tr) = &mut link.translation {
+                // The chain's force and the law's at the substep's
+                // start, as the rollers were advanced.
+                let start = Vector::new(link.frame_start_m[0], link.frame_start_m[1]);
+                let law = self.laws[k].as_ref().map_or(Vector::ZERO, |f| {
+                    f.force(start + tr.dx, tr.v, t0 + (step - 1) as f64 * dt)
+                });
+                let f = Vector::new(chain_force[k][0], chain_force[k][1]);
+                tr.advance(f, law, tau - dt, dt);
+                sprocket.center_m = [start.x + tr.dx.x, start.y + tr.dx.y];
+                sprocket.center_velocity_m_s = [tr.v.x, tr.v.y];
+            } else if link.mount != Mount::Own {
+                let [vx, vy] = sprocket.center_velocity_m_s;
+                sprocket.center_m = [
+                    link.frame_start_m[0] + vx * tau,
+                    link.frame_start_m[1] + vy * tau,
+                ];
+            }
+        }
+    }
+
+    /// After `substeps` substeps over the frame of `dt_s`: each
+    /// translating mount's mean velocity and its motor's mean force.
+    /// `false` as soon as a mount's velocity is not finite.
+    pub(super) fn close_substeps(&mut self, substeps: u64, dt_s: f64) -> bool {
+        for link in &mut self.links {
+            if let Some(tr) = &mut link.translation {
+                tr.mean_v = tr.dx / dt_s;
+                if let Some((_, sf)) = &mut tr.slide {
+                    sf.motor_sum /= substeps.max(1) as f64;
+                }
+                if !(tr.mean_v.is_finite() && tr.v.is_finite()) {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// Sets each sprocket's body for rapier's step: to turn (and a mount to
+    /// move) over the frame `span` as the substeps did from the frame-start
+    /// angles `theta0` to `state`, with the chain's mean force over
+    /// `substeps` (summed in `force_sum`) on it.
+    pub(super) fn hand_back(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        state: &DriveState,
+        theta0: &[f64],
+        force_sum: &[[f64; 2]],
+        substeps: u64,
+        span: f64,
+    ) {
+        let n = substeps.max(1) as f64;
+        for (k, link) in self.links.iter_mut().enumerate() {
+            link.mean_omega = (state.theta[k] - theta0[k]) / span;
+            link.mean_chain_force = [force_sum[k][0] / n, force_sum[k][1] / n];
+            let Some(b) = bodies.get_mut(link.body) else {
+                continue;
+            };
+            match link.mount {
+                // rapier turns a kinematic mount itself; the chain followed it.
+                Mount::Kinematic => {}
+                Mount::Own => {
+                    b.set_rotation(Rotation::new(theta0[k]), true);
+                    b.set_angvel(link.mean_omega, true);
+                }
+                Mount::Dynamic => {
+                    b.set_rotation(Rotation::new(theta0[k] + link.angle_offset), true);
+                    b.set_angvel(link.mean_omega, true);
+                    b.reset_forces(false);
+                    if let Some(tr) = &link.translation {
+                        // The substeps moved it under the chain's force, the
+                        // user's and gravity: rapier's step takes it from the
+                        // frame's start to the substeps' end at the mean
+                        // velocity, with only its joints and contacts acting.
+                        b.set_linvel(tr.mean_v, true);
+                        b.set_gravity_scale(0.0, true);
+                        b.set_linear_damping(0.0);
+                    } else {
+                        // The user's force (rapier's semantics: it stays
+                        // until the user resets it), the chain's and the
+                        // law's (held over the frame: rapier moves the body).
+                        let law = self.laws[k].as_ref().map_or(Vector::ZERO, |f| {
+                            f.force(b.translation(), b.linvel(), state.t_s)
+                        });
+                        b.add_force(
+                            link.user_force
+                                + law
+                                + Vector::new(link.mean_chain_force[0], link.mean_chain_force[1]),
+                            true,
+                        );
+                    }
+                }
+            }
+            if let Some(tr) = &link.translation {
+                if let Some(c) = tr.carrier.and_then(|(h, _)| bodies.get_mut(h)) {
+                    // The carriage moves with the body: the same treatment.
+                    c.reset_forces(false);
+                    c.set_linvel(tr.mean_v, true);
+                    c.set_gravity_scale(0.0, true);
+                    c.set_linear_damping(0.0);
+                }
+                if let Some((s, sf)) = &tr.slide {
+                    // The imitated motor's reaction on a dynamic other body.
+                    let other = if s.moving_is_2 { s.body1 } else { s.body2 };
+                    if let Some(o) = bodies.get_mut(other).filter(|o| o.is_dynamic()) {
+                        o.add_force(-sf.motor_sum, true);
                     }
                 }
             }
         }
     }
-}
 
-/// Reads the joints on a dynamic mount `body`.
-pub(super) fn read_mount_joints(
-    bodies: &RigidBodySet,
-    joints: &ImpulseJointSet,
-    body: RigidBodyHandle,
-) -> MountJoints {
-    let mut found = MountJoints::default();
-    let is_dynamic = |h: RigidBodyHandle| bodies.get(h).is_some_and(|b| b.is_dynamic());
-    for (b1, b2, handle, joint) in joints.attached_joints(body) {
-        let data = &joint.data;
-        if !data.is_enabled() {
-            continue;
-        }
-        let other = if b1 == body { b2 } else { b1 };
-        let locked = data.locked_axes;
-        let (lx, ly, ang) = (
-            locked.contains(JointAxesMask::LIN_X),
-            locked.contains(JointAxesMask::LIN_Y),
-            locked.contains(JointAxesMask::ANG_X),
-        );
-        if ang && !is_dynamic(other) {
-            found.unsupported = Some(
-                "a joint locks the body's rotation to a fixed or kinematic body, so its sprocket \
-                 cannot turn (a prismatic joint does): mount the sprocket on a hub body with a \
-                 revolute joint to the carriage, or slide the body on a pin-slot joint",
-            );
-            continue;
-        }
-        match (lx, ly) {
-            (false, false) => {}
-            (true, true) if is_dynamic(other) && !ang => {
-                if found.carrier.replace(other).is_some() {
-                    found.unsupported = Some(
-                        "the body turns on revolute joints to two dynamic bodies; one carriage \
-                         is supported",
-                    );
+    /// After rapier's step: the angular-speed change a dynamic mount's
+    /// joints gave it added to the sprocket's `omega`, a translating mount
+    /// (and its carriage) at the substeps' end velocity plus what its
+    /// joints and contacts changed, the users' torques, forces, gravity
+    /// scales and damping put back.
+    pub(super) fn after_step(&self, bodies: &mut RigidBodySet, omega: &mut [f64]) {
+        for (k, link) in self.links.iter().enumerate() {
+            if link.mount != Mount::Dynamic {
+                continue;
+            }
+            if let Some(b) = bodies.get_mut(link.body) {
+                // The body's joints changed its speed by this much during rapier's step.
+                omega[k] += b.angvel() - link.mean_omega;
+                if let Some(tr) = &link.translation {
+                    // The substeps' end velocity and what the joints and
+                    // contacts changed in rapier's step.
+                    b.set_linvel(tr.v + (b.linvel() - tr.mean_v), false);
+                    b.set_gravity_scale(tr.stash.gravity_scale, false);
+                    b.set_linear_damping(tr.stash.damping);
+                }
+                b.reset_forces(false);
+                b.add_force(link.user_force, false);
+                b.add_torque(link.user_torque_n_m, false);
+            }
+            let Some(tr) = &link.translation else {
+                continue;
+            };
+            if let Some((h, stash)) = tr.carrier {
+                if let Some(c) = bodies.get_mut(h) {
+                    c.set_linvel(tr.v + (c.linvel() - tr.mean_v), false);
+                    c.set_gravity_scale(stash.gravity_scale, false);
+                    c.set_linear_damping(stash.damping);
+                    c.reset_forces(false);
+                    c.add_force(stash.user_force, false);
                 }
             }
-            (true, true) if is_dynamic(other) => {
-                found.unsupported = Some(
-                    "a fixed joint ties the body to another dynamic body; mount the sprocket on \
-                     that body instead",
-                );
-            }
-            (true, true) => found.fixed = true,
-            _ => {
-                if found.slide.is_some() {
-                    found.fixed = true;
+            if let Some((s, sf)) = &tr.slide {
+                let other = if s.moving_is_2 { s.body1 } else { s.body2 };
+                if let Some(o) = bodies.get_mut(other).filter(|o| o.is_dynamic()) {
+                    o.add_force(sf.motor_sum, false);
                 }
-                found.slide = Some(slide(handle, b1, b2, body, data, ly));
             }
         }
-    }
-    let Some(carrier) = found.carrier else {
-        return found;
-    };
-    if found.fixed || found.slide.is_some() {
-        found.unsupported = Some(
-            "the body turns on a revolute joint to a carriage and has other joints tying its \
-             position; joint it to the carriage only",
-        );
-        return found;
-    }
-    // The carriage's own joints: a prismatic joint, or one that fixes it.
-    for (b1, b2, handle, joint) in joints.attached_joints(carrier) {
-        let data = &joint.data;
-        let other = if b1 == carrier { b2 } else { b1 };
-        if !data.is_enabled() || other == body {
-            continue;
-        }
-        let locked = data.locked_axes;
-        let (lx, ly) = (
-            locked.contains(JointAxesMask::LIN_X),
-            locked.contains(JointAxesMask::LIN_Y),
-        );
-        match (lx, ly) {
-            (false, false) => {}
-            (true, true) if is_dynamic(other) => {
-                found.unsupported = Some(
-                    "the carriage the body turns on is jointed to a further dynamic body; one \
-                     carriage on a prismatic joint (or free) is supported",
-                );
-            }
-            (true, true) => found.fixed = true,
-            _ => {
-                if found.slide.is_some() {
-                    found.fixed = true;
-                }
-                found.slide = Some(slide(handle, b1, b2, carrier, data, ly));
-            }
-        }
-    }
-    found
-}
-
-/// A joint that leaves one translation free (`ly`: y is locked, x free).
-fn slide(
-    joint: ImpulseJointHandle,
-    body1: RigidBodyHandle,
-    body2: RigidBodyHandle,
-    moving: RigidBodyHandle,
-    data: &GenericJoint,
-    ly: bool,
-) -> Slide {
-    let axis = if ly { 0 } else { 1 };
-    let mask = if ly {
-        JointAxesMask::LIN_X
-    } else {
-        JointAxesMask::LIN_Y
-    };
-    let m = data.motors[axis];
-    let motor =
-        (data.motor_axes.contains(mask) && (m.stiffness != 0.0 || m.damping != 0.0)).then_some(m);
-    let l = data.limits[axis];
-    let limits = data.limit_axes.contains(mask).then_some([l.min, l.max]);
-    Slide {
-        joint,
-        moving_is_2: body2 == moving,
-        body1,
-        body2,
-        frame1: data.local_frame1,
-        frame2: data.local_frame2,
-        axis,
-        motor,
-        limits,
     }
 }

@@ -24,6 +24,35 @@ use super::*;
 /// [`ChainDrive::set_parking`] quote it.
 pub(crate) const PARK_MARGIN_M: f64 = 0.05;
 
+/// Whether parking is on, and which roller bodies are in rapier's step.
+#[derive(Debug)]
+pub(super) struct Parking {
+    /// Whether the rollers no user collider can reach are parked.
+    on: bool,
+    /// The rollers in rapier's step this frame (not parked).
+    active: Vec<bool>,
+}
+
+impl Parking {
+    /// Parking off, all of `rollers` in rapier's step.
+    pub(super) fn new(rollers: usize) -> Self {
+        Self {
+            on: false,
+            active: vec![true; rollers],
+        }
+    }
+
+    /// Whether each roller is in rapier's step this frame.
+    pub(super) fn active(&self) -> &[bool] {
+        &self.active
+    }
+
+    /// Keeps every roller in rapier's step.
+    fn keep_all(&mut self) {
+        self.active.fill(true);
+    }
+}
+
 impl ChainDrive {
     /// Turns parking on or off (off by default): with it on, the roller
     /// bodies no user collider can reach within a frame are disabled in the
@@ -39,21 +68,21 @@ impl ChainDrive {
     /// far from the user's colliders. Turning it off enables every roller
     /// body again, at its roller, at the next frame.
     pub fn set_parking(&mut self, on: bool) {
-        self.parking = on;
+        self.parking.on = on;
     }
 
     /// Whether parking is on ([`Self::set_parking`]).
     pub fn parking(&self) -> bool {
-        self.parking
+        self.parking.on
     }
 
     /// How many roller bodies the last frame left parked (disabled).
     pub fn parked_rollers(&self) -> usize {
-        self.roller_active.iter().filter(|a| !**a).count()
+        self.parking.active.iter().filter(|a| !**a).count()
     }
 
-    /// Marks the rollers a user collider can reach this frame in
-    /// `roller_active` (all of them with parking off), leaving the colliders
+    /// Marks the rollers a user collider can reach this frame as active in
+    /// [`Parking`] (all of them with parking off), leaving the colliders
     /// of this drive and of `others` aside. Call at the frame's start, with
     /// the rollers where the frame starts.
     pub(super) fn mark_reach(
@@ -63,13 +92,13 @@ impl ChainDrive {
         others: Option<&Others<'_>>,
         frame_dt_s: f64,
     ) {
-        if !self.parking {
-            self.roller_active.fill(true);
+        if !self.parking.on {
+            self.parking.keep_all();
             return;
         }
-        self.roller_active.fill(false);
+        self.parking.active.fill(false);
         let s = &self.state;
-        if let Some(first) = self.roller_active.first_mut() {
+        if let Some(first) = self.parking.active.first_mut() {
             *first = true;
         }
         let r = self.scene.chain.roller_radius_m;
@@ -84,17 +113,21 @@ impl ChainDrive {
         let reach = r + roller_travel + PARK_MARGIN_M;
         if !(chain.mins.is_finite() && chain.maxs.is_finite() && reach.is_finite()) {
             // Nothing to bound by: keep every roller in rapier's step.
-            self.roller_active.fill(true);
+            self.parking.keep_all();
             return;
         }
         let chain = chain.loosened(reach);
-        let own = &self.colliders;
-        let owns = |h: ColliderHandle| own.contains_key(&h) || others.is_some_and(|o| (o.owns)(h));
+        let own = &self.handles;
+        let owns = |h: ColliderHandle| own.owns(h) || others.is_some_and(|o| (o.owns)(h));
         for (handle, co) in colliders.iter() {
             if !co.is_enabled() {
                 continue;
             }
-            if owns(handle) && !co.parent().is_some_and(|b| self.mounted.contains(&b)) {
+            if owns(handle)
+                && !co
+                    .parent()
+                    .is_some_and(|b| self.mounts.mounted().contains(&b))
+            {
                 continue;
             }
             let (pose0, travel) = match co.parent().map(|b| bodies.get(b)) {
@@ -110,14 +143,14 @@ impl ChainDrive {
             };
             let aabb = co.shape().compute_aabb(&pose0).loosened(travel);
             if !(aabb.mins.is_finite() && aabb.maxs.is_finite()) {
-                self.roller_active.fill(true);
+                self.parking.keep_all();
                 return;
             }
             if !aabb.intersects(&chain) {
                 continue;
             }
             let near = aabb.loosened(reach);
-            for (i, active) in self.roller_active.iter_mut().enumerate() {
+            for (i, active) in self.parking.active.iter_mut().enumerate() {
                 *active |= near.contains_local_point(Vector::new(s.x[i], s.y[i]));
             }
         }
@@ -128,11 +161,11 @@ impl ChainDrive {
     /// velocity, enabled; the others disabled where they are. Touches a
     /// parked body only when it is parked or enabled again.
     pub(super) fn sync_rollers(&mut self, bodies: &mut RigidBodySet, span: f64) {
-        for (i, &h) in self.rollers.iter().enumerate() {
+        for (i, &h) in self.handles.rollers().iter().enumerate() {
             let Some(enabled) = bodies.get(h).map(|b| b.is_enabled()) else {
                 continue;
             };
-            let active = self.roller_active.get(i).copied().unwrap_or(true);
+            let active = self.parking.active.get(i).copied().unwrap_or(true);
             if !active && !enabled {
                 continue;
             }
@@ -140,7 +173,7 @@ impl ChainDrive {
                 continue;
             };
             if active {
-                let [x0, y0] = self.start[i];
+                let [x0, y0] = self.scratch.start()[i];
                 let v = Vector::new((self.state.x[i] - x0) / span, (self.state.y[i] - y0) / span);
                 b.set_translation(Vector::new(x0, y0), true);
                 b.set_linvel(v, true);

@@ -19,20 +19,17 @@ impl ChainDrive {
     /// speed `u`; returns its index in [`crate::model::DriveState::q`]. Its
     /// forces come from force elements ([`Self::add_force_element`]).
     pub fn add_body(&mut self, body: BodyModel, q: f64, u: f64) -> usize {
-        self.model.bodies.push(body);
-        self.state.q.push(q);
-        self.state.u.push(u);
+        let i = self.model.push_body(&mut self.state, body, q, u);
         self.refit();
-        self.state.q.len() - 1
+        i
     }
 
     /// Adds a scalar state ([`ScalarModel`]) at `z`; returns its index in
     /// [`crate::model::DriveState::z`].
     pub fn add_scalar(&mut self, scalar: ScalarModel, z: f64) -> usize {
-        self.model.scalars.push(scalar);
-        self.state.z.push(z);
+        let i = self.model.push_scalar(&mut self.state, scalar, z);
         self.refit();
-        self.state.z.len() - 1
+        i
     }
 
     /// Adds a force element, evaluated in every substep after the links,

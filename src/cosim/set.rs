@@ -179,7 +179,7 @@ impl DriveSet {
 
     /// Gives each body carried by several drives to one of them.
     fn share_bodies(&mut self) {
-        let key = |d: &ChainDrive| d.rollers.first().map(|h| h.into_raw_parts());
+        let key = |d: &ChainDrive| d.handles.rollers().first().map(|h| h.into_raw_parts());
         let mut claims: Vec<(RigidBodyHandle, usize, usize)> = Vec::new();
         for (i, d) in self.drives.iter().enumerate() {
             claims.extend(d.contacts.carried_pairs().map(|(b, n)| (b, n, i)));

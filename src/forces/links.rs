@@ -2,7 +2,10 @@
 //! (docs/model.md, “Links”), and the rollers' weight.
 
 use super::{ForceElement, Forces, Halves, History, HistoryError, HistoryReader};
+
+mod step;
 use crate::model::{DriveModel, DriveState};
+pub(crate) use step::{Kick, kick_drift};
 
 /// The link law for one link.
 #[derive(Clone, Copy)]
@@ -383,8 +386,9 @@ impl ForceElement for Links {
         let m = model.roller_mass_kg;
         let weight = [m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]];
         let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
+        let prev = [lfx[n - 1], lfy[n - 1]];
         let (nan, max_stretch, max_speed_sq) =
-            roller_sums(weight, [&*lfx, &*lfy], [fx, fy], &*stretch, [vx, vy]);
+            roller_sums(weight, [&*lfx, &*lfy], prev, [fx, fy], &*stretch, [vx, vy]);
         out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
         out.max_roller_speed_m_s = max_speed_sq.sqrt();
     }
@@ -409,13 +413,15 @@ impl ForceElement for Links {
     }
 }
 
-/// Each roller's force, its weight plus its two links, and the links'
+/// Each roller's force, its weight plus its two links (`prev` the link
+/// before the first roller: the last link, for a whole chain), and the links'
 /// checks: whether a stretch is NaN, the largest |stretch| and the largest
 /// squared roller speed. Compiled for AVX2 where the CPU has it, as
 /// [`open_links`] is (element-wise sums and maxima: the same bits).
 fn roller_sums(
     weight: [f64; 2],
     link_f: [&[f64]; 2],
+    prev: [f64; 2],
     roller_f: [&mut [f64]; 2],
     stretch: &[f64],
     v: [&[f64]; 2],
@@ -423,9 +429,9 @@ fn roller_sums(
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2, checked on the line above.
-        return unsafe { roller_sums_avx2(weight, link_f, roller_f, stretch, v) };
+        return unsafe { roller_sums_avx2(weight, link_f, prev, roller_f, stretch, v) };
     }
-    roller_sums_body(weight, link_f, roller_f, stretch, v)
+    roller_sums_body(weight, link_f, prev, roller_f, stretch, v)
 }
 
 /// [`roller_sums_body`] compiled with AVX2 (no FMA).
@@ -434,17 +440,19 @@ fn roller_sums(
 fn roller_sums_avx2(
     weight: [f64; 2],
     link_f: [&[f64]; 2],
+    prev: [f64; 2],
     roller_f: [&mut [f64]; 2],
     stretch: &[f64],
     v: [&[f64]; 2],
 ) -> (bool, f64, f64) {
-    roller_sums_body(weight, link_f, roller_f, stretch, v)
+    roller_sums_body(weight, link_f, prev, roller_f, stretch, v)
 }
 
 #[inline(always)]
 fn roller_sums_body(
     weight: [f64; 2],
     link_f: [&[f64]; 2],
+    prev: [f64; 2],
     roller_f: [&mut [f64]; 2],
     stretch: &[f64],
     v: [&[f64]; 2],
@@ -452,10 +460,10 @@ fn roller_sums_body(
     // `max` drops a NaN: keep it visible to the blow-up check.
     let (nan, max_stretch) = largest_abs(stretch);
     let max_speed_sq = largest(v[0], v[1], |a, b| a * a + b * b);
-    for ((f, l), g) in roller_f.into_iter().zip(link_f).zip(weight) {
+    for (((f, l), g), p) in roller_f.into_iter().zip(link_f).zip(weight).zip(prev) {
         let n = f.len().min(l.len());
         let (f, l) = (&mut f[..n], &l[..n]);
-        f[0] = g + (l[0] - l[n - 1]);
+        f[0] = g + (l[0] - p);
         // Roller i between links i − 1 and i.
         for ((f, l1), l0) in f[1..].iter_mut().zip(&l[1..]).zip(&l[..n - 1]) {
             *f = g + (l1 - l0);

@@ -82,7 +82,7 @@ pub(crate) use contact::ToothContact;
 pub use contact_law::ContactLawParams;
 pub(crate) use guide::{GuideElement, ShoeForces};
 pub(crate) use joint_friction::JointFrictionElement;
-pub(crate) use links::Links;
+pub(crate) use links::{Kick, Links, kick_drift};
 pub use output::Forces;
 
 pub(crate) use rows::DampingRows;
@@ -278,6 +278,11 @@ impl ForceTimes {
     }
 }
 
+/// Rollers from which [`ForceGenerator::step_rollers_and_links`] fuses the
+/// rollers' update with the links on one thread: below, the two plain
+/// passes fit the cache anyway.
+pub(crate) const FUSED_MIN_ROLLERS: usize = 1024;
+
 /// The drive's force elements and their outputs: the links, the
 /// roller–tooth contact, then any further elements.
 #[derive(Debug)]
@@ -444,6 +449,61 @@ impl ForceGenerator {
         for e in &mut self.elements {
             e.commit();
         }
+    }
+
+    /// Advances the rollers of `state` by one step under the forces held
+    /// (the kick `kick`) and evaluates the links at the new state in the
+    /// same pass ([`Links::step_and_evaluate`]), on two threads where the
+    /// drive is split, for drives of at least [`FUSED_MIN_ROLLERS`] rollers;
+    /// `false`, with nothing done, for smaller ones. Finish the evaluation
+    /// with [`Self::evaluate_after_links`]. The sprockets, further bodies
+    /// and clock are the caller's.
+    pub(crate) fn step_rollers_and_links(
+        &mut self,
+        model: &DriveModel,
+        state: &mut DriveState,
+        kick: Kick,
+    ) -> bool {
+        let n = state.rollers();
+        let fork = self.fork.as_deref().filter(|f| f.splits(n));
+        if fork.is_none() && n < FUSED_MIN_ROLLERS {
+            return false;
+        }
+        let started = self.timing.is_some().then(Instant::now);
+        self.links
+            .step_and_evaluate(model, state, &mut self.output, fork, kick);
+        if let (Some(times), Some(t0)) = (&mut self.timing, started) {
+            times.add(0, self.links.name(), t0.elapsed().as_secs_f64());
+        }
+        true
+    }
+
+    /// The rest of [`Self::evaluate`] after
+    /// [`Self::step_rollers_and_links`]: the contact and every further
+    /// element at `state`, then every history advanced.
+    pub(crate) fn evaluate_after_links(&mut self, model: &DriveModel, state: &DriveState) {
+        let out = &mut self.output;
+        out.begin();
+        if let Some(times) = &mut self.timing {
+            times.evaluations += 1;
+            let mut lap = Instant::now();
+            let mut timed = |k: usize, element: &mut dyn ForceElement| {
+                element.evaluate(model, state, out);
+                let now = Instant::now();
+                times.add(k, element.name(), (now - lap).as_secs_f64());
+                lap = now;
+            };
+            timed(1, &mut self.contact);
+            for (k, e) in self.elements.iter_mut().enumerate() {
+                timed(k + 2, e.as_mut());
+            }
+        } else {
+            self.contact.evaluate(model, state, out);
+            for e in &mut self.elements {
+                e.evaluate(model, state, out);
+            }
+        }
+        self.commit_trial();
     }
 
     /// Evaluates all forces at `state` without advancing any history (an

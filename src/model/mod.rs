@@ -112,6 +112,9 @@ pub struct SprocketModel {
     /// Time over which the load rises linearly from zero to its full value, s
     /// (0: the load acts from rest on).
     pub load_ramp_s: f64,
+    /// A torque opposing the sprocket's rotation (read through
+    /// [`SprocketModel::torque_at`]); `None`: none.
+    pub(crate) resisting: Option<crate::scene::Resisting>,
     /// A torque that does not ramp, N·m: a co-simulation's user torque on the
     /// body a sprocket is mounted on (zero in a standalone run).
     pub user_torque_n_m: f64,
@@ -132,11 +135,15 @@ impl SprocketModel {
     /// `omega_rad_s`, N·m: the load M(θ) = M + M_θ(θ − θ₀) times `t/t_r`
     /// while `t < t_r = load_ramp_s`, the full M(θ) after (and always when no
     /// ramp is set, so the load at rest is M(θ) exactly), plus the user's
-    /// torque, which does not ramp, plus a torque-driven driver's torque
-    /// (`Governor::torque_at`; the only part that depends on the speed).
+    /// torque, which does not ramp, plus a resisting load's torque, which
+    /// opposes the speed and does not ramp (zero at rest), plus a
+    /// torque-driven driver's torque (`Governor::torque_at`).
     #[inline]
     pub fn torque_at(&self, t_s: f64, theta_rad: f64, omega_rad_s: f64) -> f64 {
-        let external = self.external_torque_at(t_s, theta_rad);
+        let mut external = self.external_torque_at(t_s, theta_rad);
+        if let Some(resisting) = &self.resisting {
+            external += resisting.torque_at(omega_rad_s);
+        }
         match &self.governor {
             Some(g) => external + g.torque_at(t_s, theta_rad - self.angle_origin_rad, omega_rad_s),
             None => external,
@@ -275,6 +282,37 @@ pub struct ScalarModel {
     pub name: String,
     /// The error scale for the adaptive integrator, in the state's unit.
     pub error_scale: f64,
+}
+
+impl DriveModel {
+    /// Adds a further body to the model and its coordinate `q` and speed
+    /// `u` to `state`: its index in [`DriveState::q`]. The force outputs
+    /// are then sized anew by whoever holds them.
+    pub(crate) fn push_body(
+        &mut self,
+        state: &mut DriveState,
+        body: BodyModel,
+        q: f64,
+        u: f64,
+    ) -> usize {
+        self.bodies.push(body);
+        state.q.push(q);
+        state.u.push(u);
+        state.q.len() - 1
+    }
+
+    /// Adds a scalar state to the model and its value `z` to `state`: its
+    /// index in [`DriveState::z`].
+    pub(crate) fn push_scalar(
+        &mut self,
+        state: &mut DriveState,
+        scalar: ScalarModel,
+        z: f64,
+    ) -> usize {
+        self.scalars.push(scalar);
+        state.z.push(z);
+        state.z.len() - 1
+    }
 }
 
 /// The state that is integrated: rollers as structure of arrays, sprockets.
@@ -624,6 +662,7 @@ fn sprocket_model(
         angle_load: AngleLoad::new(&excitation.load_harmonics, excitation.load_table.as_ref()),
         angle_origin_rad,
         load_ramp_s: s.load_ramp_s(),
+        resisting: s.resisting,
         user_torque_n_m: 0.0,
         reach_m: reach,
         reach_sq_m2: reach * reach,

@@ -214,6 +214,18 @@ pub struct SprocketFile {
     /// and the static equilibrium carries it).
     #[serde(default)]
     pub load_ramp_s: Option<f64>,
+    /// Free or tensioner: a torque of this size, N·m (≥ 0), that opposes the
+    /// sprocket's rotation whichever way it turns (a conveyor's friction, a
+    /// brake), where `load_torque_n_m` acts in one direction whatever the
+    /// motion (a lifted load, a pump). It is −T ω / ω_s below the creep speed
+    /// ω_s and −T sign(ω) above (docs/model.md, “A resisting load”).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resisting_torque_n_m: Option<f64>,
+    /// With a `resisting_torque_n_m`: the creep speed ω_s below which the
+    /// resisting torque falls linearly to zero, rad/s (> 0; default: the
+    /// smallest that the step integrates stably, at least 0.01 rad/s).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub resisting_speed_rad_s: Option<f64>,
     /// Tensioner only: direction along which the centre is moved to reach the pretension.
     #[serde(default)]
     pub adjust_direction: Option<[f64; 2]>,

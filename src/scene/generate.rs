@@ -243,6 +243,8 @@ impl DriveSpec {
                     run_up: None,
                     load_torque_n_m: None,
                     load_ramp_s: None,
+                    resisting_torque_n_m: None,
+                    resisting_speed_rad_s: None,
                     adjust_direction: None,
                     profile: None,
                     speed_harmonics: Vec::new(),

@@ -30,6 +30,7 @@ mod kinds;
 pub(crate) mod mutate;
 mod overrides;
 mod periodic;
+mod resisting;
 mod run_up;
 #[cfg(test)]
 mod scene_errors_tests;
@@ -62,6 +63,7 @@ pub(crate) use kinds::RoleKind;
 pub use kinds::{ContactLaw, Integrator, PretensionRule, Stepping, Wrap};
 pub use overrides::Overrides;
 pub(crate) use periodic::{Harmonic, LoadTable};
+pub(crate) use resisting::Resisting;
 pub(crate) use run_up::RunUpFile;
 pub(crate) use stability::StepLimits;
 pub(crate) use stability::{AUTO_GRID_S, step_note};
@@ -180,6 +182,7 @@ impl Scene {
             .into_iter()
             .collect();
         w.extend(guides::warnings(&self.guides));
+        w.extend(resisting::warnings(&self.sprockets, self.solver.dt_s));
         w.extend(tensioners::warnings(
             &self.tensioners,
             &self.sprockets,

@@ -3,6 +3,7 @@
 //! ([`super::Scene`]); read, never written, by the rest of the crate.
 
 use super::excitation::Excitation;
+use super::resisting::Resisting;
 use super::{ContactLaw, Integrator, PretensionRule, ProfileKind, Stepping, Wrap};
 
 /// A driver's prescribed speed: a linear ramp from rest, then constant,
@@ -110,6 +111,8 @@ pub struct Sprocket {
     pub profile: ProfileKind,
     /// Speed harmonics (a driver) or a load in the sprocket's angle.
     pub(crate) excitation: Excitation,
+    /// A torque opposing the sprocket's rotation; `None`: none.
+    pub(crate) resisting: Option<Resisting>,
 }
 
 impl Sprocket {
@@ -119,6 +122,12 @@ impl Sprocket {
             Role::Driver(law) => Some(law),
             _ => None,
         }
+    }
+
+    /// The size of the torque opposing its rotation, N·m (zero without one;
+    /// see `resisting_torque_n_m` in the scene file).
+    pub fn resisting_torque_n_m(&self) -> f64 {
+        self.resisting.map_or(0.0, |r| r.torque_n_m)
     }
 
     /// External load torque (zero for the driver).

@@ -28,7 +28,7 @@ impl TryFrom<SceneFile> for Scene {
         let default_profile = c.one_of::<ProfileKind>("profile", &file.profile);
         let chain = check_chain(&mut c, &file.chain);
         let contact = check_contact(&mut c, &file.contact);
-        let sprockets = check_sprockets(
+        let mut sprockets = check_sprockets(
             &mut c,
             &file.sprockets,
             &chain,
@@ -40,6 +40,7 @@ impl TryFrom<SceneFile> for Scene {
         );
         check_seating(&mut c, &chain, &sprockets);
         let solver = check_solver(&mut c, &file.solver, &chain, &contact, &sprockets);
+        super::resisting::set_default_speeds(&mut sprockets, solver.dt_s);
         let equilibrium = Equilibrium {
             tension_tolerance: c.positive(
                 "equilibrium.tension_tolerance",
@@ -394,6 +395,7 @@ fn check_sprockets(
         }
         let kind = RoleKind::from_name(&f.role);
         let excitation = check_excitation(c, f.excitation(), i, kind, tables);
+        let resisting = super::resisting::check(c, f, i, &role);
         out.push(Sprocket {
             name: f.name.clone(),
             center_m,
@@ -405,6 +407,7 @@ fn check_sprockets(
             role,
             profile,
             excitation,
+            resisting,
         });
     }
     // No driver is allowed: a drive turned by torques on mounted bodies (crate::cosim).

@@ -77,7 +77,7 @@ pub(crate) use statics::{
     FIT_TOLERANCE_M, RelaxSettings, arm_take_up_of, count_verdicts, default_direction,
     fit_sprocket, force_residual, free_strand_tension, needed_pitches_of, relax,
 };
-pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler};
+pub(crate) use stepper::{Relaxation, driver_speed, symplectic_euler, symplectic_euler_with_links};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
@@ -486,20 +486,17 @@ impl Simulation {
     /// speed `u`; returns its index in [`DriveState::q`]. Its forces come from
     /// force elements ([`Self::add_force_element`]).
     pub fn add_body(&mut self, body: BodyModel, q: f64, u: f64) -> usize {
-        self.model.bodies.push(body);
-        self.state.q.push(q);
-        self.state.u.push(u);
+        let i = self.model.push_body(&mut self.state, body, q, u);
         self.refit();
-        self.state.q.len() - 1
+        i
     }
 
     /// Adds a scalar state ([`ScalarModel`]) at `z`; returns its index in
     /// [`DriveState::z`].
     pub fn add_scalar(&mut self, scalar: ScalarModel, z: f64) -> usize {
-        self.model.scalars.push(scalar);
-        self.state.z.push(z);
+        let i = self.model.push_scalar(&mut self.state, scalar, z);
         self.refit();
-        self.state.z.len() - 1
+        i
     }
 
     /// Adds a force element, evaluated after the links, the contact and the

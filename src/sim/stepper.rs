@@ -5,7 +5,7 @@
 //! chain's moment plus their load; the driver follows its speed law, sampled
 //! at the step's midpoint so that a ramp's angle is integrated exactly.
 
-use crate::forces::{ForceGenerator, Forces, Halves, chunk};
+use crate::forces::{ForceGenerator, Forces, Halves, Kick, chunk, kick_drift};
 use crate::model::{DriveModel, DriveState};
 
 /// Extra viscous damping used only while relaxing to static equilibrium:
@@ -76,6 +76,45 @@ pub(crate) fn symplectic_euler(
         kick_drift(&mut state.vx, &mut state.x, fx, h_kick, dt_s, scale);
         kick_drift(&mut state.vy, &mut state.y, fy, h_kick, dt_s, scale);
     }
+    advance_sprockets(model, state, forces, dt_s, relax, scale);
+}
+
+/// [`symplectic_euler`] in a run (no relaxation), with the links'
+/// evaluation at the new state made in the same pass over the rollers
+/// where the drive is large ([`ForceGenerator::step_rollers_and_links`]).
+/// Returns whether it was: then finish the evaluation with
+/// [`ForceGenerator::evaluate_after_links`], else with
+/// [`ForceGenerator::evaluate`]. The same bits either way.
+pub(crate) fn symplectic_euler_with_links(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    dt_s: f64,
+) -> bool {
+    let kick = Kick {
+        h: dt_s / model.roller_mass_kg,
+        dt_s,
+        scale: 1.0,
+    };
+    if !forces.step_rollers_and_links(model, state, kick) {
+        symplectic_euler(model, state, forces, dt_s, None);
+        return false;
+    }
+    advance_sprockets(model, state, forces, dt_s, None, 1.0);
+    true
+}
+
+/// The sprockets', further bodies' and scalar states' part of
+/// [`symplectic_euler`], and the clock; `scale` is the relaxation's
+/// velocity factor (1 in a run).
+fn advance_sprockets(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &ForceGenerator,
+    dt_s: f64,
+    relax: Option<Relaxation>,
+    scale: f64,
+) {
     for (s, sp) in model.sprockets.iter().enumerate() {
         // A torque-driven driver is held as the kinematic one while the
         // drive relaxes.
@@ -117,35 +156,5 @@ pub(crate) fn advance_extras(
     }
     for (z, rate) in state.z.iter_mut().zip(&forces.scalar_rate) {
         *z += dt_s * rate;
-    }
-}
-
-/// One coordinate of the rollers' update: v ← (v + h·f)·scale, x ← x + dt·v.
-/// Slices as arguments tell the compiler they do not overlap, so it
-/// vectorises the loop: four lanes where the CPU has AVX2 (chosen at run
-/// time, as the links' kernel is), two otherwise. Each roller's update is
-/// its own, so the width changes no bit.
-#[inline(never)]
-fn kick_drift(v: &mut [f64], x: &mut [f64], f: &[f64], h: f64, dt_s: f64, scale: f64) {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("avx2") {
-        // SAFETY: the CPU has AVX2, checked on the line above.
-        return unsafe { kick_drift_avx2(v, x, f, h, dt_s, scale) };
-    }
-    kick_drift_body(v, x, f, h, dt_s, scale);
-}
-
-/// [`kick_drift_body`] compiled with AVX2 (no FMA: the same roundings).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn kick_drift_avx2(v: &mut [f64], x: &mut [f64], f: &[f64], h: f64, dt_s: f64, scale: f64) {
-    kick_drift_body(v, x, f, h, dt_s, scale);
-}
-
-#[inline(always)]
-fn kick_drift_body(v: &mut [f64], x: &mut [f64], f: &[f64], h: f64, dt_s: f64, scale: f64) {
-    for ((v, x), f) in v.iter_mut().zip(x).zip(f) {
-        *v = (*v + h * f) * scale;
-        *x += dt_s * *v;
     }
 }

@@ -40,6 +40,7 @@ mod profile;
 mod record;
 #[cfg(feature = "cli")]
 mod recover;
+mod resisting;
 mod statistics;
 #[cfg(feature = "cli")]
 mod stderr_lines;

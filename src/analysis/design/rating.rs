@@ -455,24 +455,25 @@ fn scene_speeds_rad_s(scene: &Scene) -> Result<Vec<f64>, RatingError> {
         .collect())
 }
 
-/// The power the scene's load torques absorb at `speeds`, Σ |τ_s| |ω_s|, W,
-/// each load taken as braking; an error naming what would give a power
-/// when they absorb none.
+/// The power the scene's load torques absorb at `speeds`,
+/// Σ (|τ_s| + T_s) |ω_s|, W, each load taken as braking and each resisting
+/// load T_s at its full size (the speeds are above its creep speed); an
+/// error naming what would give a power when they absorb none.
 fn load_power(scene: &Scene, speeds: &[f64]) -> Result<(f64, String), String> {
     let power: f64 = scene
         .sprockets
         .iter()
         .zip(speeds)
-        .map(|(s, w)| s.load_torque_n_m().abs() * w.abs())
+        .map(|(s, w)| (s.load_torque_n_m().abs() + s.resisting_torque_n_m()) * w.abs())
         .sum();
     if power > 0.0 {
         Ok((
             power,
-            "the scene's load torques at the driver's speed, sum of |load torque| x speed"
+            "the scene's load torques at the driver's speed, sum of (|load torque| + resisting torque) x speed"
                 .to_owned(),
         ))
     } else {
-        Err("no transmitted power: the scene has no load torque (sprockets.N.load_torque_n_m); give the power (--power-w) or run the scene (its summary's rating uses the run's driver power)".to_owned())
+        Err("no transmitted power: the scene has no load torque (sprockets.N.load_torque_n_m or resisting_torque_n_m); give the power (--power-w) or run the scene (its summary's rating uses the run's driver power)".to_owned())
     }
 }
 

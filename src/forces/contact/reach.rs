@@ -12,8 +12,12 @@ use crate::scene::MAX_SPROCKETS;
 /// c the distance from the roller's centre to the nearest reach circle's
 /// edge, v_max the chain's fastest roller at that moment. Within τ a roller
 /// could only cross that edge by more than doubling its speed plus the floor
-/// (5 m/s) within ≤ 1 ms — an acceleration beyond 5000 m/s², i.e. a blow-up.
-/// A roller within no reach circle costs nothing more until then; one within
+/// (5 m/s) within ≤ 5 ms — a speed gain of v_max + 5 m/s held for at most
+/// 5 ms, an acceleration beyond 1000 m/s² all along, which only a blow-up
+/// gives a roller that far from a sprocket (a roller near one has a short
+/// τ: c is small). The longest skip sets how often a roller in a free
+/// strand is measured again: every 100 steps at dt = 50 µs, every 500 at
+/// 10 µs. A roller within no reach circle costs nothing more until then; one within
 /// reach goes straight to its sprockets' contact loops. The oracle test
 /// `culling_changes_nothing` checks the bitwise equality of runs with and
 /// without it (without: every roller measured against every sprocket at
@@ -33,7 +37,7 @@ impl Default for Culling {
         Self {
             speed_factor: 2.0,
             speed_floor_m_s: 5.0,
-            max_skip_s: 1e-3,
+            max_skip_s: 5e-3,
         }
     }
 }
@@ -78,6 +82,14 @@ pub(super) struct Reach {
     earliest_s: f64,
     /// The earliest time in effect after the last pass (adopted on commit).
     pending_earliest_s: f64,
+    /// The earliest of `until_s` in each block of [`BLOCK`] rollers: a pass
+    /// skips a block whose time has not come without looking at its rollers.
+    block_until_s: Vec<f64>,
+    /// See `block_until_s`: the last pass's (adopted on commit).
+    pending_block_until_s: Vec<f64>,
+    /// Whether the last pass looked at the blocks (else it reused the
+    /// committed sets, and a commit keeps `block_until_s`).
+    scanned: bool,
     /// The last evaluation's stretches of rollers within reach.
     pub(super) runs: Buffer<Run>,
     /// The runs of the committed sets (`mask`).
@@ -94,6 +106,9 @@ impl Reach {
             pending_mask: vec![0; rollers],
             earliest_s: f64::NEG_INFINITY,
             pending_earliest_s: f64::NEG_INFINITY,
+            block_until_s: vec![f64::NEG_INFINITY; rollers.div_ceil(BLOCK)],
+            pending_block_until_s: vec![f64::NEG_INFINITY; rollers.div_ceil(BLOCK)],
+            scanned: false,
             // Room for a run per roller and sprocket pair in reach twice over:
             // the step loop does not allocate.
             runs: Buffer::with_capacity(2 * rollers + sprockets),
@@ -105,6 +120,8 @@ impl Reach {
     pub(super) fn reset(&mut self) {
         self.until_s.fill(f64::NEG_INFINITY);
         self.earliest_s = f64::NEG_INFINITY;
+        self.block_until_s.fill(f64::NEG_INFINITY);
+        self.scanned = false;
         self.mask.fill(0);
         self.remeasured.clear();
         self.committed_runs.clear();
@@ -127,6 +144,10 @@ impl Reach {
             .until_s
             .iter()
             .fold(f64::INFINITY, |m, &t| earlier(m, t));
+        for (b, block) in self.until_s.chunks(BLOCK).enumerate() {
+            self.block_until_s[b] = block.iter().fold(f64::INFINITY, |m, &t| earlier(m, t));
+        }
+        self.scanned = false;
         self.remeasured.clear();
         self.runs.clear();
         let n = self.mask.len();
@@ -145,6 +166,8 @@ impl Reach {
     pub(super) fn expire(&mut self) {
         self.until_s.fill(f64::NEG_INFINITY);
         self.earliest_s = f64::NEG_INFINITY;
+        self.block_until_s.fill(f64::NEG_INFINITY);
+        self.scanned = false;
     }
 
     /// Adopts the last pass's measurements.
@@ -155,6 +178,10 @@ impl Reach {
             self.mask[i] = self.pending_mask[i];
         }
         self.earliest_s = self.pending_earliest_s;
+        if self.scanned {
+            self.block_until_s
+                .copy_from_slice(&self.pending_block_until_s);
+        }
         self.remeasured.clear();
         self.committed_runs.clone_from(&self.runs);
     }
@@ -167,6 +194,7 @@ impl Reach {
         // No kept set has expired (two evaluations in three): the runs are
         // the committed ones.
         if s.t_s < self.earliest_s {
+            self.scanned = false;
             self.pending_earliest_s = self.earliest_s;
             self.runs.clone_from(&self.committed_runs);
             return;
@@ -211,23 +239,43 @@ impl Reach {
             self.remeasured.push(i as u32);
             changed |= mask != kept[i];
         };
-        let chunks = until.chunks_exact(4);
-        let tail = n - chunks.remainder().len();
-        for (c, u) in chunks.enumerate() {
-            let kept_all = (t < u[0]) & (t < u[1]) & (t < u[2]) & (t < u[3]);
-            if kept_all {
-                // All four are after t, none NaN: plain comparisons.
-                let first = |a: f64, b: f64| if b < a { b } else { a };
-                earliest = first(earliest, first(first(u[0], u[1]), first(u[2], u[3])));
-            } else {
-                for i in 4 * c..4 * c + 4 {
-                    measure(i, &mut earliest);
+        // Block by block: a block whose earliest time has not come keeps
+        // every set (most of a long chain's free strands), else its rollers
+        // four at a time, as above.
+        let block_until = &self.block_until_s[..];
+        let pending_block = &mut self.pending_block_until_s[..];
+        pending_block.copy_from_slice(block_until);
+        for (b, (&kept_until, pending)) in
+            block_until.iter().zip(pending_block.iter_mut()).enumerate()
+        {
+            if t < kept_until {
+                earliest = earliest.min(kept_until);
+                continue;
+            }
+            let (lo, hi) = (b * BLOCK, ((b + 1) * BLOCK).min(n));
+            let mut block_earliest = f64::INFINITY;
+            let chunks = until[lo..hi].chunks_exact(4);
+            let tail = hi - chunks.remainder().len();
+            for (c, u) in chunks.enumerate() {
+                let kept_all = (t < u[0]) & (t < u[1]) & (t < u[2]) & (t < u[3]);
+                if kept_all {
+                    // All four are after t, none NaN: plain comparisons.
+                    let first = |a: f64, b: f64| if b < a { b } else { a };
+                    block_earliest =
+                        first(block_earliest, first(first(u[0], u[1]), first(u[2], u[3])));
+                } else {
+                    for i in lo + 4 * c..lo + 4 * c + 4 {
+                        measure(i, &mut block_earliest);
+                    }
                 }
             }
+            for i in tail..hi {
+                measure(i, &mut block_earliest);
+            }
+            *pending = block_earliest;
+            earliest = earlier(earliest, block_earliest);
         }
-        for i in tail..n {
-            measure(i, &mut earliest);
-        }
+        self.scanned = true;
         self.pending_earliest_s = earliest;
         // Runs are a function of the sets alone: with no set changed they
         // are the committed ones.
@@ -251,6 +299,9 @@ impl Reach {
         stretch.close(n, &mut self.runs);
     }
 }
+
+/// Rollers per block of the reach pass's skip ([`Reach`]'s `block_until_s`).
+const BLOCK: usize = 64;
 
 /// The earlier of a running earliest time and `t`; a NaN `t` (a roller
 /// measured at a non-finite position) makes it −∞, so that every roller is
