@@ -2,9 +2,12 @@
 //! (by sprocket name or index), its coupling and its pose, then built into
 //! the user's world.
 
+use std::sync::Arc;
+
 use rapier2d_f64::prelude::*;
 
 use super::access::check_coupling;
+use super::settled::{self, Settled};
 use super::{ChainDrive, CosimError, Coupling};
 use crate::scene::Scene;
 
@@ -73,6 +76,7 @@ pub struct ChainDriveBuilder<'a> {
     mounts: Vec<(SprocketKey, RigidBodyHandle)>,
     coupling: Option<Coupling>,
     pose: Option<Pose>,
+    settled: Option<Arc<Settled>>,
 }
 
 impl ChainDrive {
@@ -91,6 +95,7 @@ impl<'a> ChainDriveBuilder<'a> {
             mounts: Vec::new(),
             coupling: None,
             pose: None,
+            settled: None,
         }
     }
 
@@ -118,6 +123,21 @@ impl<'a> ChainDriveBuilder<'a> {
     /// not (it is the world's). Default: the identity.
     pub fn insert_at(mut self, pose: Pose) -> Self {
         self.pose = Some(pose);
+        self
+    }
+
+    /// Starts the drive from `drive`'s static equilibrium, as it settled
+    /// when `drive` was built (whatever it has done since), instead of
+    /// settling anew: the same drive inserted again, into another world or
+    /// after [`ChainDrive::remove`], in microseconds per roller instead of
+    /// the solve's milliseconds to seconds. `drive` must have been built
+    /// from the same scene at the same pose ([`Self::build`] names the
+    /// mismatch otherwise). The rest state is `drive`'s: where no sprocket
+    /// of the scene is held (a driver), `drive`'s solve held one mounted
+    /// sprocket at rest (see [`ChainDrive::insert`]), and the loads stay
+    /// reacted there.
+    pub fn settled_from(mut self, drive: &ChainDrive) -> Self {
+        self.settled = Some(Arc::clone(&drive.settled));
         self
     }
 
@@ -170,7 +190,8 @@ impl<'a> ChainDriveBuilder<'a> {
     }
 
     /// Builds the drive into `world` (see [`ChainDrive::insert`] for what is
-    /// added and how mounts behave).
+    /// added, how mounts behave and what the static equilibrium costs;
+    /// nothing of it with [`Self::settled_from`]).
     pub fn build(self, world: &mut PhysicsWorld) -> Result<ChainDrive, CosimError> {
         self.build_in(&mut world.bodies, &mut world.colliders)
     }
@@ -193,7 +214,26 @@ impl<'a> ChainDriveBuilder<'a> {
             None => self.scene,
         };
         let mounts = self.resolve(scene)?;
-        let mut drive = ChainDrive::insert(scene, &mounts, bodies, colliders)?;
+        let settled = match self.settled {
+            Some(s) if s.given == *scene => s,
+            Some(s) => {
+                return Err(CosimError::input(
+                    "settled_from",
+                    format!(
+                        "the drive given was settled from scene {:?}{}, not from this builder's \
+                         scene and pose: settle from a drive of the same scene, placed alike",
+                        s.given.name,
+                        if s.given.name == scene.name {
+                            " (another version or pose)"
+                        } else {
+                            ""
+                        }
+                    ),
+                ));
+            }
+            None => settled::settle(scene, settled::held_for_the_solve(scene, &mounts, bodies))?,
+        };
+        let mut drive = ChainDrive::insert_settled(settled, &mounts, bodies, colliders)?;
         if let Some(c) = self.coupling {
             drive.coupling = c;
             drive.apply_tooth_tips();

@@ -112,6 +112,7 @@ mod observe;
 mod parking;
 mod seam;
 mod set;
+mod settled;
 
 pub use bodies::Coupling;
 pub use builder::{ChainDriveBuilder, SprocketKey};
@@ -134,8 +135,7 @@ use crate::model::rapier::sprocket_shape;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{Scene, SpeedLaw};
 use crate::sim::{
-    BlowUpLimits, SimError, Simulation, StaticEquilibrium, check_blow_up,
-    symplectic_euler_with_links,
+    BlowUpLimits, SimError, StaticEquilibrium, check_blow_up, symplectic_euler_with_links,
 };
 
 use error::at_coupling_limit;
@@ -188,6 +188,9 @@ pub struct ChainDrive {
     notes: Notes,
     /// Wall time spent per stage, accumulated over frames.
     stage_times: FrameTimes,
+    /// The drive as it settled, before insertion: inserted again by
+    /// [`ChainDriveBuilder::settled_from`] without settling anew.
+    settled: std::sync::Arc<settled::Settled>,
 }
 
 /// Wall time of a drive's stages, summed over frames, s.

@@ -28,6 +28,7 @@ mod fatigue;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;
+mod insertion;
 mod integrators;
 mod layering;
 #[cfg(feature = "cli")]
