@@ -72,7 +72,8 @@ fn ansi_tensile_strengths_are_12500_p_squared_lbf() {
     const LBF_N: f64 = 4.448_221_615_260_5;
     let mut checked = 0;
     for d in DESIGNATIONS.iter().filter(|d| d.name.starts_with("ANSI")) {
-        if d.name == "ANSI 41" {
+        // No. 41 is lightweight; the heavy rows are a maker's catalogue's.
+        if d.name == "ANSI 41" || d.name.ends_with('H') {
             continue;
         }
         let p_in = d.pitch_m / INCH_M;

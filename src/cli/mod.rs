@@ -61,7 +61,7 @@ enum Command {
     /// Move one sprocket until the chain fits its path exactly; print the
     /// position and write the fitted scene.
     Fit(fit::FitArgs),
-    /// List the chains known by designation (ISO 606 B series, ANSI) with
+    /// List the chains known by designation (ISO 606 B series, ANSI, ANSI heavy) with
     /// each value's source.
     Chains(chains::ChainsArgs),
     /// The chain's catalogue power rating at the scene's speeds (ANSI

@@ -23,6 +23,14 @@
 //!   standard's minimum tensile strengths as remembered), 56B to 72B's mass
 //!   and inner width, and every B-series plate thickness are marked
 //!   **estimate** in their row.
+//! - **ANSI heavy** rows (60H to 240H: the standard chain's pitch, roller
+//!   and pin with thicker link plates) are typed in millimetres from the
+//!   Donghua "Drive Chains 2020" catalogue, heavy duty series simplex table
+//!   (pp. 244–245): pitch, roller diameter, inner width, pin diameter, inner
+//!   plate depth, plate thickness, minimum tensile strength and mass per
+//!   metre. Its plate thicknesses are the next larger standard size's
+//!   (B29.1's 80 has 0.125 in = 3.175 mm, the catalogue's 60H 3.25 mm; 240H
+//!   0.500 in), to within 0.08 mm for 60H to 200H.
 //!
 //! **Stiffness estimate.** A link's two side plates in tension, through their
 //! net section at the pin hole: K = η E A / P with A = 2 t (h₂ − d₂),
@@ -50,6 +58,11 @@ const AMETRIC: &str = "Ametric catalogue, Standard Metric Roller Chain (DIN 8180
 const ISO_ESTIMATE: &str = "estimate (ISO 606 Table 1 as remembered; no printed copy read)";
 /// B-series plate thickness.
 const PLATE_ESTIMATE: &str = "estimate (no catalogue found)";
+/// The heavy series' maker's table.
+const DONGHUA_HEAVY: &str =
+    "Donghua Drive Chains 2020 catalogue, heavy duty series simplex table (pp. 244-245)";
+/// The heavy series' plates, and how they compare with the standard series.
+const DONGHUA_HEAVY_PLATE: &str = "Donghua Drive Chains 2020 catalogue, heavy duty series simplex table (pp. 244-245), T max: the next larger standard size's B29.1 thickness to within 0.08 mm";
 
 /// Where each of a row's values comes from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -321,7 +334,42 @@ const fn iso(
     }
 }
 
-/// Every designation known, ISO 606 B series then ANSI, by pitch.
+/// An ANSI heavy row as the Donghua catalogue prints it, in millimetres,
+/// kg/m and kN: pitch, roller diameter, inner width, pin diameter, inner
+/// plate depth, plate thickness, mass per metre, minimum tensile strength.
+#[allow(clippy::too_many_arguments)]
+const fn heavy(
+    name: &'static str,
+    p_mm: f64,
+    d1_mm: f64,
+    b1_mm: f64,
+    d2_mm: f64,
+    h2_mm: f64,
+    t_mm: f64,
+    q_kg_m: f64,
+    f_kn: f64,
+) -> Designation {
+    Designation {
+        name,
+        pitch_m: p_mm * 1e-3,
+        roller_diameter_m: d1_mm * 1e-3,
+        inner_width_m: b1_mm * 1e-3,
+        pin_diameter_m: d2_mm * 1e-3,
+        plate_depth_m: h2_mm * 1e-3,
+        plate_thickness_m: t_mm * 1e-3,
+        mass_per_m_kg: q_kg_m,
+        tensile_strength_n: f_kn * 1e3,
+        sources: Sources {
+            dimensions: DONGHUA_HEAVY,
+            pin_and_plate_depth: DONGHUA_HEAVY,
+            plate_thickness: DONGHUA_HEAVY_PLATE,
+            mass: DONGHUA_HEAVY,
+            strength: DONGHUA_HEAVY,
+        },
+    }
+}
+
+/// Every designation known, ISO 606 B series, ANSI, then ANSI heavy, by pitch.
 #[rustfmt::skip]
 pub const DESIGNATIONS: &[Designation] = &[
     //   name              P       d1     b1     d2     h2      t      kg/m   kN    checked
@@ -355,6 +403,16 @@ pub const DESIGNATIONS: &[Designation] = &[
     ansi("ANSI 180", 2.250, 1.406, 1.406, 0.687,  0.281,  63280.0, 8.70),
     ansi("ANSI 200", 2.500, 1.562, 1.500, 0.781,  0.312,  78125.0, 10.51),
     ansi("ANSI 240", 3.000, 1.875, 1.875, 0.937,  0.375, 112500.0, 16.90),
+    //     name         P       d1     b1     d2     h2     T      kg/m   kN
+    heavy("ANSI 60H",  19.050, 11.91, 12.57,  5.94, 18.00,  3.25,  1.87,  31.80),
+    heavy("ANSI 80H",  25.400, 15.88, 15.75,  7.92, 24.00,  4.00,  3.10,  56.70),
+    heavy("ANSI 100H", 31.750, 19.05, 18.90,  9.53, 30.00,  4.80,  4.52,  88.50),
+    heavy("ANSI 120H", 38.100, 22.23, 25.22, 11.10, 35.70,  5.60,  6.60, 127.00),
+    heavy("ANSI 140H", 44.450, 25.40, 25.22, 12.70, 41.00,  6.40,  8.30, 172.40),
+    heavy("ANSI 160H", 50.800, 28.58, 31.55, 14.27, 47.80,  7.20, 10.30, 226.80),
+    heavy("ANSI 180H", 57.150, 35.71, 35.48, 17.46, 53.60,  8.00, 14.83, 281.00),
+    heavy("ANSI 200H", 63.500, 39.68, 37.85, 19.85, 60.00,  9.50, 19.16, 353.80),
+    heavy("ANSI 240H", 76.200, 47.63, 47.35, 23.81, 72.39, 12.70, 30.40, 510.30),
 ];
 
 /// A designation's canonical spelling for comparison: upper case, no
@@ -453,18 +511,19 @@ pub fn lookup(name: &str) -> Result<Stranded, String> {
     Ok(Stranded { single, strands })
 }
 
-/// Why a name of a known family is not in the table: ANSI heavy chains
-/// ("80H") and motorcycle chains ("520", "525", "530") have no row yet
-/// (docs/design-checks.md, “Chain data”); empty for any other name.
+/// Why a name of a known family is not in the table: motorcycle chains
+/// ("520", "525", "530", "520H") have no row, and the heavy series has rows
+/// from 60H to 240H only (docs/design-checks.md, “Chain data”); empty for
+/// any other name.
 fn not_tabled(key: &str) -> &'static str {
     let digits = key.strip_suffix('H').unwrap_or(key);
     let numeric = !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit());
-    if numeric && key.ends_with('H') {
-        " (ANSI heavy chains are not in the table: give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m, or the standard chain of the same size)"
-    } else if numeric && key.len() == 3 && matches!(key.as_bytes()[0], b'4' | b'5' | b'6') {
+    if numeric && digits.len() == 3 && matches!(digits.as_bytes()[0], b'4' | b'5' | b'6') {
         // Three digits from 4xx to 6xx: no ANSI number has them (100 to
         // 240), every motorcycle chain does (420, 520, 530, 630).
-        " (motorcycle chains are not in the table: their strengths are each maker's; give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m)"
+        " (motorcycle chains are not in the table: no maker's table of their pin diameter, plate thickness, mass and strength was found; give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m)"
+    } else if numeric && key.ends_with('H') {
+        " (the table's ANSI heavy chains are 60H to 240H: give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m, or the standard chain of the same size)"
     } else {
         ""
     }

@@ -24,7 +24,8 @@ fn every_pitch_follows_from_its_name() {
             let n: f64 = rest.trim_end_matches("B-1").parse().expect("a number");
             if n == 5.0 { 8.0e-3 } else { n / 16.0 * INCH_M }
         } else {
-            let number = d.name.trim_start_matches("ANSI ");
+            // A heavy chain ("80H") has its standard chain's pitch.
+            let number = d.name.trim_start_matches("ANSI ").trim_end_matches('H');
             let eighths: f64 = number[..number.len() - 1].parse().expect("a number");
             eighths / 8.0 * INCH_M
         };
@@ -124,16 +125,51 @@ fn unchecked_values_are_marked_as_estimates() {
     }
 }
 
-/// Both families are covered from end to end: ISO 606 05B to 72B and
-/// ANSI 25 to 240; every row is a physical chain (pin inside the roller,
+/// The families are covered from end to end: ISO 606 05B to 72B,
+/// ANSI 25 to 240 and the heavy 60H to 240H; every row is a physical chain (pin inside the roller,
 /// roller inside the pitch, pin inside the plate) with a positive mass and
 /// stiffness, and its sources named.
 #[test]
 fn the_table_covers_both_families() {
     for name in [
-        "05B", "06B", "08B", "10B", "12B", "16B", "20B", "24B", "28B", "32B", "40B", "48B", "56B",
-        "64B", "72B", "ANSI 25", "ANSI 35", "ANSI 40", "ANSI 41", "ANSI 50", "ANSI 60", "ANSI 80",
-        "ANSI 100", "ANSI 120", "ANSI 140", "ANSI 160", "ANSI 180", "ANSI 200", "ANSI 240",
+        "05B",
+        "06B",
+        "08B",
+        "10B",
+        "12B",
+        "16B",
+        "20B",
+        "24B",
+        "28B",
+        "32B",
+        "40B",
+        "48B",
+        "56B",
+        "64B",
+        "72B",
+        "ANSI 25",
+        "ANSI 35",
+        "ANSI 40",
+        "ANSI 41",
+        "ANSI 50",
+        "ANSI 60",
+        "ANSI 80",
+        "ANSI 100",
+        "ANSI 120",
+        "ANSI 140",
+        "ANSI 160",
+        "ANSI 180",
+        "ANSI 200",
+        "ANSI 240",
+        "ANSI 60H",
+        "80H",
+        "100H",
+        "120H",
+        "140H",
+        "160H",
+        "180H",
+        "200H",
+        "ansi 240h",
     ] {
         assert!(find(name).is_some(), "{name}");
     }
@@ -274,7 +310,8 @@ fn multi_strand_chains_scale_as_the_catalogues_print() {
 }
 
 /// A strand count beyond the rating's factors, a multi-strand No. 41 and a
-/// name the table does not hold (a motorcycle or heavy chain) are errors
+/// name the table does not hold (a motorcycle chain, a heavy chain smaller
+/// than 60H) are errors
 /// that say what is allowed, and a scene names the field.
 #[test]
 fn strand_counts_and_families_outside_the_table_are_clear_errors() {
@@ -285,7 +322,7 @@ fn strand_counts_and_families_outside_the_table_are_clear_errors() {
     );
     let e = lookup("ANSI 41-2").expect_err("41 is single only");
     assert!(e.contains("single strand only"), "{e}");
-    for name in ["520H", "520", "80H", "ANSI 530", "16X"] {
+    for name in ["520H", "520", "50H", "ANSI 530", "16X"] {
         let e = lookup(name).expect_err(name);
         assert!(
             e.contains("unknown designation") && e.contains("nearest"),
@@ -296,7 +333,8 @@ fn strand_counts_and_families_outside_the_table_are_clear_errors() {
     for (name, family) in [
         ("520", "motorcycle"),
         ("525", "motorcycle"),
-        ("80H", "heavy"),
+        ("520H", "motorcycle"),
+        ("50H", "60H to 240H"),
     ] {
         let e = lookup(name).expect_err(name);
         assert!(e.contains(family) && e.contains("chain.pitch_m"), "{e}");
@@ -368,4 +406,144 @@ fn a_two_strand_designation_reaches_the_rating_and_the_fatigue_check() {
     );
     approx::assert_relative_eq!(sn2.tensile_strength_n, 120e3, max_relative = 1e-12);
     assert!(basis.contains("multiple-strand factor 1.7"), "{basis}");
+}
+
+/// ANSI heavy rows against the Donghua "Drive Chains 2020" catalogue, heavy
+/// duty series simplex table (pp. 244–245), typed here in millimetres, kg/m
+/// and kN: pitch P, roller d₁, inner width b₁, pin d₂, inner plate depth h₂,
+/// plate thickness T, mass q, minimum tensile strength Q_min. The 80H is
+/// checked against a second maker: the Mecha catalogue's 16H1 (ASA 80
+/// heavy) weighs 3.10 kg/m and breaks at 56,700 N at least.
+#[test]
+fn heavy_rows_match_the_donghua_catalogue() {
+    let typed = [
+        // name        P       d1     b1     d2     h2     T      kg/m   kN
+        (
+            "ANSI 60H", 19.050, 11.91, 12.57, 5.94, 18.00, 3.25, 1.87, 31.80,
+        ),
+        (
+            "ANSI 80H", 25.400, 15.88, 15.75, 7.92, 24.00, 4.00, 3.10, 56.70,
+        ),
+        (
+            "ANSI 120H",
+            38.100,
+            22.23,
+            25.22,
+            11.10,
+            35.70,
+            5.60,
+            6.60,
+            127.00,
+        ),
+        (
+            "ANSI 160H",
+            50.800,
+            28.58,
+            31.55,
+            14.27,
+            47.80,
+            7.20,
+            10.30,
+            226.80,
+        ),
+        (
+            "ANSI 200H",
+            63.500,
+            39.68,
+            37.85,
+            19.85,
+            60.00,
+            9.50,
+            19.16,
+            353.80,
+        ),
+        (
+            "ANSI 240H",
+            76.200,
+            47.63,
+            47.35,
+            23.81,
+            72.39,
+            12.70,
+            30.40,
+            510.30,
+        ),
+    ];
+    for (name, p, d1, b1, d2, h2, t, q, f) in typed {
+        let d = find(name).unwrap_or_else(|| panic!("{name} in the table"));
+        let mm = |m: f64| m * 1e3;
+        assert!((mm(d.pitch_m) - p).abs() < 5e-4, "{name} P");
+        assert!((mm(d.roller_diameter_m) - d1).abs() < 5e-3, "{name} d1");
+        assert!((mm(d.inner_width_m) - b1).abs() < 5e-3, "{name} b1");
+        assert!((mm(d.pin_diameter_m) - d2).abs() < 5e-3, "{name} d2");
+        assert!((mm(d.plate_depth_m) - h2).abs() < 5e-3, "{name} h2");
+        assert!((mm(d.plate_thickness_m) - t).abs() < 5e-3, "{name} T");
+        assert!((d.mass_per_m_kg - q).abs() < 5e-3, "{name} q");
+        assert!((d.tensile_strength_n - f * 1e3).abs() < 1.0, "{name} Q");
+        assert!(d.sources.dimensions.contains("Donghua"), "{name}");
+        assert!(d.sources.strength.contains("Donghua"), "{name}");
+    }
+    let d = find("80H").expect("80H");
+    assert!((d.mass_per_m_kg - 3.10).abs() < 5e-3);
+    assert!((d.tensile_strength_n - 56_700.0).abs() < 1.0);
+}
+
+/// A heavy chain's plates are the next larger standard size's: B29.1's link
+/// plate thickness of ANSI 80, 100, …, 240 (0.125, 0.156, 0.187, 0.219,
+/// 0.250, 0.281, 0.312, 0.375 in, typed from the B29.1 table) against the
+/// catalogue's 60H to 200H, within 0.08 mm; 240H's 12.70 mm is 0.500 in.
+/// Its pitch, roller and pin are its standard chain's (B29.1: 80's roller
+/// 0.625 in, pin 0.312 in).
+#[test]
+fn heavy_plates_are_the_next_larger_sizes() {
+    for (heavy, next_lpt_in) in [
+        ("60H", 0.125),
+        ("80H", 0.156),
+        ("100H", 0.187),
+        ("120H", 0.219),
+        ("140H", 0.250),
+        ("160H", 0.281),
+        ("180H", 0.312),
+        ("200H", 0.375),
+        ("240H", 0.500),
+    ] {
+        let t_mm = find(heavy).expect(heavy).plate_thickness_m * 1e3;
+        assert!(
+            (t_mm - next_lpt_in * 25.4).abs() < 0.08,
+            "{heavy}: {t_mm} mm against {next_lpt_in} in"
+        );
+    }
+    let d = find("80H").expect("80H");
+    assert!((d.roller_diameter_m / INCH_M - 0.625).abs() < 5e-4);
+    assert!((d.pin_diameter_m / INCH_M - 0.312).abs() < 5e-4);
+}
+
+/// The heavy plates' stiffness by hand, 80H (T = 4.00 mm, h₂ = 24.00 mm,
+/// d₂ = 7.92 mm, P = 25.4 mm): A = 2 · 4.00 · 16.08 = 128.64 mm², E A / P =
+/// 206e3 · 128.64 / 25.4 N/mm = 1.04330e9 N/m, a third of it 3.4777e8 N/m;
+/// the standard 80 (t = 3.175 mm, h₂ = 0.95 · 25.4 = 24.13 mm, d₂ = 7.9248
+/// mm): A = 102.903 mm², 2.7819e8 N/m. Two strands of 80H: n × 56.70 kN =
+/// 113.40 kN, as the catalogue's duplex table prints 80H-2 (and its
+/// triplex 80H-3 at 170.1 kN).
+#[test]
+fn a_heavy_chain_is_stiffer_and_comes_in_strands() {
+    approx::assert_relative_eq!(
+        find("80H").expect("80H").stiffness_n_m(),
+        3.4777e8,
+        max_relative = 1e-4
+    );
+    approx::assert_relative_eq!(
+        find("80").expect("80").stiffness_n_m(),
+        2.7819e8,
+        max_relative = 1e-4
+    );
+    let c = lookup("ANSI 80H-2").expect("80H-2");
+    assert_eq!((c.single.name, c.strands), ("ANSI 80H", 2));
+    assert_eq!(c.name(), "ANSI 80H-2");
+    approx::assert_relative_eq!(c.tensile_strength_n(), 113_400.0, max_relative = 1e-9);
+    let c = lookup("80h-3").expect("80H-3");
+    approx::assert_relative_eq!(c.tensile_strength_n(), 170_100.0, max_relative = 1e-9);
+    // The catalogue's multi-strand heavy tables print the standard chain's
+    // strand spacing: none is listed for a heavy chain.
+    assert!(transverse_pitch_m(c.single).is_none());
 }

@@ -1,16 +1,18 @@
 //! The fatigue check on whole runs: the summary's `fatigue` block where the
 //! chain has a designation, none where it has not, and its numbers against
 //! bounds from the run's own link-force extremes and the rating's formula
-//! (docs/design-checks.md, "Fatigue").
+//! (docs/design-checks.md, "Fatigue"). The blocks are read as a user reads
+//! them: in the summary's JSON.
 
-use chaindrive::analysis::design::Life;
+use serde_json::Value;
+
 use chaindrive::analysis::{RunSummary, StatsWindow};
 use chaindrive::scene::{L60MC_TOML, Overrides, Scene};
 use chaindrive::sim::{SampleRate, Simulation};
 
 /// The summary of `text` run for `duration_s`, statistics (and the
-/// fatigue count) over its last `window_s`.
-fn run(text: &str, duration_s: f64, window_s: f64) -> RunSummary {
+/// fatigue count) over its last `window_s`, as its JSON.
+fn run(text: &str, duration_s: f64, window_s: f64) -> Value {
     let scene = Scene::from_toml_with(
         text,
         &Overrides {
@@ -26,7 +28,27 @@ fn run(text: &str, duration_s: f64, window_s: f64) -> RunSummary {
     let out = sim
         .run(duration_s, sampling.every, &mut signals, None)
         .expect("run");
-    RunSummary::of_run_in(&sim, &out, &signals, 0.0, &window)
+    let summary = RunSummary::of_run_in(&sim, &out, &signals, 0.0, &window);
+    serde_json::to_value(&summary).expect("a summary is JSON")
+}
+
+/// A number of the summary's JSON at `path` ("fatigue/life_h").
+fn num(v: &Value, path: &str) -> f64 {
+    v.pointer(&format!("/{path}"))
+        .and_then(Value::as_f64)
+        .unwrap_or_else(|| panic!("{path} is a number in {v}"))
+}
+
+/// The summary's warnings.
+fn warnings(v: &Value) -> Vec<String> {
+    v["warnings"]
+        .as_array()
+        .map(|w| {
+            w.iter()
+                .filter_map(|x| x.as_str().map(str::to_owned))
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// The paper's drive with the ISO 606 56B-1 chain its dimensions match
@@ -47,10 +69,9 @@ fn paper_56b() -> String {
 #[test]
 fn the_papers_drive_at_120_rpm_has_an_infinite_fatigue_life() {
     let s = run(&paper_56b(), 1.6, 0.5);
-    let f = s.fatigue.as_ref().expect("a fatigue block");
-    assert_eq!(f.life_h, Life::Infinite);
-    assert_eq!(f.damage_per_hour, 0.0);
-    assert_eq!(f.links, 122);
+    assert_eq!(s["fatigue"]["life_h"], "infinite");
+    assert_eq!(num(&s, "fatigue/damage_per_hour"), 0.0);
+    assert_eq!(num(&s, "fatigue/links"), 122.0);
     // The fatigue limit by hand: the link-plate rating H₁ = 0.004 N₁^1.08
     // n₁^0.9 p^(3 − 0.07 p) hp (p = 3.5 in) on the 28-tooth tightener at
     // the speed n₁ = 5·10⁶ · 120 / (15,000 · 60 · 28) = 23.8 rpm that gives
@@ -63,22 +84,24 @@ fn the_papers_drive_at_120_rpm_has_an_infinite_fatigue_life() {
         * n1.powf(0.9)
         * 3.5f64.powf(3.0 - 0.07 * 3.5);
     let v_m_s = 28.0 * 0.0889 * n1 / 60.0;
-    approx::assert_relative_eq!(f.fatigue_limit_n, h1_w / v_m_s, max_relative = 1e-9);
-    approx::assert_relative_eq!(f.fatigue_limit_n, 60_370.0, max_relative = 1e-3);
-    approx::assert_relative_eq!(f.counted_s, 0.5, max_relative = 1e-3);
-    let (lo, hi) = (s.link_force_min_n.max(0.0), s.link_force_max_n);
-    let fu = f.tensile_strength_n;
+    let limit = num(&s, "fatigue/fatigue_limit_n");
+    approx::assert_relative_eq!(limit, h1_w / v_m_s, max_relative = 1e-9);
+    approx::assert_relative_eq!(limit, 60_370.0, max_relative = 1e-3);
+    approx::assert_relative_eq!(num(&s, "fatigue/counted_s"), 0.5, max_relative = 1e-3);
+    let (lo, hi) = (
+        num(&s, "link_force_min_n").max(0.0),
+        num(&s, "link_force_max_n"),
+    );
+    let fu = num(&s, "fatigue/tensile_strength_n");
     let reversed = 0.5 * (hi - lo) / (1.0 - 0.5 * (hi + lo) / fu);
     let bound = 2.0 * reversed / (1.0 + reversed / fu);
+    let largest = num(&s, "fatigue/largest_cycle_n");
     assert!(
-        f.largest_cycle_n > 0.0 && f.largest_cycle_n <= bound * (1.0 + 1e-12),
-        "{} against {bound}",
-        f.largest_cycle_n
+        largest > 0.0 && largest <= bound * (1.0 + 1e-12),
+        "{largest} against {bound}"
     );
-    assert!(f.fatigue_safety_factor.expect("cycles") > 1.0);
-    let json = serde_json::to_value(&s).expect("json");
-    assert_eq!(json["fatigue"]["life_h"], "infinite");
-    assert!(s.warnings.iter().all(|w| !w.starts_with("fatigue")));
+    assert!(num(&s, "fatigue/fatigue_safety_factor") > 1.0);
+    assert!(warnings(&s).iter().all(|w| !w.starts_with("fatigue")));
 }
 
 /// The paper's drive as written has no designation, hence no tensile
@@ -86,11 +109,16 @@ fn the_papers_drive_at_120_rpm_has_an_infinite_fatigue_life() {
 #[test]
 fn a_chain_without_designation_gets_no_fatigue_block() {
     let s = run(L60MC_TOML, 1.2, 0.1);
-    assert!(s.fatigue.is_none());
-    let notes = &s.rating.as_ref().expect("a rating").notes;
+    assert!(
+        s.get("fatigue").is_none_or(Value::is_null),
+        "{}",
+        s["fatigue"]
+    );
+    let notes = s["rating"]["notes"].as_array().expect("the rating's notes");
     assert!(
         notes
             .iter()
+            .filter_map(Value::as_str)
             .any(|n| n.contains("chain.designation") && n.contains("fatigue")),
         "{notes:?}"
     );
@@ -109,28 +137,44 @@ const MOTO: &str = include_str!("../data/moto_10b_15_44_560nm.toml");
 #[test]
 fn the_overloaded_motorcycle_drive_has_a_finite_life_and_a_warning() {
     let s = run(MOTO, 0.45, 0.2);
-    let f = s.fatigue.as_ref().expect("a fatigue block");
-    let hours = f.life_h.hours().expect("finite");
+    let hours = num(&s, "fatigue/life_h");
     assert!(hours > 0.0 && hours < 15_000.0, "{hours}");
-    approx::assert_relative_eq!(hours * f.damage_per_hour, 1.0, max_relative = 1e-12);
-    assert!(f.largest_cycle_n > f.fatigue_limit_n);
-    let lasts = f.knee_cycles * (f.fatigue_limit_n / f.largest_cycle_n).powf(f.sn_slope);
+    approx::assert_relative_eq!(
+        hours * num(&s, "fatigue/damage_per_hour"),
+        1.0,
+        max_relative = 1e-12
+    );
+    let (largest, limit) = (
+        num(&s, "fatigue/largest_cycle_n"),
+        num(&s, "fatigue/fatigue_limit_n"),
+    );
+    assert!(largest > limit);
+    let lasts =
+        num(&s, "fatigue/knee_cycles") * (limit / largest).powf(num(&s, "fatigue/sn_slope"));
     assert!(lasts < 1e3, "{lasts}");
+    let notes = &s["fatigue"]["notes"];
     assert_eq!(
         lasts < 1e3,
-        f.notes.iter().any(|n| n.contains("far overloaded")),
-        "{lasts} cycles: {:?}",
-        f.notes
-    );
-    let at = f.least_life_at.as_ref().expect("a place");
-    assert!(at.damage_share > 0.0 && at.damage_share <= 1.0);
-    assert!(at.segment.is_some() != at.sprocket.is_some(), "{at:?}");
-    assert!(
-        s.warnings
+        notes.as_array().is_some_and(|n| n
             .iter()
-            .any(|w| w.starts_with("fatigue") && w.contains(&at.text)),
+            .filter_map(Value::as_str)
+            .any(|n| n.contains("far overloaded"))),
+        "{lasts} cycles: {notes}"
+    );
+    let at = &s["fatigue"]["least_life_at"];
+    let share = num(at, "damage_share");
+    assert!(share > 0.0 && share <= 1.0);
+    assert!(
+        at.get("segment").is_some() != at.get("sprocket").is_some(),
+        "{at}"
+    );
+    let text = at["text"].as_str().expect("in words");
+    assert!(
+        warnings(&s)
+            .iter()
+            .any(|w| w.starts_with("fatigue") && w.contains(text)),
         "{:?}",
-        s.warnings
+        warnings(&s)
     );
 }
 
@@ -140,14 +184,63 @@ fn the_overloaded_motorcycle_drive_has_a_finite_life_and_a_warning() {
 fn the_scenes_checks_give_their_own_curve_or_a_clear_error() {
     let own = format!("{MOTO}\n[checks]\nfatigue_limit_n = 50000.0\nsn_slope = 5.0\n");
     let s = run(&own, 0.3, 0.05);
-    let f = s.fatigue.as_ref().expect("a fatigue block");
-    assert_eq!((f.fatigue_limit_n, f.sn_slope), (50_000.0, 5.0));
-    assert!(f.basis.contains("checks.fatigue_limit_n"), "{}", f.basis);
-    assert_eq!(f.life_h, Life::Infinite);
+    assert_eq!(
+        (
+            num(&s, "fatigue/fatigue_limit_n"),
+            num(&s, "fatigue/sn_slope")
+        ),
+        (50_000.0, 5.0)
+    );
+    let basis = s["fatigue"]["basis"].as_str().expect("a basis");
+    assert!(basis.contains("checks.fatigue_limit_n"), "{basis}");
+    assert_eq!(s["fatigue"]["life_h"], "infinite");
     let bad = format!("{MOTO}\n[checks]\nsn_slope = 50.0\n");
     let e = Scene::from_toml(&bad).expect_err("refused").to_string();
     assert!(
         e.contains("checks.sn_slope") && e.contains("2 to 30"),
         "{e}"
     );
+}
+
+const HEAVY_80H: &str = include_str!("../data/designation_80h.toml");
+
+/// An ANSI 80H drive (Donghua's heavy duty table: 56.7 kN) run as a user
+/// would, its rating and safety factors against hand values. The 19-tooth
+/// driver at 300 rpm, p = 1 in: H₁ = 0.004 · 19^1.08 · 300^0.9 hp =
+/// 0.004 · 24.048 · 169.59 = 16.314 hp = 12.165 kW, the standard 80's (the
+/// heavy plates are not credited); H₂ = 17,000 · 19^1.5 / 300^1.5 = 271 hp.
+/// Transmitted: 600 N·m at 150 rpm (15.708 rad/s) = 9.425 kW, margin
+/// 12.165 / 9.425 = 1.291. The tight strand carries the load over the
+/// 38-tooth pitch radius 25.4 mm / (2 sin(π/38)) = 153.79 mm, 3,901 N, on
+/// top of the slack strand's tension; the largest link force is at least
+/// that, so the static safety factor is at most 56.7 / 3.901 = 14.5.
+#[test]
+fn a_heavy_chain_drive_is_rated_and_checked_by_hand() {
+    let s = run(HEAVY_80H, 0.6, 0.3);
+    let r = &s["rating"];
+    assert_eq!(r["designation"], "ANSI 80H");
+    let basis = r["basis"].as_str().expect("a basis");
+    assert!(basis.contains("heavy"), "{basis}");
+    approx::assert_relative_eq!(
+        num(r, "link_plate_limited_power_w"),
+        12_165.0,
+        max_relative = 1e-3
+    );
+    approx::assert_relative_eq!(num(r, "rated_power_w"), 12_165.0, max_relative = 1e-3);
+    approx::assert_relative_eq!(num(r, "margin"), 1.291, max_relative = 0.01);
+    assert_eq!(num(r, "tensile_strength_n"), 56_700.0);
+    let sf = num(r, "static_safety_factor");
+    approx::assert_relative_eq!(
+        sf,
+        56_700.0 / num(&s, "link_force_max_n"),
+        max_relative = 1e-9
+    );
+    assert!(sf > 1.0 && sf <= 56_700.0 / 3_901.0, "{sf}");
+    // The strands' mean forces: tight minus slack is the load over the
+    // pitch radius, 3,901 N, within 1 %.
+    let means: Vec<f64> = (0..2)
+        .map(|i| num(&s, &format!("segments/{i}/mean_link_force_n")))
+        .collect();
+    let (slack, tight) = (means[0].min(means[1]), means[0].max(means[1]));
+    approx::assert_relative_eq!(tight - slack, 3_901.0, max_relative = 0.01);
 }

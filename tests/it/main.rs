@@ -24,6 +24,7 @@ mod cosim_multi;
 mod detectors;
 #[cfg(feature = "cli")]
 mod docs_drift;
+mod fatigue;
 #[cfg(feature = "cli")]
 mod figures;
 mod fit;

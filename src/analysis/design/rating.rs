@@ -311,10 +311,15 @@ fn basis_of(designation: Option<&Designation>, pitch_m: f64) -> (ChainClass, Str
     };
     let text = match designation {
         Some(d) if d.name.starts_with("ANSI") => format!(
-            "{}: the ANSI horsepower-table formulas with K = {}, K_r = {}{beyond}",
+            "{}: the ANSI horsepower-table formulas with K = {}, K_r = {}{}{beyond}",
             d.name,
             class.link_plate_k(),
-            class.roller_bushing_kr()
+            class.roller_bushing_kr(),
+            if d.name.ends_with('H') {
+                " of the standard chain of its pitch (no separate rating read for the heavy series; its thicker plates are not credited)"
+            } else {
+                ""
+            }
         ),
         Some(d) => format!(
             "{}: no published rating method read for ISO 606 B-series chains; rated by the ANSI formulas at its own pitch ({pitch_in:.3} in) with the standard roller chains' constants (K = 0.004, K_r = 17), as the ANSI chain of that pitch, since both are bush-and-roller chains of the same construction{beyond}",

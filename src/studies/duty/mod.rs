@@ -173,6 +173,10 @@ impl DutyCycle {
         let mut plan = toml::Table::new();
         plan.insert("scene".into(), "scene.toml".into());
         plan.insert("responses".into(), "all".into());
+        // A point's sample rate follows its driver speed, as a sweep's
+        // does: at 1 kHz a 15-tooth sprocket at 4000 rpm (1 kHz teeth)
+        // would alias every sampled statistic.
+        plan.insert("sample_by_speed".into(), true.into());
         if let Some(d) = settings.duration_s {
             let mut set = toml::Table::new();
             set.insert("solver.duration_s".into(), d.into());

@@ -24,7 +24,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Study, StudyError};
 use crate::analysis::{RunSummary, Signals, StatsWindow};
-use crate::scene::Scene;
+use crate::scene::{Role, Scene};
 use crate::sim::checkpoint::{
     Checkpoint, next_checkpoint_s, read_checkpoint, run_is_done, write_checkpoint,
 };
@@ -33,6 +33,34 @@ use crate::studies::queue::WorkQueue;
 
 /// Sampling rate of a case's signals, Hz (as `chaindrive run`'s default).
 pub(crate) const RATE_HZ: f64 = 1000.0;
+
+/// How a case samples its signals: at [`RATE_HZ`], or with `by_speed` (the
+/// plan's `sample_by_speed`) as a sweep does at the driver's fastest speed
+/// (its run-up's end if faster): at least 1 kHz and 16 samples per period of
+/// twice the largest tooth count ([`crate::studies::sweep::sampling_for`]).
+/// A scene without a driver takes [`RATE_HZ`].
+pub(crate) fn case_sampling(scene: &Scene, by_speed: bool) -> Result<SampleRate, String> {
+    let dt_s = scene.solver().dt_s;
+    let driver_rad_s = scene
+        .sprockets()
+        .iter()
+        .filter_map(|s| match s.role {
+            Role::Driver(law) => Some(
+                law.speed_rad_s
+                    .abs()
+                    .max(law.run_up.map_or(0.0, |r| r.to_rad_s.abs())),
+            ),
+            _ => None,
+        })
+        .fold(0.0, f64::max);
+    if by_speed && driver_rad_s > 0.0 {
+        let rpm = driver_rad_s * 60.0 / std::f64::consts::TAU;
+        let max_order = f64::from(2 * crate::studies::sweep::largest_teeth(scene));
+        crate::studies::sweep::sampling_for(rpm, max_order, dt_s).map_err(|e| e.to_string())
+    } else {
+        SampleRate::new(RATE_HZ, dt_s).map_err(|e| e.to_string())
+    }
+}
 
 /// A running case's checkpoint, in its directory `DIR/cases/<k>/`.
 pub(crate) const CHECKPOINT_FILE: &str = "checkpoint.ckpt";
@@ -205,7 +233,8 @@ impl StudyDir {
         // A panic in a run is this case's failure, not the study's.
         let result = std::panic::catch_unwind(AssertUnwindSafe(|| {
             let checkpoint = checkpoint.as_ref().map(|(p, s)| (p.as_path(), *s));
-            simulate(&scene, window_s, stop, checkpoint, &mut resume)
+            let sampling = case_sampling(&scene, self.study.sample_by_speed)?;
+            simulate(&scene, sampling, window_s, stop, checkpoint, &mut resume)
         }))
         .unwrap_or_else(|panic| {
             let what = panic
@@ -324,13 +353,14 @@ struct Resume {
     earlier_wall_s: f64,
 }
 
-/// Runs `scene` to its end, its statistics over the last `window_s` (`None`:
-/// the default window after the ramps);
+/// Runs `scene` to its end, sampled at `sampling`, its statistics over the
+/// last `window_s` (`None`: the default window after the ramps);
 /// `Ok(None)` when stopped. With `checkpoint = (path, S)` it resumes from
 /// `path` when the file exists, and writes it at every multiple of S and
 /// when stopped.
 fn simulate(
     scene: &Scene,
+    sampling: SampleRate,
     window_s: Option<f64>,
     stop: Option<&AtomicBool>,
     checkpoint: Option<(&Path, f64)>,
@@ -339,7 +369,6 @@ fn simulate(
     let started = Instant::now();
     let mut sim = Simulation::new(scene).map_err(|e| e.to_string())?;
     let mut setup_wall_s = started.elapsed().as_secs_f64();
-    let sampling = SampleRate::new(RATE_HZ, scene.solver().dt_s).map_err(|e| e.to_string())?;
     let dt = scene.solver().dt_s;
     let duration = scene.solver().duration_s;
     // The plan's statistics window, or the default after the scene's ramps;

@@ -27,6 +27,7 @@
 //! machines: that is Slurm's job (`chaindrive study slurm`).
 
 pub(crate) mod cases;
+mod design;
 pub(crate) mod plan;
 pub(crate) mod table;
 

@@ -6,6 +6,7 @@
 //! responses = ["max_penetration_m", "segments.0.mean_link_force_n"]   # or "all"
 //! checkpoint_every_s = 1.0              # optional: checkpoint each case every 1 s simulated
 //! window_s = 0.5                        # optional: statistics over each run's last 0.5 s
+//! sample_by_speed = true                # optional: each case's sample rate from its driver speed
 //!
 //! [[factors]]
 //! path = "chain.pretension_n"
@@ -33,7 +34,11 @@
 //! last `window_s` seconds, as `chaindrive run --window` does (the default
 //! window otherwise); a window longer than a case's run is an error of that
 //! case, reported before anything runs.
-//! (`scene`, `set`, `responses`, `checkpoint_every_s` and `window_s` come
+//! With `sample_by_speed = true`, each case samples its signals as a sweep
+//! does at its driver's speed (at least 1 kHz and 16 samples per period of
+//! twice the largest tooth count), not at 1 kHz: a fast drive's
+//! tooth-passing frequency then stays clear of the sample rate.
+//! (`scene`, `set`, `responses`, `checkpoint_every_s`, `window_s` and `sample_by_speed` come
 //! before the first `[[factors]]` table: in TOML, a key after a table
 //! header belongs to that table.)
 
@@ -43,7 +48,7 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::StudyError;
-use crate::rng::SeededRng;
+use super::design::{design_rows, range_levels};
 use crate::scene::{Assignment, Scene, ScenePath, Stepping, set_in_table};
 
 /// A plan file as written (nothing checked beyond its TOML shape).
@@ -69,6 +74,9 @@ pub(crate) struct PlanFile {
     /// Length of each case's statistics window, s (the default if absent).
     #[serde(default)]
     pub window_s: Option<toml::Value>,
+    /// Each case's sample rate from its driver speed (else 1 kHz).
+    #[serde(default)]
+    pub sample_by_speed: bool,
 }
 
 /// One factor as written.
@@ -170,13 +178,15 @@ pub struct Study {
     pub checkpoint_every_s: Option<f64>,
     /// Length of each case's statistics window, s (`None`: the default).
     pub window_s: Option<f64>,
+    /// Whether each case's sample rate follows its driver speed.
+    pub(crate) sample_by_speed: bool,
 }
 
 /// Collects `path: message` lines.
-struct Problems(Vec<String>);
+pub(super) struct Problems(Vec<String>);
 
 impl Problems {
-    fn add(&mut self, path: impl std::fmt::Display, message: impl std::fmt::Display) {
+    pub(super) fn add(&mut self, path: impl std::fmt::Display, message: impl std::fmt::Display) {
         self.0.push(format!("{path}: {message}"));
     }
 }
@@ -280,6 +290,7 @@ impl Study {
             responses,
             checkpoint_every_s,
             window_s,
+            sample_by_speed: file.sample_by_speed,
         })
     }
 
@@ -402,81 +413,6 @@ fn read_factors(file: &PlanFile, base: &toml::Table, p: &mut Problems) -> Factor
     }
 }
 
-/// The design's rows of levels, one per case, over the factors' `levels`.
-fn design_rows(
-    file: &PlanFile,
-    levels: &[Vec<toml::Value>],
-    p: &mut Problems,
-) -> Vec<Vec<toml::Value>> {
-    let kind = file.design.kind.as_str();
-    let design = &file.design;
-    match kind {
-        "full_factorial" => {
-            if file.factors.is_empty() {
-                p.add("factors", "a full factorial needs at least one factor");
-            }
-            no_field(p, "design.seed", design.seed.is_some(), kind);
-            no_field(p, "design.count", design.count.is_some(), kind);
-            no_field(p, "design.cases", design.cases.is_some(), kind);
-            full_factorial(levels)
-        }
-        "latin_hypercube" => {
-            if file.factors.is_empty() {
-                p.add("factors", "a Latin hypercube needs at least one factor");
-            }
-            no_field(p, "design.cases", design.cases.is_some(), kind);
-            if design.seed.is_none() {
-                p.add("design.seed", "missing; a Latin hypercube needs a seed");
-            }
-            let count = match design.count {
-                Some(n) if n >= 1 => n as usize,
-                Some(n) => {
-                    p.add("design.count", format!("must be >= 1, got {n}"));
-                    0
-                }
-                None => {
-                    p.add("design.count", "missing; allowed: a number of cases >= 1");
-                    0
-                }
-            };
-            latin_hypercube(&file.factors, levels, count, design.seed.unwrap_or(0))
-        }
-        "explicit" => {
-            no_field(p, "design.seed", design.seed.is_some(), kind);
-            no_field(p, "design.count", design.count.is_some(), kind);
-            let rows = design.cases.clone().unwrap_or_default();
-            if rows.is_empty() {
-                p.add(
-                    "design.cases",
-                    "is empty; allowed: at least one row of values",
-                );
-            }
-            for (k, row) in rows.iter().enumerate() {
-                if row.len() != file.factors.len() {
-                    p.add(
-                        format!("design.cases[{k}]"),
-                        format!(
-                            "has {} values; allowed: one per factor ({})",
-                            row.len(),
-                            file.factors.len()
-                        ),
-                    );
-                }
-            }
-            rows
-        }
-        other => {
-            p.add(
-                "design.kind",
-                format!(
-                    "unknown design `{other}`; allowed: full_factorial, latin_hypercube, explicit"
-                ),
-            );
-            Vec::new()
-        }
-    }
-}
-
 /// Which summary fields the study reports, as `responses` says.
 fn read_responses(responses: Option<&toml::Value>, p: &mut Problems) -> Responses {
     match responses {
@@ -569,12 +505,6 @@ fn positive_seconds(
     }
 }
 
-fn no_field(p: &mut Problems, path: &str, given: bool, kind: &str) {
-    if given {
-        p.add(path, format!("is not used by design `{kind}`"));
-    }
-}
-
 /// `a.b.c`: keys of letters, digits and `_`, or 0-based indices.
 fn is_summary_path(s: &str) -> bool {
     !s.is_empty()
@@ -597,84 +527,6 @@ pub(crate) fn flatten_set(table: &toml::Table, prefix: &str, out: &mut Vec<(Stri
             v => out.push((path, v.clone())),
         }
     }
-}
-
-/// Levels of a range: `steps` evenly spaced for a full factorial, the two
-/// ends for a Latin hypercube (which draws within them).
-fn range_levels(kind: &str, r: &RangeFile) -> Result<Vec<toml::Value>, String> {
-    if !(r.from.is_finite() && r.to.is_finite()) {
-        return Err(format!(
-            "from = {} and to = {} must be finite numbers",
-            r.from, r.to
-        ));
-    }
-    match (kind, r.steps) {
-        ("latin_hypercube", Some(_)) => {
-            Err("steps is not used by a Latin hypercube (it draws within from..to)".to_owned())
-        }
-        ("latin_hypercube", None) => Ok(vec![toml::Value::Float(r.from), toml::Value::Float(r.to)]),
-        (_, None) => Err("missing steps; allowed: an integer >= 1".to_owned()),
-        (_, Some(n)) if n < 1 => Err(format!("steps must be >= 1, got {n}")),
-        (_, Some(1)) => Ok(vec![toml::Value::Float(r.from)]),
-        (_, Some(n)) => Ok((0..n)
-            .map(|i| toml::Value::Float(r.from + (r.to - r.from) * i as f64 / (n - 1) as f64))
-            .collect()),
-    }
-}
-
-/// Every combination; the last factor varies fastest.
-fn full_factorial(levels: &[Vec<toml::Value>]) -> Vec<Vec<toml::Value>> {
-    if levels.is_empty() || levels.iter().any(Vec::is_empty) {
-        return Vec::new();
-    }
-    let mut rows = vec![Vec::new()];
-    for factor in levels {
-        rows = rows
-            .into_iter()
-            .flat_map(|row| {
-                factor.iter().map(move |v| {
-                    let mut r = row.clone();
-                    r.push(v.clone());
-                    r
-                })
-            })
-            .collect();
-    }
-    rows
-}
-
-/// `count` cases: for each factor a random permutation of the strata
-/// 0..count; case i takes stratum s = perm[i] and the point (s + u)/count
-/// of the unit interval, u uniform in [0, 1), mapped onto the range
-/// (from + x (to − from)) or onto the list of levels (level ⌊x · len⌋).
-fn latin_hypercube(
-    factors: &[FactorFile],
-    levels: &[Vec<toml::Value>],
-    count: usize,
-    seed: u64,
-) -> Vec<Vec<toml::Value>> {
-    if count == 0 || levels.iter().any(Vec::is_empty) {
-        return Vec::new();
-    }
-    // A fixed generator, so a plan's cases are the same on every machine and version.
-    let mut rng = SeededRng::new(seed);
-    let mut rows = vec![Vec::with_capacity(factors.len()); count];
-    for (f, values) in factors.iter().zip(levels) {
-        let mut perm: Vec<usize> = (0..count).collect();
-        // Fisher–Yates.
-        for i in (1..count).rev() {
-            perm.swap(i, rng.below(i + 1));
-        }
-        for (row, s) in rows.iter_mut().zip(perm) {
-            let x = (s as f64 + rng.unit()) / count as f64;
-            let v = match (&f.range, values.len()) {
-                (Some(r), _) => toml::Value::Float(r.from + x * (r.to - r.from)),
-                (None, n) => values[((x * n as f64) as usize).min(n - 1)].clone(),
-            };
-            row.push(v);
-        }
-    }
-    rows
 }
 
 #[cfg(test)]
