@@ -246,6 +246,10 @@ impl RunSummary {
         if let Some(w) = super::warnings::tooth_jumps(&summary.tooth_jumps) {
             summary.warnings.push(w);
         }
+        summary.tip_rides = super::summary::TipRideSummary::per_sprocket(sim.jumps.rides());
+        if let Some(w) = super::warnings::tip_rides(&summary.tip_rides) {
+            summary.warnings.push(w);
+        }
         summary
     }
 
@@ -399,6 +403,7 @@ impl RunSummary {
             wear: None,
             worn_chain: None,
             tooth_jumps: Vec::new(),
+            tip_rides: Vec::new(),
             warnings: Vec::new(),
         };
         summary.rating = super::design::rating::of_run(scene, &summary);

@@ -280,6 +280,10 @@ pub struct RunSummary {
     /// Every tooth jump of the run, in order (absent without any).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub(crate) tooth_jumps: Vec<ToothJumpSummary>,
+    /// Per sprocket whose tips rollers rode, how often and the first ride
+    /// (docs/model.md, "Riding a tip"; absent without any).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub(crate) tip_rides: Vec<TipRideSummary>,
     /// Where a result is suspect, one sentence each (docs/model.md, "Warnings").
     #[serde(default)]
     pub warnings: Vec<String>,
@@ -324,6 +328,41 @@ impl From<&crate::sim::ToothJump> for ToothJumpSummary {
             gaps: j.gaps,
             direction: if j.ahead { "ahead" } else { "behind" }.to_owned(),
         }
+    }
+}
+
+/// The rollers that rode one sprocket's tips (docs/model.md, "Riding a tip").
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TipRideSummary {
+    /// 1-based sprocket number.
+    pub sprocket: usize,
+    /// Rides counted: a roller coming to rest on a tip, once until it lies
+    /// deep in a gap again or leaves the sprocket.
+    pub count: usize,
+    /// When the first was seen, s (to a sample period).
+    pub first_t_s: f64,
+    /// The first one's roller, 0-based.
+    pub first_roller: usize,
+}
+
+impl TipRideSummary {
+    /// The rides of `rides` (in time order) gathered per sprocket, in the
+    /// order of the sprockets.
+    pub(crate) fn per_sprocket(rides: &[crate::sim::TipRide]) -> Vec<Self> {
+        let mut out: Vec<Self> = Vec::new();
+        for r in rides {
+            match out.iter_mut().find(|s| s.sprocket == r.sprocket + 1) {
+                Some(s) => s.count += 1,
+                None => out.push(Self {
+                    sprocket: r.sprocket + 1,
+                    count: 1,
+                    first_t_s: r.t_s,
+                    first_roller: r.roller,
+                }),
+            }
+        }
+        out.sort_by_key(|s| s.sprocket);
+        out
     }
 }
 

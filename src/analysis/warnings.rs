@@ -288,6 +288,24 @@ fn stationarity(j: &Judged<'_>) -> Option<String> {
         )
     })
 }
+/// Rollers that rode the teeth's tips: how often on which sprocket, and
+/// the first (docs/model.md, "Riding a tip"); `None` without any.
+pub(crate) fn tip_rides(rides: &[super::summary::TipRideSummary]) -> Option<String> {
+    let first = rides
+        .iter()
+        .min_by(|a, b| a.first_t_s.total_cmp(&b.first_t_s))?;
+    let total: usize = rides.iter().map(|r| r.count).sum();
+    let places = rides
+        .iter()
+        .map(|r| format!("{} on sprocket {}", r.count, r.sprocket))
+        .collect::<Vec<_>>()
+        .join(", ");
+    Some(format!(
+        "tip ride: rollers rode the teeth's tips {total} time(s) ({places}), first at t = {:.4} s, roller {} on sprocket {}: the chain is all but out of mesh there and one disturbance from jumping a tooth; a worn chain's rollers climb the flanks to the tips at about 336/z % elongation, sooner under a fluctuating load (docs/model.md, \"Riding a tip\")",
+        first.first_t_s, first.first_roller, first.sprocket
+    ))
+}
+
 /// A chain that jumped teeth: how often, the first jump, and where it
 /// happened most (docs/model.md, "Tooth jump"); `None` without any.
 pub(crate) fn tooth_jumps(jumps: &[super::ToothJumpSummary]) -> Option<String> {

@@ -1,15 +1,17 @@
 //! `chaindrive jump-margin`: the least value of one scene field (a
 //! tensioner's preload, the pretension) at which a worn chain runs a given
-//! time without a tooth jump, or the largest elongation that does; a
-//! bracketing search over runs ([`crate::studies::jump_margin`]), each run
-//! ending at its first jump.
+//! time without a tooth jump or a roller riding a tip, or the largest
+//! elongation that does; a bracketing search over runs
+//! ([`crate::studies::jump_margin`]), each run ending at its first jump (a
+//! run whose rollers ride a tip without jumping runs on: the ride is read
+//! from the detector at its end).
 
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use crate::scene::{Assignment, Overrides};
 use crate::sim::{SampleRate, SimError, Simulation};
-use crate::studies::jump_margin::{self, Probe, Range};
+use crate::studies::jump_margin::{self, Outcome, Probe, Range};
 
 /// Arguments of `chaindrive jump-margin`.
 #[derive(clap::Args)]
@@ -71,18 +73,22 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
     base.with_set(&[Assignment::parse(&args.path, &args.from.to_string())?])
         .map_err(|e| anyhow::anyhow!("--path {}: {e}", args.path))?;
     let duration_s = base.solver().duration_s;
-    let run = |value: f64| -> Result<Option<f64>, String> {
+    let run = |value: f64| -> Result<Outcome, String> {
         let a = Assignment::parse(&args.path, &value.to_string()).map_err(|e| e.to_string())?;
         let scene = base.with_set(&[a]).map_err(|e| e.to_string())?;
         let mut sim = Simulation::new(&scene).map_err(|e| e.to_string())?;
         let every = SampleRate::new(1000.0, scene.solver().dt_s)
             .map_err(|e| e.to_string())?
             .every;
-        match sim.run(duration_s, every, &mut (), None) {
-            Ok(_) => Ok(None),
-            Err(SimError::ToothJump(jump)) => Ok(Some(jump.t_s)),
-            Err(e) => Err(e.to_string()),
-        }
+        let first_jump_s = match sim.run(duration_s, every, &mut (), None) {
+            Ok(_) => None,
+            Err(SimError::ToothJump(jump)) => Some(jump.t_s),
+            Err(e) => return Err(e.to_string()),
+        };
+        Ok(Outcome {
+            first_jump_s,
+            first_tip_ride_s: sim.jumps.rides().first().map(|r| r.t_s),
+        })
     };
     let range = Range {
         from: args.from,
@@ -115,7 +121,7 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
         ("largest", "at or below")
     };
     println!(
-        "{side} {} without a tooth jump over {duration_s} s: between {} (jumped) and {} (clean); every value tried {bound} {} ran clean",
+        "{side} {} without a tooth jump or a tip ride over {duration_s} s: between {} (jumped or rode) and {} (clean); every value tried {bound} {} ran clean",
         args.path,
         short(margin.jumping),
         short(margin.clean),
@@ -131,9 +137,16 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
 }
 
 fn outcome(p: &Probe) -> String {
-    match p.first_jump_s {
-        Some(t) => format!("jumped at t = {t:.4} s"),
-        None => "clean".to_owned(),
+    let Outcome {
+        first_jump_s,
+        first_tip_ride_s,
+    } = p.outcome;
+    let ride = first_tip_ride_s.map(|t| format!("rode a tip at t = {t:.4} s"));
+    let jump = first_jump_s.map(|t| format!("jumped at t = {t:.4} s"));
+    match (ride, jump) {
+        (Some(r), Some(j)) => format!("{r}, {j}"),
+        (Some(one), None) | (None, Some(one)) => one,
+        (None, None) => "clean".to_owned(),
     }
 }
 

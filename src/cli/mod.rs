@@ -85,8 +85,8 @@ enum Command {
     /// A design study from a plan: run here (resumable), as a Slurm job array, collect.
     Study(study::StudyArgs),
     /// The least tensioner force (or pretension, or the largest elongation)
-    /// at which a worn chain runs a given time without a tooth jump: a
-    /// bracketing search over runs in parallel.
+    /// at which a worn chain runs a given time without a tooth jump or a
+    /// roller riding a tip: a bracketing search over runs in parallel.
     JumpMargin(jump_margin::JumpMarginArgs),
 }
 

@@ -10,13 +10,24 @@
 //! roller entering the next wrap is a seating, not a jump. Gap j's centre is
 //! at the sprocket's angle plus j 2π/z, as the profiles place them.
 //!
+//! On the real tooth form it also sees a roller *ride a tip*: touching the
+//! sprocket with its centre at or beyond the radius where a roller resting
+//! on a flank touches the tooth's tip corner
+//! ([`AsaProfile::tip_ride_radius_m`](crate::geometry::asa::AsaProfile)):
+//! every roller that touches the sprocket farther out rests on a tip. A ride
+//! is counted once per roller until the roller lies deep in a gap again or
+//! leaves the reach. The circular form has no tips: nothing rides them.
+//!
 //! It is looked at once per sample, not every step: a jump is a change of
 //! state that lasts (a roller deep in another gap), which no sample misses;
-//! its time is known to a sample period. It reads the state only: no force
-//! changes, whether it looks or not.
+//! its time is known to a sample period. A ride shorter than a sample period
+//! can be missed. It reads the state only: no force changes, whether it
+//! looks or not; the profile's contact query runs only for the few rollers
+//! farther out than the tip-ride radius and within reach.
 
 use serde::{Deserialize, Serialize};
 
+use crate::geometry::{MAX_PATCHES, Patch, ToothProfile};
 use crate::model::{DriveModel, DriveState};
 
 /// Fraction of the tooth's height above the pitch circle within which a
@@ -43,6 +54,17 @@ pub struct ToothJump {
     pub ahead: bool,
 }
 
+/// A roller that came to ride a tooth's tip (module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub(crate) struct TipRide {
+    /// When it was seen, s (to a sample period).
+    pub t_s: f64,
+    /// The sprocket, 0-based.
+    pub sprocket: usize,
+    /// The roller, 0-based (the state's index).
+    pub roller: usize,
+}
+
 /// Follows every roller's gap on every sprocket (module docs).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct JumpWatch {
@@ -52,6 +74,17 @@ pub struct JumpWatch {
     gap: Vec<i32>,
     /// Every jump seen, in order.
     jumps: Vec<ToothJump>,
+    /// Per sprocket: the tip-ride radius², m² (infinite on the circular
+    /// form). Absent from checkpoints written before it: a resumed run then
+    /// watches no tips.
+    #[serde(default)]
+    ride_sq_m2: Vec<f64>,
+    /// Whether roller i rides a tip of sprocket s, at `i * sprockets + s`.
+    #[serde(default)]
+    riding: Vec<bool>,
+    /// Every ride seen, in order.
+    #[serde(default)]
+    rides: Vec<TipRide>,
 }
 
 impl JumpWatch {
@@ -65,16 +98,32 @@ impl JumpWatch {
                 (deep * deep, sp.reach_sq_m2, sp.teeth)
             })
             .collect::<Vec<_>>();
+        let ride_sq_m2 = model
+            .sprockets
+            .iter()
+            .map(|sp| match &sp.profile {
+                ToothProfile::Real(r) => r.tip_ride_radius_m().powi(2),
+                ToothProfile::Circular(_) => f64::INFINITY,
+            })
+            .collect();
         Self {
             gap: vec![NO_GAP; rollers * limits.len()],
+            riding: vec![false; rollers * limits.len()],
             limits,
             jumps: Vec::new(),
+            ride_sq_m2,
+            rides: Vec::new(),
         }
     }
 
     /// Every jump seen so far, in order.
     pub fn jumps(&self) -> &[ToothJump] {
         &self.jumps
+    }
+
+    /// Every tip ride seen so far, in order.
+    pub(crate) fn rides(&self) -> &[TipRide] {
+        &self.rides
     }
 
     /// Looks at `state`; returns how many jumps it found.
@@ -93,10 +142,29 @@ impl JumpWatch {
                 let slot = &mut self.gap[i * count + s];
                 if r_sq > reach_sq {
                     *slot = NO_GAP;
+                    if let Some(riding) = self.riding.get_mut(i * count + s) {
+                        *riding = false;
+                    }
                     continue;
                 }
                 if r_sq > deep_sq {
+                    let ride_sq = self.ride_sq_m2.get(s).copied().unwrap_or(f64::INFINITY);
+                    if r_sq >= ride_sq
+                        && let Some(riding) = self.riding.get_mut(i * count + s)
+                        && !*riding
+                        && touches(sp, theta, dx, dy)
+                    {
+                        *riding = true;
+                        self.rides.push(TipRide {
+                            t_s: state.t_s,
+                            sprocket: s,
+                            roller: i,
+                        });
+                    }
                     continue;
+                }
+                if let Some(riding) = self.riding.get_mut(i * count + s) {
+                    *riding = false;
                 }
                 let turns = (dy.atan2(dx) - theta) / per_gap;
                 let gap = turns.round().rem_euclid(f64::from(teeth)) as i32;
@@ -118,6 +186,17 @@ impl JumpWatch {
         }
         self.jumps.len() - before
     }
+}
+
+/// Whether a roller centred `(dx, dy)` from the centre of `sp`, turned to
+/// `theta`, touches it (the contact generator's query: a patch of positive
+/// depth).
+fn touches(sp: &crate::model::SprocketModel, theta: f64, dx: f64, dy: f64) -> bool {
+    let (sin, cos) = theta.sin_cos();
+    let local = [cos * dx + sin * dy, -sin * dx + cos * dy];
+    let mut patches = [Patch::default(); MAX_PATCHES];
+    let mut hint = u32::MAX;
+    sp.profile.contacts(local, &mut hint, &mut patches) > 0
 }
 
 /// A difference of gap indices folded into (−z/2, z/2].

@@ -66,8 +66,8 @@ pub use checkpoint::{CheckpointError, Snapshot};
 pub(crate) use energy::{PowerLedger, PowerMeans};
 pub use fanout::Fanout;
 pub(crate) use integrate::{Integration, IntegrationStats};
-pub(crate) use jumps::JumpWatch;
 pub use jumps::ToothJump;
+pub(crate) use jumps::{JumpWatch, TipRide};
 pub use sample_rate::{SampleRate, SampleRateError};
 pub(crate) use sliding::JointSliding;
 #[cfg(test)]

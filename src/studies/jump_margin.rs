@@ -1,6 +1,7 @@
 //! The jump margin: where, along one scene value (a tensioner's preload, the
 //! chain's pretension, its elongation), a drive changes from jumping teeth to
-//! running clean over a given time. A bracketing search over runs: both ends
+//! running clean over a given time. A roller riding a tooth's tip counts as
+//! a jump here (docs/design-checks.md, "The jump margin"). A bracketing search over runs: both ends
 //! of the range are run first, one must jump and the other not; then each
 //! round runs `jobs` values evenly spaced inside the bracket, in parallel on
 //! the work queue, and keeps the two neighbours where the outcome changes,
@@ -17,18 +18,40 @@
 
 use super::queue::WorkQueue;
 
+/// What one run did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub(crate) struct Outcome {
+    /// The first tooth jump's time, s; `None`: no jump.
+    pub first_jump_s: Option<f64>,
+    /// The first time a roller rode a tooth's tip, s; `None`: none did.
+    pub first_tip_ride_s: Option<f64>,
+}
+
+impl Outcome {
+    /// A run that jumped at `t_s` and rode no tip.
+    #[cfg(test)]
+    fn jump_at(t_s: f64) -> Self {
+        Self {
+            first_jump_s: Some(t_s),
+            first_tip_ride_s: None,
+        }
+    }
+}
+
 /// What one run at one value did.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
 pub(crate) struct Probe {
     /// The value tried.
     pub value: f64,
-    /// The first tooth jump's time, s; `None`: the run went clean.
-    pub first_jump_s: Option<f64>,
+    /// What the run did.
+    #[serde(flatten)]
+    pub outcome: Outcome,
 }
 
 impl Probe {
+    /// Whether the run jumped a tooth or rode a tip: not clean.
     pub(crate) fn jumped(&self) -> bool {
-        self.first_jump_s.is_some()
+        self.outcome.first_jump_s.is_some() || self.outcome.first_tip_ride_s.is_some()
     }
 }
 
@@ -87,12 +110,11 @@ pub(crate) struct Range {
     pub jobs: usize,
 }
 
-/// Searches `range` with `run(value)`: the first tooth jump's time, or
-/// `None` for a clean run (module docs). `progress` sees each run as it
-/// finishes.
+/// Searches `range` with `run(value)`: what the run at that value did
+/// (module docs). `progress` sees each run as it finishes.
 pub(crate) fn search(
     range: Range,
-    run: impl Fn(f64) -> Result<Option<f64>, String> + Sync,
+    run: impl Fn(f64) -> Result<Outcome, String> + Sync,
     mut progress: impl FnMut(&Probe),
 ) -> Result<Margin, MarginError> {
     let Range {
@@ -115,12 +137,7 @@ pub(crate) fn search(
     let mut batch =
         |values: Vec<f64>, probes: &mut Vec<Probe>| -> Result<Vec<Probe>, MarginError> {
             let results = WorkQueue::new(&values).threads(jobs).try_run(
-                |_, &value| {
-                    Some(run(value).map(|first_jump_s| Probe {
-                        value,
-                        first_jump_s,
-                    }))
-                },
+                |_, &value| Some(run(value).map(|outcome| Probe { value, outcome })),
                 |k, r| match r {
                     Ok(p) => {
                         progress(p);
@@ -190,8 +207,16 @@ mod tests {
     use super::*;
 
     /// A drive that jumps below `threshold` and runs clean at or above it.
-    fn below(threshold: f64) -> impl Fn(f64) -> Result<Option<f64>, String> + Sync {
-        move |v| Ok((v < threshold).then_some(0.1))
+    fn below(threshold: f64) -> impl Fn(f64) -> Result<Outcome, String> + Sync {
+        move |v| Ok(jumps_if(v < threshold))
+    }
+
+    fn jumps_if(jumps: bool) -> Outcome {
+        if jumps {
+            Outcome::jump_at(0.1)
+        } else {
+            Outcome::default()
+        }
     }
 
     #[test]
@@ -222,7 +247,7 @@ mod tests {
             tolerance: 0.01,
             jobs: 2,
         };
-        let m = search(range, |e| Ok((e > 0.8).then_some(0.2)), |_| {}).expect("a boundary");
+        let m = search(range, |e| Ok(jumps_if(e > 0.8)), |_| {}).expect("a boundary");
         assert!(!m.low_end_jumps);
         assert!(m.clean <= 0.8 && 0.8 < m.jumping && m.jumping - m.clean <= 0.01);
     }
@@ -230,7 +255,7 @@ mod tests {
     #[test]
     fn a_clean_island_on_the_jumping_side_is_reported_and_the_answer_stays_above_the_last_jump() {
         // Clean in (200, 300) as well as from 600 on.
-        let run = |v: f64| Ok((!(v > 200.0 && v < 300.0) && v < 600.0).then_some(0.1));
+        let run = |v: f64| Ok(jumps_if(!(v > 200.0 && v < 300.0) && v < 600.0));
         let range = Range {
             from: 0.0,
             to: 1000.0,
@@ -240,6 +265,28 @@ mod tests {
         let m = search(range, run, |_| {}).expect("a boundary");
         assert!(!m.monotone, "{m:?}");
         assert!(m.jumping < 600.0 && 600.0 <= m.clean, "{m:?}");
+    }
+
+    #[test]
+    fn a_run_that_rides_a_tip_without_jumping_counts_as_jumping() {
+        // Rides the tips below 300 without ever jumping a tooth.
+        let run = |v: f64| {
+            Ok(Outcome {
+                first_jump_s: None,
+                first_tip_ride_s: (v < 300.0).then_some(0.05),
+            })
+        };
+        let range = Range {
+            from: 0.0,
+            to: 1000.0,
+            tolerance: 10.0,
+            jobs: 2,
+        };
+        let m = search(range, run, |_| {}).expect("a boundary");
+        assert!(
+            m.low_end_jumps && m.jumping < 300.0 && 300.0 <= m.clean,
+            "{m:?}"
+        );
     }
 
     #[test]

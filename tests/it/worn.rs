@@ -62,6 +62,15 @@ fn a_study_over_the_elongation_counts_tooth_jumps_and_the_slack_per_case() {
     // grow the table with every jump).
     assert!(header.contains("tooth_jumps.0.t_s"), "{header}");
     assert!(!header.contains("tooth_jumps.1."), "{header}");
+    // The tip rides are counted, not listed: the new chain rode none, the
+    // worn one's rollers rode the tips before they jumped.
+    let rides = csv_column(&csv, "tip_ride_count");
+    assert_eq!(rides[0], "0.0", "{header}");
+    assert!(
+        rides[1].parse::<f64>().expect("a count") >= 1.0,
+        "{rides:?}"
+    );
+    assert!(!header.contains("tip_rides."), "{header}");
     assert!(
         out.join("main_effects/tooth_jump_count.png").exists(),
         "the jump count's main-effects figure"
@@ -116,7 +125,8 @@ fn a_sweep_of_a_worn_chain_counts_its_tooth_jumps_once_per_speed() {
 /// centres, checked against a brute-force grid of the same drive run as a
 /// study (a run counting its jumps jumps exactly where one stopping at the
 /// first jump does): every elongation at or below the bracket's clean end
-/// runs clean, every one at or above its jumping end jumps.
+/// runs clean, every one at or above its jumping end jumps or rides a tip
+/// (the search counts a ride as a jump).
 #[test]
 fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
     let scene = data("worn_30_30_fixed.toml");
@@ -148,7 +158,9 @@ fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
     assert!(clean < jumping && jumping - clean <= 0.2, "{out}");
 
     let dir = tempfile::tempdir().expect("temp dir");
-    let levels: Vec<f64> = (1..=8).map(|k| 0.25 * f64::from(k)).collect();
+    // Rollers leaving the driven sprocket drag over its tips from about
+    // 0.3 % on, well before the first jump (about 1 %).
+    let levels: Vec<f64> = (1..=8).map(|k| 0.1 * f64::from(k)).collect();
     let plan = format!(
         "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.4 }}\nwindow_s = 0.2\n\n[[factors]]\npath = \"chain.elongation_pct\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
     );
@@ -164,10 +176,12 @@ fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
     let collect = chaindrive(&["study", "collect", out_s]);
     assert!(collect.status.success(), "{}", stderr(&collect));
     let csv = std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv");
-    let counts = csv_column(&csv, "tooth_jump_count");
+    let jumps = csv_column(&csv, "tooth_jump_count");
+    let rides = csv_column(&csv, "tip_ride_count");
     let mut seen_both = (false, false);
-    for (e, count) in levels.iter().zip(&counts) {
-        let count: f64 = count.parse().expect("a count");
+    for ((e, jumps), rides) in levels.iter().zip(&jumps).zip(&rides) {
+        let count: f64 =
+            jumps.parse::<f64>().expect("a count") + rides.parse::<f64>().expect("a count");
         if *e <= clean {
             assert_eq!(count, 0.0, "{e} % jumped, at or below the clean {clean} %");
             seen_both.0 = true;
@@ -183,5 +197,35 @@ fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
     assert!(
         seen_both.0 && seen_both.1,
         "the grid {levels:?} straddles {clean}..{jumping}"
+    );
+}
+
+/// The paper's drive on the real tooth form: no roller jumps a tooth or
+/// rides a tip (the summary has neither list, and no warning of them).
+#[test]
+fn the_papers_drive_neither_jumps_nor_rides_a_tip() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let summary = dir.path().join("s.json");
+    let run = chaindrive(&[
+        "run",
+        "--quiet",
+        "--profile",
+        "real",
+        "--duration",
+        "1.5",
+        "--summary",
+        summary.to_str().expect("utf-8"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).expect("summary")).expect("JSON");
+    assert!(s.get("tooth_jumps").is_none(), "{}", s["tooth_jumps"]);
+    assert!(s.get("tip_rides").is_none(), "{}", s["tip_rides"]);
+    let warnings = s["warnings"].as_array().expect("warnings");
+    assert!(
+        !warnings.iter().any(|w| w
+            .as_str()
+            .is_some_and(|w| w.starts_with("tip ride") || w.starts_with("tooth jump"))),
+        "{warnings:?}"
     );
 }

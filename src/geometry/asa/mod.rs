@@ -301,6 +301,25 @@ impl AsaProfile {
         self.pitch_angle_rad
     }
 
+    /// The radius (from the sprocket centre) of the profile's own roller's centre where it
+    /// touches a tooth's tip f with its centre on the topping curve's normal at f:
+    /// b + (R_F + R_r)(f − b)/R_F, gap-local. Along the flank the touching roller's
+    /// centre rises monotonically up to here; a roller touching the sprocket farther out
+    /// rests on the tip's corner itself (docs/model.md, "Riding a tip").
+    #[must_use]
+    pub(crate) fn tip_ride_radius_m(&self) -> f64 {
+        let (b, f) = (self.points.b_m, self.points.f_m);
+        let rf = self.dims.topping_radius_m;
+        let q = super::v2::add(
+            b,
+            super::v2::scale(
+                super::v2::sub(f, b),
+                (rf + 0.5 * self.dims.roller_diameter_m) / rf,
+            ),
+        );
+        (self.dims.pitch_radius_m + q[1]).hypot(q[0])
+    }
+
     /// True when patches `a` and `b` meet at a tangent joint (z or z*: a gap's concave
     /// patch and one of its two teeth), or are the two flank patches of one gap, so a
     /// contact sliding from one to the other is the same contact continuing; the caller

@@ -8,7 +8,8 @@
 //! Factors are named as the plan wrote their paths (`sprockets.0.speed_rpm`
 //! stays so). Responses are the summary's numeric fields as dotted paths,
 //! arrays indexed from 0 (`segments.0.mean_link_force_n`), except the list
-//! of tooth jumps: its first jump's fields and `tooth_jump_count`. A case that
+//! of tooth jumps: its first jump's fields and `tooth_jump_count`, and of the
+//! tip rides: their sum, `tip_ride_count`. A case that
 //! failed or has not finished has no responses nor flags (null); its status
 //! says why. A finished case with a warning, or with a segment that is not
 //! stationary, is `warned`, not `ok`: `df[df.status == "ok"]` keeps the
@@ -59,20 +60,35 @@ pub struct Table {
 /// text are left out. Of the list of tooth jumps only the first jump's
 /// fields (`tooth_jumps.0.t_s`, …) are kept, and `tooth_jump_count` (0
 /// where the summary lists none) says how many there were: a column per
-/// jump would grow the table with every jump.
+/// jump would grow the table with every jump. Of the tip rides (one entry
+/// per sprocket whose tips were ridden) only their sum is kept,
+/// `tip_ride_count`.
 pub(crate) fn numeric_fields(value: &serde_json::Value) -> Vec<(String, f64)> {
     let mut out = numeric_leaves(value);
-    out.retain(|(name, _)| !is_later_jump(name));
+    out.retain(|(name, _)| !is_later_jump(name) && !name.starts_with("tip_rides."));
     let jumps = value
         .get("tooth_jumps")
         .and_then(serde_json::Value::as_array)
         .map_or(0, Vec::len);
     out.push((TOOTH_JUMP_COUNT.to_owned(), jumps as f64));
+    let rides: f64 = value
+        .get("tip_rides")
+        .and_then(serde_json::Value::as_array)
+        .map_or(0.0, |rides| {
+            rides
+                .iter()
+                .filter_map(|r| r.get("count").and_then(serde_json::Value::as_f64))
+                .sum()
+        });
+    out.push((TIP_RIDE_COUNT.to_owned(), rides));
     out
 }
 
 /// The response that counts a case's tooth jumps.
 const TOOTH_JUMP_COUNT: &str = "tooth_jump_count";
+
+/// The response that counts a case's tip rides.
+const TIP_RIDE_COUNT: &str = "tip_ride_count";
 
 /// A field of the second or a later tooth jump (`tooth_jumps.1.t_s`).
 fn is_later_jump(name: &str) -> bool {

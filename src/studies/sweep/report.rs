@@ -507,7 +507,8 @@ pub(crate) fn doubt_section(cases: &[CaseOutcome]) -> String {
 /// Every scalar of a case's run summary as `(name, value)`: numbers as they
 /// are, booleans as 0/1, per-segment and per-sprocket fields as
 /// `segment{k}.field` / `sprocket{i}.field` (1-based), arrays of numbers as
-/// `field[i]`; the tooth jumps as their number, `tooth_jump_count`;
+/// `field[i]`; the tooth jumps as their number, `tooth_jump_count`, the
+/// tip rides as theirs, `tip_ride_count`;
 /// `warning_count` (the summary's warnings) and `warned` (1 when
 /// the run warned or a segment is not stationary, [`CaseFlags`]); then the
 /// sweep's own: `max_contact_force_n`, `rev_per_s`.
@@ -525,9 +526,13 @@ pub fn summary_scalars(case: &CaseResult) -> Vec<(String, f64)> {
             }
             // One name per jump would repeat names (two jumps on one
             // sprocket): the count stands for the list.
-            out.retain(|(name, _)| !name.starts_with("tooth_jumps."));
+            out.retain(|(name, _)| {
+                !name.starts_with("tooth_jumps.") && !name.starts_with("tip_rides.")
+            });
             let jumps = summary.tooth_jumps.len() as f64;
             out.push(("tooth_jump_count".to_owned(), jumps));
+            let rides: usize = summary.tip_rides.iter().map(|r| r.count).sum();
+            out.push(("tip_ride_count".to_owned(), rides as f64));
             out.push(("warning_count".to_owned(), summary.warnings.len() as f64));
             let warned = CaseFlags::of_result(case).warned();
             out.push(("warned".to_owned(), f64::from(u8::from(warned))));

@@ -476,3 +476,72 @@ fn signed_distance_matches_brute_force_oracle() {
         }
     }
 }
+
+/// The radius at which a roller rides a tip, against a closed form in the frame of the
+/// tooth: origin at the midpoint M of the chord between two seating centres (R_s cos φ
+/// from the sprocket centre on the tooth's centreline), u along the chord, v outward
+/// along the centreline. The topping centre b lies on the chord a = 1.4 D_r − P/2 past
+/// M, the tip f on the centreline H above M, so f − b = (−a, H) with |f − b| = R_F. The
+/// roller centre touching f on the topping's normal is b + (1 + R_r/R_F)(f − b) =
+/// (−a R_r/R_F, H (1 + R_r/R_F)), at a radius
+///
+///     r_tip² = (R_s cos φ + H (1 + R_r/R_F))² + (a R_r / R_F)².
+///
+/// That centre lies R_r from the outline with f its nearest point, and every centre
+/// touching the topping curve lower down lies nearer the sprocket centre.
+#[test]
+fn tip_ride_radius_matches_its_closed_form_and_bounds_the_flank() {
+    // ANSI 80 (D_r = 0.625 P; the standard's additive constants in inches make
+    // the rise in pitches depend a little on the pitch) and the paper's chain.
+    let ansi = |n: u32, p: f64| (n, p, 0.625 * p);
+    for (n, p, dr) in [
+        ansi(12, 0.0254),
+        ansi(19, 0.0254),
+        ansi(45, 0.0254),
+        ansi(120, 0.0254),
+        (30, P, DR),
+    ] {
+        let prof = AsaProfile::new(n, p, dr).expect("profile");
+        let d = prof.dimensions();
+        let (rr, rf) = (0.5 * dr, d.topping_radius_m);
+        let phi = std::f64::consts::PI / f64::from(n);
+        let a = 1.4 * dr - 0.5 * p;
+        let h = (rf * rf - a * a).sqrt();
+        let want = ((d.pitch_radius_m * phi.cos() + h * (1.0 + rr / rf)).powi(2)
+            + (a * rr / rf).powi(2))
+        .sqrt();
+        let got = prof.tip_ride_radius_m();
+        assert!((got - want).abs() < 1e-12, "N = {n}: {got} against {want}");
+        // The quasi-static ride-over of docs/design-checks.md on the ANSI
+        // proportions: a rise of 0.535 P.
+        let rise = (got - d.pitch_radius_m) / p;
+        if dr == 0.625 * p {
+            assert!((rise - 0.535).abs() < 0.004, "N = {n}: rise {rise} P");
+        }
+        // The centre found by walking out from b through the tip: R_r from the
+        // outline, f its nearest point (in the sprocket frame, gap 0 at (R_s, 0)).
+        let pts = prof.gap_points();
+        let local = |q: V2| [d.pitch_radius_m + q[1], -q[0]];
+        let u = scale(sub(pts.f_m, pts.b_m), 1.0 / rf);
+        let centre = add(pts.b_m, scale(u, rf + rr));
+        let (sd, near, _, _) = prof.signed_distance(local(centre));
+        assert!((sd - rr).abs() < 1e-12, "N = {n}: {sd} against {rr}");
+        let f = local(pts.f_m);
+        assert!(
+            norm(sub(near, f)) < 1e-12,
+            "N = {n}: nearest {near:?}, tip {f:?}"
+        );
+        // Lower on the topping curve (towards z) the touching centre is nearer in.
+        let (zb, fb) = (sub(pts.z_m, pts.b_m), sub(pts.f_m, pts.b_m));
+        let (t0, t1) = (zb[1].atan2(zb[0]), fb[1].atan2(fb[0]));
+        for k in 0..20 {
+            let t = t0 + (t1 - t0) * f64::from(k) / 20.0;
+            let c = add(pts.b_m, scale(polar(t), rf + rr));
+            let r = norm(local(c));
+            assert!(
+                r < got,
+                "N = {n}: {r} at {k}/20 of the topping, tip ride at {got}"
+            );
+        }
+    }
+}
