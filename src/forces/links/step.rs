@@ -215,10 +215,39 @@ impl Links {
 #[cfg(test)]
 mod tests {
     use super::{Kick, kick_drift};
+    use crate::forces::CHUNKS;
     use crate::forces::{ForceElement, Forces, Fork, Links};
     use crate::model::{DriveModel, DriveState};
-    use crate::scene::Threads;
-    use crate::sim::parallel::Split;
+
+    /// Two threads claiming the chunks from a shared counter: the forces
+    /// stage's own stand-in for the simulation's worker.
+    #[derive(Debug)]
+    struct TwoThreads;
+
+    impl Fork for TwoThreads {
+        fn splits(&self, _rollers: usize) -> bool {
+            true
+        }
+
+        fn both(&self, job: &(dyn Fn(usize) + Sync)) {
+            let next = std::sync::atomic::AtomicUsize::new(0);
+            let claim = || loop {
+                let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                if k >= CHUNKS {
+                    break;
+                }
+                job(k);
+            };
+            std::thread::scope(|s| {
+                s.spawn(claim);
+                claim();
+            });
+        }
+
+        fn clone_box(&self) -> Box<dyn Fork> {
+            Box::new(TwoThreads)
+        }
+    }
 
     /// The bits of every output the update and the links write.
     fn bits(s: &DriveState, out: &Forces, links: &Links) -> Vec<u64> {
@@ -288,8 +317,7 @@ mod tests {
                 expected,
                 "the step moves the chain"
             );
-            let split = Split::new(Threads::Two);
-            for fork in [None, Some(&split as &dyn Fork)] {
+            for fork in [None, Some(&TwoThreads as &dyn Fork)] {
                 let (mut s2, mut out2, mut links2) = (s0.clone(), out0.clone(), links0.clone());
                 links2.step_and_evaluate(&model, &mut s2, &mut out2, fork, kick);
                 assert_eq!(
