@@ -11,8 +11,10 @@ table (JSON) and docs/figures/elongation-onset.svg with the 200/z rule, the
 3 % cap and the quasi-static ride-over 336/z.
 
     python3 benches/elongation_onset.py [BINARY] [OUT.svg]
+    python3 benches/elongation_onset.py --redraw docs/figures/elongation-onset.json   # the figure from its table, no runs
 """
 import json
+import math
 import math
 import os
 import subprocess
@@ -90,13 +92,15 @@ def bracket(z, tensioned, top):
 
 def svg(rows):
     w, h, l, r, t, b = 760, 470, 80, 200, 50, 60
-    zmin, zmax, emax = 15, 50, 20.0
+    zmin, zmax, emin, emax = 15, 50, 0.1, 30.0
     x = lambda z: l + (z - zmin) / (zmax - zmin) * (w - l - r)
-    y = lambda e: h - b - e / emax * (h - t - b)
+    # Logarithmic: the fixed centres' onsets (tenths of a percent) and the
+    # tensioned ones (several percent) both readable.
+    y = lambda e: h - b - math.log10(max(e, emin) / emin) / math.log10(emax / emin) * (h - t - b)
     s = [f'<svg width="{w}" height="{h}" viewBox="0 0 {w} {h}" xmlns="http://www.w3.org/2000/svg" font-family="sans-serif">',
          f'<rect x="0" y="0" width="{w}" height="{h}" fill="#FFFFFF"/>',
          f'<text x="{(l + w - r) / 2}" y="28" text-anchor="middle" font-size="16">Onset of tip rides and tooth jumps against wear (ANSI 80, 12 kN)</text>']
-    for e in range(0, int(emax) + 1, 2):
+    for e in (0.1, 0.2, 0.5, 1, 2, 3, 5, 10, 20, 30):
         s.append(f'<line x1="{l}" y1="{y(e)}" x2="{w - r}" y2="{y(e)}" stroke="#E0E0E0"/>')
         s.append(f'<text x="{l - 8}" y="{y(e) + 4}" text-anchor="end" font-size="12">{e}</text>')
     for z in range(15, 51, 5):
@@ -104,7 +108,7 @@ def svg(rows):
         s.append(f'<text x="{x(z)}" y="{h - b + 20}" text-anchor="middle" font-size="12">{z}</text>')
     s.append(f'<rect x="{l}" y="{t}" width="{w - l - r}" height="{h - t - b}" fill="none" stroke="#000"/>')
     s.append(f'<text x="{(l + w - r) / 2}" y="{h - 15}" text-anchor="middle" font-size="13">teeth z (both sprockets)</text>')
-    s.append(f'<text x="22" y="{(t + h - b) / 2}" text-anchor="middle" font-size="13" transform="rotate(270, 22, {(t + h - b) / 2})">chain elongation (%)</text>')
+    s.append(f'<text x="22" y="{(t + h - b) / 2}" text-anchor="middle" font-size="13" transform="rotate(270, 22, {(t + h - b) / 2})">chain elongation (%, log scale)</text>')
 
     def curve(f, colour, dash):
         pts = " ".join(f"{x(z):.1f},{y(min(f(z), emax)):.1f}" for z in range(zmin, zmax + 1))
@@ -149,6 +153,14 @@ def svg(rows):
 
 
 def main():
+    if len(sys.argv) > 2 and sys.argv[1] == "--redraw":
+        # Draw the figure again from a table this script wrote, without runs.
+        with open(sys.argv[2]) as f:
+            table = json.load(f)
+        rows = {(v["teeth"], v["tensioned"]): v for v in table}
+        with open(os.path.splitext(sys.argv[2])[0] + ".svg", "w") as f:
+            f.write(svg(rows))
+        return
     rows = {}
     for z in TEETH:
         for tensioned in (False, True):
