@@ -2,7 +2,7 @@
 //! factorial, a Latin hypercube or explicit rows), and a range's levels.
 //! It does not read the plan file or check the factors' paths (`plan`).
 
-use super::plan::{FactorFile, PlanFile, Problems, RangeFile};
+use super::file::{FactorFile, PlanFile, Problems, RangeFile};
 use crate::rng::SeededRng;
 
 /// The design's rows of levels, one per case, over the factors' `levels`.

@@ -28,6 +28,7 @@
 
 pub(crate) mod cases;
 mod design;
+mod file;
 pub(crate) mod plan;
 pub(crate) mod table;
 
