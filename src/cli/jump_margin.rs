@@ -45,6 +45,10 @@ pub(super) struct JumpMarginArgs {
     /// Runs at once, and values tried per round [default: 2].
     #[arg(long, default_value_t = 2)]
     jobs: usize,
+    /// Count only tooth jumps: a run whose rollers ride a tip without
+    /// jumping runs clean (by default a ride counts as a jump).
+    #[arg(long)]
+    jumps_only: bool,
     /// Print one JSON object instead of text.
     #[arg(long)]
     json: bool,
@@ -87,7 +91,11 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
         };
         Ok(Outcome {
             first_jump_s,
-            first_tip_ride_s: sim.jumps.rides().first().map(|r| r.t_s),
+            first_tip_ride_s: if args.jumps_only {
+                None
+            } else {
+                sim.jumps.rides().first().map(|r| r.t_s)
+            },
         })
     };
     let range = Range {
@@ -120,8 +128,13 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
     } else {
         ("largest", "at or below")
     };
+    let (without, failed) = if args.jumps_only {
+        ("a tooth jump", "jumped")
+    } else {
+        ("a tooth jump or a tip ride", "jumped or rode")
+    };
     println!(
-        "{side} {} without a tooth jump or a tip ride over {duration_s} s: between {} (jumped or rode) and {} (clean); every value tried {bound} {} ran clean",
+        "{side} {} without {without} over {duration_s} s: between {} ({failed}) and {} (clean); every value tried {bound} {} ran clean",
         args.path,
         short(margin.jumping),
         short(margin.clean),

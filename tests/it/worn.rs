@@ -157,6 +157,34 @@ fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
     assert_eq!(margin["monotone"], true, "{out}");
     assert!(clean < jumping && jumping - clean <= 0.2, "{out}");
 
+    // Counting jumps alone, the same drive runs clean beyond the tip rides'
+    // onset: its rollers drag over the tips well before they jump.
+    let jumps_only = chaindrive(&[
+        "jump-margin",
+        scene,
+        "--path",
+        "chain.elongation_pct",
+        "--from",
+        "0",
+        "--to",
+        "2",
+        "--tolerance",
+        "0.4",
+        "--duration",
+        "0.4",
+        "--jobs",
+        "2",
+        "--jumps-only",
+        "--json",
+    ]);
+    assert!(jumps_only.status.success(), "{}", stderr(&jumps_only));
+    let only: serde_json::Value = serde_json::from_slice(&jumps_only.stdout).expect("JSON");
+    let clean_of_jumps = only["margin"]["clean"].as_f64().expect("clean");
+    assert!(
+        clean_of_jumps >= jumping,
+        "jumps alone: clean to {clean_of_jumps} %, rides from {jumping} %: {only}"
+    );
+
     let dir = tempfile::tempdir().expect("temp dir");
     // Rollers leaving the driven sprocket drag over its tips from about
     // 0.3 % on, well before the first jump (about 1 %).
