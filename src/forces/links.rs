@@ -16,6 +16,15 @@ struct LinkLaw {
 }
 
 impl LinkLaw {
+    /// The chain's link law.
+    fn of(model: &DriveModel) -> Self {
+        Self {
+            stiffness: model.stiffness_n_m,
+            damping: model.damping_n_s_m,
+            rest: model.rest_length_m,
+        }
+    }
+
     /// From the link vector d = q_j − q_i and the velocity difference:
     /// (F_link, u_x, u_y, l − rest, 1/l).
     #[inline(always)]
@@ -207,6 +216,15 @@ impl Links {
     pub(crate) fn stretch(&self) -> &[f64] {
         &self.stretch
     }
+
+    /// Whether a pass over `n` links writes their rates: asked for, and
+    /// `out`'s rate buffers sized for them.
+    fn rates_fit(&self, out: &Forces, n: usize) -> bool {
+        self.rates
+            && out.link_omega.len() == n
+            && out.link_normal_x.len() == n
+            && out.link_normal_y.len() == n
+    }
 }
 
 impl Links {
@@ -224,16 +242,9 @@ impl Links {
         fork: &dyn super::Fork,
     ) {
         let n = s.x.len();
-        let law = LinkLaw {
-            stiffness: model.stiffness_n_m,
-            damping: model.damping_n_s_m,
-            rest: model.rest_length_m,
-        };
+        let law = LinkLaw::of(model);
         let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
-        let with_rates = self.rates
-            && out.link_omega.len() == n
-            && out.link_normal_x.len() == n
-            && out.link_normal_y.len() == n;
+        let with_rates = self.rates_fit(out, n);
         let force = Halves::new(&mut out.link_force[..n]);
         let (lfx, lfy) = (
             Halves::new(&mut self.link_fx[..n]),
@@ -343,21 +354,14 @@ impl ForceElement for Links {
     /// of its two links, so no iteration waits on the previous one's store.
     fn evaluate(&mut self, model: &DriveModel, s: &DriveState, out: &mut Forces) {
         let n = s.x.len();
-        let law = LinkLaw {
-            stiffness: model.stiffness_n_m,
-            damping: model.damping_n_s_m,
-            rest: model.rest_length_m,
-        };
+        let law = LinkLaw::of(model);
+        let with_rates = self.rates_fit(out, n);
         let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
         let force = &mut out.link_force[..n];
         let (lfx, lfy) = (&mut self.link_fx[..n], &mut self.link_fy[..n]);
         let stretch = &mut self.stretch[..n];
         // Links 0..n−1 join consecutive rollers; the closing link n−1 → 0
         // after them.
-        let with_rates = self.rates
-            && out.link_omega.len() == n
-            && out.link_normal_x.len() == n
-            && out.link_normal_y.len() == n;
         let link_rates = with_rates.then(|| Rates {
             omega: &mut out.link_omega[..n],
             normal_x: &mut out.link_normal_x[..n],
@@ -539,11 +543,7 @@ mod tests {
                 s.vx[i] += ((i * 7 % 11) as f64 - 5.0) * 0.3;
                 s.vy[i] += ((i * 5 % 13) as f64 - 6.0) * 0.2;
             }
-            let law = LinkLaw {
-                stiffness: model.stiffness_n_m,
-                damping: model.damping_n_s_m,
-                rest: model.rest_length_m,
-            };
+            let law = LinkLaw::of(&model);
             let run = |avx2: bool, with_rates: bool| {
                 let mut v = vec![vec![0.0; n]; 7];
                 let [force, fx, fy, stretch, omega, gx, gy] = &mut v[..] else {

@@ -96,15 +96,8 @@ impl Links {
             first[k] = kick.roller(s, out, lo);
             before[k] = kick.roller(s, out, if lo == 0 { n - 1 } else { lo - 1 });
         }
-        let law = LinkLaw {
-            stiffness: model.stiffness_n_m,
-            damping: model.damping_n_s_m,
-            rest: model.rest_length_m,
-        };
-        let with_rates = self.rates
-            && out.link_omega.len() == n
-            && out.link_normal_x.len() == n
-            && out.link_normal_y.len() == n;
+        let law = LinkLaw::of(model);
+        let with_rates = self.rates_fit(out, n);
         let (x, y) = (Halves::new(&mut s.x[..n]), Halves::new(&mut s.y[..n]));
         let (vx, vy) = (Halves::new(&mut s.vx[..n]), Halves::new(&mut s.vy[..n]));
         let force = Halves::new(&mut out.link_force[..n]);
