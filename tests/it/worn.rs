@@ -131,25 +131,31 @@ fn a_sweep_of_a_worn_chain_counts_its_tooth_jumps_once_per_speed() {
 fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
     let scene = data("worn_30_30_fixed.toml");
     let scene = scene.to_str().expect("utf-8");
-    let search = chaindrive(&[
-        "jump-margin",
-        scene,
-        "--path",
-        "chain.elongation_pct",
-        "--from",
-        "0",
-        "--to",
-        "2",
-        "--tolerance",
-        "0.2",
-        "--duration",
-        "0.4",
-        "--jobs",
-        "2",
-        "--json",
-    ]);
-    assert!(search.status.success(), "{}", stderr(&search));
-    let out: serde_json::Value = serde_json::from_slice(&search.stdout).expect("JSON");
+    // One search along the elongation, 0 to 2 % over 0.4 s runs.
+    let search = |tolerance: &str, extra: &[&str]| {
+        let mut args = vec![
+            "jump-margin",
+            scene,
+            "--path",
+            "chain.elongation_pct",
+            "--from",
+            "0",
+            "--to",
+            "2",
+            "--tolerance",
+            tolerance,
+            "--duration",
+            "0.4",
+            "--jobs",
+            "2",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let run = chaindrive(&args);
+        assert!(run.status.success(), "{}", stderr(&run));
+        serde_json::from_slice::<serde_json::Value>(&run.stdout).expect("JSON")
+    };
+    let out = search("0.2", &[]);
     let margin = &out["margin"];
     let clean = margin["clean"].as_f64().expect("clean");
     let jumping = margin["jumping"].as_f64().expect("jumping");
@@ -159,26 +165,7 @@ fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
 
     // Counting jumps alone, the same drive runs clean beyond the tip rides'
     // onset: its rollers drag over the tips well before they jump.
-    let jumps_only = chaindrive(&[
-        "jump-margin",
-        scene,
-        "--path",
-        "chain.elongation_pct",
-        "--from",
-        "0",
-        "--to",
-        "2",
-        "--tolerance",
-        "0.4",
-        "--duration",
-        "0.4",
-        "--jobs",
-        "2",
-        "--jumps-only",
-        "--json",
-    ]);
-    assert!(jumps_only.status.success(), "{}", stderr(&jumps_only));
-    let only: serde_json::Value = serde_json::from_slice(&jumps_only.stdout).expect("JSON");
+    let only = search("0.4", &["--jumps-only"]);
     let clean_of_jumps = only["margin"]["clean"].as_f64().expect("clean");
     assert!(
         clean_of_jumps >= jumping,
