@@ -278,6 +278,7 @@ impl ChainDrive {
             state: &self.state,
             forces: self.forces.output(),
             jumps: &[],
+            rides: &[],
         }
     }
 

@@ -26,10 +26,10 @@
 //! scene file as an attachment with the tables it read (a load table's
 //! CSV, attached under the name the scene gives it, media type
 //! `text/csv`), at the end a metadata record `chaindrive.end` saying how
-//! the run ended, and where the chain jumped teeth a record
-//! `chaindrive.tooth_jumps` listing every jump. Channels
-//! not requested are
-//! neither computed nor written.
+//! the run ended, where the chain jumped teeth a record
+//! `chaindrive.tooth_jumps` listing every jump, and where its rollers rode
+//! the teeth's tips a record `chaindrive.tip_rides` listing every ride.
+//! Channels not requested are neither computed nor written.
 //!
 //! Cost: the stepping loop only copies the arrays the requested channels
 //! need (and computes the segment signals when asked); a writer thread of
@@ -148,6 +148,33 @@ fn jump_entries(jumps: &[crate::sim::ToothJump]) -> BTreeMap<String, String> {
     m
 }
 
+/// Name of the metadata record that lists the tip rides of a run's rollers
+/// (written at its end, only when it had any): `count`, and `ride NNNN`
+/// per ride, `t_s=… sprocket=… roller=…` (sprocket 1-based, roller 0-based),
+/// as the detector saw them (docs/model.md, "Riding a tip").
+pub(crate) const RIDES_RECORD: &str = "chaindrive.tip_rides";
+
+/// The entries of the `chaindrive.tip_rides` metadata record.
+fn ride_entries(rides: &[crate::sim::TipRide]) -> BTreeMap<String, String> {
+    let mut m: BTreeMap<String, String> = rides
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            (
+                format!("ride {:04}", k + 1),
+                format!(
+                    "t_s={} sprocket={} roller={}",
+                    r.t_s,
+                    r.sprocket + 1,
+                    r.roller
+                ),
+            )
+        })
+        .collect();
+    m.insert("count".to_owned(), rides.len().to_string());
+    m
+}
+
 /// How a run ended, written into the `chaindrive.end` metadata record.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RunEnd<'a> {
@@ -242,6 +269,8 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     cosim: Option<BTreeMap<String, String>>,
     /// Every tooth jump the run saw, as its samples listed them.
     jumps: Vec<crate::sim::ToothJump>,
+    /// Every tip ride the run saw, as its samples listed them.
+    rides: Vec<crate::sim::TipRide>,
     /// Time of the first sample, ns.
     first_t_ns: u64,
 }
@@ -390,6 +419,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             cosim: frame_dt_s.map(|_| metadata),
             first_t_ns: 0,
             jumps: Vec::new(),
+            rides: Vec::new(),
         })
     }
 
@@ -480,6 +510,15 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 metadata: jump_entries(&self.jumps),
             })
         };
+        // The tip rides likewise.
+        let rides_written = if self.rides.is_empty() {
+            Ok(())
+        } else {
+            sink.writer.write_metadata(&mcap::records::Metadata {
+                name: RIDES_RECORD.to_owned(),
+                metadata: ride_entries(&self.rides),
+            })
+        };
         let finished = sink.writer.finish();
         let mut inner = sink.writer.into_inner();
         let flushed = inner.flush();
@@ -492,6 +531,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         run_written?;
         end_written?;
         jumps_written?;
+        rides_written?;
         finished?;
         flushed?;
         Ok(inner)
@@ -516,6 +556,9 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
         }
         if s.jumps.len() != self.jumps.len() {
             self.jumps = s.jumps.to_vec();
+        }
+        if s.rides.len() != self.rides.len() {
+            self.rides = s.rides.to_vec();
         }
         let st = s.state;
         let f = s.forces;

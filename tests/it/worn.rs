@@ -244,3 +244,88 @@ fn the_papers_drive_neither_jumps_nor_rides_a_tip() {
         "{warnings:?}"
     );
 }
+
+/// A recording of a worn chain's run lists its tip rides and tooth jumps in
+/// the metadata records `chaindrive.tip_rides` and `chaindrive.tooth_jumps`,
+/// read back here from the MCAP file with the `mcap` crate: as many entries
+/// as the run's summary counts, each sprocket's first ride at the time and
+/// roller the summary gives (the 30/30 drive on fixed centres worn 2 %,
+/// whose slack strand's rollers drag over the driven sprocket's tips from
+/// about 0.12 s and jump near 0.16 s).
+#[cfg(feature = "record")]
+#[test]
+fn a_recording_lists_the_tip_rides_and_tooth_jumps_its_summary_counts() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = std::fs::read_to_string(data("worn_30_30_fixed.toml")).expect("scene");
+    assert!(
+        text.contains("elongation_pct = 0.0"),
+        "the scene's elongation line"
+    );
+    let scene = dir.path().join("worn.toml");
+    std::fs::write(
+        &scene,
+        text.replace("elongation_pct = 0.0", "elongation_pct = 2.0"),
+    )
+    .expect("scene");
+    let (mcap, summary) = (dir.path().join("worn.mcap"), dir.path().join("s.json"));
+    let run = chaindrive(&[
+        "run",
+        scene.to_str().expect("utf-8"),
+        "--quiet",
+        "--duration",
+        "0.25",
+        "--record",
+        mcap.to_str().expect("utf-8"),
+        "--summary",
+        summary.to_str().expect("utf-8"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let s = crate::common::read_json(&summary);
+    let top = crate::common::mcap_top_level(&mcap).metadata;
+
+    let per_sprocket = s["tip_rides"].as_array().expect("the run rode tips");
+    let counted: u64 = per_sprocket
+        .iter()
+        .map(|r| r["count"].as_u64().expect("count"))
+        .sum();
+    let rides = top.get("chaindrive.tip_rides").expect("a tip_rides record");
+    assert_eq!(rides["count"], counted.to_string(), "{rides:?}");
+    let entries: Vec<&String> = rides
+        .iter()
+        .filter(|(k, _)| k.starts_with("ride "))
+        .map(|(_, v)| v)
+        .collect();
+    assert_eq!(entries.len() as u64, counted, "{rides:?}");
+    // Each sprocket's first entry (the entries are in time order) is the
+    // summary's first ride there.
+    for r in per_sprocket {
+        let sprocket = format!("sprocket={}", r["sprocket"]);
+        let first = entries
+            .iter()
+            .find(|e| e.split(' ').any(|f| f == sprocket))
+            .unwrap_or_else(|| panic!("no ride on {sprocket}: {rides:?}"));
+        let field = |name: &str| {
+            first
+                .split(' ')
+                .find_map(|f| f.strip_prefix(name))
+                .unwrap_or_else(|| panic!("{name} in {first}"))
+                .to_owned()
+        };
+        let t_s: f64 = field("t_s=").parse().expect("a time");
+        assert!(
+            (t_s - r["first_t_s"].as_f64().expect("t")).abs() < 1e-12,
+            "{first} {r}"
+        );
+        assert_eq!(
+            field("roller="),
+            r["first_roller"].to_string(),
+            "{first} {r}"
+        );
+    }
+
+    let jumps = s["tooth_jumps"].as_array().expect("the run jumped");
+    let record = top
+        .get("chaindrive.tooth_jumps")
+        .expect("a tooth_jumps record");
+    assert_eq!(record["count"], jumps.len().to_string(), "{record:?}");
+}
