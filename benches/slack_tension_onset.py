@@ -132,49 +132,76 @@ def bracket(binary, z, tensioned, pretension_n):
 
 
 def svg(rows):
-    w, h, l, r, t, b = 780, 500, 80, 230, 50, 60
+    """Two panels: every onset on a log scale with 200/z and 336/z (top);
+    the fixed centres' onsets on a linear scale with the slope of
+    T_s / (K P) (bottom)."""
+    w, h, l, r = 780, 820, 80, 230
+    t1, b1, t2, b2 = 50, 440, 500, 760
     smin, smax, emin, emax = 0.0, 9.0, 0.01, 30.0
     x = lambda s: l + (s - smin) / (smax - smin) * (w - l - r)
-    y = lambda e: h - b - math.log10(min(max(e, emin), emax) / emin) / math.log10(emax / emin) * (h - t - b)
+    y1 = lambda e: b1 - math.log10(min(max(e, emin), emax) / emin) / math.log10(emax / emin) * (b1 - t1)
+    lin_max = 0.6
+    y2 = lambda e: b2 - min(max(e, 0.0), lin_max) / lin_max * (b2 - t2)
     s = [f'<svg width="{w}" height="{h}" viewBox="0 0 {w} {h}" xmlns="http://www.w3.org/2000/svg" font-family="sans-serif">',
          f'<rect x="0" y="0" width="{w}" height="{h}" fill="#FFFFFF"/>',
          f'<text x="{(l + w - r) / 2}" y="28" text-anchor="middle" font-size="16">Onset of tip rides: wear against slack-strand tension (ANSI 80)</text>']
     for e in (0.01, 0.02, 0.05, 0.1, 0.2, 0.5, 1, 2, 5, 10, 20):
-        s.append(f'<line x1="{l}" y1="{y(e)}" x2="{w - r}" y2="{y(e)}" stroke="#E0E0E0"/>')
-        s.append(f'<text x="{l - 8}" y="{y(e) + 4}" text-anchor="end" font-size="12">{e}</text>')
-    for k in range(0, 10):
-        s.append(f'<line x1="{x(k)}" y1="{h - b}" x2="{x(k)}" y2="{h - b + 5}" stroke="#000"/>')
-        s.append(f'<text x="{x(k)}" y="{h - b + 20}" text-anchor="middle" font-size="12">{k}</text>')
-    s.append(f'<rect x="{l}" y="{t}" width="{w - l - r}" height="{h - t - b}" fill="none" stroke="#000"/>')
-    s.append(f'<text x="{(l + w - r) / 2}" y="{h - 15}" text-anchor="middle" font-size="13">slack-strand tension under load, kN (measured, new chain)</text>')
-    s.append(f'<text x="22" y="{(t + h - b) / 2}" text-anchor="middle" font-size="13" transform="rotate(270, 22, {(t + h - b) / 2})">chain elongation (%, log scale)</text>')
+        s.append(f'<line x1="{l}" y1="{y1(e)}" x2="{w - r}" y2="{y1(e)}" stroke="#E0E0E0"/>')
+        s.append(f'<text x="{l - 8}" y="{y1(e) + 4}" text-anchor="end" font-size="12">{e}</text>')
+    for k in range(7):
+        e = 0.1 * k
+        s.append(f'<line x1="{l}" y1="{y2(e)}" x2="{w - r}" y2="{y2(e)}" stroke="#E0E0E0"/>')
+        s.append(f'<text x="{l - 8}" y="{y2(e) + 4}" text-anchor="end" font-size="12">{e:.1f}</text>')
+    for top, bottom in ((t1, b1), (t2, b2)):
+        for k in range(0, 10):
+            s.append(f'<line x1="{x(k)}" y1="{bottom}" x2="{x(k)}" y2="{bottom + 5}" stroke="#000"/>')
+            s.append(f'<text x="{x(k)}" y="{bottom + 20}" text-anchor="middle" font-size="12">{k}</text>')
+        s.append(f'<rect x="{l}" y="{top}" width="{w - l - r}" height="{bottom - top}" fill="none" stroke="#000"/>')
+    s.append(f'<text x="{(l + w - r) / 2}" y="{b2 + 45}" text-anchor="middle" font-size="13">slack-strand tension under load, kN (measured, new chain)</text>')
+    s.append(f'<text x="22" y="{(t1 + b1) / 2}" text-anchor="middle" font-size="13" transform="rotate(270, 22, {(t1 + b1) / 2})">chain elongation (%, log scale)</text>')
+    s.append(f'<text x="22" y="{(t2 + b2) / 2}" text-anchor="middle" font-size="13" transform="rotate(270, 22, {(t2 + b2) / 2})">fixed centres: elongation (%)</text>')
+    s.append(f'<text x="{l + 8}" y="{t2 + 18}" font-size="12">fixed centres, linear scale</text>')
 
     def hline(e, colour, dash):
-        return f'<line x1="{l}" y1="{y(e):.1f}" x2="{w - r}" y2="{y(e):.1f}" stroke="{colour}" stroke-width="1.5" stroke-dasharray="{dash}"/>'
+        return f'<line x1="{l}" y1="{y1(e):.1f}" x2="{w - r}" y2="{y1(e):.1f}" stroke="{colour}" stroke-width="1.5" stroke-dasharray="{dash}"/>'
     for z, c in COLOURS.items():
-        s.append(hline(min(200 / z, 3.0) if False else 200 / z, c, "none"))
+        s.append(hline(200 / z, c, "none"))
         s.append(hline(336 / z, c, "2,3"))
     s.append(hline(3.0, "#555555", "6,4"))
-    # Fixed centres: the slack strand goes slack at T_s / (K P).
-    pts = " ".join(f"{x(k / 10):.1f},{y(100 * k / 10 * 1000 / (STIFFNESS_N_M * PITCH_M)):.1f}" for k in range(1, 91))
+    # Fixed centres: the slack strand goes slack at T_s / (K P) (top); the
+    # same slope through each tooth count's onset at its lowest tension
+    # (bottom): what the tension alone would add to the wear the drive takes.
+    per_pct_n = 100 * 1.0 / (STIFFNESS_N_M * PITCH_M)
+    pts = " ".join(f"{x(k / 10):.1f},{y1(k / 10 * 1000 * per_pct_n):.1f}" for k in range(1, 91))
     s.append(f'<polyline points="{pts}" fill="none" stroke="#777777" stroke-width="2" stroke-dasharray="8,3,2,3"/>')
+    for z, c in COLOURS.items():
+        fixed = sorted((v for v in rows if v["teeth"] == z and not v["tensioned"] and "clean" in v
+                        and v.get("slack_n") is not None), key=lambda v: v["slack_n"])
+        if not fixed:
+            continue
+        s0, e0 = fixed[0]["slack_n"], (fixed[0]["clean"] + fixed[0]["jumping"]) / 2
+        x_a, x_b = s0 / 1000, smax
+        s.append(f'<line x1="{x(x_a):.1f}" y1="{y2(e0):.1f}" x2="{x(x_b):.1f}" y2="{y2(e0 + (x_b * 1000 - s0) * per_pct_n):.1f}" '
+                 f'stroke="{c}" stroke-width="1.5" stroke-dasharray="8,3,2,3"/>')
     for v in rows:
         z, tensioned, c = v["teeth"], v["tensioned"], COLOURS[v["teeth"]]
         if v.get("slack_n") is None:
             continue
         sx = x(max(v["slack_n"], 0.0) / 1000 + (0.06 if tensioned else -0.06) * (TEETH.index(z) - 1))
         if "clean_to" in v:
-            s.append(f'<line x1="{sx}" y1="{y(v["clean_to"])}" x2="{sx}" y2="{y(v["clean_to"]) - 18}" stroke="{c}" stroke-width="3"/>')
-            s.append(f'<path d="M {sx - 6} {y(v["clean_to"]) - 16} l 6 -10 l 6 10 z" fill="{c}"/>')
+            s.append(f'<line x1="{sx}" y1="{y1(v["clean_to"])}" x2="{sx}" y2="{y1(v["clean_to"]) - 18}" stroke="{c}" stroke-width="3"/>')
+            s.append(f'<path d="M {sx - 6} {y1(v["clean_to"]) - 16} l 6 -10 l 6 10 z" fill="{c}"/>')
             continue
         if "clean" not in v:
             continue
         lo, hi = sorted((v["clean"], v["jumping"]))
-        s.append(f'<line x1="{sx}" y1="{y(max(lo, emin))}" x2="{sx}" y2="{y(hi)}" stroke="{c}" stroke-width="3"/>')
-        mid = y(max((lo + hi) / 2, emin))
-        s.append(f'<rect x="{sx - 5}" y="{mid - 5}" width="10" height="10" fill="{c}"/>' if tensioned
-                 else f'<circle cx="{sx}" cy="{mid}" r="5" fill="{c}"/>')
-    lx, ly = w - r + 15, t + 10
+        panels = [(y1, True)] + ([] if tensioned else [(y2, False)])
+        for y, _ in panels:
+            s.append(f'<line x1="{sx}" y1="{y(max(lo, emin))}" x2="{sx}" y2="{y(hi)}" stroke="{c}" stroke-width="3"/>')
+            mid = y(max((lo + hi) / 2, emin))
+            s.append(f'<rect x="{sx - 5}" y="{mid - 5}" width="10" height="10" fill="{c}"/>' if tensioned
+                     else f'<circle cx="{sx}" cy="{mid}" r="5" fill="{c}"/>')
+    lx, ly = w - r + 15, t1 + 10
     legend = [("line", "#1f77b4", "none", "200/z (19, 30, 45 teeth)"),
               ("line", "#1f77b4", "2,3", "ride-over 336/z"),
               ("line", "#555555", "6,4", "3 % cap"),
@@ -198,6 +225,9 @@ def svg(rows):
     for k, line in enumerate(["bar: last clean elongation", "to first ride or jump", f"({DURATION_S} s runs, 4 kN pull);",
                               "arrow: clean to 15 %"]):
         s.append(f'<text x="{lx}" y="{yy + 14 * k}" font-size="11">{line}</text>')
+    for k, line in enumerate(["dash-dot: the slope of", "T_s/(K P), 0.0142 % per kN,", "through each z's onset",
+                              "at its lowest tension"]):
+        s.append(f'<text x="{lx}" y="{t2 + 14 + 14 * k}" font-size="11">{line}</text>')
     s.append('</svg>')
     return "\n".join(s) + "\n"
 
