@@ -78,7 +78,7 @@ fn run(scene: &Scene, mass_kg: f64, how: Spring) -> Result<String, Box<dyn std::
     )?;
     if how == Spring::Law {
         drive.set_mount_force(
-            1,
+            drive.sprocket("tail")?,
             MountSpring {
                 anchor_m: Vector::new(TAIL_X_M, 0.0),
                 axis: Vector::X,

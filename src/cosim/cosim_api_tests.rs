@@ -326,3 +326,46 @@ fn a_new_governor_target_is_a_speed_step_the_governor_follows_critically_damped(
         other => panic!("{other:?}"),
     }
 }
+
+#[test]
+fn sprockets_are_found_by_name_or_index_and_read_through_their_ids() {
+    // A 1 N·m load on the free tail: at rest the chain holds it, so the
+    // chain's torque on the tail is +1 N·m (moment balance about its axle).
+    let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", -1.0);
+    let mut w = PhysicsWorld::default();
+    let drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    let tail = drive.sprocket("tail").expect("by name");
+    assert_eq!(drive.sprocket(1).expect("by index"), tail);
+    assert_eq!(tail.index(), 1);
+    let names: Vec<&str> = drive.sprockets().map(|(_, n)| n).collect();
+    assert_eq!(names, ["driver", "tail"]);
+    match drive.sprocket("head") {
+        Err(CosimError::Input { field, message }) => {
+            assert_eq!(field, "sprocket(\"head\")");
+            assert!(message.contains("\"driver\", \"tail\""), "{message}");
+        }
+        other => panic!("expected an input error, got {other:?}"),
+    }
+    assert!(drive.sprocket(2).is_err());
+    let torque = drive.chain_torque_on_sprocket(tail);
+    assert!(
+        (torque - 1.0).abs() < 0.01,
+        "chain torque on the tail {torque} N·m"
+    );
+    // The chain's pull on the tail's centre points back at the driver.
+    assert!(drive.chain_force_on_sprocket(tail).x < -300.0);
+    assert_eq!(drive.sprocket_speed(tail), drive.state().omega[1]);
+    assert_eq!(drive.sprocket_angle(tail), drive.state().theta[1]);
+    assert_eq!(drive.sprocket_body(tail), drive.handles.sprockets()[1]);
+    let s = drive.state();
+    let n = drive.roller_count();
+    assert_eq!(n, s.x.len());
+    assert_eq!(drive.roller_position(7), Some(Vector::new(s.x[7], s.y[7])));
+    assert_eq!(
+        drive.roller_velocity(7),
+        Some(Vector::new(s.vx[7], s.vy[7]))
+    );
+    assert_eq!(drive.roller_position(n), None);
+    assert_eq!(drive.roller_positions().len(), n);
+    assert!(drive.roller_positions().zip(&s.y).all(|(p, &y)| p.y == y));
+}
