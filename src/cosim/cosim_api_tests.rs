@@ -369,3 +369,86 @@ fn sprockets_are_found_by_name_or_index_and_read_through_their_ids() {
     assert_eq!(drive.roller_positions().len(), n);
     assert!(drive.roller_positions().zip(&s.y).all(|(p, &y)| p.y == y));
 }
+
+#[test]
+fn the_users_bodies_are_recorded_as_frames_beside_the_chain() {
+    use crate::record::{RecordOptions, Recorder, RunEnd};
+    use foxglove::schemas::FrameTransforms;
+    use prost::Message as _;
+    // A body the user moves along a line, recorded as frame "carriage" on
+    // `/tf`; a name of the drive's own frames is not taken.
+    let scene = driven();
+    let mut w = PhysicsWorld::default();
+    let mut drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    let body = w.bodies.insert(
+        RigidBodyBuilder::kinematic_velocity_based()
+            .translation(Vector::new(0.3, 0.5))
+            .linvel(Vector::new(0.6, 0.0))
+            .angvel(2.0),
+    );
+    let dt = w.integration_parameters.dt;
+    let options = RecordOptions {
+        rate_hz: 1.0 / dt,
+        ..RecordOptions::default()
+    };
+    let mut recorder = Recorder::co_simulated(
+        std::io::Cursor::new(Vec::new()),
+        drive.scene(),
+        &options,
+        dt,
+    )
+    .expect("recorder");
+    let mut poses = Vec::new();
+    for _ in 0..10 {
+        let b = &w.bodies[body];
+        let pose = (b.translation(), b.rotation().angle());
+        recorder.body_frame("carriage", pose.0, pose.1);
+        recorder.body_frame("sprocket1", Vector::new(9.0, 9.0), 0.0);
+        recorder.body_frame("ghost", Vector::new(f64::NAN, 0.0), 0.0);
+        poses.push(pose);
+        drive
+            .step_world_observed(&mut w, &(), &(), &mut recorder)
+            .expect("frame");
+    }
+    let bytes = recorder
+        .finish(RunEnd::Completed)
+        .expect("finish")
+        .into_inner();
+    let mut seen = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+        let m = m.expect("a message");
+        if m.channel.topic != "/tf" {
+            continue;
+        }
+        let tf = FrameTransforms::decode(&m.data[..]).expect("FrameTransforms");
+        let names: Vec<&str> = tf
+            .transforms
+            .iter()
+            .map(|t| t.child_frame_id.as_str())
+            .collect();
+        assert_eq!(names, ["sprocket1", "sprocket2", "carriage"]);
+        let spr = tf.transforms[0].translation.as_ref().expect("translation");
+        assert!(
+            spr.x.abs() < 1e-12 && spr.y.abs() < 1e-12,
+            "sprocket1 moved"
+        );
+        let c = &tf.transforms[2];
+        let (t, q) = (
+            c.translation.as_ref().expect("xy"),
+            c.rotation.as_ref().expect("q"),
+        );
+        seen.push((t.x, t.y, 2.0 * q.z.atan2(q.w)));
+    }
+    // One /tf per sample after the first body_frame (the first frame's
+    // sample is taken after the step, with the pose set before it).
+    assert_eq!(seen.len(), poses.len());
+    for ((x, y, th), (p, a)) in seen.iter().zip(&poses) {
+        assert!(
+            (x - p.x).abs() < 1e-12 && (y - p.y).abs() < 1e-12,
+            "{x} {y} vs {p:?}"
+        );
+        assert!((th - a).abs() < 1e-12, "{th} vs {a}");
+    }
+    // The body moved: the recorded frames are not all one pose.
+    assert!(seen[9].0 - seen[0].0 > 0.08);
+}
