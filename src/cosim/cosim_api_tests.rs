@@ -6,6 +6,7 @@ use super::cosim_tests::conveyor;
 use crate::cosim::{ChainDrive, CosimError, Coupling};
 use crate::scene::Scene;
 use rapier2d_f64::prelude::*;
+use std::f64::consts::{PI, TAU};
 
 /// The conveyor's tail centre in the scene, m.
 const TAIL_X_M: f64 = 1.016;
@@ -451,4 +452,59 @@ fn the_users_bodies_are_recorded_as_frames_beside_the_chain() {
     }
     // The body moved: the recorded frames are not all one pose.
     assert!(seen[9].0 - seen[0].0 > 0.08);
+}
+
+#[test]
+fn a_drive_set_hands_each_drive_to_its_own_observer_after_every_frame() {
+    use crate::cosim::DriveSet;
+    use crate::sim::{Observer, Sample};
+    /// Each sample's time and first sprocket speed.
+    #[derive(Default)]
+    struct Speeds(Vec<(f64, f64)>);
+    impl Observer for Speeds {
+        fn sample(&mut self, s: &Sample<'_>) {
+            self.0.push((s.state.t_s, s.state.omega[0]));
+        }
+    }
+    // Two drives far apart, at 60 and 30 rpm.
+    let fast = driven();
+    let slow = conveyor("role = \"driver\"\nspeed_rpm = 30.0\nramp_s = 0.2", 0.0);
+    let mut w = PhysicsWorld::default();
+    let mut set = DriveSet::new();
+    set.push(ChainDrive::builder(&fast).build(&mut w).expect("fast"));
+    set.push(
+        ChainDrive::builder(&slow)
+            .insert_at(Pose::translation(0.0, 2.0))
+            .build(&mut w)
+            .expect("slow"),
+    );
+    let (mut a, mut b) = (Speeds::default(), Speeds::default());
+    match set.step_world_observed(&mut w, &(), &(), &mut [&mut a]) {
+        Err(CosimError::Input { field, .. }) => assert_eq!(field, "observers"),
+        other => panic!("expected an input error, got {other:?}"),
+    }
+    assert_eq!(
+        set.drives()[0].state().t_s,
+        0.0,
+        "stepped despite the error"
+    );
+    for _ in 0..30 {
+        set.step_world_observed(&mut w, &(), &(), &mut [&mut a, &mut b])
+            .expect("frame");
+    }
+    assert_eq!((a.0.len(), b.0.len()), (30, 30));
+    let dt = w.integration_parameters.dt;
+    for (k, (sa, sb)) in a.0.iter().zip(&b.0).enumerate() {
+        // The chain ends each frame within a substep (1e-5 s) of the world.
+        assert!(
+            (sa.0 - (k + 1) as f64 * dt).abs() <= 1e-5 && sb.0 == sa.0,
+            "{sa:?} {sb:?}"
+        );
+    }
+    // After the 0.2 s ramp each follows its own speed law: 2π and π rad/s.
+    let (wa, wb) = (a.0[29].1, b.0[29].1);
+    assert!(
+        (wa - TAU).abs() < 0.05 * TAU && (wb - PI).abs() < 0.05 * PI,
+        "{wa} {wb}"
+    );
 }
