@@ -11,7 +11,7 @@
 //! |---|---|---|---|
 //! | `scene` | `/scene/static` | `foxglove.SceneUpdate` | once: each sprocket's tooth outline (circular or real profile), pitch circle, a spoke and its name, in its own frame `sprocketN`, frame-locked |
 //! | `scene` | `/scene` | `foxglove.SceneUpdate` | rollers (spheres) and links (lines coloured by force, blue = slack … red ≥ 2 × pretension, 16 bins) in frame `world` |
-//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z; `world` → `tensionerN`: the arm's pivot and angle |
+//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z; `world` → `tensionerN`: the arm's pivot and angle; `world` → a name of the user's: a body of a co-simulated world given to [`Recorder::body_frame`] |
 //! | `outlines` | `/outlines/sprocketN` | `foxglove.PointCloud` | once: sprocket N's tooth outline as points 0.5 mm apart, in its frame `sprocketN`, one colour per sprocket (what Rerun draws) |
 //! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world`, coloured (u8 red, green, blue, alpha) by the mean force of the roller's two links on the links' scale |
 //! | `links` | `/links` | `ChainLinkForces` | every link's force, N, and every joint's friction moment, N·m |
@@ -273,6 +273,8 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     rides: Vec<crate::sim::TipRide>,
     /// Time of the first sample, ns.
     first_t_ns: u64,
+    /// The user's frames ([`Recorder::body_frame`]), their latest poses.
+    bodies: Vec<(String, [f64; 2], f64)>,
 }
 
 /// Simulated time in integer nanoseconds (negative and NaN clamp to 0).
@@ -420,7 +422,38 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             first_t_ns: 0,
             jumps: Vec::new(),
             rides: Vec::new(),
+            bodies: Vec::new(),
         })
+    }
+
+    /// Sets the pose of one of the user's own bodies (a box, a carriage, a
+    /// motor), recorded with every later sample as the frame transform
+    /// `world` → `name` on `/tf` (channel `transforms`) until set again: in
+    /// Foxglove's 3D panel the body is the frame `name`, beside the chain.
+    /// Call it before each frame is sampled, with the body's pose then, e.g.
+    /// `recorder.body_frame("box", b.translation(), b.rotation().angle())`.
+    /// A name of the drive's own frames (`world`, `sprocketN`,
+    /// `tensionerN`) or a non-finite pose is ignored: nothing a user passes
+    /// can corrupt the chain's own frames or write a NaN.
+    pub fn body_frame(
+        &mut self,
+        name: &str,
+        position: rapier2d_f64::prelude::Vector,
+        angle_rad: f64,
+    ) {
+        let own = name == visual::WORLD_FRAME
+            || ["sprocket", "tensioner"].iter().any(|p| {
+                name.strip_prefix(p)
+                    .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+            });
+        if own || !(position.x.is_finite() && position.y.is_finite() && angle_rad.is_finite()) {
+            return;
+        }
+        let pose = ([position.x, position.y], angle_rad);
+        match self.bodies.iter_mut().find(|b| b.0 == name) {
+            Some(b) => (b.1, b.2) = pose,
+            None => self.bodies.push((name.to_owned(), pose.0, pose.1)),
+        }
     }
 
     /// Samples recorded so far.
@@ -643,6 +676,11 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                 Vec::new()
             },
             // Every arm's reading, or none if one is not finite.
+            bodies: if ch.contains(Channels::TRANSFORMS) {
+                self.bodies.clone()
+            } else {
+                Vec::new()
+            },
             tensioners: if wants(&[Channel::Transforms, Channel::Tensioners])
                 && f.tensioners.iter().all(|r| {
                     [
