@@ -80,7 +80,7 @@ const DONGHUA_HEAVY_PLATE: &str = "Donghua Drive Chains 2020 catalogue, heavy du
 /// Motorcycle chains' pitch, roller and inner width.
 const MOTO_DIMENSIONS: &str = "pitch 5/8 in and roller 10.16 mm: Wemoto \"Motorcycle Chain Dimensions\" table (the ANSI 50's 0.400 in roller; Gearing Commander's table prints 10.30 mm); inner width: Tsubaki, The Complete Guide to Chain, Table 1.9 \"Motorcycle Chains\"";
 /// The 520's plate depth, one maker's chain.
-const MOTO_520_PLATE_DEPTH: &str = "plate depth: D.I.D 520MXV inner plate height, 15.0 mm standard (Suzuki RMX450Z service manual, drive train service data); pin diameter: none read (give chain.pin_radius_m)";
+const MOTO_520_PLATE_DEPTH: &str = "h2 15.0 mm: the D.I.D 520MXV's inner plate height, standard value (Suzuki RMX450Z service manual, drive train service data); d2 none read (give chain.pin_radius_m)";
 /// What no source gave for a motorcycle chain's pin and plate depth.
 const MOTO_NO_PIN_PLATE: &str = "none read: ISO 10190 Table 1 and the makers' tables (D.I.D, RK, EK, Regina, Tsubaki) were not readable (give chain.pin_radius_m)";
 /// A motorcycle chain's plate thickness.
