@@ -108,6 +108,14 @@ fn a_motorcycle_scene_names_the_fields_its_row_lacks() {
     approx::assert_relative_eq!(chain.roller_radius_m, 5.08e-3, max_relative = 1e-12);
     assert_eq!(chain.pin_radius_m, None);
     assert_eq!(chain.tensile_strength_n, Some(36_500.0));
+    // The wear check needs the pin and the bushing the row has not.
+    let err = Scene::from_toml(&format!("{full}\n[checks]\nwear = true\n"))
+        .expect_err("no bearing area")
+        .to_string();
+    assert!(
+        err.contains("checks.wear") && err.contains("chain.bushing_length_m"),
+        "{err}"
+    );
 }
 
 /// Without chain.tensile_strength_n a 520 drive is rated (the rating needs
