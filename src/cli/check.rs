@@ -123,6 +123,9 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             if let Some(w) = sim.unmeshed_warning() {
                 eprintln!("{name}: warning: {w}");
             }
+            if let Some(unbalanced) = &sim.equilibrium.unbalanced {
+                eprintln!("{name}: warning: {unbalanced}");
+            }
             let residual = sim.equilibrium.force_residual;
             if residual > crate::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
                 eprintln!(
