@@ -71,7 +71,7 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         eprintln!("{name}: warning: {w}");
     }
     let started = std::time::Instant::now();
-    match Simulation::new(&scene) {
+    match super::run::note_slow_setup(false, || Simulation::new(&scene)) {
         Ok(sim) => {
             if let Some(t) = scene.tensioner().filter(|_| tensioner_rule) {
                 let (from, to) = (
