@@ -145,7 +145,10 @@ fn a_drive_without_a_driver_whose_loads_balance_settles_by_newton_at_rest() {
     for (a, b) in held.iter().zip(&relaxed) {
         let (a, b) = (a.expect("a free strand"), b.expect("a free strand"));
         eprintln!("strand: held solve {a:.4} N, relaxation {b:.4} N");
-        assert!((a - b).abs() <= 0.1, "strand: held solve {a} N, relaxation {b} N");
+        assert!(
+            (a - b).abs() <= 0.1,
+            "strand: held solve {a} N, relaxation {b} N"
+        );
     }
 }
 

@@ -299,7 +299,7 @@ pub(crate) fn settle_preload(
         force_residual: force_residual(forces, scale_n),
         beyond_seating_arc: None,
         misfit: None,
-                    unbalanced: None,
+        unbalanced: None,
     })
 }
 
@@ -429,7 +429,7 @@ pub(crate) fn settle_rest_length(
             force_residual: force_residual(forces, target_n),
             beyond_seating_arc: Some(rim),
             misfit: None,
-                    unbalanced: None,
+            unbalanced: None,
         });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);

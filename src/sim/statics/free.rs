@@ -100,7 +100,12 @@ pub(crate) fn let_go(
         return Ok(eq);
     };
     let torque = |model: &DriveModel, forces: &ForceGenerator| {
-        forces.output().chain_torque.get(held).copied().unwrap_or(0.0)
+        forces
+            .output()
+            .chain_torque
+            .get(held)
+            .copied()
+            .unwrap_or(0.0)
             + model.sprockets[held].load_at_rest_n_m()
     };
     if load_imbalance_n(scene, model).abs() > REST_FORCE * scale_n {
@@ -200,7 +205,13 @@ pub(crate) fn settle_held_angle(
     let tooth_rad = std::f64::consts::TAU / f64::from(sp.teeth.max(1));
     let tolerance_n_m = REST_FORCE * scale_n.abs() * radius_m;
     let torque = |forces: &ForceGenerator| {
-        forces.output().chain_torque.get(held).copied().unwrap_or(0.0) + sp.load_at_rest_n_m()
+        forces
+            .output()
+            .chain_torque
+            .get(held)
+            .copied()
+            .unwrap_or(0.0)
+            + sp.load_at_rest_n_m()
     };
     let mut previous: Option<(f64, f64)> = None;
     let mut step_rad = 1e-3 * tooth_rad;
