@@ -117,9 +117,10 @@ fn a_drive_without_a_driver_whose_loads_balance_settles_by_newton_at_rest() {
     // 50 N pretension at its pitch radius (the solve stops at 10⁻⁷); the
     // roller forces within 10⁻⁶ of it; no relaxation speed left (Newton,
     // where the relaxation takes seconds). Against the relaxation's rest
-    // state (the scene's relaxation time allowed): the strand tensions within 0.1 N (0.2 % of the
-    // pretension; the relaxation rests wherever its slow circulation stops
-    // within 10⁻⁷ of the pretension, the solve at the stable phase).
+    // state (the scene's relaxation time allowed): the strand tensions
+    // within 0.1 N (0.2 % of the pretension; the relaxation rests wherever
+    // its slow circulation stops within 10⁻⁷ of the pretension, the solve
+    // at the stable phase).
     let scene = Scene::from_toml(include_str!("../../assets/bicycle.toml")).expect("scene");
     let sim = Simulation::new(&scene).expect("settles");
     let eq = &sim.equilibrium;
