@@ -71,7 +71,7 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
         eprintln!("{name}: warning: {w}");
     }
     let started = std::time::Instant::now();
-    match Simulation::new(&scene) {
+    match super::run::note_slow_setup(false, || Simulation::new(&scene)) {
         Ok(sim) => {
             if let Some(t) = scene.tensioner().filter(|_| tensioner_rule) {
                 let (from, to) = (
@@ -122,6 +122,9 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             }
             if let Some(w) = sim.unmeshed_warning() {
                 eprintln!("{name}: warning: {w}");
+            }
+            if let Some(unbalanced) = &sim.equilibrium.unbalanced {
+                eprintln!("{name}: warning: {unbalanced}");
             }
             let residual = sim.equilibrium.force_residual;
             if residual > crate::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {

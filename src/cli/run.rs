@@ -707,7 +707,7 @@ fn fatigue_line(f: &crate::analysis::design::Fatigue) -> String {
 /// Runs `setup` (building the drive and settling it to static equilibrium),
 /// printing one line to stderr if it takes longer than a second, so that a
 /// slow settle is not silent; nothing with `quiet`.
-fn note_slow_setup<T>(quiet: bool, setup: impl FnOnce() -> T) -> T {
+pub(super) fn note_slow_setup<T>(quiet: bool, setup: impl FnOnce() -> T) -> T {
     if quiet {
         return setup();
     }

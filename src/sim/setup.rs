@@ -39,20 +39,21 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
             statics::check_chain_length(scene, &layout, &model.path)?;
             statics::check_load(scene, &layout)?;
             let mut forces = new_forces(scene, &model);
-            let freed = hold(&mut model, held);
-            let eq = settle_rest_length(
+            let (freed, auto) = hold(&mut model, held);
+            let pitch_m = model.rest_length_m;
+            let mut eq = settle_rest_length(
                 &mut model,
                 &mut state,
                 &mut forces,
                 &settings,
                 scene.chain.pretension_n,
                 scene.equilibrium.tension_tolerance,
-                &scene
-                    .sprockets
-                    .iter()
-                    .map(|s| s.name.as_str())
-                    .collect::<Vec<_>>(),
+                &names(scene),
             )?;
+            if let Some(k) = auto {
+                let (s, f) = (&mut state, &mut forces);
+                eq = statics::let_go(scene, &mut model, s, f, &settings, k, Some(pitch_m), eq)?;
+            }
             release(&mut model, &freed);
             (scene.clone(), model, state, forces, layout, eq)
         }
@@ -60,7 +61,7 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
         PretensionRule::TensionerPreload => {
             let (mut model, mut state, layout) = DriveModel::build(scene)?;
             let mut forces = new_forces(scene, &model);
-            let freed = hold(&mut model, held);
+            let (freed, auto) = hold(&mut model, held);
             let mut eq = statics::settle_preload(
                 &model,
                 &mut state,
@@ -68,6 +69,10 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
                 &settings,
                 scene.chain.pretension_n,
             )?;
+            if let Some(k) = auto {
+                let (s, f) = (&mut state, &mut forces);
+                eq = statics::let_go(scene, &mut model, s, f, &settings, k, None, eq)?;
+            }
             release(&mut model, &freed);
             eq.misfit = statics::misfit_tension(scene, &layout, &forces, eq.tension_n);
             (scene.clone(), model, state, forces, layout, eq)
@@ -130,9 +135,12 @@ fn check_guide_entries(
 }
 
 /// Holds the sprockets k with `held[k]` for the static equilibrium (no
-/// inverse inertia: the solve keeps them still); returns what [`release`]
-/// gives back.
-fn hold(model: &mut DriveModel, held: &[bool]) -> Vec<(usize, f64)> {
+/// inverse inertia: the solve keeps them still); where that holds none and
+/// no driver does either, one free sprocket
+/// ([`statics::sprocket_to_hold`]: a drive with no driver has a neutral
+/// circulation, which the solve must not look for). Returns what
+/// [`release`] gives back, and the sprocket held for want of a driver.
+fn hold(model: &mut DriveModel, held: &[bool]) -> (Vec<(usize, f64)>, Option<usize>) {
     let mut freed = Vec::new();
     for (k, sp) in model.sprockets.iter_mut().enumerate() {
         if held.get(k).copied().unwrap_or(false) {
@@ -140,7 +148,17 @@ fn hold(model: &mut DriveModel, held: &[bool]) -> Vec<(usize, f64)> {
             sp.inv_inertia = 0.0;
         }
     }
-    freed
+    let auto = statics::sprocket_to_hold(model);
+    if let Some(k) = auto {
+        freed.push((k, model.sprockets[k].inv_inertia));
+        model.sprockets[k].inv_inertia = 0.0;
+    }
+    (freed, auto)
+}
+
+/// The sprockets' names, in order.
+fn names(scene: &Scene) -> Vec<&str> {
+    scene.sprockets.iter().map(|s| s.name.as_str()).collect()
 }
 
 /// Gives the sprockets [`hold`] held their inverse inertia back.

@@ -66,3 +66,115 @@ fn a_serpentine_with_a_tensioner_sprocket_settles_by_newton() {
         );
     }
 }
+
+/// The drive of `scene` settled with nothing held for the solve by the
+/// dynamic relaxation alone (every sprocket free: Newton's method does not
+/// apply), as the statics did before a sprocket was held for want of a
+/// driver: the reference the held solve is compared with. Returns the
+/// strands' mean tensions and the equilibrium.
+fn relaxed_free(scene: &Scene) -> (Vec<Option<f64>>, super::statics::StaticEquilibrium) {
+    use super::statics::{RelaxSettings, settle_rest_length};
+    let (mut model, mut state, _) = crate::model::DriveModel::build(scene).expect("builds");
+    let mut forces = super::settled::new_forces(scene, &model);
+    let settings = RelaxSettings {
+        dt_s: scene
+            .solver
+            .dt_s
+            .min(0.8 * crate::scene::StepLimits::of(scene).links_s),
+        max_time_s: scene.equilibrium.max_relax_s,
+        rate_per_s: 60.0,
+        rest_speed_m_s: 1e-6,
+        max_stretch_m: 1.0,
+    };
+    let names: Vec<&str> = scene.sprockets.iter().map(|s| s.name.as_str()).collect();
+    let eq = settle_rest_length(
+        &mut model,
+        &mut state,
+        &mut forces,
+        &settings,
+        scene.chain.pretension_n,
+        scene.equilibrium.tension_tolerance,
+        &names,
+    )
+    .expect("relaxes");
+    (
+        crate::test_support::strand_means(&model, &state, forces.output()),
+        eq,
+    )
+}
+
+#[test]
+fn a_drive_without_a_driver_whose_loads_balance_settles_by_newton_at_rest() {
+    // assets/bicycle.toml: chainring and rear sprocket both free, no load,
+    // gravity on. Turning the loop does no work but the chordal action's,
+    // so the drive rests where every sprocket's chain torque vanishes: the
+    // solve holds the rear sprocket (the larger inertia), turns it to
+    // where it takes no torque and lets it go. Hand calculation: with no
+    // load a free sprocket at rest has T_in = T_out (torque / pitch radius
+    // = 0), so both strands carry the pretension but for the chain's own
+    // weight along them (96 rollers of 3.5 g: 3.3 N in all, so the strands
+    // differ by at most that). Each sprocket's torque within 10⁻⁶ of the
+    // 50 N pretension at its pitch radius (the solve stops at 10⁻⁷); the
+    // roller forces within 10⁻⁶ of it; no relaxation speed left (Newton,
+    // where the relaxation takes seconds). Against the relaxation's rest
+    // state (the scene's relaxation time allowed): the strand tensions
+    // within 0.1 N (0.2 % of the pretension; the relaxation rests wherever
+    // its slow circulation stops within 10⁻⁷ of the pretension, the solve
+    // at the stable phase).
+    let scene = Scene::from_toml(include_str!("../../assets/bicycle.toml")).expect("scene");
+    let sim = Simulation::new(&scene).expect("settles");
+    let eq = &sim.equilibrium;
+    assert!(eq.unbalanced.is_none(), "{eq:?}");
+    assert!(eq.warnings().is_empty(), "{:?}", eq.warnings());
+    assert!(eq.force_residual <= 1e-6, "{eq:?}");
+    assert_eq!(eq.residual_speed_m_s, 0.0, "{eq:?}");
+    assert!(((eq.tension_n - 50.0) / 50.0).abs() <= scene.equilibrium.tension_tolerance);
+    for (k, sp) in sim.model.sprockets.iter().enumerate() {
+        assert!(sp.inv_inertia > 0.0, "sprocket {k} turns freely again");
+        let m = sim.forces.output().chain_torque[k];
+        assert!(
+            m.abs() <= 1e-6 * 50.0 * sp.pitch_radius_m,
+            "sprocket {k}: chain torque {m} N·m at rest"
+        );
+    }
+    let held = crate::test_support::strand_means(&sim.model, &sim.state, sim.forces.output());
+    let weight_n = 96.0 * 0.0035 * 9.81;
+    for t in held.iter().flatten() {
+        assert!((t - 50.0).abs() <= weight_n, "strand {t} N");
+    }
+    let (relaxed, _) = relaxed_free(&scene);
+    for (a, b) in held.iter().zip(&relaxed) {
+        let (a, b) = (a.expect("a free strand"), b.expect("a free strand"));
+        eprintln!("strand: held solve {a:.4} N, relaxation {b:.4} N");
+        assert!(
+            (a - b).abs() <= 0.1,
+            "strand: held solve {a} N, relaxation {b} N"
+        );
+    }
+}
+
+#[test]
+fn a_drive_without_a_driver_whose_loads_do_not_balance_is_named_at_once() {
+    // assets/conveyor.toml: both sprockets free, the tail loaded with
+    // -0.5 N·m. With no driver nothing reacts the load: no rest state
+    // exists. Hand calculation: the loads' tension jumps −w M / R around
+    // the loop add up to 0.5 / 0.0812 = 6.2 N, not zero; held for the solve,
+    // the head (the larger inertia, 0.05 against 0.01 kg·m²) takes the
+    // load, the same tooth count giving it −0.5 N·m (the loop turned by
+    // one pitch, the tail's load does the work the head's reaction undoes).
+    // The rest state is the held one, the warning names the head and the
+    // torque, and no relaxation runs (it ran for 8–12 s).
+    let scene = Scene::from_toml(include_str!("../../assets/conveyor.toml")).expect("scene");
+    let sim = Simulation::new(&scene).expect("settles");
+    let eq = &sim.equilibrium;
+    let unbalanced = eq.unbalanced.as_ref().expect("named");
+    assert_eq!(unbalanced.sprocket, "head (motor)");
+    assert!(
+        (unbalanced.torque_n_m + 0.5).abs() <= 1e-3,
+        "{unbalanced:?}"
+    );
+    assert!(eq.warnings().iter().any(|w| w.contains("no rest state")));
+    assert_eq!(eq.residual_speed_m_s, 0.0, "{eq:?}");
+    assert!(eq.force_residual <= 1e-6, "{eq:?}");
+    assert!(sim.model.sprockets[0].inv_inertia > 0.0);
+}

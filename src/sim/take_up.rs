@@ -79,6 +79,7 @@ pub(super) fn settle_tensioner(
             force_residual: force_residual(&forces, target),
             beyond_seating_arc: None,
             misfit: None,
+            unbalanced: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };

@@ -198,5 +198,6 @@ pub(crate) fn wear_in(
         force_residual: force_residual(forces, pretension_n),
         beyond_seating_arc: None,
         misfit: None,
+        unbalanced: None,
     })
 }

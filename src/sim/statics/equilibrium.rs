@@ -33,6 +33,10 @@ pub struct StaticEquilibrium {
     /// static tension of a drive whose arms should set it (tensioner-preload
     /// rule; `sim::statics::misfit`). A run warns.
     pub(crate) misfit: Option<super::misfit::MisfitTension>,
+    /// Where no sprocket is driven and the sprockets' loads do not balance
+    /// around the loop: the torque the sprocket held for the solve took
+    /// (`sim::statics::free`). No rest state exists; a run warns.
+    pub(crate) unbalanced: Option<super::free::Unbalanced>,
 }
 
 impl StaticEquilibrium {
@@ -50,13 +54,15 @@ impl StaticEquilibrium {
 
     /// What a run warns of about this rest state, a sentence each: a
     /// roller held on or pulled beyond a circular seating arc (the drive
-    /// has no smooth rest state with that profile), or a static tension
-    /// that the chain's fit to its path sets where tensioner arms should.
+    /// has no smooth rest state with that profile), a static tension
+    /// that the chain's fit to its path sets where tensioner arms should,
+    /// or loads that do not balance around a loop with no driver.
     /// Empty for a clean rest state.
     pub fn warnings(&self) -> Vec<String> {
         let rim = self.beyond_seating_arc.as_ref().map(ToString::to_string);
         let misfit = self.misfit.as_ref().map(ToString::to_string);
-        rim.into_iter().chain(misfit).collect()
+        let unbalanced = self.unbalanced.as_ref().map(ToString::to_string);
+        rim.into_iter().chain(misfit).chain(unbalanced).collect()
     }
 }
 
@@ -293,6 +299,7 @@ pub(crate) fn settle_preload(
         force_residual: force_residual(forces, scale_n),
         beyond_seating_arc: None,
         misfit: None,
+        unbalanced: None,
     })
 }
 
@@ -384,6 +391,7 @@ pub(crate) fn settle_rest_length(
                     force_residual: force_residual(forces, target_n),
                     beyond_seating_arc,
                     misfit: None,
+                    unbalanced: None,
                 });
             }
             // Right tension, not yet at rest: relax on at this rest length.
@@ -421,6 +429,7 @@ pub(crate) fn settle_rest_length(
             force_residual: force_residual(forces, target_n),
             beyond_seating_arc: Some(rim),
             misfit: None,
+            unbalanced: None,
         });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);

@@ -12,6 +12,7 @@ mod equilibrium;
 mod error;
 mod feasibility;
 mod fit;
+mod free;
 mod misfit;
 #[cfg(test)]
 pub(crate) use error::BeyondSeatingArc;
@@ -31,6 +32,7 @@ pub(crate) use feasibility::{check_chain_length, check_load};
 pub(crate) use fit::{
     FIT_TOLERANCE_M, arm_take_up_of, default_direction, fit_sprocket, needed_pitches_of,
 };
+pub(crate) use free::{let_go, sprocket_to_hold};
 pub(crate) use misfit::misfit_tension;
 pub(crate) use newton::settle;
 pub(crate) use relax::{RelaxSettings, relax};

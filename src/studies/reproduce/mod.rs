@@ -138,6 +138,7 @@ pub(crate) fn run_scene(
             force_residual: force_residual(&sim.forces, scene.chain.pretension_n),
             beyond_seating_arc: None,
             misfit: None,
+            unbalanced: None,
         };
         sim.sync_world();
     }
