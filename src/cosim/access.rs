@@ -45,7 +45,9 @@ impl ChainDrive {
     }
 
     /// What the drive noticed that is legitimate but may surprise, each
-    /// once, in the order noticed: a world gravity other than the scene's
+    /// once, in the order noticed: first the static equilibrium's notes (a
+    /// roller on a seating arc's rim, a tension set by the chain's misfit,
+    /// loads that leave the drive no rest state), then a world gravity other than the scene's
     /// (the chain hangs under the scene's, the bodies it carries fall under
     /// the world's).
     pub fn warnings(&self) -> &[String] {

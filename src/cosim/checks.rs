@@ -36,6 +36,15 @@ pub(super) struct Notes {
 }
 
 impl Notes {
+    /// Notes that start with `warnings` (the static equilibrium's: a roller
+    /// on a seating arc's rim, a misfit's tension, loads with no rest state).
+    pub(super) fn starting_with(warnings: Vec<String>) -> Self {
+        Self {
+            warnings,
+            gravity_noted: false,
+        }
+    }
+
     /// The sentences, in the order noticed.
     pub(super) fn warnings(&self) -> &[String] {
         &self.warnings

@@ -473,3 +473,22 @@ fn a_dynamic_mounts_inertia_is_its_bodys() {
         "motor at {omega} rad/s, expected {expected} rad/s"
     );
 }
+
+#[test]
+fn a_drive_inserted_with_no_rest_state_says_so_in_its_warnings() {
+    // Nothing driven, nothing mounted, a load on the tail: the loads do not
+    // balance around the loop, so the drive has no rest state, and the
+    // static equilibrium's note reaches the co-simulation's warnings.
+    let scene = conveyor("role = \"free\"", -0.5);
+    let mut w = PhysicsWorld::default();
+    let drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    assert!(
+        drive.warnings().iter().any(|m| m.contains("no rest state")),
+        "{:?}",
+        drive.warnings()
+    );
+    // A balanced drive (no load) has no such note.
+    let scene = conveyor("role = \"free\"", 0.0);
+    let drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    assert!(drive.warnings().is_empty(), "{:?}", drive.warnings());
+}

@@ -71,6 +71,7 @@ impl ChainDrive {
         let mut owned: HashMap<ColliderHandle, bool> =
             handles.into_iter().map(|h| (h, false)).collect();
         owned.extend(roller_colliders.iter().map(|&h| (h, true)));
+        let notes = Notes::starting_with(equilibrium.warnings());
         Ok(Self {
             handles: Handles::new(
                 links.iter().map(|l| l.body).collect(),
@@ -92,7 +93,7 @@ impl ChainDrive {
             limits,
             parking: Parking::new(n),
             clock: FrameClock::default(),
-            notes: Notes::default(),
+            notes,
             settled,
         })
     }
