@@ -1,11 +1,11 @@
 //! Two conveyors in one rapier world, end to end, stepped together as a
-//! [`DriveSet`]: a box laid on the first crosses onto the second. Each
-//! conveyor's tail sprocket sits on a motor body of the user's world pushing
-//! it with 1 N·m. Shows what composes: the box keeps its gravity while both
-//! chains are near it (one drive carries it in each frame, the other's
-//! rollers feel it as a moving body), and neither drive takes the other's
-//! motor for a box to carry. Prints the box's position and speed every
-//! half second and the motors' torques.
+//! [`DriveSet`]: a 250 mm box laid on the first crosses onto the second.
+//! Each conveyor's tail sprocket sits on a motor body of the user's world
+//! pushing it with 1 N·m. Shows what composes: while the box rests on both
+//! chains at the gap, both hold it in the same substeps (their forces on it
+//! summed); it keeps its gravity; neither drive takes the other's motor for
+//! a box to carry. Prints the box's position and speed every half second,
+//! the motors' torques, and the wall time per frame.
 //!
 //! ```text
 //! cargo run --release --example transfer
@@ -82,19 +82,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         set.push(drive);
         motors.push(motor);
     }
-    // A 0.2 kg box, 100 × 50 mm, on A's upper strand (roller tops at 83.6 mm).
+    // A 0.2 kg box, 250 × 50 mm, on A's upper strand (roller tops at 84.2 mm).
+    // It bridges the 180 mm between the strands' tops; a shorter box drops
+    // into the valley between the two wraps and is spun there a while.
     let top = 0.0812 * (std::f64::consts::PI / 20.0).cos() + 0.00397;
     let bx = world
         .bodies
         .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.5, top + 0.0251)));
     world.colliders.insert_with_parent(
-        ColliderBuilder::cuboid(0.05, 0.025)
-            .density(40.0)
+        ColliderBuilder::cuboid(0.125, 0.025)
+            .density(16.0)
             .friction(0.8),
         bx,
         &mut world.bodies,
     );
     println!("   t (s)   box x (m)   box y (m)   vx (m/s)   gravity scale   motor torques (N·m)");
+    let started = std::time::Instant::now();
     for frame in 1..=180 {
         set.step_world(&mut world, &(), &())?;
         if frame % 30 == 0 {
@@ -111,5 +114,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
+    let ms = started.elapsed().as_secs_f64() * 1e3 / 180.0;
+    println!("{ms:.2} ms of wall time per frame (two drives, 60 Hz)");
     Ok(())
 }

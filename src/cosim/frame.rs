@@ -115,9 +115,10 @@ impl ChainDrive {
     /// moving the mounts with them where any moves; how many it took.
     fn substeps(&mut self, dt_s: f64, moving: bool) -> Result<u64, CosimError> {
         let (substeps, t0) = self.open_substeps(dt_s);
+        let with_bodies = !self.contacts.is_empty();
         for step in 1..=substeps {
-            self.substep_forces(step);
-            self.substep_advance(step, t0, moving, dt_s)?;
+            self.substep_forces(step, with_bodies);
+            self.substep_advance(step, t0, moving, with_bodies, dt_s)?;
         }
         Ok(substeps)
     }
@@ -137,11 +138,13 @@ impl ChainDrive {
 
     /// The first half of substep `step` (from 1) of a frame: the held external forces and the user's
     /// colliders' forces at the current state (their reactions on carried
-    /// bodies summed, not yet applied).
-    pub(super) fn substep_forces(&mut self, step: u64) {
+    /// bodies summed, not yet applied) where `with_bodies` (the frame has
+    /// any carried body or pair).
+    #[inline(always)]
+    pub(super) fn substep_forces(&mut self, step: u64, with_bodies: bool) {
         let dt = self.scene.solver.dt_s;
         self.scratch.add_external(self.forces.output_mut());
-        if !self.contacts.is_empty() {
+        if with_bodies {
             let tau = (step - 1) as f64 * dt;
             self.contacts.apply(
                 &self.coupling,
@@ -154,21 +157,23 @@ impl ChainDrive {
     }
 
     /// The second half of substep `step` of a frame that began at the
-    /// chain's time `t0`: the chain and the carried bodies
+    /// chain's time `t0`: the chain and (`with_bodies`) the carried bodies
     /// advanced, the mounts moved (`moving`), the forces at the new state,
     /// the blow-up check (a frame of `dt_s` names the coupling's limit).
+    #[inline(always)]
     pub(super) fn substep_advance(
         &mut self,
         step: u64,
         t0: f64,
         moving: bool,
+        with_bodies: bool,
         dt_s: f64,
     ) -> Result<(), CosimError> {
         let dt = self.scene.solver.dt_s;
         // The rollers' update and the links at the new state in one
         // pass (large drives); the mounts' move does not touch the links.
         let linked = symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
-        if !self.contacts.is_empty() {
+        if with_bodies {
             self.contacts.integrate(dt);
         }
         self.state.t_s = self.clock.tick(dt);

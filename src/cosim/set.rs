@@ -8,19 +8,21 @@
 //! set steps them as one:
 //!
 //! - each drive leaves the others' colliders and mounted bodies alone;
-//! - a body near several chains is carried by one drive in a frame — the
-//!   one with most rollers near it (on a tie, the drive whose first roller
-//!   body has the lowest handle; the set's order still changes the result,
-//!   see docs/architecture.md, "Several drives"); the
-//!   other drives leave it alone in that frame (their rollers pass through
-//!   it); its gravity, damping and user force are saved once, by that drive,
-//!   and restored once;
+//! - a body near several chains is carried by all of them in the same
+//!   substeps: the drives' substeps run side by side, and in each every
+//!   drive's forces on the body are summed before any copy of it advances
+//!   (each drive keeps an equal copy; see `bodies/shared.rs`). One drive,
+//!   its keeper (most rollers near it; on a tie, the drive whose first
+//!   roller body has the lowest handle), hands it to rapier's step, saving
+//!   and restoring its gravity, damping and user force once. Drives of
+//!   different `solver.dt_s` cannot share substeps: such a body is carried
+//!   by its keeper alone in that frame, the others' rollers passing through it;
 //! - one [`SetHooks`] keeps rapier's solver out of every pair of two drives'
 //!   colliders and of every roller–carried-body pair.
 //!
-//! Not coupled: two drives' own bodies (their rollers and sprockets pass
-//! through each other), and a body with the rollers of a drive that does
-//! not carry it in that frame.
+//! With no shared body in a frame, each drive runs its frame as it would
+//! alone. Not coupled: two drives' own bodies (their rollers and sprockets
+//! pass through each other).
 
 use std::collections::HashMap;
 use std::time::Instant;
@@ -160,10 +162,13 @@ impl DriveSet {
     /// given to each copy of it, then every drive advanced.
     fn run_interleaved(&mut self, bodies: &mut RigidBodySet, dt_s: f64) -> Result<(), CosimError> {
         let searched = Instant::now();
-        let opened: Vec<(u64, f64)> = self
+        let opened: Vec<(u64, f64, bool)> = self
             .drives
             .iter_mut()
-            .map(|d| d.open_substeps(dt_s))
+            .map(|d| {
+                let (substeps, t0) = d.open_substeps(dt_s);
+                (substeps, t0, !d.contacts.is_empty())
+            })
             .collect();
         let most = opened.iter().map(|o| o.0).max().unwrap_or(0);
         let mut shared: Vec<RigidBodyHandle> = Vec::new();
@@ -175,8 +180,8 @@ impl DriveSet {
         for step in 1..=most {
             let stepping = |k: usize| opened.get(k).is_some_and(|o| step <= o.0);
             for (k, d) in self.drives.iter_mut().enumerate() {
-                if stepping(k) {
-                    d.substep_forces(step);
+                if let Some(&(_, _, with_bodies)) = opened.get(k).filter(|o| step <= o.0) {
+                    d.substep_forces(step, with_bodies);
                 }
             }
             for &body in &shared {
@@ -191,8 +196,8 @@ impl DriveSet {
                 }
             }
             for (k, (d, start)) in self.drives.iter_mut().zip(&self.starts).enumerate() {
-                if let Some(&(_, t0)) = opened.get(k).filter(|o| step <= o.0) {
-                    d.substep_advance(step, t0, start.moving, dt_s)
+                if let Some(&(_, t0, with_bodies)) = opened.get(k).filter(|o| step <= o.0) {
+                    d.substep_advance(step, t0, start.moving, with_bodies, dt_s)
                         .map_err(|e| in_drive(k, e))?;
                 }
             }
