@@ -8,7 +8,7 @@
 //! the motors' torques, and the wall time per frame.
 //!
 //! ```text
-//! cargo run --release --example transfer
+//! cargo run --release --example transfer [box length, m (0.25)] [seconds (3)]
 //! ```
 
 use chaindrive::cosim::DriveSet;
@@ -60,6 +60,13 @@ dt_s = 1e-5
 }
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let mut args = std::env::args().skip(1);
+    let length_m: f64 = args.next().map_or(Ok(0.25), |a| a.parse())?;
+    let seconds: f64 = args.next().map_or(Ok(3.0), |a| a.parse())?;
+    if !(length_m > 0.0 && length_m.is_finite() && seconds >= 0.0 && seconds.is_finite()) {
+        return Err(format!("box length {length_m} m, {seconds} s: both positive and finite").into());
+    }
+    let frames = (seconds * 60.0).round() as usize;
     let mut world = PhysicsWorld::default(); // 60 Hz, gravity −9.81 m/s²
     // Conveyor A from x = 0 to 1.016 m, B from −1.196 to −0.18 m: their
     // wrapped rollers 10 mm apart.
@@ -82,23 +89,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         set.push(drive);
         motors.push(motor);
     }
-    // A 0.2 kg box, 250 × 50 mm, on A's upper strand (roller tops at 84.2 mm).
-    // It bridges the 180 mm between the strands' tops; a shorter box drops
-    // into the valley between the two wraps and is spun there a while.
+    // A 0.2 kg box, 250 × 50 mm by default, on A's upper strand (roller tops
+    // at 84.2 mm). It bridges the 180 mm between the strands' tops; a box
+    // shorter than that drops into the valley between the two wraps and is
+    // spun there a while.
     let top = 0.0812 * (std::f64::consts::PI / 20.0).cos() + 0.00397;
     let bx = world
         .bodies
         .insert(RigidBodyBuilder::dynamic().translation(Vector::new(0.5, top + 0.0251)));
     world.colliders.insert_with_parent(
-        ColliderBuilder::cuboid(0.125, 0.025)
-            .density(16.0)
+        ColliderBuilder::cuboid(length_m / 2.0, 0.025)
+            .density(0.2 / 0.05 / length_m)
             .friction(0.8),
         bx,
         &mut world.bodies,
     );
     println!("   t (s)   box x (m)   box y (m)   vx (m/s)   gravity scale   motor torques (N·m)");
     let started = std::time::Instant::now();
-    for frame in 1..=180 {
+    for frame in 1..=frames {
         set.step_world(&mut world, &(), &())?;
         if frame % 30 == 0 {
             let b = &world.bodies[bx];
@@ -114,7 +122,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             );
         }
     }
-    let ms = started.elapsed().as_secs_f64() * 1e3 / 180.0;
+    let ms = started.elapsed().as_secs_f64() * 1e3 / frames.max(1) as f64;
     println!("{ms:.2} ms of wall time per frame (two drives, 60 Hz)");
     Ok(())
 }
