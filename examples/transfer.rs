@@ -64,7 +64,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let length_m: f64 = args.next().map_or(Ok(0.25), |a| a.parse())?;
     let seconds: f64 = args.next().map_or(Ok(3.0), |a| a.parse())?;
     if !(length_m > 0.0 && length_m.is_finite() && seconds >= 0.0 && seconds.is_finite()) {
-        return Err(format!("box length {length_m} m, {seconds} s: both positive and finite").into());
+        return Err(
+            format!("box length {length_m} m, {seconds} s: both positive and finite").into(),
+        );
     }
     let frames = (seconds * 60.0).round() as usize;
     let mut world = PhysicsWorld::default(); // 60 Hz, gravity −9.81 m/s²

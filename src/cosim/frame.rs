@@ -172,7 +172,8 @@ impl ChainDrive {
         let dt = self.scene.solver.dt_s;
         // The rollers' update and the links at the new state in one
         // pass (large drives); the mounts' move does not touch the links.
-        let linked = symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
+        let linked =
+            symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
         if with_bodies {
             self.contacts.integrate(dt);
         }

@@ -325,7 +325,10 @@ fn two_conveyors_keep_a_transfer_boxs_gravity_and_their_motors() {
         // Each tail turns with its chain: ω = 2π rad/s at 60 rpm on equal sprockets.
         let omega = std::f64::consts::TAU;
         for w in a.tail_speed {
-            assert!(((w - omega) / omega).abs() < 0.02, "{order:?}: tail at {w} rad/s");
+            assert!(
+                ((w - omega) / omega).abs() < 0.02,
+                "{order:?}: tail at {w} rad/s"
+            );
         }
     }
 }
@@ -365,7 +368,10 @@ fn a_box_crosses_from_one_conveyor_to_the_other_at_chain_speed() {
     // the straight strand's top.
     for p in window {
         let drop = strand_top() + HY - p[1];
-        assert!(drop > -2e-3 && drop < 7.5e-3 + 2e-3, "box {drop} m below the strand's top");
+        assert!(
+            drop > -2e-3 && drop < 7.5e-3 + 2e-3,
+            "box {drop} m below the strand's top"
+        );
         assert!(p[4].abs() < 0.05, "box tilted by {} rad", p[4]);
     }
 }
