@@ -15,7 +15,6 @@ table (JSON) and docs/figures/elongation-onset.svg with the 200/z rule, the
 """
 import json
 import math
-import math
 import os
 import subprocess
 import sys

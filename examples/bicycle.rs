@@ -22,12 +22,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let crank = world.bodies.insert(axle(0.0, 0.0, 0.02));
     // The rear wheel, with the rider and bicycle's mass reduced to it: J = m R² ≈ 85 kg · 0.34² m².
     let wheel = world.bodies.insert(axle(-0.4143, 0.03, 10.0));
-    let mut drive = ChainDrive::insert(
-        &scene,
-        &[Some(crank), Some(wheel)],
-        &mut world.bodies,
-        &mut world.colliders,
-    )?;
+    let mut drive = ChainDrive::builder(&scene)
+        .mount("chainring", crank)
+        .mount("rear sprocket", wheel)
+        .build(&mut world)?;
+    let (chainring, rear) = (
+        drive.sprocket("chainring")?,
+        drive.sprocket("rear sprocket")?,
+    );
     let mut recorder = Recorder::create(
         std::path::Path::new("bicycle.mcap"),
         &scene,
@@ -71,8 +73,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             println!(
                 "t = {:4.1} s: cadence {:5.1} rpm, wheel {:5.1} km/h, chain tension up to {:5.0} N",
                 t,
-                drive.state().omega[0].abs() * 60.0 / std::f64::consts::TAU,
-                drive.state().omega[1].abs() * 0.34 * 3.6,
+                drive.sprocket_speed(chainring).abs() * 60.0 / std::f64::consts::TAU,
+                drive.sprocket_speed(rear).abs() * 0.34 * 3.6,
                 tension
             );
         }

@@ -22,12 +22,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             .lock_translations()
             .additional_mass_properties(MassProperties::new(Vector::ZERO, 2.0, 0.05)),
     );
-    let mut drive = ChainDrive::insert(
-        &scene,
-        &[Some(motor)],
-        &mut world.bodies,
-        &mut world.colliders,
-    )?;
+    let mut drive = ChainDrive::builder(&scene)
+        .mount("head (motor)", motor)
+        .build(&mut world)?;
+    let head = drive.sprocket("head (motor)")?;
     let mut recorder = Recorder::create(
         std::path::Path::new("conveyor.mcap"),
         &scene,
@@ -40,7 +38,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             rate_hz: 60.0,
         },
     )?;
-    let radius = drive.model().sprockets[0].pitch_radius_m;
+    let radius = drive.model().sprockets[head.index()].pitch_radius_m;
     // The wear strip: its top 0.5 mm below the lowest roller of the upper
     // strand (which sags under its own weight), low friction.
     let s = drive.state();
@@ -86,8 +84,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "after {:.1} s: motor at {:.2} rad/s, chain speed {:.3} m/s",
         frames as f64 / 60.0,
-        drive.state().omega[0],
-        drive.state().omega[0] * radius
+        drive.sprocket_speed(head),
+        drive.sprocket_speed(head) * radius
     );
     // Boxes push the rollers down, the strip pushes them up (and drags them).
     let sum = drive

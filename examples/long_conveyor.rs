@@ -91,7 +91,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // The tail sprocket turns with the driver when its speed is the
     // driver's times the teeth ratio.
     let ratio = f64::from(spec.teeth[0]) / f64::from(spec.teeth[1]);
-    let (driver, tail) = (drive.state().omega[0], drive.state().omega[1]);
+    let (driver, tail) = (drive.sprocket(0)?, drive.sprocket(1)?);
+    let (driver, tail) = (drive.sprocket_speed(driver), drive.sprocket_speed(tail));
     println!(
         "driver at {driver:.3} rad/s, tail sprocket at {tail:.3} rad/s \
          ({:.1} % of the driver's speed times the teeth ratio)",

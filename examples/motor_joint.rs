@@ -40,13 +40,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut drive = ChainDrive::builder(&scene)
         .mount("head (motor)", shaft)
         .build(&mut world)?;
+    let (head, tail) = (drive.sprocket("head (motor)")?, drive.sprocket("tail")?);
     println!("  t (s)   shaft (rad/s)   head (rad/s)   tail load (N·m)");
     let mut load = 0.0;
     for step in 1..=180 {
         if step == 120 {
             // Raised mid-run through the setter (the model is read-only).
             load = -2.0;
-            drive.set_load_torque(1, load)?;
+            drive.set_load_torque(tail, load)?;
         }
         drive.step_world(&mut world, &(), &())?;
         if step % 20 == 0 {
@@ -54,7 +55,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                 "{:7.2} {:15.3} {:14.3} {:17.1}",
                 drive.state().t_s,
                 world.bodies[shaft].angvel(),
-                drive.state().omega[0],
+                drive.sprocket_speed(head),
                 load
             );
         }

@@ -71,7 +71,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     println!(
         "driver at {:.3} rad/s; wrote paper_in_scene.mcap",
-        drive.state().omega[0]
+        drive.sprocket_speed(drive.sprocket("crankshaft")?)
     );
     Ok(())
 }

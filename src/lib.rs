@@ -99,7 +99,9 @@
 //!     world.bodies[motor].add_torque(5.0, true);
 //!     drive.step_world(&mut world, &(), &())?; // before_step + world step + after_step
 //! }
-//! assert!(drive.state().omega[0] > 0.0 && world.bodies[motor].angvel() > 0.0);
+//! // A sprocket by name, then by its id in every per-sprocket call.
+//! let head = drive.sprocket("head (motor)")?;
+//! assert!(drive.sprocket_speed(head) > 0.0 && world.bodies[motor].angvel() > 0.0);
 //!
 //! // The same frame, composed with your own pipeline call and hooks:
 //! let dt = world.integration_parameters.dt;
@@ -118,8 +120,13 @@
 //! drive's scene, model and state are read-only (`drive.state()`,
 //! `drive.model()`); what you change mid-run has a setter
 //! (`set_load_torque`, `set_driver_speed`, `set_governor_target`,
-//! `set_driver_torque`, `set_coupling`). Forces at the boundary are rapier's
-//! `Vector`. Observers ([`sim::Observer`], several through
+//! `set_driver_torque`, `set_coupling`). A sprocket is named by the
+//! [`cosim::SprocketId`] that `drive.sprocket("tail")` finds (by name or
+//! index), which every per-sprocket setter and getter takes
+//! (`set_load_torque`, `set_mount_force`, `sprocket_speed`,
+//! `sprocket_angle`, `chain_torque_on_sprocket`, `sprocket_body`).
+//! Positions, velocities and forces at the boundary are rapier's `Vector`
+//! (`roller_position(i)`, `roller_positions()`, `chain_force_on(body)`). Observers ([`sim::Observer`], several through
 //! [`sim::Fanout`]) see the drive once per frame through
 //! `step_world_observed`; `record::Recorder::co_simulated(writer,
 //! drive.scene(), ...)` records the run with its

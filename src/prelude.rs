@@ -25,7 +25,7 @@
 //! the recording's options ([`crate::record`]).
 
 pub use crate::analysis::{RunSummary, Signals, StatsWindow, WindowError};
-pub use crate::cosim::{ChainDrive, ChainDriveBuilder, CosimError, Coupling};
+pub use crate::cosim::{ChainDrive, ChainDriveBuilder, CosimError, Coupling, SprocketId};
 #[cfg(feature = "record")]
 pub use crate::record::{Channels, RecordError, RecordOptions, Recorder, RunEnd};
 pub use crate::scene::{Overrides, Scene, SceneBuilder, SceneError};

@@ -134,7 +134,8 @@ def rate(scene: Scene, *, service_factor: float = 1.0, power_w: Optional[float] 
 
 def chains(name: Optional[str] = None) -> List[Dict[str, Any]]:
     """The chains known by designation with their sources; one with `name`
-    (`"ANSI 80-2"`: n strands, the derived values saying how). Raises
+    (`"ANSI 80-2"`: n strands, the derived values saying how). A value no
+    source gives (a motorcycle chain's mass, strength) is None. Raises
     `ValueError` naming the nearest designations."""
 
 def _to_toml(value: Mapping[str, Any]) -> str: ...

@@ -128,7 +128,7 @@ def test_a_multi_strand_chain_is_n_single_strands():
     assert double["pitch_m"] == single["pitch_m"]
     assert "n x the single strand" in double["sources"]["strength"]
     with pytest.raises(ValueError, match="motorcycle"):
-        cd.chains("520")
+        cd.chains("520-2")
 
 
 def test_with_designation_takes_the_tables_values(data):

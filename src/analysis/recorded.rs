@@ -93,6 +93,7 @@ impl RecordedRun {
             metadata: meta,
             end_status,
             tooth_jumps: _,
+            tip_rides: _,
             has_links,
             has_contacts,
             samples,

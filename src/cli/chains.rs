@@ -42,22 +42,27 @@ fn print_rows(rows: &[Stranded]) -> std::io::Result<()> {
     )?;
     for c in rows {
         let d = c.single;
+        let mm = |v: Option<f64>| known(v.map(|m| format!("{:.2}", m * 1e3)));
         writeln!(
             out,
-            "{:<15}  {:>8.3}  {:>11.2}  {:>10.2}  {:>8.2}  {:>10.2}  {:>10.2}  {:>9.3}  {:>10.1}  {:>14.5}  {:>13.3e}",
+            "{:<15}  {:>8.3}  {:>11.2}  {:>10.2}  {:>8}  {:>10}  {:>10}  {:>9}  {:>10}  {:>14}  {:>13}",
             c.name(),
             d.pitch_m * 1e3,
             d.roller_diameter_m * 1e3,
             d.inner_width_m * 1e3,
-            d.pin_diameter_m * 1e3,
-            d.plate_depth_m * 1e3,
-            d.plate_thickness_m * 1e3,
-            c.mass_per_m_kg(),
-            c.tensile_strength_n() * 1e-3,
-            c.roller_mass_kg(),
-            c.stiffness_n_m()
+            mm(d.pin_diameter_m),
+            mm(d.plate_depth_m),
+            mm(d.plate_thickness_m),
+            known(c.mass_per_m_kg().map(|q| format!("{q:.3}"))),
+            known(c.tensile_strength_n().map(|f| format!("{:.1}", f * 1e-3))),
+            known(c.roller_mass_kg().map(|m| format!("{m:.5}"))),
+            known(c.stiffness_n_m().map(|k| format!("{k:.3e}")))
         )?;
     }
+    writeln!(
+        out,
+        "(-: no published value read; a scene naming the chain gives the field it would fill)"
+    )?;
     writeln!(out)?;
     writeln!(out, "sources:")?;
     for c in rows {
@@ -115,13 +120,22 @@ fn print_rows(rows: &[Stranded]) -> std::io::Result<()> {
     )?;
     writeln!(
         out,
-        "  ANSI 25 and 35 are bush chains: their roller diameter is the bush's. In a scene, chain.designation fills pitch_m, roller_radius_m, roller_mass_kg (mass per metre x pitch), stiffness_n_m and pin_radius_m; a field written in the scene overrides it."
+        "  ANSI 25 and 35 are bush chains: their roller diameter is the bush's. In a scene, chain.designation fills pitch_m, roller_radius_m, roller_mass_kg (mass per metre x pitch), stiffness_n_m, pin_radius_m and tensile_strength_n where its row has them; a field written in the scene overrides it."
+    )?;
+    writeln!(
+        out,
+        "  Motorcycle chains 520, 525, 530: single strand only; rated as the ANSI 50 (the same pitch and roller; docs/design-checks.md, \"Chain data\"). Their rows hold pitch, roller, inner width (and the 520's plate depth): a scene gives roller_mass_kg, stiffness_n_m and tensile_strength_n from its maker's data."
     )?;
     writeln!(
         out,
         "  Multiple strands: add -2 to -{MAX_STRANDS} to a name (\"ANSI 80-2\", \"16B-3\"; not ANSI 41): mass, stiffness and tensile strength n times the single strand's, the rating times 1.7, 2.5 or 3.3 (`chaindrive chains 80-2` shows one)."
     )?;
     Ok(())
+}
+
+/// A value as printed, or "-" where the row has none.
+fn known(value: Option<String>) -> String {
+    value.unwrap_or_else(|| "-".to_owned())
 }
 
 /// A closed pipe on stdout (`chaindrive chains | head`) ends the listing

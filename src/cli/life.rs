@@ -15,7 +15,7 @@ use std::process::ExitCode;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use crate::analysis::figures::{BarPanel, Bars, save_bars};
+use crate::analysis::figures::{BarPanel, Bars, save_bars, value_label};
 use crate::scene::{DutyFile, DutyPointFile};
 use crate::studies::duty::{DutyCycle, DutyLife, LifeSettings, combine};
 use crate::studies::study::CaseOutcome;
@@ -179,7 +179,7 @@ fn print_report(r: &DutyLife, out: &Path) {
             opt(p.damage_per_hour, |d| format!("{d:.3e}")),
             p.fatigue_life_h
                 .map_or_else(|| "-".to_owned(), |l| l.to_string()),
-            opt(p.damage_share, |s| format!("{:.1}%", 100.0 * s)),
+            opt(p.damage_share, |s| value_label(100.0 * s, 1, "%")),
             p.status
         );
     }
@@ -264,11 +264,23 @@ fn write_outputs(r: &DutyLife, out: &Path) -> anyhow::Result<()> {
         .life_h
         .map_or_else(|| "unknown".to_owned(), |l| l.to_string());
     let bars = Bars {
-        title: format!("Damage per operating point; life {life}"),
-        items: r.points.iter().map(|p| p.name.clone()).collect(),
+        title: format!("Fatigue damage per operating point; the cycle's life {life}"),
+        // Each point with its share of the time: a point's share of the
+        // damage is read against it.
+        items: r
+            .points
+            .iter()
+            .map(|p| {
+                format!(
+                    "{} ({} of the time)",
+                    p.name,
+                    value_label(100.0 * p.time_share, 0, " %")
+                )
+            })
+            .collect(),
         panels: vec![
             BarPanel {
-                y_label: "share of the damage (%)".to_owned(),
+                y_label: "share of the cycle's damage (%)".to_owned(),
                 values: r
                     .points
                     .iter()
@@ -280,7 +292,7 @@ fn write_outputs(r: &DutyLife, out: &Path) -> anyhow::Result<()> {
                 color: 1,
             },
             BarPanel {
-                y_label: "fatigue safety factor (dashed: 1)".to_owned(),
+                y_label: "fatigue limit / largest cycle (dashed: 1)".to_owned(),
                 values: r.points.iter().map(|p| p.fatigue_safety_factor).collect(),
                 decimals: 2,
                 suffix: String::new(),

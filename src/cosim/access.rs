@@ -44,12 +44,6 @@ impl ChainDrive {
         self.handles.rollers()
     }
 
-    /// The body of each sprocket, in the scene's order: the user's where
-    /// mounted, the drive's own otherwise.
-    pub fn sprocket_bodies(&self) -> &[RigidBodyHandle] {
-        self.handles.sprockets()
-    }
-
     /// What the drive noticed that is legitimate but may surprise, each
     /// once, in the order noticed: a world gravity other than the scene's
     /// (the chain hangs under the scene's, the bodies it carries fall under

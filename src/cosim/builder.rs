@@ -147,34 +147,7 @@ impl<'a> ChainDriveBuilder<'a> {
         let sprockets = scene.sprockets();
         let mut by_index = vec![None; sprockets.len()];
         for (key, body) in &self.mounts {
-            let k = match key {
-                SprocketKey::Index(k) => {
-                    if *k >= sprockets.len() {
-                        return Err(CosimError::input(
-                            format!("mount({k})"),
-                            format!(
-                                "no sprocket {k}: the scene has sprockets 0 to {}",
-                                sprockets.len().saturating_sub(1)
-                            ),
-                        ));
-                    }
-                    *k
-                }
-                SprocketKey::Name(name) => {
-                    let Some(k) = sprockets.iter().position(|s| s.name == *name) else {
-                        let names: Vec<String> =
-                            sprockets.iter().map(|s| format!("{:?}", s.name)).collect();
-                        return Err(CosimError::input(
-                            format!("mount({name:?})"),
-                            format!(
-                                "no sprocket named {name:?} in the scene: its sprockets are {}",
-                                names.join(", ")
-                            ),
-                        ));
-                    };
-                    k
-                }
-            };
+            let k = super::sprockets::resolve(scene, key, "mount")?;
             if by_index[k].is_some() {
                 return Err(CosimError::input(
                     format!("mount({key})"),

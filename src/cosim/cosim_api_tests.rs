@@ -6,6 +6,7 @@ use super::cosim_tests::conveyor;
 use crate::cosim::{ChainDrive, CosimError, Coupling};
 use crate::scene::Scene;
 use rapier2d_f64::prelude::*;
+use std::f64::consts::{PI, TAU};
 
 /// The conveyor's tail centre in the scene, m.
 const TAIL_X_M: f64 = 1.016;
@@ -325,4 +326,185 @@ fn a_new_governor_target_is_a_speed_step_the_governor_follows_critically_damped(
         Err(CosimError::Input { field, .. }) => assert_eq!(field, "governor"),
         other => panic!("{other:?}"),
     }
+}
+
+#[test]
+fn sprockets_are_found_by_name_or_index_and_read_through_their_ids() {
+    // A 1 N·m load on the free tail: at rest the chain holds it, so the
+    // chain's torque on the tail is +1 N·m (moment balance about its axle).
+    let scene = conveyor("role = \"driver\"\nspeed_rpm = 60.0\nramp_s = 0.2", -1.0);
+    let mut w = PhysicsWorld::default();
+    let drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    let tail = drive.sprocket("tail").expect("by name");
+    assert_eq!(drive.sprocket(1).expect("by index"), tail);
+    assert_eq!(tail.index(), 1);
+    let names: Vec<&str> = drive.sprockets().map(|(_, n)| n).collect();
+    assert_eq!(names, ["driver", "tail"]);
+    match drive.sprocket("head") {
+        Err(CosimError::Input { field, message }) => {
+            assert_eq!(field, "sprocket(\"head\")");
+            assert!(message.contains("\"driver\", \"tail\""), "{message}");
+        }
+        other => panic!("expected an input error, got {other:?}"),
+    }
+    assert!(drive.sprocket(2).is_err());
+    let torque = drive.chain_torque_on_sprocket(tail);
+    assert!(
+        (torque - 1.0).abs() < 0.01,
+        "chain torque on the tail {torque} N·m"
+    );
+    // The chain's pull on the tail's centre points back at the driver.
+    assert!(drive.chain_force_on_sprocket(tail).x < -300.0);
+    assert_eq!(drive.sprocket_speed(tail), drive.state().omega[1]);
+    assert_eq!(drive.sprocket_angle(tail), drive.state().theta[1]);
+    assert_eq!(drive.sprocket_body(tail), drive.handles.sprockets()[1]);
+    let s = drive.state();
+    let n = drive.roller_count();
+    assert_eq!(n, s.x.len());
+    assert_eq!(drive.roller_position(7), Some(Vector::new(s.x[7], s.y[7])));
+    assert_eq!(
+        drive.roller_velocity(7),
+        Some(Vector::new(s.vx[7], s.vy[7]))
+    );
+    assert_eq!(drive.roller_position(n), None);
+    assert_eq!(drive.roller_positions().len(), n);
+    assert!(drive.roller_positions().zip(&s.y).all(|(p, &y)| p.y == y));
+}
+
+#[test]
+fn the_users_bodies_are_recorded_as_frames_beside_the_chain() {
+    use crate::record::{RecordOptions, Recorder, RunEnd};
+    use foxglove::schemas::FrameTransforms;
+    use prost::Message as _;
+    // A body the user moves along a line, recorded as frame "carriage" on
+    // `/tf`; a name of the drive's own frames is not taken.
+    let scene = driven();
+    let mut w = PhysicsWorld::default();
+    let mut drive = ChainDrive::builder(&scene).build(&mut w).expect("drive");
+    let body = w.bodies.insert(
+        RigidBodyBuilder::kinematic_velocity_based()
+            .translation(Vector::new(0.3, 0.5))
+            .linvel(Vector::new(0.6, 0.0))
+            .angvel(2.0),
+    );
+    let dt = w.integration_parameters.dt;
+    let options = RecordOptions {
+        rate_hz: 1.0 / dt,
+        ..RecordOptions::default()
+    };
+    let mut recorder = Recorder::co_simulated(
+        std::io::Cursor::new(Vec::new()),
+        drive.scene(),
+        &options,
+        dt,
+    )
+    .expect("recorder");
+    let mut poses = Vec::new();
+    for _ in 0..10 {
+        let b = &w.bodies[body];
+        let pose = (b.translation(), b.rotation().angle());
+        recorder.body_frame("carriage", pose.0, pose.1);
+        recorder.body_frame("sprocket1", Vector::new(9.0, 9.0), 0.0);
+        recorder.body_frame("ghost", Vector::new(f64::NAN, 0.0), 0.0);
+        poses.push(pose);
+        drive
+            .step_world_observed(&mut w, &(), &(), &mut recorder)
+            .expect("frame");
+    }
+    let bytes = recorder
+        .finish(RunEnd::Completed)
+        .expect("finish")
+        .into_inner();
+    let mut seen = Vec::new();
+    for m in mcap::MessageStream::new(&bytes).expect("an MCAP file") {
+        let m = m.expect("a message");
+        if m.channel.topic != "/tf" {
+            continue;
+        }
+        let tf = FrameTransforms::decode(&m.data[..]).expect("FrameTransforms");
+        let names: Vec<&str> = tf
+            .transforms
+            .iter()
+            .map(|t| t.child_frame_id.as_str())
+            .collect();
+        assert_eq!(names, ["sprocket1", "sprocket2", "carriage"]);
+        let spr = tf.transforms[0].translation.as_ref().expect("translation");
+        assert!(
+            spr.x.abs() < 1e-12 && spr.y.abs() < 1e-12,
+            "sprocket1 moved"
+        );
+        let c = &tf.transforms[2];
+        let (t, q) = (
+            c.translation.as_ref().expect("xy"),
+            c.rotation.as_ref().expect("q"),
+        );
+        seen.push((t.x, t.y, 2.0 * q.z.atan2(q.w)));
+    }
+    // One /tf per sample after the first body_frame (the first frame's
+    // sample is taken after the step, with the pose set before it).
+    assert_eq!(seen.len(), poses.len());
+    for ((x, y, th), (p, a)) in seen.iter().zip(&poses) {
+        assert!(
+            (x - p.x).abs() < 1e-12 && (y - p.y).abs() < 1e-12,
+            "{x} {y} vs {p:?}"
+        );
+        assert!((th - a).abs() < 1e-12, "{th} vs {a}");
+    }
+    // The body moved: the recorded frames are not all one pose.
+    assert!(seen[9].0 - seen[0].0 > 0.08);
+}
+
+#[test]
+fn a_drive_set_hands_each_drive_to_its_own_observer_after_every_frame() {
+    use crate::cosim::DriveSet;
+    use crate::sim::{Observer, Sample};
+    /// Each sample's time and first sprocket speed.
+    #[derive(Default)]
+    struct Speeds(Vec<(f64, f64)>);
+    impl Observer for Speeds {
+        fn sample(&mut self, s: &Sample<'_>) {
+            self.0.push((s.state.t_s, s.state.omega[0]));
+        }
+    }
+    // Two drives far apart, at 60 and 30 rpm.
+    let fast = driven();
+    let slow = conveyor("role = \"driver\"\nspeed_rpm = 30.0\nramp_s = 0.2", 0.0);
+    let mut w = PhysicsWorld::default();
+    let mut set = DriveSet::new();
+    set.push(ChainDrive::builder(&fast).build(&mut w).expect("fast"));
+    set.push(
+        ChainDrive::builder(&slow)
+            .insert_at(Pose::translation(0.0, 2.0))
+            .build(&mut w)
+            .expect("slow"),
+    );
+    let (mut a, mut b) = (Speeds::default(), Speeds::default());
+    match set.step_world_observed(&mut w, &(), &(), &mut [&mut a]) {
+        Err(CosimError::Input { field, .. }) => assert_eq!(field, "observers"),
+        other => panic!("expected an input error, got {other:?}"),
+    }
+    assert_eq!(
+        set.drives()[0].state().t_s,
+        0.0,
+        "stepped despite the error"
+    );
+    for _ in 0..30 {
+        set.step_world_observed(&mut w, &(), &(), &mut [&mut a, &mut b])
+            .expect("frame");
+    }
+    assert_eq!((a.0.len(), b.0.len()), (30, 30));
+    let dt = w.integration_parameters.dt;
+    for (k, (sa, sb)) in a.0.iter().zip(&b.0).enumerate() {
+        // The chain ends each frame within a substep (1e-5 s) of the world.
+        assert!(
+            (sa.0 - (k + 1) as f64 * dt).abs() <= 1e-5 && sb.0 == sa.0,
+            "{sa:?} {sb:?}"
+        );
+    }
+    // After the 0.2 s ramp each follows its own speed law: 2π and π rad/s.
+    let (wa, wb) = (a.0[29].1, b.0[29].1);
+    assert!(
+        (wa - TAU).abs() < 0.05 * TAU && (wb - PI).abs() < 0.05 * PI,
+        "{wa} {wb}"
+    );
 }

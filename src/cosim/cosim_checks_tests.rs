@@ -402,10 +402,16 @@ fn set_load_torque_and_driver_speed_hold_from_frame_to_frame() {
     let mut w = world();
     let mut drive =
         ChainDrive::insert(&scene, &[], &mut w.bodies, &mut w.colliders).expect("drive");
-    drive.set_load_torque(1, -torque).expect("load");
+    drive
+        .set_load_torque(drive.sprocket(1).expect("tail"), -torque)
+        .expect("load");
     drive.set_driver_speed(2.0).expect("speed");
-    assert!(drive.set_load_torque(2, 1.0).is_err());
-    assert!(drive.set_load_torque(1, f64::NAN).is_err());
+    assert!(drive.sprocket(2).is_err());
+    assert!(
+        drive
+            .set_load_torque(drive.sprocket(1).expect("tail"), f64::NAN)
+            .is_err()
+    );
     let (mut lower, mut upper, mut n, mut tail) = (0.0, 0.0, 0.0, 0.0);
     for frame in 0..120 {
         drive.step_world(&mut w, &(), &()).expect("frame");

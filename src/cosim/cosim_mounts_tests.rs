@@ -113,7 +113,8 @@ fn run_sprung_with<L: MountForce + Clone + 'static>(
     );
     let mut drive =
         ChainDrive::insert(&scene, &[None, Some(cart)], &mut w.bodies, &mut w.colliders)?;
-    drive.set_mount_force(1, spring())?;
+    let tail = drive.sprocket(1)?;
+    drive.set_mount_force(tail, spring())?;
     drive.set_coupling(Coupling {
         tooth_tips: tips,
         ..*drive.coupling()
@@ -121,7 +122,7 @@ fn run_sprung_with<L: MountForce + Clone + 'static>(
     let mut xs = Vec::with_capacity(frames);
     for frame in 0..frames {
         if let Some((_, law)) = release.as_ref().filter(|r| r.0 == frame) {
-            drive.set_mount_force(1, law.clone())?;
+            drive.set_mount_force(tail, law.clone())?;
         }
         drive.step_world(&mut w, &(), &())?;
         xs.push(w.bodies[cart].translation().x);

@@ -113,12 +113,14 @@ mod parking;
 mod seam;
 mod set;
 mod settled;
+mod sprockets;
 
 pub use bodies::Coupling;
 pub use builder::{ChainDriveBuilder, SprocketKey};
 pub use error::CosimError;
 pub use mounts::{MountForce, MountSpring};
 pub use set::{DriveSet, SetHooks};
+pub use sprockets::SprocketId;
 
 use std::time::Instant;
 
@@ -218,25 +220,25 @@ impl FrameTimes {
 }
 
 impl ChainDrive {
-    /// Sets sprocket `k`'s load torque, N·m, from now on (without the
+    /// Sets the sprocket's load torque, N·m, from now on (without the
     /// scene's ramp). It adds to a mounted body's user torque.
-    pub fn set_load_torque(&mut self, k: usize, torque_n_m: f64) -> Result<(), CosimError> {
-        let count = self.model.sprocket_count();
-        let Some(sp) = self.model.sprockets.get_mut(k) else {
-            return Err(CosimError::input(
-                "sprocket",
-                format!(
-                    "{k}: the drive has sprockets 0 to {}",
-                    count.saturating_sub(1)
-                ),
-            ));
-        };
+    pub fn set_load_torque(&mut self, id: SprocketId, torque_n_m: f64) -> Result<(), CosimError> {
+        let k = id.index();
         if !torque_n_m.is_finite() {
             return Err(CosimError::input(
                 format!("sprockets[{k}].load_torque_n_m"),
                 format!("{torque_n_m}: a finite torque, N·m"),
             ));
         }
+        let Some(sp) = self.model.sprockets.get_mut(k) else {
+            return Err(CosimError::input(
+                "sprocket",
+                format!(
+                    "{k}: an id of another drive (this one has {} sprockets)",
+                    self.scene.sprockets().len()
+                ),
+            ));
+        };
         sp.load_torque_n_m = torque_n_m;
         sp.load_ramp_s = 0.0;
         Ok(())
@@ -278,6 +280,7 @@ impl ChainDrive {
             state: &self.state,
             forces: self.forces.output(),
             jumps: &[],
+            rides: &[],
         }
     }
 
@@ -360,7 +363,7 @@ impl ChainDrive {
         self.mounts.motors_on(joints);
     }
 
-    /// Gives dynamic mount `k` a force law called in every substep with the
+    /// Gives the sprocket's dynamic mount a force law called in every substep with the
     /// body's position and velocity there (a spring, a damper: see
     /// [`MountForce`], [`MountSpring`]); it replaces an earlier one. This is
     /// the way to attach a stiff spring to a mount: a force the user sets
@@ -368,18 +371,18 @@ impl ChainDrive {
     /// moves with the chain, and a stiff one held that way can drive the
     /// body unstable. It adds to the body's user force. Where rapier moves
     /// the body (a joint fixes its position) the law is evaluated once per
-    /// frame. An error unless sprocket `k` sits on a dynamic body.
+    /// frame. An error unless the sprocket sits on a dynamic body.
     pub fn set_mount_force(
         &mut self,
-        k: usize,
+        id: SprocketId,
         law: impl MountForce + 'static,
     ) -> Result<(), CosimError> {
-        self.mounts.set_law(k, Some(Box::new(law)))
+        self.mounts.set_law(id.index(), Some(Box::new(law)))
     }
 
-    /// Takes away dynamic mount `k`'s force law (a released carriage).
-    pub fn clear_mount_force(&mut self, k: usize) -> Result<(), CosimError> {
-        self.mounts.set_law(k, None)
+    /// Takes away the sprocket's mount force law (a released carriage).
+    pub fn clear_mount_force(&mut self, id: SprocketId) -> Result<(), CosimError> {
+        self.mounts.set_law(id.index(), None)
     }
 
     /// One frame of a [`PhysicsWorld`] with the user's hooks and events.

@@ -11,7 +11,7 @@
 
 use rapier2d_f64::prelude::*;
 
-use super::{ChainDrive, CosimError};
+use super::{ChainDrive, CosimError, DriveSet};
 use crate::sim::Observer;
 
 impl ChainDrive {
@@ -32,6 +32,37 @@ impl ChainDrive {
     ) -> Result<(), CosimError> {
         self.step_world(world, user_hooks, events)?;
         self.observe(observer);
+        Ok(())
+    }
+}
+
+impl DriveSet {
+    /// One frame of `world` ([`Self::step_world`]), then each drive's
+    /// observer ([`Observer::sample`], `observers[i]` for drive `i`, one per
+    /// drive: a recorder each, say) with the drive at the frame's end. An
+    /// error, before anything is stepped, when the observers are not one per
+    /// drive; on a stepping error no observer is called.
+    pub fn step_world_observed(
+        &mut self,
+        world: &mut PhysicsWorld,
+        user_hooks: &dyn PhysicsHooks,
+        events: &dyn EventHandler,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<(), CosimError> {
+        if observers.len() != self.drives().len() {
+            return Err(CosimError::input(
+                "observers",
+                format!(
+                    "{} observers for {} drives: one per drive, in the set's order",
+                    observers.len(),
+                    self.drives().len()
+                ),
+            ));
+        }
+        self.step_world(world, user_hooks, events)?;
+        for (drive, observer) in self.drives().iter().zip(observers.iter_mut()) {
+            drive.observe(&mut **observer);
+        }
         Ok(())
     }
 }

@@ -11,7 +11,7 @@
 //! |---|---|---|---|
 //! | `scene` | `/scene/static` | `foxglove.SceneUpdate` | once: each sprocket's tooth outline (circular or real profile), pitch circle, a spoke and its name, in its own frame `sprocketN`, frame-locked |
 //! | `scene` | `/scene` | `foxglove.SceneUpdate` | rollers (spheres) and links (lines coloured by force, blue = slack … red ≥ 2 × pretension, 16 bins) in frame `world` |
-//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z; `world` → `tensionerN`: the arm's pivot and angle |
+//! | `transforms` | `/tf` | `foxglove.FrameTransforms` | `world` → `sprocketN`: centre and rotation θ about z; `world` → `tensionerN`: the arm's pivot and angle; `world` → a name of the user's: a body of a co-simulated world given to [`Recorder::body_frame`] |
 //! | `outlines` | `/outlines/sprocketN` | `foxglove.PointCloud` | once: sprocket N's tooth outline as points 0.5 mm apart, in its frame `sprocketN`, one colour per sprocket (what Rerun draws) |
 //! | `rollers` | `/rollers` | `foxglove.PointCloud` | roller centres, f32 x, y, z = 0, frame `world`, coloured (u8 red, green, blue, alpha) by the mean force of the roller's two links on the links' scale |
 //! | `links` | `/links` | `ChainLinkForces` | every link's force, N, and every joint's friction moment, N·m |
@@ -26,10 +26,10 @@
 //! scene file as an attachment with the tables it read (a load table's
 //! CSV, attached under the name the scene gives it, media type
 //! `text/csv`), at the end a metadata record `chaindrive.end` saying how
-//! the run ended, and where the chain jumped teeth a record
-//! `chaindrive.tooth_jumps` listing every jump. Channels
-//! not requested are
-//! neither computed nor written.
+//! the run ended, where the chain jumped teeth a record
+//! `chaindrive.tooth_jumps` listing every jump, and where its rollers rode
+//! the teeth's tips a record `chaindrive.tip_rides` listing every ride.
+//! Channels not requested are neither computed nor written.
 //!
 //! Cost: the stepping loop only copies the arrays the requested channels
 //! need (and computes the segment signals when asked); a writer thread of
@@ -148,6 +148,33 @@ fn jump_entries(jumps: &[crate::sim::ToothJump]) -> BTreeMap<String, String> {
     m
 }
 
+/// Name of the metadata record that lists the tip rides of a run's rollers
+/// (written at its end, only when it had any): `count`, and `ride NNNN`
+/// per ride, `t_s=… sprocket=… roller=…` (sprocket 1-based, roller 0-based),
+/// as the detector saw them (docs/model.md, "Riding a tip").
+pub(crate) const RIDES_RECORD: &str = "chaindrive.tip_rides";
+
+/// The entries of the `chaindrive.tip_rides` metadata record.
+fn ride_entries(rides: &[crate::sim::TipRide]) -> BTreeMap<String, String> {
+    let mut m: BTreeMap<String, String> = rides
+        .iter()
+        .enumerate()
+        .map(|(k, r)| {
+            (
+                format!("ride {:04}", k + 1),
+                format!(
+                    "t_s={} sprocket={} roller={}",
+                    r.t_s,
+                    r.sprocket + 1,
+                    r.roller
+                ),
+            )
+        })
+        .collect();
+    m.insert("count".to_owned(), rides.len().to_string());
+    m
+}
+
 /// How a run ended, written into the `chaindrive.end` metadata record.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RunEnd<'a> {
@@ -242,8 +269,12 @@ pub struct Recorder<W: Write + Seek + Send + 'static> {
     cosim: Option<BTreeMap<String, String>>,
     /// Every tooth jump the run saw, as its samples listed them.
     jumps: Vec<crate::sim::ToothJump>,
+    /// Every tip ride the run saw, as its samples listed them.
+    rides: Vec<crate::sim::TipRide>,
     /// Time of the first sample, ns.
     first_t_ns: u64,
+    /// The user's frames ([`Recorder::body_frame`]), their latest poses.
+    bodies: Vec<(String, [f64; 2], f64)>,
 }
 
 /// Simulated time in integer nanoseconds (negative and NaN clamp to 0).
@@ -390,7 +421,39 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
             cosim: frame_dt_s.map(|_| metadata),
             first_t_ns: 0,
             jumps: Vec::new(),
+            rides: Vec::new(),
+            bodies: Vec::new(),
         })
+    }
+
+    /// Sets the pose of one of the user's own bodies (a box, a carriage, a
+    /// motor), recorded with every later sample as the frame transform
+    /// `world` → `name` on `/tf` (channel `transforms`) until set again: in
+    /// Foxglove's 3D panel the body is the frame `name`, beside the chain.
+    /// Call it before each frame is sampled, with the body's pose then, e.g.
+    /// `recorder.body_frame("box", b.translation(), b.rotation().angle())`.
+    /// A name of the drive's own frames (`world`, `sprocketN`,
+    /// `tensionerN`) or a non-finite pose is ignored: nothing a user passes
+    /// can corrupt the chain's own frames or write a NaN.
+    pub fn body_frame(
+        &mut self,
+        name: &str,
+        position: rapier2d_f64::prelude::Vector,
+        angle_rad: f64,
+    ) {
+        let own = name == visual::WORLD_FRAME
+            || ["sprocket", "tensioner"].iter().any(|p| {
+                name.strip_prefix(p)
+                    .is_some_and(|n| !n.is_empty() && n.bytes().all(|b| b.is_ascii_digit()))
+            });
+        if own || !(position.x.is_finite() && position.y.is_finite() && angle_rad.is_finite()) {
+            return;
+        }
+        let pose = ([position.x, position.y], angle_rad);
+        match self.bodies.iter_mut().find(|b| b.0 == name) {
+            Some(b) => (b.1, b.2) = pose,
+            None => self.bodies.push((name.to_owned(), pose.0, pose.1)),
+        }
     }
 
     /// Samples recorded so far.
@@ -480,6 +543,15 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
                 metadata: jump_entries(&self.jumps),
             })
         };
+        // The tip rides likewise.
+        let rides_written = if self.rides.is_empty() {
+            Ok(())
+        } else {
+            sink.writer.write_metadata(&mcap::records::Metadata {
+                name: RIDES_RECORD.to_owned(),
+                metadata: ride_entries(&self.rides),
+            })
+        };
         let finished = sink.writer.finish();
         let mut inner = sink.writer.into_inner();
         let flushed = inner.flush();
@@ -492,6 +564,7 @@ impl<W: Write + Seek + Send + 'static> Recorder<W> {
         run_written?;
         end_written?;
         jumps_written?;
+        rides_written?;
         finished?;
         flushed?;
         Ok(inner)
@@ -516,6 +589,9 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
         }
         if s.jumps.len() != self.jumps.len() {
             self.jumps = s.jumps.to_vec();
+        }
+        if s.rides.len() != self.rides.len() {
+            self.rides = s.rides.to_vec();
         }
         let st = s.state;
         let f = s.forces;
@@ -600,6 +676,11 @@ impl<W: Write + Seek + Send + 'static> Observer for Recorder<W> {
                 Vec::new()
             },
             // Every arm's reading, or none if one is not finite.
+            bodies: if ch.contains(Channels::TRANSFORMS) {
+                self.bodies.clone()
+            } else {
+                Vec::new()
+            },
             tensioners: if wants(&[Channel::Transforms, Channel::Tensioners])
                 && f.tensioners.iter().all(|r| {
                     [

@@ -177,6 +177,13 @@ pub(crate) struct Recording {
         reason = "read for the record's users; no command prints it yet"
     )]
     pub tooth_jumps: BTreeMap<String, String>,
+    /// The tip rides of its rollers (the `chaindrive.tip_rides` metadata
+    /// record: `count` and one entry per ride; empty when it had none).
+    #[allow(
+        dead_code,
+        reason = "read for the record's users; no command prints it yet"
+    )]
+    pub tip_rides: BTreeMap<String, String>,
     /// Whether `/links` was read.
     pub has_links: bool,
     /// Whether `/contacts` and `/rollers` were read.
@@ -281,6 +288,7 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
         .cloned()
         .unwrap_or_else(|| "unknown (no end record)".to_owned());
     let tooth_jumps = metadata.remove(super::JUMPS_RECORD).unwrap_or_default();
+    let tip_rides = metadata.remove(super::RIDES_RECORD).unwrap_or_default();
     let scene = attached_scene(&attachments, &meta)?;
     require_channels(&topics, &found)?;
     let has_links = topics.contains_key(Channel::Links.topic());
@@ -302,6 +310,7 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
         metadata: meta,
         end_status,
         tooth_jumps,
+        tip_rides,
         has_links,
         has_contacts,
         samples,

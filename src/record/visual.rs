@@ -464,6 +464,27 @@ pub(super) fn transforms(
     }
 }
 
+/// `world` → `name` for one of the user's bodies: its position and angle.
+pub(super) fn body_transform(name: &str, c: [f64; 2], th: f64, t_ns: u64) -> FrameTransform {
+    let half = 0.5 * th;
+    FrameTransform {
+        timestamp: Some(timestamp(t_ns)),
+        parent_frame_id: WORLD_FRAME.to_owned(),
+        child_frame_id: name.to_owned(),
+        translation: Some(Vector3 {
+            x: c[0],
+            y: c[1],
+            z: 0.0,
+        }),
+        rotation: Some(Quaternion {
+            x: 0.0,
+            y: 0.0,
+            z: half.sin(),
+            w: half.cos(),
+        }),
+    }
+}
+
 /// Bytes per point of `/rollers` and of the outline clouds: x, y, z as
 /// little-endian f32, then red, green, blue, alpha as u8 (0–255).
 pub(crate) const POINT_STRIDE: u32 = 16;

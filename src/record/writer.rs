@@ -95,6 +95,9 @@ pub(super) struct Frame {
     pub(super) centers_m: Vec<[f64; 2]>,
     pub(super) shoes: Vec<crate::forces::ShoeForces>,
     pub(super) tensioners: Vec<crate::forces::TensionerReading>,
+    /// The user's frames at this sample ([`super::Recorder::body_frame`]):
+    /// name, position (m) and angle (rad).
+    pub(super) bodies: Vec<(String, [f64; 2], f64)>,
 }
 
 /// Samples queued for the writer thread before the stepping loop waits for it.
@@ -192,7 +195,14 @@ impl<W: Write + Seek> Writer<W> {
                 t_ns,
                 &mut self.tf,
             );
+            let own = self.tf.transforms.len();
+            self.tf.transforms.extend(
+                f.bodies
+                    .iter()
+                    .map(|(name, c, th)| visual::body_transform(name, *c, *th, t_ns)),
+            );
             sink.write(id(Channel::Transforms), "/tf", t_ns, &self.tf)?;
+            self.tf.transforms.truncate(own);
         }
         if id(Channel::Rollers).is_some() {
             let cloud = visual::roller_cloud(&f.x, &f.y, &f.link_force, self.full_scale_n, t_ns);

@@ -171,7 +171,7 @@ fn check_wear(c: &mut Checker, f: &ChecksFile, bearing: bool) -> Option<WearSett
     if wanted && !bearing {
         c.fail(
             "checks.wear",
-            "needs the chain's bearing area: give chain.designation, or chain.pin_radius_m and chain.bushing_length_m",
+            "needs the chain's bearing area: give chain.pin_radius_m and chain.bushing_length_m, or a chain.designation whose row has the pin diameter and plate thickness (the motorcycle chains' have not)",
         );
     }
     wanted.then(|| WearSettings {

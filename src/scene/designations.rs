@@ -1,7 +1,8 @@
 //! Chains by designation: `[chain] designation = "ISO 606 16B-1"` or
 //! `"ANSI 80"` fills the chain's pitch, roller radius, mass per link, pin
-//! radius and an axial link stiffness estimate; a field written in the
-//! scene overrides the table's (docs/model.md, “Chains by designation”).
+//! radius, tensile strength and an axial link stiffness estimate, where the
+//! row has them; a field written in the scene overrides the table's
+//! (docs/model.md, “Chains by designation”).
 //!
 //! **Sources, value by value** (each row names its own in
 //! [`Designation::sources`]; `chaindrive chains` prints them):
@@ -31,6 +32,17 @@
 //!   metre. Its plate thicknesses are the next larger standard size's
 //!   (B29.1's 80 has 0.125 in = 3.175 mm, the catalogue's 60H 3.25 mm; 240H
 //!   0.500 in), to within 0.08 mm for 60H to 200H.
+//! - **Motorcycle** rows 520, 525 and 530 (single strand only) hold what a
+//!   source was read for: the 5/8 in pitch, the 10.16 mm roller (Wemoto's
+//!   motorcycle chain table; the ANSI 50's 0.400 in), the inner widths
+//!   6.35, 7.95 and 9.53 mm (Tsubaki, "The Complete Guide to Chain", Table
+//!   1.9) and the 520's inner plate depth, 15.0 mm, of one maker's chain
+//!   (D.I.D 520MXV, in a Suzuki service manual). Their pin diameters, plate
+//!   thicknesses, masses and strengths are each maker's and grade's, and no
+//!   table of them was readable (ISO 10190's Table 1 neither): those values
+//!   are `None`, and a scene naming the chain gives the fields they would
+//!   fill (`roller_mass_kg`, `stiffness_n_m`, `tensile_strength_n`,
+//!   `pin_radius_m`); validation says which.
 //!
 //! **Stiffness estimate.** A link's two side plates in tension, through their
 //! net section at the pin hole: K = η E A / P with A = 2 t (h₂ − d₂),
@@ -39,7 +51,8 @@
 //! η is calibrated on the paper's chain (pitch 88.9 mm, rollers 54 mm, the
 //! size of a 56B: E A / P = 2.42 GN/m against the paper's 815 MN/m); it is
 //! an estimate within a factor of about two, not a measurement. A measured
-//! stiffness belongs in `chain.stiffness_n_m`, which overrides it.
+//! stiffness belongs in `chain.stiffness_n_m`, which overrides it. A row
+//! without t, h₂ or d₂ (the motorcycle chains) has no estimate.
 
 /// Young's modulus of chain steel, Pa.
 pub(crate) const STEEL_E_PA: f64 = 206e9;
@@ -63,6 +76,20 @@ const DONGHUA_HEAVY: &str =
     "Donghua Drive Chains 2020 catalogue, heavy duty series simplex table (pp. 244-245)";
 /// The heavy series' plates, and how they compare with the standard series.
 const DONGHUA_HEAVY_PLATE: &str = "Donghua Drive Chains 2020 catalogue, heavy duty series simplex table (pp. 244-245), T max: the next larger standard size's B29.1 thickness to within 0.08 mm";
+
+/// Motorcycle chains' pitch, roller and inner width.
+const MOTO_DIMENSIONS: &str = "pitch 5/8 in and roller 10.16 mm: Wemoto \"Motorcycle Chain Dimensions\" table (the ANSI 50's 0.400 in roller; Gearing Commander's table prints 10.30 mm); inner width: Tsubaki, The Complete Guide to Chain, Table 1.9 \"Motorcycle Chains\"";
+/// The 520's plate depth, one maker's chain.
+const MOTO_520_PLATE_DEPTH: &str = "h2 15.0 mm: the D.I.D 520MXV's inner plate height, standard value (Suzuki RMX450Z service manual, drive train service data); d2 none read (give chain.pin_radius_m)";
+/// What no source gave for a motorcycle chain's pin and plate depth.
+const MOTO_NO_PIN_PLATE: &str = "none read: ISO 10190 Table 1 and the makers' tables (D.I.D, RK, EK, Regina, Tsubaki) were not readable (give chain.pin_radius_m)";
+/// A motorcycle chain's plate thickness.
+const MOTO_NO_PLATE: &str = "none read: thicker than the ANSI chain's of the pitch (Tsubaki, Table 1.9: \"link plates are thicker (heavy)\"), by how much no table read said; the stiffness estimate needs it (give chain.stiffness_n_m)";
+/// A motorcycle chain's mass.
+const MOTO_NO_MASS: &str =
+    "none read: each maker's and grade's own, no table readable (give chain.roller_mass_kg)";
+/// A motorcycle chain's strength.
+const MOTO_NO_STRENGTH: &str = "none read: each maker's and grade's own, ISO 10190's minimum not readable (give chain.tensile_strength_n)";
 
 /// Where each of a row's values comes from.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -90,17 +117,18 @@ pub struct Designation {
     pub roller_diameter_m: f64,
     /// Width between the inner plates b₁, m.
     pub inner_width_m: f64,
-    /// Pin diameter d₂, m.
-    pub pin_diameter_m: f64,
+    /// Pin diameter d₂, m; `None` where no source was read
+    /// ([`Sources::pin_and_plate_depth`] says so), as for every value below.
+    pub pin_diameter_m: Option<f64>,
     /// Inner plate depth h₂, m.
-    pub plate_depth_m: f64,
+    pub plate_depth_m: Option<f64>,
     /// Inner link plate thickness t, m.
-    pub plate_thickness_m: f64,
+    pub plate_thickness_m: Option<f64>,
     /// Mass per metre, kg/m.
-    pub mass_per_m_kg: f64,
+    pub mass_per_m_kg: Option<f64>,
     /// Tensile strength, N (the standard's minimum, or a catalogue's
     /// breaking strength where [`Sources::strength`] says so).
-    pub tensile_strength_n: f64,
+    pub tensile_strength_n: Option<f64>,
     /// Where each value comes from.
     pub sources: Sources,
 }
@@ -111,28 +139,38 @@ impl Designation {
         0.5 * self.roller_diameter_m
     }
 
-    /// Pin radius, m (the joint friction's r_pin).
-    pub(crate) fn pin_radius_m(&self) -> f64 {
-        0.5 * self.pin_diameter_m
+    /// Pin radius, m (the joint friction's r_pin), where the row has it.
+    pub(crate) fn pin_radius_m(&self) -> Option<f64> {
+        self.pin_diameter_m.map(|d| 0.5 * d)
     }
 
     /// Length of the bushing the pin bears on, m: the bushing is pressed
     /// through the two inner plates, so it spans the width between them and
-    /// their two thicknesses, b₁ + 2 t (the wear check's bearing length).
-    pub fn bushing_length_m(&self) -> f64 {
-        self.inner_width_m + 2.0 * self.plate_thickness_m
+    /// their two thicknesses, b₁ + 2 t (the wear check's bearing length);
+    /// `None` without the plate thickness.
+    pub fn bushing_length_m(&self) -> Option<f64> {
+        self.plate_thickness_m.map(|t| self.inner_width_m + 2.0 * t)
     }
 
-    /// Mass lumped at each roller: mass per metre times the pitch, kg.
-    pub fn roller_mass_kg(&self) -> f64 {
-        self.mass_per_m_kg * self.pitch_m
+    /// Mass lumped at each roller: mass per metre times the pitch, kg;
+    /// `None` without the mass per metre.
+    pub fn roller_mass_kg(&self) -> Option<f64> {
+        self.mass_per_m_kg.map(|q| q * self.pitch_m)
     }
 
     /// Axial link stiffness estimate η E A / P, A = 2 t (h₂ − d₂), N/m
-    /// (module docs).
-    pub fn stiffness_n_m(&self) -> f64 {
-        let area_m2 = 2.0 * self.plate_thickness_m * (self.plate_depth_m - self.pin_diameter_m);
-        STIFFNESS_REDUCTION * STEEL_E_PA * area_m2 / self.pitch_m
+    /// (module docs); `None` without the plate thickness, plate depth and
+    /// pin diameter it is made of.
+    pub fn stiffness_n_m(&self) -> Option<f64> {
+        let t = self.plate_thickness_m?;
+        let area_m2 = 2.0 * t * (self.plate_depth_m? - self.pin_diameter_m?);
+        Some(STIFFNESS_REDUCTION * STEEL_E_PA * area_m2 / self.pitch_m)
+    }
+
+    /// Whether the row is a motorcycle chain (520, 525, 530): single strand
+    /// only, rated as the ANSI chain of its pitch.
+    pub(crate) fn is_motorcycle(&self) -> bool {
+        is_motorcycle_number(self.name)
     }
 
     /// How the stiffness estimate is derived, for listings.
@@ -195,29 +233,30 @@ impl Stranded {
         f64::from(self.strands)
     }
 
-    /// Minimum tensile strength of all strands, n F₁, N.
-    pub fn tensile_strength_n(&self) -> f64 {
-        self.n() * self.single.tensile_strength_n
+    /// Minimum tensile strength of all strands, n F₁, N (`None` where the
+    /// row has none, as for every value below).
+    pub fn tensile_strength_n(&self) -> Option<f64> {
+        self.single.tensile_strength_n.map(|f| self.n() * f)
     }
 
     /// Mass per metre of all strands, n q₁, kg/m.
-    pub fn mass_per_m_kg(&self) -> f64 {
-        self.n() * self.single.mass_per_m_kg
+    pub fn mass_per_m_kg(&self) -> Option<f64> {
+        self.single.mass_per_m_kg.map(|q| self.n() * q)
     }
 
     /// Mass lumped at each roller (all strands), kg.
-    pub fn roller_mass_kg(&self) -> f64 {
-        self.n() * self.single.roller_mass_kg()
+    pub fn roller_mass_kg(&self) -> Option<f64> {
+        self.single.roller_mass_kg().map(|m| self.n() * m)
     }
 
     /// Axial link stiffness estimate of all strands, n K₁, N/m.
-    pub fn stiffness_n_m(&self) -> f64 {
-        self.n() * self.single.stiffness_n_m()
+    pub fn stiffness_n_m(&self) -> Option<f64> {
+        self.single.stiffness_n_m().map(|k| self.n() * k)
     }
 
     /// Bushing length the pin bears on, all strands, n (b₁ + 2 t), m.
-    pub(crate) fn bushing_length_m(&self) -> f64 {
-        self.n() * self.single.bushing_length_m()
+    pub(crate) fn bushing_length_m(&self) -> Option<f64> {
+        self.single.bushing_length_m().map(|l| self.n() * l)
     }
 
     /// Where a value of this chain comes from: the single strand's source,
@@ -281,11 +320,11 @@ const fn ansi(
         pitch_m: p_in * INCH_M,
         roller_diameter_m: dr_in * INCH_M,
         inner_width_m: w_in * INCH_M,
-        pin_diameter_m: dp_in * INCH_M,
-        plate_depth_m: 0.95 * p_in * INCH_M,
-        plate_thickness_m: lpt_in * INCH_M,
-        mass_per_m_kg: weight_lb_ft * LB_FT_KG_M,
-        tensile_strength_n: muts_lbf * LBF_N,
+        pin_diameter_m: Some(dp_in * INCH_M),
+        plate_depth_m: Some(0.95 * p_in * INCH_M),
+        plate_thickness_m: Some(lpt_in * INCH_M),
+        mass_per_m_kg: Some(weight_lb_ft * LB_FT_KG_M),
+        tensile_strength_n: Some(muts_lbf * LBF_N),
         sources: Sources {
             dimensions: B29,
             pin_and_plate_depth: B29_PLATE,
@@ -332,6 +371,39 @@ const fn heavy(name: &'static str, mm: [f64; 8]) -> Designation {
     )
 }
 
+/// A motorcycle chain of 5/8 in pitch (`"520"`: the pitch in eighths of
+/// an inch, then the inner width's code) with its inner width b₁ and, where
+/// a source gives it, its inner plate depth h₂, both in millimetres; every
+/// other value unknown (module docs).
+const fn moto(
+    name: &'static str,
+    b1_mm: f64,
+    h2_mm: Option<f64>,
+    pin_and_plate_depth: &'static str,
+) -> Designation {
+    Designation {
+        name,
+        pitch_m: 0.625 * INCH_M,
+        roller_diameter_m: 10.16e-3,
+        inner_width_m: b1_mm * 1e-3,
+        pin_diameter_m: None,
+        plate_depth_m: match h2_mm {
+            Some(h) => Some(h * 1e-3),
+            None => None,
+        },
+        plate_thickness_m: None,
+        mass_per_m_kg: None,
+        tensile_strength_n: None,
+        sources: Sources {
+            dimensions: MOTO_DIMENSIONS,
+            pin_and_plate_depth,
+            plate_thickness: MOTO_NO_PLATE,
+            mass: MOTO_NO_MASS,
+            strength: MOTO_NO_STRENGTH,
+        },
+    }
+}
+
 /// A row in a catalogue's units, `[P, d₁, b₁, d₂, h₂, t]` in millimetres,
 /// then kg/m and kN, with where its values come from.
 const fn from_mm(name: &'static str, mm: [f64; 8], sources: Sources) -> Designation {
@@ -341,16 +413,17 @@ const fn from_mm(name: &'static str, mm: [f64; 8], sources: Sources) -> Designat
         pitch_m: p_mm * 1e-3,
         roller_diameter_m: d1_mm * 1e-3,
         inner_width_m: b1_mm * 1e-3,
-        pin_diameter_m: d2_mm * 1e-3,
-        plate_depth_m: h2_mm * 1e-3,
-        plate_thickness_m: t_mm * 1e-3,
-        mass_per_m_kg: q_kg_m,
-        tensile_strength_n: f_kn * 1e3,
+        pin_diameter_m: Some(d2_mm * 1e-3),
+        plate_depth_m: Some(h2_mm * 1e-3),
+        plate_thickness_m: Some(t_mm * 1e-3),
+        mass_per_m_kg: Some(q_kg_m),
+        tensile_strength_n: Some(f_kn * 1e3),
         sources,
     }
 }
 
-/// Every designation known, ISO 606 B series, ANSI, then ANSI heavy, by pitch.
+/// Every designation known, ISO 606 B series, ANSI, ANSI heavy, then the
+/// motorcycle chains, by pitch.
 #[rustfmt::skip]
 pub const DESIGNATIONS: &[Designation] = &[
     //   name                     P      d1      b1      d2      h2       t    kg/m      kN   checked
@@ -394,6 +467,10 @@ pub const DESIGNATIONS: &[Designation] = &[
     heavy("ANSI 180H",  [ 57.150,  35.71,  35.48,  17.46,  53.60,   8.00,  14.83,  281.00]),
     heavy("ANSI 200H",  [ 63.500,  39.68,  37.85,  19.85,  60.00,   9.50,  19.16,  353.80]),
     heavy("ANSI 240H",  [ 76.200,  47.63,  47.35,  23.81,  72.39,  12.70,  30.40,  510.30]),
+    //    name    b1 mm  h2 mm        source of h2 (and of d2: none)
+    moto("520",  6.35,  Some(15.0),  MOTO_520_PLATE_DEPTH),
+    moto("525",  7.95,  None,        MOTO_NO_PIN_PLATE),
+    moto("530",  9.53,  None,        MOTO_NO_PIN_PLATE),
 ];
 
 /// A designation's canonical spelling for comparison: upper case, no
@@ -401,12 +478,30 @@ pub const DESIGNATIONS: &[Designation] = &[
 /// suffix dropped.
 fn canonical(name: &str) -> String {
     let (base, _) = split_strands(name);
-    let s = base
+    if let Some(number) = base
         .strip_prefix("ISO606")
         .or_else(|| base.strip_prefix("ANSI"))
-        .unwrap_or(&base)
-        .to_owned();
-    ansi_of_iso_a(&s).unwrap_or(s)
+    {
+        return ansi_of_iso_a(number).unwrap_or_else(|| number.to_owned());
+    }
+    // A motorcycle number takes no prefix: "ANSI 530" is no chain.
+    if is_motorcycle_number(&base) {
+        return format!("{MOTORCYCLE_KEY}{base}");
+    }
+    ansi_of_iso_a(&base).unwrap_or(base)
+}
+
+/// The canonical spelling's mark of a motorcycle number (`"MOTO520"`).
+const MOTORCYCLE_KEY: &str = "MOTO";
+
+/// Whether a name (upper case, no blanks) is a motorcycle chain number:
+/// three digits from 4xx to 6xx (420, 520, 530, 630), an optional heavy
+/// grade's H. No ANSI number has them (100 to 240 are the three-digit ones).
+fn is_motorcycle_number(s: &str) -> bool {
+    let digits = s.strip_suffix('H').unwrap_or(s);
+    digits.len() == 3
+        && digits.chars().all(|c| c.is_ascii_digit())
+        && matches!(digits.as_bytes()[0], b'4' | b'5' | b'6')
 }
 
 /// A name in upper case without blanks, split at a trailing strand count
@@ -476,9 +571,14 @@ pub fn lookup(name: &str) -> Result<Stranded, String> {
     };
     let most = max_strands(single);
     if most == 1 && strands != 1 {
+        let kind = if single.is_motorcycle() {
+            " is a motorcycle chain: motorcycle chains are made as a single strand only"
+        } else {
+            " is made as a single strand only"
+        };
         return Err(format!(
-            "\"{name}\": {} is made as a single strand only, not in {strands} strands",
-            single.name
+            "\"{name}\": {}{kind}, not in {strands} strands (write \"{}\")",
+            single.name, single.name
         ));
     }
     if !(1..=most).contains(&strands) {
@@ -492,18 +592,21 @@ pub fn lookup(name: &str) -> Result<Stranded, String> {
     Ok(Stranded { single, strands })
 }
 
-/// Why a name of a known family is not in the table: motorcycle chains
-/// ("520", "525", "530", "520H") have no row, and the heavy series has rows
-/// from 60H to 240H only (docs/design-checks.md, “Chain data”); empty for
-/// any other name.
+/// Why a name of a known family is not in the table: the table's
+/// motorcycle chains are 520, 525 and 530 (not their heavy grades, not the
+/// other sizes), a motorcycle number takes no ANSI or ISO 606 prefix, and
+/// the heavy series has rows from 60H to 240H only (docs/design-checks.md,
+/// “Chain data”); empty for any other name.
 fn not_tabled(key: &str) -> &'static str {
-    let digits = key.strip_suffix('H').unwrap_or(key);
-    let numeric = !digits.is_empty() && digits.chars().all(|c| c.is_ascii_digit());
-    if numeric && digits.len() == 3 && matches!(digits.as_bytes()[0], b'4' | b'5' | b'6') {
-        // Three digits from 4xx to 6xx: no ANSI number has them (100 to
-        // 240), every motorcycle chain does (420, 520, 530, 630).
-        " (motorcycle chains are not in the table: no maker's table of their pin diameter, plate thickness, mass and strength was found; give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m)"
-    } else if numeric && key.ends_with('H') {
+    if key.starts_with(MOTORCYCLE_KEY) {
+        " (the table's motorcycle chains are 520, 525 and 530; other sizes and the makers' heavy grades (520H, 530H) have no row: give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m)"
+    } else if is_motorcycle_number(key) {
+        // "ANSI 530": the prefix was stripped, the number is a motorcycle's.
+        " (a motorcycle chain number takes no ANSI or ISO 606 prefix: write \"520\", \"525\" or \"530\")"
+    } else if key.ends_with('H')
+        && key.len() > 1
+        && key[..key.len() - 1].chars().all(|c| c.is_ascii_digit())
+    {
         " (the table's ANSI heavy chains are 60H to 240H: give chain.pitch_m, roller_radius_m, roller_mass_kg and stiffness_n_m, or the standard chain of the same size)"
     } else {
         ""
@@ -511,10 +614,14 @@ fn not_tabled(key: &str) -> &'static str {
 }
 
 /// The most strands a designation may have: the rating's strand factors
-/// (1.7, 2.5, 3.3 for 2 to 4 strands) stop at four; ANSI 41 is a single
-/// strand only.
+/// (1.7, 2.5, 3.3 for 2 to 4 strands) stop at four; ANSI 41 and the
+/// motorcycle chains are single strands only.
 fn max_strands(d: &Designation) -> u32 {
-    if d.name == "ANSI 41" { 1 } else { MAX_STRANDS }
+    if d.name == "ANSI 41" || d.is_motorcycle() {
+        1
+    } else {
+        MAX_STRANDS
+    }
 }
 
 /// The `n` names nearest `name` by edit distance (on the canonical

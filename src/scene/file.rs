@@ -72,9 +72,10 @@ fn default_profile() -> String {
 pub struct ChainFile {
     /// Number of rollers (= number of links, the chain is closed).
     pub rollers: i64,
-    /// A standard chain (`"ISO 606 16B-1"`, `"ANSI 80"`; `chaindrive chains`
-    /// lists them): fills the pitch, roller radius, roller mass, stiffness and
-    /// pin radius that the file does not give.
+    /// A standard chain (`"ISO 606 16B-1"`, `"ANSI 80"`, `"520"`;
+    /// `chaindrive chains` lists them): fills the pitch, roller radius, roller
+    /// mass, stiffness, pin radius and tensile strength that the file does not
+    /// give, where its row has them.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub designation: Option<String>,
     /// Pitch P: roller-to-roller distance of the unloaded chain, m.
@@ -89,6 +90,12 @@ pub struct ChainFile {
     /// Link stiffness K, N/m.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub stiffness_n_m: Option<f64>,
+    /// Tensile strength of the whole chain (all strands), N: the maker's
+    /// minimum for a chain the table has no strength for (the motorcycle
+    /// chains) or none at all; overrides the designation's. The rating's
+    /// safety factors and the fatigue check need it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tensile_strength_n: Option<f64>,
     /// Link damping D, N·s/m.
     pub damping_n_s_m: f64,
     /// Static pretension, N (mean link force of the free strands at static equilibrium).

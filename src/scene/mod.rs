@@ -18,6 +18,8 @@ mod checker;
 mod checks;
 pub(crate) mod designations;
 #[cfg(test)]
+mod designations_moto_tests;
+#[cfg(test)]
 mod designations_tests;
 mod duty;
 mod error;

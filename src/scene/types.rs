@@ -182,6 +182,9 @@ pub struct Chain {
     pub strands: u32,
     /// Pin radius, m, where the scene or its designation gives it.
     pub pin_radius_m: Option<f64>,
+    /// Tensile strength of the whole chain (all strands), N, where the scene
+    /// (`chain.tensile_strength_n`) or its designation gives it.
+    pub tensile_strength_n: Option<f64>,
     /// Length of the bushing the pin bears on, m, where known.
     pub bushing_length_m: Option<f64>,
     /// Wear elongation of every pitch, as a fraction (`chain.elongation_pct`

@@ -113,6 +113,7 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
     // An unknown designation is its own error: the fields it would have
     // filled are not reported missing as well.
     let unknown = f.designation.is_some() && designation.is_none();
+    let row = designation.map(|d| d.name());
     // A field written in the file overrides the designation's value.
     let field = |c: &mut Checker, name: &str, value: Option<f64>, from: Option<f64>| {
         let path = format!("chain.{name}");
@@ -120,10 +121,14 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
             Some(v) => c.positive(&path, v),
             None if unknown => f64::NAN,
             None => {
-                c.fail(
-                    path,
-                    "is required (or give chain.designation, e.g. \"ISO 606 16B-1\" or \"ANSI 80\")",
-                );
+                let why = match &row {
+                    // A row without the value (a motorcycle chain's mass).
+                    Some(r) => format!(
+                        "is required: the designation \"{r}\" has no published value for it (`chaindrive chains {r}` shows what its row holds and where from)"
+                    ),
+                    None => "is required (or give chain.designation, e.g. \"ISO 606 16B-1\" or \"ANSI 80\")".to_owned(),
+                };
+                c.fail(path, why);
                 f64::NAN
             }
         }
@@ -144,14 +149,18 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
         c,
         "roller_mass_kg",
         f.roller_mass_kg,
-        designation.map(|d| d.roller_mass_kg()),
+        designation.and_then(|d| d.roller_mass_kg()),
     );
     let stiffness_n_m = field(
         c,
         "stiffness_n_m",
         f.stiffness_n_m,
-        designation.map(|d| d.stiffness_n_m()),
+        designation.and_then(|d| d.stiffness_n_m()),
     );
+    let tensile_strength_n = f
+        .tensile_strength_n
+        .map(|t| c.positive("chain.tensile_strength_n", t))
+        .or(designation.and_then(|d| d.tensile_strength_n()));
     if pitch_m.is_finite() && roller_radius_m.is_finite() && 2.0 * roller_radius_m >= pitch_m {
         c.fail(
             "chain.roller_radius_m",
@@ -163,11 +172,11 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
     }
     let pin_radius_m = f
         .pin_radius_m
-        .or(designation.map(|d| d.single.pin_radius_m()));
+        .or(designation.and_then(|d| d.single.pin_radius_m()));
     let bushing_length_m = f
         .bushing_length_m
         .map(|l| c.positive("chain.bushing_length_m", l))
-        .or(designation.map(|d| d.bushing_length_m()));
+        .or(designation.and_then(|d| d.bushing_length_m()));
     let elongation_pct = f
         .elongation_pct
         .map(|e| c.non_negative("chain.elongation_pct", e))
@@ -195,6 +204,7 @@ fn check_chain(c: &mut Checker, f: &ChainFile) -> Chain {
         designation: designation.map(|d| d.single.name),
         strands: designation.map_or(1, |d| d.strands),
         pin_radius_m: pin_radius_m.filter(|r| r.is_finite() && *r > 0.0),
+        tensile_strength_n: tensile_strength_n.filter(|t| t.is_finite() && *t > 0.0),
         bushing_length_m,
         elongation: elongation_pct / 100.0,
     }

@@ -148,6 +148,9 @@ pub struct Sample<'a> {
     pub forces: &'a Forces,
     /// Every tooth jump seen so far, in order (the tooth-jump detector).
     pub jumps: &'a [ToothJump],
+    /// Every roller that came to ride a tooth's tip so far, in order (the
+    /// same detector, on the real tooth form).
+    pub(crate) rides: &'a [TipRide],
 }
 
 /// Watches a run. Every method has a no-op default.
@@ -690,6 +693,7 @@ impl Simulation {
             state: &self.state,
             forces: self.forces.output(),
             jumps: self.jumps.jumps(),
+            rides: self.jumps.rides(),
         }
     }
 }

@@ -176,7 +176,7 @@ fn a_force_law_on_a_mount_with_locked_translations_is_an_error() {
     let mut d =
         ChainDrive::insert(&scene, &[Some(motor)], &mut w.bodies, &mut w.colliders).expect("drive");
     d.set_mount_force(
-        0,
+        d.sprocket(0).expect("sprocket 0"),
         MountSpring {
             anchor_m: Vector::ZERO,
             axis: Vector::X,

@@ -392,3 +392,93 @@ fn the_sets_order_does_not_change_a_box_in_the_gap() {
     assert_eq!(a.tail_speed[1], b.tail_speed[1]);
     assert_eq!(a.motor_torque, b.motor_torque);
 }
+
+/// Where the vertical speeds of boxes queued against a stop come from (a
+/// diagnostic, not a check: `cargo test --release --test it
+/// queued_boxes_vertical_speed -- --ignored --nocapture`, `NOSTOP=1` for the
+/// boxes riding free, `REST=e` for another restitution). Prints, per frame
+/// rate, the largest and RMS vertical speed of the first box at frame ends,
+/// the largest mean vertical speed over a frame (Δy / dt) and how often the
+/// speed changes sign; docs/architecture.md, "Bodies touching carried
+/// bodies", has the numbers and the explanation.
+#[test]
+#[ignore]
+fn queued_boxes_vertical_speed() {
+    let e: f64 = std::env::var("REST")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(0.5);
+    for hz in [60.0, 240.0, 2000.0] {
+        let scene = conveyor_in(100, 60.0, 0.0, 0.0);
+        let text = scene
+            .source_toml()
+            .expect("text")
+            .replace("restitution = 0.5", &format!("restitution = {e}"));
+        let scene = Scene::from_toml(&text).expect("scene");
+        let mut w = world();
+        w.integration_parameters.dt = 1.0 / hz;
+        let mut drive =
+            ChainDrive::insert(&scene, &[], &mut w.bodies, &mut w.colliders).expect("drive");
+        let r = PITCH_M / (2.0 * (std::f64::consts::PI / 20.0).sin());
+        let y0 = r * (std::f64::consts::PI / 20.0).cos();
+        let fl = |c: ColliderBuilder| {
+            c.friction(0.0)
+                .friction_combine_rule(CoefficientCombineRule::Min)
+        };
+        w.colliders.insert(fl(ColliderBuilder::cuboid(0.4, 0.005)
+            .translation(Vector::new(0.5, y0 - ROLLER_RADIUS_M - 0.005))));
+        let top = strand_top();
+        let face = 0.35;
+        let with_stop = std::env::var("NOSTOP").is_err();
+        if with_stop {
+            w.colliders.insert(fl(ColliderBuilder::cuboid(0.01, 0.0225)
+                .translation(Vector::new(face - 0.01, top + 0.0275))));
+        }
+        let n = 3;
+        let boxes: Vec<RigidBodyHandle> = (0..n)
+            .map(|k| {
+                add_box(
+                    &mut w,
+                    face + HX + 1e-3 + k as f64 * (2.0 * HX + 1e-3),
+                    top + HY + 1e-4,
+                    0.2,
+                )
+            })
+            .collect();
+        let frames = ((if hz > 1000.0 { 2.0 } else { 6.0 }) * hz) as usize;
+        let (mut vmax, mut dmax, mut hist) = (0.0f64, 0.0f64, Vec::new());
+        let mut prev: Vec<f64> = boxes.iter().map(|&b| w.bodies[b].translation().y).collect();
+        for frame in 0..frames {
+            drive.step_world(&mut w, &(), &()).expect("frame");
+            let ys: Vec<f64> = boxes.iter().map(|&b| w.bodies[b].translation().y).collect();
+            let t = frame as f64 / hz;
+            let window = if with_stop {
+                t > 1.0
+            } else {
+                (0.1..0.6).contains(&t)
+            };
+            if window {
+                for (k, &b) in boxes.iter().enumerate() {
+                    let vy = w.bodies[b].linvel().y;
+                    let d = (ys[k] - prev[k]) * hz;
+                    vmax = vmax.max(vy.abs());
+                    dmax = dmax.max(d.abs());
+                    if k == 0 {
+                        hist.push((vy, d, ys[k] - top - HY));
+                    }
+                }
+            }
+            prev = ys;
+        }
+        let crossings = hist
+            .windows(2)
+            .filter(|p| p[0].0.signum() != p[1].0.signum())
+            .count();
+        let secs = hist.len() as f64 / hz;
+        let rms = (hist.iter().map(|h| h.0 * h.0).sum::<f64>() / hist.len() as f64).sqrt();
+        println!(
+            "{hz} Hz stop={with_stop} e={e}: max |vy| at frame ends {vmax:.4} m/s (rms {rms:.4}), max |dy/dt| over a frame {dmax:.4} m/s, vy sign changes {:.0}/s",
+            crossings as f64 / secs
+        );
+    }
+}

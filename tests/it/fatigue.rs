@@ -244,3 +244,46 @@ fn a_heavy_chain_drive_is_rated_and_checked_by_hand() {
     let (slack, tight) = (means[0].min(means[1]), means[0].max(means[1]));
     approx::assert_relative_eq!(tight - slack, 3_901.0, max_relative = 0.01);
 }
+
+const MOTO_520: &str = include_str!("../data/moto_520_15_45.toml");
+
+/// A 520 motorcycle drive named by its designation builds and runs, with
+/// the mass, stiffness and strength its scene writes (the 520 row has the
+/// pitch and roller only). Rated as the ANSI 50: the 15-tooth engine
+/// sprocket at 2653 rpm, p = 0.625 in: H₁ = 0.004 · 15^1.08 · 2653^0.9 ·
+/// 0.625^(3 − 0.04375) hp = 0.004 · 18.630 · 1205.6 · 0.24923 = 22.39 hp
+/// = 16.70 kW; H₂ = 17,000 · 15^1.5 · 0.625^0.8 / 2653^1.5 =
+/// 17,000 · 58.095 · 0.68659 / 136,649 = 4.962 hp = 3.700 kW, which
+/// governs. The 78 N·m on the wheel over the 45-tooth pitch radius
+/// 15.875 mm / (2 sin(π/45)) = 113.75 mm is 685.7 N between the strands'
+/// mean forces; the static safety factor is the written 36.5 kN over the
+/// largest link force.
+#[test]
+fn a_520_drive_by_designation_runs_and_is_checked_on_its_written_strength() {
+    let s = run(MOTO_520, 0.8, 0.4);
+    let r = &s["rating"];
+    assert_eq!(r["designation"], "520");
+    let basis = r["basis"].as_str().expect("a basis");
+    assert!(
+        basis.contains("motorcycle") && basis.contains("ANSI 50"),
+        "{basis}"
+    );
+    approx::assert_relative_eq!(
+        num(r, "link_plate_limited_power_w"),
+        16_697.0,
+        max_relative = 2e-3
+    );
+    approx::assert_relative_eq!(num(r, "rated_power_w"), 3_700.3, max_relative = 3e-3);
+    assert_eq!(num(r, "tensile_strength_n"), 36_500.0);
+    approx::assert_relative_eq!(
+        num(r, "static_safety_factor"),
+        36_500.0 / num(&s, "link_force_max_n"),
+        max_relative = 1e-9
+    );
+    assert_eq!(num(&s, "fatigue/tensile_strength_n"), 36_500.0);
+    let means: Vec<f64> = (0..2)
+        .map(|i| num(&s, &format!("segments/{i}/mean_link_force_n")))
+        .collect();
+    let (slack, tight) = (means[0].min(means[1]), means[0].max(means[1]));
+    approx::assert_relative_eq!(tight - slack, 685.7, max_relative = 0.02);
+}

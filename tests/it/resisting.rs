@@ -98,13 +98,14 @@ fn spin_up_and_coast(scene: &Scene, motor_n_m: f64, on_frames: usize, frames: us
         .build(&mut w)
         .expect("drive");
     w.bodies[motor].add_torque(motor_n_m, true);
+    let head = drive.sprocket("head").expect("the head sprocket");
     let mut speeds = Vec::with_capacity(frames);
     for frame in 0..frames {
         if frame == on_frames {
             w.bodies[motor].reset_torques(true);
         }
         drive.step_world(&mut w, &(), &()).expect("frame");
-        speeds.push(drive.state().omega[0]);
+        speeds.push(drive.sprocket_speed(head));
     }
     speeds
 }

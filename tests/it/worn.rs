@@ -244,3 +244,164 @@ fn the_papers_drive_neither_jumps_nor_rides_a_tip() {
         "{warnings:?}"
     );
 }
+
+/// A recording of a worn chain's run lists its tip rides and tooth jumps in
+/// the metadata records `chaindrive.tip_rides` and `chaindrive.tooth_jumps`,
+/// read back here from the MCAP file with the `mcap` crate: as many entries
+/// as the run's summary counts, each sprocket's first ride at the time and
+/// roller the summary gives (the 30/30 drive on fixed centres worn 2 %,
+/// whose slack strand's rollers drag over the driven sprocket's tips from
+/// about 0.12 s and jump near 0.16 s).
+#[cfg(feature = "record")]
+#[test]
+fn a_recording_lists_the_tip_rides_and_tooth_jumps_its_summary_counts() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let text = std::fs::read_to_string(data("worn_30_30_fixed.toml")).expect("scene");
+    assert!(
+        text.contains("elongation_pct = 0.0"),
+        "the scene's elongation line"
+    );
+    let scene = dir.path().join("worn.toml");
+    std::fs::write(
+        &scene,
+        text.replace("elongation_pct = 0.0", "elongation_pct = 2.0"),
+    )
+    .expect("scene");
+    let (mcap, summary) = (dir.path().join("worn.mcap"), dir.path().join("s.json"));
+    let run = chaindrive(&[
+        "run",
+        scene.to_str().expect("utf-8"),
+        "--quiet",
+        "--duration",
+        "0.25",
+        "--record",
+        mcap.to_str().expect("utf-8"),
+        "--summary",
+        summary.to_str().expect("utf-8"),
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let s = crate::common::read_json(&summary);
+    let top = crate::common::mcap_top_level(&mcap).metadata;
+
+    let per_sprocket = s["tip_rides"].as_array().expect("the run rode tips");
+    let counted: u64 = per_sprocket
+        .iter()
+        .map(|r| r["count"].as_u64().expect("count"))
+        .sum();
+    let rides = top.get("chaindrive.tip_rides").expect("a tip_rides record");
+    assert_eq!(rides["count"], counted.to_string(), "{rides:?}");
+    let entries: Vec<&String> = rides
+        .iter()
+        .filter(|(k, _)| k.starts_with("ride "))
+        .map(|(_, v)| v)
+        .collect();
+    assert_eq!(entries.len() as u64, counted, "{rides:?}");
+    // Each sprocket's first entry (the entries are in time order) is the
+    // summary's first ride there.
+    for r in per_sprocket {
+        let sprocket = format!("sprocket={}", r["sprocket"]);
+        let first = entries
+            .iter()
+            .find(|e| e.split(' ').any(|f| f == sprocket))
+            .unwrap_or_else(|| panic!("no ride on {sprocket}: {rides:?}"));
+        let field = |name: &str| {
+            first
+                .split(' ')
+                .find_map(|f| f.strip_prefix(name))
+                .unwrap_or_else(|| panic!("{name} in {first}"))
+                .to_owned()
+        };
+        let t_s: f64 = field("t_s=").parse().expect("a time");
+        assert!(
+            (t_s - r["first_t_s"].as_f64().expect("t")).abs() < 1e-12,
+            "{first} {r}"
+        );
+        assert_eq!(
+            field("roller="),
+            r["first_roller"].to_string(),
+            "{first} {r}"
+        );
+    }
+
+    let jumps = s["tooth_jumps"].as_array().expect("the run jumped");
+    let record = top
+        .get("chaindrive.tooth_jumps")
+        .expect("a tooth_jumps record");
+    assert_eq!(record["count"], jumps.len().to_string(), "{record:?}");
+}
+
+/// The least hydraulic supply pressure that keeps a worn timing chain in
+/// mesh (`tests/data/user_timing_06b_arm.toml`, 0.5 % elongation, 3000 rpm,
+/// 0.1 s runs): the search brackets it with the jumping end at the low end
+/// of the range (a force that must be large enough), and a grid of plain
+/// runs of the same drive, run as a study, agrees: a pressure below the
+/// bracket rides a tip, one above it runs clean.
+#[test]
+fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
+    let scene = data("user_timing_06b_arm.toml");
+    let scene = scene.to_str().expect("utf-8");
+    let path = "tensioners.0.hydraulic.supply_pressure_pa";
+    let run = chaindrive(&[
+        "jump-margin",
+        scene,
+        "--path",
+        path,
+        "--from",
+        "0",
+        "--to",
+        "3e5",
+        "--tolerance",
+        "1e5",
+        "--elongation",
+        "0.5",
+        "--duration",
+        "0.1",
+        "--jobs",
+        "2",
+        "--json",
+    ]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let out: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    let margin = &out["margin"];
+    let clean = margin["clean"].as_f64().expect("clean");
+    let jumping = margin["jumping"].as_f64().expect("jumping");
+    // Low pressure loses the mesh, high pressure keeps it: the bracket runs
+    // from the jumping value up to the clean one.
+    assert_eq!(margin["low_end_jumps"], true, "{out}");
+    assert!(jumping < clean && clean - jumping <= 1e5, "{out}");
+
+    // The grid: one value below the bracket's jumping end, one above its
+    // clean end (neither tried by the search).
+    let levels = [jumping / 2.0, (clean + 3e5) / 2.0];
+    let dir = tempfile::tempdir().expect("temp dir");
+    let plan = format!(
+        "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.1, \"chain.elongation_pct\" = 0.5 }}\nwindow_s = 0.05\n\n[[factors]]\npath = \"{path}\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
+    );
+    let plan_path = dir.path().join("plan.toml");
+    std::fs::write(&plan_path, plan).expect("plan");
+    let out_dir = dir.path().join("grid");
+    let (plan_s, out_s) = (
+        plan_path.to_str().expect("utf-8"),
+        out_dir.to_str().expect("utf-8"),
+    );
+    let run = chaindrive(&["study", plan_s, "--out", out_s, "--jobs", "2", "--quiet"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let collect = chaindrive(&["study", "collect", out_s]);
+    assert!(collect.status.success(), "{}", stderr(&collect));
+    let csv = std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv");
+    let lost: Vec<f64> = csv_column(&csv, "tooth_jump_count")
+        .iter()
+        .zip(csv_column(&csv, "tip_ride_count"))
+        .map(|(j, r)| j.parse::<f64>().expect("a count") + r.parse::<f64>().expect("a count"))
+        .collect();
+    assert!(
+        lost[0] >= 1.0,
+        "{} Pa ran clean below {jumping} Pa: {csv}",
+        levels[0]
+    );
+    assert_eq!(
+        lost[1], 0.0,
+        "{} Pa lost the mesh above {clean} Pa: {csv}",
+        levels[1]
+    );
+}

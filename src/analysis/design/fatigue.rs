@@ -83,8 +83,11 @@ pub fn curve_of_scene(scene: &Scene) -> Result<(SnCurve, String), String> {
     // (1.7, 2.5, 3.3: less than n, as the strands share the load unevenly).
     let strands = scene.chain.strands;
     let strand_factor = super::rating::strand_factor(strands).unwrap_or(1.0);
-    let Some(strength) = designation.map(|d| d.tensile_strength_n * f64::from(strands)) else {
-        return Err("no fatigue check: the chain's tensile strength, which the mean-stress correction needs, comes from chain.designation (`chaindrive chains` lists them)".to_owned());
+    let Some(strength) = scene.chain.tensile_strength_n else {
+        return Err(format!(
+            "no fatigue check (the mean-stress correction needs the tensile strength): {}",
+            super::rating::missing_strength_note(designation)
+        ));
     };
     let Some(teeth) = scene.sprockets.iter().map(|s| s.teeth).min() else {
         return Err("no fatigue check: the scene has no sprocket".to_owned());

@@ -321,6 +321,11 @@ fn basis_of(designation: Option<&Designation>, pitch_m: f64) -> (ChainClass, Str
                 ""
             }
         ),
+        Some(d) if d.is_motorcycle() => format!(
+            "{}: no published rating method read for motorcycle chains; rated by the ANSI formulas with the standard roller chains' constants (K = 0.004, K_r = 17) at its pitch ({pitch_in:.3} in): the ANSI 50's rating. The formulas know pitch, teeth and speed only: an inner width of {:.2} mm (the ANSI 50's 9.53) is not credited or debited, nor are the thicker plates and the seals",
+            d.name,
+            d.inner_width_m * 1e3
+        ),
         Some(d) => format!(
             "{}: no published rating method read for ISO 606 B-series chains; rated by the ANSI formulas at its own pitch ({pitch_in:.3} in) with the standard roller chains' constants (K = 0.004, K_r = 17), as the ANSI chain of that pitch, since both are bush-and-roller chains of the same construction{beyond}",
             d.name
@@ -330,6 +335,18 @@ fn basis_of(designation: Option<&Designation>, pitch_m: f64) -> (ChainClass, Str
         ),
     };
     (class, text)
+}
+
+/// What a chain without a tensile strength lacks, and the field that gives
+/// it: a designation whose row has none (a motorcycle chain) or none at all.
+pub(crate) fn missing_strength_note(designation: Option<&Designation>) -> String {
+    match designation {
+        Some(d) => format!(
+            "no tensile strength: the {} row has none (each maker's and grade's own; `chaindrive chains {}`); give chain.tensile_strength_n, the maker's minimum, and with it the static safety factors and the fatigue check",
+            d.name, d.name
+        ),
+        None => "no tensile strength: chain.tensile_strength_n or chain.designation (`chaindrive chains` lists them) gives it, and with it the static safety factors and the fatigue check".to_owned(),
+    }
 }
 
 /// Inputs of [`rate`] that differ between a scene and a run.
@@ -388,13 +405,11 @@ fn rate(scene: &Scene, op: Operating, settings: RatingSettings) -> Result<Rating
             (None, None)
         }
     };
-    // The minimum tensile strength of n strands is n times one's (not the
+    // The scene's, or the designation's n strands (n times one's, not the
     // rating's strand factor: designations::Stranded).
-    let tensile = designation.map(|d| d.tensile_strength_n * f64::from(strands));
+    let tensile = scene.chain.tensile_strength_n;
     if tensile.is_none() {
-        notes.push(
-            "no tensile strength: chain.designation (`chaindrive chains` lists them) gives it, and with it the static safety factors and the fatigue check".to_owned(),
-        );
+        notes.push(missing_strength_note(designation));
     }
     Ok(Rating {
         designation: designation.map(|d| designations::Stranded { single: d, strands }.name()),

@@ -103,7 +103,7 @@ where
                         c.mix(0.8).filled(),
                     )))
                     .map_err(e)?;
-                format!("{:.*}{}", panel.decimals, v, panel.suffix)
+                value_label(*v, panel.decimals, &panel.suffix)
             }
             _ => "n/a".to_owned(),
         };
@@ -167,4 +167,43 @@ pub fn save_bars(bars: &Bars, dir: &Path, stem: &str) -> Result<Vec<PathBuf>, Fi
     )
     .map_err(fail)?;
     Ok(vec![png, svg])
+}
+
+/// The text written over a bar: `v` with `decimals` decimals and `suffix`,
+/// or with as many more as show a positive value's two significant digits
+/// (0.006 is "0.0060", not "0.0", which reads as none); beyond twelve
+/// decimals in scientific notation.
+pub(crate) fn value_label(v: f64, decimals: usize, suffix: &str) -> String {
+    let needed = if v > 0.0 && v.is_finite() {
+        // Two significant digits: the first is at 10^floor(log10 v).
+        (1.0 - v.log10().floor()).max(0.0) as usize
+    } else {
+        0
+    };
+    if needed > 12 {
+        format!("{v:.1e}{suffix}")
+    } else {
+        let d = decimals.max(needed);
+        format!("{v:.d$}{suffix}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::value_label;
+
+    /// A damage share of 0.006 % written over its bar must not read "0.0 %"
+    /// (no damage) beside another point's 99.9 %: a positive value keeps two
+    /// significant digits however many decimals the panel asks for; zero
+    /// stays zero and a large value keeps the panel's decimals.
+    #[test]
+    fn a_small_positive_value_is_not_written_as_zero() {
+        assert_eq!(value_label(0.005_958, 1, " %"), "0.0060 %");
+        assert_eq!(value_label(0.068_87, 1, " %"), "0.069 %");
+        assert_eq!(value_label(99.925, 1, " %"), "99.9 %");
+        assert_eq!(value_label(0.0, 1, " %"), "0.0 %");
+        assert_eq!(value_label(0.85, 2, ""), "0.85");
+        assert_eq!(value_label(3.0e-9, 1, ""), "0.0000000030");
+        assert_eq!(value_label(2.0e-20, 1, " %"), "2.0e-20 %");
+    }
 }

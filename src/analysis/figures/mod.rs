@@ -26,7 +26,7 @@ mod bars;
 mod campbell;
 mod paper;
 
-pub(crate) use bars::{BarPanel, Bars, save_bars};
+pub(crate) use bars::{BarPanel, Bars, save_bars, value_label};
 pub(crate) use campbell::{Campbell, OrderLine, SpanLines, save_campbell};
 pub(crate) use paper::{FigureChoice, paper_figures};
 

@@ -181,7 +181,7 @@ pub fn combine(cycle: &DutyCycle, dir: &StudyDir) -> Result<DutyLife, StudyError
                 p.error.as_deref().unwrap_or("no message")
             ),
             _ => format!(
-                "{}: no fatigue block (the chain's tensile strength, from chain.designation, is needed)",
+                "{}: no fatigue block (the chain's tensile strength, from chain.tensile_strength_n or chain.designation, is needed)",
                 p.name
             ),
         })
