@@ -68,6 +68,7 @@ use rapier2d_f64::parry::bounding_volume::Aabb;
 use rapier2d_f64::parry::query::{DefaultQueryDispatcher, PersistentQueryDispatcher};
 use rapier2d_f64::prelude::*;
 
+mod shared;
 mod touches;
 use touches::Touch;
 
@@ -180,6 +181,15 @@ struct Carried {
     mean_w: f64,
     /// The rollers' force on it summed over the substeps, then their mean, N.
     chain_force: Vector,
+    /// Whether other drives of a set carry it too in this frame (each
+    /// integrates it with the sum of all their forces, [`Self::total`]).
+    shared: bool,
+    /// Whether this drive hands it to rapier's step and reads it back
+    /// (the one drive of a set that keeps it; always, when not shared).
+    keeper: bool,
+    /// The force and torque of every drive carrying it in this substep,
+    /// N and N·m (when shared).
+    total: (Vector, f64),
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -252,7 +262,7 @@ impl BodyContacts {
 
     /// Whether any pair is active this frame.
     pub(super) fn is_empty(&self) -> bool {
-        self.pairs.is_empty() && self.touches.is_empty()
+        self.pairs.is_empty() && self.touches.is_empty() && self.carried.is_empty()
     }
 
     /// Whether `body` is carried this frame.
@@ -493,6 +503,9 @@ impl BodyContacts {
             mean_v: Vector::ZERO,
             mean_w: 0.0,
             chain_force: Vector::ZERO,
+            shared: false,
+            keeper: true,
+            total: (Vector::ZERO, 0.0),
         });
         self.carried.len() - 1
     }
@@ -628,8 +641,13 @@ impl BodyContacts {
     /// chain; rapier's damping as rapier applies it, v / (1 + dt c)).
     pub(super) fn integrate(&mut self, dt_s: f64) {
         for c in &mut self.carried {
-            c.v += (c.force_ext + c.force) * c.inv_mass * dt_s;
-            c.w += (c.torque_ext + c.torque) * c.inv_inertia * dt_s;
+            let (force, torque) = if c.shared {
+                c.total
+            } else {
+                (c.force, c.torque)
+            };
+            c.v += (c.force_ext + force) * c.inv_mass * dt_s;
+            c.w += (c.torque_ext + torque) * c.inv_inertia * dt_s;
             c.chain_force += c.force;
             c.v /= 1.0 + dt_s * c.damping[0];
             c.w /= 1.0 + dt_s * c.damping[1];
@@ -666,7 +684,7 @@ impl BodyContacts {
                 return false;
             }
         }
-        for c in &self.carried {
+        for c in self.carried.iter().filter(|c| c.keeper) {
             if let Some(rb) = bodies.get_mut(c.body) {
                 rb.set_linvel(c.mean_v, true);
                 rb.set_angvel(c.mean_w, true);
@@ -692,7 +710,7 @@ impl BodyContacts {
         narrow_phase: &NarrowPhase,
         is_roller: &dyn Fn(ColliderHandle) -> bool,
     ) {
-        for c in &self.carried {
+        for c in self.carried.iter().filter(|c| c.keeper) {
             let Some(rb) = bodies.get_mut(c.body) else {
                 continue;
             };

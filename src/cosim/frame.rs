@@ -83,17 +83,28 @@ impl ChainDrive {
         dt_s: f64,
         frame: FrameStart,
     ) -> Result<(), CosimError> {
-        let FrameStart { started, moving } = frame;
-        let span = dt_s;
         let searched = Instant::now();
-        let substeps = self.substeps(dt_s, moving)?;
+        let substeps = self.substeps(dt_s, frame.moving)?;
+        self.end_frame(bodies, dt_s, frame, substeps, searched)
+    }
+
+    /// After the substeps (`searched`: when they began): the frame's checks,
+    /// the bodies set for rapier's step, the stage times counted.
+    pub(super) fn end_frame(
+        &mut self,
+        bodies: &mut RigidBodySet,
+        dt_s: f64,
+        frame: FrameStart,
+        substeps: u64,
+        searched: Instant,
+    ) -> Result<(), CosimError> {
         self.check_substeps(bodies, substeps, dt_s)?;
         let stepped = Instant::now();
-        self.hand_back(bodies, substeps, span);
+        self.hand_back(bodies, substeps, dt_s);
         self.clock.open(dt_s);
         let t = &mut self.stage_times;
         t.frames += 1;
-        t.search_s += (searched - started).as_secs_f64();
+        t.search_s += (searched - frame.started).as_secs_f64();
         t.substeps_s += (stepped - searched).as_secs_f64();
         t.sync_s += stepped.elapsed().as_secs_f64();
         t.projections = self.contacts.projections;
@@ -103,55 +114,89 @@ impl ChainDrive {
     /// Substeps at the scene's dt until the world's frame end of `dt_s`,
     /// moving the mounts with them where any moves; how many it took.
     fn substeps(&mut self, dt_s: f64, moving: bool) -> Result<u64, CosimError> {
+        let (substeps, t0) = self.open_substeps(dt_s);
+        let with_bodies = !self.contacts.is_empty();
+        for step in 1..=substeps {
+            self.substep_forces(step, with_bodies);
+            self.substep_advance(step, t0, moving, with_bodies, dt_s)?;
+        }
+        Ok(substeps)
+    }
+
+    /// How many substeps bring the chain to the world's frame end of
+    /// `dt_s`, and the chain's time at the frame's start, s.
+    pub(super) fn open_substeps(&mut self, dt_s: f64) -> (u64, f64) {
         // The chain's clock lags the world's by less than one substep and is
         // counted from the start (steps × dt) as `Simulation::run` counts it,
         // so a drive with no outside contact evolves exactly as it does
         // standalone.
-        let dt = self.scene.solver.dt_s;
         let t0 = self.state.t_s;
-        let substeps = self.clock.substeps(dt_s, t0, dt);
+        let substeps = self.clock.substeps(dt_s, t0, self.scene.solver.dt_s);
         self.scratch.force_sum.fill([0.0; 2]);
-        let with_bodies = !self.contacts.is_empty();
-        for step in 1..=substeps {
-            self.scratch.add_external(self.forces.output_mut());
-            if with_bodies {
-                let tau = (step - 1) as f64 * dt;
-                self.contacts.apply(
-                    &self.coupling,
-                    &self.state,
-                    self.forces.output_mut(),
-                    tau,
-                    dt,
-                );
-            }
-            // The rollers' update and the links at the new state in one
-            // pass (large drives); the mounts' move does not touch the links.
-            let linked =
-                symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
-            if with_bodies {
-                self.contacts.integrate(dt);
-            }
-            self.state.t_s = self.clock.tick(dt);
-            if moving {
-                self.mounts.move_centres(
-                    &mut self.model.sprockets,
-                    &self.forces.output().chain_force,
-                    step,
-                    t0,
-                    dt,
-                );
-            }
-            if linked {
-                self.forces.evaluate_after_links(&self.model, &self.state);
-            } else {
-                self.forces.evaluate(&self.model, &self.state);
-            }
-            check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
-                .map_err(|e| at_coupling_limit(e, dt_s))?;
-            self.scratch
-                .add_chain_force(&self.forces.output().chain_force);
+        (substeps, t0)
+    }
+
+    /// The first half of substep `step` (from 1) of a frame: the held external forces and the user's
+    /// colliders' forces at the current state (their reactions on carried
+    /// bodies summed, not yet applied) where `with_bodies` (the frame has
+    /// any carried body or pair).
+    #[inline(always)]
+    pub(super) fn substep_forces(&mut self, step: u64, with_bodies: bool) {
+        let dt = self.scene.solver.dt_s;
+        self.scratch.add_external(self.forces.output_mut());
+        if with_bodies {
+            let tau = (step - 1) as f64 * dt;
+            self.contacts.apply(
+                &self.coupling,
+                &self.state,
+                self.forces.output_mut(),
+                tau,
+                dt,
+            );
         }
-        Ok(substeps)
+    }
+
+    /// The second half of substep `step` of a frame that began at the
+    /// chain's time `t0`: the chain and (`with_bodies`) the carried bodies
+    /// advanced, the mounts moved (`moving`), the forces at the new state,
+    /// the blow-up check (a frame of `dt_s` names the coupling's limit).
+    #[inline(always)]
+    pub(super) fn substep_advance(
+        &mut self,
+        step: u64,
+        t0: f64,
+        moving: bool,
+        with_bodies: bool,
+        dt_s: f64,
+    ) -> Result<(), CosimError> {
+        let dt = self.scene.solver.dt_s;
+        // The rollers' update and the links at the new state in one
+        // pass (large drives); the mounts' move does not touch the links.
+        let linked =
+            symplectic_euler_with_links(&self.model, &mut self.state, &mut self.forces, dt);
+        if with_bodies {
+            self.contacts.integrate(dt);
+        }
+        self.state.t_s = self.clock.tick(dt);
+        if moving {
+            self.mounts.move_centres(
+                &mut self.model.sprockets,
+                &self.forces.output().chain_force,
+                step,
+                t0,
+                dt,
+            );
+        }
+        if linked {
+            self.forces.evaluate_after_links(&self.model, &self.state);
+        } else {
+            self.forces.evaluate(&self.model, &self.state);
+        }
+        check_blow_up(&self.model, &self.state, &self.forces, &self.limits)
+            .map_err(|e| at_coupling_limit(e, dt_s))?;
+        self.scratch
+            .add_chain_force(&self.forces.output().chain_force);
+        Ok(())
     }
 
     /// The frame's checks after its substeps: no roller too deep in a

@@ -8,19 +8,21 @@
 //! set steps them as one:
 //!
 //! - each drive leaves the others' colliders and mounted bodies alone;
-//! - a body near several chains is carried by one drive in a frame — the
-//!   one with most rollers near it (on a tie, the drive whose first roller
-//!   body has the lowest handle; the set's order still changes the result,
-//!   see docs/architecture.md, "Several drives"); the
-//!   other drives leave it alone in that frame (their rollers pass through
-//!   it); its gravity, damping and user force are saved once, by that drive,
-//!   and restored once;
+//! - a body near several chains is carried by all of them in the same
+//!   substeps: the drives' substeps run side by side, and in each every
+//!   drive's forces on the body are summed before any copy of it advances
+//!   (each drive keeps an equal copy; see `bodies/shared.rs`). One drive,
+//!   its keeper (most rollers near it; on a tie, the drive whose first
+//!   roller body has the lowest handle), hands it to rapier's step, saving
+//!   and restoring its gravity, damping and user force once. Drives of
+//!   different `solver.dt_s` cannot share substeps: such a body is carried
+//!   by its keeper alone in that frame, the others' rollers passing through it;
 //! - one [`SetHooks`] keeps rapier's solver out of every pair of two drives'
 //!   colliders and of every roller–carried-body pair.
 //!
-//! Not coupled: two drives' own bodies (their rollers and sprockets pass
-//! through each other), and a body with the rollers of a drive that does
-//! not carry it in that frame.
+//! With no shared body in a frame, each drive runs its frame as it would
+//! alone. Not coupled: two drives' own bodies (their rollers and sprockets
+//! pass through each other).
 
 use std::collections::HashMap;
 use std::time::Instant;
@@ -144,11 +146,66 @@ impl DriveSet {
                 .map_err(|e| in_drive(i, e))?;
             self.starts.push(start);
         }
-        self.share_bodies();
+        if self.share_bodies() {
+            return self.run_interleaved(bodies, dt_s);
+        }
         for (i, (drive, start)) in self.drives.iter_mut().zip(&self.starts).enumerate() {
             drive
                 .run_frame(bodies, dt_s, *start)
                 .map_err(|e| in_drive(i, e))?;
+        }
+        Ok(())
+    }
+
+    /// The drives' substeps side by side, substep by substep: in each, every
+    /// drive's forces at its current state, then every shared body's total
+    /// given to each copy of it, then every drive advanced.
+    fn run_interleaved(&mut self, bodies: &mut RigidBodySet, dt_s: f64) -> Result<(), CosimError> {
+        let searched = Instant::now();
+        let opened: Vec<(u64, f64, bool)> = self
+            .drives
+            .iter_mut()
+            .map(|d| {
+                let (substeps, t0) = d.open_substeps(dt_s);
+                (substeps, t0, !d.contacts.is_empty())
+            })
+            .collect();
+        let most = opened.iter().map(|o| o.0).max().unwrap_or(0);
+        let mut shared: Vec<RigidBodyHandle> = Vec::new();
+        for d in &self.drives {
+            shared.extend(d.contacts.shared_bodies());
+        }
+        shared.sort_unstable_by_key(|b| b.into_raw_parts());
+        shared.dedup();
+        for step in 1..=most {
+            let stepping = |k: usize| opened.get(k).is_some_and(|o| step <= o.0);
+            for (k, d) in self.drives.iter_mut().enumerate() {
+                if let Some(&(_, _, with_bodies)) = opened.get(k).filter(|o| step <= o.0) {
+                    d.substep_forces(step, with_bodies);
+                }
+            }
+            for &body in &shared {
+                let mut total = (Vector::ZERO, 0.0, 0u32);
+                for (k, d) in self.drives.iter().enumerate() {
+                    if let Some(p) = d.contacts.push_on(body).filter(|_| stepping(k)) {
+                        total = (total.0 + p.0, total.1 + p.1, total.2 + p.2);
+                    }
+                }
+                for d in &mut self.drives {
+                    d.contacts.set_total(body, total);
+                }
+            }
+            for (k, (d, start)) in self.drives.iter_mut().zip(&self.starts).enumerate() {
+                if let Some(&(_, t0, with_bodies)) = opened.get(k).filter(|o| step <= o.0) {
+                    d.substep_advance(step, t0, start.moving, with_bodies, dt_s)
+                        .map_err(|e| in_drive(k, e))?;
+                }
+            }
+        }
+        for (k, (d, start)) in self.drives.iter_mut().zip(&self.starts).enumerate() {
+            let substeps = opened.get(k).map_or(0, |o| o.0);
+            d.end_frame(bodies, dt_s, *start, substeps, searched)
+                .map_err(|e| in_drive(k, e))?;
         }
         Ok(())
     }
@@ -167,7 +224,8 @@ impl DriveSet {
                     return Err(CosimError::input(
                         format!("drives[{i}]"),
                         format!(
-                            "its bodies are drives[{j}]'s too: it was inserted into another                              world (a set's drives are inserted into the world it steps)"
+                            "its bodies are drives[{j}]'s too: it was inserted into another \
+                             world (a set's drives are inserted into the world it steps)"
                         ),
                     ));
                 }
@@ -177,30 +235,52 @@ impl DriveSet {
         Ok(())
     }
 
-    /// Gives each body carried by several drives to one of them.
-    fn share_bodies(&mut self) {
+    /// Marks each body carried by several drives as shared among them, and
+    /// gives it to one keeper (most roller pairs; on a tie the drive whose
+    /// first roller body has the lowest handle) to hand to rapier's step.
+    /// Drives of different `solver.dt_s` cannot advance a body together: a
+    /// body near several of those is left to its keeper alone. Whether any
+    /// body is shared.
+    fn share_bodies(&mut self) -> bool {
         let key = |d: &ChainDrive| d.handles.rollers().first().map(|h| h.into_raw_parts());
         let mut claims: Vec<(RigidBodyHandle, usize, usize)> = Vec::new();
         for (i, d) in self.drives.iter().enumerate() {
             claims.extend(d.contacts.carried_pairs().map(|(b, n)| (b, n, i)));
         }
+        let mut any = false;
         for &(body, _, _) in &claims {
-            let keeper = claims
-                .iter()
-                .filter(|c| c.0 == body)
+            let mine = || claims.iter().filter(|c| c.0 == body);
+            let Some(keeper) = mine()
                 .max_by(|x, y| {
                     x.1.cmp(&y.1).then_with(|| {
                         // Lower handle wins a tie.
                         key(&self.drives[y.2]).cmp(&key(&self.drives[x.2]))
                     })
                 })
-                .map(|c| c.2);
+                .map(|c| c.2)
+            else {
+                continue;
+            };
+            if mine().count() < 2 {
+                continue;
+            }
+            let dt = |i: usize| self.drives[i].scene.solver.dt_s;
+            let alike = mine().all(|c| dt(c.2) == dt(keeper));
             for (i, d) in self.drives.iter_mut().enumerate() {
-                if Some(i) != keeper {
+                if alike {
+                    d.contacts.share(body, i == keeper);
+                } else if i != keeper {
                     d.contacts.release(body);
                 }
             }
+            any |= alike;
         }
+        if any {
+            for d in &mut self.drives {
+                d.contacts.drop_touches_kept_elsewhere();
+            }
+        }
+        any
     }
 
     /// [`ChainDrive::after_step`] for every drive.

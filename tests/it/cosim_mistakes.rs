@@ -264,6 +264,9 @@ fn a_drive_from_another_world_in_a_set_is_named_before_anything_is_written() {
     set.push(a);
     set.push(b);
     let e = set.step_world(&mut w, &(), &()).expect_err("another world");
+    // One sentence (before: a run of 30 spaces inside it).
+    let text = e.to_string();
+    assert!(text.contains("inserted into another world ("), "{text}");
     assert_eq!(field_of(e), "drives[1]");
     assert_eq!(roller_positions(&w, &set.drives()[0]), before);
 }
