@@ -372,6 +372,7 @@ fn sprockets_are_found_by_name_or_index_and_read_through_their_ids() {
 }
 
 #[test]
+#[cfg(feature = "record")]
 fn the_users_bodies_are_recorded_as_frames_beside_the_chain() {
     use crate::record::{RecordOptions, Recorder, RunEnd};
     use foxglove::schemas::FrameTransforms;
