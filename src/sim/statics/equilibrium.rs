@@ -36,7 +36,7 @@ pub struct StaticEquilibrium {
     /// Where no sprocket is driven and the sprockets' loads do not balance
     /// around the loop: the torque the sprocket held for the solve took
     /// (`sim::statics::free`). No rest state exists; a run warns.
-    pub(crate) unbalanced: Option<super::free::Unbalanced>,
+    pub(crate) unbalanced: Option<super::error::Unbalanced>,
 }
 
 impl StaticEquilibrium {

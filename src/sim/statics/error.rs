@@ -269,3 +269,30 @@ pub enum FitError {
         rollers: usize,
     },
 }
+
+/// Loads that do not balance around a loop with no driver: the torque the
+/// sprocket held for the solve took at the rest state reached.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Unbalanced {
+    /// The sprocket held for the solve.
+    pub(crate) sprocket: String,
+    /// The torque out of balance on it once it turns freely (its chain
+    /// torque plus its load at rest), N·m.
+    pub(crate) torque_n_m: f64,
+    /// That torque over its pitch radius, relative to the pretension.
+    pub(crate) relative: f64,
+}
+
+impl std::fmt::Display for Unbalanced {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let Self {
+            sprocket,
+            torque_n_m,
+            relative,
+        } = self;
+        write!(
+            f,
+            "no sprocket is driven and the sprockets' loads do not balance around the loop: sprocket \"{sprocket}\", held at rest for the static equilibrium, takes {torque_n_m:.4} N·m ({relative:.1e} of the pretension at its pitch radius), so this drive has no rest state; a run starts from the state with it held, and the chain starts to move under the loads (drive a sprocket, role = \"driver\", or balance the loads, sprockets.N.load_torque_n_m)"
+        )
+    }
+}

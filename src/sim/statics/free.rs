@@ -20,7 +20,7 @@ use crate::model::{DriveModel, DriveState};
 use crate::scene::Scene;
 
 use super::equilibrium::REST_FORCE;
-use super::error::EquilibriumError;
+use super::error::{EquilibriumError, Unbalanced};
 use super::relax::RelaxSettings;
 
 /// The sprocket to hold at rest while a drive with no held sprocket
@@ -39,33 +39,6 @@ pub(crate) fn sprocket_to_hold(model: &DriveModel) -> Option<usize> {
         .filter(|(_, s)| s.inv_inertia.is_finite() && s.inv_inertia > 0.0)
         .min_by(|a, b| a.1.inv_inertia.total_cmp(&b.1.inv_inertia))
         .map(|(k, _)| k)
-}
-
-/// Loads that do not balance around a loop with no driver: the torque the
-/// sprocket held for the solve took at the rest state reached.
-#[derive(Clone, Debug, PartialEq)]
-pub(crate) struct Unbalanced {
-    /// The sprocket held for the solve.
-    pub(crate) sprocket: String,
-    /// The torque out of balance on it once it turns freely (its chain
-    /// torque plus its load at rest), N·m.
-    pub(crate) torque_n_m: f64,
-    /// That torque over its pitch radius, relative to the pretension.
-    pub(crate) relative: f64,
-}
-
-impl std::fmt::Display for Unbalanced {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let Self {
-            sprocket,
-            torque_n_m,
-            relative,
-        } = self;
-        write!(
-            f,
-            "no sprocket is driven and the sprockets' loads do not balance around the loop: sprocket \"{sprocket}\", held at rest for the static equilibrium, takes {torque_n_m:.4} N·m ({relative:.1e} of the pretension at its pitch radius), so this drive has no rest state; a run starts from the state with it held, and the chain starts to move under the loads (drive a sprocket, role = \"driver\", or balance the loads, sprockets.N.load_torque_n_m)"
-        )
-    }
 }
 
 /// Passes of [`let_go`]: the held sprocket turned to where it takes no
