@@ -26,19 +26,20 @@ TEETH = (19, 30, 45)
 PITCH_M = 0.0254
 
 
-def scene(z, tensioned):
-    rp = PITCH_M / (2 * math.sin(math.pi / z))
-    torque = round(12000 * rp, -1)
+def two_sprocket_scene(z, tensioned, name, pretension_n, torque_n_m, load_ramp_s, duration_s):
+    """Equal z-tooth sprockets 111 ANSI 80 links apart, no gravity, 100 rpm,
+    the driven one loaded with `torque_n_m`: on fixed centres, or the
+    driven sprocket a tensioner (shared with slack_tension_onset.py)."""
     centre = (111 - z) / 2 * PITCH_M
     role = 'role = "tensioner"\nadjust_direction = [1.0, 0.0]' if tensioned else 'role = "free"'
-    return f'''name = "{z}/{z} ANSI 80"
+    return f'''name = "{name}"
 gravity_m_s2 = [0.0, 0.0]
 profile = "real"
 [chain]
 designation = "ANSI 80"
 rollers = 111
 damping_n_s_m = 50.0
-pretension_n = {2000.0 if tensioned else 1000.0}
+pretension_n = {pretension_n}
 pretension_by = "{'tensioner' if tensioned else 'rest_length'}"
 joint_friction = 0.1
 [contact]
@@ -63,29 +64,49 @@ mass_kg = 2.0
 inertia_kg_m2 = 0.02
 wrap = "ccw"
 {role}
-load_torque_n_m = {torque}
-load_ramp_s = 0.5
+load_torque_n_m = {torque_n_m}
+load_ramp_s = {load_ramp_s}
 [solver]
-duration_s = 1.0
+duration_s = {duration_s}
 '''
 
 
-def bracket(z, tensioned, top):
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as f:
-        f.write(scene(z, tensioned))
+def scene(z, tensioned):
+    rp = PITCH_M / (2 * math.sin(math.pi / z))
+    return two_sprocket_scene(z, tensioned, f"{z}/{z} ANSI 80", 2000.0 if tensioned else 1000.0,
+                              round(12000 * rp, -1), 0.5, 1.0)
+
+
+def with_scene(text, f):
+    """`f` called with the path of a temporary scene file holding `text`."""
+    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as t:
+        t.write(text)
     try:
-        out = subprocess.run(
-            [BIN, "jump-margin", f.name, "--path", "chain.elongation_pct", "--from", "0",
-             "--to", str(top), "--tolerance", "0.25", "--jobs", "2", "--json"],
-            capture_output=True, text=True)
+        return f(t.name)
     finally:
-        os.unlink(f.name)
+        os.unlink(t.name)
+
+
+def jump_margin(binary, text, top, tolerance):
+    """`jump-margin --path chain.elongation_pct` from 0 to `top` on the
+    scene `text`: its margin (JSON), or {"clean_to": top} when both ends
+    ran clean, or {"error": the last line of its complaint}."""
+    out = with_scene(text, lambda path: subprocess.run(
+        [binary, "jump-margin", path, "--path", "chain.elongation_pct", "--from", "0",
+         "--to", str(top), "--tolerance", str(tolerance), "--jobs", "2", "--json"],
+        capture_output=True, text=True))
     if out.returncode != 0:
         err = out.stderr.strip().splitlines()[-1] if out.stderr else "failed"
         if "ran clean and the run at" in err and err.count("ran clean") == 2:
             return {"clean_to": top}
         return {"error": err}
-    m = json.loads(out.stdout)["margin"]
+    return json.loads(out.stdout)["margin"]
+
+
+def bracket(z, tensioned, top):
+    m = jump_margin(BIN, scene(z, tensioned), top, 0.25)
+    if "clean" not in m:
+        return m
     return {"clean": m["clean"], "jumping": m["jumping"], "probes": m["probes"]}
 
 

@@ -33,6 +33,8 @@ import subprocess
 import sys
 import tempfile
 
+from elongation_onset import jump_margin, two_sprocket_scene, with_scene
+
 TEETH = (19, 30, 45)
 TENSIONS_N = (2500.0, 3000.0, 4000.0, 6000.0, 10000.0)
 PULL_N = 4000.0
@@ -44,55 +46,8 @@ COLOURS = {19: "#1f77b4", 30: "#d62728", 45: "#2ca02c"}
 
 def scene(z, tensioned, pretension_n):
     rp = PITCH_M / (2 * math.sin(math.pi / z))
-    torque = round(PULL_N * rp, 1)
-    centre = (111 - z) / 2 * PITCH_M
-    role = 'role = "tensioner"\nadjust_direction = [1.0, 0.0]' if tensioned else 'role = "free"'
-    return f'''name = "{z}/{z} ANSI 80, {pretension_n:.0f} N"
-gravity_m_s2 = [0.0, 0.0]
-profile = "real"
-[chain]
-designation = "ANSI 80"
-rollers = 111
-damping_n_s_m = 50.0
-pretension_n = {pretension_n}
-pretension_by = "{'tensioner' if tensioned else 'rest_length'}"
-joint_friction = 0.1
-[contact]
-stiffness = 1e9
-restitution = 0.5
-min_approach_speed_m_s = 0.1
-[[sprockets]]
-name = "driver"
-center_m = [0.0, 0.0]
-teeth = {z}
-mass_kg = 2.0
-inertia_kg_m2 = 0.02
-wrap = "ccw"
-role = "driver"
-speed_rpm = 100.0
-ramp_s = 0.2
-[[sprockets]]
-name = "driven"
-center_m = [{centre:.4f}, 0.0]
-teeth = {z}
-mass_kg = 2.0
-inertia_kg_m2 = 0.02
-wrap = "ccw"
-{role}
-load_torque_n_m = {torque}
-load_ramp_s = 0.3
-[solver]
-duration_s = {DURATION_S}
-'''
-
-
-def with_scene(text, f):
-    with tempfile.NamedTemporaryFile("w", suffix=".toml", delete=False) as t:
-        t.write(text)
-    try:
-        return f(t.name)
-    finally:
-        os.unlink(t.name)
+    return two_sprocket_scene(z, tensioned, f"{z}/{z} ANSI 80, {pretension_n:.0f} N", pretension_n,
+                              round(PULL_N * rp, 1), 0.3, DURATION_S)
 
 
 def strand_tensions(binary, z, pretension_n):
@@ -114,19 +69,9 @@ def strand_tensions(binary, z, pretension_n):
 
 def bracket(binary, z, tensioned, pretension_n):
     top, tolerance = (15.0, 0.25) if tensioned else (3.0, 0.02)
-
-    def search(path):
-        return subprocess.run(
-            [binary, "jump-margin", path, "--path", "chain.elongation_pct", "--from", "0",
-             "--to", str(top), "--tolerance", str(tolerance), "--jobs", "2", "--json"],
-            capture_output=True, text=True)
-    out = with_scene(scene(z, tensioned, pretension_n), search)
-    if out.returncode != 0:
-        err = out.stderr.strip().splitlines()[-1] if out.stderr else "failed"
-        if "ran clean and the run at" in err and err.count("ran clean") == 2:
-            return {"clean_to": top}
-        return {"error": err}
-    m = json.loads(out.stdout)["margin"]
+    m = jump_margin(binary, scene(z, tensioned, pretension_n), top, tolerance)
+    if "clean" not in m:
+        return m
     return {"clean": m["clean"], "jumping": m["jumping"], "monotone": m["monotone"],
             "runs": len(m["probes"])}
 
