@@ -172,25 +172,13 @@ fn jump_margin_brackets_the_onset_that_a_grid_of_runs_finds() {
         "jumps alone: clean to {clean_of_jumps} %, rides from {jumping} %: {only}"
     );
 
-    let dir = tempfile::tempdir().expect("temp dir");
     // Rollers leaving the driven sprocket drag over its tips from about
     // 0.3 % on, well before the first jump (about 1 %).
     let levels: Vec<f64> = (1..=8).map(|k| 0.1 * f64::from(k)).collect();
     let plan = format!(
         "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.4 }}\nwindow_s = 0.2\n\n[[factors]]\npath = \"chain.elongation_pct\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
     );
-    let plan_path = dir.path().join("plan.toml");
-    std::fs::write(&plan_path, plan).expect("plan");
-    let out_dir = dir.path().join("grid");
-    let (plan_s, out_s) = (
-        plan_path.to_str().expect("utf-8"),
-        out_dir.to_str().expect("utf-8"),
-    );
-    let run = chaindrive(&["study", plan_s, "--out", out_s, "--jobs", "2", "--quiet"]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let collect = chaindrive(&["study", "collect", out_s]);
-    assert!(collect.status.success(), "{}", stderr(&collect));
-    let csv = std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv");
+    let csv = study_table(&plan);
     let jumps = csv_column(&csv, "tooth_jump_count");
     let rides = csv_column(&csv, "tip_ride_count");
     let mut seen_both = (false, false);
@@ -373,22 +361,10 @@ fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
     // The grid: one value below the bracket's jumping end, one above its
     // clean end (neither tried by the search).
     let levels = [jumping / 2.0, (clean + 3e5) / 2.0];
-    let dir = tempfile::tempdir().expect("temp dir");
     let plan = format!(
         "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.1, \"chain.elongation_pct\" = 0.5 }}\nwindow_s = 0.05\n\n[[factors]]\npath = \"{path}\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
     );
-    let plan_path = dir.path().join("plan.toml");
-    std::fs::write(&plan_path, plan).expect("plan");
-    let out_dir = dir.path().join("grid");
-    let (plan_s, out_s) = (
-        plan_path.to_str().expect("utf-8"),
-        out_dir.to_str().expect("utf-8"),
-    );
-    let run = chaindrive(&["study", plan_s, "--out", out_s, "--jobs", "2", "--quiet"]);
-    assert!(run.status.success(), "{}", stderr(&run));
-    let collect = chaindrive(&["study", "collect", out_s]);
-    assert!(collect.status.success(), "{}", stderr(&collect));
-    let csv = std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv");
+    let csv = study_table(&plan);
     let lost: Vec<f64> = csv_column(&csv, "tooth_jump_count")
         .iter()
         .zip(csv_column(&csv, "tip_ride_count"))
@@ -404,4 +380,22 @@ fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
         "{} Pa lost the mesh above {clean} Pa: {csv}",
         levels[1]
     );
+}
+
+/// Runs the study `plan` (a plan file's text) on two jobs, collects it and
+/// returns its `results.csv`.
+fn study_table(plan: &str) -> String {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let plan_path = dir.path().join("plan.toml");
+    std::fs::write(&plan_path, plan).expect("plan");
+    let out_dir = dir.path().join("grid");
+    let (plan_s, out_s) = (
+        plan_path.to_str().expect("utf-8"),
+        out_dir.to_str().expect("utf-8"),
+    );
+    let run = chaindrive(&["study", plan_s, "--out", out_s, "--jobs", "2", "--quiet"]);
+    assert!(run.status.success(), "{}", stderr(&run));
+    let collect = chaindrive(&["study", "collect", out_s]);
+    assert!(collect.status.success(), "{}", stderr(&collect));
+    std::fs::read_to_string(out_dir.join("results.csv")).expect("results.csv")
 }
