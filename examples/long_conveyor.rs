@@ -60,10 +60,16 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
 
     let started = std::time::Instant::now();
+    // Each frame's wall time: on a shared machine the fastest frames show
+    // what an idle one would do.
+    let mut frame_ms = Vec::with_capacity(frames as usize);
     for _ in 0..frames {
+        let frame_started = std::time::Instant::now();
         drive.step_world(&mut world, &(), &())?;
+        frame_ms.push(frame_started.elapsed().as_secs_f64() * 1e3);
     }
     let wall = started.elapsed().as_secs_f64();
+    frame_ms.sort_by(f64::total_cmp);
     let frame_s = wall / f64::from(frames);
     let steps = drive.state().t_s / scene.solver().dt_s;
     println!(
@@ -72,6 +78,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         frame_s * 1e3,
         (1.0 / 60.0) / frame_s
     );
+    if let (Some(fastest), Some(median)) = (frame_ms.first(), frame_ms.get(frame_ms.len() / 2)) {
+        println!("frames: fastest {fastest:.2} ms, median {median:.2} ms");
+    }
     let t = drive.stage_times();
     let per = |s: f64| s / t.frames.max(1) as f64 * 1e3;
     println!(
