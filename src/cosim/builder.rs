@@ -226,7 +226,8 @@ impl<'a> ChainDriveBuilder<'a> {
             }
             None => settled::settle(scene, settled::held_for_the_solve(scene, &mounts, bodies))?,
         };
-        let mut drive = ChainDrive::insert_settled(settled, &mounts, bodies, colliders, self.start_moving)?;
+        let mut drive =
+            ChainDrive::insert_settled(settled, &mounts, bodies, colliders, self.start_moving)?;
         if let Some(c) = self.coupling {
             drive.coupling = c;
             drive.apply_tooth_tips();
