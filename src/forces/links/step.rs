@@ -21,11 +21,6 @@ use super::{Ends, LinkLaw, Links, Rates, Slots, open_links, rates, roller_sums};
 use crate::forces::{CHUNKS, Forces, Fork, Halves, chunk};
 use crate::model::{DriveModel, DriveState};
 
-/// Rollers a chunk takes at a time: the ten arrays the update, the links
-/// and the rollers' sums touch (13 with the links' rates) stay within a
-/// core's 32 KiB first-level data cache, ≈ 20 KiB for 256 rollers.
-const BLOCK: usize = 256;
-
 /// The update's constants: v ← (v + h·f)·scale, x ← x + dt·v.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Kick {
@@ -91,21 +86,6 @@ impl Links {
         fork: Option<&dyn Fork>,
         kick: Kick,
     ) {
-        self.step_and_evaluate_in_blocks(model, s, out, fork, kick, BLOCK);
-    }
-
-    /// [`Self::step_and_evaluate`] with each chunk taken `block` rollers
-    /// at a time (at least 1).
-    fn step_and_evaluate_in_blocks(
-        &mut self,
-        model: &DriveModel,
-        s: &mut DriveState,
-        out: &mut Forces,
-        fork: Option<&dyn Fork>,
-        kick: Kick,
-        block: usize,
-    ) {
-        let block = block.max(1);
         let n = s.x.len();
         // The new state of each chunk's first roller and of the roller
         // before it (the last, for the first chunk), before any chunk moves.
@@ -151,112 +131,60 @@ impl Links {
                 let (x, y) = (x.range(lo, hi), y.range(lo, hi));
                 let (vx, vy) = (vx.range(lo, hi), vy.range(lo, hi));
                 let (fx, fy) = (fx.range(lo, hi), fy.range(lo, hi));
+                kick_drift(vx, x, fx, kick.h, kick.dt_s, kick.scale);
+                kick_drift(vy, y, fy, kick.h, kick.dt_s, kick.scale);
                 let m = hi - lo;
-                // Rollers a..e (counted from lo) advanced.
-                let kick_block = |x: &mut [f64],
-                                  y: &mut [f64],
-                                  vx: &mut [f64],
-                                  vy: &mut [f64],
-                                  fx: &[f64],
-                                  fy: &[f64],
-                                  a: usize,
-                                  e: usize| {
-                    kick_drift(
-                        &mut vx[a..e],
-                        &mut x[a..e],
-                        &fx[a..e],
-                        kick.h,
-                        kick.dt_s,
-                        kick.scale,
-                    );
-                    kick_drift(
-                        &mut vy[a..e],
-                        &mut y[a..e],
-                        &fy[a..e],
-                        kick.h,
-                        kick.dt_s,
-                        kick.scale,
-                    );
+                let slots = Slots {
+                    force: force.range(lo, hi - 1),
+                    fx: lfx.range(lo, hi - 1),
+                    fy: lfy.range(lo, hi - 1),
+                    stretch: stretch.range(lo, hi - 1),
                 };
-                kick_block(x, y, vx, vy, fx, fy, 0, block.min(m));
+                let rates_k = rate_views.map(|(w, gx, gy)| Rates {
+                    omega: w.range(lo, hi - 1),
+                    normal_x: gx.range(lo, hi - 1),
+                    normal_y: gy.range(lo, hi - 1),
+                });
+                let ends = Ends {
+                    x: &*x,
+                    y: &*y,
+                    vx: &*vx,
+                    vy: &*vy,
+                };
+                open_links(law, ends, slots, rates_k);
+                // Link hi − 1, to the next chunk's first roller.
+                let next = first[(k + 1) % CHUNKS];
+                let (dvx, dvy) = (next[2] - vx[m - 1], next[3] - vy[m - 1]);
+                let (f, ux, uy, st, inv) =
+                    law.eval(next[0] - x[m - 1], next[1] - y[m - 1], dvx, dvy);
+                force.range(hi - 1, hi)[0] = f;
+                lfx.range(hi - 1, hi)[0] = f * ux;
+                lfy.range(hi - 1, hi)[0] = f * uy;
+                stretch.range(hi - 1, hi)[0] = st;
+                if let Some((w, nx, ny)) = rate_views {
+                    (
+                        w.range(hi - 1, hi)[0],
+                        nx.range(hi - 1, hi)[0],
+                        ny.range(hi - 1, hi)[0],
+                    ) = rates(ux, uy, inv, dvx, dvy);
+                }
                 // The link before roller lo, from the previous chunk's last.
                 let prev = before[k];
                 let (dvx, dvy) = (vx[0] - prev[2], vy[0] - prev[3]);
                 let (f, ux, uy, _, _) = law.eval(x[0] - prev[0], y[0] - prev[1], dvx, dvy);
-                let mut prev_f = [f * ux, f * uy];
-                let mut sums = (false, 0.0f64, 0.0f64);
-                let larger = |a: f64, b: f64| if b > a { b } else { a };
-                // Block by block, so that a block's arrays stay in the
-                // core's first cache between the update, the links and the
-                // rollers' sums: the next block is advanced first (a
-                // block's last link reaches its first roller).
-                let mut a = 0;
-                while a < m {
-                    let e = (a + block).min(m);
-                    if e < m {
-                        kick_block(x, y, vx, vy, fx, fy, e, (e + block).min(m));
-                    }
-                    let ends_hi = if e < m { e + 1 } else { m };
-                    let (l0, l1) = (lo + a, lo + ends_hi - 1);
-                    let slots = Slots {
-                        force: force.range(l0, l1),
-                        fx: lfx.range(l0, l1),
-                        fy: lfy.range(l0, l1),
-                        stretch: stretch.range(l0, l1),
-                    };
-                    let rates_k = rate_views.map(|(w, gx, gy)| Rates {
-                        omega: w.range(l0, l1),
-                        normal_x: gx.range(l0, l1),
-                        normal_y: gy.range(l0, l1),
-                    });
-                    let ends = Ends {
-                        x: &x[a..ends_hi],
-                        y: &y[a..ends_hi],
-                        vx: &vx[a..ends_hi],
-                        vy: &vy[a..ends_hi],
-                    };
-                    open_links(law, ends, slots, rates_k);
-                    if e == m {
-                        // Link hi − 1, to the next chunk's first roller.
-                        let next = first[(k + 1) % CHUNKS];
-                        let (dvx, dvy) = (next[2] - vx[m - 1], next[3] - vy[m - 1]);
-                        let (f, ux, uy, st, inv) =
-                            law.eval(next[0] - x[m - 1], next[1] - y[m - 1], dvx, dvy);
-                        force.range(hi - 1, hi)[0] = f;
-                        lfx.range(hi - 1, hi)[0] = f * ux;
-                        lfy.range(hi - 1, hi)[0] = f * uy;
-                        stretch.range(hi - 1, hi)[0] = st;
-                        if let Some((w, nx, ny)) = rate_views {
-                            (
-                                w.range(hi - 1, hi)[0],
-                                nx.range(hi - 1, hi)[0],
-                                ny.range(hi - 1, hi)[0],
-                            ) = rates(ux, uy, inv, dvx, dvy);
-                        }
-                    }
-                    let (nan, max_stretch, max_speed_sq) = roller_sums(
-                        [gx, gy],
-                        [&*lfx.range(lo + a, lo + e), &*lfy.range(lo + a, lo + e)],
-                        prev_f,
-                        [&mut fx[a..e], &mut fy[a..e]],
-                        &*stretch.range(lo + a, lo + e),
-                        [&vx[a..e], &vy[a..e]],
-                    );
-                    sums = (
-                        sums.0 | nan,
-                        larger(sums.1, max_stretch),
-                        larger(sums.2, max_speed_sq),
-                    );
-                    prev_f = [
-                        lfx.range(lo + e - 1, lo + e)[0],
-                        lfy.range(lo + e - 1, lo + e)[0],
-                    ];
-                    a = e;
-                }
+                let (prev_x, prev_y) = (f * ux, f * uy);
+                let (nan, max_stretch, max_speed_sq) = roller_sums(
+                    [gx, gy],
+                    [&*lfx.range(lo, hi), &*lfy.range(lo, hi)],
+                    [prev_x, prev_y],
+                    [fx, fy],
+                    &*stretch.range(lo, hi),
+                    [&*vx, &*vy],
+                );
                 let p = parts.range(3 * k, 3 * k + 3);
-                p[0] = if sums.0 { 1.0 } else { 0.0 };
-                p[1] = sums.1;
-                p[2] = sums.2;
+                p[0] = if nan { 1.0 } else { 0.0 };
+                p[1] = max_stretch;
+                p[2] = max_speed_sq;
             }
         };
         match fork {
@@ -279,7 +207,7 @@ impl Links {
 
 #[cfg(test)]
 mod tests {
-    use super::{BLOCK, Kick, kick_drift};
+    use super::{Kick, kick_drift};
     use crate::forces::CHUNKS;
     use crate::forces::{ForceElement, Forces, Fork, Links};
     use crate::model::{DriveModel, DriveState};
@@ -382,18 +310,13 @@ mod tests {
                 expected,
                 "the step moves the chain"
             );
-            // Blocks of 1 and 5 rollers cut every chunk of this drive
-            // (the default block is larger than its chunks).
-            for (fork, block) in [None, Some(&TwoThreads as &dyn Fork)]
-                .into_iter()
-                .flat_map(|f| [(f, BLOCK), (f, 1), (f, 5)])
-            {
+            for fork in [None, Some(&TwoThreads as &dyn Fork)] {
                 let (mut s2, mut out2, mut links2) = (s0.clone(), out0.clone(), links0.clone());
-                links2.step_and_evaluate_in_blocks(&model, &mut s2, &mut out2, fork, kick, block);
+                links2.step_and_evaluate(&model, &mut s2, &mut out2, fork, kick);
                 assert_eq!(
                     bits(&s2, &out2, &links2),
                     expected,
-                    "rates {with_rates}, two threads {}, block {block}",
+                    "rates {with_rates}, two threads {}",
                     fork.is_some()
                 );
             }
