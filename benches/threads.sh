@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Two threads against one by drive size: the co-simulated conveyor of
 # examples/long_conveyor.rs (real profile, dt 50 µs, 60 Hz world, started
-# moving) with 100 … 10,000 rollers, each size run on one thread and on
-# two, interleaved, REPEAT times. Prints the wall time per frame (mean and
+# moving) with 100 … 10,000 rollers, each size run with the automatic
+# split (`auto`: two threads from 6,000 rollers, backing off to one where
+# the worker holds the caller up), on two threads and on one,
+# interleaved, REPEAT times. Prints the wall time per frame (mean and
 # fastest), the chain's ns per roller-step (the substeps alone) and the
 # frame's real-time factor; then the machine and its load.
 #
@@ -20,7 +22,7 @@ echo "load before: $(cut -d' ' -f1-3 /proc/loadavg)"
 printf '%-8s %-7s %-4s %-10s %-10s %-15s %-9s\n' rollers threads run "ms/frame" "fastest" "ns/roller-step" "real-time"
 for rollers in "${sizes[@]}"; do
   for run in $(seq 1 "$repeat"); do
-    for threads in 2 1; do
+    for threads in auto 2 1; do
       out=$(CHAINDRIVE_THREADS=$threads "$bin" "$frames" "$rollers")
       ms=$(sed -n 's/.*: \([0-9.]*\) ms wall per frame.*/\1/p' <<<"$out")
       fast=$(sed -n 's/^frames: fastest \([0-9.]*\) ms.*/\1/p' <<<"$out")

@@ -24,14 +24,24 @@
 //! waits for the worker's last chunk the same way, spinning, then yielding
 //! its core. Spawning a thread per step would cost more than the step.
 //!
+//! **Backing off.** On a loaded machine the system may stop the worker in
+//! the middle of a chunk, and the caller then waits for it for
+//! milliseconds, many times a frame: two threads measured half as fast as
+//! one at load 3–4. The automatic split (`threads = "auto"`) times each
+//! job; where the caller waited longer than its own chunks took (one
+//! thread would have been done sooner) three times in a row, it runs the
+//! next 4096 jobs alone, then tries the worker again. Two threads asked
+//! for (`threads = 2`) are always used. The results do not depend on it.
+//!
 //! When the worker is busy with another caller (a generator shared between
 //! threads) or cannot be spawned, every chunk runs on the caller: the
 //! results never depend on the thread count.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU32, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::{self, JoinHandle, Thread};
+use std::time::Instant;
 
 use crate::forces::{CHUNKS, Fork};
 use crate::scene::Threads;
@@ -151,16 +161,19 @@ impl Worker {
     }
 
     /// Runs `job(k)` for every chunk, here and on the worker; returns when
-    /// all are done. `false` (nothing run) when another caller holds the
+    /// all are done, with whether the split lost: the caller waited for
+    /// the worker longer than its own chunks took, so one thread would have
+    /// been done sooner. `None` (nothing run) when another caller holds the
     /// worker.
-    fn run<'a>(&self, job: &'a (dyn Fn(usize) + Sync + 'a)) -> bool {
+    fn run<'a>(&self, job: &'a (dyn Fn(usize) + Sync + 'a)) -> Option<bool> {
         let s = &*self.shared;
         if s.busy
             .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
             .is_err()
         {
-            return false;
+            return None;
         }
+        let start = Instant::now();
         // SAFETY: the lifetime is erased only while this call waits for
         // every chunk to be done (see `Shared`).
         let ptr: *const Job =
@@ -180,6 +193,7 @@ impl Worker {
             job(k);
             s.done.fetch_add(1, Ordering::AcqRel);
         }
+        let own = start.elapsed();
         let mut spins = 0u32;
         while s.done.load(Ordering::Acquire) != CHUNKS {
             if spins < CALLER_SPINS {
@@ -189,13 +203,14 @@ impl Worker {
                 thread::yield_now();
             }
         }
+        let lost = start.elapsed() > 2 * own;
         let panicked = s.panicked.swap(usize::MAX, Ordering::AcqRel);
         s.busy.store(false, Ordering::Release);
         if panicked != usize::MAX {
             // The worker's chunk panicked: run it here, to panic here.
             job(panicked);
         }
-        true
+        Some(lost)
     }
 }
 
@@ -255,8 +270,52 @@ fn work(s: &Shared) {
 pub(crate) struct Split {
     /// Rollers from which the loops are split (`usize::MAX`: never).
     min_rollers: usize,
+    /// Whether the split backs off where it loses (`threads = "auto"`).
+    adaptive: bool,
+    back_off: BackOff,
     worker: OnceLock<Option<Worker>>,
 }
+
+/// When an automatic split runs on one thread: after [`LOSSES_TO_BACK_OFF`]
+/// lost splits in a row, for [`BACK_OFF_JOBS`] jobs.
+#[derive(Debug, Default)]
+struct BackOff {
+    /// Splits lost in a row.
+    losses: AtomicU32,
+    /// Jobs still to run on one thread.
+    alone: AtomicU32,
+}
+
+impl BackOff {
+    /// Whether this job runs on one thread (counting it off).
+    fn alone(&self) -> bool {
+        let left = self.alone.load(Ordering::Relaxed);
+        if left > 0 {
+            self.alone.store(left - 1, Ordering::Relaxed);
+        }
+        left > 0
+    }
+
+    /// Records whether a split lost.
+    fn record(&self, lost: bool) {
+        if !lost {
+            self.losses.store(0, Ordering::Relaxed);
+        } else if self.losses.fetch_add(1, Ordering::Relaxed) + 1 >= LOSSES_TO_BACK_OFF {
+            self.losses.store(0, Ordering::Relaxed);
+            self.alone.store(BACK_OFF_JOBS, Ordering::Relaxed);
+        }
+    }
+}
+
+/// Splits lost in a row (the caller waited on the worker longer than its
+/// own chunks took) after which an automatic split runs on one thread for
+/// [`BACK_OFF_JOBS`] jobs: the worker is not getting a core of its own.
+const LOSSES_TO_BACK_OFF: u32 = 3;
+
+/// Jobs an automatic split runs on one thread once it backs off, before
+/// it tries two again (about 12 frames of a co-simulated drive at 60 Hz
+/// and 50 µs, a fifth of a second of its world).
+const BACK_OFF_JOBS: u32 = 4096;
 
 impl Split {
     /// The split for `setting` (one thread, two, or two from
@@ -276,6 +335,8 @@ impl Split {
         };
         Self {
             min_rollers,
+            adaptive: setting == Threads::Auto,
+            back_off: BackOff::default(),
             worker: OnceLock::new(),
         }
     }
@@ -289,12 +350,18 @@ impl Split {
 
     /// Runs `job(k)` for every chunk, on two threads where the worker is
     /// available, else one after the other here. Each chunk must write only
-    /// its own data: the results are the same either way.
+    /// its own data: the results are the same either way. An automatic
+    /// split that loses [`LOSSES_TO_BACK_OFF`] times in a row (a loaded
+    /// machine that stops the worker mid-chunk, while the caller waits)
+    /// runs the next [`BACK_OFF_JOBS`] jobs here alone, then tries again.
     pub(crate) fn both(&self, job: &(dyn Fn(usize) + Sync)) {
-        let worker = self.worker.get_or_init(Worker::spawn);
-        if let Some(w) = worker
-            && w.run(job)
+        if !(self.adaptive && self.back_off.alone())
+            && let Some(w) = self.worker.get_or_init(Worker::spawn)
+            && let Some(lost) = w.run(job)
         {
+            if self.adaptive {
+                self.back_off.record(lost);
+            }
             return;
         }
         for k in 0..CHUNKS {
@@ -316,6 +383,8 @@ impl Fork for Split {
     fn clone_box(&self) -> Box<dyn Fork> {
         Box::new(Self {
             min_rollers: self.min_rollers,
+            adaptive: self.adaptive,
+            back_off: BackOff::default(),
             worker: OnceLock::new(),
         })
     }
@@ -347,6 +416,50 @@ mod tests {
             });
         }
         assert!(count.iter().all(|c| c.load(Ordering::Relaxed) == 1000));
+    }
+
+    #[test]
+    fn a_split_that_loses_three_times_in_a_row_runs_alone_then_tries_again() {
+        let b = BackOff::default();
+        // Two losses and a win: no back-off.
+        for lost in [true, true, false, true, true] {
+            b.record(lost);
+            assert!(!b.alone());
+        }
+        // The third loss in a row: the next BACK_OFF_JOBS jobs run alone.
+        b.record(true);
+        for _ in 0..BACK_OFF_JOBS {
+            assert!(b.alone());
+        }
+        assert!(!b.alone(), "then two threads again");
+    }
+
+    #[test]
+    fn a_split_whose_worker_holds_it_up_runs_alone_where_automatic() {
+        // The worker's chunks take 20 ms, the caller's 1 ms: a split the
+        // worker joins loses (one thread would have been done sooner).
+        // Automatic: within a few jobs the caller runs them alone; asked
+        // for (`Threads::Two`): it keeps the worker.
+        let job = |_k: usize| {
+            let ms = if thread::current().name() == Some("chaindrive-worker") {
+                20
+            } else {
+                1
+            };
+            thread::sleep(std::time::Duration::from_millis(ms));
+        };
+        let mut auto = Split::new(Threads::Two);
+        auto.adaptive = true;
+        let backed_off = (0..30).any(|_| {
+            auto.both(&job);
+            auto.back_off.alone.load(Ordering::Relaxed) > 0
+        });
+        assert!(backed_off, "an automatic split backs off");
+        let two = Split::new(Threads::Two);
+        for _ in 0..2 * LOSSES_TO_BACK_OFF {
+            two.both(&job);
+        }
+        assert_eq!(two.back_off.alone.load(Ordering::Relaxed), 0);
     }
 
     #[test]
