@@ -47,3 +47,65 @@ fn avx2_and_baseline_contacts_agree_to_the_bit() {
         );
     }
 }
+
+#[test]
+fn kept_gap_directions_change_nothing() {
+    // The circular seats' pass keeps each roller's hinted gap direction
+    // between evaluations. Oracle: forgetting them before every step (so
+    // every direction is read from its sprocket's table again) ends the
+    // paper's drive's 0.2 s run-up in the same bits.
+    let scene = Scene::l60mc();
+    let mut a = Simulation::new(&scene).expect("sim");
+    let mut b = Simulation::new(&scene).expect("sim");
+    let dt = scene.solver().dt_s;
+    for _ in 0..20_000 {
+        a.step(dt).expect("stable step");
+        b.forces.contact.forget_gap_directions();
+        b.step(dt).expect("stable step");
+    }
+    assert_eq!(a.state, b.state);
+    let (fa, fb) = (a.forces.output(), b.forces.output());
+    assert_eq!(fa.chain_torque, fb.chain_torque);
+    assert_eq!(fa.contact_force, fb.contact_force);
+}
+
+#[test]
+fn kept_gap_directions_follow_another_drives_table() {
+    // A contact element that kept its directions on the paper's drive and
+    // then evaluates another drive of as many rollers, whose third sprocket
+    // has 27 gaps instead of 28 (moved out 26 mm to keep the chain's
+    // length; other directions under the same gap indices), reads that
+    // sprocket's directions again: it steps in the same bits as the same
+    // element with every kept direction forgotten. Kept directions of the
+    // 28-gap table would put the rollers wrapped on that sprocket in the
+    // wrong seats.
+    let scene = Scene::l60mc();
+    let text = crate::scene::L60MC_TOML.replacen(
+        "center_m = [0.3366, 3.0944]\nteeth = 28\npitch_radius_m = 0.397000\n",
+        "center_m = [0.3366, 3.12]\nteeth = 27\n",
+        1,
+    );
+    assert_ne!(text, crate::scene::L60MC_TOML, "the third sprocket's teeth");
+    let other = Scene::from_toml(&text).expect("valid scene");
+    let mut first = Simulation::new(&scene).expect("sim");
+    let dt = scene.solver().dt_s;
+    for _ in 0..2_000 {
+        first.step(dt).expect("stable step");
+    }
+    let mut kept = Simulation::new(&other).expect("sim");
+    let mut forgotten = Simulation::new(&other).expect("sim");
+    kept.forces.contact = first.forces.contact.clone();
+    forgotten.forces.contact = first.forces.contact.clone();
+    forgotten.forces.contact.forget_gap_directions();
+    kept.forces.contact.forget_reach();
+    forgotten.forces.contact.forget_reach();
+    for _ in 0..2_000 {
+        kept.step(dt).expect("stable step");
+        forgotten.step(dt).expect("stable step");
+    }
+    assert_eq!(kept.state, forgotten.state);
+    assert_eq!(
+        kept.forces.output().chain_torque,
+        forgotten.forces.output().chain_torque
+    );
+}
