@@ -425,3 +425,37 @@ fn seat_geometry<const MOVING: bool>(
         status[k] = u8::from(in_cone) | (u8::from(touch) << 1);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{SeatScratch, hinted_directions};
+    use crate::geometry::CircularProfile;
+
+    #[test]
+    fn kept_directions_follow_the_sprockets_table() {
+        // Rollers 0–3 read their directions on sprocket 2 with 28 gaps,
+        // then on a sprocket 2 of another drive with 27: the same keys
+        // (sprocket, hint) but other directions, (cos jφ, sin jφ) with
+        // φ = 2π/27, which must be read again. A hint past the gaps gives
+        // NaN.
+        let (pitch_m, roller_m) = (0.0889, 0.0254);
+        let (old, new) = (
+            CircularProfile::new(28, pitch_m, roller_m),
+            CircularProfile::new(27, pitch_m, roller_m),
+        );
+        let hints = [0, 5, 13, 27];
+        let mut sc = SeatScratch::new(4);
+        hinted_directions(&old.seats(), 2, &hints, &mut sc, 0);
+        let phi_old = std::f64::consts::TAU / 28.0;
+        assert!((sc.ux[1] - (5.0 * phi_old).cos()).abs() < 1e-15);
+        assert!((sc.uy[2] - (13.0 * phi_old).sin()).abs() < 1e-15);
+        hinted_directions(&new.seats(), 2, &hints, &mut sc, 0);
+        let phi = std::f64::consts::TAU / 27.0;
+        for (k, &h) in hints.iter().enumerate().take(3) {
+            let a = f64::from(h) * phi;
+            assert!((sc.ux[k] - a.cos()).abs() < 1e-15, "roller {k}");
+            assert!((sc.uy[k] - a.sin()).abs() < 1e-15, "roller {k}");
+        }
+        assert!(sc.ux[3].is_nan() && sc.uy[3].is_nan(), "hint 27 of 27 gaps");
+    }
+}
