@@ -183,3 +183,43 @@ fn bad_indices_and_windows_are_clear_errors_and_draw_nothing() {
     assert!(save(&empty, dir.path(), "empty").is_err());
     assert!(!dir.path().join("empty.png").exists() && !dir.path().join("empty.svg").exists());
 }
+
+#[test]
+fn link_force_range_avx2_and_plain_agree_to_the_bit() {
+    // The AVX2 build of the link-force range returns the plain four-lane
+    // fold's bits, signed zeros and NaNs included, for every length 0–13
+    // (whole chunks and each remainder), and both equal the smallest and
+    // largest value picked by hand.
+    #[cfg(target_arch = "x86_64")]
+    {
+        use super::{range_of_avx2, range_of_plain};
+        if !std::arch::is_x86_feature_detected!("avx2") {
+            return;
+        }
+        let values = [
+            3.5,
+            -0.0,
+            f64::NAN,
+            0.0,
+            -7.25,
+            12.0,
+            f64::NAN,
+            -0.0,
+            1e300,
+            -1e-300,
+            0.0,
+            -7.25,
+            4.0,
+        ];
+        for n in 0..=values.len() {
+            let v = &values[..n];
+            // SAFETY: the CPU has AVX2, checked above.
+            let (lo, hi) = unsafe { range_of_avx2(v) };
+            let (plo, phi) = range_of_plain(v);
+            assert_eq!(lo.to_bits(), plo.to_bits(), "low of {n}");
+            assert_eq!(hi.to_bits(), phi.to_bits(), "high of {n}");
+        }
+        let (lo, hi) = range_of_plain(&values);
+        assert_eq!((lo, hi), (-7.25, 1e300));
+    }
+}

@@ -374,10 +374,20 @@ fn rows_kept(window_s: f64, rate_hz: f64) -> usize {
 
 /// The smallest and largest of `values` ((∞, −∞) when empty), in four
 /// independent lanes of plain comparisons, which the compiler turns into
-/// packed `min` and `max`. A NaN is dropped, as by `f64::min`/`f64::max`.
+/// packed `min` and `max` (one AVX2 register for the four lanes where the
+/// CPU has it: the same comparisons, so the same result). A NaN is dropped,
+/// as by `f64::min`/`f64::max`.
 fn range_of(values: &[f64]) -> (f64, f64) {
-    let smaller = |m: f64, v: f64| if v < m { v } else { m };
-    let larger = |m: f64, v: f64| if v > m { v } else { m };
+    #[cfg(target_arch = "x86_64")]
+    if crate::forces::cpu_has_avx2() {
+        // SAFETY: the CPU has AVX2, checked on the line above.
+        return unsafe { range_of_avx2(values) };
+    }
+    range_of_plain(values)
+}
+
+/// [`range_of`] in four lanes of plain comparisons.
+fn range_of_plain(values: &[f64]) -> (f64, f64) {
     let mut low = [f64::INFINITY; 4];
     let mut high = [f64::NEG_INFINITY; 4];
     let chunks = values.chunks_exact(4);
@@ -388,6 +398,49 @@ fn range_of(values: &[f64]) -> (f64, f64) {
             high[k] = larger(high[k], c[k]);
         }
     }
+    range_of_lanes(rest, low, high)
+}
+
+/// `v` where it is below `m`, else `m` (`minpd v, m`).
+fn smaller(m: f64, v: f64) -> f64 {
+    if v < m { v } else { m }
+}
+
+/// `v` where it is above `m`, else `m` (`maxpd v, m`).
+fn larger(m: f64, v: f64) -> f64 {
+    if v > m { v } else { m }
+}
+
+/// [`range_of`]'s four lanes in one AVX2 register: `vminpd`/`vmaxpd` with
+/// the value first are exactly [`smaller`] and [`larger`] (the second
+/// operand where the comparison fails, a NaN included).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn range_of_avx2(values: &[f64]) -> (f64, f64) {
+    use std::arch::x86_64::{
+        _mm256_loadu_pd, _mm256_max_pd, _mm256_min_pd, _mm256_set1_pd, _mm256_storeu_pd,
+    };
+    let chunks = values.chunks_exact(4);
+    let rest = chunks.remainder();
+    let mut low = _mm256_set1_pd(f64::INFINITY);
+    let mut high = _mm256_set1_pd(f64::NEG_INFINITY);
+    for c in chunks {
+        // SAFETY: `c` holds four values.
+        let v = unsafe { _mm256_loadu_pd(c.as_ptr()) };
+        low = _mm256_min_pd(v, low);
+        high = _mm256_max_pd(v, high);
+    }
+    let (mut low_lanes, mut high_lanes) = ([0.0; 4], [0.0; 4]);
+    // SAFETY: each array holds four values.
+    unsafe {
+        _mm256_storeu_pd(low_lanes.as_mut_ptr(), low);
+        _mm256_storeu_pd(high_lanes.as_mut_ptr(), high);
+    }
+    range_of_lanes(rest, low_lanes, high_lanes)
+}
+
+/// The remainder of [`range_of`]'s chunks, then its lanes in order.
+fn range_of_lanes(rest: &[f64], low: [f64; 4], high: [f64; 4]) -> (f64, f64) {
     let low = rest
         .iter()
         .chain(&low)

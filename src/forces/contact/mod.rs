@@ -125,6 +125,13 @@ impl ToothContact {
         self.reach.expire();
     }
 
+    /// Forgets the circular seats' kept gap directions: the next evaluation
+    /// reads every roller's from its sprocket's table (tests of the kept ones).
+    #[cfg(test)]
+    pub(crate) fn forget_gap_directions(&mut self) {
+        self.seat_scratch.direction_of.fill(scratch::NO_DIRECTION);
+    }
+
     /// Records [`DampingRows`] from now on (for the implicit-damping scheme).
     pub(crate) fn enable_damping_rows(&mut self) {
         if self.damping_rows.is_none() {

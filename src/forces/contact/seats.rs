@@ -15,6 +15,7 @@
 use super::FREE;
 use super::pass::{ContactPass, Frame, PatchContext, Roller, Row, Sums, WorldPatch};
 use super::reach::Run;
+use super::scratch::{NO_DIRECTION, SeatScratch};
 use crate::geometry::{MAX_PATCHES, Patch, Seats};
 
 const IN_CONE: u8 = 1;
@@ -32,8 +33,11 @@ impl ContactPass<'_> {
         run: &Run,
     ) -> ([f64; 2], f64) {
         let (a, b) = (run.start, run.end);
-        self.seat_geometry::<MOVING>(seats, frame, a, b);
-        self.seat_queries::<MOVING>(seats, frame, a, b);
+        // The full queries' loop only where a roller has left its hinted
+        // gap's cone (a few times per revolution).
+        if !self.seat_geometry::<MOVING>(seats, frame, a, b) {
+            self.seat_queries::<MOVING>(seats, frame, a, b);
+        }
         // One loop per law shape: `powf` (any exponent but 3/2) is a call,
         // which would keep the loop's sums out of registers.
         let law = self.law;
@@ -180,7 +184,8 @@ impl ContactPass<'_> {
     }
 
     /// The geometry of rollers `a..b` against their hinted gaps, into the
-    /// scratch (see [`seat_geometry`]).
+    /// scratch (see [`seat_geometry`]); returns whether every roller of
+    /// `a..b` is inside its hinted gap's cone.
     #[inline(always)]
     fn seat_geometry<const MOVING: bool>(
         &mut self,
@@ -188,33 +193,21 @@ impl ContactPass<'_> {
         frame: &Frame,
         a: usize,
         b: usize,
-    ) {
+    ) -> bool {
+        let sc = &mut *self.seat_scratch;
+        hinted_directions(seats, frame.index, &self.gap_hint[a..b], sc, a);
         // A whole number of four-roller chunks where the chain has the
         // rollers (the vector loop then leaves no roller to a scalar
-        // remainder): the rollers past `b` are computed into scratch slots
-        // no one reads before their own run computes them again.
+        // remainder): the rollers past `b` are computed, from whatever
+        // directions their slots hold, into scratch slots no one reads
+        // before their own run computes them again.
+        let end = b;
         let padded = a + (b - a).div_ceil(4) * 4;
         let b = if padded <= self.gap_hint.len() {
             padded
         } else {
             b
         };
-        let sc = &mut *self.seat_scratch;
-        // Each roller's hinted gap direction; a hint that is no gap of this
-        // sprocket gives NaN, which fails the cone test.
-        let (ux, uy) = (&mut sc.ux[a..b], &mut sc.uy[a..b]);
-        for ((h, ux), uy) in self.gap_hint[a..b]
-            .iter()
-            .zip(ux.iter_mut())
-            .zip(uy.iter_mut())
-        {
-            let u = seats
-                .dirs
-                .get(*h as usize)
-                .copied()
-                .unwrap_or([f64::NAN; 2]);
-            (*ux, *uy) = (u[0], u[1]);
-        }
         let s = self.state;
         let c = Consts {
             center: frame.center,
@@ -253,12 +246,71 @@ impl ContactPass<'_> {
                     outs.3, outs.4, outs.5, outs.6,
                 );
             }
-            return;
+        } else {
+            seat_geometry::<MOVING>(
+                &c, args.0, args.1, args.2, args.3, args.4, args.5, outs.0, outs.1, outs.2, outs.3,
+                outs.4, outs.5, outs.6,
+            );
         }
+        #[cfg(not(target_arch = "x86_64"))]
         seat_geometry::<MOVING>(
             &c, args.0, args.1, args.2, args.3, args.4, args.5, outs.0, outs.1, outs.2, outs.3,
             outs.4, outs.5, outs.6,
         );
+        // A plain fold (no early exit), which the compiler vectorises.
+        sc.status[a..end].iter().fold(IN_CONE, |all, s| all & s) == IN_CONE
+    }
+}
+
+/// Each roller's hinted gap direction on sprocket `sprocket` into the
+/// scratch slots from `first` on, `hints` the rollers' gap hints: read from
+/// the sprocket's table only where the slot holds another sprocket's or
+/// another gap's direction (a roller entering the wrap or moving on a gap),
+/// a hint that is no gap of this sprocket giving NaN, which fails the cone
+/// test. The directions are the table's, so kept or read again, the same
+/// bits.
+#[inline(always)]
+fn hinted_directions(
+    seats: &Seats<'_>,
+    sprocket: usize,
+    hints: &[u32],
+    sc: &mut SeatScratch,
+    first: usize,
+) {
+    let table = (seats.dirs.as_ptr() as usize, seats.dirs.len());
+    if let Some(kept) = sc.tables.get_mut(sprocket)
+        && *kept != table
+    {
+        // Another table than the kept directions were read from (another
+        // drive's model). A table's directions are a function of its length
+        // (gap j at j 2π/z), so even a new table at a freed one's address
+        // cannot hold other directions under the same key.
+        *kept = table;
+        sc.direction_of.fill(NO_DIRECTION);
+    }
+    let n = hints.len();
+    let tag = (sprocket as u64) << 32;
+    let of = &mut sc.direction_of[first..first + n];
+    // A plain fold (no early exit), which the compiler vectorises.
+    let stale = hints
+        .iter()
+        .zip(of.iter())
+        .fold(false, |stale, (h, k)| stale | (tag | u64::from(*h) != *k));
+    if !stale {
+        return;
+    }
+    let (ux, uy) = (&mut sc.ux[first..first + n], &mut sc.uy[first..first + n]);
+    for (((h, k), ux), uy) in hints.iter().zip(of).zip(ux).zip(uy) {
+        let key = tag | u64::from(*h);
+        if *k != key {
+            *k = key;
+            let u = seats
+                .dirs
+                .get(*h as usize)
+                .copied()
+                .unwrap_or([f64::NAN; 2]);
+            (*ux, *uy) = (u[0], u[1]);
+        }
     }
 }
 
@@ -371,5 +423,39 @@ fn seat_geometry<const MOVING: bool>(
         nys[k] = ny;
         rate[k] = -(v_rel[0] * nx + v_rel[1] * ny);
         status[k] = u8::from(in_cone) | (u8::from(touch) << 1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{SeatScratch, hinted_directions};
+    use crate::geometry::CircularProfile;
+
+    #[test]
+    fn kept_directions_follow_the_sprockets_table() {
+        // Rollers 0–3 read their directions on sprocket 2 with 28 gaps,
+        // then on a sprocket 2 of another drive with 27: the same keys
+        // (sprocket, hint) but other directions, (cos jφ, sin jφ) with
+        // φ = 2π/27, which must be read again. A hint past the gaps gives
+        // NaN.
+        let (pitch_m, roller_m) = (0.0889, 0.0254);
+        let (old, new) = (
+            CircularProfile::new(28, pitch_m, roller_m),
+            CircularProfile::new(27, pitch_m, roller_m),
+        );
+        let hints = [0, 5, 13, 27];
+        let mut sc = SeatScratch::new(4);
+        hinted_directions(&old.seats(), 2, &hints, &mut sc, 0);
+        let phi_old = std::f64::consts::TAU / 28.0;
+        assert!((sc.ux[1] - (5.0 * phi_old).cos()).abs() < 1e-15);
+        assert!((sc.uy[2] - (13.0 * phi_old).sin()).abs() < 1e-15);
+        hinted_directions(&new.seats(), 2, &hints, &mut sc, 0);
+        let phi = std::f64::consts::TAU / 27.0;
+        for (k, &h) in hints.iter().enumerate().take(3) {
+            let a = f64::from(h) * phi;
+            assert!((sc.ux[k] - a.cos()).abs() < 1e-15, "roller {k}");
+            assert!((sc.uy[k] - a.sin()).abs() < 1e-15, "roller {k}");
+        }
+        assert!(sc.ux[3].is_nan() && sc.uy[3].is_nan(), "hint 27 of 27 gaps");
     }
 }
