@@ -251,6 +251,10 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
     }
 }
 
+/// Parts of the tensioner-preload rule's relaxation, Newton tried after
+/// each (`newton::Fallbacks`).
+const PRELOAD_RELAX_PARTS: usize = 10;
+
 /// The tensioner-preload rule (`pretension_by = "tensioner_preload"`): the
 /// links keep their rest length, the pitch; the drive relaxes with its
 /// tensioner arms free (a hydraulic chamber held at its supply pressure),
@@ -274,15 +278,21 @@ pub(crate) fn settle_preload(
     let mut residual = f64::INFINITY;
     while iterations < MAX_RELAXATIONS {
         iterations += 1;
-        // Newton first, the relaxation where it stalls (see the newton module).
-        residual = super::newton::settle(
+        // Newton first, the relaxation where it stalls (see the newton
+        // module), in parts with Newton after each: an arm's drive that
+        // Newton does not settle from its layout mostly comes within its
+        // reach well before the relaxation's time is up.
+        residual = super::newton::settle_from(
             model,
             state,
             forces,
             &settings,
-            REST_FORCE * scale_n,
-            0.5 * REST_FORCE * scale_n,
+            (REST_FORCE * scale_n, 0.5 * REST_FORCE * scale_n),
             false,
+            super::newton::Fallbacks {
+                guess: None,
+                parts: PRELOAD_RELAX_PARTS,
+            },
         )?;
         let now = force_residual(forces, scale_n);
         if now <= REST_FORCE || residual < settings.rest_speed_m_s || !(now < 0.9 * previous) {
