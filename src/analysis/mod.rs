@@ -41,7 +41,7 @@ mod summarise;
 mod summary;
 pub(crate) mod theory;
 pub(crate) mod units;
-mod warnings;
+pub(crate) mod warnings;
 mod window;
 
 pub(crate) use means::StepSums;

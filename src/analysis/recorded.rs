@@ -33,6 +33,7 @@ use super::paper_probes::{
 };
 use super::spectrum::main_peak;
 use super::stats::finite_stats;
+use super::summary::{TipRideSummary, ToothJumpSummary};
 use super::theory::{moving_string_frequency_hz, string_frequency_hz};
 use super::{RunSummary, SampleRow, Signals, StepSums, StrandSummary, SummaryInputs};
 use crate::record::Channel;
@@ -92,8 +93,8 @@ impl RecordedRun {
             topics,
             metadata: meta,
             end_status,
-            tooth_jumps: _,
-            tip_rides: _,
+            tooth_jumps,
+            tip_rides,
             has_links,
             has_contacts,
             samples,
@@ -187,7 +188,7 @@ impl RecordedRun {
         let mut signals = Signals::new(model, rate_hz, 0.0);
         signals.rows = rows;
         let probes = Probes::from_rows(rollers, probe_rows);
-        let summary = RunSummary::compute(
+        let mut summary = RunSummary::compute(
             &SummaryInputs {
                 scene: &sim.scene,
                 model,
@@ -202,6 +203,10 @@ impl RecordedRun {
             },
             &signals,
         );
+        // The mesh's events come from the run's own detectors, which saw
+        // every step; the samples could not find them again.
+        summary.tooth_jumps = tooth_jumps.iter().map(Into::into).collect();
+        summary.tip_rides = TipRideSummary::per_sprocket(&tip_rides);
         let label = Path::new(&name)
             .file_stem()
             .map_or_else(|| name.clone(), |s| s.to_string_lossy().into_owned());
@@ -396,6 +401,10 @@ pub(crate) struct RecordedAnalysis {
     pub link: Option<RecordedLink>,
     /// The chosen roller (needs `/contacts` and `/rollers`).
     pub roller: Option<RecordedRoller>,
+    /// The run's tooth jumps, as its detector recorded them.
+    pub tooth_jumps: Vec<ToothJumpSummary>,
+    /// The tip rides of its rollers, per sprocket, as recorded.
+    pub tip_rides: Vec<TipRideSummary>,
     /// What was left out, and why.
     pub notes: Vec<String>,
     /// The full comparisons, for the figures.
@@ -568,6 +577,8 @@ impl RecordedRun {
             sprockets,
             link,
             roller,
+            tooth_jumps: s.tooth_jumps.clone(),
+            tip_rides: s.tip_rides.clone(),
             notes,
             binder,
         })

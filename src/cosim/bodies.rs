@@ -47,7 +47,8 @@
 //! ```
 //!
 //! The normal law (docs/model.md, “Contact law”) is the drive's roller–tooth
-//! law by default (its K_g, n, e, δ̇⁻ floor; [`Coupling::law`] to change it),
+//! law by default (its K_g, n, e, δ̇⁻ floor; [`Coupling::new`] with another
+//! [`Contact`](crate::scene::Contact) to change it),
 //! δ̇⁻ remembered per (roller, collider) from onset to separation. μ combines
 //! the roller collider's and the other collider's friction coefficients by
 //! rapier's combine rules. Friction below the Coulomb limit removes the pair's
@@ -104,7 +105,10 @@ pub struct Coupling {
 }
 
 impl Coupling {
-    /// Everything coupled, with the scene's roller–tooth law.
+    /// Everything coupled, with `contact`'s law between a roller and a
+    /// user's collider: the scene's own `contact` gives the roller–tooth
+    /// law; another (a softer stiffness for a rubber-faced box, a lower
+    /// restitution) changes it for the user's colliders only.
     pub fn new(contact: &Contact) -> Self {
         Self {
             fixed: true,

@@ -40,6 +40,7 @@ use super::decode::{
     decode_tensioners,
 };
 use crate::scene::{ContactLaw, Integrator, Overrides, ProfileKind, Scene, Stepping};
+use crate::sim::{TipRide, ToothJump};
 
 /// The first bytes of every MCAP file.
 const MCAP_MAGIC: &[u8] = b"\x89MCAP0\r\n";
@@ -170,20 +171,12 @@ pub(crate) struct Recording {
     pub metadata: BTreeMap<String, String>,
     /// How the run ended (`chaindrive.end` status; `unknown` if absent).
     pub end_status: String,
-    /// The run's tooth jumps (the `chaindrive.tooth_jumps` metadata record: `count` and one
-    /// entry per jump; empty when it had none).
-    #[allow(
-        dead_code,
-        reason = "read for the record's users; no command prints it yet"
-    )]
-    pub tooth_jumps: BTreeMap<String, String>,
-    /// The tip rides of its rollers (the `chaindrive.tip_rides` metadata
-    /// record: `count` and one entry per ride; empty when it had none).
-    #[allow(
-        dead_code,
-        reason = "read for the record's users; no command prints it yet"
-    )]
-    pub tip_rides: BTreeMap<String, String>,
+    /// The run's tooth jumps, in time order (the `chaindrive.tooth_jumps`
+    /// metadata record; empty when it had none).
+    pub tooth_jumps: Vec<ToothJump>,
+    /// The tip rides of its rollers, in time order (the
+    /// `chaindrive.tip_rides` metadata record; empty when it had none).
+    pub tip_rides: Vec<TipRide>,
     /// Whether `/links` was read.
     pub has_links: bool,
     /// Whether `/contacts` and `/rollers` were read.
@@ -195,6 +188,62 @@ pub(crate) struct Recording {
     /// channel was not recorded).
     #[cfg_attr(not(test), allow(dead_code))] // read by the tests
     pub tensioners: Vec<super::TensionerSignals>,
+}
+
+/// The `key=value` fields of one metadata entry, and its bare words.
+fn entry_fields(entry: &str) -> (BTreeMap<&str, &str>, Vec<&str>) {
+    let (mut fields, mut words) = (BTreeMap::new(), Vec::new());
+    for part in entry.split_whitespace() {
+        match part.split_once('=') {
+            Some((k, v)) => {
+                fields.insert(k, v);
+            }
+            None => words.push(part),
+        }
+    }
+    (fields, words)
+}
+
+/// The tooth jumps a `chaindrive.tooth_jumps` record lists, in its order
+/// (the inverse of how the recorder writes them); an entry that cannot be
+/// read is left out.
+fn jumps_of_record(record: &BTreeMap<String, String>) -> Vec<ToothJump> {
+    record
+        .iter()
+        .filter(|(k, _)| k.starts_with("jump "))
+        .filter_map(|(_, v)| {
+            let (f, words) = entry_fields(v);
+            Some(ToothJump {
+                t_s: f.get("t_s")?.parse().ok()?,
+                sprocket: f.get("sprocket")?.parse::<usize>().ok()?.checked_sub(1)?,
+                roller: f.get("roller")?.parse().ok()?,
+                gaps: f.get("gaps")?.parse().ok()?,
+                ahead: match words.as_slice() {
+                    ["ahead"] => true,
+                    ["behind"] => false,
+                    _ => return None,
+                },
+            })
+        })
+        .collect()
+}
+
+/// The tip rides a `chaindrive.tip_rides` record lists, in its order (the
+/// inverse of how the recorder writes them); an entry that cannot be read is
+/// left out.
+fn rides_of_record(record: &BTreeMap<String, String>) -> Vec<TipRide> {
+    record
+        .iter()
+        .filter(|(k, _)| k.starts_with("ride "))
+        .filter_map(|(_, v)| {
+            let (f, _) = entry_fields(v);
+            Some(TipRide {
+                t_s: f.get("t_s")?.parse().ok()?,
+                sprocket: f.get("sprocket")?.parse::<usize>().ok()?.checked_sub(1)?,
+                roller: f.get("roller")?.parse().ok()?,
+            })
+        })
+        .collect()
 }
 
 fn not_mcap(path: &str, bytes: &[u8]) -> ReadError {
@@ -287,8 +336,14 @@ pub(crate) fn read_recording_bytes(name: &str, bytes: &[u8]) -> Result<Recording
         .and_then(|m| m.get("status"))
         .cloned()
         .unwrap_or_else(|| "unknown (no end record)".to_owned());
-    let tooth_jumps = metadata.remove(super::JUMPS_RECORD).unwrap_or_default();
-    let tip_rides = metadata.remove(super::RIDES_RECORD).unwrap_or_default();
+    let tooth_jumps = metadata
+        .remove(super::JUMPS_RECORD)
+        .map(|r| jumps_of_record(&r))
+        .unwrap_or_default();
+    let tip_rides = metadata
+        .remove(super::RIDES_RECORD)
+        .map(|r| rides_of_record(&r))
+        .unwrap_or_default();
     let scene = attached_scene(&attachments, &meta)?;
     require_channels(&topics, &found)?;
     let has_links = topics.contains_key(Channel::Links.topic());
@@ -628,5 +683,45 @@ mod tests {
         let text = e.map(|e| e.to_string()).unwrap_or_default();
         assert!(text.contains("not a readable MCAP"), "{text}");
         assert!(text.contains("name = "), "{text}");
+    }
+
+    /// The records the recorder writes read back as the jumps and rides it
+    /// was given, and an entry that is not one is left out.
+    #[test]
+    fn jump_and_ride_records_read_back_as_written() {
+        let jumps = vec![
+            ToothJump {
+                t_s: 0.1625,
+                sprocket: 1,
+                roller: 57,
+                gaps: -1,
+                ahead: true,
+            },
+            ToothJump {
+                t_s: 1.0 / 3.0,
+                sprocket: 0,
+                roller: 0,
+                gaps: 2,
+                ahead: false,
+            },
+        ];
+        let rides = vec![TipRide {
+            t_s: 0.121,
+            sprocket: 2,
+            roller: 119,
+        }];
+        let mut jump_record = super::super::jump_entries(&jumps);
+        assert_eq!(jumps_of_record(&jump_record), jumps);
+        assert_eq!(rides_of_record(&super::super::ride_entries(&rides)), rides);
+        jump_record.insert("jump 0003".into(), "t_s=x sprocket=1".into());
+        jump_record.insert(
+            "jump 0004".into(),
+            "t_s=0.2 sprocket=0 roller=1 gaps=1 ahead".into(),
+        );
+        assert_eq!(
+            jumps_of_record(&jump_record),
+            jumps,
+            "unreadable entries left out"
+        );
     }
 }

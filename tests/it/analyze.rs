@@ -71,6 +71,12 @@ fn analyze_agrees_with_the_runs_summary_and_refuses_bad_indices_and_windows() {
     let summary = read_json(&dir.join("s.json"));
     let analysis = read_json(&out.join("analysis.json"));
     let report = std::fs::read_to_string(out.join("report.md")).expect("report");
+    // The paper's drive keeps its mesh: the recording lists no jump or ride.
+    assert!(
+        report.contains("**Mesh:** the recording lists no tooth jump and no roller riding a tip."),
+        "the report's mesh line"
+    );
+    assert_eq!(analysis["tooth_jumps"], serde_json::json!([]));
     assert_eq!(analysis["window_s"], summary["window_s"]);
     assert_eq!(analysis["spectrum_window_s"], summary["spectrum_window_s"]);
     assert!(close(

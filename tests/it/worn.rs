@@ -316,6 +316,23 @@ fn a_recording_lists_the_tip_rides_and_tooth_jumps_its_summary_counts() {
         .get("chaindrive.tooth_jumps")
         .expect("a tooth_jumps record");
     assert_eq!(record["count"], jumps.len().to_string(), "{record:?}");
+
+    // `analyze` reads both records back: its analysis lists the run's
+    // jumps and rides as the run's summary does, and its report says so.
+    let analyze = chaindrive(&[
+        "analyze",
+        mcap.to_str().expect("utf-8"),
+        "--out",
+        dir.path().join("a").to_str().expect("utf-8"),
+    ]);
+    assert!(analyze.status.success(), "{}", stderr(&analyze));
+    let a = crate::common::read_json(&dir.path().join("a").join("analysis.json"));
+    assert_eq!(a["tooth_jumps"], s["tooth_jumps"]);
+    assert_eq!(a["tip_rides"], s["tip_rides"]);
+    let report = std::fs::read_to_string(dir.path().join("a").join("report.md")).expect("report");
+    for what in ["**Mesh:** tooth jump:", "**Mesh:** tip ride:"] {
+        assert!(report.contains(what), "{what} not in the report");
+    }
 }
 
 /// The least hydraulic supply pressure that keeps a worn timing chain in

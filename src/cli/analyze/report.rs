@@ -18,6 +18,7 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 pub(super) fn report_markdown(a: &RecordedAnalysis, figures: &[(String, String)]) -> String {
     let mut md = String::new();
     run_section(&mut md, a);
+    mesh_section(&mut md, a);
     segments_section(&mut md, a);
     sprockets_section(&mut md, a);
     link_roller_section(&mut md, a);
@@ -61,6 +62,22 @@ fn run_section(md: &mut String, a: &RecordedAnalysis) {
         opt(a.link_force_min_sampled_n, 1),
         opt(a.link_force_max_sampled_n, 1)
     );
+}
+
+/// The run's tooth jumps and tip rides, as its detectors recorded them.
+fn mesh_section(md: &mut String, a: &RecordedAnalysis) {
+    let jumps = crate::analysis::warnings::tooth_jumps(&a.tooth_jumps);
+    let rides = crate::analysis::warnings::tip_rides(&a.tip_rides);
+    if jumps.is_none() && rides.is_none() {
+        let _ = writeln!(
+            md,
+            "**Mesh:** the recording lists no tooth jump and no roller riding a tip.\n"
+        );
+        return;
+    }
+    for line in jumps.into_iter().chain(rides) {
+        let _ = writeln!(md, "**Mesh:** {line}.\n");
+    }
 }
 
 /// A table of the segments.
