@@ -252,8 +252,11 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
 }
 
 /// Parts of the tensioner-preload rule's relaxation, Newton tried after
-/// each (`newton::Fallbacks`).
-const PRELOAD_RELAX_PARTS: usize = 10;
+/// each (`newton::Fallbacks`). One, the whole relaxation: ten brought
+/// `user_moto_10b_free_arm` from 1.1 s to 0.5 s but moved the rest state of
+/// drives that have no smooth one (an arm at a supply pressure of 0 with a
+/// roller on a tooth's tip), on which their runs depend.
+const PRELOAD_RELAX_PARTS: usize = 1;
 
 /// The tensioner-preload rule (`pretension_by = "tensioner_preload"`): the
 /// links keep their rest length, the pitch; the drive relaxes with its
@@ -279,9 +282,7 @@ pub(crate) fn settle_preload(
     while iterations < MAX_RELAXATIONS {
         iterations += 1;
         // Newton first, the relaxation where it stalls (see the newton
-        // module), in parts with Newton after each: an arm's drive that
-        // Newton does not settle from its layout mostly comes within its
-        // reach well before the relaxation's time is up.
+        // module).
         residual = super::newton::settle_from(
             model,
             state,
