@@ -77,6 +77,7 @@ pub struct ChainDriveBuilder<'a> {
     coupling: Option<Coupling>,
     pose: Option<Pose>,
     settled: Option<Arc<Settled>>,
+    start_moving: bool,
 }
 
 impl ChainDrive {
@@ -96,6 +97,7 @@ impl<'a> ChainDriveBuilder<'a> {
             coupling: None,
             pose: None,
             settled: None,
+            start_moving: false,
         }
     }
 
@@ -138,6 +140,24 @@ impl<'a> ChainDriveBuilder<'a> {
     /// reacted there.
     pub fn settled_from(mut self, drive: &ChainDrive) -> Self {
         self.settled = Some(Arc::clone(&drive.settled));
+        self
+    }
+
+    /// Starts the drive already moving at its driver's speed, as it runs
+    /// once settled, instead of ramping the driver up from rest: the
+    /// driver's ramp (`ramp_s`) is skipped, every roller moves along the
+    /// chain's path at the speed the driver gives it, every free sprocket
+    /// turns at the speed its seated rollers give it (so an equal-pitch
+    /// sprocket of z teeth at the driver's ω·z_driver/z), from the static
+    /// equilibrium's positions and tensions. A start from rest launches a
+    /// wave along the chain that a long chain carries for seconds (the
+    /// sprockets' speeds swing with it); started moving, the chain only
+    /// takes up the small difference between the rest and the running
+    /// tensions. [`Self::build`] names the error where the scene has no
+    /// driver with a speed (`speed_rpm`) or the driver is mounted (a
+    /// mount's own speed sets the chain moving, see [`ChainDrive::insert`]).
+    pub fn start_moving(mut self) -> Self {
+        self.start_moving = true;
         self
     }
 
@@ -206,7 +226,8 @@ impl<'a> ChainDriveBuilder<'a> {
             }
             None => settled::settle(scene, settled::held_for_the_solve(scene, &mounts, bodies))?,
         };
-        let mut drive = ChainDrive::insert_settled(settled, &mounts, bodies, colliders)?;
+        let mut drive =
+            ChainDrive::insert_settled(settled, &mounts, bodies, colliders, self.start_moving)?;
         if let Some(c) = self.coupling {
             drive.coupling = c;
             drive.apply_tooth_tips();

@@ -8,6 +8,14 @@ use std::collections::HashMap;
 
 use rapier2d_f64::prelude::*;
 
+/// The drive's mark on a collider slot: the slot's generation when the
+/// drive's collider took it, and whether it is a roller's.
+#[derive(Clone, Copy, Debug)]
+struct Owned {
+    generation: u32,
+    roller: bool,
+}
+
 /// The handles of what the drive put into the user's sets.
 #[derive(Debug)]
 pub(super) struct Handles {
@@ -15,8 +23,9 @@ pub(super) struct Handles {
     rollers: Vec<RigidBodyHandle>,
     /// Sprocket bodies (the user's, where mounted), in the scene's order.
     sprockets: Vec<RigidBodyHandle>,
-    /// The drive's colliders; `true` for a roller's.
-    colliders: HashMap<ColliderHandle, bool>,
+    /// The drive's colliders by their handle's slot index (a direct look-up:
+    /// the frame's search asks this of every collider in the world).
+    colliders: Vec<Option<Owned>>,
     /// Roller colliders, in the chain's order.
     roller_colliders: Vec<ColliderHandle>,
 }
@@ -30,10 +39,19 @@ impl Handles {
         rollers: Vec<RigidBodyHandle>,
         roller_colliders: Vec<ColliderHandle>,
     ) -> Self {
+        let mut table = Vec::new();
+        for (h, roller) in colliders {
+            let (index, generation) = h.into_raw_parts();
+            let index = index as usize;
+            if table.len() <= index {
+                table.resize(index + 1, None);
+            }
+            table[index] = Some(Owned { generation, roller });
+        }
         Self {
             rollers,
             sprockets,
-            colliders,
+            colliders: table,
             roller_colliders,
         }
     }
@@ -55,11 +73,23 @@ impl Handles {
 
     /// Whether a collider is the drive's.
     pub(super) fn owns(&self, h: ColliderHandle) -> bool {
-        self.colliders.contains_key(&h)
+        self.owned(h).is_some()
     }
 
     /// Whether a collider is one of the drive's rollers.
     pub(super) fn is_roller(&self, h: ColliderHandle) -> bool {
-        self.colliders.get(&h).copied().unwrap_or(false)
+        self.owned(h).is_some_and(|o| o.roller)
+    }
+
+    /// The drive's mark on `h`, if `h` is the drive's collider (its slot and
+    /// generation both match).
+    #[inline]
+    fn owned(&self, h: ColliderHandle) -> Option<Owned> {
+        let (index, generation) = h.into_raw_parts();
+        self.colliders
+            .get(index as usize)
+            .copied()
+            .flatten()
+            .filter(|o| o.generation == generation)
     }
 }

@@ -39,16 +39,19 @@ impl ChainDrive {
         colliders: &mut ColliderSet,
     ) -> Result<Self, CosimError> {
         let settled = settled::settle(scene, settled::held_for_the_solve(scene, mounts, bodies))?;
-        Self::insert_settled(settled, mounts, bodies, colliders)
+        Self::insert_settled(settled, mounts, bodies, colliders, false)
     }
 
     /// [`Self::insert`] from a drive already settled (its own insertion's,
-    /// or another drive's of the same scene).
+    /// or another drive's of the same scene), started moving at the
+    /// driver's speed where `start_moving` says so
+    /// ([`ChainDriveBuilder::start_moving`]).
     pub(crate) fn insert_settled(
         settled: Arc<settled::Settled>,
         mounts: &[Option<RigidBodyHandle>],
         bodies: &mut RigidBodySet,
         colliders: &mut ColliderSet,
+        start_moving: bool,
     ) -> Result<Self, CosimError> {
         let settled::Settled {
             scene,
@@ -62,6 +65,9 @@ impl ChainDrive {
         check_mounts(&model, mounts, bodies)?;
         let (mut model, mut state, mut forces) = (model, state, forces);
         take_mount_inertia(&mut model, mounts, bodies, colliders);
+        if start_moving {
+            start_at_driver_speed(&mut model, &mut state, &mut forces, mounts)?;
+        }
         start_with_turning_mounts(&model, &mut state, &mut forces, mounts, bodies)?;
         let (links, handles) = insert_sprockets(&model, &state, mounts, bodies, colliders);
         let (rollers, roller_colliders) =
@@ -172,6 +178,48 @@ fn take_mount_inertia(
             model.sprockets[k].inv_inertia = b.mass_properties().effective_world_inv_inertia;
         }
     }
+}
+
+/// The drive set moving at its driver's full speed from the start (see
+/// [`ChainDriveBuilder::start_moving`]): the driver's ramp dropped, the
+/// chain given the belt motion that speed gives it.
+fn start_at_driver_speed(
+    model: &mut DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    mounts: &[Option<RigidBodyHandle>],
+) -> Result<(), CosimError> {
+    let Some(d) = model.driver() else {
+        return Err(CosimError::input(
+            "start_moving",
+            "the scene has no driver with a speed (a sprocket with `speed_rpm`): a drive \
+             started moving starts at its driver's speed; turn a mount's body instead",
+        ));
+    };
+    if mounts.get(d).copied().flatten().is_some() {
+        return Err(CosimError::input(
+            "start_moving",
+            format!(
+                "the driver is mounted (mounts[{d}]): the mount's own angular speed at \
+                 insertion sets the chain moving; give the body its speed instead"
+            ),
+        ));
+    }
+    let Some(law) = model.sprockets[d].speed_law.as_mut() else {
+        return Ok(());
+    };
+    law.ramp_s = 0.0;
+    let omega = law.speed_at(0.0);
+    let Some(belt) = motion::belt_speed(model, state, d, omega) else {
+        return Err(CosimError::input(
+            "start_moving",
+            "the chain's path on the driver has coinciding rollers: start the drive at rest",
+        ));
+    };
+    motion::set_belt_motion(model, state, belt);
+    forces.forget_reach();
+    forces.evaluate(model, state);
+    Ok(())
 }
 
 /// A mount that already turns sets the chain moving with it; the other

@@ -57,8 +57,9 @@ unsafe impl Send for JobPtr {}
 struct Shared {
     /// Jobs posted so far.
     posted: AtomicU64,
-    /// The posted job's ticket (high bits) and its next unclaimed chunk
-    /// (low 8 bits): a chunk is claimed by raising this, for the ticket read.
+    /// The posted job's ticket (bits 16 up), the end of its unclaimed
+    /// chunks (bits 8–15) and their start (bits 0–7): a chunk is claimed by
+    /// raising the start or lowering the end, for the ticket read.
     claim: AtomicU64,
     /// Chunks of the current job done.
     done: AtomicUsize,
@@ -83,17 +84,26 @@ struct Shared {
 // claimed (the ticket in `claim` has moved on) and runs nothing.
 
 impl Shared {
-    /// Claims the next chunk of ticket `t`, if one is left.
-    fn claim(&self, t: u64) -> Option<usize> {
+    /// Claims the next chunk of ticket `t`, if one is left: the caller
+    /// (`front`) takes them from the first up, the worker from the last
+    /// down, so each thread tends to get the same chunks step after step
+    /// (its rollers still in its core's cache) while either still takes
+    /// what the other has not reached.
+    fn claim(&self, t: u64, front: bool) -> Option<usize> {
         let mut c = self.claim.load(Ordering::Acquire);
         loop {
-            let k = (c & 0xff) as usize;
-            if c >> 8 != t || k >= CHUNKS {
+            let (lo, hi) = ((c & 0xff) as usize, ((c >> 8) & 0xff) as usize);
+            if c >> 16 != t || lo >= hi {
                 return None;
             }
+            let (k, next) = if front {
+                (lo, c + 1)
+            } else {
+                (hi - 1, c - (1 << 8))
+            };
             match self
                 .claim
-                .compare_exchange_weak(c, c + 1, Ordering::AcqRel, Ordering::Acquire)
+                .compare_exchange_weak(c, next, Ordering::AcqRel, Ordering::Acquire)
             {
                 Ok(_) => return Some(k),
                 Err(now) => c = now,
@@ -160,12 +170,13 @@ impl Worker {
             .unwrap_or_else(std::sync::PoisonError::into_inner) = Some(JobPtr(ptr));
         let ticket = s.posted.load(Ordering::Relaxed) + 1;
         s.done.store(0, Ordering::Relaxed);
-        s.claim.store(ticket << 8, Ordering::SeqCst);
+        s.claim
+            .store((ticket << 16) | ((CHUNKS as u64) << 8), Ordering::SeqCst);
         s.posted.store(ticket, Ordering::SeqCst);
         if s.sleeping.load(Ordering::SeqCst) {
             self.thread.unpark();
         }
-        while let Some(k) = s.claim(ticket) {
+        while let Some(k) = s.claim(ticket, true) {
             job(k);
             s.done.fetch_add(1, Ordering::AcqRel);
         }
@@ -226,7 +237,7 @@ fn work(s: &Shared) {
         };
         seen = ticket;
         let Some(JobPtr(job)) = s.job() else { continue };
-        while let Some(k) = s.claim(ticket) {
+        while let Some(k) = s.claim(ticket, false) {
             // SAFETY: a chunk of `ticket` was claimed, so its caller is
             // still waiting and `job` (the one posted before `ticket`, see
             // `Shared`) is alive.

@@ -34,7 +34,7 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
     let worn = scene;
     let new_chain = worn.as_new_chain();
     let scene = new_chain.as_ref().unwrap_or(worn);
-    let settled = match scene.chain.pretension_by {
+    let (settled, held) = match scene.chain.pretension_by {
         PretensionRule::RestLength => {
             let (mut model, mut state, layout) = DriveModel::build(scene)?;
             statics::check_chain_length(scene, &layout, &model.path)?;
@@ -55,10 +55,10 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
                 let (s, f) = (&mut state, &mut forces);
                 eq = statics::let_go(scene, &mut model, s, f, &settings, k, Some(pitch_m), eq)?;
             }
-            release(&mut model, &freed);
-            (scene.clone(), model, state, forces, layout, eq)
+            let held = Held { freed, auto };
+            ((scene.clone(), model, state, forces, layout, eq), held)
         }
-        PretensionRule::Tensioner => settle_tensioner(scene, &settings)?,
+        PretensionRule::Tensioner => (settle_tensioner(scene, &settings)?, Held::default()),
         PretensionRule::TensionerPreload => {
             let (mut model, mut state, layout) = DriveModel::build(scene)?;
             let mut forces = new_forces(scene, &model);
@@ -74,16 +74,25 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
                 let (s, f) = (&mut state, &mut forces);
                 eq = statics::let_go(scene, &mut model, s, f, &settings, k, None, eq)?;
             }
-            release(&mut model, &freed);
             eq.misfit = statics::misfit_tension(scene, &layout, &forces, eq.tension_n);
-            (scene.clone(), model, state, forces, layout, eq)
+            let held = Held { freed, auto };
+            ((scene.clone(), model, state, forces, layout, eq), held)
         }
     };
-    let settled = if new_chain.is_some() {
-        wear_settled(worn, settled, &settings)?
+    // The chain is worn with the held sprockets still held: a drive with no
+    // driver has a neutral circulation, and each step of the wear would
+    // otherwise fall back to the relaxation.
+    let mut settled = if new_chain.is_some() {
+        let mut settled = wear_settled(worn, settled, &settings)?;
+        if let Some(k) = held.auto {
+            let (scene, model, state, forces, _, eq) = &mut settled;
+            *eq = statics::let_go(scene, model, state, forces, &settings, k, None, eq.clone())?;
+        }
+        settled
     } else {
         settled
     };
+    release(&mut settled.1, &held.freed);
     check_guide_entries(&settled.0, &settled.1, &settled.2, &limits)?;
     check_shoe_ends(&settled.0, &settled.1, &settled.2, &settled.3, &limits)?;
     Ok((settled, limits))
@@ -217,6 +226,14 @@ fn hold(model: &mut DriveModel, held: &[bool]) -> (Vec<(usize, f64)>, Option<usi
         model.sprockets[k].inv_inertia = 0.0;
     }
     (freed, auto)
+}
+
+/// The sprockets [`hold`] held: their inverse inertias to give back, and
+/// the one held for want of a driver.
+#[derive(Default)]
+struct Held {
+    freed: Vec<(usize, f64)>,
+    auto: Option<usize>,
 }
 
 /// The sprockets' names, in order.

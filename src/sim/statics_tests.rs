@@ -178,3 +178,65 @@ fn a_drive_without_a_driver_whose_loads_do_not_balance_is_named_at_once() {
     assert!(eq.force_residual <= 1e-6, "{eq:?}");
     assert!(sim.model.sprockets[0].inv_inertia > 0.0);
 }
+
+#[test]
+fn a_worn_chain_on_a_drive_without_a_driver_hangs_at_rest_as_its_catenary() {
+    // assets/bicycle.toml on the real tooth form, the chain worn 1 %
+    // (96 links gain 12.2 mm on fixed centres): the strands go slack and
+    // hang under their weight. The chain is worn with the rear sprocket
+    // still held for the solve (a drive with no driver), then that sprocket
+    // is turned to where it takes no torque and let go. Hand calculation,
+    // the shallow catenary (a parabola; the strands lie within 4° of
+    // level): a strand of span L sagging d under w = m g / P per metre
+    // carries H = w L² / (8 d), here about 2 N against the new chain's
+    // 50 N; L and d are measured from the rollers' positions (the chord
+    // between the strand's end rollers, the largest distance of a roller
+    // from it). The strand's mean link force exceeds H by the weight
+    // along half the sag (w d / 3 on average, 1 %), and the parabola
+    // misses the catenary by (d/L)² (0.4 %): within 5 %.
+    let text = include_str!("../../assets/bicycle.toml").replacen(
+        "[chain]",
+        "profile = \"real\"\n\n[chain]\nelongation_pct = 1.0",
+        1,
+    );
+    let scene = Scene::from_toml(&text).expect("scene");
+    assert!((scene.chain.elongation - 0.01).abs() < 1e-12);
+    let sim = Simulation::new(&scene).expect("settles");
+    let eq = &sim.equilibrium;
+    assert!(eq.unbalanced.is_none(), "{eq:?}");
+    assert!(eq.force_residual <= 1e-6, "{eq:?}");
+    for (k, sp) in sim.model.sprockets.iter().enumerate() {
+        assert!(sp.inv_inertia > 0.0, "sprocket {k} turns freely again");
+        let m = sim.forces.output().chain_torque[k];
+        assert!(
+            m.abs() <= 1e-6 * 50.0 * sp.pitch_radius_m,
+            "sprocket {k}: chain torque {m} N·m at rest"
+        );
+    }
+    let (x, y) = (&sim.state.x, &sim.state.y);
+    let n = x.len();
+    let runs = sim
+        .model
+        .segments
+        .runs(&sim.model.sprockets, x, y, &sim.forces.output().touching);
+    let means = crate::test_support::strand_means(&sim.model, &sim.state, sim.forces.output());
+    let w = 0.0035 * 9.81 / 0.0127;
+    for (k, mean) in means.iter().enumerate() {
+        let rollers: Vec<usize> = runs.links(k).flat_map(|i| [i, (i + 1) % n]).collect();
+        let (a, b) = (rollers[0], rollers[rollers.len() - 1]);
+        let (dx, dy) = (x[b] - x[a], y[b] - y[a]);
+        let span = dx.hypot(dy);
+        let sag = rollers
+            .iter()
+            .map(|&i| ((x[i] - x[a]) * dy - (y[i] - y[a]) * dx).abs() / span)
+            .fold(0.0, f64::max);
+        let h = w * span * span / (8.0 * sag);
+        let mean = mean.expect("a free strand");
+        eprintln!("strand {k}: span {span:.4} m, sag {sag:.4} m, H {h:.3} N, mean {mean:.3} N");
+        assert!(h < 5.0, "strand {k} hangs slack: H {h} N");
+        assert!(
+            ((mean - h) / h).abs() <= 0.05,
+            "strand {k}: mean link force {mean} N against the catenary's {h} N"
+        );
+    }
+}
