@@ -71,9 +71,9 @@ pub(crate) use stability::StepLimits;
 pub(crate) use stability::{AUTO_GRID_S, step_note};
 #[cfg(test)]
 pub(crate) use stability::{AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, impact_duration_s};
-#[cfg(test)]
-pub(crate) use tensioners::STANDARD_ATMOSPHERE_PA;
 pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};
+#[cfg(test)]
+pub(crate) use tensioners::{STANDARD_ATMOSPHERE_PA, SpringTensioner};
 pub(crate) use threads::AUTO_MIN_ROLLERS;
 pub use threads::{Threads, ThreadsFile};
 pub use types::{

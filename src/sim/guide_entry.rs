@@ -7,10 +7,16 @@
 //! end stops the run with a penetration blow-up; the check says so before
 //! the run.
 //!
+//! A tensioner arm's shoe is looked at the same way, as it stands at rest
+//! ([`shoe_face`]): a chain longer than the arm's shoe takes up (a worn
+//! chain, the arm turned in until the strand runs over the shoe's end) rests
+//! with a roller behind the shoe's end.
+//!
 //! What this does not do: follow the strand as it moves (the rest state is
-//! taken as the running one), or look at the arms' shoes, which move.
+//! taken as the running one), nor the arms as they move in a run.
 
 use crate::geometry::shoe::{Face, Piece};
+use crate::scene::Tensioner;
 
 /// How far beyond a free end, in pitches, a roller is taken as the next to
 /// reach it.
@@ -67,6 +73,26 @@ fn free_ends(face: &Face) -> [FreeEnd; 2] {
     ]
 }
 
+/// The shoe of the tensioner arm `arm` turned by `angle_rad` from the
+/// scene's pose (counter-clockwise about its pivot), as the arm's force
+/// element carries it: its arc, the rollers riding on its outside.
+pub(crate) fn shoe_face(arm: &Tensioner, angle_rad: f64) -> Face {
+    let (s, c) = angle_rad.sin_cos();
+    let [px, py] = arm.pivot_m;
+    let r = [arm.shoe_center_m[0] - px, arm.shoe_center_m[1] - py];
+    Face::new(
+        Piece::Arc {
+            center_m: [px + c * r[0] - s * r[1], py + s * r[0] + c * r[1]],
+            radius_m: arm.shoe_radius_m,
+            start_rad: arm.shoe_start_rad + angle_rad,
+            sweep_rad: arm.shoe_span_rad,
+        },
+        -1.0,
+        None,
+        None,
+    )
+}
+
 /// The deepest roller at rest behind a guide's entry (module docs), if one
 /// would meet the face deeper than `limit_m`.
 pub(crate) fn behind_entry(
@@ -109,6 +135,77 @@ pub(crate) fn behind_entry(
 mod tests {
     use super::*;
     use crate::geometry::shoe::Ramp;
+
+    /// An arm pivoted at the origin whose shoe (centre (0.1, 0), radius
+    /// 0.05 m, from 90° over 90°: its ends at (0.1, 0.05) and (0.05, 0))
+    /// is turned by 90° counter-clockwise: the shoe's centre goes to
+    /// (0, 0.1) and its ends to (−0.05, 0.1) and (0, 0.05), the arc from
+    /// 180° to 270° about the new centre, running +x at its end (the
+    /// rollers ride outside it: below the end). A roller of r = 5 mm 10 mm
+    /// beyond that end, 3 mm inside the arc's circle (y = 0.1 −
+    /// √(0.047² − 0.01²) = 0.054076 m), lies 4.076 mm behind the end's
+    /// tangent line y = 0.05: carried onto the shoe it would meet it
+    /// r + 4.076 mm deep. At the scene's pose the shoe is far from it.
+    #[test]
+    fn a_roller_behind_the_end_of_a_turned_shoe_is_found_at_its_depth() {
+        use crate::scene::{SpringTensioner, TensionerKind};
+        let arm = Tensioner {
+            name: "arm".into(),
+            pivot_m: [0.0, 0.0],
+            inertia_kg_m2: 1e-3,
+            mass_kg: 0.0,
+            center_of_mass_m: [0.0, 0.0],
+            shoe_center_m: [0.1, 0.0],
+            shoe_radius_m: 0.05,
+            shoe_start_rad: std::f64::consts::FRAC_PI_2,
+            shoe_span_rad: std::f64::consts::FRAC_PI_2,
+            shoe_friction: 0.0,
+            shoe_friction_speed_m_s: 0.01,
+            point_m: [0.05, 0.0],
+            direction: [0.0, 1.0],
+            kind: TensionerKind::Spring(SpringTensioner {
+                preload_n: 10.0,
+                stiffness_n_m: 1e3,
+                damping_n_s_m: 0.0,
+                min_travel_m: -0.01,
+                max_travel_m: 0.01,
+                stop_stiffness_n_m: 1e6,
+            }),
+        };
+        let face = shoe_face(&arm, std::f64::consts::FRAC_PI_2);
+        let (a, b) = face.body.ends();
+        for (got, want) in [(a, [-0.05, 0.1]), (b, [0.0, 0.05])] {
+            approx::assert_abs_diff_eq!(got[0], want[0], epsilon = 1e-12);
+            approx::assert_abs_diff_eq!(got[1], want[1], epsilon = 1e-12);
+        }
+        // 3 mm inside the circle of radius 0.05 about (0, 0.1), 10 mm along +x.
+        let roller = [0.01, 0.1 - (0.047f64.powi(2) - 0.01f64.powi(2)).sqrt()];
+        let found =
+            behind_entry(&[face], &[roller[0]], &[roller[1]], 0.0159, 0.005, 0.005).expect("found");
+        assert_eq!((found.end, found.ramp, found.roller), ("end", false, 0));
+        // The depth is measured from the end's tangent line (y = 0.05),
+        // which `free_ends` takes from a chord 10⁻⁶ of the arc long: its
+        // direction is off by half that chord's angle (0.8 µrad), 8 nm
+        // over the roller's 10 mm.
+        approx::assert_relative_eq!(
+            found.depth_m,
+            0.005 + (roller[1] - 0.05),
+            max_relative = 1e-5
+        );
+        approx::assert_abs_diff_eq!(found.depth_m, 0.009076, epsilon = 1e-6);
+        let unturned = shoe_face(&arm, 0.0);
+        assert_eq!(
+            behind_entry(
+                &[unturned],
+                &[roller[0]],
+                &[roller[1]],
+                0.0159,
+                0.005,
+                0.005
+            ),
+            None
+        );
+    }
 
     #[test]
     fn a_roller_sagging_behind_a_ramps_tip_is_found_at_its_depth() {

@@ -8,6 +8,7 @@ use super::settled::{Settled, new_forces};
 use super::statics::{self, EquilibriumError, RelaxSettings, settle_rest_length};
 use super::take_up::{settle_tensioner, wear_settled};
 use super::{BlowUpLimits, SimError, guide_entry};
+use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 use crate::scene::{PretensionRule, Scene, StepLimits};
 
@@ -93,6 +94,7 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
     };
     release(&mut settled.1, &held.freed);
     check_guide_entries(&settled.0, &settled.1, &settled.2, &limits)?;
+    check_shoe_ends(&settled.0, &settled.1, &settled.2, &settled.3, &limits)?;
     Ok((settled, limits))
 }
 
@@ -141,6 +143,67 @@ fn check_guide_entries(
             end = found.end,
         ),
     )))
+}
+
+/// Refuses a rest state with a roller behind the end of a tensioner arm's
+/// shoe as the arm stands at rest ([`guide_entry::shoe_face`]): the chain
+/// runs over the shoe's end, and the first roller carried onto it would
+/// meet it beyond the blow-up limit. `forces` evaluated at `state`.
+fn check_shoe_ends(
+    scene: &Scene,
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    limits: &BlowUpLimits,
+) -> Result<(), SimError> {
+    for (j, arm) in scene.tensioners.iter().enumerate() {
+        let angle_rad = state.q.get(j).copied().unwrap_or(0.0);
+        let Some(found) = guide_entry::behind_entry(
+            &[guide_entry::shoe_face(arm, angle_rad)],
+            &state.x,
+            &state.y,
+            model.rest_length_m,
+            scene.chain.roller_radius_m,
+            limits.max_penetration_m,
+        ) else {
+            continue;
+        };
+        let travel_m = forces
+            .output()
+            .tensioners
+            .get(j)
+            .map_or(0.0, |r| r.travel_m);
+        let reach = super::statics::arm_take_up_of(scene).map_or_else(String::new, |t| {
+            format!(
+                "; the arms' shoes take up at most {:.2} mm of chain ({})",
+                1e3 * t.max_m,
+                t.bound
+            )
+        });
+        let e = scene.chain.elongation;
+        let worn = if e > 0.0 {
+            format!(
+                ", the chain worn by {:.3} % (chain.elongation_pct) and {:.1} mm longer than new",
+                100.0 * e,
+                1e3 * scene.chain.rollers as f64 * scene.chain.pitch_m * e
+            )
+        } else {
+            String::new()
+        };
+        return Err(SimError::Equilibrium(EquilibriumError::BehindGuideEntry(
+            format!(
+                "roller {} rests beyond the {end} of the shoe of tensioner \"{}\" (tensioners.{j}, shoe_{end}_deg), behind its arc: the chain runs over the shoe's end, and running onto it the roller would meet the shoe {:.2} mm deep, beyond the blow-up limit of {:.2} mm (solver.limits.max_penetration_m), so the run would blow up there. At rest the arm is turned by {:.2}° from the scene's pose (travel {:.2} mm){worn}{reach}: lengthen the shoe's arc (tensioners.{j}.shoe_start_deg, shoe_end_deg) or take the chain's slack up otherwise (fewer rollers, a sprocket moved)",
+                found.roller,
+                arm.name,
+                1e3 * found.depth_m,
+                1e3 * limits.max_penetration_m,
+                angle_rad.to_degrees(),
+                1e3 * travel_m,
+                end = found.end,
+            ),
+        )));
+    }
+    Ok(())
 }
 
 /// Holds the sprockets k with `held[k]` for the static equilibrium (no

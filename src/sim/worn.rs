@@ -20,7 +20,8 @@
 //! length or tensioner position (the pretension rules do).
 
 use super::statics::{
-    EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension,
+    EquilibriumError, Fallbacks, RelaxSettings, StaticEquilibrium, force_residual,
+    free_strand_tension,
 };
 use super::tension_search::TensionSearch;
 use crate::forces::ForceGenerator;
@@ -43,6 +44,15 @@ const MAX_STEPS: usize = 2000;
 
 /// Relative force residual each step's equilibrium aims at.
 const REST_FORCE: f64 = 1e-7;
+
+/// Parts of the relaxation where Newton stalls, Newton tried after each
+/// (`statics::Fallbacks`). One: the whole relaxation, then Newton. Ten
+/// parts were measured and not kept: they changed the rest state the
+/// timing drive worn 0.5 % reaches at a supply pressure of 0 (no smooth
+/// rest state there), which then ran clean where it had ridden a tooth's
+/// tip, and the prediction alone settles the drives whose steps Newton
+/// can reach.
+const RELAX_PARTS: usize = 1;
 
 /// Most corrections of a tensioner's position after the lengthening.
 const MAX_CORRECTIONS: usize = 40;
@@ -75,6 +85,27 @@ impl TakeUp<'_> {
                 reason: Box::new(super::FitError::NoPath(e.to_string())),
             })
     }
+}
+
+/// The rest state one lengthening step on, predicted from the two before
+/// (`before`, then `last`, a step apart): their positions, angles and arm
+/// angles extrapolated linearly, the rest of `last`. Lengthening a step's
+/// links on the rest state before compresses them all at once (by K times
+/// the step, more than a slack chain's tension), which leaves Newton an
+/// indefinite tangent far from the rest state; the prediction starts it
+/// within the step's second-order change.
+fn extrapolated(before: &DriveState, last: &DriveState) -> DriveState {
+    let mut next = last.clone();
+    let on = |to: &mut [f64], from: &[f64]| {
+        for (a, b) in to.iter_mut().zip(from) {
+            *a += *a - b;
+        }
+    };
+    on(&mut next.x, &before.x);
+    on(&mut next.y, &before.y);
+    on(&mut next.theta, &before.theta);
+    on(&mut next.q, &before.q);
+    next
 }
 
 /// Links of the free strands at `state` (as the static tension counts them).
@@ -111,17 +142,26 @@ pub(crate) fn wear_in(
         .ceil()
         .clamp(1.0, MAX_STEPS as f64) as usize;
     let scale = pretension_n.abs();
-    let settle = |model: &mut DriveModel, state: &mut DriveState, forces: &mut ForceGenerator| {
-        super::statics::settle(
+    let settle = |model: &mut DriveModel,
+                  state: &mut DriveState,
+                  forces: &mut ForceGenerator,
+                  guess: Option<&DriveState>| {
+        super::statics::settle_from(
             model,
             state,
             forces,
             settings,
-            REST_FORCE * scale,
-            0.5 * REST_FORCE * scale,
+            (REST_FORCE * scale, 0.5 * REST_FORCE * scale),
             false,
+            Fallbacks {
+                guess,
+                parts: RELAX_PARTS,
+            },
         )
     };
+    // The rest state two steps back: with the last one, the prediction of
+    // the next (`extrapolated`).
+    let mut before: Option<DriveState> = None;
     let mut residual = 0.0;
     // The tension falls by K/n_free per metre of chain the strands gain
     // over their path and rises by that per metre of path: the sprocket's
@@ -155,7 +195,10 @@ pub(crate) fn wear_in(
             forces.forget_reach();
         }
         model.rest_length_m = rest;
-        residual = settle(model, state, forces)?;
+        let guess = before.as_ref().map(|b| extrapolated(b, state));
+        let last = state.clone();
+        residual = settle(model, state, forces, guess.as_ref())?;
+        before = Some(last);
         if take_up.is_some() {
             t_now = tension(model, state, forces);
         }
@@ -177,7 +220,7 @@ pub(crate) fn wear_in(
             t.shift(model, next - at)?;
             at = next;
             forces.forget_reach();
-            residual = settle(model, state, forces)?;
+            residual = settle(model, state, forces, None)?;
             iterations += 1;
             t_now = tension(model, state, forces);
             next = search.next(at, t_now);

@@ -1,7 +1,7 @@
 //! A worn chain (`chain.elongation_pct`; docs/model.md, "A worn chain"):
 //! its static seating on the real tooth form against a closed form of the
 //! ASA geometry, the slack it gains on fixed centres, its take-up by a
-//! tensioner.
+//! tensioner, and an arm drive lengthened by Newton alone.
 
 use crate::scene::Scene;
 use crate::sim::Simulation;
@@ -289,4 +289,50 @@ fn elongation_out_of_range_is_refused_with_its_path() {
         let msg = Scene::from_toml(&text).expect_err(bad).to_string();
         assert!(msg.contains("chain.elongation_pct"), "{bad}: {msg}");
     }
+}
+
+/// Regression: each lengthening step of a worn arm drive lengthened every
+/// link on the rest state before, compressing the chain by K times the step
+/// (about 100 N against a static tension of 10–17 N): Newton met an
+/// indefinite tangent, stalled in 40 iterations at steps 6, 8, 9 and 10,
+/// and the relaxation ran 0.4–0.6 s each (2.1–2.4 s in all). Started
+/// from the two rest states before, extrapolated, Newton settles every
+/// step: no relaxation is started (the new chain's settling needs none
+/// either).
+///
+/// `user_timing_06b_arm.toml` worn 0.5 %, its hydraulic tensioner at rest
+/// held at the 3 bar supply: the plunger pushes p A + F₀ − k x with
+/// A = π/4 · (14 mm)² = 1.5394 · 10⁻⁴ m², F₀ = 15 N, k = 2000 N/m, x its
+/// travel (46.18 + 15 − 2000 x N), and the arm's moment is balanced.
+#[test]
+fn a_worn_arm_drive_is_lengthened_by_newton_alone() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/user_timing_06b_arm.toml"
+    );
+    let text = std::fs::read_to_string(path).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 0.5\n",
+    );
+    let scene = Scene::from_toml(&text).expect("valid");
+    let before = crate::sim::statics::RELAXATIONS.with(std::cell::Cell::get);
+    let sim = Simulation::new(&scene).expect("equilibrium");
+    let relaxations = crate::sim::statics::RELAXATIONS.with(std::cell::Cell::get) - before;
+    assert_eq!(relaxations, 0, "{:?}", sim.equilibrium);
+    assert!(
+        sim.equilibrium.force_residual <= 1e-7,
+        "{:?}",
+        sim.equilibrium
+    );
+    let arm = sim.forces.output().tensioners[0];
+    let area_m2 = std::f64::consts::FRAC_PI_4 * 0.014f64.powi(2);
+    let push_n = 3e5 * area_m2 + 15.0 - 2000.0 * arm.travel_m;
+    approx::assert_relative_eq!(arm.plunger_force_n, push_n, max_relative = 1e-6);
+    // The arm's moment over its reach, against the pretension scale.
+    let reach_m = 0.25_f64.max((0.3007f64 - 0.09).hypot(0.163 - 0.33));
+    let moment = sim.forces.output().body_force[0];
+    assert!(
+        moment.abs() / reach_m <= 1e-7 * 150.0,
+        "arm moment {moment} N·m out of balance"
+    );
 }

@@ -3,7 +3,8 @@
 //! low pretensions new and worn and takes a worn chain up by the length its
 //! strands gained; a load held at rest beyond the pretension is refused by
 //! name; a worn chain that sags behind a guide's entry is refused before the
-//! run instead of blowing up in it; a chain that touches no tooth at rest
+//! run instead of blowing up in it, and so is one that runs over the end
+//! of an arm's shoe; a chain that touches no tooth at rest
 //! is warned about.
 
 use crate::common::{chaindrive, stderr};
@@ -150,6 +151,48 @@ fn a_worn_chain_sagging_behind_a_guides_entry_is_refused_before_the_run() {
         .and_then(|d| d.parse().ok())
         .expect("a depth");
     assert!(depth > 5.08, "{depth} mm");
+}
+
+#[test]
+fn a_worn_chain_run_over_the_end_of_an_arms_shoe_is_refused_before_the_run() {
+    // Before: user_timing_06b_arm.toml worn by 1 % settled (static tension
+    // 2.3 N), ran, and blew up at t = 0.0121 s (roller 12 4.03 mm into
+    // the arm's shoe against the 3.175 mm limit, the roller radius). The
+    // chain is one link (9.525 mm) longer than its straight path and gains
+    // 101 × 9.525 mm × 0.01 = 9.6 mm; the arm's shoe takes up at most
+    // 12.10 mm (`check` prints it), so the arm turns in until the strand
+    // runs over the shoe's end, and roller 12, resting behind that end,
+    // meets the shoe from behind once the chain moves.
+    let dir = tempfile::tempdir().expect("temp dir");
+    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/user_timing_06b_arm.toml");
+    let text = std::fs::read_to_string(base).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 1.0\n",
+    );
+    assert!(text.contains("elongation_pct = 1.0"));
+    let scene = dir.path().join("worn.toml");
+    std::fs::write(&scene, text).expect("write");
+    let out = chaindrive(&["check", scene.to_str().expect("utf-8")]);
+    assert!(!out.status.success(), "a chain over the shoe's end");
+    let err = stderr(&out);
+    for named in [
+        "slack arm",
+        "tensioners.0",
+        "shoe_end_deg",
+        "chain.elongation_pct",
+        "9.6 mm longer",
+        "12.10 mm",
+    ] {
+        assert!(err.contains(named), "{named} in {err}");
+    }
+    let key = "meet the shoe ";
+    let at = err.find(key).unwrap_or_else(|| panic!("{err}")) + key.len();
+    let depth: f64 = err[at..]
+        .split(' ')
+        .next()
+        .and_then(|d| d.parse().ok())
+        .expect("a depth");
+    assert!(depth > 3.175, "{depth} mm");
 }
 
 #[test]

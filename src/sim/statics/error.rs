@@ -69,9 +69,11 @@ pub enum EquilibriumError {
     /// No free strand link exists to measure the tension on.
     #[error("no free strand link to measure the static tension on")]
     NoFreeLinks,
-    /// A roller at rest lies so far behind a fixed guide's entry that,
+    /// A roller at rest lies so far behind a fixed guide's entry, or behind
+    /// the end of a tensioner arm's shoe as the arm stands at rest, that,
     /// carried onto it, it would meet the face beyond the blow-up limit
-    /// (the sentence names the guide, the roller, the depth and the remedy).
+    /// (the sentence names the guide or shoe, the roller, the depth and the
+    /// remedy).
     #[error("{0}")]
     BehindGuideEntry(String),
     /// The tensioner rule needs a sprocket with role = "tensioner".

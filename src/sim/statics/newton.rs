@@ -434,6 +434,28 @@ fn solve_in_rounds(
 /// circular seating arc's rim.
 const RIM_RELAX_SHARE: f64 = 0.1;
 
+/// Where Newton stalls from the state given, what [`settle_from`] tries
+/// before and with the relaxation.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Fallbacks<'a> {
+    /// A second start for Newton, tried before the relaxation: a
+    /// continuation's prediction of the rest state (`sim::worn`'s
+    /// lengthening extrapolates the two rest states before).
+    pub(crate) guess: Option<&'a DriveState>,
+    /// The relaxation's time in this many parts, Newton tried after each
+    /// (the relaxation goes on from where it stopped while Newton does not
+    /// converge); 1: the whole relaxation, then Newton.
+    pub(crate) parts: usize,
+}
+
+impl Fallbacks<'_> {
+    /// No second start; the relaxation whole.
+    pub(crate) const PLAIN: Fallbacks<'static> = Fallbacks {
+        guess: None,
+        parts: 1,
+    };
+}
+
 /// Brings the drive at its current rest length to equilibrium within
 /// `rest_force_n`: Newton from `state` (aiming at `newton_force_n`, at most
 /// `rest_force_n`); where Newton stalls, the dynamic relaxation
@@ -452,6 +474,30 @@ pub(crate) fn settle(
     newton_force_n: f64,
     searching: bool,
 ) -> Result<f64, EquilibriumError> {
+    let forces_n = (rest_force_n, newton_force_n);
+    settle_from(
+        model,
+        state,
+        forces,
+        settings,
+        forces_n,
+        searching,
+        Fallbacks::PLAIN,
+    )
+}
+
+/// [`settle`] with `fallbacks` where Newton stalls from `state`: Newton
+/// from the guess, then the relaxation in parts with Newton after each.
+/// `(rest_force_n, newton_force_n)` as for [`settle`].
+pub(crate) fn settle_from(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    settings: &RelaxSettings,
+    (rest_force_n, newton_force_n): (f64, f64),
+    searching: bool,
+    fallbacks: Fallbacks<'_>,
+) -> Result<f64, EquilibriumError> {
     let aim = newton_force_n.min(rest_force_n);
     if !applies(model, state, forces) {
         return relax_until(model, state, forces, settings, Some(rest_force_n));
@@ -460,6 +506,16 @@ pub(crate) fn settle(
     let first = solve_in_rounds(model, state, forces, aim);
     if first.residual_n <= rest_force_n {
         return Ok(0.0);
+    }
+    if let Some(guess) = fallbacks.guess {
+        let stalled = state.clone();
+        state.clone_from(guess);
+        if solve(model, state, forces, aim, MAX_ITERATIONS).residual_n <= rest_force_n {
+            return Ok(0.0);
+        }
+        state.clone_from(&stalled);
+        forces.reset_memory();
+        forces.evaluate(model, state);
     }
     // A stall further from equilibrium than the start, or with a link
     // stretched beyond the relaxation's blow-up bound (Newton's energy
@@ -485,10 +541,31 @@ pub(crate) fn settle(
     } else {
         *settings
     };
-    let speed = relax_until(model, state, forces, &settings, Some(rest_force_n))?;
-    let again = solve(model, state, forces, aim, MAX_ITERATIONS);
-    if again.residual_n <= rest_force_n {
-        return Ok(0.0);
+    let parts = fallbacks.parts.max(1);
+    let part = RelaxSettings {
+        max_time_s: settings.max_time_s / parts as f64,
+        ..settings
+    };
+    let mut speed = 0.0;
+    for _ in 0..parts {
+        speed = relax_until(model, state, forces, &part, Some(rest_force_n))?;
+        let relaxed = (parts > 1).then(|| state.clone());
+        let again = solve(model, state, forces, aim, MAX_ITERATIONS);
+        if again.residual_n <= rest_force_n {
+            return Ok(0.0);
+        }
+        if speed < part.rest_speed_m_s {
+            break;
+        }
+        // The relaxation goes on from the relaxed state where Newton only
+        // moved away from it.
+        if let Some(relaxed) = relaxed
+            && !(again.residual_n <= again.start_residual_n)
+        {
+            state.clone_from(&relaxed);
+            forces.reset_memory();
+            forces.evaluate(model, state);
+        }
     }
     Ok(speed)
 }

@@ -24,6 +24,13 @@ pub(crate) struct RelaxSettings {
     pub max_stretch_m: f64,
 }
 
+#[cfg(test)]
+thread_local! {
+    /// Relaxations started on this thread ([`relax_until`]): tests count
+    /// where a solve fell back on the relaxation.
+    pub(crate) static RELAXATIONS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
+}
+
 /// Relaxes `state` to rest with the driver held. Returns the residual speed.
 ///
 /// Steps symplectic Euler with the contact damping implicit
@@ -49,6 +56,8 @@ pub(crate) fn relax_until(
     settings: &RelaxSettings,
     rest_force_n: Option<f64>,
 ) -> Result<f64, EquilibriumError> {
+    #[cfg(test)]
+    RELAXATIONS.with(|n| n.set(n.get() + 1));
     let relax = Some(Relaxation {
         rate_per_s: settings.rate_per_s,
     });
