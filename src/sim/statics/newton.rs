@@ -56,6 +56,10 @@ pub(crate) struct NewtonEnd {
     pub(crate) converged: bool,
     /// The residual at the start, N.
     pub(crate) start_residual_n: f64,
+    /// Whether the last step still needed the stabilising shift μ (the
+    /// tangent not positive definite there: a saddle or a ridge, not a
+    /// valley, near the point reached).
+    pub(crate) shifted: bool,
 }
 
 /// First bound on a step's largest roller (or pitch-circle) displacement,
@@ -382,6 +386,7 @@ pub(crate) fn solve(
         iterations,
         converged: now <= tolerance_n,
         start_residual_n,
+        shifted: mu > 0.0,
     }
 }
 
@@ -398,9 +403,13 @@ const MAX_ROUNDS: usize = 8;
 /// change: Newton descends steadily but needs more than one round's steps,
 /// and the relaxation it would otherwise fall back to takes far longer to
 /// the same rest state. A roller on a circular seating arc's rim (no
-/// smooth rest state) ends it after the first round, a stall after the
-/// first round that does not gain. Returns the last round's end,
-/// with the first round's start residual.
+/// smooth rest state) or a round that ends with the stabilising shift on
+/// (a tangent that is not positive definite: Newton may be heading for a
+/// saddle, which the relaxation would roll off; found on a worn timing
+/// drive's slack arm, where going on reached another rest state than the
+/// relaxation's) ends it after that round, a stall after the first round
+/// that does not gain. Returns the last round's end, with the first
+/// round's start residual.
 fn solve_in_rounds(
     model: &DriveModel,
     state: &mut DriveState,
@@ -414,6 +423,7 @@ fn solve_in_rounds(
         if end.converged
             || end.iterations < MAX_ITERATIONS
             || !steady
+            || end.shifted
             || super::feasibility::rim_roller(model, state, forces).is_some()
         {
             break;
