@@ -203,6 +203,11 @@ impl Chain {
             self.pitch_m * (1.0 + self.elongation)
         }
     }
+
+    /// The length the worn chain gained over the new one, N P e, m.
+    pub(crate) fn wear_gain_m(&self) -> f64 {
+        self.rollers as f64 * self.pitch_m * self.elongation
+    }
 }
 
 /// Pin–bushing friction and damping at the chain's joints (docs/model.md,

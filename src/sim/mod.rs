@@ -422,7 +422,7 @@ impl Simulation {
             format!(
                 "the chain meshes with no sprocket at rest: no roller touches a tooth (static tension {:.1} N), so the drive carries nothing until the chain catches a tooth, if it ever does: check that the chain lies on the sprockets (their centres, wraps and the roller count) or take up its slack (a worn chain on fixed centres gains {:.1} mm)",
                 self.equilibrium.tension_n,
-                1e3 * self.scene.chain.rollers as f64 * self.scene.chain.pitch_m * self.scene.chain.elongation
+                1e3 * self.scene.chain.wear_gain_m()
             )
         })
     }

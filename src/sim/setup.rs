@@ -19,16 +19,7 @@ use crate::scene::{PretensionRule, Scene, StepLimits};
 /// limits its run keeps.
 pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLimits), SimError> {
     let limits = BlowUpLimits::for_scene(scene);
-    // The relaxation steps symplectic Euler with the contact damping
-    // implicit: only the links limit its step, whatever step the run's
-    // integrator takes.
-    let settings = RelaxSettings {
-        dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).links_s),
-        max_time_s: scene.equilibrium.max_relax_s,
-        rate_per_s: 60.0,
-        rest_speed_m_s: 1e-6,
-        max_stretch_m: limits.max_stretch_m,
-    };
+    let settings = relax_settings(scene, limits.max_stretch_m);
     // A worn chain: the drive with the chain new first, at its
     // pretension; its links are then lengthened (`worn`).
     let worn = scene;
@@ -98,6 +89,20 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
     Ok((settled, limits))
 }
 
+/// The relaxation's settings for `scene`, links stretched beyond
+/// `max_stretch_m` counting as a blow-up. It steps symplectic Euler with
+/// the contact damping implicit: only the links limit its step, whatever
+/// step the run's integrator takes.
+pub(super) fn relax_settings(scene: &Scene, max_stretch_m: f64) -> RelaxSettings {
+    RelaxSettings {
+        dt_s: scene.solver.dt_s.min(0.8 * StepLimits::of(scene).links_s),
+        max_time_s: scene.equilibrium.max_relax_s,
+        rate_per_s: 60.0,
+        rest_speed_m_s: 1e-6,
+        max_stretch_m,
+    }
+}
+
 /// Refuses a rest state with a roller behind a guide's entry
 /// ([`guide_entry::behind_entry`]).
 fn check_guide_entries(
@@ -122,7 +127,7 @@ fn check_guide_entries(
         format!(
             " (worn by {:.3} %, the chain gained {:.1} mm)",
             100.0 * e,
-            1e3 * scene.chain.rollers as f64 * scene.chain.pitch_m * e
+            1e3 * scene.chain.wear_gain_m()
         )
     } else {
         String::new()
@@ -185,7 +190,7 @@ fn check_shoe_ends(
             format!(
                 ", the chain worn by {:.3} % (chain.elongation_pct) and {:.1} mm longer than new",
                 100.0 * e,
-                1e3 * scene.chain.rollers as f64 * scene.chain.pitch_m * e
+                1e3 * scene.chain.wear_gain_m()
             )
         } else {
             String::new()

@@ -73,19 +73,10 @@ fn a_serpentine_with_a_tensioner_sprocket_settles_by_newton() {
 /// driver: the reference the held solve is compared with. Returns the
 /// strands' mean tensions and the equilibrium.
 fn relaxed_free(scene: &Scene) -> (Vec<Option<f64>>, super::statics::StaticEquilibrium) {
-    use super::statics::{RelaxSettings, settle_rest_length};
+    use super::statics::settle_rest_length;
     let (mut model, mut state, _) = crate::model::DriveModel::build(scene).expect("builds");
     let mut forces = super::settled::new_forces(scene, &model);
-    let settings = RelaxSettings {
-        dt_s: scene
-            .solver
-            .dt_s
-            .min(0.8 * crate::scene::StepLimits::of(scene).links_s),
-        max_time_s: scene.equilibrium.max_relax_s,
-        rate_per_s: 60.0,
-        rest_speed_m_s: 1e-6,
-        max_stretch_m: 1.0,
-    };
+    let settings = super::setup::relax_settings(scene, 1.0);
     let names: Vec<&str> = scene.sprockets.iter().map(|s| s.name.as_str()).collect();
     let eq = settle_rest_length(
         &mut model,
@@ -101,6 +92,19 @@ fn relaxed_free(scene: &Scene) -> (Vec<Option<f64>>, super::statics::StaticEquil
         crate::test_support::strand_means(&model, &state, forces.output()),
         eq,
     )
+}
+
+/// Every sprocket of `sim` turns freely again after the solve, and takes
+/// a chain torque within 10⁻⁶ of `pretension_n` at its pitch radius.
+fn assert_free_and_at_rest(sim: &Simulation, pretension_n: f64) {
+    for (k, sp) in sim.model.sprockets.iter().enumerate() {
+        assert!(sp.inv_inertia > 0.0, "sprocket {k} turns freely again");
+        let m = sim.forces.output().chain_torque[k];
+        assert!(
+            m.abs() <= 1e-6 * pretension_n * sp.pitch_radius_m,
+            "sprocket {k}: chain torque {m} N·m at rest"
+        );
+    }
 }
 
 #[test]
@@ -129,14 +133,7 @@ fn a_drive_without_a_driver_whose_loads_balance_settles_by_newton_at_rest() {
     assert!(eq.force_residual <= 1e-6, "{eq:?}");
     assert_eq!(eq.residual_speed_m_s, 0.0, "{eq:?}");
     assert!(((eq.tension_n - 50.0) / 50.0).abs() <= scene.equilibrium.tension_tolerance);
-    for (k, sp) in sim.model.sprockets.iter().enumerate() {
-        assert!(sp.inv_inertia > 0.0, "sprocket {k} turns freely again");
-        let m = sim.forces.output().chain_torque[k];
-        assert!(
-            m.abs() <= 1e-6 * 50.0 * sp.pitch_radius_m,
-            "sprocket {k}: chain torque {m} N·m at rest"
-        );
-    }
+    assert_free_and_at_rest(&sim, 50.0);
     let held = crate::test_support::strand_means(&sim.model, &sim.state, sim.forces.output());
     let weight_n = 96.0 * 0.0035 * 9.81;
     for t in held.iter().flatten() {
@@ -205,14 +202,7 @@ fn a_worn_chain_on_a_drive_without_a_driver_hangs_at_rest_as_its_catenary() {
     let eq = &sim.equilibrium;
     assert!(eq.unbalanced.is_none(), "{eq:?}");
     assert!(eq.force_residual <= 1e-6, "{eq:?}");
-    for (k, sp) in sim.model.sprockets.iter().enumerate() {
-        assert!(sp.inv_inertia > 0.0, "sprocket {k} turns freely again");
-        let m = sim.forces.output().chain_torque[k];
-        assert!(
-            m.abs() <= 1e-6 * 50.0 * sp.pitch_radius_m,
-            "sprocket {k}: chain torque {m} N·m at rest"
-        );
-    }
+    assert_free_and_at_rest(&sim, 50.0);
     let (x, y) = (&sim.state.x, &sim.state.y);
     let n = x.len();
     let runs = sim

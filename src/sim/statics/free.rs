@@ -72,15 +72,7 @@ pub(crate) fn let_go(
     let Some(radius_m) = model.sprockets.get(held).map(|s| s.pitch_radius_m) else {
         return Ok(eq);
     };
-    let torque = |model: &DriveModel, forces: &ForceGenerator| {
-        forces
-            .output()
-            .chain_torque
-            .get(held)
-            .copied()
-            .unwrap_or(0.0)
-            + model.sprockets[held].load_at_rest_n_m()
-    };
+    let torque = |model: &DriveModel, forces: &ForceGenerator| held_torque_n_m(model, forces, held);
     if load_imbalance_n(scene, model).abs() > REST_FORCE * scale_n {
         let torque_n_m = torque(model, forces);
         eq.unbalanced = Some(Unbalanced {
@@ -130,6 +122,21 @@ pub(crate) fn let_go(
     Ok(eq)
 }
 
+/// The torque out of balance on the sprocket `held`: the chain's torque
+/// on it and its load at rest, N·m.
+fn held_torque_n_m(model: &DriveModel, forces: &ForceGenerator, held: usize) -> f64 {
+    forces
+        .output()
+        .chain_torque
+        .get(held)
+        .copied()
+        .unwrap_or(0.0)
+        + model
+            .sprockets
+            .get(held)
+            .map_or(0.0, |s| s.load_at_rest_n_m())
+}
+
 /// What the sprockets' loads at rest leave unbalanced around the loop, N:
 /// the sum over the sprockets of the tension jump T_out − T_in that each
 /// one's load holds at rest, −w M / R (w = +1 for a counter-clockwise wrap,
@@ -177,15 +184,7 @@ pub(crate) fn settle_held_angle(
     let radius_m = sp.pitch_radius_m;
     let tooth_rad = std::f64::consts::TAU / f64::from(sp.teeth.max(1));
     let tolerance_n_m = REST_FORCE * scale_n.abs() * radius_m;
-    let torque = |forces: &ForceGenerator| {
-        forces
-            .output()
-            .chain_torque
-            .get(held)
-            .copied()
-            .unwrap_or(0.0)
-            + sp.load_at_rest_n_m()
-    };
+    let torque = |forces: &ForceGenerator| held_torque_n_m(model, forces, held);
     let mut previous: Option<(f64, f64)> = None;
     let mut step_rad = 1e-3 * tooth_rad;
     for _ in 0..MAX_TURNS {
