@@ -20,8 +20,7 @@
 //! length or tensioner position (the pretension rules do).
 
 use super::statics::{
-    EquilibriumError, Fallbacks, RelaxSettings, StaticEquilibrium, force_residual,
-    free_strand_tension,
+    EquilibriumError, RelaxSettings, StaticEquilibrium, force_residual, free_strand_tension,
 };
 use super::tension_search::TensionSearch;
 use crate::forces::ForceGenerator;
@@ -44,15 +43,6 @@ const MAX_STEPS: usize = 2000;
 
 /// Relative force residual each step's equilibrium aims at.
 const REST_FORCE: f64 = 1e-7;
-
-/// Parts of the relaxation where Newton stalls, Newton tried after each
-/// (`statics::Fallbacks`). One: the whole relaxation, then Newton. Ten
-/// parts were measured and not kept: they changed the rest state the
-/// timing drive worn 0.5 % reaches at a supply pressure of 0 (no smooth
-/// rest state there), which then ran clean where it had ridden a tooth's
-/// tip, and the prediction alone settles the drives whose steps Newton
-/// can reach.
-const RELAX_PARTS: usize = 1;
 
 /// Most corrections of a tensioner's position after the lengthening.
 const MAX_CORRECTIONS: usize = 40;
@@ -153,10 +143,7 @@ pub(crate) fn wear_in(
             settings,
             (REST_FORCE * scale, 0.5 * REST_FORCE * scale),
             false,
-            Fallbacks {
-                guess,
-                parts: RELAX_PARTS,
-            },
+            guess,
         )
     };
     // The rest state two steps back: with the last one, the prediction of

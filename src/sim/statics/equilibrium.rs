@@ -251,13 +251,6 @@ fn damping_rate(model: &DriveModel, target_n: f64, cap_per_s: f64) -> f64 {
     }
 }
 
-/// Parts of the tensioner-preload rule's relaxation, Newton tried after
-/// each (`newton::Fallbacks`). One, the whole relaxation: ten brought
-/// `user_moto_10b_free_arm` from 1.1 s to 0.5 s but moved the rest state of
-/// drives that have no smooth one (an arm at a supply pressure of 0 with a
-/// roller on a tooth's tip), on which their runs depend.
-const PRELOAD_RELAX_PARTS: usize = 1;
-
 /// The tensioner-preload rule (`pretension_by = "tensioner_preload"`): the
 /// links keep their rest length, the pitch; the drive relaxes with its
 /// tensioner arms free (a hydraulic chamber held at its supply pressure),
@@ -283,17 +276,14 @@ pub(crate) fn settle_preload(
         iterations += 1;
         // Newton first, the relaxation where it stalls (see the newton
         // module).
-        residual = super::newton::settle_from(
+        residual = super::newton::settle(
             model,
             state,
             forces,
             &settings,
-            (REST_FORCE * scale_n, 0.5 * REST_FORCE * scale_n),
+            REST_FORCE * scale_n,
+            0.5 * REST_FORCE * scale_n,
             false,
-            super::newton::Fallbacks {
-                guess: None,
-                parts: PRELOAD_RELAX_PARTS,
-            },
         )?;
         let now = force_residual(forces, scale_n);
         if now <= REST_FORCE || residual < settings.rest_speed_m_s || !(now < 0.9 * previous) {

@@ -34,7 +34,7 @@ pub(crate) use fit::{
 };
 pub(crate) use free::{let_go, sprocket_to_hold};
 pub(crate) use misfit::misfit_tension;
-pub(crate) use newton::{Fallbacks, settle, settle_from};
+pub(crate) use newton::{settle, settle_from};
 #[cfg(test)]
 pub(crate) use relax::RELAXATIONS;
 pub(crate) use relax::{RelaxSettings, relax};

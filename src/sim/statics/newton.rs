@@ -444,28 +444,6 @@ fn solve_in_rounds(
 /// circular seating arc's rim.
 const RIM_RELAX_SHARE: f64 = 0.1;
 
-/// Where Newton stalls from the state given, what [`settle_from`] tries
-/// before and with the relaxation.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Fallbacks<'a> {
-    /// A second start for Newton, tried before the relaxation: a
-    /// continuation's prediction of the rest state (`sim::worn`'s
-    /// lengthening extrapolates the two rest states before).
-    pub(crate) guess: Option<&'a DriveState>,
-    /// The relaxation's time in this many parts, Newton tried after each
-    /// (the relaxation goes on from where it stopped while Newton does not
-    /// converge); 1: the whole relaxation, then Newton.
-    pub(crate) parts: usize,
-}
-
-impl Fallbacks<'_> {
-    /// No second start; the relaxation whole.
-    pub(crate) const PLAIN: Fallbacks<'static> = Fallbacks {
-        guess: None,
-        parts: 1,
-    };
-}
-
 /// Brings the drive at its current rest length to equilibrium within
 /// `rest_force_n`: Newton from `state` (aiming at `newton_force_n`, at most
 /// `rest_force_n`); where Newton stalls, the dynamic relaxation
@@ -485,20 +463,13 @@ pub(crate) fn settle(
     searching: bool,
 ) -> Result<f64, EquilibriumError> {
     let forces_n = (rest_force_n, newton_force_n);
-    settle_from(
-        model,
-        state,
-        forces,
-        settings,
-        forces_n,
-        searching,
-        Fallbacks::PLAIN,
-    )
+    settle_from(model, state, forces, settings, forces_n, searching, None)
 }
 
-/// [`settle`] with `fallbacks` where Newton stalls from `state`: Newton
-/// from the guess, then the relaxation in parts with Newton after each.
-/// `(rest_force_n, newton_force_n)` as for [`settle`].
+/// [`settle`] with a second start for Newton where it stalls from `state`,
+/// tried before the relaxation: `guess`, a continuation's prediction of the
+/// rest state (`sim::worn`'s lengthening extrapolates the two rest states
+/// before). `(rest_force_n, newton_force_n)` as for [`settle`].
 pub(crate) fn settle_from(
     model: &DriveModel,
     state: &mut DriveState,
@@ -506,7 +477,7 @@ pub(crate) fn settle_from(
     settings: &RelaxSettings,
     (rest_force_n, newton_force_n): (f64, f64),
     searching: bool,
-    fallbacks: Fallbacks<'_>,
+    guess: Option<&DriveState>,
 ) -> Result<f64, EquilibriumError> {
     let aim = newton_force_n.min(rest_force_n);
     if !applies(model, state, forces) {
@@ -517,7 +488,7 @@ pub(crate) fn settle_from(
     if first.residual_n <= rest_force_n {
         return Ok(0.0);
     }
-    if let Some(guess) = fallbacks.guess {
+    if let Some(guess) = guess {
         let stalled = state.clone();
         state.clone_from(guess);
         if solve(model, state, forces, aim, MAX_ITERATIONS).residual_n <= rest_force_n {
@@ -551,31 +522,10 @@ pub(crate) fn settle_from(
     } else {
         *settings
     };
-    let parts = fallbacks.parts.max(1);
-    let part = RelaxSettings {
-        max_time_s: settings.max_time_s / parts as f64,
-        ..settings
-    };
-    let mut speed = 0.0;
-    for _ in 0..parts {
-        speed = relax_until(model, state, forces, &part, Some(rest_force_n))?;
-        let relaxed = (parts > 1).then(|| state.clone());
-        let again = solve(model, state, forces, aim, MAX_ITERATIONS);
-        if again.residual_n <= rest_force_n {
-            return Ok(0.0);
-        }
-        if speed < part.rest_speed_m_s {
-            break;
-        }
-        // The relaxation goes on from the relaxed state where Newton only
-        // moved away from it.
-        if let Some(relaxed) = relaxed
-            && !(again.residual_n <= again.start_residual_n)
-        {
-            state.clone_from(&relaxed);
-            forces.reset_memory();
-            forces.evaluate(model, state);
-        }
+    let speed = relax_until(model, state, forces, &settings, Some(rest_force_n))?;
+    let again = solve(model, state, forces, aim, MAX_ITERATIONS);
+    if again.residual_n <= rest_force_n {
+        return Ok(0.0);
     }
     Ok(speed)
 }
