@@ -127,30 +127,43 @@ fn a_worn_chain_sagging_behind_a_guides_entry_is_refused_before_the_run() {
     // fixed centres (the arm hangs free), the slack strand sags below the
     // wear strip's 10 mm, 10° entry ramp, and the first roller to reach the
     // ramp's tip meets the strip from behind.
-    let dir = tempfile::tempdir().expect("temp dir");
-    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/user_moto_10b_free_arm.toml");
-    let text = std::fs::read_to_string(base).expect("scene").replace(
-        "\npretension_by = \"tensioner_preload\"\n",
-        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 3.0\n",
-    );
-    assert!(text.contains("elongation_pct = 3.0"));
-    let scene = dir.path().join("worn.toml");
-    std::fs::write(&scene, text).expect("write");
-    let out = chaindrive(&["check", scene.to_str().expect("utf-8")]);
-    assert!(!out.status.success(), "a chain behind the guide's entry");
-    let err = stderr(&out);
+    let err = worn_check_refused("user_moto_10b_free_arm.toml", "3.0");
     for named in ["slack wear strip", "guides.0.start_ramp", "52.4 mm"] {
         assert!(err.contains(named), "{named} in {err}");
     }
     // The depth named lies beyond the limit, the roller radius 5.08 mm.
-    let key = "meet the face ";
-    let at = err.find(key).unwrap_or_else(|| panic!("{err}")) + key.len();
-    let depth: f64 = err[at..]
+    let depth = number_after(&err, "meet the face ");
+    assert!(depth > 5.08, "{depth} mm");
+}
+
+/// `chaindrive check`'s message for `tests/data/NAME` worn by `pct` %
+/// (a tensioner-preload drive), which it must refuse.
+fn worn_check_refused(name: &str, pct: &str) -> String {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let base = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name);
+    let line = format!("elongation_pct = {pct}");
+    let text = std::fs::read_to_string(base).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        &format!("\npretension_by = \"tensioner_preload\"\n{line}\n"),
+    );
+    assert!(text.contains(&line));
+    let scene = dir.path().join("worn.toml");
+    std::fs::write(&scene, text).expect("write");
+    let out = chaindrive(&["check", scene.to_str().expect("utf-8")]);
+    assert!(!out.status.success(), "{name} worn {pct} % refused");
+    stderr(&out)
+}
+
+/// The number written after `key` in `text`.
+fn number_after(text: &str, key: &str) -> f64 {
+    let at = text.find(key).unwrap_or_else(|| panic!("{text}")) + key.len();
+    text[at..]
         .split(' ')
         .next()
         .and_then(|d| d.parse().ok())
-        .expect("a depth");
-    assert!(depth > 5.08, "{depth} mm");
+        .expect("a number")
 }
 
 #[test]
@@ -163,18 +176,7 @@ fn a_worn_chain_run_over_the_end_of_an_arms_shoe_is_refused_before_the_run() {
     // 12.10 mm (`check` prints it), so the arm turns in until the strand
     // runs over the shoe's end, and roller 12, resting behind that end,
     // meets the shoe from behind once the chain moves.
-    let dir = tempfile::tempdir().expect("temp dir");
-    let base = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/user_timing_06b_arm.toml");
-    let text = std::fs::read_to_string(base).expect("scene").replace(
-        "\npretension_by = \"tensioner_preload\"\n",
-        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 1.0\n",
-    );
-    assert!(text.contains("elongation_pct = 1.0"));
-    let scene = dir.path().join("worn.toml");
-    std::fs::write(&scene, text).expect("write");
-    let out = chaindrive(&["check", scene.to_str().expect("utf-8")]);
-    assert!(!out.status.success(), "a chain over the shoe's end");
-    let err = stderr(&out);
+    let err = worn_check_refused("user_timing_06b_arm.toml", "1.0");
     for named in [
         "slack arm",
         "tensioners.0",
@@ -185,13 +187,7 @@ fn a_worn_chain_run_over_the_end_of_an_arms_shoe_is_refused_before_the_run() {
     ] {
         assert!(err.contains(named), "{named} in {err}");
     }
-    let key = "meet the shoe ";
-    let at = err.find(key).unwrap_or_else(|| panic!("{err}")) + key.len();
-    let depth: f64 = err[at..]
-        .split(' ')
-        .next()
-        .and_then(|d| d.parse().ok())
-        .expect("a depth");
+    let depth = number_after(&err, "meet the shoe ");
     assert!(depth > 3.175, "{depth} mm");
 }
 
