@@ -419,6 +419,7 @@ impl RunSummary {
             window_rows: &in_window,
             chain_speed_m_s: chain_speed,
             unsettled_cause: inputs.static_unsettled_cause.as_deref(),
+            power_flow: flow,
         });
         summary
     }

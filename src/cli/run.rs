@@ -394,7 +394,7 @@ fn simulate(
         writeln!(f)?;
         f.flush().context("writing the summary failed")?;
     }
-    print_summary(&summary);
+    print_summary(&summary, sim.scene.solver().dt_speed);
     for w in &summary.warnings {
         eprintln!("warning: {w}");
     }
@@ -588,7 +588,9 @@ fn print_stage_times(t: &StageTimes, evaluations: u64) {
     }
 }
 
-fn print_summary(s: &RunSummary) {
+/// The run's headline; `dt_speed` names a step chosen by `dt_s = "speed"`,
+/// which the summary counts with the automatic steps (`dt_auto`).
+fn print_summary(s: &RunSummary, dt_speed: bool) {
     println!(
         "{} — {} profile, {}, {} ({}), dt {:e} s{}",
         s.scene,
@@ -597,7 +599,11 @@ fn print_summary(s: &RunSummary) {
         s.integrator,
         s.stepping,
         s.dt_s,
-        if s.dt_auto { " (auto)" } else { "" }
+        match (s.dt_auto, dt_speed) {
+            (true, true) => " (speed)",
+            (true, false) => " (auto)",
+            (false, _) => "",
+        }
     );
     println!(
         "simulated {:.3} s{} in {:.2} s wall ({} steps, {:.0} ns/step; setup {:.2} s)",

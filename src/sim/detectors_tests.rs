@@ -298,6 +298,59 @@ fn energy_from_nowhere_is_a_power_balance_warning() {
 }
 
 #[test]
+fn a_window_whose_stored_energy_outruns_the_flow_through_is_called_unsteady() {
+    // A drive that carries almost nothing: the driver absorbs 0.09 W while
+    // the links and contacts dissipate 0.06 W and the drive gives up 0.10 W
+    // of the energy of its start (over 2 s, 0.2 J). The residual,
+    // −0.09 − 0.06 + 0.10 = −0.05 W, is 56 % of the 0.09 W through: a
+    // fraction of a small flow in a window that is not steady. The warning
+    // says so instead of blaming the step.
+    let row = |t, m: &DriveModel| steady(m, t, -2.0, 1725.0, (100.0, 2000.0));
+    let settling = PowerMeans {
+        duration_s: 2.0,
+        energy_change_j: -0.2,
+        ..flow(-0.09, 0.06)
+    };
+    let s = judged_with(&unloaded(), 1e-4, Some(settling), row);
+    let error = s.energy_balance_error.expect("counted");
+    approx::assert_relative_eq!(error, -0.05 / 0.09, max_relative = 1e-12);
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.starts_with("power balance"))
+        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    assert!(
+        w.contains("not steady") && w.contains("gave up 0.100 W"),
+        "{w}"
+    );
+    assert!(!w.contains("too large"), "{w}");
+    // A steady window (the energy held) with 5 % made: the step is blamed,
+    // and a second-order integrator advised only to a first-order run.
+    let steady_flow = flow(1.0, 1.05);
+    let s = judged_with(&unloaded(), 1e-4, Some(steady_flow), row);
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.starts_with("power balance"))
+        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    assert!(
+        w.contains("too large") && w.contains("velocity_verlet"),
+        "{w}"
+    );
+    let verlet = unloaded().replace("[solver]", "[solver]\nintegrator = \"velocity_verlet\"");
+    let s = judged_with(&verlet, 1e-4, Some(steady_flow), row);
+    let w = s
+        .warnings
+        .iter()
+        .find(|w| w.starts_with("power balance"))
+        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    assert!(
+        w.contains("too large") && !w.contains("velocity_verlet"),
+        "{w}"
+    );
+}
+
+#[test]
 fn samples_that_alias_raise_no_balance_warning_the_ledger_does_not_see() {
     // The samples catch the chain's moment on the driver at +1 N·m (the
     // driver absorbing 600 W, as a sample rate that meets the same phase of
