@@ -787,7 +787,7 @@ mod tests {
         // δ_max = (5 m v₀² / (4 K))^(2/5) (½ m v₀² = 2/5 K δ^(5/2)), with the
         // guide evaluated every 10 steps of 1 µs (10 µs, about a 47th of the
         // contact's 0.47 ms). Tolerances: speed 0.5 %, depth 1 %.
-        let (m, v0, k) = (0.05, 0.1, 1e9);
+        let (m, v0, k) = (0.05f64, 0.1, 1e9);
         let expected = (5.0 * m * v0 * v0 / (4.0 * k)).powf(0.4);
         for every in [1, 10] {
             let mut g = flat(None, 0.0).every_steps(every);
@@ -813,7 +813,7 @@ mod tests {
         // K)^(2/3) = 0.622 µm, with the guide evaluated every 10 µs (a
         // 130th of the contact's period at that load). Mean over the last
         // 10 ms of 0.3 s, within 0.5 %.
-        let (m, grav) = (0.05, 9.81);
+        let (m, grav) = (0.05f64, 9.81);
         let expected = (m * grav / 1e9).powf(2.0 / 3.0);
         let mut g = flat(None, 0.0).every_steps(10);
         g.params.law = law(1e9, 0.1);
