@@ -361,7 +361,7 @@ fn guide_rates(name: &str, sim: &Simulation) {
     {
         let load = g.largest_normal_n();
         let limit = g.stable_interval_s(mass, load);
-        let every = g.every();
+        let every = g.configured_every();
         let interval = f64::from(every) * dt;
         println!(
             "guide \"{}\": evaluated every {every} step(s) ({:.2} µs); its most loaded roller at rest carries {load:.3} N, for which the contact's estimated largest stable interval is {:.1} µs",

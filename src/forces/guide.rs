@@ -196,7 +196,7 @@ impl GuideElement {
     }
 
     /// Steps between the contact's evaluations in a run.
-    pub(crate) fn every(&self) -> u32 {
+    pub(crate) fn configured_every(&self) -> u32 {
         self.configured
     }
 
