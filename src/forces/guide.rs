@@ -105,6 +105,24 @@ pub(crate) struct GuideElement {
     /// Scratch of the fixed straight guide's kernel ([`bar`]), sized where
     /// it applies.
     bar: BarScratch,
+    /// Steps between the contact's evaluations in a run (1: every step; see
+    /// [`GuideElement::every_steps`]).
+    configured: u32,
+    /// Steps between the evaluations now: `configured` from a run's start
+    /// ([`ForceElement::begin_run`]), 1 before it and from a relaxation on.
+    every: u32,
+    /// Committed steps before the next evaluation is due (0: the next one).
+    due: u32,
+    /// The time of the last committed evaluation: an evaluation at that
+    /// time again (the same state) is one too.
+    evaluated_t_s: f64,
+    /// The time of the last evaluation that computed the contact, if the
+    /// last evaluation did (adopted at commit).
+    computed_t_s: Option<f64>,
+    /// The elastic energy of the last evaluation, J (held between them).
+    held_energy_j: f64,
+    /// The largest normal force on one roller at the last evaluation, N.
+    largest_normal_n: f64,
 }
 
 impl GuideElement {
@@ -124,7 +142,27 @@ impl GuideElement {
             onset: vec![-1.0; rollers],
             pending: vec![-1.0; rollers],
             last: ShoeForces::default(),
+            configured: 1,
+            every: 1,
+            due: 0,
+            evaluated_t_s: f64::NAN,
+            computed_t_s: None,
+            held_energy_j: 0.0,
+            largest_normal_n: 0.0,
         }
+    }
+
+    /// Evaluates the contact at every `every`-th step only, applying its
+    /// force as an impulse of `every` steps (`every` times the force at that
+    /// step; in between the guide adds nothing, its reported sums and
+    /// elastic energy held): the impulse, or r-RESPA, multiple time step
+    /// scheme (docs/model.md, “Guides”). From a run's start only
+    /// ([`ForceElement::begin_run`], for a scheme that evaluates the forces
+    /// once a step, at its end); the static equilibrium evaluates at every
+    /// step.
+    pub(crate) fn every_steps(mut self, every: u32) -> Self {
+        self.configured = every.max(1);
+        self
     }
 
     /// Tests every roller at every evaluation (no kept candidates): the
@@ -149,6 +187,42 @@ impl GuideElement {
             chain.rollers,
             chain.roller_radius_m,
         )
+        .every_steps(guide.every_steps)
+    }
+
+    /// The guide's name.
+    pub(crate) fn name(&self) -> &str {
+        &self.params.name
+    }
+
+    /// Steps between the contact's evaluations in a run.
+    pub(crate) fn configured_every(&self) -> u32 {
+        self.configured
+    }
+
+    /// The largest normal force on one roller at the last evaluation, N.
+    pub(crate) fn largest_normal_n(&self) -> f64 {
+        self.largest_normal_n
+    }
+
+    /// The contact's largest stable interval between evaluations for a
+    /// roller of mass `mass_kg` carrying `load_n`, s: the smaller of the
+    /// linearised contact's 2/ω, with ω² = k_lin / m and
+    /// k_lin = dF/dδ = n F / δ at δ = (F/K)^(1/n), and of m / c, the
+    /// damping's c = χ F / δ̇⁻ at the approach-speed floor (taken, as the
+    /// explicit damping of `verlet_implicit_damping`, at predicted
+    /// velocities: stable for h c / m < 1). ∞ at no load.
+    pub(crate) fn stable_interval_s(&self, mass_kg: f64, load_n: f64) -> f64 {
+        let law = self.run_law.unwrap_or(self.params.law);
+        if !(load_n > 0.0 && mass_kg > 0.0) {
+            return f64::INFINITY;
+        }
+        let depth = (load_n / law.stiffness).powf(1.0 / law.exponent);
+        let k_lin = law.exponent * load_n / depth;
+        let oscillation = 2.0 / (k_lin / mass_kg).sqrt();
+        let c = law.damping_per_speed(0.0) * load_n;
+        let damping = if c > 0.0 { mass_kg / c } else { f64::INFINITY };
+        oscillation.min(damping)
     }
 
     /// The forces of the last evaluation.
@@ -184,11 +258,26 @@ impl ForceElement for GuideElement {
     }
 
     fn evaluate(&mut self, _model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        if self.every > 1 && self.due > 0 && s.t_s != self.evaluated_t_s {
+            // Between evaluations: nothing added, the sums held.
+            self.computed_t_s = None;
+            out.contact_energy_j += self.held_energy_j;
+            out.max_penetration_m = out.max_penetration_m.max(self.last.max_penetration_m);
+            out.shoes.push(self.last);
+            return;
+        }
+        self.computed_t_s = Some(s.t_s);
         let sums = self.contact(s, out);
         out.shoes.push(sums);
     }
 
     fn commit(&mut self) {
+        let Some(t_s) = self.computed_t_s else {
+            self.due = self.due.saturating_sub(1);
+            return;
+        };
+        self.due = self.every - 1;
+        self.evaluated_t_s = t_s;
         self.onset.copy_from_slice(&self.pending);
         if let Some(near) = &mut self.near {
             near.commit();
@@ -198,6 +287,12 @@ impl ForceElement for GuideElement {
     fn save_history(&self, history: &mut History) {
         history.push_floats(self.onset.iter().copied());
         history.push_floats(self.pending.iter().copied());
+        if self.configured > 1 {
+            // The schedule and what is held between evaluations.
+            history.push_words([u64::from(self.due)]);
+            history.push_floats([self.evaluated_t_s, self.held_energy_j]);
+            history.push_floats(self.held_sums());
+        }
     }
 
     fn restore_history(&mut self, history: &mut HistoryReader<'_>) -> Result<(), HistoryError> {
@@ -205,6 +300,13 @@ impl ForceElement for GuideElement {
         self.onset.copy_from_slice(onset);
         let pending = history.floats(self.pending.len())?;
         self.pending.copy_from_slice(pending);
+        if self.configured > 1 {
+            self.due = history.words(1)?[0].min(u64::from(self.configured - 1)) as u32;
+            let [t_s, energy_j] = history.floats(2)?.try_into().unwrap_or([f64::NAN, 0.0]);
+            (self.evaluated_t_s, self.held_energy_j) = (t_s, energy_j);
+            let sums = history.floats(HELD_SUMS)?;
+            self.hold_sums(sums);
+        }
         self.expire_near();
         Ok(())
     }
@@ -212,6 +314,8 @@ impl ForceElement for GuideElement {
     fn reset(&mut self) {
         self.onset.fill(-1.0);
         self.pending.fill(-1.0);
+        self.due = 0;
+        self.evaluated_t_s = f64::NAN;
         self.expire_near();
     }
 
@@ -222,6 +326,7 @@ impl ForceElement for GuideElement {
     fn begin_equilibrium(&mut self) {
         let run = *self.run_law.get_or_insert(self.params.law);
         self.params.law = run.with_chi(RELAXATION_CHI);
+        (self.every, self.due) = (1, 0);
         self.expire_near();
     }
 
@@ -230,6 +335,11 @@ impl ForceElement for GuideElement {
             self.params.law = law;
         }
         self.expire_near();
+    }
+
+    fn begin_run(&mut self) {
+        (self.every, self.due) = (self.configured, 0);
+        self.evaluated_t_s = f64::NAN;
     }
 
     fn clone_box(&self) -> Box<dyn ForceElement> {
@@ -254,6 +364,9 @@ impl GuideElement {
         let (mu, v_s) = (self.params.friction, self.params.slip_speed_m_s);
         let r = self.roller_radius_m;
         let [x0, y0, x1, y1] = face.bounds_m;
+        // The impulse's weight: the force of `every` steps (1.0 × f = f).
+        let weight = f64::from(self.every);
+        let mut largest_normal = 0.0f64;
         let mut sums = ShoeForces::default();
         let (mut energy, mut damping_power) = (0.0, 0.0);
         let n = [
@@ -288,6 +401,7 @@ impl GuideElement {
                 friction: (mu, v_s),
                 radius_m: r,
                 bounds_m: [x0, y0, x1, y1],
+                weight,
             };
             let avx2 = cpu_has_avx2();
             for &[a, b] in runs {
@@ -305,9 +419,11 @@ impl GuideElement {
                     sums: &mut sums,
                     energy: &mut energy,
                     damping_power: &mut damping_power,
+                    largest_normal: &mut largest_normal,
                 };
                 bar::run(&bar, rollers, &mut self.bar, avx2, totals);
             }
+            self.largest_normal_n = largest_normal;
             return self.finish(out, sums, energy, damping_power);
         }
         let straight = self.straight;
@@ -355,8 +471,8 @@ impl GuideElement {
             let (flx, fly) = (f_n * nx - f_t * ny, f_n * ny + f_t * nx);
             let fx = cos_q * flx - sin_q * fly;
             let fy = sin_q * flx + cos_q * fly;
-            fxs[i] += fx;
-            fys[i] += fy;
+            fxs[i] += weight * fx;
+            fys[i] += weight * fy;
             // Its reaction on the shoe at the contact point (world).
             let (cx, cy) = (hit.point_m[0] - pivot[0], hit.point_m[1] - pivot[1]);
             let (cwx, cwy) = (cos_q * cx - sin_q * cy, sin_q * cx + cos_q * cy);
@@ -364,6 +480,7 @@ impl GuideElement {
             sums.force_n[0] -= fx;
             sums.force_n[1] -= fy;
             sums.normal_n += f_n;
+            largest_normal = largest_normal.max(f_n);
             sums.friction_n += f_t.abs();
             sums.contacts += 1;
             sums.max_penetration_m = sums.max_penetration_m.max(depth);
@@ -374,6 +491,7 @@ impl GuideElement {
             Some(runs) => runs.iter().flat_map(|&[a, b]| a..b).for_each(roller),
             None => (0..n).for_each(&mut roller),
         }
+        self.largest_normal_n = largest_normal;
         self.finish(out, sums, energy, damping_power)
     }
 
@@ -386,7 +504,9 @@ impl GuideElement {
         damping_power: f64,
     ) -> ShoeForces {
         out.contact_energy_j += energy;
-        out.contact_damping_power_w += damping_power;
+        // The damping's work over the impulse's steps (1.0 × p = p).
+        out.contact_damping_power_w += f64::from(self.every) * damping_power;
+        self.held_energy_j = energy;
         match self.params.carrier {
             Some(c) => {
                 if let Some(q) = out.body_force.get_mut(c.body) {
@@ -399,7 +519,47 @@ impl GuideElement {
         self.last = sums;
         sums
     }
+
+    /// The held sums as floats, for a checkpoint.
+    fn held_sums(&self) -> [f64; HELD_SUMS] {
+        let l = &self.last;
+        [
+            l.normal_n,
+            l.friction_n,
+            l.force_n[0],
+            l.force_n[1],
+            l.moment_n_m,
+            l.contacts as f64,
+            l.max_penetration_m,
+        ]
+    }
+
+    /// Takes back [`Self::held_sums`]' output.
+    fn hold_sums(&mut self, v: &[f64]) {
+        if let [
+            normal_n,
+            friction_n,
+            fx,
+            fy,
+            moment_n_m,
+            contacts,
+            max_penetration_m,
+        ] = *v
+        {
+            self.last = ShoeForces {
+                normal_n,
+                friction_n,
+                force_n: [fx, fy],
+                moment_n_m,
+                contacts: contacts as usize,
+                max_penetration_m,
+            };
+        }
+    }
 }
+
+/// Floats of the held sums in a checkpoint.
+const HELD_SUMS: usize = 7;
 
 #[cfg(test)]
 mod tests {
@@ -551,6 +711,127 @@ mod tests {
         g.evaluate(&model, &state, &mut out);
         g.commit();
         assert!(g.onset[1] < 0.0);
+    }
+
+    /// One roller of mass `m` (roller 1 of [`drive`]) stepped by symplectic
+    /// Euler at `h` under gravity `g` (downwards) and the flat guide `g_el`
+    /// from height `y0` at vertical speed `v0`, for `steps` steps; `each`
+    /// sees the state after every step (penetration, vertical speed).
+    #[allow(clippy::too_many_arguments)]
+    fn drop_on(
+        g_el: &mut GuideElement,
+        m: f64,
+        g: f64,
+        h: f64,
+        y0: f64,
+        v0: f64,
+        steps: usize,
+        mut each: impl FnMut(f64, f64),
+    ) {
+        let (model, mut state) = drive(3);
+        state.x[1] = 0.5;
+        state.y[1] = y0;
+        state.vy[1] = v0;
+        state.t_s = 0.0;
+        g_el.begin_run();
+        let mut out = Forces::new(3, 0, 0, 0);
+        g_el.evaluate(&model, &state, &mut out);
+        g_el.commit();
+        for step in 1..=steps {
+            state.vy[1] += h * (out.fy[1] / m - g);
+            state.y[1] += h * state.vy[1];
+            state.t_s = step as f64 * h;
+            out = Forces::new(3, 0, 0, 0);
+            g_el.evaluate(&model, &state, &mut out);
+            g_el.commit();
+            each(0.01 - state.y[1], state.vy[1]);
+        }
+    }
+
+    #[test]
+    fn every_kth_step_adds_k_times_the_force_and_nothing_between() {
+        // A roller held at δ = 1 mm: over any k consecutive steps the guide
+        // adds k·f once (the impulse k h f of k steps) and nothing at the
+        // others, while its reported sums stay f.
+        let (model, mut state) = drive(3);
+        state.x[1] = 0.5;
+        state.y[1] = 0.009;
+        let f = 1e9 * 1e-3f64.powf(1.5);
+        let k = 7;
+        let mut g = flat(None, 0.3).every_steps(k);
+        g.begin_run();
+        let mut added = Vec::new();
+        for step in 0..3 * k {
+            state.t_s = f64::from(step) * 1e-6;
+            let mut out = Forces::new(3, 0, 0, 0);
+            g.evaluate(&model, &state, &mut out);
+            // Evaluated again at the same state: the same forces.
+            let mut again = Forces::new(3, 0, 0, 0);
+            g.evaluate(&model, &state, &mut again);
+            assert_eq!(out.fy, again.fy);
+            g.commit();
+            added.push(out.fy[1]);
+            assert!((out.shoes[0].normal_n - f).abs() < 1e-6 * f);
+        }
+        for window in added.windows(k as usize) {
+            let sum: f64 = window.iter().sum();
+            assert!((sum - f64::from(k) * f).abs() < 1e-9 * f, "{window:?}");
+            assert_eq!(window.iter().filter(|&&v| v == 0.0).count(), k as usize - 1);
+        }
+    }
+
+    #[test]
+    fn an_elastic_bounce_every_tenth_step_keeps_its_energy_and_hertz_depth() {
+        // e = 1 (no damping): a roller of m = 50 g meeting the face at
+        // v₀ = 0.1 m/s rebounds at v₀ and reaches the Hertz depth
+        // δ_max = (5 m v₀² / (4 K))^(2/5) (½ m v₀² = 2/5 K δ^(5/2)), with the
+        // guide evaluated every 10 steps of 1 µs (10 µs, about a 47th of the
+        // contact's 0.47 ms). Tolerances: speed 0.5 %, depth 1 %.
+        let (m, v0, k) = (0.05f64, 0.1, 1e9);
+        let expected = (5.0 * m * v0 * v0 / (4.0 * k)).powf(0.4);
+        for every in [1, 10] {
+            let mut g = flat(None, 0.0).every_steps(every);
+            let (mut deepest, mut last_v) = (0.0f64, 0.0);
+            drop_on(&mut g, m, 0.0, 1e-6, 0.0101, -v0, 2000, |d, v| {
+                deepest = deepest.max(d);
+                last_v = v;
+            });
+            assert!(
+                (last_v - v0).abs() < 5e-3 * v0,
+                "every {every}: rebound {last_v} m/s"
+            );
+            assert!(
+                (deepest - expected).abs() < 1e-2 * expected,
+                "every {every}: depth {deepest} m, Hertz {expected} m"
+            );
+        }
+    }
+
+    #[test]
+    fn a_roller_resting_under_load_settles_to_the_hertz_depth() {
+        // m g = 0.4905 N on the face (K = 1e9, e = 0.1): at rest δ = (m g /
+        // K)^(2/3) = 0.622 µm, with the guide evaluated every 10 µs (a
+        // 130th of the contact's period at that load). Mean over the last
+        // 10 ms of 0.3 s, within 0.5 %.
+        let (m, grav) = (0.05f64, 9.81);
+        let expected = (m * grav / 1e9).powf(2.0 / 3.0);
+        let mut g = flat(None, 0.0).every_steps(10);
+        g.params.law = law(1e9, 0.1);
+        let (mut sum, mut count) = (0.0, 0);
+        let steps = 300_000;
+        let mut step = 0;
+        drop_on(&mut g, m, grav, 1e-6, 0.01, 0.0, steps, |d, _| {
+            step += 1;
+            if step > steps - 10_000 {
+                sum += d;
+                count += 1;
+            }
+        });
+        let mean = sum / f64::from(count);
+        assert!(
+            (mean - expected).abs() < 5e-3 * expected,
+            "mean depth {mean} m, Hertz {expected} m"
+        );
     }
 
     #[test]

@@ -142,6 +142,10 @@ pub trait ForceElement: std::fmt::Debug + Send + Sync {
     /// The relaxation has ended: switch back to the run's settings.
     fn end_equilibrium(&mut self) {}
 
+    /// A run of a scheme that evaluates the forces once a step, at the
+    /// step's end, begins (a guide evaluated every k steps starts to).
+    fn begin_run(&mut self) {}
+
     /// Writes what a checkpoint must keep of the element: the history
     /// [`Self::commit`] adopted, and whatever of the last evaluation the next
     /// one reads. The default writes nothing (an element without history).
@@ -431,6 +435,14 @@ impl ForceGenerator {
         self.contact.end_equilibrium();
         for e in &mut self.elements {
             e.end_equilibrium();
+        }
+    }
+
+    /// Every further element: a run of a scheme that evaluates the forces
+    /// once a step, at its end, begins ([`ForceElement::begin_run`]).
+    pub(crate) fn begin_run(&mut self) {
+        for e in &mut self.elements {
+            e.begin_run();
         }
     }
 

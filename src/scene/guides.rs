@@ -10,7 +10,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::checker::Checker;
-use super::{Chain, Contact, Sprocket};
+use super::{Chain, Contact, Integrator, Solver, Sprocket, Stepping};
 use crate::geometry::shoe::{Face, Piece, Ramp, ShoeError, body_from_centre, body_from_radius};
 use crate::geometry::v2::segment_distance;
 use crate::geometry::{ChainPath, PathCircle, chain_path};
@@ -58,6 +58,11 @@ pub struct GuideFile {
     /// Regularisation speed v_s of the friction, m/s (default 0.01).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub slip_speed_m_s: Option<f64>,
+    /// The guide's contact is evaluated at every this many steps and its
+    /// force applied as an impulse of that many steps (default 1: every
+    /// step; docs/model.md, “Guides”, “A guide evaluated every k steps”).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub every_steps: Option<f64>,
 }
 
 /// A lead-in ramp as written.
@@ -86,7 +91,12 @@ pub(crate) struct Guide {
     /// The nominal path's clearance from the face, m: its smallest distance
     /// from the face less the roller radius (≤ 0: the rollers press on it).
     pub clearance_m: f64,
+    /// Steps between the contact's evaluations (1: every step).
+    pub every_steps: u32,
 }
+
+/// The largest `every_steps` accepted.
+const MAX_EVERY_STEPS: f64 = 1000.0;
 
 /// The rollers' largest reach beyond a sprocket's pitch circle where a shoe
 /// must not be: a seated roller's outside edge.
@@ -103,6 +113,7 @@ pub(super) fn check_guides(
     chain: &Chain,
     contact: &Contact,
     sprockets: &[Sprocket],
+    solver: &Solver,
 ) -> Vec<Guide> {
     let circles: Vec<PathCircle> = sprockets
         .iter()
@@ -116,6 +127,7 @@ pub(super) fn check_guides(
         chain,
         contact,
         sprockets,
+        solver,
         path: chain_path(&circles).ok(),
     };
     files
@@ -131,6 +143,7 @@ struct Drive<'a> {
     chain: &'a Chain,
     contact: &'a Contact,
     sprockets: &'a [Sprocket],
+    solver: &'a Solver,
     path: Option<ChainPath>,
 }
 
@@ -142,13 +155,14 @@ struct GuideFields {
     restitution: f64,
     friction: f64,
     slip_speed_m_s: f64,
+    every_steps: u32,
 }
 
 /// Guide `k` (`guides[k]`), or `None` where it fails a check.
 fn check_guide(c: &mut Checker, k: usize, f: &GuideFile, drive: &Drive<'_>) -> Option<Guide> {
     let at = |field: &str| format!("guides[{k}].{field}");
     let errors_before = c.errors.len();
-    let fields = check_fields(c, k, f, drive.contact);
+    let fields = check_fields(c, k, f, drive.contact, drive.solver);
     if c.errors.len() > errors_before {
         return None;
     }
@@ -205,11 +219,18 @@ fn check_guide(c: &mut Checker, k: usize, f: &GuideFile, drive: &Drive<'_>) -> O
         friction: fields.friction,
         slip_speed_m_s: fields.slip_speed_m_s,
         clearance_m,
+        every_steps: fields.every_steps,
     })
 }
 
 /// Guide `k`'s own fields, the contact's where it gives none.
-fn check_fields(c: &mut Checker, k: usize, f: &GuideFile, contact: &Contact) -> GuideFields {
+fn check_fields(
+    c: &mut Checker,
+    k: usize,
+    f: &GuideFile,
+    contact: &Contact,
+    solver: &Solver,
+) -> GuideFields {
     let at = |field: &str| format!("guides[{k}].{field}");
     if f.name.trim().is_empty() {
         c.fail(at("name"), "must not be empty");
@@ -293,7 +314,42 @@ fn check_fields(c: &mut Checker, k: usize, f: &GuideFile, contact: &Contact) -> 
         restitution,
         friction,
         slip_speed_m_s,
+        every_steps: check_every_steps(c, k, f.every_steps, solver),
     }
+}
+
+/// Guide `k`'s `every_steps`: a whole number in [1, 1000], above 1 only
+/// where one evaluation of the forces ends each step (the impulse is then
+/// applied at a step's end, where no inner stage reads the forces).
+fn check_every_steps(c: &mut Checker, k: usize, every: Option<f64>, solver: &Solver) -> u32 {
+    let field = format!("guides[{k}].every_steps");
+    let Some(every) = every else {
+        return 1;
+    };
+    if !(every.fract() == 0.0 && (1.0..=MAX_EVERY_STEPS).contains(&every)) {
+        c.fail(
+            &field,
+            format!("must be a whole number of steps from 1 to {MAX_EVERY_STEPS}, got {every}"),
+        );
+        return 1;
+    }
+    let one_evaluation = matches!(
+        solver.integrator,
+        Integrator::SymplecticEuler
+            | Integrator::ImplicitDamping
+            | Integrator::VerletImplicitDamping
+    );
+    if every > 1.0 && !(one_evaluation && solver.stepping == Stepping::Substepped) {
+        c.fail(
+            &field,
+            format!(
+                "above 1 needs solver.integrator = \"symplectic_euler\", \"implicit_damping\" or \"verlet_implicit_damping\" and solver.stepping = \"substepped\" (one evaluation of the forces a step); the scene has \"{}\"",
+                solver.integrator.name()
+            ),
+        );
+        return 1;
+    }
+    every as u32
 }
 
 /// Whether guide `k`'s shoe `body` lies inside a sprocket's reach, where

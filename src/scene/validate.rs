@@ -69,7 +69,7 @@ impl TryFrom<SceneFile> for Scene {
         let bearing = chain.pin_radius_m.is_some() && chain.bushing_length_m.is_some();
         let checks = super::checks::check_checks(&mut c, &file.checks, bearing);
         let guides = if c.errors.is_empty() {
-            super::guides::check_guides(&mut c, &file.guides, &chain, &contact, &sprockets)
+            super::guides::check_guides(&mut c, &file.guides, &chain, &contact, &sprockets, &solver)
         } else {
             Vec::new()
         };

@@ -203,6 +203,14 @@ impl Integration {
         };
         if matches!(
             scheme,
+            Integrator::SymplecticEuler
+                | Integrator::ImplicitDamping
+                | Integrator::VerletImplicitDamping
+        ) {
+            forces.begin_run();
+        }
+        if matches!(
+            scheme,
             Integrator::ImplicitDamping | Integrator::VerletImplicitDamping
         ) {
             forces.enable_damping_rows();

@@ -61,6 +61,8 @@ pub(super) struct Bar {
     pub(super) radius_m: f64,
     /// The face's bounds, [min x, min y, max x, max y], m.
     pub(super) bounds_m: [f64; 4],
+    /// The weight of the force added to the rollers (the impulse's steps).
+    pub(super) weight: f64,
 }
 
 /// The rollers' state and outputs over one run.
@@ -80,6 +82,8 @@ pub(super) struct Totals<'a> {
     pub(super) sums: &'a mut ShoeForces,
     pub(super) energy: &'a mut f64,
     pub(super) damping_power: &'a mut f64,
+    /// The largest normal force on one roller.
+    pub(super) largest_normal: &'a mut f64,
 }
 
 /// The contact of the rollers of one run with the bar; `scratch` is indexed
@@ -106,6 +110,7 @@ pub(super) fn run(
         sums,
         energy,
         damping_power,
+        largest_normal,
     } = totals;
     // Slices of one length and the totals in locals: no bounds checks and
     // no stores in the loop.
@@ -116,6 +121,7 @@ pub(super) fn run(
     let (e, p) = (&s.energy[..m], &s.power[..m]);
     let mut t = *sums;
     let (mut energy_j, mut power_w) = (*energy, *damping_power);
+    let mut largest = *largest_normal;
     for i in 0..m {
         if hit[i] == 0 {
             continue;
@@ -124,6 +130,9 @@ pub(super) fn run(
         t.force_n[0] -= fx[i];
         t.force_n[1] -= fy[i];
         t.normal_n += normal[i];
+        if normal[i] > largest {
+            largest = normal[i];
+        }
         t.friction_n += friction[i];
         t.contacts += 1;
         // `f64::max` drops a NaN depth; the running maximum starts at 0 and
@@ -136,6 +145,7 @@ pub(super) fn run(
     }
     *sums = t;
     (*energy, *damping_power) = (energy_j, power_w);
+    *largest_normal = largest;
 }
 
 /// The per-roller loop for the CPU (AVX2 where it has it; the same bits).
@@ -273,6 +283,7 @@ fn each_roller_body(
     let law = bar.law;
     let (mu, v_s) = bar.friction;
     let r = bar.radius_m;
+    let weight = bar.weight;
     let [x0, y0, x1, y1] = bar.bounds_m;
     let (lo_x, lo_y, hi_x, hi_y) = (x0 - r, y0 - r, x1 + r, y1 + r);
     let exponent_plus_one = law.exponent + 1.0;
@@ -305,8 +316,16 @@ fn each_roller_body(
         let (flx, fly) = (f_n * nx - f_t * ny, f_n * ny + f_t * nx);
         let fx = cos_q * flx - sin_q * fly;
         let fy = sin_q * flx + cos_q * fly;
-        fx_out[i] = if on { fx_out[i] + fx } else { fx_out[i] };
-        fy_out[i] = if on { fy_out[i] + fy } else { fy_out[i] };
+        fx_out[i] = if on {
+            fx_out[i] + weight * fx
+        } else {
+            fx_out[i]
+        };
+        fy_out[i] = if on {
+            fy_out[i] + weight * fy
+        } else {
+            fy_out[i]
+        };
         // Its reaction on the shoe at the contact point (world).
         let (cx, cy) = (face.point_m[0] - pivot[0], face.point_m[1] - pivot[1]);
         let (cwx, cwy) = (cos_q * cx - sin_q * cy, sin_q * cx + cos_q * cy);
