@@ -69,6 +69,7 @@ pub(crate) use integrate::{Integration, IntegrationStats};
 pub use jumps::ToothJump;
 pub(crate) use jumps::{JumpWatch, TipRide};
 pub use sample_rate::{SampleRate, SampleRateError};
+pub(crate) use setup::stage as setup_stage;
 pub(crate) use sliding::JointSliding;
 #[cfg(test)]
 pub(crate) use statics::fitting_counts;
