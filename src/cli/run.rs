@@ -725,7 +725,7 @@ pub(super) fn note_slow_setup<T>(quiet: bool, setup: impl FnOnce() -> T) -> T {
             let mut tick = Duration::from_secs(1);
             while let Err(RecvTimeoutError::Timeout) = wait.recv_timeout(tick) {
                 tick = Duration::from_millis(500);
-                let stage = crate::sim::setup_stage(setting_up).unwrap_or_default();
+                let stage = crate::sim::setup_stage::stage(setting_up).unwrap_or_default();
                 let due = last.as_ref().is_none_or(|(said, at)| {
                     let quiet_for = at.elapsed().as_secs_f64();
                     (*said != stage && quiet_for >= 5.0) || quiet_for >= 30.0

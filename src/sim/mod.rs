@@ -42,6 +42,7 @@ pub(crate) mod parallel;
 mod sample_rate;
 pub(crate) mod settled;
 mod setup;
+pub(crate) mod setup_stage;
 mod sliding;
 mod statics;
 #[cfg(test)]
@@ -69,7 +70,6 @@ pub(crate) use integrate::{Integration, IntegrationStats};
 pub use jumps::ToothJump;
 pub(crate) use jumps::{JumpWatch, TipRide};
 pub use sample_rate::{SampleRate, SampleRateError};
-pub(crate) use setup::stage as setup_stage;
 pub(crate) use sliding::JointSliding;
 #[cfg(test)]
 pub(crate) use statics::fitting_counts;

@@ -2,14 +2,12 @@
 //! pretension rule (rest length, tensioner, tensioner preload), sprockets
 //! held for the solve where a co-simulation asks, and a worn chain's links
 //! lengthened after it settled new. Each thread's setup says what it is
-//! solving ([`stage`]), so that a slow setup can tell its user. What this
-//! module does not do: step the drive, or build the rapier world
-//! (`Simulation::assemble`).
-
-use std::sync::Mutex;
-use std::thread::ThreadId;
+//! solving ([`super::setup_stage`]), so that a slow setup can tell its
+//! user. What this module does not do: step the drive, or build the rapier
+//! world (`Simulation::assemble`).
 
 use super::settled::{Settled, new_forces};
+use super::setup_stage::{Staged, note_stage};
 use super::statics::{self, EquilibriumError, RelaxSettings, settle_rest_length};
 use super::take_up::{settle_tensioner, wear_settled};
 use super::worn::WearStep;
@@ -288,49 +286,10 @@ fn release(model: &mut DriveModel, freed: &[(usize, f64)]) {
     }
 }
 
-/// What the setup on each thread is solving, a phrase each (see [`stage`]).
-static STAGES: Mutex<Vec<(ThreadId, String)>> = Mutex::new(Vec::new());
-
-/// Notes that the setup on this thread now solves `what` (a phrase such as
-/// "the chain new at its pretension"), until the next note or the setup's
-/// end.
-pub(super) fn note_stage(what: impl FnOnce() -> String) {
-    let thread = std::thread::current().id();
-    // A poisoned lock only loses the note.
-    if let Ok(mut stages) = STAGES.lock() {
-        let text = what();
-        match stages.iter_mut().find(|(t, _)| *t == thread) {
-            Some(entry) => entry.1 = text,
-            None => stages.push((thread, text)),
-        }
-    }
-}
-
-/// What the setup running on `thread` is solving ([`note_stage`]), if one is.
-pub(crate) fn stage(thread: ThreadId) -> Option<String> {
-    let stages = STAGES.lock().ok()?;
-    stages
-        .iter()
-        .find(|(t, _)| *t == thread)
-        .map(|(_, what)| what.clone())
-}
-
 /// Notes that the setup lets the sprocket `k`, held for want of a driver, go.
 fn note_let_go(scene: &Scene, k: usize) {
     note_stage(|| {
         let name = scene.sprockets.get(k).map_or("", |s| s.name.as_str());
         format!("the drive with sprocket \"{name}\" let go (no driver holds it)")
     });
-}
-
-/// Clears this thread's stage when the setup ends, however it ends.
-struct Staged;
-
-impl Drop for Staged {
-    fn drop(&mut self) {
-        let thread = std::thread::current().id();
-        if let Ok(mut stages) = STAGES.lock() {
-            stages.retain(|(t, _)| *t != thread);
-        }
-    }
 }

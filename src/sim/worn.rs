@@ -209,7 +209,7 @@ pub(crate) fn wear_in(
             steps,
             elongation: rest / new_rest_m - 1.0,
         };
-        super::setup::note_stage(|| {
+        super::setup_stage::note_stage(|| {
             format!(
                 "the worn chain, wear step {k} of {steps} (links {:.3} % longer than new, the scene's {:.3} %)",
                 100.0 * at.elongation,
@@ -227,7 +227,7 @@ pub(crate) fn wear_in(
     }
     let mut iterations = steps;
     if let Some(t) = &mut take_up {
-        super::setup::note_stage(|| {
+        super::setup_stage::note_stage(|| {
             "the worn chain, its tensioner moved back to the pretension".to_owned()
         });
         // Back to the pretension: the tensioner's search from where the

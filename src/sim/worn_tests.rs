@@ -354,7 +354,7 @@ fn a_setups_stage_is_seen_from_another_thread_until_it_ends() {
     let (seen, watch) = std::sync::mpsc::channel();
     let (done, finished) = std::sync::mpsc::channel::<()>();
     let setting_up = std::thread::spawn(move || {
-        super::setup::note_stage(|| "a phrase".to_owned());
+        super::setup_stage::note_stage(|| "a phrase".to_owned());
         // Seen from the test's thread before the setup starts.
         seen.send(()).expect("watched");
         finished.recv().expect("read");
@@ -363,10 +363,10 @@ fn a_setups_stage_is_seen_from_another_thread_until_it_ends() {
     });
     watch.recv().expect("noted");
     let id = setting_up.thread().id();
-    assert_eq!(super::setup_stage(id).as_deref(), Some("a phrase"));
+    assert_eq!(super::setup_stage::stage(id).as_deref(), Some("a phrase"));
     done.send(()).expect("go");
     let (tension_n, ended_on) = setting_up.join().expect("set up");
     assert!(tension_n > 0.0);
     assert_eq!(ended_on, id);
-    assert_eq!(super::setup_stage(id), None, "left after the setup");
+    assert_eq!(super::setup_stage::stage(id), None, "left after the setup");
 }
