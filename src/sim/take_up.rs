@@ -129,12 +129,7 @@ pub(super) fn wear_settled(
     worn: &Scene,
     settled: Settled,
     settings: &RelaxSettings,
-    check: &mut dyn FnMut(
-        worn::WearStep,
-        &DriveModel,
-        &crate::model::DriveState,
-        &crate::forces::ForceGenerator,
-    ) -> Result<(), EquilibriumError>,
+    check: &mut worn::StepCheck<'_>,
 ) -> Result<Settled, SimError> {
     let (mut scene, mut model, mut state, mut forces, layout, _) = settled;
     let e = worn.chain.elongation;

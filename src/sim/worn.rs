@@ -123,6 +123,11 @@ pub(crate) struct WearStep {
     pub elongation: f64,
 }
 
+/// A check of each wear step's rest state ([`wear_in`]): the step, the
+/// model, the state and the forces evaluated at it.
+pub(crate) type StepCheck<'a> = dyn FnMut(WearStep, &DriveModel, &DriveState, &ForceGenerator) -> Result<(), EquilibriumError>
+    + 'a;
+
 /// Lengthens the links of `model`, settled as a new chain at `pretension_n`,
 /// from their rest length l₀ to l₀ (1 + `elongation`), bringing the drive to
 /// rest at each step, with `take_up` moving a sprocket where the tensioner
@@ -139,12 +144,7 @@ pub(crate) fn wear_in(
     elongation: f64,
     pretension_n: f64,
     mut take_up: Option<TakeUp<'_>>,
-    check: &mut dyn FnMut(
-        WearStep,
-        &DriveModel,
-        &DriveState,
-        &ForceGenerator,
-    ) -> Result<(), EquilibriumError>,
+    check: &mut StepCheck<'_>,
 ) -> Result<StaticEquilibrium, EquilibriumError> {
     let new_rest_m = model.rest_length_m;
     let worn_rest_m = new_rest_m * (1.0 + elongation);
