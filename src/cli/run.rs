@@ -711,23 +711,44 @@ fn fatigue_line(f: &crate::analysis::design::Fatigue) -> String {
 }
 
 /// Runs `setup` (building the drive and settling it to static equilibrium),
-/// printing one line to stderr if it takes longer than a second, so that a
-/// slow settle is not silent; nothing with `quiet`.
+/// printing a line to stderr once it has taken a second, naming what it is
+/// solving (the chain new at its pretension, a worn chain's wear step, a
+/// sprocket let go), and another while it goes on, when that changed or
+/// half a minute passed, so that a slow settle is not silent; nothing with
+/// `quiet`.
 pub(super) fn note_slow_setup<T>(quiet: bool, setup: impl FnOnce() -> T) -> T {
+    use std::sync::mpsc::RecvTimeoutError;
+    use std::time::Duration;
     if quiet {
         return setup();
     }
     let (done, wait) = std::sync::mpsc::channel::<()>();
+    let setting_up = std::thread::current().id();
     std::thread::scope(|s| {
         s.spawn(move || {
             let started = Instant::now();
-            if let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
-                wait.recv_timeout(std::time::Duration::from_secs(1))
-            {
+            let mut last: Option<(String, Instant)> = None;
+            let mut tick = Duration::from_secs(1);
+            while let Err(RecvTimeoutError::Timeout) = wait.recv_timeout(tick) {
+                tick = Duration::from_millis(500);
+                let stage = crate::sim::setup_stage::stage(setting_up).unwrap_or_default();
+                let due = last.as_ref().is_none_or(|(said, at)| {
+                    let quiet_for = at.elapsed().as_secs_f64();
+                    (*said != stage && quiet_for >= 5.0) || quiet_for >= 30.0
+                });
+                if !due {
+                    continue;
+                }
+                let solving = if stage.is_empty() {
+                    String::new()
+                } else {
+                    format!(": {stage}")
+                };
                 eprintln!(
-                    "settling the drive to static equilibrium (still at it after {:.1} s)…",
+                    "settling the drive to static equilibrium{solving} (still at it after {:.1} s)…",
                     started.elapsed().as_secs_f64()
                 );
+                last = Some((stage, Instant::now()));
             }
         });
         let out = setup();

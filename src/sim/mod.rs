@@ -42,6 +42,7 @@ pub(crate) mod parallel;
 mod sample_rate;
 pub(crate) mod settled;
 mod setup;
+pub(crate) mod setup_stage;
 mod sliding;
 mod statics;
 #[cfg(test)]

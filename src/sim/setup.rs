@@ -1,12 +1,16 @@
 //! Setting a simulation up, before its first step: the layout and the static equilibrium by the scene's
 //! pretension rule (rest length, tensioner, tensioner preload), sprockets
 //! held for the solve where a co-simulation asks, and a worn chain's links
-//! lengthened after it settled new. What this module does not do: step the
-//! drive, or build the rapier world (`Simulation::assemble`).
+//! lengthened after it settled new. Each thread's setup says what it is
+//! solving ([`super::setup_stage`]), so that a slow setup can tell its
+//! user. What this module does not do: step the drive, or build the rapier
+//! world (`Simulation::assemble`).
 
 use super::settled::{Settled, new_forces};
+use super::setup_stage::{Staged, note_stage};
 use super::statics::{self, EquilibriumError, RelaxSettings, settle_rest_length};
 use super::take_up::{settle_tensioner, wear_settled};
+use super::worn::WearStep;
 use super::{BlowUpLimits, SimError, guide_entry};
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
@@ -18,6 +22,7 @@ use crate::scene::{PretensionRule, Scene, StepLimits};
 /// first and is then lengthened. Returns the settled drive and the blow-up
 /// limits its run keeps.
 pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLimits), SimError> {
+    let _stage = Staged;
     let limits = BlowUpLimits::for_scene(scene);
     let settings = relax_settings(scene, limits.max_stretch_m);
     // A worn chain: the drive with the chain new first, at its
@@ -25,6 +30,13 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
     let worn = scene;
     let new_chain = worn.as_new_chain();
     let scene = new_chain.as_ref().unwrap_or(worn);
+    note_stage(|| {
+        let new = if new_chain.is_some() { " new" } else { "" };
+        format!(
+            "the chain{new} at its pretension by the rule \"{}\"",
+            scene.chain.pretension_by.name()
+        )
+    });
     let (settled, held) = match scene.chain.pretension_by {
         PretensionRule::RestLength => {
             let (mut model, mut state, layout) = DriveModel::build(scene)?;
@@ -43,6 +55,7 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
                 &names(scene),
             )?;
             if let Some(k) = auto {
+                note_let_go(scene, k);
                 let (s, f) = (&mut state, &mut forces);
                 eq = statics::let_go(scene, &mut model, s, f, &settings, k, Some(pitch_m), eq)?;
             }
@@ -62,6 +75,7 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
                 scene.chain.pretension_n,
             )?;
             if let Some(k) = auto {
+                note_let_go(scene, k);
                 let (s, f) = (&mut state, &mut forces);
                 eq = statics::let_go(scene, &mut model, s, f, &settings, k, None, eq)?;
             }
@@ -74,8 +88,16 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
     // driver has a neutral circulation, and each step of the wear would
     // otherwise fall back to the relaxation.
     let mut settled = if new_chain.is_some() {
-        let mut settled = wear_settled(worn, settled, &settings)?;
+        // A rest state that runs over an arm shoe's end at one wear step
+        // does so at the scene's wear as well (the arms turn further in as
+        // the chain gains length): refused at the first such step.
+        let mut shoe_ends =
+            |at: WearStep, model: &DriveModel, state: &DriveState, forces: &ForceGenerator| {
+                check_shoe_ends(worn, model, state, forces, &limits, Some(at))
+            };
+        let mut settled = wear_settled(worn, settled, &settings, &mut shoe_ends)?;
         if let Some(k) = held.auto {
+            note_let_go(worn, k);
             let (scene, model, state, forces, _, eq) = &mut settled;
             *eq = statics::let_go(scene, model, state, forces, &settings, k, None, eq.clone())?;
         }
@@ -85,7 +107,9 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
     };
     release(&mut settled.1, &held.freed);
     check_guide_entries(&settled.0, &settled.1, &settled.2, &limits)?;
-    check_shoe_ends(&settled.0, &settled.1, &settled.2, &settled.3, &limits)?;
+    check_shoe_ends(
+        &settled.0, &settled.1, &settled.2, &settled.3, &limits, None,
+    )?;
     Ok((settled, limits))
 }
 
@@ -153,14 +177,16 @@ fn check_guide_entries(
 /// Refuses a rest state with a roller behind the end of a tensioner arm's
 /// shoe as the arm stands at rest ([`guide_entry::shoe_face`]): the chain
 /// runs over the shoe's end, and the first roller carried onto it would
-/// meet it beyond the blow-up limit. `forces` evaluated at `state`.
+/// meet it beyond the blow-up limit. `forces` evaluated at `state`; `step`:
+/// the wear step whose rest state this is, while a worn chain is lengthened.
 fn check_shoe_ends(
     scene: &Scene,
     model: &DriveModel,
     state: &DriveState,
     forces: &ForceGenerator,
     limits: &BlowUpLimits,
-) -> Result<(), SimError> {
+    step: Option<WearStep>,
+) -> Result<(), EquilibriumError> {
     for (j, arm) in scene.tensioners.iter().enumerate() {
         let angle_rad = state.q.get(j).copied().unwrap_or(0.0);
         let Some(found) = guide_entry::behind_entry(
@@ -186,7 +212,7 @@ fn check_shoe_ends(
             )
         });
         let e = scene.chain.elongation;
-        let worn = if e > 0.0 {
+        let mut worn = if e > 0.0 {
             format!(
                 ", the chain worn by {:.3} % (chain.elongation_pct) and {:.1} mm longer than new",
                 100.0 * e,
@@ -195,17 +221,24 @@ fn check_shoe_ends(
         } else {
             String::new()
         };
-        return Err(SimError::Equilibrium(EquilibriumError::BehindGuideEntry(
-            format!(
-                "roller {} rests beyond the {end} of the shoe of tensioner \"{}\" (tensioners.{j}, shoe_{end}_deg), behind its arc: the chain runs over the shoe's end, and running onto it the roller would meet the shoe {:.2} mm deep, beyond the blow-up limit of {:.2} mm (solver.limits.max_penetration_m), so the run would blow up there. At rest the arm is turned by {:.2}° from the scene's pose (travel {:.2} mm){worn}{reach}: lengthen the shoe's arc (tensioners.{j}.shoe_start_deg, shoe_end_deg) or take the chain's slack up otherwise (fewer rollers, a sprocket moved)",
-                found.roller,
-                arm.name,
-                1e3 * found.depth_m,
-                1e3 * limits.max_penetration_m,
-                angle_rad.to_degrees(),
-                1e3 * travel_m,
-                end = found.end,
-            ),
+        if let Some(at) = step.filter(|at| at.step < at.steps) {
+            worn += &format!(
+                "; lengthened towards it in {} steps, the chain ran over the shoe's end already at step {} (links {:.3} % longer than new, {:.1} mm), the arm's turn and travel given for that step: further wear turns the arm further in",
+                at.steps,
+                at.step,
+                100.0 * at.elongation,
+                1e3 * scene.chain.wear_gain_m() * at.elongation / e
+            );
+        }
+        return Err(EquilibriumError::BehindGuideEntry(format!(
+            "roller {} rests beyond the {end} of the shoe of tensioner \"{}\" (tensioners.{j}, shoe_{end}_deg), behind its arc: the chain runs over the shoe's end, and running onto it the roller would meet the shoe {:.2} mm deep, beyond the blow-up limit of {:.2} mm (solver.limits.max_penetration_m), so the run would blow up there. At rest the arm is turned by {:.2}° from the scene's pose (travel {:.2} mm){worn}{reach}: lengthen the shoe's arc (tensioners.{j}.shoe_start_deg, shoe_end_deg) or take the chain's slack up otherwise (fewer rollers, a sprocket moved)",
+            found.roller,
+            arm.name,
+            1e3 * found.depth_m,
+            1e3 * limits.max_penetration_m,
+            angle_rad.to_degrees(),
+            1e3 * travel_m,
+            end = found.end,
         )));
     }
     Ok(())
@@ -251,4 +284,12 @@ fn release(model: &mut DriveModel, freed: &[(usize, f64)]) {
     for &(k, inv_inertia) in freed {
         model.sprockets[k].inv_inertia = inv_inertia;
     }
+}
+
+/// Notes that the setup lets the sprocket `k`, held for want of a driver, go.
+fn note_let_go(scene: &Scene, k: usize) {
+    note_stage(|| {
+        let name = scene.sprockets.get(k).map_or("", |s| s.name.as_str());
+        format!("the drive with sprocket \"{name}\" let go (no driver holds it)")
+    });
 }

@@ -122,12 +122,14 @@ pub(super) fn settle_tensioner(
 
 /// Lengthens the links of a drive `settled` with its chain new to `worn`'s
 /// elongation ([`worn::wear_in`]); the tensioner rule's sprocket moves on
-/// to keep the pretension. Returns the worn drive, its scene `worn`'s with
+/// to keep the pretension; `check` may refuse each step's rest state
+/// ([`worn::wear_in`]). Returns the worn drive, its scene `worn`'s with
 /// the tensioner where it ended.
 pub(super) fn wear_settled(
     worn: &Scene,
     settled: Settled,
     settings: &RelaxSettings,
+    check: &mut worn::StepCheck<'_>,
 ) -> Result<Settled, SimError> {
     let (mut scene, mut model, mut state, mut forces, layout, _) = settled;
     let e = worn.chain.elongation;
@@ -169,6 +171,7 @@ pub(super) fn wear_settled(
             travel_per_length,
             tolerance: worn.equilibrium.tension_tolerance,
         }),
+        check,
     )?;
     scene = taken;
     scene.chain.elongation = e;

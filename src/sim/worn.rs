@@ -111,10 +111,31 @@ fn free_links(model: &DriveModel, state: &DriveState, forces: &ForceGenerator) -
         .sum()
 }
 
+/// One step of the lengthening, as [`wear_in`] reports it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct WearStep {
+    /// The step, from 1.
+    pub step: usize,
+    /// Steps in all.
+    pub steps: usize,
+    /// The links' elongation at this step (a fraction of the new rest
+    /// length; the scene's at the last step).
+    pub elongation: f64,
+}
+
+/// A check of each wear step's rest state ([`wear_in`]): the step, the
+/// model, the state and the forces evaluated at it.
+pub(crate) type StepCheck<'a> = dyn FnMut(WearStep, &DriveModel, &DriveState, &ForceGenerator) -> Result<(), EquilibriumError>
+    + 'a;
+
 /// Lengthens the links of `model`, settled as a new chain at `pretension_n`,
 /// from their rest length l₀ to l₀ (1 + `elongation`), bringing the drive to
 /// rest at each step, with `take_up` moving a sprocket where the tensioner
-/// rule holds (module docs). Returns the worn chain's equilibrium.
+/// rule holds (module docs). After each step's rest state, `check` may
+/// refuse it (a rest state the run could not start from, which further
+/// wear would not mend): the lengthening stops there with its error.
+/// Returns the worn chain's equilibrium.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn wear_in(
     model: &mut DriveModel,
     state: &mut DriveState,
@@ -123,6 +144,7 @@ pub(crate) fn wear_in(
     elongation: f64,
     pretension_n: f64,
     mut take_up: Option<TakeUp<'_>>,
+    check: &mut StepCheck<'_>,
 ) -> Result<StaticEquilibrium, EquilibriumError> {
     let new_rest_m = model.rest_length_m;
     let worn_rest_m = new_rest_m * (1.0 + elongation);
@@ -182,16 +204,32 @@ pub(crate) fn wear_in(
             forces.forget_reach();
         }
         model.rest_length_m = rest;
+        let at = WearStep {
+            step: k,
+            steps,
+            elongation: rest / new_rest_m - 1.0,
+        };
+        super::setup_stage::note_stage(|| {
+            format!(
+                "the worn chain, wear step {k} of {steps} (links {:.3} % longer than new, the scene's {:.3} %)",
+                100.0 * at.elongation,
+                100.0 * elongation
+            )
+        });
         let guess = before.as_ref().map(|b| extrapolated(b, state));
         let last = state.clone();
         residual = settle(model, state, forces, guess.as_ref())?;
         before = Some(last);
+        check(at, model, state, forces)?;
         if take_up.is_some() {
             t_now = tension(model, state, forces);
         }
     }
     let mut iterations = steps;
     if let Some(t) = &mut take_up {
+        super::setup_stage::note_stage(|| {
+            "the worn chain, its tensioner moved back to the pretension".to_owned()
+        });
         // Back to the pretension: the tensioner's search from where the
         // lengthening left it, the first move from the links' stiffness.
         let free = free_links(model, state, forces).max(1) as f64;

@@ -336,3 +336,37 @@ fn a_worn_arm_drive_is_lengthened_by_newton_alone() {
         "arm moment {moment} N·m out of balance"
     );
 }
+
+/// What a setup is solving is seen from another thread (the command line's
+/// note of a slow setup reads it there) and is gone once the setup has
+/// ended, however far it got.
+#[test]
+fn a_setups_stage_is_seen_from_another_thread_until_it_ends() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/user_timing_06b_arm.toml"
+    );
+    let text = std::fs::read_to_string(path).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 0.5\n",
+    );
+    let scene = Scene::from_toml(&text).expect("valid");
+    let (seen, watch) = std::sync::mpsc::channel();
+    let (done, finished) = std::sync::mpsc::channel::<()>();
+    let setting_up = std::thread::spawn(move || {
+        super::setup_stage::note_stage(|| "a phrase".to_owned());
+        // Seen from the test's thread before the setup starts.
+        seen.send(()).expect("watched");
+        finished.recv().expect("read");
+        let sim = Simulation::new(&scene).expect("equilibrium");
+        (sim.equilibrium.tension_n, std::thread::current().id())
+    });
+    watch.recv().expect("noted");
+    let id = setting_up.thread().id();
+    assert_eq!(super::setup_stage::stage(id).as_deref(), Some("a phrase"));
+    done.send(()).expect("go");
+    let (tension_n, ended_on) = setting_up.join().expect("set up");
+    assert!(tension_n > 0.0);
+    assert_eq!(ended_on, id);
+    assert_eq!(super::setup_stage::stage(id), None, "left after the setup");
+}

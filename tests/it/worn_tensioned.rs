@@ -192,6 +192,32 @@ fn a_worn_chain_run_over_the_end_of_an_arms_shoe_is_refused_before_the_run() {
 }
 
 #[test]
+fn a_worn_chain_is_refused_at_the_first_wear_step_that_runs_over_the_shoes_end() {
+    // Before: worn by 2 % the same drive was refused only once all its wear
+    // steps were settled, the arm turned far beyond the shoe's end (12–15 s
+    // of setup). The arm turns further in as the chain gains length, so the
+    // first wear step whose rest state runs over the shoe's end settles
+    // the refusal. Worn by 0.5 % the drive has a rest state clear of the end
+    // (`a_worn_arm_drive_is_lengthened_by_newton_alone`) and worn by 1 % it
+    // has none: that step lies between, and the 1 % and 2 % lengthenings,
+    // taking steps of one size, meet it at the same wear, within a step.
+    let wear_at = |pct: &str| {
+        let err = worn_check_refused("user_timing_06b_arm.toml", pct);
+        assert!(err.contains("shoe_end_deg"), "{err}");
+        let steps = number_after(&err, "lengthened towards it in ");
+        let step = number_after(&err, "shoe's end already at step ");
+        assert!(step < steps, "{step} of {steps}: {err}");
+        let at = number_after(&err, &format!("at step {step} (links "));
+        assert!(0.5 < at && at <= 1.0, "{at} % in {err}");
+        (at, 1.0 / steps * pct.parse::<f64>().expect("a number"))
+    };
+    let (one, step_one) = wear_at("1.0");
+    let (two, step_two) = wear_at("2.0");
+    approx::assert_relative_eq!(step_one, step_two, max_relative = 0.05);
+    assert!((one - two).abs() <= 1.01 * step_one, "{one} % and {two} %");
+}
+
+#[test]
 fn a_chain_that_meshes_with_no_sprocket_at_rest_is_warned_about() {
     // The 30/30 drive on fixed centres, no gravity: worn by 2 % its chain
     // gains 111 × 25.4 mm × 0.02 = 56.4 mm, far more than the 1 kN stretch
