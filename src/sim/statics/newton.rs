@@ -9,9 +9,11 @@
 //! is taken along the Newton direction with a line search on the potential
 //! energy (and on the residual where the energy's rounding hides the
 //! decrease), a Levenberg–Marquardt shift μ where the tangent is not positive
-//! definite. What this module does not do: choose the rest length (the
-//! pretension iteration does), nor anything when Newton stalls (the caller
-//! relaxes dynamically and tries again).
+//! definite. Where Newton stalls with a roller on a circular seating arc's
+//! rim, it solves again with that roller held on its arc (`hold`); where
+//! it still stalls, the dynamic relaxation takes over and Newton is tried
+//! again. What this module does not do: choose the rest length (the
+//! pretension iteration does).
 //!
 //! # The tangent stiffness
 //!
@@ -511,7 +513,10 @@ const RIM_RELAX_SHARE: f64 = 0.1;
 /// `rest_force_n`: Newton from `state` (aiming at `newton_force_n`, at most
 /// `rest_force_n`); where Newton stalls, the dynamic relaxation
 /// ([`relax_until`]) from the point it reached, then Newton again from the
-/// relaxed state. Where Newton stalls with a roller on a circular seating
+/// relaxed state; first, where it stalls with a roller on a circular
+/// seating arc's rim, Newton with that roller held on its arc
+/// ([`settle_on_rims`]), which returns 0 where it converges. Where Newton
+/// stalls with a roller on a circular seating
 /// arc's rim ([`super::feasibility::rim_roller`]) while `searching` for the
 /// rest length, the relaxation takes a tenth of its time: it cannot come to
 /// rest there, and the search needs only its tension. Returns the residual roller speed of
