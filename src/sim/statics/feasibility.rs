@@ -306,6 +306,17 @@ pub(crate) fn rim_roller(
     state: &DriveState,
     forces: &ForceGenerator,
 ) -> Option<RimRoller> {
+    rim_roller_except(model, state, forces, &[])
+}
+
+/// [`rim_roller`] among the rollers not in `except` (rollers already held
+/// on their arcs: `hold`).
+pub(super) fn rim_roller_except(
+    model: &DriveModel,
+    state: &DriveState,
+    forces: &ForceGenerator,
+    except: &[usize],
+) -> Option<RimRoller> {
     let out = forces.output();
     let n = state.x.len();
     if n < 3 || out.link_force.len() < n {
@@ -315,7 +326,7 @@ pub(crate) fn rim_roller(
     let [gx, gy] = model.gravity_m_s2;
     // Rollers pulled beyond an arc, and rollers held on an arc's edge.
     let (mut pulled, mut edge): (Option<RimRoller>, Option<RimRoller>) = (None, None);
-    for i in 0..n {
+    for i in (0..n).filter(|i| !except.contains(i)) {
         let (prev, next) = ((i + n - 1) % n, (i + 1) % n);
         // The pull of the two links and the weight on roller i.
         let mut f = [m * gx, m * gy];

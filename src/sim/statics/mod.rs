@@ -13,6 +13,7 @@ mod error;
 mod feasibility;
 mod fit;
 mod free;
+mod hold;
 mod misfit;
 #[cfg(test)]
 pub(crate) use error::BeyondSeatingArc;

@@ -9,9 +9,11 @@
 //! is taken along the Newton direction with a line search on the potential
 //! energy (and on the residual where the energy's rounding hides the
 //! decrease), a Levenberg–Marquardt shift μ where the tangent is not positive
-//! definite. What this module does not do: choose the rest length (the
-//! pretension iteration does), nor anything when Newton stalls (the caller
-//! relaxes dynamically and tries again).
+//! definite. Where Newton stalls with a roller on a circular seating arc's
+//! rim, it solves again with that roller held on its arc (`hold`); where
+//! it still stalls, the dynamic relaxation takes over and Newton is tried
+//! again. What this module does not do: choose the rest length (the
+//! pretension iteration does).
 //!
 //! # The tangent stiffness
 //!
@@ -39,6 +41,8 @@
 use rapier2d_f64::na::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::error::EquilibriumError;
+use super::feasibility::rim_roller_except;
+use super::hold::RimHold;
 use super::relax::{RelaxSettings, relax_until};
 use super::tangent::{Free, Tangent, assemble, energy, residual};
 use crate::forces::{ForceGenerator, TensionerArm};
@@ -272,7 +276,24 @@ pub(crate) fn solve(
     tolerance_n: f64,
     max_iterations: usize,
 ) -> NewtonEnd {
-    let free = Free::of(model, forces);
+    solve_held(model, state, forces, tolerance_n, max_iterations, &[])
+}
+
+/// [`solve`] with `holds` keeping rollers on their seating arcs (`hold`):
+/// the residual and the energy include their springs; the forces left
+/// evaluated at the end do not.
+fn solve_held(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    tolerance_n: f64,
+    max_iterations: usize,
+    holds: &[RimHold],
+) -> NewtonEnd {
+    let free = Free {
+        holds: holds.to_vec(),
+        ..Free::of(model, forces)
+    };
     let n = state.x.len();
     let m = free.len();
     state.vx.fill(0.0);
@@ -415,20 +436,22 @@ fn solve_in_rounds(
     state: &mut DriveState,
     forces: &mut ForceGenerator,
     tolerance_n: f64,
+    holds: &[RimHold],
 ) -> NewtonEnd {
-    let mut end = solve(model, state, forces, tolerance_n, MAX_ITERATIONS);
+    let mut end = solve_held(model, state, forces, tolerance_n, MAX_ITERATIONS, holds);
     let start_residual_n = end.start_residual_n;
+    let held: Vec<usize> = holds.iter().map(|h| h.roller).collect();
     for _ in 1..MAX_ROUNDS {
         let steady = end.residual_n < 0.1 * start_residual_n;
         if end.converged
             || end.iterations < MAX_ITERATIONS
             || !steady
             || end.shifted
-            || super::feasibility::rim_roller(model, state, forces).is_some()
+            || rim_roller_except(model, state, forces, &held).is_some()
         {
             break;
         }
-        let next = solve(model, state, forces, tolerance_n, MAX_ITERATIONS);
+        let next = solve_held(model, state, forces, tolerance_n, MAX_ITERATIONS, holds);
         let gained = next.residual_n < 0.1 * end.residual_n;
         end = NewtonEnd {
             start_residual_n,
@@ -440,6 +463,48 @@ fn solve_in_rounds(
     }
     end
 }
+/// Most rollers held on their seating arcs ([`settle_on_rims`]).
+const MAX_HOLDS: usize = 4;
+
+/// Where Newton stalled (at `state`) with a roller on a circular seating
+/// arc's rim ([`rim_roller_except`]), Newton again with that roller held on
+/// its arc (`hold`), and with each further rim roller the state reached
+/// names, up to [`MAX_HOLDS`]. True when the held solve's residual (the
+/// springs' included) is within `rest_force_n` and every held roller lies
+/// on its arc: `state` is then that rest state and `forces` are evaluated
+/// at it without the springs (the held rollers' outward pulls are their
+/// residual). Otherwise `state` is left where Newton stalled.
+fn settle_on_rims(
+    model: &DriveModel,
+    state: &mut DriveState,
+    forces: &mut ForceGenerator,
+    aim_n: f64,
+    rest_force_n: f64,
+) -> bool {
+    let stalled = state.clone();
+    let mut holds: Vec<RimHold> = Vec::new();
+    while holds.len() < MAX_HOLDS {
+        let held: Vec<usize> = holds.iter().map(|h| h.roller).collect();
+        let Some(hold) = rim_roller_except(model, state, forces, &held)
+            .and_then(|rim| RimHold::new(model, &rim))
+        else {
+            break;
+        };
+        hold.place(model, state);
+        holds.push(hold);
+        let end = solve_in_rounds(model, state, forces, aim_n, &holds);
+        if end.residual_n <= rest_force_n && holds.iter().all(|h| h.on_arc(model, state)) {
+            return true;
+        }
+    }
+    if !holds.is_empty() {
+        state.clone_from(&stalled);
+        forces.reset_memory();
+        forces.evaluate(model, state);
+    }
+    false
+}
+
 /// Share of the relaxation's time spent where Newton stalls on a roller at a
 /// circular seating arc's rim.
 const RIM_RELAX_SHARE: f64 = 0.1;
@@ -448,7 +513,10 @@ const RIM_RELAX_SHARE: f64 = 0.1;
 /// `rest_force_n`: Newton from `state` (aiming at `newton_force_n`, at most
 /// `rest_force_n`); where Newton stalls, the dynamic relaxation
 /// ([`relax_until`]) from the point it reached, then Newton again from the
-/// relaxed state. Where Newton stalls with a roller on a circular seating
+/// relaxed state; first, where it stalls with a roller on a circular
+/// seating arc's rim, Newton with that roller held on its arc
+/// ([`settle_on_rims`]), which returns 0 where it converges. Where Newton
+/// stalls with a roller on a circular seating
 /// arc's rim ([`super::feasibility::rim_roller`]) while `searching` for the
 /// rest length, the relaxation takes a tenth of its time: it cannot come to
 /// rest there, and the search needs only its tension. Returns the residual roller speed of
@@ -484,7 +552,7 @@ pub(crate) fn settle_from(
         return relax_until(model, state, forces, settings, Some(rest_force_n));
     }
     let start = state.clone();
-    let first = solve_in_rounds(model, state, forces, aim);
+    let first = solve_in_rounds(model, state, forces, aim, &[]);
     if first.residual_n <= rest_force_n {
         return Ok(0.0);
     }
@@ -497,6 +565,12 @@ pub(crate) fn settle_from(
         state.clone_from(&stalled);
         forces.reset_memory();
         forces.evaluate(model, state);
+    }
+    // A roller on a circular seating arc's rim: the rest state with it held
+    // on its arc (`hold`), whose residual is the outward pull no contact
+    // force of the profile gives.
+    if settle_on_rims(model, state, forces, aim, rest_force_n) {
+        return Ok(0.0);
     }
     // A stall further from equilibrium than the start, or with a link
     // stretched beyond the relaxation's blow-up bound (Newton's energy

@@ -23,6 +23,7 @@
 
 use rapier2d_f64::na::{DMatrix, Matrix2};
 
+use super::hold::RimHold;
 use crate::forces::{ArmAtRest, ForceGenerator, TensionerArm};
 use crate::model::{DriveModel, DriveState};
 
@@ -38,6 +39,9 @@ pub(super) struct Free {
     pub(super) sprockets: Vec<usize>,
     /// Each tensioner arm, with its potential at rest.
     pub(super) arms: Vec<ArmAtRest>,
+    /// Rollers held on their circular seating arcs (`hold`): their
+    /// springs join the residual and the energy.
+    pub(super) holds: Vec<RimHold>,
 }
 
 impl Free {
@@ -54,6 +58,7 @@ impl Free {
                 .elements_of::<TensionerArm>()
                 .map(TensionerArm::at_rest)
                 .collect(),
+            holds: Vec::new(),
         }
     }
 
@@ -81,8 +86,9 @@ impl Free {
     }
 }
 
-/// Residual r = (roller forces, free sprockets' torques) at `state`, into
-/// `r`; returns its largest entry (torques over the pitch radius), N.
+/// Residual r = (roller forces, free sprockets' torques, arms' moments) at
+/// `state`, into `r`, the held rollers' springs included; returns its
+/// largest entry (torques over the pitch radius, moments over the reach), N.
 pub(super) fn residual(
     model: &DriveModel,
     state: &DriveState,
@@ -94,17 +100,28 @@ pub(super) fn residual(
     forces.evaluate(model, state);
     let out = forces.output();
     let n = state.x.len();
-    let mut largest: f64 = 0.0;
     for i in 0..n {
         r[2 * i] = out.fx[i];
         r[2 * i + 1] = out.fy[i];
-        largest = largest.max(out.fx[i].hypot(out.fy[i]));
     }
     for (k, &s) in free.sprockets.iter().enumerate() {
-        let sp = &model.sprockets[s];
-        let torque = out.chain_torque[s] + sp.load_at_rest_n_m();
-        r[2 * n + k] = torque;
-        largest = largest.max(torque.abs() / sp.pitch_radius_m);
+        r[2 * n + k] = out.chain_torque[s] + model.sprockets[s].load_at_rest_n_m();
+    }
+    for hold in &free.holds {
+        if let Some((f, torque)) = hold.push(model, state) {
+            r[2 * hold.roller] += f[0];
+            r[2 * hold.roller + 1] += f[1];
+            if let Some(k) = free.sprockets.iter().position(|&s| s == hold.sprocket) {
+                r[2 * n + k] += torque;
+            }
+        }
+    }
+    let mut largest: f64 = 0.0;
+    for i in 0..n {
+        largest = largest.max(r[2 * i].hypot(r[2 * i + 1]));
+    }
+    for (k, &s) in free.sprockets.iter().enumerate() {
+        largest = largest.max(r[2 * n + k].abs() / model.sprockets[s].pitch_radius_m);
     }
     let m = free.sprockets.len();
     for (k, arm) in free.arms.iter().enumerate() {
@@ -120,7 +137,8 @@ pub(super) fn residual(
 }
 
 /// Potential energy at `state` relative to `reference` (links, contact,
-/// gravity, loads at rest), J, and a bound on its rounding error. `forces`
+/// gravity, loads at rest, the holds' springs), J, and a bound on its
+/// rounding error; infinite where a held roller is off its arc. `forces`
 /// evaluated at `state`.
 pub(super) fn energy(
     model: &DriveModel,
@@ -129,6 +147,11 @@ pub(super) fn energy(
     forces: &ForceGenerator,
     free: &Free,
 ) -> (f64, f64) {
+    // A held roller off its arc is outside the states the solve ranges
+    // over (`hold`).
+    if free.holds.iter().any(|h| !h.on_arc(model, state)) {
+        return (f64::INFINITY, 0.0);
+    }
     let n = state.x.len();
     let k = model.stiffness_n_m;
     let mut links = 0.0;
@@ -156,8 +179,9 @@ pub(super) fn energy(
             - arm.potential_j(model.gravity_m_s2, reference.q[b]);
     }
     let contact = forces.output().contact_energy_j;
-    let total = links + contact + weight + loads;
-    let size = links + contact.abs() + weight_size + loads.abs();
+    let held: f64 = free.holds.iter().map(|h| h.energy_j(model, state)).sum();
+    let total = links + contact + weight + loads + held;
+    let size = links + contact.abs() + weight_size + loads.abs() + held;
     (total, 1e-12 * size)
 }
 
