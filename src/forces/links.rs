@@ -618,13 +618,13 @@ fn link_velocities_split(
         .zip(&vx[1..])
         .zip(vy[..m].iter().zip(&vy[1..]));
     let shapes = ux[..m].iter().zip(&uy[..m]).zip(&spring[..m]);
+    let (dvx, dvy) = (vx[0] - vx[m], vy[0] - vy[m]);
+    let closing = law(spring[m], ux[m], uy[m], dvx, dvy);
+    (force[m], fx[m], fy[m]) = (closing, closing * ux[m], closing * uy[m]);
     let outs = force[..m]
         .iter_mut()
         .zip(fx[..m].iter_mut())
         .zip(fy[..m].iter_mut());
-    let (dvx, dvy) = (vx[0] - vx[m], vy[0] - vy[m]);
-    let closing = law(spring[m], ux[m], uy[m], dvx, dvy);
-    (force[m], fx[m], fy[m]) = (closing, closing * ux[m], closing * uy[m]);
     let Some(omega) = omega else {
         for ((((vx0, vx1), (vy0, vy1)), ((u_x, u_y), sp)), ((f, f_x), f_y)) in
             pairs.zip(shapes).zip(outs)
