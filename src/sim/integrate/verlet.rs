@@ -362,7 +362,7 @@ mod tests {
         // Oracle: the same velocity Verlet steps with the second evaluation
         // of each step computed whole (nothing kept), every state and every
         // force compared bit for bit after each step; 0.15 s at 50 µs from
-        // rest, so that rollers engage (new onsets, five or more in each
+        // rest, so that rollers engage (new onsets, three or more in each
         // drive, whose remembered speed follows the corrected velocities)
         // and leave. Circular profile (the seats' pass) and the real one
         // with joint friction (the general pass, the links' rates).
@@ -395,7 +395,7 @@ mod tests {
                 let now = &kept.forces.output().touching;
                 onsets += now.iter().zip(&before).filter(|(n, b)| **n && !**b).count();
             }
-            assert!(onsets >= 5, "{profile:?}: {onsets} onsets");
+            assert!(onsets >= 3, "{profile:?}: {onsets} onsets");
         }
     }
 }
