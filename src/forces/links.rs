@@ -29,14 +29,19 @@ impl LinkLaw {
     /// (F_link, u_x, u_y, l − rest, 1/l).
     #[inline(always)]
     fn eval(&self, dx: f64, dy: f64, dvx: f64, dvy: f64) -> (f64, f64, f64, f64, f64) {
+        let (ux, uy, stretch, inv) = self.geometry(dx, dy);
+        let f = self.stiffness * stretch + self.damping * (dvx * ux + dvy * uy);
+        (f, ux, uy, stretch, inv)
+    }
+
+    /// What depends on the link vector d alone: (u_x, u_y, l − rest, 1/l).
+    #[inline(always)]
+    fn geometry(&self, dx: f64, dy: f64) -> (f64, f64, f64, f64) {
         let l = (dx * dx + dy * dy).sqrt();
         // Coincident rollers have no direction: no force rather than NaN (the
         // blow-up detector stops the run, the stretch being a whole pitch).
         let inv = if l > 0.0 { 1.0 / l } else { 0.0 };
-        let (ux, uy) = (dx * inv, dy * inv);
-        let stretch = l - self.rest;
-        let f = self.stiffness * stretch + self.damping * (dvx * ux + dvy * uy);
-        (f, ux, uy, stretch, inv)
+        (dx * inv, dy * inv, l - self.rest, inv)
     }
 }
 
@@ -189,6 +194,24 @@ pub(crate) struct Links {
     /// [`Links::request_rates`], which an element asks for through
     /// [`super::ForceElement::wants_link_rates`].
     rates: bool,
+    /// What each evaluation keeps for one at the same positions
+    /// ([`Links::keep_positions`]); `None`: nothing kept.
+    kept: Option<Kept>,
+}
+
+/// What depends on the rollers' positions alone, one slot per link, kept
+/// from an evaluation for [`Links::evaluate_again`].
+#[derive(Clone, Debug)]
+struct Kept {
+    /// Unit vector u, x and y.
+    ux: Vec<f64>,
+    uy: Vec<f64>,
+    /// Spring force K (l − rest), N.
+    spring: Vec<f64>,
+    /// 1/l, 1/m.
+    inv: Vec<f64>,
+    /// Whether the last evaluation kept them at its positions.
+    valid: bool,
 }
 
 impl Links {
@@ -199,7 +222,22 @@ impl Links {
             link_fy: vec![0.0; rollers],
             stretch: vec![0.0; rollers],
             rates: false,
+            kept: None,
         }
+    }
+
+    /// From now on (`keep`) each evaluation on one thread keeps what depends
+    /// on the positions alone, for [`Self::evaluate_again`]; `false` keeps
+    /// nothing.
+    pub(crate) fn keep_positions(&mut self, keep: bool) {
+        let n = self.stretch.len();
+        self.kept = keep.then(|| Kept {
+            ux: vec![0.0; n],
+            uy: vec![0.0; n],
+            spring: vec![0.0; n],
+            inv: vec![0.0; n],
+            valid: false,
+        });
     }
 
     /// From now on, write each link's ω and n/ℓ into `out`'s
@@ -241,6 +279,7 @@ impl Links {
         out: &mut Forces,
         fork: &dyn super::Fork,
     ) {
+        self.forget_positions();
         let n = s.x.len();
         let law = LinkLaw::of(model);
         let (x, y, vx, vy) = (&s.x[..n], &s.y[..n], &s.vx[..n], &s.vy[..n]);
@@ -344,6 +383,270 @@ impl Links {
     }
 }
 
+impl Links {
+    /// The kept positions no longer hold: an evaluation that keeps none
+    /// came after.
+    fn forget_positions(&mut self) {
+        if let Some(kept) = &mut self.kept {
+            kept.valid = false;
+        }
+    }
+
+    /// Each link's geometry at `s` into the kept slots (and its n/ℓ into
+    /// `out` where the rates are asked for), and the stretches.
+    fn keep_geometry(&mut self, model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        let n = s.x.len();
+        let with_rates = self.rates_fit(out, n);
+        let Some(kept) = &mut self.kept else {
+            return;
+        };
+        let law = LinkLaw::of(model);
+        let shape = Shape {
+            ux: &mut kept.ux[..n],
+            uy: &mut kept.uy[..n],
+            spring: &mut kept.spring[..n],
+            inv: &mut kept.inv[..n],
+            stretch: &mut self.stretch[..n],
+        };
+        let normals =
+            with_rates.then(|| (&mut out.link_normal_x[..n], &mut out.link_normal_y[..n]));
+        link_geometry(law, &s.x[..n], &s.y[..n], shape, normals);
+        kept.valid = true;
+    }
+
+    /// The links at `s`, whose roller positions are those of the last
+    /// evaluation (kept, [`Self::keep_positions`]): only what depends on the
+    /// velocities is computed again — the forces (the damping's part), each
+    /// roller's sum, the rates' ω and the largest speed; the stretches and
+    /// the normals stay. The same numbers as [`ForceElement::evaluate`].
+    /// Without kept positions, the whole evaluation.
+    pub(crate) fn evaluate_again(&mut self, model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        let n = s.x.len();
+        let with_rates = self.rates_fit(out, n);
+        let Some(kept) = self.kept.as_ref().filter(|k| k.valid) else {
+            return self.evaluate(model, s, out);
+        };
+        let lfx = &mut self.link_fx[..n];
+        let lfy = &mut self.link_fy[..n];
+        let shape = KeptShape {
+            ux: &kept.ux[..n],
+            uy: &kept.uy[..n],
+            spring: &kept.spring[..n],
+            inv: &kept.inv[..n],
+        };
+        let slots = Slots {
+            force: &mut out.link_force[..n],
+            fx: &mut *lfx,
+            fy: &mut *lfy,
+            stretch: &mut [],
+        };
+        let omega = with_rates.then(|| &mut out.link_omega[..n]);
+        link_velocities(
+            model.damping_n_s_m,
+            [&s.vx[..n], &s.vy[..n]],
+            shape,
+            slots,
+            omega,
+        );
+        let m = model.roller_mass_kg;
+        let weight = [m * model.gravity_m_s2[0], m * model.gravity_m_s2[1]];
+        let (fx, fy) = (&mut out.fx[..n], &mut out.fy[..n]);
+        let prev = [lfx[n - 1], lfy[n - 1]];
+        let v = [&s.vx[..n], &s.vy[..n]];
+        let (nan, max_stretch, max_speed_sq) = roller_sums(
+            weight,
+            [&*lfx, &*lfy],
+            prev,
+            [fx, fy],
+            &self.stretch[..n],
+            v,
+        );
+        out.max_stretch_m = if nan { f64::NAN } else { max_stretch };
+        out.max_roller_speed_m_s = max_speed_sq.sqrt();
+    }
+}
+
+/// The kept geometry's slots being written, with the stretches.
+struct Shape<'a> {
+    ux: &'a mut [f64],
+    uy: &'a mut [f64],
+    spring: &'a mut [f64],
+    inv: &'a mut [f64],
+    stretch: &'a mut [f64],
+}
+
+/// The kept geometry, as the velocities' pass reads it.
+#[derive(Clone, Copy)]
+struct KeptShape<'a> {
+    ux: &'a [f64],
+    uy: &'a [f64],
+    spring: &'a [f64],
+    inv: &'a [f64],
+}
+
+/// Each link's geometry (all n links, the last closing the loop) from the
+/// rollers' positions, as [`LinkLaw::eval`] computes it, and its n/ℓ where
+/// `normals` asks (as [`rates`]). Compiled for AVX2 where the CPU has it
+/// (element-wise: the same bits).
+fn link_geometry(
+    law: LinkLaw,
+    x: &[f64],
+    y: &[f64],
+    shape: Shape,
+    normals: Option<(&mut [f64], &mut [f64])>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked on the line above.
+        return unsafe { link_geometry_avx2(law, x, y, shape, normals) };
+    }
+    link_geometry_body(law, x, y, shape, normals);
+}
+
+/// [`link_geometry_body`] compiled with AVX2 (no FMA).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn link_geometry_avx2(
+    law: LinkLaw,
+    x: &[f64],
+    y: &[f64],
+    shape: Shape,
+    normals: Option<(&mut [f64], &mut [f64])>,
+) {
+    link_geometry_body(law, x, y, shape, normals);
+}
+
+#[inline(always)]
+fn link_geometry_body(
+    law: LinkLaw,
+    x: &[f64],
+    y: &[f64],
+    shape: Shape,
+    normals: Option<(&mut [f64], &mut [f64])>,
+) {
+    let n = x.len();
+    let Shape {
+        ux,
+        uy,
+        spring,
+        inv,
+        stretch,
+    } = shape;
+    let (y, ux, uy) = (&y[..n], &mut ux[..n], &mut uy[..n]);
+    let (spring, inv, stretch) = (&mut spring[..n], &mut inv[..n], &mut stretch[..n]);
+    let mut link = |j: usize, dx: f64, dy: f64| {
+        let (u_x, u_y, st, i) = law.geometry(dx, dy);
+        (ux[j], uy[j], stretch[j], inv[j]) = (u_x, u_y, st, i);
+        spring[j] = law.stiffness * st;
+    };
+    for j in 0..n - 1 {
+        link(j, x[j + 1] - x[j], y[j + 1] - y[j]);
+    }
+    link(n - 1, x[0] - x[n - 1], y[0] - y[n - 1]);
+    if let Some((gx, gy)) = normals {
+        let (gx, gy) = (&mut gx[..n], &mut gy[..n]);
+        for j in 0..n {
+            (gx[j], gy[j]) = (-uy[j] * inv[j], ux[j] * inv[j]);
+        }
+    }
+}
+
+/// Each link's force from its kept geometry and the rollers' velocities
+/// (all n links, the last closing the loop), as [`LinkLaw::eval`] computes
+/// it, its vector, and its ω where `omega` asks (as [`rates`]). Compiled
+/// for AVX2 where the CPU has it (element-wise: the same bits).
+fn link_velocities(
+    damping: f64,
+    v: [&[f64]; 2],
+    shape: KeptShape,
+    slots: Slots,
+    omega: Option<&mut [f64]>,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("avx2") {
+        // SAFETY: the CPU has AVX2, checked on the line above.
+        return unsafe { link_velocities_avx2(damping, v, shape, slots, omega) };
+    }
+    link_velocities_split(damping, v, shape, slots, omega);
+}
+
+/// [`link_velocities_split`] compiled with AVX2 (no FMA).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn link_velocities_avx2(
+    damping: f64,
+    v: [&[f64]; 2],
+    shape: KeptShape,
+    slots: Slots,
+    omega: Option<&mut [f64]>,
+) {
+    link_velocities_split(damping, v, shape, slots, omega);
+}
+
+/// One loop with the rates' ω, one without, over zipped slices (no bounds
+/// checks, no branches: the compiler vectorises them), then the closing
+/// link.
+#[inline(always)]
+fn link_velocities_split(
+    damping: f64,
+    v: [&[f64]; 2],
+    shape: KeptShape,
+    slots: Slots,
+    omega: Option<&mut [f64]>,
+) {
+    let [vx, vy] = v;
+    let n = vx.len();
+    let m = n - 1;
+    let KeptShape {
+        ux,
+        uy,
+        spring,
+        inv,
+    } = shape;
+    let (ux, uy, spring, inv) = (&ux[..n], &uy[..n], &spring[..n], &inv[..n]);
+    let (force, fx, fy) = (
+        &mut slots.force[..n],
+        &mut slots.fx[..n],
+        &mut slots.fy[..n],
+    );
+    // The force of a link as `LinkLaw::eval` computes it.
+    let law = |spring: f64, ux: f64, uy: f64, dvx: f64, dvy: f64| {
+        spring + damping * (dvx * ux + dvy * uy)
+    };
+    let pairs = vx[..m]
+        .iter()
+        .zip(&vx[1..])
+        .zip(vy[..m].iter().zip(&vy[1..]));
+    let shapes = ux[..m].iter().zip(&uy[..m]).zip(&spring[..m]);
+    let (dvx, dvy) = (vx[0] - vx[m], vy[0] - vy[m]);
+    let closing = law(spring[m], ux[m], uy[m], dvx, dvy);
+    (force[m], fx[m], fy[m]) = (closing, closing * ux[m], closing * uy[m]);
+    let outs = force[..m]
+        .iter_mut()
+        .zip(fx[..m].iter_mut())
+        .zip(fy[..m].iter_mut());
+    let Some(omega) = omega else {
+        for ((((vx0, vx1), (vy0, vy1)), ((u_x, u_y), sp)), ((f, f_x), f_y)) in
+            pairs.zip(shapes).zip(outs)
+        {
+            let force_n = law(*sp, *u_x, *u_y, vx1 - vx0, vy1 - vy0);
+            (*f, *f_x, *f_y) = (force_n, force_n * u_x, force_n * u_y);
+        }
+        return;
+    };
+    let omega = &mut omega[..n];
+    omega[m] = (ux[m] * dvy - uy[m] * dvx) * inv[m];
+    let rates = omega[..m].iter_mut().zip(&inv[..m]);
+    for ((((vx0, vx1), (vy0, vy1)), ((u_x, u_y), sp)), (((f, f_x), f_y), (w, i))) in
+        pairs.zip(shapes).zip(outs.zip(rates))
+    {
+        let (dvx, dvy) = (vx1 - vx0, vy1 - vy0);
+        let force_n = law(*sp, *u_x, *u_y, dvx, dvy);
+        (*f, *f_x, *f_y) = (force_n, force_n * u_x, force_n * u_y);
+        *w = (u_x * dvy - u_y * dvx) * i;
+    }
+}
+
 impl ForceElement for Links {
     fn name(&self) -> &'static str {
         "links"
@@ -352,7 +655,16 @@ impl ForceElement for Links {
     /// Two passes: the links' force vectors first (independent iterations,
     /// which the compiler pipelines and vectorises), then each roller's sum
     /// of its two links, so no iteration waits on the previous one's store.
+    ///
+    /// Keeping what depends on the positions alone
+    /// ([`Links::keep_positions`]), the same numbers in two other passes:
+    /// each link's geometry, then what depends on the velocities
+    /// ([`Links::evaluate_again`]).
     fn evaluate(&mut self, model: &DriveModel, s: &DriveState, out: &mut Forces) {
+        if self.kept.is_some() {
+            self.keep_geometry(model, s, out);
+            return self.evaluate_again(model, s, out);
+        }
         let n = s.x.len();
         let law = LinkLaw::of(model);
         let with_rates = self.rates_fit(out, n);

@@ -522,15 +522,52 @@ impl ForceGenerator {
     /// integrator's inner stage). The outputs are overwritten as by
     /// [`Self::evaluate`].
     pub(crate) fn evaluate_trial(&mut self, model: &DriveModel, state: &DriveState) {
+        self.evaluate_stages(model, state, false);
+    }
+
+    /// From now on (`keep`) the links and the contact keep, at each
+    /// evaluation, what depends on the positions alone, for
+    /// [`Self::evaluate_again`]; `false` keeps nothing (the default).
+    pub(crate) fn keep_positions(&mut self, keep: bool) {
+        self.links.keep_positions(keep);
+        self.contact.keep_positions(keep);
+    }
+
+    /// [`Self::evaluate`] at `state`, whose positions (rollers, sprocket
+    /// angles, further bodies, sprocket centres) are those of the last
+    /// evaluation and only velocities (and scalar states) differ: the links
+    /// and the contact compute again only what depends on the velocities
+    /// ([`Self::keep_positions`]; without it, everything), every further
+    /// element its whole evaluation. The same numbers as [`Self::evaluate`].
+    pub(crate) fn evaluate_again(&mut self, model: &DriveModel, state: &DriveState) {
+        self.evaluate_stages(model, state, true);
+        self.commit_trial();
+    }
+
+    /// Every element at `state` in order, timed where timing is on; the
+    /// links and the contact `again` at the last evaluation's positions.
+    fn evaluate_stages(&mut self, model: &DriveModel, state: &DriveState, again: bool) {
         let out = &mut self.output;
         out.begin();
         let fork = self.fork.as_deref().filter(|f| f.splits(state.rollers()));
-        let Some(times) = &mut self.timing else {
-            match fork {
-                Some(f) => self.links.evaluate_split(model, state, out, f),
-                None => self.links.evaluate(model, state, out),
+        let (links_name, contact_name) = (self.links.name(), self.contact.name());
+        let links = &mut self.links;
+        let mut chain = |out: &mut Forces| match fork {
+            Some(f) => links.evaluate_split(model, state, out, f),
+            None if again => links.evaluate_again(model, state, out),
+            None => links.evaluate(model, state, out),
+        };
+        let contact = &mut self.contact;
+        let mut contacts = |out: &mut Forces| {
+            if again {
+                contact.evaluate_again(model, state, out);
+            } else {
+                contact.evaluate(model, state, out);
             }
-            self.contact.evaluate(model, state, out);
+        };
+        let Some(times) = &mut self.timing else {
+            chain(out);
+            contacts(out);
             for e in &mut self.elements {
                 e.evaluate(model, state, out);
             }
@@ -538,22 +575,19 @@ impl ForceGenerator {
         };
         times.evaluations += 1;
         let mut lap = Instant::now();
-        match fork {
-            Some(f) => self.links.evaluate_split(model, state, out, f),
-            None => self.links.evaluate(model, state, out),
-        }
+        chain(out);
         let now = Instant::now();
-        times.add(0, self.links.name(), (now - lap).as_secs_f64());
+        times.add(0, links_name, (now - lap).as_secs_f64());
         lap = now;
-        let mut timed = |k: usize, element: &mut dyn ForceElement| {
-            element.evaluate(model, state, out);
-            let now = Instant::now();
-            times.add(k, element.name(), (now - lap).as_secs_f64());
-            lap = now;
-        };
-        timed(1, &mut self.contact);
+        contacts(out);
+        let now = Instant::now();
+        times.add(1, contact_name, (now - lap).as_secs_f64());
+        lap = now;
         for (k, e) in self.elements.iter_mut().enumerate() {
-            timed(k + 2, e.as_mut());
+            e.evaluate(model, state, out);
+            let now = Instant::now();
+            times.add(k + 2, e.name(), (now - lap).as_secs_f64());
+            lap = now;
         }
     }
 

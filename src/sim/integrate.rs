@@ -217,6 +217,8 @@ impl Integration {
             // Fill the rows for the first step (same state: the memory is kept).
             forces.evaluate(model, state);
         }
+        // Velocity Verlet's second evaluation is at its first's positions.
+        forces.keep_positions(scheme == Integrator::VelocityVerlet);
         let scale_position_m = static_stretch_m.abs().max(1e-12);
         let scale_speed_m_s =
             scale_position_m * (model.stiffness_n_m / model.roller_mass_kg).sqrt();

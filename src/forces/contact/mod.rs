@@ -18,6 +18,7 @@
 //! onset, keyed by (sprocket, patch id), until it separates. An evaluation
 //! writes the advanced memory aside; [`ForceElement::commit`] adopts it.
 
+mod kept;
 mod pass;
 mod reach;
 mod scratch;
@@ -25,6 +26,7 @@ mod seats;
 
 pub(crate) use reach::Culling;
 
+use kept::Kept;
 use pass::{ContactPass, Frame};
 use reach::{Reach, shared_stretches};
 use scratch::SeatScratch;
@@ -86,6 +88,11 @@ pub(crate) struct ToothContact {
     patches_used: Vec<u8>,
     /// Scratch of the circular seats' pass.
     seat_scratch: SeatScratch,
+    /// Whether each evaluation keeps what depends on the positions alone
+    /// ([`Self::keep_positions`]).
+    keep: bool,
+    /// What the last evaluation kept of it.
+    kept: Kept,
     /// Use the AVX2 build of the pass where the CPU has it (off: the
     /// baseline build, for the test that compares the two).
     pub(crate) avx2: bool,
@@ -113,6 +120,8 @@ impl ToothContact {
             contact_sum: vec![[0.0; 2]; rollers],
             patches_used: vec![0; rollers],
             seat_scratch: SeatScratch::new(rollers),
+            keep: false,
+            kept: Kept::default(),
             avx2: true,
         }
     }
@@ -123,6 +132,18 @@ impl ToothContact {
     /// mount position and velocity).
     pub(crate) fn forget_reach(&mut self) {
         self.reach.expire();
+        self.kept.valid = false;
+    }
+
+    /// From now on each evaluation (without damping rows) keeps what
+    /// depends on the positions alone, for [`Self::evaluate_again`] (velocity
+    /// Verlet evaluates twice at one set of positions).
+    pub(crate) fn keep_positions(&mut self, keep: bool) {
+        self.keep = keep;
+        if keep {
+            self.kept.reserve(self.gap_hint.len());
+        }
+        self.kept.valid = false;
     }
 
     /// Forgets the circular seats' kept gap directions: the next evaluation
@@ -217,7 +238,7 @@ impl ToothContact {
     /// (three-operand instructions, fewer register copies), for the
     /// baseline target otherwise. The same operations in the same order and
     /// no FMA, so the same bits (test `avx2_and_baseline_contacts_agree_to_the_bit`).
-    fn contacts_on_cpu<const ROWS: bool, const MOVING: bool>(
+    fn contacts_on_cpu<const ROWS: bool, const MOVING: bool, const KEEP: bool>(
         &mut self,
         model: &DriveModel,
         s: &DriveState,
@@ -227,27 +248,30 @@ impl ToothContact {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 && cpu_has_avx2() {
             // SAFETY: the CPU has AVX2, checked on the line above.
-            return unsafe { self.contacts_avx2::<ROWS, MOVING>(model, s, out, centre_speed) };
+            return unsafe {
+                self.contacts_avx2::<ROWS, MOVING, KEEP>(model, s, out, centre_speed)
+            };
         }
-        self.contacts::<ROWS, MOVING>(model, s, out, centre_speed);
+        self.contacts::<ROWS, MOVING, KEEP>(model, s, out, centre_speed);
     }
 
     /// [`Self::contacts`] compiled with AVX2 (no FMA).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn contacts_avx2<const ROWS: bool, const MOVING: bool>(
+    fn contacts_avx2<const ROWS: bool, const MOVING: bool, const KEEP: bool>(
         &mut self,
         model: &DriveModel,
         s: &DriveState,
         out: &mut Forces,
         centre_speed: f64,
     ) {
-        self.contacts::<ROWS, MOVING>(model, s, out, centre_speed);
+        self.contacts::<ROWS, MOVING, KEEP>(model, s, out, centre_speed);
     }
 
-    /// The contact pass, compiled per (damping rows, moving centres).
+    /// The contact pass, compiled per (damping rows, moving centres,
+    /// keeping what depends on the positions alone).
     #[inline(always)]
-    fn contacts<const ROWS: bool, const MOVING: bool>(
+    fn contacts<const ROWS: bool, const MOVING: bool, const KEEP: bool>(
         &mut self,
         model: &DriveModel,
         s: &DriveState,
@@ -278,6 +302,11 @@ impl ToothContact {
             self.patches_used[a..b].fill(0);
             self.pending_memory[a..b].fill([FREE; MAX_PATCHES]);
         }
+        self.kept.valid = false;
+        if KEEP {
+            self.kept.touches.clear();
+            self.kept.run_ends.clear();
+        }
         let mut pass = ContactPass {
             law: self.law,
             state: s,
@@ -296,6 +325,7 @@ impl ToothContact {
             } else {
                 None
             },
+            kept: &mut self.kept,
             seat_scratch: &mut self.seat_scratch,
             avx2: self.avx2 && cpu_has_avx2(),
             energy_j: 0.0,
@@ -317,21 +347,25 @@ impl ToothContact {
             let (force, torque) = match (&sp.profile, run.shared) {
                 // The branch-free seats' pass where it applies.
                 (ToothProfile::Circular(c), false) if !ROWS && !c.tips => {
-                    pass.run_seats::<MOVING>(&c.seats(), &frame, run)
+                    pass.run_seats::<MOVING, KEEP>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Circular(c), false) => {
-                    pass.run::<ROWS, false, MOVING, _>(&c.seats(), &frame, run)
+                    pass.run::<ROWS, false, MOVING, KEEP, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Circular(c), true) => {
-                    pass.run::<ROWS, true, MOVING, _>(&c.seats(), &frame, run)
+                    pass.run::<ROWS, true, MOVING, KEEP, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Real(r), false) => {
-                    pass.run::<ROWS, false, MOVING, _>(&**r, &frame, run)
+                    pass.run::<ROWS, false, MOVING, KEEP, _>(&**r, &frame, run)
                 }
                 (ToothProfile::Real(r), true) => {
-                    pass.run::<ROWS, true, MOVING, _>(&**r, &frame, run)
+                    pass.run::<ROWS, true, MOVING, KEEP, _>(&**r, &frame, run)
                 }
             };
+            if KEEP {
+                let end = pass.kept.touches.len() as u32;
+                pass.kept.run_ends.push(end);
+            }
             let total = &mut out.chain_force[run.sprocket];
             total[0] += force[0];
             total[1] += force[1];
@@ -340,6 +374,11 @@ impl ToothContact {
         out.max_penetration_m = pass.max_penetration_m;
         out.contact_energy_j = pass.energy_j;
         out.contact_damping_power_w = pass.damping_power_w;
+        if KEEP {
+            self.kept.max_penetration_m = out.max_penetration_m;
+            self.kept.energy_j = out.contact_energy_j;
+            self.kept.valid = true;
+        }
         for range in shared_stretches(&self.reach.runs) {
             for i in range {
                 let [sx, sy] = self.contact_sum[i];
@@ -368,11 +407,28 @@ impl ForceElement for ToothContact {
         // moving sprocket centres (mounts in a co-simulation) their velocity.
         let centres = model.moving_centres_speed_m_s();
         let centre_speed = centres.unwrap_or(0.0);
+        // Kept for a second evaluation at the same positions only without
+        // damping rows (velocity Verlet records none).
+        let keep = self.keep;
         match (self.damping_rows.is_some(), centres.is_some()) {
-            (true, true) => self.contacts_on_cpu::<true, true>(model, state, out, centre_speed),
-            (true, false) => self.contacts_on_cpu::<true, false>(model, state, out, centre_speed),
-            (false, true) => self.contacts_on_cpu::<false, true>(model, state, out, centre_speed),
-            (false, false) => self.contacts_on_cpu::<false, false>(model, state, out, centre_speed),
+            (true, true) => {
+                self.contacts_on_cpu::<true, true, false>(model, state, out, centre_speed)
+            }
+            (true, false) => {
+                self.contacts_on_cpu::<true, false, false>(model, state, out, centre_speed)
+            }
+            (false, true) if keep => {
+                self.contacts_on_cpu::<false, true, true>(model, state, out, centre_speed)
+            }
+            (false, true) => {
+                self.contacts_on_cpu::<false, true, false>(model, state, out, centre_speed)
+            }
+            (false, false) if keep => {
+                self.contacts_on_cpu::<false, false, true>(model, state, out, centre_speed)
+            }
+            (false, false) => {
+                self.contacts_on_cpu::<false, false, false>(model, state, out, centre_speed)
+            }
         }
     }
 
@@ -422,6 +478,7 @@ impl ForceElement for ToothContact {
             };
         }
         self.pending_memory.clone_from(&self.memory);
+        self.kept.valid = false;
         for (h, w) in self.gap_hint.iter_mut().zip(history.words(n)?) {
             *h = u32::try_from(*w).unwrap_or(0);
         }
@@ -451,6 +508,7 @@ impl ForceElement for ToothContact {
     }
 
     fn reset(&mut self) {
+        self.kept.valid = false;
         self.memory.fill([FREE; MAX_PATCHES]);
         self.pending_memory.fill([FREE; MAX_PATCHES]);
         self.reach.reset();

@@ -3,6 +3,7 @@
 //! profile kind ([`Outline`]).
 
 use super::super::rows::DampingRows;
+use super::kept::{Kept, Touch};
 use super::reach::Run;
 use super::scratch::SeatScratch;
 use super::{EMPTY, FREE, Memory};
@@ -56,6 +57,9 @@ pub(super) struct ContactPass<'a> {
     /// Patches found for each roller of a shared run (its entries in `pending_memory`).
     pub(super) used: &'a mut [u8],
     pub(super) rows: Option<&'a mut DampingRows>,
+    /// What an evaluation at the same positions reads again (written only
+    /// by the loops compiled to keep it, `KEEP`).
+    pub(super) kept: &'a mut Kept,
     /// Scratch of the circular seats' pass ([`super::seats`]).
     pub(super) seat_scratch: &'a mut SeatScratch,
     /// Whether the CPU has AVX2 and the pass may use it.
@@ -77,7 +81,13 @@ impl ContactPass<'_> {
     /// index (the circular seat) keeps it in registers; the sums run in the
     /// same order as a loop over the patches would.
     #[inline(always)]
-    pub(super) fn run<const ROWS: bool, const SHARED: bool, const MOVING: bool, P: Outline>(
+    pub(super) fn run<
+        const ROWS: bool,
+        const SHARED: bool,
+        const MOVING: bool,
+        const KEEP: bool,
+        P: Outline,
+    >(
         &mut self,
         profile: &P,
         frame: &Frame,
@@ -161,7 +171,9 @@ impl ContactPass<'_> {
                 }
             };
             let lever = [rx, ry];
-            ctx.patch::<ROWS, MOVING, P>(
+            let i = a + k;
+            let both = u8::from(count > 1) + 1;
+            let first = ctx.patch::<ROWS, MOVING, P>(
                 profile,
                 &patches[0],
                 lever,
@@ -170,8 +182,11 @@ impl ContactPass<'_> {
                 &mut roller,
                 &mut sprocket,
             );
+            if KEEP {
+                self.kept.touches.push(first.touch(i, both, lever));
+            }
             if count > 1 {
-                ctx.patch::<ROWS, MOVING, P>(
+                let second = ctx.patch::<ROWS, MOVING, P>(
                     profile,
                     &patches[1],
                     lever,
@@ -180,6 +195,9 @@ impl ContactPass<'_> {
                     &mut roller,
                     &mut sprocket,
                 );
+                if KEEP {
+                    self.kept.touches.push(second.touch(i, both, lever));
+                }
             }
             pending_memory[k] = roller.next;
             let total = roller.total;
@@ -199,7 +217,6 @@ impl ContactPass<'_> {
             }
             // A roller's implicit row holds the first sprocket it touches;
             // contacts on a second one (overlapping reach) stay explicit.
-            let i = a + k;
             if ROWS
                 && let Some(rows) = &mut self.rows
                 && rows.sprocket[i] == u32::MAX
@@ -284,7 +301,8 @@ pub(super) struct PatchContext {
 
 impl PatchContext {
     /// Adds one patch of a roller at `lever` from the sprocket's centre,
-    /// moving at `v_rel` relative to the sprocket's surface under it.
+    /// moving at `v_rel` relative to the sprocket's surface under it;
+    /// returns what of it depends on the positions alone.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn patch<const ROWS: bool, const MOVING: bool, P: Outline>(
@@ -296,7 +314,7 @@ impl PatchContext {
         onsets: &[Memory; MAX_PATCHES],
         roller: &mut Roller,
         sums: &mut Sums,
-    ) {
+    ) -> Placed {
         let (sin, cos) = (self.sin, self.cos);
         // Normal back to the world frame.
         let nx = cos * p.normal[0] - sin * p.normal[1];
@@ -310,13 +328,19 @@ impl PatchContext {
         };
         let law = self.law;
         let elastic = law.elastic(contact.depth_m);
-        self.world_patch::<ROWS, MOVING, P>(
+        let onset = self.world_patch::<ROWS, MOVING, P>(
             profile, &contact, elastic, lever, onsets, roller, sums,
         );
+        Placed {
+            normal: [nx, ny],
+            elastic,
+            onset,
+        }
     }
 
     /// [`Self::patch`] once the normal is in the world frame, the approach
-    /// speed known and the elastic part K δⁿ computed.
+    /// speed known and the elastic part K δⁿ computed; returns the patch's
+    /// onset in the advanced memory.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     pub(super) fn world_patch<const ROWS: bool, const MOVING: bool, P: Outline>(
@@ -328,19 +352,20 @@ impl PatchContext {
         onsets: &[Memory; MAX_PATCHES],
         roller: &mut Roller,
         sums: &mut Sums,
-    ) {
+    ) -> Onset {
         let (omega, law) = (self.omega, self.law);
         let [rx, ry] = lever;
         let [nx, ny] = p.normal;
         let depth_rate = p.depth_rate;
         let key = ((self.index as u64) << 32) | u64::from(p.patch_id);
         // The same patch, or (real profile) the one it slid over from.
-        let damping = match onsets.iter().find(|mem| mem.key == key) {
-            Some(mem) => mem.damping_per_speed,
-            None if !P::SLIDES => law.damping_per_speed(depth_rate),
-            None => slid_from(profile, onsets, self.index, p.patch_id)
-                .unwrap_or_else(|| law.damping_per_speed(depth_rate)),
+        let remembered = match onsets.iter().find(|mem| mem.key == key) {
+            Some(mem) => Some(mem.damping_per_speed),
+            None if !P::SLIDES => None,
+            None => slid_from(profile, onsets, self.index, p.patch_id),
         };
+        let damping = remembered.unwrap_or_else(|| law.damping_per_speed(depth_rate));
+        let slot = roller.used;
         if roller.used < MAX_PATCHES {
             roller.next[roller.used] = Memory {
                 key,
@@ -381,6 +406,65 @@ impl PatchContext {
         if !(p.depth_m <= sums.max_pen) {
             sums.max_pen = p.depth_m;
         }
+        Onset {
+            damping,
+            new: remembered.is_none(),
+            slot: slot.min(MAX_PATCHES) as u8,
+        }
+    }
+}
+
+/// A patch's onset as [`PatchContext::world_patch`] found it.
+#[derive(Clone, Copy)]
+pub(super) struct Onset {
+    /// χ / δ̇⁻: remembered, or from this evaluation's approach speed.
+    pub(super) damping: f64,
+    /// Not remembered: a new onset, whose χ / δ̇⁻ follows the approach speed.
+    pub(super) new: bool,
+    /// Its entry in the roller's advanced memory (`MAX_PATCHES`: none).
+    pub(super) slot: u8,
+}
+
+impl Onset {
+    /// The patch as kept for an evaluation at the same positions, with its
+    /// world normal and elastic part.
+    #[inline(always)]
+    pub(super) fn touch(
+        self,
+        roller: usize,
+        patches: u8,
+        lever: [f64; 2],
+        normal: [f64; 2],
+        elastic: f64,
+    ) -> Touch {
+        Touch {
+            roller: roller as u32,
+            patches,
+            slot: self.slot,
+            new: self.new,
+            lever,
+            normal,
+            elastic,
+            damping: self.damping,
+        }
+    }
+}
+
+/// What [`PatchContext::patch`] found of a patch that depends on the
+/// positions alone: its world normal, elastic part and onset.
+#[derive(Clone, Copy)]
+pub(super) struct Placed {
+    normal: [f64; 2],
+    elastic: f64,
+    onset: Onset,
+}
+
+impl Placed {
+    /// The patch as kept for an evaluation at the same positions.
+    #[inline(always)]
+    fn touch(self, roller: usize, patches: u8, lever: [f64; 2]) -> Touch {
+        self.onset
+            .touch(roller, patches, lever, self.normal, self.elastic)
     }
 }
 

@@ -26,7 +26,7 @@ impl ContactPass<'_> {
     /// the chain's resultant force and moment on the sprocket, as
     /// [`ContactPass::run`] does.
     #[inline(always)]
-    pub(super) fn run_seats<const MOVING: bool>(
+    pub(super) fn run_seats<const MOVING: bool, const KEEP: bool>(
         &mut self,
         seats: &Seats<'_>,
         frame: &Frame,
@@ -43,16 +43,16 @@ impl ContactPass<'_> {
         let law = self.law;
         if law.hertz() {
             let stiffness = law.stiffness;
-            self.seat_law::<MOVING>(seats, frame, a, b, |d| stiffness * d * d.sqrt())
+            self.seat_law::<MOVING, KEEP>(seats, frame, a, b, |d| stiffness * d * d.sqrt())
         } else {
-            self.seat_law::<MOVING>(seats, frame, a, b, |d| law.elastic(d))
+            self.seat_law::<MOVING, KEEP>(seats, frame, a, b, |d| law.elastic(d))
         }
     }
 
     /// The law's loop of [`Self::run_seats`], in roller order, with the
     /// elastic part `elastic_of(δ)` = K δⁿ.
     #[inline(always)]
-    fn seat_law<const MOVING: bool>(
+    fn seat_law<const MOVING: bool, const KEEP: bool>(
         &mut self,
         seats: &Seats<'_>,
         frame: &Frame,
@@ -112,7 +112,7 @@ impl ContactPass<'_> {
                 last_force: 0.0,
             };
             let elastic = elastic_of(contact.depth_m);
-            ctx.world_patch::<false, MOVING, _>(
+            let onset = ctx.world_patch::<false, MOVING, _>(
                 seats,
                 &contact,
                 elastic,
@@ -121,6 +121,10 @@ impl ContactPass<'_> {
                 &mut roller,
                 &mut sums,
             );
+            if KEEP {
+                let touch = onset.touch(a + k, 1, [rx, ry], contact.normal, elastic);
+                self.kept.touches.push(touch);
+            }
             pending_memory[k] = roller.next;
             fx_out[k] += roller.total[0];
             fy_out[k] += roller.total[1];

@@ -86,6 +86,7 @@ impl Links {
         fork: Option<&dyn Fork>,
         kick: Kick,
     ) {
+        self.forget_positions();
         let n = s.x.len();
         // The new state of each chunk's first roller and of the roller
         // before it (the last, for the first chunk), before any chunk moves.
