@@ -297,6 +297,14 @@ fn energy_from_nowhere_is_a_power_balance_warning() {
     assert!(s.warnings.is_empty(), "{:?}", s.warnings);
 }
 
+/// The summary's power-balance warning (the test fails without one).
+fn power_balance_warning(s: &RunSummary) -> &str {
+    s.warnings
+        .iter()
+        .find(|w| w.starts_with("power balance"))
+        .unwrap_or_else(|| panic!("{:?}", s.warnings))
+}
+
 #[test]
 fn a_window_whose_stored_energy_outruns_the_flow_through_is_called_unsteady() {
     // A drive that carries almost nothing: the driver absorbs 0.09 W while
@@ -314,11 +322,7 @@ fn a_window_whose_stored_energy_outruns_the_flow_through_is_called_unsteady() {
     let s = judged_with(&unloaded(), 1e-4, Some(settling), row);
     let error = s.energy_balance_error.expect("counted");
     approx::assert_relative_eq!(error, -0.05 / 0.09, max_relative = 1e-12);
-    let w = s
-        .warnings
-        .iter()
-        .find(|w| w.starts_with("power balance"))
-        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    let w = power_balance_warning(&s);
     assert!(
         w.contains("not steady") && w.contains("gave up 0.100 W"),
         "{w}"
@@ -328,22 +332,14 @@ fn a_window_whose_stored_energy_outruns_the_flow_through_is_called_unsteady() {
     // and a second-order integrator advised only to a first-order run.
     let steady_flow = flow(1.0, 1.05);
     let s = judged_with(&unloaded(), 1e-4, Some(steady_flow), row);
-    let w = s
-        .warnings
-        .iter()
-        .find(|w| w.starts_with("power balance"))
-        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    let w = power_balance_warning(&s);
     assert!(
         w.contains("too large") && w.contains("velocity_verlet"),
         "{w}"
     );
     let verlet = unloaded().replace("[solver]", "[solver]\nintegrator = \"velocity_verlet\"");
     let s = judged_with(&verlet, 1e-4, Some(steady_flow), row);
-    let w = s
-        .warnings
-        .iter()
-        .find(|w| w.starts_with("power balance"))
-        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    let w = power_balance_warning(&s);
     assert!(
         w.contains("too large") && !w.contains("velocity_verlet"),
         "{w}"
@@ -481,11 +477,7 @@ fn symplectic_euler_at_10_us_misses_the_papers_drives_power_balance() {
     let s = paper_counted(crate::scene::Integrator::SymplecticEuler);
     let error = s.energy_balance_error.expect("counted");
     assert!(error < -ENERGY_BALANCE_TOLERANCE, "{error}");
-    let w = s
-        .warnings
-        .iter()
-        .find(|w| w.starts_with("power balance"))
-        .unwrap_or_else(|| panic!("{:?}", s.warnings));
+    let w = power_balance_warning(&s);
     assert!(
         w.contains("made it") && w.contains("velocity_verlet"),
         "{w}"

@@ -306,15 +306,7 @@ fn elongation_out_of_range_is_refused_with_its_path() {
 /// travel (46.18 + 15 − 2000 x N), and the arm's moment is balanced.
 #[test]
 fn a_worn_arm_drive_is_lengthened_by_newton_alone() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/user_timing_06b_arm.toml"
-    );
-    let text = std::fs::read_to_string(path).expect("scene").replace(
-        "\npretension_by = \"tensioner_preload\"\n",
-        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 0.5\n",
-    );
-    let scene = Scene::from_toml(&text).expect("valid");
+    let scene = timing_drive_worn_half_a_percent();
     let before = crate::sim::statics::RELAXATIONS.with(std::cell::Cell::get);
     let sim = Simulation::new(&scene).expect("equilibrium");
     let relaxations = crate::sim::statics::RELAXATIONS.with(std::cell::Cell::get) - before;
@@ -342,15 +334,7 @@ fn a_worn_arm_drive_is_lengthened_by_newton_alone() {
 /// ended, however far it got.
 #[test]
 fn a_setups_stage_is_seen_from_another_thread_until_it_ends() {
-    let path = concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/tests/data/user_timing_06b_arm.toml"
-    );
-    let text = std::fs::read_to_string(path).expect("scene").replace(
-        "\npretension_by = \"tensioner_preload\"\n",
-        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 0.5\n",
-    );
-    let scene = Scene::from_toml(&text).expect("valid");
+    let scene = timing_drive_worn_half_a_percent();
     let (seen, watch) = std::sync::mpsc::channel();
     let (done, finished) = std::sync::mpsc::channel::<()>();
     let setting_up = std::thread::spawn(move || {
@@ -369,4 +353,17 @@ fn a_setups_stage_is_seen_from_another_thread_until_it_ends() {
     assert!(tension_n > 0.0);
     assert_eq!(ended_on, id);
     assert_eq!(super::setup_stage::stage(id), None, "left after the setup");
+}
+
+/// `user_timing_06b_arm.toml` with its chain worn 0.5 %.
+fn timing_drive_worn_half_a_percent() -> Scene {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/user_timing_06b_arm.toml"
+    );
+    let text = std::fs::read_to_string(path).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        "\npretension_by = \"tensioner_preload\"\nelongation_pct = 0.5\n",
+    );
+    Scene::from_toml(&text).expect("valid")
 }
