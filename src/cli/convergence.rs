@@ -291,25 +291,48 @@ fn verdict(c: &Convergence) -> String {
 fn plot(c: &Convergence) -> Plot {
     let mut methods: Vec<_> = c.runs.iter().map(|r| r.integrator).collect();
     methods.dedup();
+    let point = |r: &Run| {
+        let (_, norm) = worst(c, r);
+        (
+            (r.wall_s / r.sim_s.max(f64::MIN_POSITIVE)).log10(),
+            norm.max(1e-6).log10(),
+        )
+    };
+    // Each method's settings as dots on a line (a single setting is still
+    // seen), each dot labelled with its setting; the settings that failed
+    // have no point and are counted in the legend.
     let mut traces: Vec<Trace> = methods
         .iter()
         .enumerate()
-        .map(|(i, m)| Trace {
-            label: m.name().to_owned(),
-            points: c
+        .map(|(i, m)| {
+            let failed = c
                 .runs
                 .iter()
-                .filter(|r| r.integrator == *m && r.outcome.is_ok())
-                .map(|r| {
-                    let (_, norm) = worst(c, r);
-                    (
-                        (r.wall_s / r.sim_s.max(f64::MIN_POSITIVE)).log10(),
-                        norm.max(1e-6).log10(),
-                    )
-                })
-                .collect(),
-            mark: Mark::Line,
-            color: i,
+                .filter(|r| r.integrator == *m && r.outcome.is_err())
+                .count();
+            Trace {
+                label: match failed {
+                    0 => m.name().to_owned(),
+                    n => format!("{} ({n} failed: no point)", m.name()),
+                },
+                points: c
+                    .runs
+                    .iter()
+                    .filter(|r| r.integrator == *m && r.outcome.is_ok())
+                    .map(point)
+                    .collect(),
+                mark: Mark::LineDots,
+                color: i,
+            }
+        })
+        .collect();
+    let notes = c
+        .runs
+        .iter()
+        .filter(|r| r.outcome.is_ok())
+        .map(|r| {
+            let (x, y) = point(r);
+            (x, y, r.setting.label())
         })
         .collect();
     let walls: Vec<f64> = c
@@ -342,6 +365,59 @@ fn plot(c: &Convergence) -> Plot {
             SE_TOLERANCE
         ),
         traces,
-        notes: Vec::new(),
+        notes,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Integrator;
+    use crate::studies::convergence::Statistic;
+
+    fn run(dt: f64, outcome: Result<f64, &str>) -> Run {
+        Run {
+            integrator: Integrator::VelocityVerlet,
+            setting: Setting::Step(dt),
+            dt_s: dt,
+            wall_s: if outcome.is_ok() { 4.8 } else { 0.0 },
+            sim_s: if outcome.is_ok() { 10.0 } else { 0.0 },
+            stats: Default::default(),
+            outcome: outcome
+                .map(|value| {
+                    vec![Statistic {
+                        name: "a".to_owned(),
+                        value,
+                        se: None,
+                    }]
+                })
+                .map_err(str::to_owned),
+        }
+    }
+
+    /// One setting that ran and two that failed: the one is drawn as a
+    /// labelled dot (a line alone draws nothing through one point), and
+    /// the legend says that two settings have no point.
+    #[test]
+    fn a_single_setting_is_a_labelled_dot_and_failed_ones_are_counted() {
+        let c = Convergence {
+            reference: run(1e-6, Ok(100.0)),
+            runs: vec![
+                run(5e-5, Ok(100.4)),
+                run(5.5e-5, Err("not a whole number of steps")),
+                run(6e-5, Err("not a whole number of steps")),
+            ],
+        };
+        let p = plot(&c);
+        let method = &p.traces[0];
+        assert_eq!(method.mark, Mark::LineDots);
+        assert_eq!(method.points.len(), 1);
+        assert!(method.label.contains("2 failed"), "{}", method.label);
+        // 0.4 % against the 1 % allowance: log10(0.4) on y, 0.48 s/s on x.
+        let (x, y) = method.points[0];
+        assert!((x - 0.48f64.log10()).abs() < 1e-12, "{x}");
+        assert!((y - 0.4f64.log10()).abs() < 1e-9, "{y}");
+        assert_eq!(p.notes.len(), 1);
+        assert_eq!(p.notes[0].2, Setting::Step(5e-5).label());
     }
 }

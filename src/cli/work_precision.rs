@@ -222,7 +222,7 @@ fn plot(r: &WorkPrecision) -> Plot {
                 .filter(|row| row.run.integrator == *m && row.error.is_finite())
                 .map(|row| (row.error.log10(), row.run.wall_s.log10()))
                 .collect(),
-            mark: Mark::Line,
+            mark: Mark::LineDots,
             color: i,
         })
         .collect();
