@@ -290,6 +290,42 @@ impl Segments {
 
 /// The sprocket whose pitch circle lies nearest the point (x, y).
 fn nearest_pitch_circle(sprockets: &[SprocketModel], x: f64, y: f64) -> usize {
+    if sprockets.len() < 2 {
+        return 0;
+    }
+    // The distances by √(dx² + dy²), within a few ulp of `hypot`'s: where
+    // the nearest wins by far more than that, it is `hypot`'s nearest too.
+    let mut best = (f64::INFINITY, 0);
+    let mut second = f64::INFINITY;
+    let mut scale = 0.0_f64;
+    let mut plain = true;
+    for (s, sp) in sprockets.iter().enumerate() {
+        let (dx, dy) = (x - sp.center_m[0], y - sp.center_m[1]);
+        let d2 = dx * dx + dy * dy;
+        // Overflow, underflow and NaN leave it to `hypot`.
+        plain &= (1e-280..1e280).contains(&d2);
+        let d = d2.sqrt();
+        let gap = (d - sp.pitch_radius_m).abs();
+        scale = scale.max(d + sp.pitch_radius_m.abs());
+        if gap < best.0 {
+            second = best.0;
+            best = (gap, s);
+        } else if gap < second {
+            second = gap;
+        }
+    }
+    if plain && second - best.0 > NEAREST_MARGIN * scale {
+        return best.1;
+    }
+    nearest_pitch_circle_by_hypot(sprockets, x, y)
+}
+
+/// Relative margin by which [`nearest_pitch_circle`]'s nearest must win for
+/// √(dx² + dy²) to decide (its error and `hypot`'s are below 10⁻¹⁵).
+const NEAREST_MARGIN: f64 = 1e-12;
+
+/// [`nearest_pitch_circle`] with every distance by `hypot` (the definition).
+fn nearest_pitch_circle_by_hypot(sprockets: &[SprocketModel], x: f64, y: f64) -> usize {
     let mut best = (f64::INFINITY, 0);
     for (s, sp) in sprockets.iter().enumerate() {
         let gap = ((x - sp.center_m[0]).hypot(y - sp.center_m[1]) - sp.pitch_radius_m).abs();
@@ -311,6 +347,46 @@ mod tests {
         };
         Segments {
             lines: vec![line; 3],
+        }
+    }
+
+    /// The nearest pitch circle by √(dx² + dy²) with its margin is the one
+    /// by `hypot` everywhere, near ties included: points on the bisector of
+    /// the paper's two equal-toothed sprockets and 10⁻¹⁸ to 10⁻¹⁴ of their
+    /// distance either side of it, where the two distances round differently.
+    #[test]
+    fn nearest_pitch_circle_is_the_one_by_hypot() {
+        let scene = crate::scene::Scene::l60mc();
+        let (model, _, _) = crate::model::DriveModel::build(&scene).expect("the paper's drive");
+        let sp = &model.sprockets;
+        let (a, b) = (0..sp.len())
+            .flat_map(|a| (0..sp.len()).map(move |b| (a, b)))
+            .find(|&(a, b)| a < b && sp[a].pitch_radius_m == sp[b].pitch_radius_m)
+            .expect("two sprockets of one size");
+        let (ca, cb) = (sp[a].center_m, sp[b].center_m);
+        let mid = [0.5 * (ca[0] + cb[0]), 0.5 * (ca[1] + cb[1])];
+        let along = [cb[0] - ca[0], cb[1] - ca[1]];
+        let across = [-along[1], along[0]];
+        let mut rng = crate::rng::SeededRng::new(7);
+        let mut ties = 0;
+        for _ in 0..200_000 {
+            let t = rng.range(-2.0, 2.0);
+            let off = rng.range(-1.0, 1.0) * 10f64.powf(-rng.range(14.0, 18.0));
+            let (x, y) = (
+                mid[0] + t * across[0] + off * along[0],
+                mid[1] + t * across[1] + off * along[1],
+            );
+            let exact = nearest_pitch_circle_by_hypot(sp, x, y);
+            assert_eq!(nearest_pitch_circle(sp, x, y), exact, "at ({x}, {y})");
+            let d = |c: [f64; 2]| ((x - c[0]).hypot(y - c[1]) - sp[a].pitch_radius_m).abs();
+            ties += usize::from((d(ca) - d(cb)).abs() < 1e-9);
+        }
+        assert!(ties > 100_000, "{ties} near ties");
+        for (x, y) in [(f64::NAN, 0.0), (1e300, 1e300), (0.0, f64::INFINITY)] {
+            assert_eq!(
+                nearest_pitch_circle(sp, x, y),
+                nearest_pitch_circle_by_hypot(sp, x, y)
+            );
         }
     }
 

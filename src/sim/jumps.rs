@@ -85,6 +85,79 @@ pub struct JumpWatch {
     /// Every ride seen, in order.
     #[serde(default)]
     rides: Vec<TipRide>,
+    /// Per sprocket, each gap's cone (derived from `limits`, not saved).
+    #[serde(skip)]
+    cones: Cones,
+}
+
+/// Fraction of half a gap's angle that a roller's direction may lie off
+/// the gap's centre for [`Cones::holds`] to decide that it is still in the
+/// gap: far more than the rounding of `atan2` and the sprocket's angle.
+const CONE_FRACTION: f64 = 1.0 - 1e-6;
+
+/// Largest sprocket angle, rad, at which [`Cones::holds`] decides (its
+/// rounding grows with the angle).
+const CONE_MAX_ANGLE_RAD: f64 = 1e6;
+
+/// Each gap's centre direction in its sprocket's frame, (cos, sin) of
+/// j 2π/z, and tan of [`CONE_FRACTION`] of half a gap's angle: whether a
+/// roller deep in a gap is still in it, without `atan2`. Derived data,
+/// equal whatever it holds.
+#[derive(Clone, Debug, Default)]
+struct Cones {
+    /// Per sprocket: each gap's direction, then the cone's tan.
+    sprockets: Vec<(Vec<[f64; 2]>, f64)>,
+}
+
+impl PartialEq for Cones {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Cones {
+    /// The cones of sprockets with `teeth[s]` teeth.
+    fn new(teeth: impl Iterator<Item = u32>) -> Self {
+        let sprockets = teeth
+            .map(|z| {
+                let per_gap = std::f64::consts::TAU / f64::from(z);
+                let gaps = (0..z)
+                    .map(|j| {
+                        let (sin, cos) = (f64::from(j) * per_gap).sin_cos();
+                        [cos, sin]
+                    })
+                    .collect();
+                (gaps, (0.5 * per_gap * CONE_FRACTION).tan())
+            })
+            .collect();
+        Self { sprockets }
+    }
+
+    /// Whether the roller `(dx, dy)` from sprocket `s`'s centre, the
+    /// sprocket turned to (`sin θ`, `cos θ`), lies within gap `gap`'s cone:
+    /// then [`gap_of`] gives `gap`. False where it cannot tell.
+    fn holds(&self, s: usize, gap: i32, sin_cos: [f64; 2], dx: f64, dy: f64) -> bool {
+        let Some((gaps, tan)) = self.sprockets.get(s) else {
+            return false;
+        };
+        let Some(&[c, sn]) = usize::try_from(gap).ok().and_then(|j| gaps.get(j)) else {
+            return false;
+        };
+        let [sin, cos] = sin_cos;
+        // The gap's centre direction in the world: rotated by θ.
+        let u = [cos * c - sin * sn, sin * c + cos * sn];
+        let along = u[0] * dx + u[1] * dy;
+        let across = u[0] * dy - u[1] * dx;
+        along > 0.0 && across.abs() < tan * along
+    }
+}
+
+/// The gap of a roller `(dx, dy)` from the centre of a sprocket of `teeth`
+/// teeth turned to `theta`: gap j's centre is at θ + j 2π/z.
+fn gap_of(dx: f64, dy: f64, theta: f64, teeth: u32) -> i32 {
+    let per_gap = std::f64::consts::TAU / f64::from(teeth);
+    let turns = (dy.atan2(dx) - theta) / per_gap;
+    turns.round().rem_euclid(f64::from(teeth)) as i32
 }
 
 impl JumpWatch {
@@ -109,6 +182,7 @@ impl JumpWatch {
         Self {
             gap: vec![NO_GAP; rollers * limits.len()],
             riding: vec![false; rollers * limits.len()],
+            cones: Cones::new(limits.iter().map(|l| l.2)),
             limits,
             jumps: Vec::new(),
             ride_sq_m2,
@@ -130,12 +204,17 @@ impl JumpWatch {
     pub fn look(&mut self, model: &DriveModel, state: &DriveState) -> usize {
         let before = self.jumps.len();
         let count = self.limits.len();
+        if self.cones.sprockets.len() != count {
+            // A watch read from a checkpoint.
+            self.cones = Cones::new(self.limits.iter().map(|l| l.2));
+        }
         for (s, (sp, &(deep_sq, reach_sq, teeth))) in
             model.sprockets.iter().zip(&self.limits).enumerate()
         {
             let [cx, cy] = sp.center_m;
-            let per_gap = std::f64::consts::TAU / f64::from(teeth);
             let theta = state.theta[s];
+            let (sin, cos) = theta.sin_cos();
+            let cones = theta.abs() < CONE_MAX_ANGLE_RAD;
             for i in 0..state.rollers() {
                 let (dx, dy) = (state.x[i] - cx, state.y[i] - cy);
                 let r_sq = dx * dx + dy * dy;
@@ -166,9 +245,12 @@ impl JumpWatch {
                 if let Some(riding) = self.riding.get_mut(i * count + s) {
                     *riding = false;
                 }
-                let turns = (dy.atan2(dx) - theta) / per_gap;
-                let gap = turns.round().rem_euclid(f64::from(teeth)) as i32;
                 let last = *slot;
+                // Still in the gap it was deep in (the commonest case).
+                if cones && self.cones.holds(s, last, [sin, cos], dx, dy) {
+                    continue;
+                }
+                let gap = gap_of(dx, dy, theta, teeth);
                 *slot = gap;
                 if last == NO_GAP || last == gap {
                     continue;
@@ -227,6 +309,42 @@ fn tooth_height_m(sp: &crate::model::SprocketModel) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Where a gap's cone holds a roller, `atan2` puts it in that gap:
+    /// rollers at the edge between two gaps (10⁻¹⁶ to 10⁻⁸ rad off it) and
+    /// anywhere, sprocket angles up to 10⁵ rad, each gap asked.
+    #[test]
+    fn a_gaps_cone_holds_only_rollers_in_that_gap() {
+        let teeth = [11_u32, 30, 97];
+        let cones = Cones::new(teeth.iter().copied());
+        let mut rng = crate::rng::SeededRng::new(11);
+        let (mut held, mut edges) = (0, 0);
+        for k in 0..60_000 {
+            let s = k % teeth.len();
+            let z = teeth[s];
+            let per_gap = std::f64::consts::TAU / f64::from(z);
+            let theta = rng.range(-1.0, 1.0) * 10f64.powf(rng.range(-1.0, 5.0));
+            let j = rng.below(z as usize) as f64;
+            let off = if k % 2 == 0 {
+                edges += 1;
+                0.5 * per_gap + rng.range(-1.0, 1.0) * 10f64.powf(-rng.range(8.0, 16.0))
+            } else {
+                rng.range(-0.5, 0.5) * per_gap
+            };
+            let r = rng.range(0.01, 1.0);
+            let (sin, cos) = (theta + j * per_gap + off).sin_cos();
+            let (dx, dy) = (r * cos, r * sin);
+            let gap = gap_of(dx, dy, theta, z);
+            let (sin, cos) = theta.sin_cos();
+            for last in [gap - 1, gap, gap + 1, (gap + 1).rem_euclid(z as i32)] {
+                if cones.holds(s, last, [sin, cos], dx, dy) {
+                    assert_eq!(last, gap, "teeth {z}, theta {theta}, at ({dx}, {dy})");
+                    held += 1;
+                }
+            }
+        }
+        assert!(held > 25_000 && edges > 25_000, "{held} held");
+    }
 
     #[test]
     fn gap_differences_fold_into_half_a_turn() {
