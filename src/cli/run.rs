@@ -335,7 +335,7 @@ fn simulate(
     let setup_wall_s = setup.elapsed().as_secs_f64();
     // A guide evaluated too seldom for its load at rest: said before the
     // run steps (it may blow up with causes that do not name the guide).
-    let guide_warnings: Vec<String> = super::check::guide_intervals(&sim)
+    let guide_warnings: Vec<String> = super::guide_intervals::guide_intervals(&sim)
         .into_iter()
         .filter_map(|(_, w)| w)
         .collect();
