@@ -81,7 +81,7 @@ pub(crate) enum AnalysisError {
     },
     /// No complete contact on a sprocket in the window.
     #[error(
-        "no roller made a complete contact with sprocket {sprocket} within [{from_s}, {to_s}] s"
+        "no roller made a complete contact with sprocket {sprocket} within [{from_s:.3}, {to_s:.3}] s"
     )]
     NoContact {
         /// 1-based sprocket.
@@ -733,6 +733,22 @@ pub(crate) fn binder_comparison(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The window is said as the report says its windows, in ms: the
+    /// recording of a flat drive, whose back-side idler takes 0.15 pitches
+    /// of wrap, was reported "within [0.2, 1.2000000000000002] s".
+    #[test]
+    fn no_contact_names_its_window_in_milliseconds() {
+        let e = AnalysisError::NoContact {
+            sprocket: 3,
+            from_s: 0.2,
+            to_s: 0.2 + 1.0,
+        };
+        assert_eq!(
+            e.to_string(),
+            "no roller made a complete contact with sprocket 3 within [0.200, 1.200] s"
+        );
+    }
 
     #[test]
     fn window_checks() {

@@ -1,5 +1,5 @@
 //! The run summary: the public contract of `chaindrive run --summary`
-//! (`contracts/run-summary.schema.json`). Field names stay; more may be added.
+//! (`tests/data/run-summary.schema.json`). Field names stay; more may be added.
 //!
 //! - `window_s`: the statistics window ([`super::StatsWindow`]): by default the
 //!   last [`super::DEFAULT_WINDOW_S`] of the run, not before the end of the

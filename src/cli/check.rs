@@ -352,33 +352,10 @@ fn mover(scene: &Scene) -> Option<usize> {
 /// stable one at the most loaded roller at rest (a warning above half of it
 /// where the guide is evaluated every k > 1 steps).
 fn guide_rates(name: &str, sim: &Simulation) {
-    let dt = sim.scene.solver.dt_s;
-    let mass = sim.scene.chain().roller_mass_kg;
-    for (k, g) in sim
-        .forces
-        .elements_of::<crate::forces::GuideElement>()
-        .enumerate()
-    {
-        let load = g.largest_normal_n();
-        let limit = g.stable_interval_s(mass, load);
-        let every = g.configured_every();
-        let interval = f64::from(every) * dt;
-        println!(
-            "guide \"{}\": evaluated every {every} step(s) ({:.2} µs); its most loaded roller at rest carries {load:.3} N, for which the contact's estimated largest stable interval is {:.1} µs",
-            g.name(),
-            interval * 1e6,
-            limit * 1e6
-        );
-        if every > 1 && interval > GUIDE_SAFETY * limit {
-            eprintln!(
-                "{name}: warning: guides[{k}].every_steps = {every} evaluates the guide every {:.2} µs, above {GUIDE_SAFETY} of its contact's estimated limit {:.1} µs at the load at rest: lower it",
-                interval * 1e6,
-                limit * 1e6
-            );
+    for (line, warning) in super::guide_intervals::guide_intervals(sim) {
+        println!("{line}");
+        if let Some(w) = warning {
+            eprintln!("{name}: warning: {w}");
         }
     }
 }
-
-/// The fraction of a guide contact's estimated largest stable interval its
-/// evaluations may be apart without a warning.
-const GUIDE_SAFETY: f64 = 0.5;

@@ -24,6 +24,7 @@ mod chains;
 mod check;
 mod convergence;
 mod fit;
+mod guide_intervals;
 mod jump_margin;
 mod life;
 mod outputs;

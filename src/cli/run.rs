@@ -333,6 +333,15 @@ fn simulate(
     let mut sim = note_slow_setup(args.quiet, || Simulation::new(&scene))
         .map_err(|e| anyhow::anyhow!("cannot start the simulation: {e}"))?;
     let setup_wall_s = setup.elapsed().as_secs_f64();
+    // A guide evaluated too seldom for its load at rest: said before the
+    // run steps (it may blow up with causes that do not name the guide).
+    let guide_warnings: Vec<String> = super::guide_intervals::guide_intervals(&sim)
+        .into_iter()
+        .filter_map(|(_, w)| w)
+        .collect();
+    for w in &guide_warnings {
+        eprintln!("warning: {w}");
+    }
     let duration = scene.solver().duration_s;
     if let Some(csv) = csv.as_mut().filter(|_| resume.is_none()) {
         csv.write_record(series_header(&sim, &scene))
@@ -382,20 +391,24 @@ fn simulate(
     }
     finish_series_and_recording(&mut observer, &outcome)?;
     let outcome = outcome?;
-    let summary = RunSummary::of_run_in(
+    let mut summary = RunSummary::of_run_in(
         &sim,
         &outcome,
         &observer.signals,
         setup_wall_s,
         &sampling.window,
     );
+    let guide_warnings_count = guide_warnings.len();
+    summary.warnings.extend(guide_warnings);
     if let Some(f) = summary_file.as_mut() {
         serde_json::to_writer_pretty(&mut *f, &summary)?;
         writeln!(f)?;
         f.flush().context("writing the summary failed")?;
     }
     print_summary(&summary, sim.scene.solver().dt_speed);
-    for w in &summary.warnings {
+    // The guides' warnings were said before the run stepped.
+    let guides_said = summary.warnings.len() - guide_warnings_count;
+    for w in &summary.warnings[..guides_said] {
         eprintln!("warning: {w}");
     }
     if let Some(times) = &outcome.stage_times {

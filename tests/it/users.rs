@@ -198,3 +198,46 @@ fn an_arm_hanging_free_of_the_chain_is_a_warning() {
     let err = check("user_moto_10b_guide_arm.toml");
     assert!(!err.contains("holds no chain"), "{err}");
 }
+
+/// `run` warns of a guide evaluated too seldom as `check` does, before it
+/// steps (a run of such a guide may blow up with causes that do not name
+/// it), and the summary carries the warning. The 30/30 drive's guide: its
+/// most loaded roller at rest carries 45.9 N; with K = 1e9 N/m^1.5,
+/// e = 0 (χ = 3/4) and the 0.05 m/s floor, by hand m/c = 0.3 /
+/// (0.75 · 45.93 / 0.05) = 435 µs, under 2/ω = 473 µs: every 30 steps of
+/// 10 µs (300 µs) is above half of it; every 20 steps (200 µs) is not.
+#[cfg(feature = "cli")]
+#[test]
+fn a_guide_evaluated_too_seldom_is_a_warning_of_the_run() {
+    let dir = tempfile::tempdir().expect("a temporary directory");
+    let base = std::fs::read_to_string(data("guide_30_30.toml")).expect("the scene");
+    let run = |every: u32| {
+        let text = base.replace(
+            "end_m = [1.089, 0.408243]",
+            &format!("end_m = [1.089, 0.408243]\nevery_steps = {every}"),
+        );
+        let scene = dir.path().join(format!("guide_every_{every}.toml"));
+        let summary = dir.path().join(format!("every_{every}.json"));
+        std::fs::write(&scene, text).expect("written");
+        let out = crate::common::chaindrive(&[
+            "run",
+            scene.to_str().expect("a UTF-8 path"),
+            "--duration",
+            "0.002",
+            "--quiet",
+            "--summary",
+            summary.to_str().expect("a UTF-8 path"),
+        ]);
+        let err = crate::common::stderr(&out);
+        assert!(out.status.success(), "{err}");
+        let warnings = crate::common::read_json(&summary)["warnings"].clone();
+        (err, warnings.to_string())
+    };
+    let (err, warnings) = run(30);
+    let expected = "guides[0].every_steps = 30 evaluates the guide every 300.00 µs, above 0.5 of its contact's estimated limit 435.5 µs";
+    assert!(err.contains(&format!("warning: {expected}")), "{err}");
+    assert!(warnings.contains(expected), "{warnings}");
+    let (err, warnings) = run(20);
+    assert!(!err.contains("every_steps"), "{err}");
+    assert!(!warnings.contains("every_steps"), "{warnings}");
+}

@@ -605,6 +605,10 @@ impl Drawing for Campbell {
     {
         draw_campbell(root, self)
     }
+
+    fn size(&self) -> (u32, u32) {
+        SIZE
+    }
 }
 
 #[cfg(test)]
@@ -720,5 +724,23 @@ mod tests {
         ] {
             assert!(svg.contains(text), "{text} not in the SVG");
         }
+        // The panel beside the plot lies on the canvas: its heading starts
+        // 10 px into the panel, whose PANEL_PX reach the canvas's right
+        // edge. (Drawn on a narrower canvas than the diagram's own, the
+        // panel was cut at the edge: "span 2: rear → ch".)
+        let attr = |tag: &str, name: &str| -> f64 {
+            let start = tag.find(&format!("{name}=\"")).expect(name) + name.len() + 2;
+            let len = tag[start..].find('"').expect("closing quote");
+            tag[start..start + len].parse().expect("a number")
+        };
+        let width = attr(&svg[..svg.find('>').expect("svg tag")], "width");
+        let heading = svg.find("Order amplitude").expect("the panel's heading");
+        let tag = &svg[svg[..heading].rfind("<text").expect("its tag")..heading];
+        let x = attr(tag, "x");
+        assert!(
+            x - 10.0 + f64::from(PANEL_PX) <= width,
+            "the panel from x = {} px, {PANEL_PX} px wide, on a canvas {width} px wide",
+            x - 10.0
+        );
     }
 }

@@ -413,6 +413,11 @@ pub(crate) trait Drawing {
     fn draw_on<DB: DrawingBackend>(&self, root: DrawingArea<DB, Shift>) -> Result<(), String>
     where
         DB::ErrorType: 'static;
+
+    /// The canvas it is drawn on, pixels (width, height).
+    fn size(&self) -> (u32, u32) {
+        SIZE
+    }
 }
 
 impl Drawing for Plot {
@@ -424,8 +429,8 @@ impl Drawing for Plot {
     }
 }
 
-/// Writes `figure` as `dir/stem.png` and `dir/stem.svg`, both `SIZE`;
-/// returns the paths.
+/// Writes `figure` as `dir/stem.png` and `dir/stem.svg`, both of the
+/// figure's size; returns the paths.
 pub(crate) fn write_png_svg(
     figure: &impl Drawing,
     dir: &Path,
@@ -439,10 +444,10 @@ pub(crate) fn write_png_svg(
         message,
     };
     figure
-        .draw_on(BitMapBackend::new(&png, SIZE).into_drawing_area())
+        .draw_on(BitMapBackend::new(&png, figure.size()).into_drawing_area())
         .map_err(fail)?;
     figure
-        .draw_on(SVGBackend::new(&svg, SIZE).into_drawing_area())
+        .draw_on(SVGBackend::new(&svg, figure.size()).into_drawing_area())
         .map_err(fail)?;
     Ok(vec![png, svg])
 }
