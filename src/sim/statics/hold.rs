@@ -259,4 +259,92 @@ mod tests {
             "residual {residual_n} N against the held roller's {left} N ({outward} N outward)"
         );
     }
+
+    /// The 3 m conveyor whose upper strand lies on a wear strip (circular
+    /// profile, 2000 N): roller 6 on the head is pulled outward on its
+    /// seating arc's rim. At the rest length after the first, Newton from
+    /// where the unheld solve stalled meets a roller on the tail sitting on
+    /// its own arc's rim (its contact block by differences spans the jump:
+    /// indefinite, unsymmetric); the held solve continued from the rest
+    /// state before reaches the rest state without any relaxation. Checked
+    /// by hand from the positions only: on a flat frictionless strip the
+    /// links lie level and the strip's push is normal, so every link on
+    /// it carries the same force T, and every roller away from the strip's
+    /// ends rests on it with its weight alone (its links' pull has no
+    /// vertical part); the free tail with no load turns the same T into the
+    /// lower strand, and the pretension rule sets the strands' mean link
+    /// force: T within 0.5 % of the 2000 N pretension (the lower strand's
+    /// sag changes its force along it by w × its sag, under 1 N).
+    #[test]
+    fn the_wear_strip_conveyor_settles_by_the_held_solve_with_its_strip_carrying_the_weight() {
+        let path = concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/tests/data/user_conveyor_strips.toml"
+        );
+        let text = std::fs::read_to_string(path).expect("the scene file exists");
+        let scene = Scene::from_toml(&text).expect("a valid scene");
+        let before = super::super::RELAXATIONS.with(std::cell::Cell::get);
+        let sim = Simulation::new(&scene).expect("a rest state");
+        let relaxations = super::super::RELAXATIONS.with(std::cell::Cell::get) - before;
+        let eq = &sim.equilibrium;
+        assert_eq!(relaxations, 0, "{eq:?}");
+        let rim = eq
+            .beyond_seating_arc
+            .as_ref()
+            .expect("the rim roller named");
+        // No worse than the relaxation's end (9.5e-3 of the pretension).
+        assert!(eq.force_residual < 5e-3, "{eq:?}");
+        let residual_n = eq.force_residual * scene.chain.pretension_n;
+        assert!(
+            rim.outward_n <= residual_n * (1.0 + 1e-6),
+            "{rim}: {residual_n} N"
+        );
+        let model = sim.model();
+        let state = &sim.state;
+        let n = state.x.len();
+        let k = model.stiffness_n_m;
+        let link = |i: usize| {
+            let j = (i + 1) % n;
+            let d = [state.x[j] - state.x[i], state.y[j] - state.y[i]];
+            let l = d[0].hypot(d[1]);
+            (k * (l - model.rest_length_m), d, l)
+        };
+        // Rollers of the upper strand more than 0.1 m inside the strip's
+        // ends (the scene's strip spans x = −2.7226 … −0.3 m).
+        let (x0, x1) = (-2.7226 + 0.1, -0.3 - 0.1);
+        let on_strip: Vec<usize> = (0..n)
+            .filter(|&i| state.y[i] > 0.0 && state.x[i] > x0 && state.x[i] < x1)
+            .collect();
+        assert!(
+            on_strip.len() > 50,
+            "{} rollers on the strip",
+            on_strip.len()
+        );
+        let weight = model.roller_mass_kg * model.gravity_m_s2[1].abs();
+        let mut tensions = Vec::new();
+        for &i in &on_strip {
+            let (t_next, d_next, l_next) = link(i);
+            let (t_prev, d_prev, l_prev) = link((i + n - 1) % n);
+            let vertical = t_next * d_next[1] / l_next - t_prev * d_prev[1] / l_prev;
+            assert!(
+                vertical.abs() <= 1e-3 * weight,
+                "roller {i}: links pull {vertical} N vertically against its weight {weight} N"
+            );
+            tensions.push(t_next);
+        }
+        let (low, high) = tensions
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &t| {
+                (a.min(t), b.max(t))
+            });
+        assert!(
+            high - low <= 1e-3,
+            "link forces on the strip {low}..{high} N"
+        );
+        let target = scene.chain.pretension_n;
+        assert!(
+            (low - target).abs() <= 5e-3 * target,
+            "the strip's strand at {low} N against the pretension {target} N"
+        );
+    }
 }

@@ -469,19 +469,27 @@ const MAX_HOLDS: usize = 4;
 /// Where Newton stalled (at `state`) with a roller on a circular seating
 /// arc's rim ([`rim_roller_except`]), Newton again with that roller held on
 /// its arc (`hold`), and with each further rim roller the state reached
-/// names, up to [`MAX_HOLDS`]. True when the held solve's residual (the
-/// springs' included) is within `rest_force_n` and every held roller lies
-/// on its arc: `state` is then that rest state and `forces` are evaluated
-/// at it without the springs (the held rollers' outward pulls are their
-/// residual). Otherwise `state` is left where Newton stalled.
+/// names, up to [`MAX_HOLDS`]. With `from`, the held solve starts there
+/// instead (the rest state of the rest length before: a continuation), its
+/// rim rollers held where they already lie on their arcs. True when the
+/// held solve's residual (the springs' included) is within `rest_force_n`
+/// and every held roller lies on its arc: `state` is then that rest state
+/// and `forces` are evaluated at it without the springs (the held rollers'
+/// outward pulls are their residual). Otherwise `state` is left where
+/// Newton stalled.
 fn settle_on_rims(
     model: &DriveModel,
     state: &mut DriveState,
     forces: &mut ForceGenerator,
-    aim_n: f64,
-    rest_force_n: f64,
+    (aim_n, rest_force_n): (f64, f64),
+    from: Option<&DriveState>,
 ) -> bool {
     let stalled = state.clone();
+    if let Some(from) = from {
+        state.clone_from(from);
+        forces.reset_memory();
+        forces.evaluate(model, state);
+    }
     let mut holds: Vec<RimHold> = Vec::new();
     while holds.len() < MAX_HOLDS {
         let held: Vec<usize> = holds.iter().map(|h| h.roller).collect();
@@ -490,14 +498,16 @@ fn settle_on_rims(
         else {
             break;
         };
-        hold.place(model, state);
+        if from.is_none() || !hold.on_arc(model, state) {
+            hold.place(model, state);
+        }
         holds.push(hold);
         let end = solve_in_rounds(model, state, forces, aim_n, &holds);
         if end.residual_n <= rest_force_n && holds.iter().all(|h| h.on_arc(model, state)) {
             return true;
         }
     }
-    if !holds.is_empty() {
+    if !holds.is_empty() || from.is_some() {
         state.clone_from(&stalled);
         forces.reset_memory();
         forces.evaluate(model, state);
@@ -569,7 +579,13 @@ pub(crate) fn settle_from(
     // A roller on a circular seating arc's rim: the rest state with it held
     // on its arc (`hold`), whose residual is the outward pull no contact
     // force of the profile gives.
-    if settle_on_rims(model, state, forces, aim, rest_force_n) {
+    if settle_on_rims(model, state, forces, (aim, rest_force_n), None) {
+        return Ok(0.0);
+    }
+    // The same from the state Newton started from (the rest state of the
+    // rest length before, its rim rollers already on their arcs), where
+    // the stall has moved other rollers onto their arcs' rims.
+    if settle_on_rims(model, state, forces, (aim, rest_force_n), Some(&start)) {
         return Ok(0.0);
     }
     // A stall further from equilibrium than the start, or with a link
