@@ -20,7 +20,7 @@ const ROOT: &str = env!("CARGO_MANIFEST_DIR");
 
 /// Options of other tools that the docs show (cargo, its test harness,
 /// criterion, valgrind, rerun, the public-name count `.ci/public-names`).
-const FOREIGN_OPTIONS: [&str; 18] = [
+const FOREIGN_OPTIONS: [&str; 19] = [
     "--release",
     "--features",
     "--list",
@@ -36,6 +36,7 @@ const FOREIGN_OPTIONS: [&str; 18] = [
     "--noplot",
     "--tool",
     "--toggle-collect",
+    "--dump-instr",
     "--inclusive",
     "--timeline-type",
     "--application-id",
