@@ -162,8 +162,8 @@ impl Chamber {
     /// ratchet's stop at `ratchet_floor_m` (`None`: no ratchet).
     pub(crate) fn force_n(&self, p_pa: f64, x_m: f64, ratchet_floor_m: Option<f64>) -> f64 {
         let h = &self.params;
-        let mut f = p_pa.max(self.floor_pa()) * self.area_m2 + h.spring_preload_n
-            - h.spring_stiffness_n_m * x_m
+        let mut f = p_pa.max(self.floor_pa()) * self.area_m2
+            + return_spring_n(h.spring_preload_n, h.spring_stiffness_n_m, x_m)
             + stops_n(x_m, h.min_travel_m, h.max_travel_m, h.stop_stiffness_n_m);
         if let Some(floor) = ratchet_floor_m
             && x_m < floor
@@ -171,6 +171,24 @@ impl Chamber {
             f += h.stop_stiffness_n_m * (floor - x_m);
         }
         f
+    }
+}
+
+/// The return spring's push on a plunger at travel `x_m`, N: F₀ − k x while
+/// compressed, nothing beyond its free length x_f = F₀/k (a compression
+/// spring seated in the chamber pushes, never pulls); F₀ always when k = 0.
+fn return_spring_n(preload_n: f64, k_n_m: f64, x_m: f64) -> f64 {
+    (preload_n - k_n_m * x_m).max(0.0)
+}
+
+/// The return spring's potential at travel `x_m`, J: minus
+/// [`return_spring_n`]'s integral from 0, −F₀ x + ½ k x² up to the free
+/// length x_f = F₀/k and −F₀²/(2k) beyond it.
+pub(crate) fn return_spring_j(preload_n: f64, k_n_m: f64, x_m: f64) -> f64 {
+    if k_n_m > 0.0 && x_m > preload_n / k_n_m {
+        -0.5 * preload_n * preload_n / k_n_m
+    } else {
+        -preload_n * x_m + 0.5 * k_n_m * x_m * x_m
     }
 }
 
