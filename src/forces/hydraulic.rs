@@ -210,7 +210,11 @@ mod tests {
     use crate::scene::STANDARD_ATMOSPHERE_PA;
 
     fn chamber() -> Chamber {
-        Chamber::new(&HydraulicTensioner {
+        Chamber::new(&params())
+    }
+
+    fn params() -> HydraulicTensioner {
+        HydraulicTensioner {
             bore_m: 0.015,
             clearance_m: 20e-6,
             leak_length_m: 0.02,
@@ -230,7 +234,29 @@ mod tests {
             ratchet_backlash_m: None,
             stop_stiffness_n_m: 1e7,
             ambient_pressure_pa: STANDARD_ATMOSPHERE_PA,
-        })
+        }
+    }
+
+    #[test]
+    fn the_return_spring_pushes_only_while_compressed() {
+        // F₀ = 10 N, k = 1000 N/m: free length x_f = 10 mm. Stops out of the
+        // way (±50 mm). Oil: p A = 1e5 Pa · π (7.5 mm)² = 17.6715 N, by hand.
+        let mut h = params();
+        h.min_travel_m = -0.05;
+        h.max_travel_m = 0.05;
+        let oil_n = 1e5 * std::f64::consts::PI * 0.0075 * 0.0075;
+        assert!((oil_n - 17.6715).abs() < 1e-4);
+        let c = Chamber::new(&h);
+        // Compressed (x = 4 mm): p A + F₀ − k x = p A + 6 N.
+        assert!((c.force_n(1e5, 0.004, None) - (oil_n + 6.0)).abs() < 1e-9);
+        // Short of the seat (x = −3 mm): p A + 13 N.
+        assert!((c.force_n(1e5, -0.003, None) - (oil_n + 13.0)).abs() < 1e-9);
+        // Beyond the free length (x = 20 mm): the oil alone, no pull.
+        assert!((c.force_n(1e5, 0.02, None) - oil_n).abs() < 1e-9);
+        // No stiffness: F₀ at any travel.
+        h.spring_stiffness_n_m = 0.0;
+        let c = Chamber::new(&h);
+        assert!((c.force_n(1e5, 0.02, None) - (oil_n + 10.0)).abs() < 1e-9);
     }
 
     #[test]
