@@ -42,7 +42,7 @@ pub(super) struct JumpMarginArgs {
     /// Any other scene value, the same in every run: PATH=VALUE (repeatable).
     #[arg(long = "set", value_name = "PATH=VALUE")]
     set: Vec<String>,
-    /// Runs at once, and values tried per round [default: 2].
+    /// Runs at once, and values tried per round.
     #[arg(long, default_value_t = 2)]
     jobs: usize,
     /// Count only tooth jumps: a run whose rollers ride a tip without

@@ -162,8 +162,8 @@ impl Chamber {
     /// ratchet's stop at `ratchet_floor_m` (`None`: no ratchet).
     pub(crate) fn force_n(&self, p_pa: f64, x_m: f64, ratchet_floor_m: Option<f64>) -> f64 {
         let h = &self.params;
-        let mut f = p_pa.max(self.floor_pa()) * self.area_m2 + h.spring_preload_n
-            - h.spring_stiffness_n_m * x_m
+        let mut f = p_pa.max(self.floor_pa()) * self.area_m2
+            + return_spring_n(h.spring_preload_n, h.spring_stiffness_n_m, x_m)
             + stops_n(x_m, h.min_travel_m, h.max_travel_m, h.stop_stiffness_n_m);
         if let Some(floor) = ratchet_floor_m
             && x_m < floor
@@ -171,6 +171,24 @@ impl Chamber {
             f += h.stop_stiffness_n_m * (floor - x_m);
         }
         f
+    }
+}
+
+/// The return spring's push on a plunger at travel `x_m`, N: F₀ − k x while
+/// compressed, nothing beyond its free length x_f = F₀/k (a compression
+/// spring seated in the chamber pushes, never pulls); F₀ always when k = 0.
+fn return_spring_n(preload_n: f64, k_n_m: f64, x_m: f64) -> f64 {
+    (preload_n - k_n_m * x_m).max(0.0)
+}
+
+/// The return spring's potential at travel `x_m`, J: minus
+/// [`return_spring_n`]'s integral from 0, −F₀ x + ½ k x² up to the free
+/// length x_f = F₀/k and −F₀²/(2k) beyond it.
+pub(crate) fn return_spring_j(preload_n: f64, k_n_m: f64, x_m: f64) -> f64 {
+    if k_n_m > 0.0 && x_m > preload_n / k_n_m {
+        -0.5 * preload_n * preload_n / k_n_m
+    } else {
+        -preload_n * x_m + 0.5 * k_n_m * x_m * x_m
     }
 }
 
@@ -192,7 +210,11 @@ mod tests {
     use crate::scene::STANDARD_ATMOSPHERE_PA;
 
     fn chamber() -> Chamber {
-        Chamber::new(&HydraulicTensioner {
+        Chamber::new(&params())
+    }
+
+    fn params() -> HydraulicTensioner {
+        HydraulicTensioner {
             bore_m: 0.015,
             clearance_m: 20e-6,
             leak_length_m: 0.02,
@@ -212,7 +234,29 @@ mod tests {
             ratchet_backlash_m: None,
             stop_stiffness_n_m: 1e7,
             ambient_pressure_pa: STANDARD_ATMOSPHERE_PA,
-        })
+        }
+    }
+
+    #[test]
+    fn the_return_spring_pushes_only_while_compressed() {
+        // F₀ = 10 N, k = 1000 N/m: free length x_f = 10 mm. Stops out of the
+        // way (±50 mm). Oil: p A = 1e5 Pa · π (7.5 mm)² = 17.6715 N, by hand.
+        let mut h = params();
+        h.min_travel_m = -0.05;
+        h.max_travel_m = 0.05;
+        let oil_n = 1e5 * std::f64::consts::PI * 0.0075 * 0.0075;
+        assert!((oil_n - 17.6715).abs() < 1e-4);
+        let c = Chamber::new(&h);
+        // Compressed (x = 4 mm): p A + F₀ − k x = p A + 6 N.
+        assert!((c.force_n(1e5, 0.004, None) - (oil_n + 6.0)).abs() < 1e-9);
+        // Short of the seat (x = −3 mm): p A + 13 N.
+        assert!((c.force_n(1e5, -0.003, None) - (oil_n + 13.0)).abs() < 1e-9);
+        // Beyond the free length (x = 20 mm): the oil alone, no pull.
+        assert!((c.force_n(1e5, 0.02, None) - oil_n).abs() < 1e-9);
+        // No stiffness: F₀ at any travel.
+        h.spring_stiffness_n_m = 0.0;
+        let c = Chamber::new(&h);
+        assert!((c.force_n(1e5, 0.02, None) - (oil_n + 10.0)).abs() < 1e-9);
     }
 
     #[test]

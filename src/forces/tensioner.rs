@@ -19,7 +19,7 @@ use std::any::Any;
 
 use super::contact_law::ContactLawParams;
 use super::guide::{Carrier, GuideElement, GuideParams};
-use super::hydraulic::{Chamber, stops_n};
+use super::hydraulic::{Chamber, return_spring_j, stops_n};
 use super::{ForceElement, Forces, History, HistoryError, HistoryReader};
 use crate::geometry::shoe::{Face, Piece};
 use crate::model::{DriveModel, DriveState};
@@ -199,21 +199,23 @@ impl ArmAtRest {
     pub(crate) fn potential_j(&self, gravity_m_s2: [f64; 2], q: f64) -> f64 {
         let p = &self.params;
         let (_, x) = lever_and_travel(p, q);
-        // A push F(x) = F₀ − k x + stops(x): U = −F₀ x + ½ k x² + U_stops(x).
-        let (push, k, stops) = match (&p.kind, &self.chamber) {
-            (TensionerKind::Spring(sp), _) => (
-                sp.preload_n,
-                sp.stiffness_n_m,
-                stops_j(x, sp.min_travel_m, sp.max_travel_m, sp.stop_stiffness_n_m),
-            ),
-            (TensionerKind::Hydraulic(h), Some(ch)) => (
-                h.supply_pressure_pa.max(ch.floor_pa()) * ch.area_m2 + h.spring_preload_n,
-                h.spring_stiffness_n_m,
-                stops_j(x, h.min_travel_m, h.max_travel_m, h.stop_stiffness_n_m),
-            ),
-            (TensionerKind::Hydraulic(_), None) => (0.0, 0.0, 0.0),
+        // A spring tensioner's push F(x) = F₀ − k x + stops(x), tied to the
+        // arm (it pulls beyond x = F₀/k): U = −F₀ x + ½ k x² + U_stops(x).
+        // A hydraulic one's: p_s A + max(0, F₀ − k x) + stops(x), its return
+        // spring pushing only while compressed.
+        let mut u = match (&p.kind, &self.chamber) {
+            (TensionerKind::Spring(sp), _) => {
+                -sp.preload_n * x
+                    + 0.5 * sp.stiffness_n_m * x * x
+                    + stops_j(x, sp.min_travel_m, sp.max_travel_m, sp.stop_stiffness_n_m)
+            }
+            (TensionerKind::Hydraulic(h), Some(ch)) => {
+                -h.supply_pressure_pa.max(ch.floor_pa()) * ch.area_m2 * x
+                    + return_spring_j(h.spring_preload_n, h.spring_stiffness_n_m, x)
+                    + stops_j(x, h.min_travel_m, h.max_travel_m, h.stop_stiffness_n_m)
+            }
+            (TensionerKind::Hydraulic(_), None) => 0.0,
         };
-        let mut u = -push * x + 0.5 * k * x * x + stops;
         if p.mass_kg > 0.0 {
             // U = −m g·(c(q) − c(0)), c the centre of mass.
             let r0 = [

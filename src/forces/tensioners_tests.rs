@@ -554,3 +554,44 @@ fn a_shoe_the_chain_never_touches_is_warned_about() {
         timing_scene().warnings()
     );
 }
+
+/// The far arm's hydraulic tensioner with a return spring F₀ = 10 N,
+/// k = 1000 N/m (free length x_f = 10 mm), at supply pressure
+/// p_s = 3e5 Pa: on both sides of x_f the plunger's push is the closed
+/// form p_s A + max(0, F₀ − k x), and the static potential's derivative
+/// dU/dq (central differences) is minus its moment F ℓ cos q about the
+/// pivot (the point at (ℓ cos q, ℓ sin q) from the pivot, pushed along +y).
+#[test]
+fn the_return_spring_pushes_only_while_compressed_and_the_potential_agrees() {
+    let spring = HYDRAULIC
+        .replace("spring_preload_n = 0.0", "spring_preload_n = 10.0")
+        .replace(
+            "spring_stiffness_n_m = 0.0",
+            "spring_stiffness_n_m = 1000.0",
+        );
+    let text = format!("{FLAT}\n{FAR_ARM}\n{spring}");
+    let scene = Scene::from_toml(&text).expect("a valid scene");
+    let mut sim = Simulation::new(&scene).expect("the drive settles");
+    let p_s = 3e5;
+    let at_rest = arm(&sim).at_rest();
+    // x = ℓ sin q: 4 mm (compressed) and 30 mm (off its seat).
+    for x in [0.004, 0.03] {
+        let q = (x / LEVER_M).asin();
+        let push = p_s * AREA_M2 + (10.0 - 1000.0 * x).max(0.0);
+        start_at(&mut sim, q, p_s);
+        let read = arm(&sim).reading().plunger_force_n;
+        assert!(
+            (read - push).abs() < 1e-6 * push,
+            "x = {x}: push {read} N, closed form {push} N"
+        );
+        let h = 1e-6;
+        let du = (at_rest.potential_j([0.0, 0.0], q + h) - at_rest.potential_j([0.0, 0.0], q - h))
+            / (2.0 * h);
+        let moment = push * LEVER_M * q.cos();
+        assert!(
+            (du + moment).abs() < 1e-6 * moment,
+            "x = {x}: dU/dq {du} N·m, minus the moment {} N·m",
+            -moment
+        );
+    }
+}

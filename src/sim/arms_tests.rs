@@ -105,8 +105,9 @@ fn a_chain_beyond_the_arms_reach_is_refused_with_their_reach() {
 /// so the chain pushes the shoe with T (ê_a + ê_b), through the shoe's
 /// centre C (a circular arc's normal forces all point through it). About
 /// the pivot P: T (C − P) × (ê_a + ê_b) + F ℓ = 0, ℓ = (a − P) × ê, with the
-/// tensioner's push F = p_s π d²/4 + F₀ − k x at rest (the chamber held at
-/// its supply pressure during the static equilibrium; docs/model.md).
+/// tensioner's push F = p_s π d²/4 + max(0, F₀ − k x) at rest (the chamber
+/// held at its supply pressure during the static equilibrium, the return
+/// spring pushing only while compressed; docs/model.md).
 #[test]
 fn the_static_tension_of_a_laid_arm_is_its_torque_balance() {
     let t = text(ONE_LINK_LONG).replace("gravity_m_s2 = [0.0, -9.81]", "gravity_m_s2 = [0.0, 0.0]");
@@ -132,8 +133,11 @@ fn the_static_tension_of_a_laid_arm_is_its_torque_balance() {
     let (center, point) = (turn(arm.shoe_center_m), turn(arm.point_m));
     let e = arm.direction;
     let x = sub(point, arm.point_m)[0] * e[0] + sub(point, arm.point_m)[1] * e[1];
-    // The scene's hydraulic tensioner: d = 14 mm, p_s = 3 bar, F₀ = 15 N, k = 2 N/mm.
-    let push_n = 3e5 * std::f64::consts::PI * 0.014f64.powi(2) / 4.0 + 15.0 - 2000.0 * x;
+    // The scene's hydraulic tensioner: d = 14 mm, p_s = 3 bar, F₀ = 15 N,
+    // k = 2 N/mm. Laid beyond the return spring's free length F₀/k = 7.5 mm,
+    // the spring is off its seat: the push is p_s A alone.
+    assert!(x > 0.0075, "travel {x} m");
+    let push_n = 3e5 * std::f64::consts::PI * 0.014f64.powi(2) / 4.0 + (15.0 - 2000.0 * x).max(0.0);
     let lever_m = cross(sub(point, arm.pivot_m), e);
     // The rollers on the shoe, in chain order, and the strands off its ends.
     let reach = arm.shoe_radius_m + scene.chain().roller_radius_m + 1e-6;
@@ -169,7 +173,7 @@ fn the_static_tension_of_a_laid_arm_is_its_torque_balance() {
 }
 
 /// Regression: a chain 4.26 mm short of its path lays out with its free
-/// links stretched and settles at several kN against the 320 N the
+/// links stretched and settles at several kN against the 471 N the
 /// tensioner holds on the fitted drive, and `check` said only "notice".
 /// A shoe only lengthens the path, so the chain's own stretch sets that
 /// tension: by hand, with the shortfall e shared by all N links or only by
@@ -202,7 +206,9 @@ fn a_chain_short_of_its_path_sets_the_tension_not_the_arm() {
         message.contains("tensioner \"slack-side arm\" pushes"),
         "{message}"
     );
-    // The drive as fitted: the tensioner sets its 320 N, and nothing is said.
+    // The drive as fitted: the tensioner sets its 471 N (`chaindrive check
+    // assets/timing-drive.toml`; its push p_s A = 46.2 N, the return spring
+    // off its seat), and nothing is said.
     let fitted = Scene::from_toml(&text("assets/timing-drive.toml")).expect("valid");
     let sim = Simulation::new(&fitted).expect("settles");
     assert!(
@@ -210,5 +216,5 @@ fn a_chain_short_of_its_path_sets_the_tension_not_the_arm() {
         "{:?}",
         sim.equilibrium.misfit
     );
-    assert!((sim.equilibrium.tension_n - 320.0).abs() < 5.0);
+    assert!((sim.equilibrium.tension_n - 471.0).abs() < 5.0);
 }

@@ -301,9 +301,10 @@ fn elongation_out_of_range_is_refused_with_its_path() {
 /// either).
 ///
 /// `user_timing_06b_arm.toml` worn 0.5 %, its hydraulic tensioner at rest
-/// held at the 3 bar supply: the plunger pushes p A + F₀ − k x with
+/// held at the 3 bar supply: the plunger pushes p A + max(0, F₀ − k x) with
 /// A = π/4 · (14 mm)² = 1.5394 · 10⁻⁴ m², F₀ = 15 N, k = 2000 N/m, x its
-/// travel (46.18 + 15 − 2000 x N), and the arm's moment is balanced.
+/// travel (46.18 + max(0, 15 − 2000 x) N: 46.18 N at rest beyond the
+/// return spring's free length, 7.5 mm), and the arm's moment is balanced.
 #[test]
 fn a_worn_arm_drive_is_lengthened_by_newton_alone() {
     let scene = timing_drive_worn_half_a_percent();
@@ -318,7 +319,7 @@ fn a_worn_arm_drive_is_lengthened_by_newton_alone() {
     );
     let arm = sim.forces.output().tensioners[0];
     let area_m2 = std::f64::consts::FRAC_PI_4 * 0.014f64.powi(2);
-    let push_n = 3e5 * area_m2 + 15.0 - 2000.0 * arm.travel_m;
+    let push_n = 3e5 * area_m2 + (15.0 - 2000.0 * arm.travel_m).max(0.0);
     approx::assert_relative_eq!(arm.plunger_force_n, push_n, max_relative = 1e-6);
     // The arm's moment over its reach, against the pretension scale.
     let reach_m = 0.25_f64.max((0.3007f64 - 0.09).hypot(0.163 - 0.33));

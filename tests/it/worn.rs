@@ -335,17 +335,24 @@ fn a_recording_lists_the_tip_rides_and_tooth_jumps_its_summary_counts() {
     }
 }
 
-/// The least hydraulic supply pressure that keeps a worn timing chain in
-/// mesh (`tests/data/user_timing_06b_arm.toml`, 0.5 % elongation, 3000 rpm,
+/// The least return-spring preload that keeps a timing chain in mesh with
+/// no supply pressure (`tests/data/user_timing_06b_arm.toml`, 3000 rpm,
 /// 0.1 s runs): the search brackets it with the jumping end at the low end
 /// of the range (a force that must be large enough), and a grid of plain
-/// runs of the same drive, run as a study, agrees: a pressure below the
+/// runs of the same drive, run as a study, agrees: a preload below the
 /// bracket rides a tip, one above it runs clean.
+///
+/// Hand number: with no supply pressure the plunger pushes only with its
+/// return spring, max(0, F0 - k x), and the arm lies at x = 17.37 mm of
+/// travel to take up the chain (`check`'s "laid" line). A preload below
+/// k x = 2000 N/m * 17.37 mm = 34.7 N pushes nothing there: the chain hangs
+/// by its weight and the roller leaving the crank rests on a tip. So the
+/// bracket's jumping end lies below 34.7 N and its clean end above it.
 #[test]
-fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
+fn jump_margin_finds_the_least_spring_preload_that_a_grid_of_runs_confirms() {
     let scene = data("user_timing_06b_arm.toml");
     let scene = scene.to_str().expect("utf-8");
-    let path = "tensioners.0.hydraulic.supply_pressure_pa";
+    let path = "tensioners.0.hydraulic.spring_preload_n";
     let run = chaindrive(&[
         "jump-margin",
         scene,
@@ -354,11 +361,13 @@ fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
         "--from",
         "0",
         "--to",
-        "3e5",
+        "80",
         "--tolerance",
-        "1e5",
+        "10",
+        "--set",
+        "tensioners.0.hydraulic.supply_pressure_pa=0",
         "--elongation",
-        "0.5",
+        "0",
         "--duration",
         "0.1",
         "--jobs",
@@ -370,16 +379,21 @@ fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
     let margin = &out["margin"];
     let clean = margin["clean"].as_f64().expect("clean");
     let jumping = margin["jumping"].as_f64().expect("jumping");
-    // Low pressure loses the mesh, high pressure keeps it: the bracket runs
-    // from the jumping value up to the clean one.
+    // Low preload loses the mesh, high preload keeps it: the bracket runs
+    // from the jumping value up to the clean one, across k x.
     assert_eq!(margin["low_end_jumps"], true, "{out}");
-    assert!(jumping < clean && clean - jumping <= 1e5, "{out}");
+    assert!(jumping < clean && clean - jumping <= 10.0, "{out}");
+    let spring_at_rest = 2000.0 * 17.37e-3;
+    assert!(
+        jumping < spring_at_rest && spring_at_rest < clean,
+        "k x = {spring_at_rest} N outside the bracket: {out}"
+    );
 
     // The grid: one value below the bracket's jumping end, one above its
     // clean end (neither tried by the search).
-    let levels = [jumping / 2.0, (clean + 3e5) / 2.0];
+    let levels = [jumping / 2.0, (clean + 80.0) / 2.0];
     let plan = format!(
-        "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.1, \"chain.elongation_pct\" = 0.5 }}\nwindow_s = 0.05\n\n[[factors]]\npath = \"{path}\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
+        "scene = {scene:?}\nresponses = \"all\"\nset = {{ \"solver.duration_s\" = 0.1, \"chain.elongation_pct\" = 0.0, \"tensioners.0.hydraulic.supply_pressure_pa\" = 0.0 }}\nwindow_s = 0.05\n\n[[factors]]\npath = \"{path}\"\nlevels = {levels:?}\n\n[design]\nkind = \"full_factorial\"\n"
     );
     let csv = study_table(&plan);
     let lost: Vec<f64> = csv_column(&csv, "tooth_jump_count")
@@ -389,12 +403,12 @@ fn jump_margin_finds_the_least_supply_pressure_that_a_grid_of_runs_confirms() {
         .collect();
     assert!(
         lost[0] >= 1.0,
-        "{} Pa ran clean below {jumping} Pa: {csv}",
+        "{} N ran clean below {jumping} N: {csv}",
         levels[0]
     );
     assert_eq!(
         lost[1], 0.0,
-        "{} Pa lost the mesh above {clean} Pa: {csv}",
+        "{} N lost the mesh above {clean} N: {csv}",
         levels[1]
     );
 }
