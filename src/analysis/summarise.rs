@@ -228,6 +228,9 @@ impl RunSummary {
         summary
             .warnings
             .extend(eq.unbalanced.as_ref().map(ToString::to_string));
+        summary
+            .warnings
+            .extend(eq.worn_slack.as_ref().map(ToString::to_string));
         summary.warnings.extend(sim.unmeshed_warning());
         summary.wear = sim.sliding.as_ref().and_then(|s| {
             let speeds: Vec<f64> = summary

@@ -127,6 +127,9 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
             if let Some(unbalanced) = &sim.equilibrium.unbalanced {
                 eprintln!("{name}: warning: {unbalanced}");
             }
+            if let Some(slack) = &sim.equilibrium.worn_slack {
+                eprintln!("{name}: warning: {slack}");
+            }
             let residual = sim.equilibrium.force_residual;
             if residual > crate::analysis::STATIC_RESIDUAL_TOLERANCE || residual.is_nan() {
                 eprintln!(

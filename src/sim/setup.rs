@@ -96,6 +96,11 @@ pub(super) fn settle(scene: &Scene, held: &[bool]) -> Result<(Settled, BlowUpLim
                 check_shoe_ends(worn, model, state, forces, &limits, Some(at))
             };
         let mut settled = wear_settled(worn, settled, &settings, &mut shoe_ends)?;
+        // A worn chain longer than the arms take up hangs slack with every
+        // arm on a stop: said, not refused.
+        let (scene, _, _, forces, _, eq) = &mut settled;
+        let take_up_m = statics::arm_take_up_of(scene).map(|t| t.max_m);
+        eq.worn_slack = statics::worn_slack(scene, forces, eq.tension_n, take_up_m);
         if let Some(k) = held.auto {
             note_let_go(worn, k);
             let (scene, model, state, forces, _, eq) = &mut settled;

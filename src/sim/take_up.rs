@@ -80,6 +80,7 @@ pub(super) fn settle_tensioner(
             beyond_seating_arc: None,
             misfit: None,
             unbalanced: None,
+            worn_slack: None,
         };
         Ok(((moved, model, state, forces, layout, eq), tension))
     };

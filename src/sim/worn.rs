@@ -267,5 +267,6 @@ pub(crate) fn wear_in(
         beyond_seating_arc: None,
         misfit: None,
         unbalanced: None,
+        worn_slack: None,
     })
 }

@@ -368,3 +368,47 @@ fn timing_drive_worn_half_a_percent() -> Scene {
     );
     Scene::from_toml(&text).expect("valid")
 }
+
+/// `assets/timing-drive.toml` with its chain worn `pct` %.
+fn timing_drive_worn(pct: f64) -> Scene {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/assets/timing-drive.toml");
+    let text = std::fs::read_to_string(path).expect("scene").replace(
+        "\npretension_by = \"tensioner_preload\"\n",
+        &format!("\npretension_by = \"tensioner_preload\"\nelongation_pct = {pct}\n"),
+    );
+    Scene::from_toml(&text).expect("valid")
+}
+
+/// The timing drive worn 0.3 %: its 112 links of 12.7 mm gain
+/// N P e = 112 × 12.7 mm × 0.003 = 4.267 mm, more than the 2.46 mm of
+/// chain its arm's shoe takes up from stop to stop (`chaindrive check
+/// assets/timing-drive.toml`), so the plunger ends on its upper stop
+/// (30 mm) and the chain hangs slack, far below the new chain's 471 N:
+/// said in the rest state's warnings with both lengths. The 06B arm drive
+/// worn 0.5 % still holds its chain (20.5 N, the plunger inside its
+/// travel): no such warning.
+#[test]
+fn a_worn_chain_longer_than_its_arm_takes_up_is_warned_of() {
+    let sim = Simulation::new(&timing_drive_worn(0.3)).expect("equilibrium");
+    let slack = sim.equilibrium.worn_slack.as_ref().expect("warned");
+    approx::assert_relative_eq!(slack.gain_m, 112.0 * 0.0127 * 0.003, max_relative = 1e-12);
+    let take_up_m = slack.take_up_m.expect("the arm's take-up");
+    assert!((take_up_m - 2.46e-3).abs() < 0.01e-3, "{take_up_m}");
+    let plunger = &sim.forces.output().tensioners[0];
+    assert!(plunger.travel_m >= 0.030 - 1e-6, "{}", plunger.travel_m);
+    assert!(
+        sim.equilibrium.tension_n < 10.0,
+        "{}",
+        sim.equilibrium.tension_n
+    );
+    let warned = sim.equilibrium.warnings();
+    assert!(
+        warned
+            .iter()
+            .any(|w| w.contains("hangs slack") && w.contains("4.27 mm") && w.contains("2.46 mm")),
+        "{warned:?}"
+    );
+    let holding = Simulation::new(&timing_drive_worn_half_a_percent()).expect("equilibrium");
+    assert!(holding.equilibrium.worn_slack.is_none());
+    assert!(holding.equilibrium.tension_n > 10.0);
+}

@@ -37,6 +37,10 @@ pub struct StaticEquilibrium {
     /// around the loop: the torque the sprocket held for the solve took
     /// (`sim::statics::free`). No rest state exists; a run warns.
     pub(crate) unbalanced: Option<super::error::Unbalanced>,
+    /// Where a worn chain is longer than the tensioner arms take up: every
+    /// arm on a stop or clear of the chain, the chain slack
+    /// (`sim::statics::misfit`). A run warns.
+    pub(crate) worn_slack: Option<super::misfit::WornSlack>,
 }
 
 impl StaticEquilibrium {
@@ -56,13 +60,19 @@ impl StaticEquilibrium {
     /// roller held on or pulled beyond a circular seating arc (the drive
     /// has no smooth rest state with that profile), a static tension
     /// that the chain's fit to its path sets where tensioner arms should,
-    /// or loads that do not balance around a loop with no driver.
-    /// Empty for a clean rest state.
+    /// loads that do not balance around a loop with no driver, or a worn
+    /// chain longer than the tensioner arms take up. Empty for a clean
+    /// rest state.
     pub fn warnings(&self) -> Vec<String> {
         let rim = self.beyond_seating_arc.as_ref().map(ToString::to_string);
         let misfit = self.misfit.as_ref().map(ToString::to_string);
         let unbalanced = self.unbalanced.as_ref().map(ToString::to_string);
-        rim.into_iter().chain(misfit).chain(unbalanced).collect()
+        let slack = self.worn_slack.as_ref().map(ToString::to_string);
+        rim.into_iter()
+            .chain(misfit)
+            .chain(unbalanced)
+            .chain(slack)
+            .collect()
     }
 }
 
@@ -301,6 +311,7 @@ pub(crate) fn settle_preload(
         beyond_seating_arc: None,
         misfit: None,
         unbalanced: None,
+        worn_slack: None,
     })
 }
 
@@ -393,6 +404,7 @@ pub(crate) fn settle_rest_length(
                     beyond_seating_arc,
                     misfit: None,
                     unbalanced: None,
+                    worn_slack: None,
                 });
             }
             // Right tension, not yet at rest: relax on at this rest length.
@@ -431,6 +443,7 @@ pub(crate) fn settle_rest_length(
             beyond_seating_arc: Some(rim),
             misfit: None,
             unbalanced: None,
+            worn_slack: None,
         });
     }
     let (body, _) = unsettled_body(model, forces, sprocket_names);

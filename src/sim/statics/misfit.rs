@@ -186,3 +186,90 @@ pub(crate) fn misfit_tension(
         arms,
     })
 }
+
+/// A worn chain longer than the tensioner arms take up (tensioner-preload
+/// rule, `chain.elongation_pct`): every arm stands on a stop or holds no
+/// chain at the worn rest state, and the chain hangs slack. Nothing here
+/// changes the rest state; a run warns.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct WornSlack {
+    /// The links' elongation, a fraction of the pitch.
+    pub elongation: f64,
+    /// Rollers (links) in the loop.
+    pub rollers: usize,
+    /// The pitch, m.
+    pub pitch_m: f64,
+    /// The length the chain gained, N P e, m.
+    pub gain_m: f64,
+    /// The most chain the arms' shoes take up over their travel on the
+    /// path through the seated rollers, m (`None` where it is not known).
+    pub take_up_m: Option<f64>,
+    /// The worn chain's static tension, N.
+    pub tension_n: f64,
+    /// What each arm does at rest (a phrase each, naming the arm).
+    pub arms: Vec<String>,
+}
+
+impl std::fmt::Display for WornSlack {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the worn chain is longer than the tensioner arms take up and hangs slack at {:.1} N: worn by {:.3} % (chain.elongation_pct), its {} links of {:.2} mm gained {:.2} mm",
+            self.tension_n,
+            100.0 * self.elongation,
+            self.rollers,
+            1e3 * self.pitch_m,
+            1e3 * self.gain_m,
+        )?;
+        if let Some(t) = self.take_up_m {
+            write!(
+                f,
+                ", while the arms' shoes take up at most {:.2} mm of chain over their travel",
+                1e3 * t
+            )?;
+        }
+        write!(
+            f,
+            "; {}: take the slack up otherwise (fewer rollers, a sprocket moved apart, a tensioner with more travel)",
+            self.arms.join("; ")
+        )
+    }
+}
+
+/// Under the tensioner-preload rule with a worn chain, where every arm
+/// holds no chain at the worn rest state (each on a stop, clear of the
+/// chain, or its push spent): the worn chain's slack ([`WornSlack`]);
+/// `None` otherwise. `scene` the worn scene, `forces` evaluated at its rest
+/// state, whose static tension is `tension_n`; `take_up_m` the most chain
+/// the arms take up over their travel.
+pub(crate) fn worn_slack(
+    scene: &Scene,
+    forces: &ForceGenerator,
+    tension_n: f64,
+    take_up_m: Option<f64>,
+) -> Option<WornSlack> {
+    let chain = &scene.chain;
+    if chain.pretension_by != PretensionRule::TensionerPreload
+        || !(chain.elongation > 0.0)
+        || scene.tensioners.is_empty()
+    {
+        return None;
+    }
+    let readings = &forces.output().tensioners;
+    let mut arms = Vec::with_capacity(scene.tensioners.len());
+    for (t, r) in scene.tensioners.iter().zip(readings) {
+        match arm_at_rest(t, r) {
+            ArmAtRest::Idle(why) => arms.push(why),
+            ArmAtRest::Holds(_) => return None,
+        }
+    }
+    Some(WornSlack {
+        elongation: chain.elongation,
+        rollers: chain.rollers,
+        pitch_m: chain.pitch_m,
+        gain_m: chain.wear_gain_m(),
+        take_up_m,
+        tension_n,
+        arms,
+    })
+}

@@ -34,7 +34,7 @@ pub(crate) use fit::{
     FIT_TOLERANCE_M, arm_take_up_of, default_direction, fit_sprocket, needed_pitches_of,
 };
 pub(crate) use free::{let_go, sprocket_to_hold};
-pub(crate) use misfit::misfit_tension;
+pub(crate) use misfit::{misfit_tension, worn_slack};
 pub(crate) use newton::{settle, settle_from};
 #[cfg(test)]
 pub(crate) use relax::RELAXATIONS;

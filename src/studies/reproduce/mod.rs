@@ -139,6 +139,7 @@ pub(crate) fn run_scene(
             beyond_seating_arc: None,
             misfit: None,
             unbalanced: None,
+            worn_slack: None,
         };
         sim.sync_world();
     }
