@@ -9,7 +9,7 @@
 use super::stats::{STATIONARITY_SE, stationarity as test_stationarity};
 use super::window::{DEFAULT_WINDOW_S, holds, last_ramp};
 use super::{RunSummary, SampleRow, segment_series};
-use crate::scene::{Integrator, Scene};
+use crate::scene::{Chain, Integrator, Scene, StepLimits};
 use crate::sim::PowerMeans;
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
@@ -156,6 +156,11 @@ fn power_balance(j: &Judged<'_>) -> Option<String> {
             through
         ));
     }
+    if let Some(bound) = loaded_contact_damping(j) {
+        return Some(format!(
+            "{head}: {bound} (docs/model.md, \"Time scales and stability\")"
+        ));
+    }
     let remedy = match j.scene.solver().integrator {
         Integrator::SymplecticEuler | Integrator::ImplicitDamping => {
             "reduce solver.dt_s, or take a second-order integrator (solver.integrator = \"velocity_verlet\")"
@@ -165,6 +170,60 @@ fn power_balance(j: &Judged<'_>) -> Option<String> {
     Some(format!(
         "{head}, so the step is too large for this drive's energy flows: {remedy} (docs/model.md, \"Where the power goes\")"
     ))
+}
+
+/// Where the run's step exceeds the explicit contact damping's bound at the
+/// tension the drive ran at: the stability estimate takes a roller's contact
+/// force as the pretension ([`StepLimits::of_parts`]), and a load can put
+/// many times that into the tight strand, whose rollers engage at the
+/// approach-speed floor with a damping coefficient χ F / δ̇⁻_min as many
+/// times larger. A smaller step or a scheme that takes the contact damping
+/// implicitly cures it; a second-order explicit scheme has the same bound.
+/// `None` where the scheme is not bound by the contact damping, the strands
+/// ran below the pretension, or the step is within the bound.
+fn loaded_contact_damping(j: &Judged<'_>) -> Option<String> {
+    let scheme = j.scene.solver().integrator;
+    let pretension = j.scene.chain().pretension_n;
+    let force = j
+        .summary
+        .segments
+        .iter()
+        .map(|s| s.mean_link_force_n)
+        .fold(f64::NEG_INFINITY, f64::max);
+    if !(force > pretension) {
+        return None;
+    }
+    let bound_at = |tension: f64| {
+        let chain = Chain {
+            pretension_n: tension,
+            ..j.scene.chain().clone()
+        };
+        StepLimits::of_parts(&chain, j.scene.contact())
+            .bounds_for(scheme)
+            .into_iter()
+            .find(|b| b.0 == "contact damping")
+            .map(|b| b.1)
+    };
+    let (loaded, at_pretension) = (bound_at(force)?, bound_at(pretension)?);
+    let dt = j.summary.dt_s;
+    (dt > loaded).then(|| {
+        format!(
+            "the contact damping bounds this step: the tightest strand ran at {:.2} kN, {:.1} times the pretension of {:.2} kN that the stability estimate takes, and a roller engaging at the approach-speed floor (contact.min_approach_speed_m_s = {}) under that force allows an explicit step of {} against this run's {} (the estimate at the pretension: {}): take solver.integrator = \"verlet_implicit_damping\" or \"implicit_damping\" (the contact damping taken implicitly; velocity_verlet has the same bound), or solver.dt_s below {}, or a larger contact.min_approach_speed_m_s",
+            force / 1e3,
+            force / pretension,
+            pretension / 1e3,
+            j.scene.contact().min_approach_speed_m_s,
+            micro(loaded),
+            micro(dt),
+            micro(at_pretension),
+            micro(loaded)
+        )
+    })
+}
+
+/// A duration in µs, to three significant figures.
+fn micro(s: f64) -> String {
+    format!("{:.3} µs", s * 1e6)
 }
 
 /// A window that begins before the scene's last ramp ends

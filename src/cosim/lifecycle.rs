@@ -300,25 +300,31 @@ fn insert_sprockets(
     let mut links = Vec::with_capacity(model.sprockets.len());
     for (k, sp) in model.sprockets.iter().enumerate() {
         let mounted = mounts.get(k).copied().flatten();
-        let (body, mount, angle_offset) = match mounted.and_then(|h| bodies.get(h).map(|b| (h, b)))
-        {
-            Some((h, b)) => {
-                let mount = if b.is_dynamic() {
-                    Mount::Dynamic
-                } else {
-                    Mount::Kinematic
-                };
-                (h, mount, b.rotation().angle() - state.theta[k])
-            }
-            None => {
-                let b = RigidBodyBuilder::kinematic_velocity_based()
-                    .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
-                    .rotation(state.theta[k])
-                    .can_sleep(false)
-                    .build();
-                (bodies.insert(b), Mount::Own, 0.0)
-            }
-        };
+        // Every sprocket's body may turn faster than rapier's default cap of
+        // π/4 per step (47 rad/s at 60 Hz), which would hold
+        // a dynamic mount back in rapier's step and leave a kinematic one
+        // behind its sprocket: the chain sets the speed, so the cap is lifted.
+        let (body, mount, angle_offset) =
+            match mounted.and_then(|h| bodies.get_mut(h).map(|b| (h, b))) {
+                Some((h, b)) => {
+                    b.set_allow_fast_rotation(true);
+                    let mount = if b.is_dynamic() {
+                        Mount::Dynamic
+                    } else {
+                        Mount::Kinematic
+                    };
+                    (h, mount, b.rotation().angle() - state.theta[k])
+                }
+                None => {
+                    let b = RigidBodyBuilder::kinematic_velocity_based()
+                        .translation(Vector::new(sp.center_m[0], sp.center_m[1]))
+                        .rotation(state.theta[k])
+                        .can_sleep(false)
+                        .allow_fast_rotation(true)
+                        .build();
+                    (bodies.insert(b), Mount::Own, 0.0)
+                }
+            };
         let collider = ColliderBuilder::new(sprocket_shape(&sp.profile))
             .position(Pose::rotation(-angle_offset))
             .density(0.0)

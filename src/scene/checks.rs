@@ -113,11 +113,29 @@ pub struct Checks {
 }
 
 /// Checks `[checks]`. `bearing` is whether the chain has a pin diameter and
-/// a bushing length (the wear check's bearing area).
-pub(super) fn check_checks(c: &mut Checker, f: &ChecksFile, bearing: bool) -> Checks {
+/// a bushing length (the wear check's bearing area); `strength` the chain's
+/// tensile strength, N, where it has one: a fatigue limit is below it (a
+/// pulsating load of the strength's peak breaks the chain in one cycle).
+pub(super) fn check_checks(
+    c: &mut Checker,
+    f: &ChecksFile,
+    bearing: bool,
+    strength: Option<f64>,
+) -> Checks {
     let fatigue_limit_n = f
         .fatigue_limit_n
         .map(|v| c.positive("checks.fatigue_limit_n", v));
+    if let (Some(limit), Some(strength)) = (fatigue_limit_n, strength)
+        && limit >= strength
+    {
+        c.fail(
+            "checks.fatigue_limit_n",
+            format!(
+                "must be below the chain's tensile strength of {:.1} kN (chain.tensile_strength_n, or its designation's): a pulsating load of that peak breaks the chain at once, and makers' maximum allowable loads are a small fraction of it; got {limit}",
+                strength / 1e3
+            ),
+        );
+    }
     let sn_slope = f.sn_slope.inspect(|&m| {
         if !SN_SLOPE_RANGE.contains(&m) {
             c.fail(

@@ -67,7 +67,8 @@ impl TryFrom<SceneFile> for Scene {
             );
         }
         let bearing = chain.pin_radius_m.is_some() && chain.bushing_length_m.is_some();
-        let checks = super::checks::check_checks(&mut c, &file.checks, bearing);
+        let checks =
+            super::checks::check_checks(&mut c, &file.checks, bearing, chain.tensile_strength_n);
         let guides = if c.errors.is_empty() {
             super::guides::check_guides(&mut c, &file.guides, &chain, &contact, &sprockets, &solver)
         } else {

@@ -270,3 +270,57 @@ fn a_drive_from_another_world_in_a_set_is_named_before_anything_is_written() {
     assert_eq!(field_of(e), "drives[1]");
     assert_eq!(roller_positions(&w, &set.drives()[0]), before);
 }
+
+/// A sprocket on the user's dynamic body turns faster than rapier's default
+/// angular speed cap (π/4 per step: 47.12 rad/s at 60 Hz). The 16B drive's
+/// 19-tooth driver at 1200 rpm turns the 38-tooth sprocket, mounted on a
+/// flywheel held by a revolute joint, at 1200 × 19/38 = 600 rpm = 62.83
+/// rad/s by the teeth. Without the cap lifted, rapier's step held the body
+/// at 47.12 rad/s and the chain's sprocket swung between 41 and 54 rad/s
+/// with link forces four times the running ones; the body as built by the
+/// user (no `allow_fast_rotation`) now turns with its sprocket.
+#[test]
+fn a_mounted_sprocket_turns_faster_than_rapiers_angular_speed_cap() {
+    let text = include_str!("../data/designation_16b.toml")
+        .replace("speed_rpm = 100.0", "speed_rpm = 1200.0");
+    let scene = Scene::from_toml(&text).expect("valid scene");
+    let centre = scene.sprockets()[1].center_m;
+    let mut world = PhysicsWorld::default();
+    let at = Vector::new(centre[0], centre[1]);
+    let frame = world
+        .bodies
+        .insert(RigidBodyBuilder::fixed().translation(at));
+    let wheel = world.bodies.insert(
+        RigidBodyBuilder::dynamic()
+            .translation(at)
+            .additional_mass_properties(MassProperties::new(Vector::ZERO, 3.0, 0.02)),
+    );
+    world
+        .impulse_joints
+        .insert(frame, wheel, RevoluteJointBuilder::new(), true);
+    let mut drive = ChainDrive::builder(&scene)
+        .mount(1usize, wheel)
+        .build(&mut world)
+        .expect("drive");
+    let by_teeth = 1200.0 * std::f64::consts::TAU / 60.0 * 19.0 / 38.0;
+    let cap = std::f64::consts::FRAC_PI_4 * 60.0;
+    assert!(by_teeth > 1.3 * cap, "{by_teeth} against {cap}");
+    let (mut sprocket, mut body, mut n) = (0.0, 0.0, 0.0);
+    for f in 0..60 {
+        drive.step_world(&mut world, &(), &()).expect("frame");
+        if f >= 30 {
+            sprocket += drive.state().omega[1];
+            body += world.bodies[wheel].angvel();
+            n += 1.0;
+        }
+    }
+    let (sprocket, body) = (sprocket / n, body / n);
+    assert!(
+        (sprocket - by_teeth).abs() < 0.01 * by_teeth,
+        "sprocket {sprocket} rad/s against {by_teeth}"
+    );
+    assert!(
+        (body - by_teeth).abs() < 0.01 * by_teeth,
+        "body {body} rad/s against {by_teeth}"
+    );
+}

@@ -179,17 +179,25 @@ fn the_overloaded_motorcycle_drive_has_a_finite_life_and_a_warning() {
 }
 
 /// A scene's own S–N curve replaces the derived one, and a slope outside
-/// what steels have is refused with its path.
+/// what steels have is refused with its path, as is a fatigue limit at or
+/// above the chain's tensile strength (the 10B's 22.2 kN): a pulsating load
+/// of that peak breaks the chain at once.
 #[test]
 fn the_scenes_checks_give_their_own_curve_or_a_clear_error() {
-    let own = format!("{MOTO}\n[checks]\nfatigue_limit_n = 50000.0\nsn_slope = 5.0\n");
+    let own = format!("{MOTO}\n[checks]\nfatigue_limit_n = 20000.0\nsn_slope = 5.0\n");
     let s = run(&own, 0.3, 0.05);
     assert_eq!(
         (
             num(&s, "fatigue/fatigue_limit_n"),
             num(&s, "fatigue/sn_slope")
         ),
-        (50_000.0, 5.0)
+        (20_000.0, 5.0)
+    );
+    let above = format!("{MOTO}\n[checks]\nfatigue_limit_n = 50000.0\n");
+    let e = Scene::from_toml(&above).expect_err("refused").to_string();
+    assert!(
+        e.contains("checks.fatigue_limit_n") && e.contains("tensile strength of 22.2 kN"),
+        "{e}"
     );
     let basis = s["fatigue"]["basis"].as_str().expect("a basis");
     assert!(basis.contains("checks.fatigue_limit_n"), "{basis}");
