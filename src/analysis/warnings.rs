@@ -158,7 +158,7 @@ fn power_balance(j: &Judged<'_>) -> Option<String> {
     }
     if let Some(bound) = loaded_contact_damping(j) {
         return Some(format!(
-            "{head}: {bound} (docs/model.md, \"Time scales and stability\")"
+            "{head}; {bound} (docs/model.md, \"Time scales and stability\")"
         ));
     }
     let remedy = match j.scene.solver().integrator {

@@ -341,6 +341,7 @@ impl ToothContact {
                 self.frames[j] = Frame::of(&model.sprockets[j], s.theta[j], s.omega[j], j);
             }
         }
+        let hertz = self.law.hertz();
         for run in self.reach.runs.iter() {
             let sp = &model.sprockets[run.sprocket];
             let frame = self.frames[run.sprocket];
@@ -350,16 +351,19 @@ impl ToothContact {
                     pass.run_seats::<MOVING, KEEP>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Circular(c), false) => {
-                    pass.run::<ROWS, false, MOVING, KEEP, _>(&c.seats(), &frame, run)
+                    pass.run::<ROWS, false, MOVING, KEEP, false, _>(&c.seats(), &frame, run)
                 }
                 (ToothProfile::Circular(c), true) => {
-                    pass.run::<ROWS, true, MOVING, KEEP, _>(&c.seats(), &frame, run)
+                    pass.run::<ROWS, true, MOVING, KEEP, false, _>(&c.seats(), &frame, run)
+                }
+                (ToothProfile::Real(r), false) if hertz => {
+                    pass.run::<ROWS, false, MOVING, KEEP, true, _>(&**r, &frame, run)
                 }
                 (ToothProfile::Real(r), false) => {
-                    pass.run::<ROWS, false, MOVING, KEEP, _>(&**r, &frame, run)
+                    pass.run::<ROWS, false, MOVING, KEEP, false, _>(&**r, &frame, run)
                 }
                 (ToothProfile::Real(r), true) => {
-                    pass.run::<ROWS, true, MOVING, KEEP, _>(&**r, &frame, run)
+                    pass.run::<ROWS, true, MOVING, KEEP, false, _>(&**r, &frame, run)
                 }
             };
             if KEEP {

@@ -86,6 +86,7 @@ impl ContactPass<'_> {
         const SHARED: bool,
         const MOVING: bool,
         const KEEP: bool,
+        const HERTZ: bool,
         P: Outline,
     >(
         &mut self,
@@ -173,7 +174,7 @@ impl ContactPass<'_> {
             let lever = [rx, ry];
             let i = a + k;
             let both = u8::from(count > 1) + 1;
-            let first = ctx.patch::<ROWS, MOVING, P>(
+            let first = ctx.patch::<ROWS, MOVING, HERTZ, P>(
                 profile,
                 &patches[0],
                 lever,
@@ -186,7 +187,7 @@ impl ContactPass<'_> {
                 self.kept.touches.push(first.touch(i, both, lever));
             }
             if count > 1 {
-                let second = ctx.patch::<ROWS, MOVING, P>(
+                let second = ctx.patch::<ROWS, MOVING, HERTZ, P>(
                     profile,
                     &patches[1],
                     lever,
@@ -305,7 +306,7 @@ impl PatchContext {
     /// returns what of it depends on the positions alone.
     #[allow(clippy::too_many_arguments)]
     #[inline(always)]
-    pub(super) fn patch<const ROWS: bool, const MOVING: bool, P: Outline>(
+    pub(super) fn patch<const ROWS: bool, const MOVING: bool, const HERTZ: bool, P: Outline>(
         &self,
         profile: &P,
         p: &Patch,
@@ -327,7 +328,13 @@ impl PatchContext {
             depth_rate,
         };
         let law = self.law;
-        let elastic = law.elastic(contact.depth_m);
+        // Hertz's K δ √δ chosen before the loop (the same operations as
+        // `elastic`'s), so that no call to `powf` stands in it.
+        let elastic = if HERTZ {
+            law.stiffness * contact.depth_m * contact.depth_m.sqrt()
+        } else {
+            law.elastic(contact.depth_m)
+        };
         let onset = self.world_patch::<ROWS, MOVING, P>(
             profile, &contact, elastic, lever, onsets, roller, sums,
         );
