@@ -9,7 +9,7 @@
 use super::stats::{STATIONARITY_SE, stationarity as test_stationarity};
 use super::window::{DEFAULT_WINDOW_S, holds, last_ramp};
 use super::{RunSummary, SampleRow, segment_series};
-use crate::scene::{Chain, Integrator, Scene, StepLimits};
+use crate::scene::{Chain, Integrator, Scene, StepLimits, micro};
 use crate::sim::PowerMeans;
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
@@ -219,11 +219,6 @@ fn loaded_contact_damping(j: &Judged<'_>) -> Option<String> {
             micro(loaded)
         )
     })
-}
-
-/// A duration in µs, to three significant figures.
-fn micro(s: f64) -> String {
-    format!("{:.3} µs", s * 1e6)
 }
 
 /// A window that begins before the scene's last ramp ends

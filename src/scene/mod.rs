@@ -68,7 +68,7 @@ pub(crate) use periodic::{Harmonic, LoadTable};
 pub(crate) use resisting::Resisting;
 pub(crate) use run_up::RunUpFile;
 pub(crate) use stability::StepLimits;
-pub(crate) use stability::{AUTO_GRID_S, step_note};
+pub(crate) use stability::{AUTO_GRID_S, micro, step_note};
 #[cfg(test)]
 pub(crate) use stability::{AUTO_SAFETY, AUTO_STEPS_PER_IMPACT, impact_duration_s};
 pub(crate) use tensioners::{HydraulicTensioner, Tensioner, TensionerFile, TensionerKind};

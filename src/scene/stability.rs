@@ -249,7 +249,7 @@ pub(super) fn step_warning(solver: &Solver, limits: &StepLimits) -> Option<Strin
 }
 
 /// A time in µs for people (∞ kept as such).
-fn micro(t_s: f64) -> String {
+pub(crate) fn micro(t_s: f64) -> String {
     if t_s.is_finite() {
         format!("{:.3} µs", t_s * 1e6)
     } else {
