@@ -419,3 +419,85 @@ fn a_worn_chains_string_frequency_takes_its_mass_over_the_worn_pitch() {
         approx::assert_relative_eq!(got, hand, max_relative = 1e-4);
     }
 }
+
+/// `jump-margin` searching the elongation refuses `--elongation` (which the
+/// search would overwrite without a word), and a range end that is not a
+/// number is named as the range's, before any scene value is set from it.
+#[cfg(feature = "cli")]
+#[test]
+fn jump_margin_refuses_an_elongation_it_would_overwrite_and_a_range_of_nan() {
+    let scene = data("worn_30_30_fixed.toml");
+    let scene = scene.to_str().expect("UTF-8");
+    let out = crate::common::chaindrive(&[
+        "jump-margin",
+        scene,
+        "--path",
+        "chain.elongation_pct",
+        "--from",
+        "0",
+        "--to",
+        "2",
+        "--tolerance",
+        "0.5",
+        "--elongation",
+        "1",
+        "--duration",
+        "0.01",
+    ]);
+    let err = crate::common::stderr(&out);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("--elongation 1 with --path chain.elongation_pct") && err.contains("allowed:"),
+        "{err}"
+    );
+    let out = crate::common::chaindrive(&[
+        "jump-margin",
+        scene,
+        "--from",
+        "nan",
+        "--to",
+        "2000",
+        "--tolerance",
+        "100",
+        "--duration",
+        "0.01",
+    ]);
+    let err = crate::common::stderr(&out);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("--from NaN --to 2000: allowed: two finite numbers"),
+        "{err}"
+    );
+}
+
+/// A reader that closes the output early (`chaindrive run | head`) ends the
+/// run quietly: no panic, success, and the summary file whole.
+#[cfg(feature = "cli")]
+#[test]
+fn a_run_whose_reader_closed_stdout_ends_quietly_with_its_summary_written() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let summary = dir.path().join("summary.json");
+    let mut child = crate::common::command()
+        .args([
+            "run",
+            data("worn_30_30_fixed.toml").to_str().expect("UTF-8"),
+            "--duration",
+            "0.01",
+            "--quiet",
+            "--summary",
+            summary.to_str().expect("UTF-8"),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    // The reader goes before the run has printed anything (its setup alone
+    // takes longer than this).
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("the run ends");
+    let err = crate::common::stderr(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.status.success(), "{err}");
+    let s = crate::common::read_json(&summary);
+    assert!(s["segments"].as_array().is_some_and(|a| a.len() == 2));
+}
