@@ -430,19 +430,19 @@ fn jump_margin_refuses_an_elongation_it_would_overwrite_and_a_range_of_nan() {
     let scene = scene.to_str().expect("UTF-8");
     let out = crate::common::chaindrive(&[
         "jump-margin",
-        scene,
+        "--elongation",
+        "1",
+        "--duration",
+        "0.01",
+        "--tolerance",
+        "0.5",
         "--path",
         "chain.elongation_pct",
         "--from",
         "0",
         "--to",
-        "2",
-        "--tolerance",
-        "0.5",
-        "--elongation",
-        "1",
-        "--duration",
-        "0.01",
+        "1.5",
+        scene,
     ]);
     let err = crate::common::stderr(&out);
     assert!(!out.status.success(), "{err}");
