@@ -227,6 +227,8 @@ pub(crate) struct DriveFacts {
     pub roller_mass_kg: f64,
     /// Pitch, m.
     pub pitch_m: f64,
+    /// Mass per length, kg/m (over the worn pitch for a worn chain).
+    pub mass_per_length_kg_m: f64,
     /// End of the driver's speed ramp, s.
     pub ramp_end_s: f64,
 }
@@ -239,6 +241,7 @@ impl DriveFacts {
             pitch_radius_m: model.sprockets.iter().map(|s| s.pitch_radius_m).collect(),
             roller_mass_kg: scene.chain.roller_mass_kg,
             pitch_m: scene.chain.pitch_m,
+            mass_per_length_kg_m: scene.chain.mass_per_length_kg_m(),
             ramp_end_s: scene
                 .sprockets
                 .iter()

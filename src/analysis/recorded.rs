@@ -596,7 +596,7 @@ impl RecordedRun {
         notes: &mut Vec<String>,
     ) -> Vec<RecordedSegment> {
         let d = &self.data;
-        let mu = d.facts.roller_mass_kg / d.facts.pitch_m;
+        let mu = d.facts.mass_per_length_kg_m;
         let mut segments = Vec::new();
         let s = &d.summary;
         for (k, strand) in s.strands.iter().enumerate() {

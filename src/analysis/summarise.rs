@@ -339,7 +339,7 @@ impl RunSummary {
             }
         };
         let strands = strand_summaries(model);
-        let mass_per_length = scene.chain.roller_mass_kg / scene.chain.pitch_m;
+        let mass_per_length = scene.chain.mass_per_length_kg_m();
         let segments = segment_summaries(
             &strands,
             &means,

@@ -35,7 +35,8 @@
 //!   the magnitudes of their friction forces.
 //! - `driver_mean_power_w`: mean of −(chain moment on the driver) × ω_driver.
 //! - `string_f1_hz`: the moving-string estimate from the segment's own mean
-//!   link force, its nominal length, μ = m_r / P and the mean chain speed
+//!   link force, its nominal length, μ = m_r / P (P the worn pitch for a worn
+//!   chain) and the mean chain speed
 //!   |ω_driver| R_driver over the window.
 
 use serde::{Deserialize, Serialize};

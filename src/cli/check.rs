@@ -51,7 +51,7 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
     // Under the tensioner rule the chain need not fit where the tensioner is
     // written: the tensioner takes it up, and the layout is printed where it ends.
     match DriveModel::build(&scene) {
-        Ok((model, _, layout)) => print_layout(&scene, &model, &layout),
+        Ok((model, _, layout)) => print_layout(&scene, &model, &layout, layout.polygon_length_m),
         Err(BuildError::Layout(LayoutError::ChainLength { needed, .. })) if tensioner_rule => {
             println!(
                 "as written, the path through the seated rollers needs {needed:.3} pitches of chain for {} links: the tensioner moves to take it up",
@@ -79,7 +79,11 @@ pub(super) fn check(args: CheckArgs) -> anyhow::Result<ExitCode> {
                     sim.scene.sprockets()[t].center_m,
                 );
                 println!("at the tensioner's final position:");
-                print_layout(&sim.scene, &sim.model, &sim.layout);
+                // A worn chain's wear moved the tensioner on after the
+                // layout: the polygon is the one where it ends.
+                let polygon_m = crate::sim::needed_pitches_of(&sim.scene)
+                    .map_or(sim.layout.polygon_length_m, |n| n * scene.chain().pitch_m);
+                print_layout(&sim.scene, &sim.model, &sim.layout, polygon_m);
                 println!(
                     "tensioner \"{}\": centre [{:.6}, {:.6}] m, moved {:.6} m from [{}, {}] along its adjust_direction",
                     scene.sprockets()[t].name,
@@ -178,8 +182,9 @@ fn direction(scene: &Scene, t: usize) -> [f64; 2] {
     }
 }
 
-/// The strands and wraps of a laid-out drive.
-fn print_layout(scene: &Scene, model: &DriveModel, layout: &Layout) {
+/// The strands and wraps of a laid-out drive, with the length of the
+/// polygon through its seated rollers, `polygon_m`.
+fn print_layout(scene: &Scene, model: &DriveModel, layout: &Layout, polygon_m: f64) {
     println!("segment  from  to   length_m   angle_on_from_rad  angle_on_to_rad  links");
     for (k, s) in model.path.strands.iter().enumerate() {
         println!(
@@ -204,10 +209,19 @@ fn print_layout(scene: &Scene, model: &DriveModel, layout: &Layout) {
             w.wrap_rad * f64::from(sp.teeth) / std::f64::consts::TAU
         );
     }
+    let chain = scene.chain();
+    let new_m = chain.rollers as f64 * chain.pitch_m;
+    let worn = if chain.elongation > 0.0 {
+        format!(
+            " new, {:.4} m worn (pitch {:.6} m)",
+            chain.rollers as f64 * chain.worn_pitch_m(),
+            chain.worn_pitch_m()
+        )
+    } else {
+        String::new()
+    };
     println!(
-        "polygon through the seated rollers: {:.4} m; unstretched chain: {:.4} m",
-        layout.polygon_length_m,
-        scene.chain().rollers as f64 * scene.chain().pitch_m
+        "polygon through the seated rollers: {polygon_m:.4} m; unstretched chain: {new_m:.4} m{worn}"
     );
     if let Some(t) = crate::sim::arm_take_up_of(scene) {
         println!(

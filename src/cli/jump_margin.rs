@@ -58,6 +58,20 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
     if let Some(d) = args.duration {
         crate::cli::ensure_positive("--duration", d)?;
     }
+    let range = Range {
+        from: args.from,
+        to: args.to,
+        tolerance: args.tolerance,
+        jobs: args.jobs.max(1),
+    };
+    range.check()?;
+    if let Some(e) = args.elongation
+        && args.path == "chain.elongation_pct"
+    {
+        anyhow::bail!(
+            "--elongation {e} with --path chain.elongation_pct: the search sets the elongation from --from to --to; allowed: --elongation with another --path"
+        );
+    }
     let overrides = Overrides {
         duration_s: args.duration,
         ..Default::default()
@@ -97,12 +111,6 @@ pub(super) fn jump_margin(args: JumpMarginArgs) -> anyhow::Result<ExitCode> {
                 sim.jumps.rides().first().map(|r| r.t_s)
             },
         })
-    };
-    let range = Range {
-        from: args.from,
-        to: args.to,
-        tolerance: args.tolerance,
-        jobs: args.jobs.max(1),
     };
     let print_each = !args.json;
     let margin = jump_margin::search(range, run, |p: &Probe| {

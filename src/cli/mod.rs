@@ -96,6 +96,36 @@ enum Command {
 /// (`chaindrive profile --csv | head`) ends it with success.
 pub fn main() -> std::process::ExitCode {
     let cli = Cli::parse();
+    // `println!` panics where the reader closed stdout (`chaindrive run |
+    // head`): that panic is the reader's choice too, so it says nothing
+    // and ends the command as a closed pipe does below, after unwinding
+    // (the files being written are flushed and closed on the way).
+    let default_hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        if !closed_stdout(info.payload()) {
+            default_hook(info);
+        }
+    }));
+    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| dispatch(cli))) {
+        Ok(code) => code,
+        Err(payload) if closed_stdout(payload.as_ref()) => std::process::ExitCode::SUCCESS,
+        Err(payload) => std::panic::resume_unwind(payload),
+    }
+}
+
+/// Whether a panic's payload is `println!`'s on a stdout whose reader has
+/// gone (a broken pipe).
+fn closed_stdout(payload: &(dyn std::any::Any + Send)) -> bool {
+    let message = payload
+        .downcast_ref::<String>()
+        .map(String::as_str)
+        .or_else(|| payload.downcast_ref::<&str>().copied())
+        .unwrap_or("");
+    message.starts_with("failed printing to stdout") && message.contains("Broken pipe")
+}
+
+/// Runs the command `cli` names.
+fn dispatch(cli: Cli) -> std::process::ExitCode {
     let result = match cli.command {
         Command::Run(args) => run::run(args),
         Command::Bench(args) => bench::bench(args),

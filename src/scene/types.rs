@@ -204,6 +204,12 @@ impl Chain {
         }
     }
 
+    /// The chain's mass per length, kg/m: a roller's mass over the worn
+    /// pitch (a worn chain is the same mass spread over a longer length).
+    pub(crate) fn mass_per_length_kg_m(&self) -> f64 {
+        self.roller_mass_kg / self.worn_pitch_m()
+    }
+
     /// The length the worn chain gained over the new one, N P e, m.
     pub(crate) fn wear_gain_m(&self) -> f64 {
         self.rollers as f64 * self.pitch_m * self.elongation

@@ -110,6 +110,30 @@ pub(crate) struct Range {
     pub jobs: usize,
 }
 
+impl Range {
+    /// Refuses a range that is not two finite numbers, the first the
+    /// smaller, or a tolerance that is not a finite number > 0.
+    pub(crate) fn check(&self) -> Result<(), MarginError> {
+        let Self {
+            from,
+            to,
+            tolerance,
+            ..
+        } = *self;
+        if !(from.is_finite() && to.is_finite() && from < to) {
+            return Err(MarginError::Setting(format!(
+                "--from {from} --to {to}: allowed: two finite numbers, the first the smaller"
+            )));
+        }
+        if !(tolerance > 0.0 && tolerance.is_finite()) {
+            return Err(MarginError::Setting(format!(
+                "--tolerance {tolerance}: allowed: a number > 0"
+            )));
+        }
+        Ok(())
+    }
+}
+
 /// Searches `range` with `run(value)`: what the run at that value did
 /// (module docs). `progress` sees each run as it finishes.
 pub(crate) fn search(
@@ -117,22 +141,13 @@ pub(crate) fn search(
     run: impl Fn(f64) -> Result<Outcome, String> + Sync,
     mut progress: impl FnMut(&Probe),
 ) -> Result<Margin, MarginError> {
+    range.check()?;
     let Range {
         from,
         to,
         tolerance,
         jobs,
     } = range;
-    if !(from.is_finite() && to.is_finite() && from < to) {
-        return Err(MarginError::Setting(format!(
-            "--from {from} --to {to}: allowed: two finite numbers, the first the smaller"
-        )));
-    }
-    if !(tolerance > 0.0 && tolerance.is_finite()) {
-        return Err(MarginError::Setting(format!(
-            "--tolerance {tolerance}: allowed: a number > 0"
-        )));
-    }
     let mut probes = Vec::new();
     let mut batch =
         |values: Vec<f64>, probes: &mut Vec<Probe>| -> Result<Vec<Probe>, MarginError> {

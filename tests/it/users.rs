@@ -318,3 +318,186 @@ fn a_loaded_conveyors_power_balance_names_the_contact_damping_bound() {
         error(&explicit)
     );
 }
+
+/// The 30/30 ANSI 80 drive of `worn_30_30_tensioner.toml` with its chain
+/// worn 2 %, written beside a test's folder.
+#[cfg(feature = "cli")]
+fn worn_2pct_tensioned(dir: &std::path::Path) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(data("worn_30_30_tensioner.toml")).expect("the scene");
+    let worn = text.replace("elongation_pct = 0.0", "elongation_pct = 2.0");
+    assert_ne!(worn, text, "the scene sets elongation_pct = 0.0");
+    let path = dir.join("worn_2pct.toml");
+    std::fs::write(&path, worn).expect("the worn scene");
+    path
+}
+
+/// `check` of a worn chain on a tensioner sprocket prints the polygon
+/// through the seated rollers where the tensioner ends, after the wear
+/// moved it on. Two equal sprockets (30/30) with the tensioner moved by d
+/// along the centre line: both strands lengthen by d and the wraps stay
+/// half turns, so that polygon is the first one + 2 d. The chain's length
+/// is stated new, 111 × 25.4 mm = 2.8194 m, and worn, × 1.02 = 2.8758 m.
+#[cfg(feature = "cli")]
+#[test]
+fn check_of_a_worn_chain_prints_the_polygon_where_the_tensioner_ends() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let scene = worn_2pct_tensioned(dir.path());
+    let out = crate::common::chaindrive_stdout(&["check", scene.to_str().expect("UTF-8")]);
+    let polygons: Vec<f64> = out
+        .lines()
+        .filter_map(|l| l.strip_prefix("polygon through the seated rollers: "))
+        .map(|l| {
+            l.split(' ')
+                .next()
+                .expect("a length")
+                .parse()
+                .expect("a number")
+        })
+        .collect();
+    assert_eq!(
+        polygons.len(),
+        2,
+        "the layout and the tensioner's final one:\n{out}"
+    );
+    let moved: f64 = out
+        .lines()
+        .find_map(|l| l.split(" moved ").nth(1))
+        .and_then(|l| l.split(' ').next())
+        .expect("the tensioner's move")
+        .parse()
+        .expect("a number");
+    assert!(
+        moved > 0.01,
+        "the worn chain moves the tensioner on: {moved} m"
+    );
+    approx::assert_abs_diff_eq!(polygons[1], polygons[0] + 2.0 * moved, epsilon = 2e-4);
+    assert!(
+        out.contains("unstretched chain: 2.8194 m new, 2.8758 m worn (pitch 0.025908 m)"),
+        "{out}"
+    );
+}
+
+/// The moving-string frequency a run reports for a worn chain takes the
+/// chain's mass over its worn pitch: μ = m_r / (P (1 + e)), ANSI 80's
+/// 0.06388 kg roller over 25.908 mm, so c² = T / μ and
+/// f₁ = (c / 2L)(1 − v²/c²) with v = ω R_p, R_p = P / (2 sin(π/30)), from
+/// each segment's own mean force and the driver's mean speed.
+#[cfg(feature = "cli")]
+#[test]
+fn a_worn_chains_string_frequency_takes_its_mass_over_the_worn_pitch() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let scene = worn_2pct_tensioned(dir.path());
+    let summary = dir.path().join("summary.json");
+    let out = crate::common::chaindrive(&[
+        "run",
+        scene.to_str().expect("UTF-8"),
+        "--duration",
+        "0.1",
+        "--quiet",
+        "--summary",
+        summary.to_str().expect("UTF-8"),
+    ]);
+    assert!(out.status.success(), "{}", crate::common::stderr(&out));
+    let s = crate::common::read_json(&summary);
+    let pitch = 0.0254;
+    let mu = 0.06388 / (pitch * 1.02);
+    let omega = s["sprockets"][0]["mean_speed_rad_s"]
+        .as_f64()
+        .expect("a speed");
+    let v = omega.abs() * pitch / (2.0 * (std::f64::consts::PI / 30.0).sin());
+    for k in 0..2 {
+        let t = s["segments"][k]["mean_link_force_n"]
+            .as_f64()
+            .expect("a force");
+        let l = s["strands"][k]["length_m"].as_f64().expect("a length");
+        let c2 = t / mu;
+        let hand = c2.sqrt() / (2.0 * l) * (1.0 - v * v / c2);
+        let got = s["segments"][k]["string_f1_hz"]
+            .as_f64()
+            .expect("a frequency");
+        // The speed term is 6e-4 of f₁ here; the mass's share, 1 %.
+        approx::assert_relative_eq!(got, hand, max_relative = 1e-4);
+    }
+}
+
+/// `jump-margin` searching the elongation refuses `--elongation` (which the
+/// search would overwrite without a word), and a range end that is not a
+/// number is named as the range's, before any scene value is set from it.
+#[cfg(feature = "cli")]
+#[test]
+fn jump_margin_refuses_an_elongation_it_would_overwrite_and_a_range_of_nan() {
+    let scene = data("worn_30_30_fixed.toml");
+    let scene = scene.to_str().expect("UTF-8");
+    let out = crate::common::chaindrive(&[
+        "jump-margin",
+        "--elongation",
+        "1",
+        "--duration",
+        "0.01",
+        "--tolerance",
+        "0.5",
+        "--path",
+        "chain.elongation_pct",
+        "--from",
+        "0",
+        "--to",
+        "1.5",
+        scene,
+    ]);
+    let err = crate::common::stderr(&out);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("--elongation 1 with --path chain.elongation_pct") && err.contains("allowed:"),
+        "{err}"
+    );
+    let out = crate::common::chaindrive(&[
+        "jump-margin",
+        scene,
+        "--from",
+        "nan",
+        "--to",
+        "2000",
+        "--tolerance",
+        "100",
+        "--duration",
+        "0.01",
+    ]);
+    let err = crate::common::stderr(&out);
+    assert!(!out.status.success(), "{err}");
+    assert!(
+        err.contains("--from NaN --to 2000: allowed: two finite numbers"),
+        "{err}"
+    );
+}
+
+/// A reader that closes the output early (`chaindrive run | head`) ends the
+/// run quietly: no panic, success, and the summary file whole.
+#[cfg(feature = "cli")]
+#[test]
+fn a_run_whose_reader_closed_stdout_ends_quietly_with_its_summary_written() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let summary = dir.path().join("summary.json");
+    let mut child = crate::common::command()
+        .args([
+            "run",
+            data("worn_30_30_fixed.toml").to_str().expect("UTF-8"),
+            "--duration",
+            "0.01",
+            "--quiet",
+            "--summary",
+            summary.to_str().expect("UTF-8"),
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary starts");
+    // The reader goes before the run has printed anything (its setup alone
+    // takes longer than this).
+    drop(child.stdout.take());
+    let out = child.wait_with_output().expect("the run ends");
+    let err = crate::common::stderr(&out);
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(out.status.success(), "{err}");
+    let s = crate::common::read_json(&summary);
+    assert!(s["segments"].as_array().is_some_and(|a| a.len() == 2));
+}

@@ -580,7 +580,7 @@ pub(crate) fn warnings(scene: &Scene, rating: &Rating, largest_link_force_n: f64
     if let Some(strength) = rating.tensile_strength_n
         && largest_link_force_n > WORKING_LOAD_FRACTION * strength
     {
-        let centrifugal = scene.chain.roller_mass_kg / scene.chain.pitch_m * v * v;
+        let centrifugal = scene.chain.mass_per_length_kg_m() * v * v;
         found.push(format!(
             "link force: the largest link force, {:.1} kN, is {:.0} % of the chain's tensile strength of {:.1} kN (static safety factor {:.2}; warning above 1/6 of the strength, the working-load limit chain makers give; above 1/2 a single load damages the chain) at a chain speed of {v:.1} m/s, whose centrifugal tension m v² alone is {:.1} kN: a larger chain, a lower speed or load, or check the scene for a typo",
             largest_link_force_n * 1e-3,

@@ -305,9 +305,11 @@ impl DriveInfo {
             driver_pitch_radius_m: sim.model.sprockets[driver].pitch_radius_m,
             sprockets: sim.model.sprocket_count(),
             strand_lengths_m: sim.model.path.strands.iter().map(|s| s.length_m).collect(),
-            mass_per_length_kg_m: chain.roller_mass_kg / chain.pitch_m,
+            mass_per_length_kg_m: chain.mass_per_length_kg_m(),
             stiffness_n_m: chain.stiffness_n_m,
-            pitch_m: chain.pitch_m,
+            // A link's length: a worn chain's links are longer, so stiffer
+            // per metre (EA = K P (1 + e)).
+            pitch_m: chain.worn_pitch_m(),
         })
     }
 
