@@ -20,6 +20,7 @@ pub(crate) use error::BeyondSeatingArc;
 mod newton;
 mod relax;
 mod tangent;
+mod taut;
 
 pub(crate) use counts::count_verdicts;
 #[cfg(test)]
