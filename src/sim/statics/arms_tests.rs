@@ -138,19 +138,25 @@ fn the_free_arm_drive_settles_from_taut_without_relaxing() {
     };
     // Without the start from taut, Newton stalls and the relaxation runs.
     let (without, _) = relaxations(true);
-    assert!(without > 0, "{without} relaxations without the start from taut");
+    assert!(
+        without > 0,
+        "{without} relaxations without the start from taut"
+    );
     let (with, sim) = relaxations(false);
     assert_eq!(with, 0, "{:?}", sim.equilibrium);
     let model = sim.model();
     let state = &sim.state;
     let n = state.x.len();
-    let (k, l0, m) = (model.stiffness_n_m, model.rest_length_m, model.roller_mass_kg);
+    let (k, l0, m) = (
+        model.stiffness_n_m,
+        model.rest_length_m,
+        model.roller_mass_kg,
+    );
     let [gx, gy] = model.gravity_m_s2;
     let wheel = &scene.sprockets[1];
     let c = wheel.center_m;
-    let near = |i: usize| {
-        (state.x[i] - c[0]).hypot(state.y[i] - c[1]) < wheel.pitch_radius_m + 2e-3
-    };
+    let near =
+        |i: usize| (state.x[i] - c[0]).hypot(state.y[i] - c[1]) < wheel.pitch_radius_m + 2e-3;
     let mut torque = 0.0;
     let mut counted = 0;
     for i in (0..n).filter(|&i| near(i)) {

@@ -18,8 +18,7 @@
 //! What this does not do: settle a drive whose chain is not laid
 //! compressed, or choose the rest length (the pretension rules do).
 
-use super::equilibrium::free_strand_tension;
-use super::newton::solve;
+use super::tension::free_strand_tension;
 use crate::forces::ForceGenerator;
 use crate::model::{DriveModel, DriveState};
 
@@ -60,6 +59,8 @@ pub(super) fn laid_compressed(
 /// Brings the drive, laid with its free strands compressed
 /// ([`laid_compressed`]), to rest at the model's rest length within
 /// `aim_n` by the continuation of the module docs, from `state`.
+/// `solve(model, state, forces, tolerance_n, max_iterations)`: Newton at
+/// the model's rest length, true where it converged (`newton`'s).
 /// True when it reached the rest state: `state` is then that state and
 /// `forces` are evaluated at it. Otherwise `state` is back where it started.
 pub(super) fn settle_from_taut(
@@ -67,13 +68,14 @@ pub(super) fn settle_from_taut(
     state: &mut DriveState,
     forces: &mut ForceGenerator,
     aim_n: f64,
+    solve: Solve,
 ) -> bool {
     #[cfg(test)]
     if OFF.with(std::cell::Cell::get) {
         return false;
     }
     let start = state.clone();
-    let reached = lengthen(model, state, forces, aim_n);
+    let reached = lengthen(model, state, forces, aim_n, solve);
     if !reached {
         state.clone_from(&start);
     }
@@ -82,12 +84,17 @@ pub(super) fn settle_from_taut(
     reached
 }
 
+/// Newton at a model's rest length from a state, to a tolerance (N) in at
+/// most so many steps: whether it converged.
+pub(super) type Solve = fn(&DriveModel, &mut DriveState, &mut ForceGenerator, f64, usize) -> bool;
+
 /// The continuation itself; `state` is left anywhere when it fails.
 fn lengthen(
     model: &DriveModel,
     state: &mut DriveState,
     forces: &mut ForceGenerator,
     aim_n: f64,
+    solve: Solve,
 ) -> bool {
     let k = model.stiffness_n_m;
     let target = model.rest_length_m;
@@ -113,7 +120,7 @@ fn lengthen(
     let step_aim = STEP_AIM * aim_n;
     let mut taut = model.clone();
     taut.rest_length_m = first;
-    if !solve(&taut, state, forces, step_aim, 2 * STEP_ITERATIONS).converged {
+    if !solve(&taut, state, forces, step_aim, 2 * STEP_ITERATIONS) {
         return false;
     }
     let mut at = first;
@@ -140,8 +147,7 @@ fn lengthen(
         }
         taut.rest_length_m = next;
         let aim = if last_step { aim_n } else { step_aim };
-        let end = solve(&taut, &mut trial, forces, aim, STEP_ITERATIONS);
-        if end.converged {
+        if solve(&taut, &mut trial, forces, aim, STEP_ITERATIONS) {
             before = Some((at, std::mem::replace(state, trial.clone())));
             at = next;
             if last_step {
