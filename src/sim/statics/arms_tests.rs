@@ -14,8 +14,8 @@ use crate::sim::settled::new_forces;
 
 /// The drives of `tests/data` and `assets` with tensioner arms whose arms
 /// hold the chain. `user_moto_10b_free_arm` is left out: its chain is longer
-/// than its path and its arm touches no roller (no smooth rest state from
-/// the layout; Newton stalls and the relaxation moves it on, `newton::settle`).
+/// than its path and its arm touches no roller (Newton from the layout
+/// stalls; `newton::settle` settles it from taut, tested below).
 const ARM_DRIVES: [&str; 4] = [
     "tests/data/user_moto_10b_guide_arm.toml",
     "tests/data/user_timing_06b_arm.toml",
@@ -109,4 +109,79 @@ fn newton_and_the_relaxation_agree_on_arm_drives() {
             );
         }
     }
+}
+
+/// `user_moto_10b_free_arm`: a chain 6.56 mm longer than its path, laid
+/// with its free links 0.504 % short of the pitch (every free strand
+/// compressed), whose spring arm ends clear of the chain. Newton stalls
+/// from the layout and, without the start from taut, the relaxation runs;
+/// with it (`taut`), none does. Checked against balances by hand: the
+/// chain's torque on the wheel, Σ (rᵢ − c) × (links' pull + weight) over
+/// the rollers near its pitch circle (each in balance with the teeth;
+/// links' forces K (ℓ − ℓ₀) from the positions), equals the load's
+/// 100 N·m within 10⁻⁴; the arm's spring (60 N preload, 5000 N/m) pushes
+/// nothing at rest, so its travel is 60 / 5000 = 12 mm within 1 µm.
+#[test]
+fn the_free_arm_drive_settles_from_taut_without_relaxing() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/user_moto_10b_free_arm.toml"
+    );
+    let text = std::fs::read_to_string(path).expect("the scene file exists");
+    let scene = Scene::from_toml(&text).expect("a valid scene");
+    let relaxations = |off: bool| {
+        super::taut::OFF.with(|o| o.set(off));
+        let before = super::RELAXATIONS.with(std::cell::Cell::get);
+        let sim = crate::sim::Simulation::new(&scene).expect("a rest state");
+        super::taut::OFF.with(|o| o.set(false));
+        (super::RELAXATIONS.with(std::cell::Cell::get) - before, sim)
+    };
+    // Without the start from taut, Newton stalls and the relaxation runs.
+    let (without, _) = relaxations(true);
+    assert!(
+        without > 0,
+        "{without} relaxations without the start from taut"
+    );
+    let (with, sim) = relaxations(false);
+    assert_eq!(with, 0, "{:?}", sim.equilibrium);
+    let model = sim.model();
+    let state = &sim.state;
+    let n = state.x.len();
+    let (k, l0, m) = (
+        model.stiffness_n_m,
+        model.rest_length_m,
+        model.roller_mass_kg,
+    );
+    let [gx, gy] = model.gravity_m_s2;
+    let wheel = &scene.sprockets[1];
+    let c = wheel.center_m;
+    let near =
+        |i: usize| (state.x[i] - c[0]).hypot(state.y[i] - c[1]) < wheel.pitch_radius_m + 2e-3;
+    let mut torque = 0.0;
+    let mut counted = 0;
+    for i in (0..n).filter(|&i| near(i)) {
+        let mut f = [m * gx, m * gy];
+        for j in [(i + 1) % n, (i + n - 1) % n] {
+            let (dx, dy) = (state.x[j] - state.x[i], state.y[j] - state.y[i]);
+            let l = dx.hypot(dy);
+            let pull = k * (l - l0) / l;
+            f[0] += pull * dx;
+            f[1] += pull * dy;
+        }
+        torque += (state.x[i] - c[0]) * f[1] - (state.y[i] - c[1]) * f[0];
+        counted += 1;
+    }
+    assert!(counted > 20, "{counted} rollers near the wheel");
+    let load = wheel.load_torque_n_m();
+    assert!(
+        (torque + load).abs() <= 1e-4 * load.abs(),
+        "chain torque {torque} N·m against the load {load} N·m"
+    );
+    let arm = &sim.forces.output().tensioners[0];
+    assert!(
+        (arm.travel_m - 60.0 / 5000.0).abs() <= 1e-6,
+        "travel {} m, push {} N",
+        arm.travel_m,
+        arm.plunger_force_n
+    );
 }

@@ -20,14 +20,14 @@ pub(crate) use error::BeyondSeatingArc;
 mod newton;
 mod relax;
 mod tangent;
+mod taut;
+mod tension;
 
 pub(crate) use counts::count_verdicts;
 #[cfg(test)]
 pub(crate) use counts::fitting_counts;
 pub use equilibrium::StaticEquilibrium;
-pub(crate) use equilibrium::{
-    REST_FORCE, force_residual, free_strand_tension, settle_preload, settle_rest_length,
-};
+pub(crate) use equilibrium::{REST_FORCE, force_residual, settle_preload, settle_rest_length};
 pub use error::{EquilibriumError, FitError};
 pub(crate) use feasibility::{check_chain_length, check_load};
 pub(crate) use fit::{
@@ -39,3 +39,4 @@ pub(crate) use newton::{settle, settle_from};
 #[cfg(test)]
 pub(crate) use relax::RELAXATIONS;
 pub(crate) use relax::{RelaxSettings, relax};
+pub(crate) use tension::free_strand_tension;

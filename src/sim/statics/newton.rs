@@ -9,10 +9,12 @@
 //! is taken along the Newton direction with a line search on the potential
 //! energy (and on the residual where the energy's rounding hides the
 //! decrease), a Levenberg–Marquardt shift μ where the tangent is not positive
-//! definite. Where Newton stalls with a roller on a circular seating arc's
-//! rim, it solves again with that roller held on its arc (`hold`); where
-//! it still stalls, the dynamic relaxation takes over and Newton is tried
-//! again. What this module does not do: choose the rest length (the
+//! definite. Where Newton stalls from a start whose free strands are
+//! compressed (a chain laid longer than its path), it settles the drive
+//! from taut (`taut`: the links' rest length lengthened from short); where
+//! it stalls with a roller on a circular seating arc's rim, it solves again
+//! with that roller held on its arc (`hold`); where it still stalls, the
+//! dynamic relaxation takes over and Newton is tried again. What this module does not do: choose the rest length (the
 //! pretension iteration does).
 //!
 //! # The tangent stiffness
@@ -570,6 +572,24 @@ pub(crate) fn settle_from(
         let stalled = state.clone();
         state.clone_from(guess);
         if solve(model, state, forces, aim, MAX_ITERATIONS).residual_n <= rest_force_n {
+            return Ok(0.0);
+        }
+        state.clone_from(&stalled);
+        forces.reset_memory();
+        forces.evaluate(model, state);
+    }
+    // A start whose free strands are compressed (a chain laid longer than
+    // its path, or links lengthened at once): the rest state from taut
+    // (`taut`), where Newton from the start stalled.
+    if !(first.residual_n <= rest_force_n) {
+        let stalled = state.clone();
+        state.clone_from(&start);
+        if super::taut::laid_compressed(model, state, forces)
+            && super::taut::settle_from_taut(model, state, forces, aim, |m, s, f, tol, most| {
+                solve(m, s, f, tol, most).converged
+            })
+            && solve(model, state, forces, aim, MAX_ITERATIONS).residual_n <= rest_force_n
+        {
             return Ok(0.0);
         }
         state.clone_from(&stalled);
