@@ -28,8 +28,8 @@ use crate::cli::sweep_figures::{FigureSettings, draw_figures};
 use crate::studies::sweep::{
     CaseFlags, CaseOutcome, DEFAULT_WINDOW_SPEED_CHANGE, PEAK_MEDIAN_FACTOR, RunUpSettings,
     SweepSettings, TRANSVERSE_MODES, completed, default_orders, doubt_section, excitation_orders,
-    on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep, run_up,
-    summary_scalars, verdicts, weakest, worst_cases,
+    held_sprockets, on_order_grid, parse_rpm_range, parse_run_up, resonance_crossings, run_sweep,
+    run_up, summary_scalars, verdicts, weakest, worst_cases,
 };
 
 /// Arguments of `chaindrive sweep`.
@@ -708,6 +708,15 @@ fn report_text(
             w.statistic,
             w.rpm,
             si(w.value, w.unit)
+        );
+    }
+    let held = held_sprockets(cases);
+    if !held.is_empty() {
+        let names: Vec<String> = held.iter().map(|k| format!("sprocket {}", k + 1)).collect();
+        let _ = writeln!(
+            s,
+            "\n{} turns at a prescribed speed (its speed RMS is rounding, below 10⁻⁹ of the driver's speed): no speed worst case.",
+            names.join(", ")
         );
     }
     let _ = writeln!(s, "\n## Files\n");

@@ -89,6 +89,22 @@ fn finite_y(points: &[(f64, f64)]) -> impl Iterator<Item = f64> + '_ {
         .map(|p| p.1)
 }
 
+/// The speed at which a line of (rpm, Hz) points first rises above `top`,
+/// interpolated between the last point at or below it and the first above;
+/// `None` where no point is at or below it before (a line wholly above).
+fn leaves_at(points: &[(f64, f64)], top: f64) -> Option<f64> {
+    let finite = points.iter().filter(|p| p.0.is_finite() && p.1.is_finite());
+    let mut below: Option<(f64, f64)> = None;
+    for &(x, y) in finite {
+        if y <= top {
+            below = Some((x, y));
+        } else if let Some((x0, y0)) = below {
+            return Some(x0 + (x - x0) * (top - y0) / (y - y0));
+        }
+    }
+    None
+}
+
 /// The smallest of 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 × 10ᵏ at or above `v` (> 0).
 fn nice_ceil(v: f64) -> f64 {
     let scale = 10f64.powf(v.log10().floor());
@@ -145,14 +161,23 @@ impl Campbell {
     pub(crate) fn above_range(&self) -> Vec<String> {
         let top = self.top_hz();
         let mut out = Vec::new();
-        let orders: Vec<String> = self
-            .orders
-            .iter()
-            .filter(|o| finite_y(&o.points).any(|f| f > top))
-            .map(OrderLine::label)
-            .collect();
-        if !orders.is_empty() {
-            out.push(format!("order lines {}", orders.join(", ")));
+        // A line wholly above is not drawn; one that leaves the axis is drawn
+        // up to where it leaves, which the note gives.
+        let (mut above, mut cut) = (Vec::new(), Vec::new());
+        for o in &self.orders {
+            if !finite_y(&o.points).any(|f| f > top) {
+                continue;
+            }
+            match leaves_at(&o.points, top) {
+                Some(rpm) => cut.push(format!("{} above {rpm:.0} rpm", o.label())),
+                None => above.push(o.label()),
+            }
+        }
+        if !above.is_empty() {
+            out.push(format!("order lines {}", above.join(", ")));
+        }
+        if !cut.is_empty() {
+            out.push(format!("order lines {}", cut.join(", ")));
         }
         let range = |values: &mut dyn Iterator<Item = f64>| {
             values
@@ -666,6 +691,26 @@ mod tests {
         );
         assert!(above.contains("axial modes at 1.50 kHz"), "{above}");
         assert!(!above.contains("4×,"), "{above}");
+    }
+
+    #[test]
+    fn a_line_that_leaves_the_axis_is_named_with_the_speed_where_it_leaves() {
+        // Order 4 from 600 to 3000 rpm is 40–200 Hz; with the axis ending at
+        // 100 Hz it is drawn up to 100 × 60 / 4 = 1500 rpm, which the note
+        // gives, while the meshing orders (from 200 Hz) lie wholly above.
+        let c = Campbell {
+            max_hz: Some(100.0),
+            ..timing_like()
+        };
+        let above = c.above_range();
+        assert!(
+            above.contains(&"order lines 20× mesh, 40× mesh".to_owned()),
+            "{above:?}"
+        );
+        assert!(
+            above.contains(&"order lines 4× above 1500 rpm".to_owned()),
+            "{above:?}"
+        );
     }
 
     #[test]

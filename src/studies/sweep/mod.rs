@@ -33,8 +33,8 @@ pub(crate) mod speeds;
 pub(crate) mod verdict;
 
 pub(crate) use report::{
-    CaseFlags, PEAK_MEDIAN_FACTOR, completed, doubt_section, excitation_orders, on_order_grid,
-    order_cut, resonance_crossings, summary_scalars, worst_cases,
+    CaseFlags, PEAK_MEDIAN_FACTOR, completed, doubt_section, excitation_orders, held_sprockets,
+    on_order_grid, order_cut, resonance_crossings, summary_scalars, worst_cases,
 };
 #[cfg(test)]
 pub(crate) use report::{PeakVerdict, SpanMode, judge_peak};

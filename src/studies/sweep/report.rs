@@ -338,9 +338,33 @@ pub(crate) struct WorstCase {
     pub unit: &'static str,
 }
 
+/// A speed RMS at or below this fraction of the driver's speed is the
+/// rounding of a speed held constant, not a fluctuation (a driver at a
+/// prescribed speed: ~10⁻¹⁷ of it).
+const HELD_SPEED_RMS: f64 = 1e-9;
+
+/// The 0-based sprockets whose speed RMS is rounding at every completed
+/// case ([`HELD_SPEED_RMS`] of the driver's speed): held at a prescribed
+/// speed, so they have no worst case.
+pub(crate) fn held_sprockets(cases: &[CaseOutcome]) -> Vec<usize> {
+    let done = completed(cases);
+    let sprockets = done.first().map_or(0, |c| c.speed_rms_rad_s.len());
+    (0..sprockets)
+        .filter(|&s| {
+            done.iter().all(|c| {
+                let omega = c.rpm.abs() * std::f64::consts::TAU / 60.0;
+                c.speed_rms_rad_s
+                    .get(s)
+                    .is_some_and(|rms| *rms <= HELD_SPEED_RMS * omega)
+            })
+        })
+        .collect()
+}
+
 /// The speeds of the largest link force, the smallest link force, the
 /// largest contact force, the largest penetration and each sprocket's
-/// largest speed fluctuation (RMS).
+/// largest speed fluctuation (RMS), but for the sprockets held at a
+/// prescribed speed ([`held_sprockets`]).
 pub(crate) fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
     let done = completed(cases);
     let pick =
@@ -371,7 +395,8 @@ pub(crate) fn worst_cases(cases: &[CaseOutcome]) -> Vec<WorstCase> {
         pick("largest penetration", "m", &|c| c.max_penetration_m, true),
     ];
     let sprockets = done.first().map_or(0, |c| c.speed_rms_rad_s.len());
-    for s in 0..sprockets {
+    let held = held_sprockets(cases);
+    for s in (0..sprockets).filter(|s| !held.contains(s)) {
         out.push(pick(
             &format!("sprocket {} speed RMS", s + 1),
             "rad/s",
@@ -601,5 +626,61 @@ fn flatten(prefix: &str, value: &serde_json::Value, out: &mut Vec<(String, f64)>
             }
         }
         Value::String(_) | Value::Null => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A completed case at `rpm` whose sprockets' speed RMS are `rms`.
+    fn case(rpm: f64, rms: &[f64]) -> CaseOutcome {
+        CaseOutcome::Done(Box::new(CaseResult {
+            rpm,
+            summary: None,
+            speed_change: 0.0,
+            segment_mean_n: vec![1000.0],
+            link_force_min_n: 500.0,
+            link_force_max_n: 1500.0 + rpm,
+            max_penetration_m: 1e-5,
+            speed_rms_rad_s: rms.to_vec(),
+            rev_per_s: rpm / 60.0,
+            revolutions: 4,
+            max_contact_force_n: 2000.0,
+            segment_range_n: vec![(900.0, 1100.0)],
+            orders: Vec::new(),
+            spans: Vec::new(),
+        }))
+    }
+
+    #[test]
+    fn a_sprocket_at_a_prescribed_speed_has_no_speed_worst_case() {
+        // Sprocket 1 is the driver at a prescribed speed: its RMS is the
+        // rounding of a constant (1e-17 of 1000 rpm's 104.7 rad/s), a
+        // governed driver's or a driven sprocket's a real fluctuation.
+        let cases = [
+            case(1000.0, &[1.0e-15, 0.02, 3.0e-7]),
+            case(2000.0, &[2.0e-15, 0.05, 1.0e-7]),
+        ];
+        assert_eq!(held_sprockets(&cases), vec![0]);
+        let names: Vec<String> = worst_cases(&cases)
+            .into_iter()
+            .map(|w| w.statistic)
+            .collect();
+        assert!(
+            !names.iter().any(|n| n == "sprocket 1 speed RMS"),
+            "{names:?}"
+        );
+        let two = worst_cases(&cases)
+            .into_iter()
+            .find(|w| w.statistic == "sprocket 2 speed RMS")
+            .expect("sprocket 2 listed");
+        assert_eq!((two.rpm, two.value), (2000.0, 0.05));
+        // 3e-7 rad/s at 1000 rpm is 2.9e-9 of the driver's speed: a
+        // fluctuation, however small, and listed.
+        assert!(
+            names.iter().any(|n| n == "sprocket 3 speed RMS"),
+            "{names:?}"
+        );
     }
 }
