@@ -320,7 +320,7 @@ fn a_loaded_conveyors_power_balance_names_the_contact_damping_bound() {
     // scheme (docs/model.md, "Time scales and stability"): not the step's.
     assert!(error(&auto).abs() < 0.05, "{}", error(&auto));
 
-    let explicit = run("symplectic_euler", "6.944e-6");
+    let explicit = run("symplectic_euler", "6.944444444444445e-6");
     assert!(
         dt(&explicit) > 3.0 * bound(&explicit),
         "step {} s against the bound {} s",
