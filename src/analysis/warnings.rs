@@ -9,7 +9,8 @@
 use super::stats::{STATIONARITY_SE, stationarity as test_stationarity};
 use super::window::{DEFAULT_WINDOW_S, holds, last_ramp};
 use super::{RunSummary, SampleRow, segment_series};
-use crate::scene::{Chain, Integrator, Scene, StepLimits, micro};
+use crate::scene::stability::running_force_n;
+use crate::scene::{Integrator, Scene, StepLimits, micro};
 use crate::sim::PowerMeans;
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
@@ -173,49 +174,42 @@ fn power_balance(j: &Judged<'_>) -> Option<String> {
 }
 
 /// Where the run's step exceeds the explicit contact damping's bound at the
-/// tension the drive ran at: the stability estimate takes a roller's contact
-/// force as the pretension ([`StepLimits::of_parts`]), and a load can put
-/// many times that into the tight strand, whose rollers engage at the
-/// approach-speed floor with a damping coefficient χ F / δ̇⁻_min as many
-/// times larger. A smaller step or a scheme that takes the contact damping
-/// implicitly cures it; a second-order explicit scheme has the same bound.
-/// `None` where the scheme is not bound by the contact damping, the strands
-/// ran below the pretension, or the step is within the bound.
+/// tension the drive ran at: a roller engaging the tightest strand at the
+/// approach-speed floor has a damping coefficient χ F / δ̇⁻_min, F that
+/// strand's mean force. The stability estimate takes F from the pretension
+/// and the load torques ([`crate::scene::stability::running_force_n`]), so
+/// this names a step given above the estimate's limit, or a drive that ran
+/// tighter than the scene's torques say. A smaller step or a scheme that
+/// takes the contact damping implicitly cures it; a second-order explicit
+/// scheme has the same bound. `None` where the scheme is not bound by the
+/// contact damping or the step is within the bound.
 fn loaded_contact_damping(j: &Judged<'_>) -> Option<String> {
     let scheme = j.scene.solver().integrator;
-    let pretension = j.scene.chain().pretension_n;
+    let (chain, contact) = (j.scene.chain(), j.scene.contact());
+    let expected = running_force_n(chain, j.scene.sprockets());
     let force = j
         .summary
         .segments
         .iter()
         .map(|s| s.mean_link_force_n)
         .fold(f64::NEG_INFINITY, f64::max);
-    if !(force > pretension) {
+    if !(force > 0.0) {
         return None;
     }
-    let bound_at = |tension: f64| {
-        let chain = Chain {
-            pretension_n: tension,
-            ..j.scene.chain().clone()
-        };
-        StepLimits::of_parts(&chain, j.scene.contact())
-            .bounds_for(scheme)
-            .into_iter()
-            .find(|b| b.0 == "contact damping")
-            .map(|b| b.1)
-    };
-    let (loaded, at_pretension) = (bound_at(force)?, bound_at(pretension)?);
+    let bound_at =
+        |tension: f64| StepLimits::at_force(chain, contact, tension).contact_damping_for(scheme);
+    let (loaded, estimated) = (bound_at(force)?, bound_at(expected)?);
     let dt = j.summary.dt_s;
     (dt > loaded).then(|| {
         format!(
-            "the contact damping bounds this step: the tightest strand ran at {:.2} kN, {:.1} times the pretension of {:.2} kN that the stability estimate takes, and a roller engaging at the approach-speed floor (contact.min_approach_speed_m_s = {}) under that force allows an explicit step of {} against this run's {} (the estimate at the pretension: {}): take solver.integrator = \"verlet_implicit_damping\" or \"implicit_damping\" (the contact damping taken implicitly; velocity_verlet has the same bound), or solver.dt_s below {}, or a larger contact.min_approach_speed_m_s",
+            "the contact damping bounds this step: the tightest strand ran at {:.2} kN ({:.2} times the {:.2} kN that the stability estimate takes from the pretension and the load torques), and a roller engaging at the approach-speed floor (contact.min_approach_speed_m_s = {}) under that force allows an explicit step of {} against this run's {} (the estimate: {}): take solver.integrator = \"verlet_implicit_damping\" or \"implicit_damping\" (the contact damping taken implicitly; velocity_verlet has the same bound), or solver.dt_s below {}, or a larger contact.min_approach_speed_m_s",
             force / 1e3,
-            force / pretension,
-            pretension / 1e3,
-            j.scene.contact().min_approach_speed_m_s,
+            force / expected,
+            expected / 1e3,
+            contact.min_approach_speed_m_s,
             micro(loaded),
             micro(dt),
-            micro(at_pretension),
+            micro(estimated),
             micro(loaded)
         )
     })

@@ -38,14 +38,17 @@ fn a_scene_without_dt_gets_the_auto_step() {
 }
 
 /// The motorcycle drive without its explicit step: stability alone gives
-/// ½ · 2 m_r / c = ½ · 2 · 0.02 / (0.5625 · 1000 / 0.5) = 17.8 µs against the
-/// links' ½ √(m_r/K) = ½ · 25.8 µs, i.e. 12.9 µs; the impact caps it. Impact
+/// ½ · 2 m_r / c with c = χ F / δ̇⁻_min, F = T₀ + M / R₄₅ = 1000 + 220 /
+/// 0.113789 = 2933.4 N (the wheel's load on R₄₅ = P / (2 sin(π/45))):
+/// ½ · 2 · 0.02 / (0.5625 · 2933.4 / 0.5) = 6.06 µs, below the links'
+/// ½ √(m_r/K) = ½ · 25.8 µs and below the impact's cap. Impact
 /// (Hertz, n = 3/2): v = 6000 rpm · R₁₅ with R₁₅ = P / (2 sin(π/15)) =
 /// 0.038177 m: v = 23.99 m/s; v_i = v sin(24°) = 9.757 m/s; δ_max =
 /// (5 m_r v_i² / (4 K_g))^(2/5) = 0.355 mm; t_c = 2.9432 δ_max / v_i =
-/// 107 µs. The step: t_c / 16 = 6.70 µs, rounded down to 1 ms / 150.
+/// 107 µs, t_c / 16 = 6.70 µs (1 ms / 150, the step before the load was
+/// counted). The step: 6.06 µs rounded down to 1 ms / 166.
 #[test]
-fn the_impact_caps_the_auto_step_of_a_fast_small_sprocket() {
+fn the_load_and_the_impact_bound_the_auto_step_of_a_fast_small_sprocket() {
     let text = include_str!("../../tests/data/motorcycle_520.toml").replace("dt_s = 4e-6", "");
     let scene = Scene::from_toml(&text).expect("valid");
     let r15 = 0.015875 / (2.0 * (std::f64::consts::PI / 15.0).sin());
@@ -58,7 +61,11 @@ fn the_impact_caps_the_auto_step_of_a_fast_small_sprocket() {
     approx::assert_relative_eq!(impact, t_c, max_relative = 1e-4);
     assert_eq!(crate::scene::AUTO_STEPS_PER_IMPACT, 16.0);
     assert!(scene.solver().dt_auto);
-    approx::assert_relative_eq!(scene.solver().dt_s, 1e-3 / 150.0, max_relative = 1e-12);
+    let r45 = 0.015875 / (2.0 * (std::f64::consts::PI / 45.0).sin());
+    let damping = 0.5 * 2.0 * 0.02 / (0.5625 * (1000.0 + 220.0 / r45) / 0.5);
+    approx::assert_relative_eq!(damping, 6.0605e-6, max_relative = 1e-4);
+    assert!(damping < t_c / 16.0);
+    approx::assert_relative_eq!(scene.solver().dt_s, 1e-3 / 166.0, max_relative = 1e-12);
     // Without the cap: half the links' estimate.
     let links = (0.02f64 / 3e7).sqrt();
     assert!(scene.solver().dt_s < 0.6 * AUTO_SAFETY * links);

@@ -4,12 +4,13 @@
 //! `check` and `run` alike) how a scene's step stands against its
 //! integrator's own estimate. Nothing here steps or measures a drive.
 
+use super::periodic::{Harmonic, LoadTable};
 use super::{Chain, Contact, Integrator, Role, Scene, Solver, Sprocket};
 
 /// Safety factor of `dt_s = "auto"`: the step is this fraction of the
 /// scheme's estimated largest stable step. The estimates are
 /// linearisations (a link between two fixed neighbours, a contact carrying the
-/// pretension at the approach-speed floor); on the paper's drive the largest
+/// tight strand's tension at the approach-speed floor); on the paper's drive the largest
 /// stable step measured 0.94 times the links' estimate and 2.4 times the
 /// contact damping's (docs/model.md, “Time scales and stability”), so one
 /// half keeps a margin below the worst case.
@@ -38,32 +39,106 @@ pub(crate) const SPEED_SAFETY: f64 = 0.9;
 /// ([`super::Overrides::sample_rate_hz`]).
 pub(crate) const AUTO_GRID_S: f64 = 1e-3;
 
+/// The largest force a roller's contact is expected to carry in steady
+/// running, N: the tight strand's tension T₀ + ΔT (docs/model.md, “Time
+/// scales and stability”).
+///
+/// Going round the loop the strand tension changes at each sprocket by its
+/// torque over its pitch radius, M / R, and returns to where it began, so
+/// the tightest strand exceeds the slackest by at most the sum of the rises,
+/// ΔT ≤ Σ |M_i| / R_i over the sprockets that are not drivers (equal for
+/// loads that all oppose the motion; larger than the truth where a load
+/// assists it). A driver at a prescribed speed supplies whatever balances
+/// them; a governed driver's own torque (its constant plus its series'
+/// amplitudes or its table's largest value) over its pitch radius counts
+/// where it is larger. A load's torque is its peak: the constant plus the
+/// series' amplitudes and the table's largest value, plus a resisting
+/// torque. The slackest strand is taken at the pretension T₀: a tensioner
+/// holds its strand there, and on fixed centres the tight strand's stretch
+/// draws the slack strand below it (the loaded conveyor: 13.44 kN measured
+/// against T₀ + ΔT = 14.54 kN). Left out: the chain's weight (the rest
+/// state's largest link force can exceed T₀ on a tall drive), the
+/// centrifugal tension m v² (carried by the rollers' inertia on a sprocket,
+/// not by their seats) and the sprockets' inertia under a changing speed.
+/// The pretension where the sum is not a finite number (a scene already
+/// reported invalid).
+pub(crate) fn running_force_n(chain: &Chain, sprockets: &[Sprocket]) -> f64 {
+    let loads: f64 = sprockets
+        .iter()
+        .filter(|s| !matches!(s.role, Role::Driver(_)))
+        .map(|s| {
+            let e = &s.excitation;
+            let peak = peak_torque_n_m(
+                s.load_torque_n_m(),
+                &e.load_harmonics,
+                e.load_table.as_ref(),
+            ) + s.resisting_torque_n_m();
+            peak / s.pitch_radius_m
+        })
+        .sum();
+    let driven = sprockets
+        .iter()
+        .filter_map(|s| {
+            let g = s.excitation.governor.as_ref()?;
+            let peak = peak_torque_n_m(
+                g.drive_torque_n_m,
+                &g.drive_harmonics,
+                g.drive_table.as_ref(),
+            );
+            Some(peak / s.pitch_radius_m)
+        })
+        .fold(0.0, f64::max);
+    let force = chain.pretension_n + loads.max(driven);
+    if force.is_finite() {
+        force
+    } else {
+        chain.pretension_n
+    }
+}
+
+/// The largest magnitude of a torque given as a constant, a harmonic series
+/// and a table (its nodes), N·m: |constant| + Σ |amplitude| + max |node|.
+fn peak_torque_n_m(constant: f64, harmonics: &[Harmonic], table: Option<&LoadTable>) -> f64 {
+    let series: f64 = harmonics.iter().map(|h| h.amplitude.abs()).sum();
+    let tabled = table.map_or(0.0, |t| {
+        t.torques_n_m.iter().fold(0.0, |m: f64, x| m.max(x.abs()))
+    });
+    constant.abs() + series + tabled
+}
+
 /// Estimated largest stable steps of the explicit schemes (docs/model.md), s.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct StepLimits {
     /// Links: 2 / ω_max with ω_max = 2 √(K / m_r) (symplectic Euler, velocity Verlet).
     pub links_s: f64,
     /// Contact damping at the approach-speed floor: 2 m_r / c with
-    /// c = χ F / δ̇⁻_min, F taken as the pretension (a roller carrying the
-    /// chain's tension, its contact begun slower than the floor).
+    /// c = χ F / δ̇⁻_min, F the tight strand's tension in steady running
+    /// ([`running_force_n`]): a roller carrying it, its contact begun slower
+    /// than the floor.
     pub contact_damping_s: f64,
     /// Joint friction and damping (∞ without): 2 m_r ℓ² / (16 c_θ,eff) with
     /// c_θ,eff = μ r_pin F / ω_s + c_θ, the regularised law's slope in ω_rel
-    /// at a pin load F taken as the pretension, and 16 / ℓ² the largest
-    /// eigenvalue of the joints' damping matrix on the rollers' transverse
-    /// speeds (the zig-zag mode, docs/model.md, “Joint friction”).
+    /// at a pin load F, the tight strand's tension as above, and 16 / ℓ² the
+    /// largest eigenvalue of the joints' damping matrix on the rollers'
+    /// transverse speeds (the zig-zag mode, docs/model.md, “Joint friction”).
     pub joint_friction_s: f64,
 }
 
 impl StepLimits {
-    /// The limits of a chain and its contact law.
-    pub(crate) fn of_parts(chain: &Chain, contact: &Contact) -> Self {
+    /// The limits of a chain, its contact law and the sprockets whose
+    /// torques load it ([`running_force_n`]).
+    pub(crate) fn of_parts(chain: &Chain, contact: &Contact, sprockets: &[Sprocket]) -> Self {
+        Self::at_force(chain, contact, running_force_n(chain, sprockets))
+    }
+
+    /// The limits of a chain and its contact law with a roller's contact and
+    /// a pin carrying `force_n`, N.
+    pub(crate) fn at_force(chain: &Chain, contact: &Contact, force_n: f64) -> Self {
         let m = chain.roller_mass_kg;
         let chi = contact.law.chi(contact.restitution);
-        let c = chi * chain.pretension_n / contact.min_approach_speed_m_s;
+        let c = chi * force_n / contact.min_approach_speed_m_s;
         let joint_friction_s = chain.joint_friction.map_or(f64::INFINITY, |j| {
-            let slope = j.friction * j.pin_radius_m * chain.pretension_n / j.speed_rad_s
-                + j.damping_n_m_s_rad;
+            let slope = j.friction * j.pin_radius_m * force_n / j.speed_rad_s + j.damping_n_m_s_rad;
             if slope > 0.0 && slope.is_finite() {
                 2.0 * m * chain.pitch_m * chain.pitch_m / (16.0 * slope)
             } else {
@@ -112,12 +187,8 @@ impl StepLimits {
     /// trace 1 − 3z/2 and determinant −z/2; Jury's condition
     /// 1 + trace + det > 0 holds only for z < 1). The adaptive scheme has none.
     pub(crate) fn bounds_for(&self, scheme: Integrator) -> Vec<(&'static str, f64)> {
-        let (links, damping, contact) = match scheme {
-            Integrator::SymplecticEuler | Integrator::VelocityVerlet => (1.0, 1.0, true),
-            Integrator::Rk4 => (std::f64::consts::SQRT_2, 1.3925, true),
-            Integrator::ImplicitDamping => (1.0, 1.0, false),
-            Integrator::VerletImplicitDamping => (1.0, 0.5, false),
-            Integrator::DormandPrince45 => return Vec::new(),
+        let Some((links, damping, contact)) = Self::factors(scheme) else {
+            return Vec::new();
         };
         let mut bounds = vec![("links", self.links_s * links)];
         if contact {
@@ -125,6 +196,27 @@ impl StepLimits {
         }
         bounds.push(("joint friction", self.joint_friction_s * damping));
         bounds
+    }
+
+    /// The contact damping's bound on `scheme`'s step, scaled to its
+    /// stability region as in [`Self::bounds_for`], s; `None` for a scheme
+    /// that the contact damping does not bound.
+    pub(crate) fn contact_damping_for(&self, scheme: Integrator) -> Option<f64> {
+        let (_, damping, contact) = Self::factors(scheme)?;
+        contact.then_some(self.contact_damping_s * damping)
+    }
+
+    /// `scheme`'s stability region against the estimates: the factors on
+    /// the links' and the damping estimates, and whether the contact damping
+    /// is explicit; `None` for the adaptive scheme ([`Self::bounds_for`]).
+    fn factors(scheme: Integrator) -> Option<(f64, f64, bool)> {
+        match scheme {
+            Integrator::SymplecticEuler | Integrator::VelocityVerlet => Some((1.0, 1.0, true)),
+            Integrator::Rk4 => Some((std::f64::consts::SQRT_2, 1.3925, true)),
+            Integrator::ImplicitDamping => Some((1.0, 1.0, false)),
+            Integrator::VerletImplicitDamping => Some((1.0, 0.5, false)),
+            Integrator::DormandPrince45 => None,
+        }
     }
 
     /// The step `dt_s = "auto"` chooses for `scheme`: [`AUTO_SAFETY`] times
@@ -174,9 +266,9 @@ fn whole_fraction(raw: f64, period_s: f64) -> f64 {
 }
 
 impl StepLimits {
-    /// The limits of a validated scene's chain and contact law.
+    /// The limits of a validated scene's chain, contact law and sprockets.
     pub(crate) fn of(scene: &Scene) -> Self {
-        Self::of_parts(&scene.chain, &scene.contact)
+        Self::of_parts(&scene.chain, &scene.contact, &scene.sprockets)
     }
 }
 
@@ -414,6 +506,89 @@ mod tests {
         let (dt_s, warning) = with(Integrator::VerletImplicitDamping, None, true);
         approx::assert_relative_eq!(dt_s, 1e-3 / 27.0, max_relative = 1e-12);
         assert_eq!(warning, None);
+    }
+
+    /// The loaded conveyor (`tests/data/user_conveyor_loaded_100.toml`): ANSI
+    /// 100, m_r = 2.49 lb/ft = 3.7055 kg/m × 0.03175 m = 0.117651 kg, T₀ = 1.5 kN, the
+    /// tail braked by 800 N·m on R = 0.03175 / (2 sin 15°) = 0.0613363 m:
+    /// F = 1500 + 13 042.9 = 14 542.9 N; χ = 0.5625 (e = 0.5), δ̇⁻_min = 0.05
+    /// m/s: 2 m_r δ̇⁻_min / (χ F) = 1.43821 µs, below the 1.56 µs of the
+    /// 13.44 kN its tight strand measured. The automatic step: half of it,
+    /// 0.71910 µs, rounded down to 1 ms / 1391.
+    #[test]
+    fn the_loaded_conveyors_estimate_takes_its_brake() {
+        let scene = Scene::from_toml(include_str!(
+            "../../tests/data/user_conveyor_loaded_100.toml"
+        ))
+        .expect("valid scene");
+        let radius = 0.03175 / (2.0 * 15f64.to_radians().sin());
+        approx::assert_relative_eq!(radius, 0.0613363, max_relative = 1e-6);
+        let force = 1500.0 + 800.0 / radius;
+        approx::assert_relative_eq!(
+            running_force_n(scene.chain(), scene.sprockets()),
+            force,
+            max_relative = 1e-9
+        );
+        let roller_kg = 2.49 * 0.453_592_37 / 0.3048 * 0.03175;
+        let bound = 2.0 * roller_kg * 0.05 / (0.5625 * force);
+        approx::assert_relative_eq!(bound, 1.43821e-6, max_relative = 1e-5);
+        let limits = StepLimits::of(&scene);
+        approx::assert_relative_eq!(limits.contact_damping_s, bound, max_relative = 1e-9);
+        assert!(limits.for_integrator(Integrator::SymplecticEuler) <= 1.56e-6);
+        approx::assert_relative_eq!(scene.solver().dt_s, 1e-3 / 1391.0, max_relative = 1e-12);
+    }
+
+    /// A drive with two loads (`tests/data/serpentine_08b_5.toml`): ISO 606
+    /// 08B-1, m_r = 0.70 kg/m × 0.0127 m = 0.00889 kg, T₀ = 300 N, a pump
+    /// braked by 5 N·m on 25 teeth (R = 0.0127 / (2 sin 7.2°) = 0.0506649
+    /// m, 98.687 N) and a fan by 2 N·m on 21 (R = 0.0426054 m, 46.942 N):
+    /// F = 445.63 N, 2 m_r δ̇⁻_min / (χ F) = 3.5465 µs at the default
+    /// δ̇⁻_min = 0.05 m/s; the automatic step 1 ms / 564. The paper's drive,
+    /// whose driven sprocket carries no load, keeps the pretension's
+    /// estimate.
+    #[test]
+    fn two_loads_add_their_strand_tensions() {
+        let scene = Scene::from_toml(include_str!("../../tests/data/serpentine_08b_5.toml"))
+            .expect("valid scene");
+        let radius = |teeth: f64| 0.0127 / (2.0 * (std::f64::consts::PI / teeth).sin());
+        approx::assert_relative_eq!(radius(25.0), 0.0506649, max_relative = 1e-6);
+        approx::assert_relative_eq!(radius(21.0), 0.0426054, max_relative = 1e-6);
+        let force = 300.0 + 5.0 / radius(25.0) + 2.0 / radius(21.0);
+        approx::assert_relative_eq!(force, 445.63, max_relative = 1e-5);
+        let bound = 2.0 * 0.70 * 0.0127 * 0.05 / (0.5625 * force);
+        approx::assert_relative_eq!(bound, 3.5465e-6, max_relative = 1e-4);
+        approx::assert_relative_eq!(
+            StepLimits::of(&scene).contact_damping_s,
+            bound,
+            max_relative = 1e-9
+        );
+        approx::assert_relative_eq!(scene.solver().dt_s, 1e-3 / 564.0, max_relative = 1e-12);
+        let paper = Scene::l60mc();
+        assert_eq!(
+            running_force_n(paper.chain(), paper.sprockets()),
+            paper.chain().pretension_n
+        );
+    }
+
+    /// The contact damping's own bound on each scheme, by type rather than
+    /// by its name in [`StepLimits::bounds_for`].
+    #[test]
+    fn the_contact_damping_bound_is_found_by_scheme() {
+        let l = StepLimits {
+            links_s: 10e-6,
+            contact_damping_s: 3e-6,
+            joint_friction_s: 20e-6,
+        };
+        assert_eq!(
+            l.contact_damping_for(Integrator::SymplecticEuler),
+            Some(3e-6)
+        );
+        assert_eq!(l.contact_damping_for(Integrator::Rk4), Some(3e-6 * 1.3925));
+        assert_eq!(
+            l.contact_damping_for(Integrator::VerletImplicitDamping),
+            None
+        );
+        assert_eq!(l.contact_damping_for(Integrator::DormandPrince45), None);
     }
 
     /// Closed forms: p = 2 (linear spring), ∫₀¹ (1 − x²)^(−½) dx = π/2;

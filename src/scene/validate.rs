@@ -583,7 +583,7 @@ fn check_solver(
         StepFile::Seconds(dt) => (c.positive("solver.dt_s", *dt), false, false),
         StepFile::Word(w) if w == AUTO || w == SPEED => {
             let speed = w == SPEED;
-            let limits = StepLimits::of_parts(chain, contact);
+            let limits = StepLimits::of_parts(chain, contact, sprockets);
             let dt = if speed {
                 limits.speed_step_s(integrator, sample_period_s)
             } else {
