@@ -329,7 +329,7 @@ fn running_tension(j: &Judged<'_>) -> Option<String> {
         return None;
     }
     let chain = &j.scene.chain;
-    let centrifugal = chain.roller_mass_kg / chain.pitch_m * j.chain_speed_m_s.powi(2);
+    let centrifugal = chain.mass_per_length_kg_m() * j.chain_speed_m_s.powi(2);
     let expected = j.summary.static_tension_n + centrifugal;
     (expected > 0.0 && slack > RUNNING_TENSION_RATIO * expected).then(|| {
         format!(
