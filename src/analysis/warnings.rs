@@ -10,7 +10,7 @@ use super::stats::{STATIONARITY_SE, stationarity as test_stationarity};
 use super::window::{DEFAULT_WINDOW_S, holds, last_ramp};
 use super::{RunSummary, SampleRow, segment_series};
 use crate::scene::stability::running_force_n;
-use crate::scene::{Integrator, Scene, StepLimits, micro};
+use crate::scene::{Integrator, ProfileKind, Scene, StepLimits, micro};
 use crate::sim::PowerMeans;
 
 /// Deepest penetration, as a fraction of the roller radius, above which a run
@@ -168,6 +168,21 @@ fn power_balance(j: &Judged<'_>) -> Option<String> {
         }
         _ => "reduce solver.dt_s",
     };
+    // The circular seat cuts a loaded roller's force at once where it
+    // leaves the seat's arc (and starts it at once where it enters): work
+    // that neither the law's damping nor its stored energy counts, whatever
+    // the step. One run cannot tell that from the step's error; the real
+    // profile, whose force is continuous, can.
+    let circular = j
+        .scene
+        .sprockets
+        .iter()
+        .any(|s| s.profile == ProfileKind::Circular);
+    if error < 0.0 && circular {
+        return Some(format!(
+            "{head}: either the step is too large for this drive's energy flows ({remedy}), or, on the circular profile, a loaded roller's force jumps where it crosses the edge of a seat's arc, which the power count does not see and no step removes: run the drive with profile = \"real\" (or `--profile real`), whose force is continuous; a balance that closes there is the seats' edge (docs/model.md, \"Where the power goes\")"
+        ));
+    }
     Some(format!(
         "{head}, so the step is too large for this drive's energy flows: {remedy} (docs/model.md, \"Where the power goes\")"
     ))

@@ -258,11 +258,13 @@ fn a_guide_evaluated_too_seldom_is_a_warning_of_the_run() {
 fn a_loaded_conveyors_power_balance_names_the_contact_damping_bound() {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let scene_path = data("user_conveyor_loaded_100.toml");
-    let run = |integrator: &str, dt: &str| {
-        let summary = dir.path().join(format!("{integrator}-{dt}.json"));
+    let run_on = |profile: &str, integrator: &str, dt: &str| {
+        let summary = dir.path().join(format!("{profile}-{integrator}-{dt}.json"));
         let out = crate::common::chaindrive(&[
             "run",
             scene_path.to_str().expect("a UTF-8 path"),
+            "--profile",
+            profile,
             "--duration",
             "1.0",
             "--window",
@@ -278,6 +280,7 @@ fn a_loaded_conveyors_power_balance_names_the_contact_damping_bound() {
         assert!(out.status.success(), "{}", crate::common::stderr(&out));
         crate::common::read_json(&summary)
     };
+    let run = |integrator: &str, dt: &str| run_on("circular", integrator, dt);
     let tight = |s: &serde_json::Value| {
         s["segments"]
             .as_array()
@@ -317,8 +320,18 @@ fn a_loaded_conveyors_power_balance_names_the_contact_damping_bound() {
         warning(&auto)
     );
     // A residual of about −3 % stays at any smaller step and with every
-    // scheme (docs/model.md, "Time scales and stability"): not the step's.
+    // scheme (docs/model.md, "Time scales and stability"): not the step's
+    // but the circular seats' edge, which the warning names.
     assert!(error(&auto).abs() < 0.05, "{}", error(&auto));
+    let w = warning(&auto).expect("a power-balance warning");
+    assert!(
+        w.contains("edge of a seat's arc") && w.contains("profile = \"real\""),
+        "{w}"
+    );
+    // The real profile's force is continuous: the same drive balances.
+    let real = run_on("real", "symplectic_euler", "auto");
+    assert!(error(&real).abs() < 1e-4, "{}", error(&real));
+    assert!(warning(&real).is_none(), "{:?}", warning(&real));
 
     let explicit = run("symplectic_euler", "6.944444444444445e-6");
     assert!(
