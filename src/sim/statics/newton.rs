@@ -584,10 +584,15 @@ pub(crate) fn settle_from(
     if !(first.residual_n <= rest_force_n) {
         let stalled = state.clone();
         state.clone_from(&start);
-        if super::taut::laid_compressed(model, state, forces)
-            && super::taut::settle_from_taut(model, state, forces, aim, |m, s, f, tol, most| {
-                solve(m, s, f, tol, most).converged
-            })
+        if let Some(laid_n) = super::taut::laid_compression(model, state, forces)
+            && super::taut::settle_from_taut(
+                model,
+                state,
+                forces,
+                laid_n,
+                aim,
+                |m, s, f, tol, most| solve(m, s, f, tol, most).converged,
+            )
             && solve(model, state, forces, aim, MAX_ITERATIONS).residual_n <= rest_force_n
         {
             return Ok(0.0);

@@ -43,22 +43,23 @@ thread_local! {
     pub(crate) static OFF: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-/// Whether the free strands at `state` are compressed on average (their
-/// mean link force below zero): a chain laid longer than its path.
-/// Evaluates `forces` at `state`.
-pub(super) fn laid_compressed(
+/// The free strands' mean link force at `state`, N, where it is below zero
+/// (a chain laid longer than its path, its free strands compressed);
+/// `None` otherwise. Evaluates `forces` at `state`.
+pub(super) fn laid_compression(
     model: &DriveModel,
     state: &DriveState,
     forces: &mut ForceGenerator,
-) -> bool {
+) -> Option<f64> {
     forces.reset_memory();
     forces.evaluate(model, state);
-    free_strand_tension(model, state, forces).is_some_and(|t| t < 0.0)
+    free_strand_tension(model, state, forces).filter(|t| *t < 0.0)
 }
 
-/// Brings the drive, laid with its free strands compressed
-/// ([`laid_compressed`]), to rest at the model's rest length within
-/// `aim_n` by the continuation of the module docs, from `state`.
+/// Brings the drive, laid with its free strands compressed to a mean link
+/// force `laid_n` ([`laid_compression`], which left `forces` evaluated at
+/// `state`), to rest at the model's rest length within `aim_n` by the
+/// continuation of the module docs, from `state`.
 /// `solve(model, state, forces, tolerance_n, max_iterations)`: Newton at
 /// the model's rest length, true where it converged (`newton`'s).
 /// True when it reached the rest state: `state` is then that state and
@@ -67,6 +68,7 @@ pub(super) fn settle_from_taut(
     model: &DriveModel,
     state: &mut DriveState,
     forces: &mut ForceGenerator,
+    laid_n: f64,
     aim_n: f64,
     solve: Solve,
 ) -> bool {
@@ -75,7 +77,7 @@ pub(super) fn settle_from_taut(
         return false;
     }
     let start = state.clone();
-    let reached = lengthen(model, state, forces, aim_n, solve);
+    let reached = lengthen(model, state, forces, laid_n, aim_n, solve);
     if !reached {
         state.clone_from(&start);
     }
@@ -93,16 +95,12 @@ fn lengthen(
     model: &DriveModel,
     state: &mut DriveState,
     forces: &mut ForceGenerator,
+    laid_n: f64,
     aim_n: f64,
     solve: Solve,
 ) -> bool {
     let k = model.stiffness_n_m;
     let target = model.rest_length_m;
-    forces.reset_memory();
-    forces.evaluate(model, state);
-    let Some(laid_n) = free_strand_tension(model, state, forces) else {
-        return false;
-    };
     // The free links' length as laid, and the rest length that stretches
     // them to the taut start's tension.
     let loads_n = model
